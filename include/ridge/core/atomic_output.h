@@ -1,0 +1,32 @@
+#pragma once
+// An output file that appears at its final path only when it is complete.
+//
+// Writers write to temporaryPath() (same directory, so rename is atomic on POSIX file
+// systems) and call commit(). If the object is destroyed without commit() — an exception,
+// a cancelled build — the temporary file is removed and nothing is left at the final path.
+// A process killed outright (SIGKILL) may leave "<path>.tmp.<pid>" behind, never a partial
+// file at <path>.
+#include <string>
+
+namespace ridge {
+
+class AtomicOutput {
+public:
+    explicit AtomicOutput(std::string final_path);
+    ~AtomicOutput();
+    AtomicOutput(const AtomicOutput&) = delete;
+    AtomicOutput& operator=(const AtomicOutput&) = delete;
+
+    const std::string& temporaryPath() const { return temp_path_; }
+    const std::string& finalPath() const { return final_path_; }
+
+    // fsyncs the temporary file and renames it over the final path. Throws Error on failure.
+    void commit();
+
+private:
+    std::string final_path_;
+    std::string temp_path_;
+    bool committed_ = false;
+};
+
+} // namespace ridge

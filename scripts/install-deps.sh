@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# Installs every build, test and demo dependency of ridge from Debian 12 packages.
+# Idempotent: re-running only installs what is missing. Must run as root (or via sudo).
+set -euo pipefail
+
+packages=(
+  build-essential cmake ninja-build pkg-config git
+  libgdal-dev gdal-bin           # ingest: any raster GDAL reads; extract writes GeoTIFF
+  libzstd-dev                    # archive payload compression (later codecs)
+  libpng-dev                     # hillshade PNG output
+  libfmt-dev libcli11-dev nlohmann-json3-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+  python3                        # bench helper scripts
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+
+if ((${#missing[@]})); then
+  SUDO=""
+  [[ $(id -u) -ne 0 ]] && SUDO="sudo"
+  export DEBIAN_FRONTEND=noninteractive
+  $SUDO apt-get update -q
+  $SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"
+fi
+echo "ridge: all dependencies present"

@@ -1,0 +1,45 @@
+#include "test_support.h"
+
+#include <array>
+#include <cstdio>
+#include <random>
+#include <sys/wait.h>
+
+namespace ridge::test {
+
+std::string dataPath(const std::string& name)
+{
+    return std::string(RIDGE_TEST_DATA_DIR) + "/" + name;
+}
+
+ScratchDir::ScratchDir()
+{
+    std::random_device rd;
+    dir_ = std::filesystem::temp_directory_path() /
+           ("ridge-test-" + std::to_string(rd()) + std::to_string(rd()));
+    std::filesystem::create_directories(dir_);
+}
+
+ScratchDir::~ScratchDir()
+{
+    std::error_code ec;
+    std::filesystem::remove_all(dir_, ec);
+}
+
+CommandResult runRidge(const std::string& args)
+{
+    CommandResult result;
+    std::string cmd = std::string(RIDGE_CLI_PATH) + " " + args + " 2>&1";
+    FILE* pipe = ::popen(cmd.c_str(), "r");
+    if (!pipe)
+        return result;
+    std::array<char, 4096> buf;
+    size_t n;
+    while ((n = std::fread(buf.data(), 1, buf.size(), pipe)) > 0)
+        result.output.append(buf.data(), n);
+    int status = ::pclose(pipe);
+    result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    return result;
+}
+
+} // namespace ridge::test

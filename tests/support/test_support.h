@@ -1,0 +1,31 @@
+#pragma once
+// Shared helpers for ridge's tests: fixture paths, scratch directories, running the CLI.
+#include <filesystem>
+#include <string>
+
+namespace ridge::test {
+
+// Path of a file in tests/data.
+std::string dataPath(const std::string& name);
+
+// A fresh empty directory under the system temp dir, removed when the object dies.
+class ScratchDir {
+public:
+    ScratchDir();
+    ~ScratchDir();
+    std::string path(const std::string& name) const { return (dir_ / name).string(); }
+    const std::filesystem::path& dir() const { return dir_; }
+
+private:
+    std::filesystem::path dir_;
+};
+
+struct CommandResult {
+    int exit_code = -1;
+    std::string output; // stdout and stderr together
+};
+
+// Runs the `ridge` command line with `args` (already shell-quoted) and captures its output.
+CommandResult runRidge(const std::string& args);
+
+} // namespace ridge::test
