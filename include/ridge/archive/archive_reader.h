@@ -1,0 +1,74 @@
+#pragma once
+// Random-access reader of a .ridge archive.
+//
+// Opening reads and checks only the header, the metadata and the index (48 bytes per
+// patch); every patch is then read with one pread of its blob, so any patch can be fetched
+// without touching the others. Every byte of the file is covered by a checksum (header,
+// metadata, index, each blob) and all offsets and sizes are bounds-checked: archive bytes are
+// untrusted. Errors are ridge::Error messages that start with the archive path and name the
+// patch they hit: "PATH: patch (level 3, x 5, y 2): checksum mismatch ...".
+//
+// Thread safety: after construction, every const member may be called concurrently.
+#include "ridge/archive/format.h"
+#include "ridge/codec/height_codec.h"
+#include "ridge/core/height_grid.h"
+#include "ridge/pyramid/level_pyramid.h"
+#include "ridge/pyramid/tessellation_block_errors.h"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace ridge::archive {
+
+class ArchiveReader {
+public:
+    explicit ArchiveReader(const std::string& path);
+    ~ArchiveReader();
+    ArchiveReader(const ArchiveReader&) = delete;
+    ArchiveReader& operator=(const ArchiveReader&) = delete;
+
+    const std::string& path() const { return path_; }
+    const Header& header() const { return header_; }
+    const PyramidGeometry& geometry() const { return geometry_; }
+    const std::string& metadataJson() const { return metadata_; }
+    const HeightCodec& codec() const { return *codec_; }
+    PyramidFilter filter() const { return static_cast<PyramidFilter>(header_.filter_id); }
+    TessellationBlockLayout blockLayout() const;
+    HeightQuantization quantization() const;
+    uint64_t fileSize() const { return file_size_; }
+
+    // δ_l in metres: codec bound at `level` plus the quantization error of the source.
+    double levelErrorBound(int level) const;
+
+    const std::vector<PatchRecord>& index() const { return records_; }
+    const PatchRecord& record(PatchId p) const { return records_[geometry_.patchIndex(p)]; }
+
+    // Reads the blob of `p` and checks its checksum. Throws ridge::Error naming the patch.
+    std::vector<uint8_t> readBlob(PatchId p) const;
+    // Reads and decodes patch `p` into codes[patch_size^2]. `parent` is the parent's decoded
+    // codes for codecs that predict from it (may be null for lossless codecs).
+    void decodePatch(PatchId p, uint16_t* codes, const uint16_t* parent = nullptr) const;
+    // Reads λ(d) of every block of `p` in metres (see TessellationBlockLayout for the order).
+    std::vector<float> readBlockErrors(PatchId p) const;
+
+    // "PATH: patch (level L, x X, y Y)" for messages.
+    std::string describe(PatchId p) const { return path_ + ": " + patchName(p); }
+    // "patch (level L, x X, y Y)".
+    static std::string patchName(PatchId p);
+
+private:
+    void readAt(uint64_t offset, void* dst, size_t size, const std::string& what) const;
+    [[noreturn]] void fail(const std::string& problem) const;
+
+    std::string path_;
+    int fd_ = -1;
+    uint64_t file_size_ = 0;
+    Header header_;
+    PyramidGeometry geometry_;
+    std::string metadata_;
+    std::vector<PatchRecord> records_;
+    std::unique_ptr<HeightCodec> codec_;
+};
+
+} // namespace ridge::archive

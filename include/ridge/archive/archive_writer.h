@@ -1,0 +1,43 @@
+#pragma once
+// Sequential writer of a .ridge archive. Atomic: nothing appears at the output path until
+// finish() succeeds; destroying an unfinished writer removes its temporary file.
+#include "ridge/archive/format.h"
+#include "ridge/core/atomic_output.h"
+
+#include <cstdio>
+#include <string>
+#include <vector>
+
+namespace ridge::archive {
+
+class ArchiveWriter {
+public:
+    // `header` must have geometry, codec and quantization fields set; offsets and checksums
+    // are filled in by the writer. Throws ridge::Error when the file cannot be created.
+    ArchiveWriter(const std::string& path, const Header& header, const std::string& metadata_json);
+    ~ArchiveWriter();
+    ArchiveWriter(const ArchiveWriter&) = delete;
+    ArchiveWriter& operator=(const ArchiveWriter&) = delete;
+
+    // Appends the next patch in index order. `record` carries the level/x/y and the bounds;
+    // offset, size and crc32 are set here. Blob = block_errors ++ payload.
+    void writePatch(PatchRecord record, const std::vector<uint8_t>& block_errors,
+                    const uint8_t* payload, size_t payload_size);
+
+    // Writes the index and the final header, then publishes the file atomically.
+    void finish();
+
+    uint64_t bytesWritten() const { return position_; }
+
+private:
+    void write(const void* data, size_t size);
+
+    AtomicOutput output_;
+    std::FILE* file_ = nullptr;
+    Header header_;
+    PyramidGeometry geometry_;
+    std::vector<PatchRecord> records_;
+    uint64_t position_ = 0;
+};
+
+} // namespace ridge::archive

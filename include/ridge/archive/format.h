@@ -1,0 +1,75 @@
+#pragma once
+// The .ridge archive, format version 1. docs/FORMAT.md is the normative description; this
+// header mirrors it. All integers and floats are little-endian, IEEE-754.
+//
+//   [header: 160 bytes][metadata: UTF-8 JSON][patch blobs, index order][index: 48 B/patch]
+//
+// Compatibility: readers accept every version <= kFormatVersion and reject newer ones;
+// writers always write kFormatVersion.
+#include "ridge/pyramid/pyramid_geometry.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+namespace ridge::archive {
+
+inline constexpr char kMagic[8] = {'R', 'I', 'D', 'G', 'E', 'A', 'R', 'C'};
+inline constexpr uint32_t kFormatVersion = 1;
+inline constexpr size_t kHeaderSize = 160;
+inline constexpr size_t kIndexEntrySize = 48;
+// λ stored as this value means "larger than representable: never simplify".
+inline constexpr uint16_t kBlockErrorSaturated = 0xffff;
+
+struct Header {
+    uint32_t version = kFormatVersion;
+    uint32_t width = 0;        // valid extent, finest samples
+    uint32_t height = 0;
+    uint32_t patch_size = 0;   // 2^n + 1
+    uint32_t level_count = 0;
+    uint32_t block_cells = 0;  // tessellation block size in cells, 2^k
+    uint32_t block_levels = 0; // D: λ(d) stored for d = 1..D
+    uint32_t codec_id = 0;
+    uint32_t filter_id = 0;
+    double height_scale = 1.0;   // metres = height_offset + height_scale * code
+    double height_offset = 0.0;
+    double spacing_x = 1.0;      // metres between finest samples along x (east)
+    double spacing_y = 1.0;      // along y (south)
+    double quantization_error = 0.0;  // max |metres(code) - source| over valid samples
+    double block_error_quantum = 0.0; // metres per unit of stored λ
+    double codec_param[2] = {0.0, 0.0}; // codec specific (unused by lossless/raw)
+    uint64_t metadata_offset = 0;
+    uint32_t metadata_size = 0;
+    uint32_t metadata_crc32 = 0;
+    uint64_t index_offset = 0;
+    uint32_t index_crc32 = 0;
+};
+
+// One index entry: where patch (level, x, y) is and what the renderer needs before reading it.
+struct PatchRecord {
+    uint32_t level = 0;
+    uint32_t x = 0;
+    uint32_t y = 0;
+    uint32_t block_errors_size = 0; // bytes at the start of the blob: zstd frame of λ values
+    uint64_t offset = 0;            // blob position in the file
+    uint32_t size = 0;              // blob size: block errors + codec payload
+    uint32_t crc32 = 0;             // CRC-32 of the whole blob
+    float min_height = 0.f;         // metres, <= every sample of the patch and of its
+                                    // descendants (rounded down): safe for culling
+    float max_height = 0.f;         // metres, >= all those samples (rounded up)
+    float err_appr = 0.f;           // Err_Appr(P), metres, rounded up
+    float err = 0.f;                // Err(P) = Err_Appr(P) + δ_l, metres, rounded up
+};
+
+// Byte-exact (de)serialisation. parseHeader returns an empty string on success, otherwise
+// what is wrong (bad magic, newer version, checksum, inconsistent geometry).
+void serializeHeader(const Header& header, uint8_t out[kHeaderSize]);
+std::string parseHeader(const uint8_t in[kHeaderSize], Header& header);
+void serializeRecord(const PatchRecord& record, uint8_t out[kIndexEntrySize]);
+PatchRecord parseRecord(const uint8_t in[kIndexEntrySize]);
+
+// Float rounding that never moves a bound inwards: the nearest float <= / >= value.
+float floatDown(double value);
+float floatUp(double value);
+
+} // namespace ridge::archive

@@ -1,0 +1,177 @@
+#include "ridge/archive/archive_reader.h"
+
+#include "ridge/archive/block_error_storage.h"
+#include "ridge/core/crc32.h"
+#include "ridge/core/error.h"
+
+#include <cerrno>
+#include <cstring>
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+namespace ridge::archive {
+
+namespace {
+
+std::string hex32(uint32_t v)
+{
+    char buf[16];
+    std::snprintf(buf, sizeof(buf), "0x%08x", v);
+    return buf;
+}
+
+} // namespace
+
+ArchiveReader::ArchiveReader(const std::string& path) : path_(path)
+{
+    fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd_ < 0)
+        fail(std::strerror(errno));
+    struct stat st;
+    if (::fstat(fd_, &st) != 0 || !S_ISREG(st.st_mode))
+        fail("not a regular file");
+    file_size_ = static_cast<uint64_t>(st.st_size);
+    if (file_size_ < kHeaderSize)
+        fail("not a ridge archive (file too short: " + std::to_string(file_size_) + " bytes)");
+
+    // Header: magic, version, checksum, then geometry consistency.
+    uint8_t bytes[kHeaderSize];
+    readAt(0, bytes, kHeaderSize, "header");
+    if (std::string problem = parseHeader(bytes, header_); !problem.empty())
+        fail(problem);
+    try {
+        geometry_ = PyramidGeometry::fromStored(header_.width, header_.height, header_.patch_size,
+                                                header_.level_count);
+    } catch (const Error& e) {
+        fail(std::string("invalid geometry in header: ") + e.what());
+    }
+    const TessellationBlockLayout layout = blockLayout();
+    if (!layout.valid() || static_cast<uint32_t>(layout.levels()) != header_.block_levels)
+        fail("invalid tessellation block layout in header");
+    if (header_.filter_id > static_cast<uint32_t>(PyramidFilter::Neville4))
+        fail("unknown pyramid filter id " + std::to_string(header_.filter_id));
+    codec_ = makeCodec(static_cast<CodecId>(header_.codec_id));
+    if (!codec_)
+        fail("unknown codec id " + std::to_string(header_.codec_id));
+
+    // Metadata.
+    if (header_.metadata_offset < kHeaderSize || header_.metadata_offset > file_size_ ||
+        header_.metadata_size > file_size_ - header_.metadata_offset)
+        fail("metadata lies outside the file (truncated?)");
+    metadata_.resize(header_.metadata_size);
+    readAt(header_.metadata_offset, metadata_.data(), metadata_.size(), "metadata");
+    if (crc32(metadata_.data(), metadata_.size()) != header_.metadata_crc32)
+        fail("metadata checksum mismatch (corrupt metadata)");
+
+    // Index: the last bytes of the file, one entry per patch of the geometry.
+    const uint64_t count = static_cast<uint64_t>(geometry_.patchCount());
+    const uint64_t index_size = count * kIndexEntrySize;
+    if (header_.index_offset > file_size_ || file_size_ - header_.index_offset != index_size)
+        fail(file_size_ - std::min(header_.index_offset, file_size_) < index_size
+                 ? "index lies outside the file (truncated archive)"
+                 : "unexpected bytes after the index");
+    std::vector<uint8_t> index(index_size);
+    readAt(header_.index_offset, index.data(), index.size(), "index");
+    if (crc32(index.data(), index.size()) != header_.index_crc32)
+        fail("index checksum mismatch (corrupt index)");
+    records_.resize(count);
+    const uint64_t blobs_begin = header_.metadata_offset + header_.metadata_size;
+    for (uint64_t i = 0; i < count; ++i) {
+        const PatchRecord r = parseRecord(index.data() + i * kIndexEntrySize);
+        const PatchId p = geometry_.patchAt(static_cast<int64_t>(i));
+        if (r.level != static_cast<uint32_t>(p.level) || r.x != static_cast<uint32_t>(p.x) ||
+            r.y != static_cast<uint32_t>(p.y))
+            fail("index entry " + std::to_string(i) + " is out of order");
+        if (r.offset < blobs_begin || r.offset > header_.index_offset ||
+            r.size > header_.index_offset - r.offset || r.block_errors_size > r.size)
+            fail(patchName(p) + ": blob lies outside the patch area");
+        records_[i] = r;
+    }
+}
+
+ArchiveReader::~ArchiveReader()
+{
+    if (fd_ >= 0)
+        ::close(fd_);
+}
+
+TessellationBlockLayout ArchiveReader::blockLayout() const
+{
+    return {static_cast<int>(header_.patch_size), static_cast<int>(header_.block_cells)};
+}
+
+HeightQuantization ArchiveReader::quantization() const
+{
+    return {header_.height_scale, header_.height_offset, header_.quantization_error};
+}
+
+double ArchiveReader::levelErrorBound(int level) const
+{
+    return codec_->levelErrorBound(level) * header_.height_scale + header_.quantization_error;
+}
+
+std::string ArchiveReader::patchName(PatchId p)
+{
+    return "patch (level " + std::to_string(p.level) + ", x " + std::to_string(p.x) + ", y " +
+           std::to_string(p.y) + ")";
+}
+
+void ArchiveReader::fail(const std::string& problem) const
+{
+    throw Error(path_ + ": " + problem);
+}
+
+void ArchiveReader::readAt(uint64_t offset, void* dst, size_t size, const std::string& what) const
+{
+    auto* p = static_cast<uint8_t*>(dst);
+    while (size > 0) {
+        const ssize_t n = ::pread(fd_, p, size, static_cast<off_t>(offset));
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n <= 0)
+            fail("cannot read " + what + (n < 0 ? std::string(": ") + std::strerror(errno)
+                                                 : std::string(": unexpected end of file")));
+        p += n;
+        offset += static_cast<uint64_t>(n);
+        size -= static_cast<size_t>(n);
+    }
+}
+
+std::vector<uint8_t> ArchiveReader::readBlob(PatchId p) const
+{
+    if (!geometry_.exists(p))
+        throw Error(describe(p) + ": no such patch");
+    const PatchRecord& r = record(p);
+    std::vector<uint8_t> blob(r.size);
+    readAt(r.offset, blob.data(), blob.size(), patchName(p));
+    const uint32_t actual = crc32(blob.data(), blob.size());
+    if (actual != r.crc32)
+        throw Error(describe(p) + ": checksum mismatch (stored " + hex32(r.crc32) + ", computed " +
+                    hex32(actual) + "): corrupt patch data");
+    return blob;
+}
+
+void ArchiveReader::decodePatch(PatchId p, uint16_t* codes, const uint16_t* parent) const
+{
+    const std::vector<uint8_t> blob = readBlob(p);
+    const PatchRecord& r = record(p);
+    PatchContext ctx{geometry_.patchSize(), p.level, parent, (p.x & 1) | ((p.y & 1) << 1)};
+    const int status = codec_->decode(codes, blob.data() + r.block_errors_size,
+                                      blob.size() - r.block_errors_size, ctx);
+    if (status != kCodecOk)
+        throw Error(describe(p) + ": cannot decode: " + codecStatusMessage(status));
+}
+
+std::vector<float> ArchiveReader::readBlockErrors(PatchId p) const
+{
+    const std::vector<uint8_t> blob = readBlob(p);
+    const size_t count = static_cast<size_t>(blockLayout().valuesPerPatch());
+    std::vector<float> lambda(count);
+    if (!unpackBlockErrors(blob.data(), record(p).block_errors_size, count,
+                           header_.block_error_quantum, lambda.data()))
+        throw Error(describe(p) + ": corrupt tessellation block errors");
+    return lambda;
+}
+
+} // namespace ridge::archive

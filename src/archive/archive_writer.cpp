@@ -1,0 +1,85 @@
+#include "ridge/archive/archive_writer.h"
+
+#include "ridge/core/crc32.h"
+#include "ridge/core/error.h"
+
+#include <cerrno>
+#include <cstring>
+
+namespace ridge::archive {
+
+ArchiveWriter::ArchiveWriter(const std::string& path, const Header& header,
+                             const std::string& metadata_json)
+    : output_(path), header_(header),
+      geometry_(PyramidGeometry::fromStored(header.width, header.height, header.patch_size,
+                                            header.level_count))
+{
+    file_ = std::fopen(output_.temporaryPath().c_str(), "wb");
+    if (!file_)
+        throw Error(path + ": cannot create: " + std::strerror(errno));
+    std::setvbuf(file_, nullptr, _IOFBF, 1 << 20);
+    records_.reserve(geometry_.patchCount());
+
+    // Placeholder header; the real one is written by finish() once offsets are known.
+    const uint8_t zeros[kHeaderSize] = {};
+    write(zeros, kHeaderSize);
+    header_.metadata_offset = position_;
+    header_.metadata_size = static_cast<uint32_t>(metadata_json.size());
+    header_.metadata_crc32 = crc32(metadata_json.data(), metadata_json.size());
+    write(metadata_json.data(), metadata_json.size());
+}
+
+ArchiveWriter::~ArchiveWriter()
+{
+    if (file_)
+        std::fclose(file_);
+}
+
+void ArchiveWriter::write(const void* data, size_t size)
+{
+    if (size && std::fwrite(data, 1, size, file_) != size)
+        throw Error(output_.finalPath() + ": write failed: " + std::strerror(errno));
+    position_ += size;
+}
+
+void ArchiveWriter::writePatch(PatchRecord record, const std::vector<uint8_t>& block_errors,
+                               const uint8_t* payload, size_t payload_size)
+{
+    const PatchId expected = geometry_.patchAt(static_cast<int64_t>(records_.size()));
+    if (records_.size() >= static_cast<size_t>(geometry_.patchCount()) ||
+        record.level != static_cast<uint32_t>(expected.level) ||
+        record.x != static_cast<uint32_t>(expected.x) || record.y != static_cast<uint32_t>(expected.y))
+        throw Error(output_.finalPath() + ": internal error: patches written out of index order");
+    record.offset = position_;
+    record.block_errors_size = static_cast<uint32_t>(block_errors.size());
+    record.size = static_cast<uint32_t>(block_errors.size() + payload_size);
+    record.crc32 = crc32(payload, payload_size, crc32(block_errors.data(), block_errors.size()));
+    write(block_errors.data(), block_errors.size());
+    write(payload, payload_size);
+    records_.push_back(record);
+}
+
+void ArchiveWriter::finish()
+{
+    if (records_.size() != static_cast<size_t>(geometry_.patchCount()))
+        throw Error(output_.finalPath() + ": internal error: " + std::to_string(records_.size()) +
+                    " of " + std::to_string(geometry_.patchCount()) + " patches written");
+    std::vector<uint8_t> index(records_.size() * kIndexEntrySize);
+    for (size_t i = 0; i < records_.size(); ++i)
+        serializeRecord(records_[i], index.data() + i * kIndexEntrySize);
+    header_.index_offset = position_;
+    header_.index_crc32 = crc32(index.data(), index.size());
+    write(index.data(), index.size());
+
+    uint8_t bytes[kHeaderSize];
+    serializeHeader(header_, bytes);
+    if (std::fseek(file_, 0, SEEK_SET) != 0 || std::fwrite(bytes, 1, kHeaderSize, file_) != kHeaderSize)
+        throw Error(output_.finalPath() + ": write failed: " + std::strerror(errno));
+    const bool closed = std::fclose(file_) == 0;
+    file_ = nullptr;
+    if (!closed)
+        throw Error(output_.finalPath() + ": write failed: " + std::strerror(errno));
+    output_.commit();
+}
+
+} // namespace ridge::archive
