@@ -1,0 +1,137 @@
+#pragma once
+// Ingest of elevation rasters through GDAL (band 1 of anything GDAL can read).
+//
+// This is the only module (with raster_writer.h) that talks to GDAL; GDAL headers never
+// appear in ridge's public headers.
+#include "ridge/core/height_grid.h"
+#include "ridge/core/progress.h"
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace ridge::io {
+
+// Where the raster sits on Earth. Pixel-is-area convention as GDAL reports it.
+struct GeoReference {
+    bool has_geotransform = false;
+    std::array<double, 6> geotransform{0, 1, 0, 0, 0, -1}; // GDAL order
+    std::string crs_wkt;        // empty when the source has no CRS
+    bool geographic = false;    // CRS is lon/lat (degrees)
+    std::string vertical_units; // as the source states them ("m", "ft", ...), may be empty
+    // Ground sample spacing in metres. Geographic CRS: along the parallel and the meridian at
+    // the centre latitude, on the CRS's ellipsoid. Projected: geotransform * linear units.
+    // No georeferencing: IngestOptions::spacing (default 1) and spacing_from_user = true.
+    double spacing_x = 1.0;
+    double spacing_y = 1.0;
+    bool spacing_from_user = false;
+};
+
+struct IngestOptions {
+    // Ground spacing (metres) for rasters without georeferencing. Ignored when the raster
+    // is georeferenced, unless force_spacing is set.
+    std::optional<double> spacing;
+    bool force_spacing = false;
+    // metres = stored value * z_scale + z_offset. When unset, derived from the band's own
+    // scale/offset and unit type (feet -> metres); when set, they replace that.
+    std::optional<double> z_scale;
+    std::optional<double> z_offset;
+    // Largest allowed quantization error (metres) for input that is not exactly
+    // representable in 16 bits. Unset: the finest step that fits 16 bits.
+    std::optional<double> max_error;
+    Progress progress;
+};
+
+struct IngestStats {
+    std::string data_type;        // GDAL data type name of band 1, e.g. "Int16"
+    int64_t valid_samples = 0;    // samples that were not nodata
+    int64_t voids_filled = 0;     // nodata samples filled from valid neighbours
+    double min_metres = 0.0;      // over valid samples, after z_scale/z_offset
+    double max_metres = 0.0;
+    bool exact = false;           // every valid sample is represented exactly by its code
+    double z_scale = 1.0;         // effective metres = value * z_scale + z_offset
+    double z_offset = 0.0;
+};
+
+// The finest grid of the pyramid: codes + their metric meaning + where it came from.
+struct ElevationRaster {
+    std::string source_path;
+    CodeGrid grid;
+    HeightQuantization quantization;
+    GeoReference geo;
+    IngestStats stats;
+};
+
+// Reads band 1 of `path` into 16-bit codes, fills voids, records georeferencing.
+//
+// Quantization: 8/16-bit integer bands are exact (code = value - type minimum). Other types
+// get a pre-pass for min/max; if every valid value is an integer and the range fits 16 bits
+// the result is exact, otherwise step = 2 * max_error (or range / 65535 when unset) and
+// quantization.max_error is the measured worst error.
+// Voids (declared nodata, NaN when nodata is NaN, or GDAL's mask band where the dataset
+// has a real mask) are filled by GDALFillNodata (inverse-distance weighting from the void's
+// valid border, then smoothing passes) and rounded to codes.
+//
+// Throws ridge::Error naming `path` and the problem for: unreadable / unrecognised file,
+// no raster band, grid smaller than 2x2, all samples nodata, non-finite values that are not
+// declared nodata (with the first sample position), a range that cannot meet max_error in
+// 16 bits, invalid options (spacing <= 0, z_scale == 0, max_error <= 0).
+// Memory: 2 bytes per sample plus a strip buffer; voids add 1 byte per sample while filling.
+ElevationRaster ingestRaster(const std::string& path, const IngestOptions& options = {});
+
+// Strip-wise access to band 1 as codes, for builds that never hold the whole grid.
+//
+// The constructor opens the band and settles the quantization exactly as ingestRaster does
+// (8/16-bit integers: exact, no pass over the data; other types: the strip-wise pre-pass for
+// range and integrality). Rows can then be read in any order; stats() covers the rows read so
+// far. Voids cannot be filled strip by strip: readRows reports how many it met, and callers
+// fall back to ingestRaster when there are any. Same errors as ingestRaster.
+class CodeRowReader {
+public:
+    CodeRowReader(const std::string& path, const IngestOptions& options);
+    ~CodeRowReader();
+    CodeRowReader(const CodeRowReader&) = delete;
+    CodeRowReader& operator=(const CodeRowReader&) = delete;
+
+    int width() const;
+    int height() const;
+    const HeightQuantization& quantization() const;
+    const GeoReference& geo() const;
+
+    // Reads rows [y0, y0 + rows) into out[rows * width()] as codes and returns the number of
+    // void samples among them (their codes are unspecified).
+    int64_t readRows(int y0, int rows, uint16_t* out);
+
+    // data_type, valid_samples, min/max metres (over the valid samples read so far), exact,
+    // z_scale/z_offset; voids_filled is always 0 (this reader fills nothing).
+    IngestStats stats() const;
+
+private:
+    struct Impl;
+    Impl* impl_ = nullptr;
+};
+
+// Strip-wise reader of a source raster's exact values in metres, for verification: no
+// quantization, no void filling; voids are reported as NaN. Uses the same z_scale/z_offset
+// rules as ingestRaster.
+class ReferenceRaster {
+public:
+    ReferenceRaster(const std::string& path, const IngestOptions& options);
+    ~ReferenceRaster();
+    ReferenceRaster(const ReferenceRaster&) = delete;
+    ReferenceRaster& operator=(const ReferenceRaster&) = delete;
+
+    int width() const { return width_; }
+    int height() const { return height_; }
+    // Reads rows [y0, y0 + rows) into out[rows * width()], metres, voids as NaN.
+    void readRows(int y0, int rows, double* out);
+
+private:
+    struct Impl;
+    Impl* impl_ = nullptr;
+    int width_ = 0;
+    int height_ = 0;
+};
+
+} // namespace ridge::io

@@ -1,0 +1,143 @@
+// CodeRowReader: band 1 as codes, rows on demand, quantized exactly as ingestRaster does.
+#include "ridge/io/raster_source.h"
+
+#include "code_source.h"
+#include "georeference.h"
+#include "source_band.h"
+
+#include "ridge/core/error.h"
+
+#include <algorithm>
+#include <memory>
+
+namespace ridge::io {
+
+namespace {
+
+// Share of construction that the pre-pass of non-16-bit types takes; the error measurement
+// pass takes the rest.
+constexpr double kSurveyShare = 0.5;
+
+} // namespace
+
+struct CodeRowReader::Impl {
+    detail::SourceBand band;
+    GeoReference geo;
+    std::unique_ptr<detail::CodeSource> source;
+    HeightQuantization quantization;
+    bool exact = false;
+    detail::CodeStats stats; // rows read through readRows
+    std::vector<int64_t> void_scratch;
+
+    Impl(const std::string& path, const IngestOptions& options) : band(path, options)
+    {
+        geo = detail::readGeoReference(band.dataset(), band.width(), band.height(), options);
+        geo.vertical_units = band.verticalUnits();
+    }
+
+    // The cache limit for one call: the blocks of the row where two calls' strips meet must
+    // survive from one call to the next, nothing more.
+    int64_t cacheLimit() const
+    {
+        return std::max(detail::kIngestCacheBytes, 2 * band.blockRowBytes());
+    }
+
+    // ingestRaster measures the quantization error while it reads; a reader that hands out
+    // rows on demand has to measure it up front, in a pass of its own.
+    double measureError(const Progress& progress)
+    {
+        const int width = band.width();
+        const int height = band.height();
+        const int strip_rows = band.stripRows(detail::kStripBytes, source->stripSampleBytes());
+        std::vector<uint16_t> codes(static_cast<size_t>(strip_rows) * width);
+        detail::CodeStats measured;
+        for (int y0 = 0; y0 < height; y0 += strip_rows) {
+            const int rows = std::min(strip_rows, height - y0);
+            void_scratch.clear();
+            source->readRows(y0, rows, codes.data(), void_scratch, measured);
+            reportProgress(progress, double(y0 + rows) / height);
+        }
+        return measured.max_error;
+    }
+};
+
+CodeRowReader::CodeRowReader(const std::string& path, const IngestOptions& options)
+{
+    detail::GdalErrorCapture capture;
+    auto impl = std::make_unique<Impl>(path, options);
+    detail::ScopedCacheLimit cache_limit(impl->cacheLimit());
+    const detail::SourceBand& band = impl->band;
+    if (detail::hasDirectCodes(band)) {
+        impl->source = detail::makeDirectCodes(band);
+    } else {
+        impl->source = detail::makeQuantizedCodes(band, options.max_error,
+                                                  subProgress(options.progress, 0.0, kSurveyShare));
+    }
+    impl->quantization = impl->source->quantization();
+    impl->exact = impl->source->exact();
+    if (!impl->exact) {
+        impl->quantization.max_error =
+            impl->measureError(subProgress(options.progress, kSurveyShare, 1.0));
+        impl->exact = impl->quantization.max_error == 0.0;
+    }
+    reportProgress(options.progress, 1.0);
+    impl_ = impl.release();
+}
+
+CodeRowReader::~CodeRowReader()
+{
+    detail::GdalErrorCapture capture; // closing must not print
+    delete impl_;
+}
+
+int CodeRowReader::width() const
+{
+    return impl_->band.width();
+}
+
+int CodeRowReader::height() const
+{
+    return impl_->band.height();
+}
+
+const HeightQuantization& CodeRowReader::quantization() const
+{
+    return impl_->quantization;
+}
+
+const GeoReference& CodeRowReader::geo() const
+{
+    return impl_->geo;
+}
+
+int64_t CodeRowReader::readRows(int y0, int rows, uint16_t* out)
+{
+    const int height = impl_->band.height();
+    if (y0 < 0 || rows < 0 || rows > height - y0)
+        impl_->band.fail("rows " + std::to_string(y0) + "+" + std::to_string(rows) +
+                         " are outside the raster's " + std::to_string(height) + " rows");
+    if (rows == 0)
+        return 0;
+    detail::GdalErrorCapture capture;
+    detail::ScopedCacheLimit cache_limit(impl_->cacheLimit());
+    impl_->void_scratch.clear();
+    impl_->source->readRows(y0, rows, out, impl_->void_scratch, impl_->stats);
+    return static_cast<int64_t>(impl_->void_scratch.size());
+}
+
+IngestStats CodeRowReader::stats() const
+{
+    const detail::CodeStats& s = impl_->stats;
+    IngestStats out;
+    out.data_type = impl_->band.dataTypeName();
+    out.valid_samples = s.valid;
+    out.voids_filled = 0;
+    out.min_metres = s.valid > 0 ? s.min_metres : 0.0;
+    out.max_metres = s.valid > 0 ? s.max_metres : 0.0;
+    out.exact = impl_->exact;
+    out.z_scale = impl_->band.z().scale;
+    out.z_offset = impl_->band.z().offset;
+    return out;
+}
+
+} // namespace ridge::io

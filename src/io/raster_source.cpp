@@ -1,0 +1,143 @@
+// ingestRaster: open band 1, read it strip by strip into codes, fill voids, record
+// georeferencing. ReferenceRaster: the same source as exact metres with NaN voids.
+#include "ridge/io/raster_source.h"
+
+#include "code_source.h"
+#include "georeference.h"
+#include "source_band.h"
+#include "void_fill.h"
+
+#include "ridge/core/error.h"
+
+#include <memory>
+
+namespace ridge::io {
+
+namespace {
+
+// Reading takes most of an ingest; filling (when there are voids) the rest.
+constexpr double kReadShare = 0.9;
+// Share of reading that the pre-pass of non-16-bit types takes.
+constexpr double kSurveyShare = 0.5;
+
+// Records voids in a 1 byte/sample mask (0 = void) allocated at the first void.
+class VoidMask {
+public:
+    explicit VoidMask(int64_t samples) : samples_(samples) {}
+
+    void mark(int64_t index)
+    {
+        if (mask_.empty())
+            mask_.assign(static_cast<size_t>(samples_), 255);
+        mask_[static_cast<size_t>(index)] = 0;
+        ++count_;
+    }
+    int64_t count() const { return count_; }
+    std::vector<uint8_t>& mask() { return mask_; }
+
+private:
+    int64_t samples_;
+    int64_t count_ = 0;
+    std::vector<uint8_t> mask_;
+};
+
+} // namespace
+
+ElevationRaster ingestRaster(const std::string& path, const IngestOptions& options)
+{
+    // Declared first so that it also catches what GDAL says while closing the dataset.
+    detail::GdalErrorCapture capture;
+    detail::ScopedCacheLimit cache_limit(detail::kIngestCacheBytes);
+    const detail::SourceBand band(path, options);
+
+    ElevationRaster raster;
+    raster.source_path = path;
+    raster.geo = detail::readGeoReference(band.dataset(), band.width(), band.height(), options);
+    raster.geo.vertical_units = band.verticalUnits();
+
+    const bool direct = detail::hasDirectCodes(band);
+    const double survey_end = direct ? 0.0 : kReadShare * kSurveyShare;
+    const std::unique_ptr<detail::CodeSource> source =
+        direct ? detail::makeDirectCodes(band)
+               : detail::makeQuantizedCodes(band, options.max_error,
+                                            subProgress(options.progress, 0.0, survey_end));
+
+    const int width = band.width();
+    const int height = band.height();
+    CodeGrid& grid = raster.grid;
+    grid.width = width;
+    grid.height = height;
+    grid.codes.resize(static_cast<size_t>(width) * height);
+    detail::CodeStats stats;
+    VoidMask voids(int64_t{width} * height);
+    std::vector<int64_t> strip_voids;
+    const int strip_rows = band.stripRows(detail::kStripBytes, source->stripSampleBytes());
+    for (int y0 = 0; y0 < height; y0 += strip_rows) {
+        const int rows = std::min(strip_rows, height - y0);
+        const int64_t first = int64_t{y0} * width;
+        strip_voids.clear();
+        source->readRows(y0, rows, grid.codes.data() + first, strip_voids, stats);
+        for (int64_t i : strip_voids)
+            voids.mark(first + i);
+        reportProgress(options.progress,
+                       survey_end + (kReadShare - survey_end) * double(y0 + rows) / height);
+    }
+    if (stats.valid == 0)
+        band.fail("all samples are nodata");
+
+    if (voids.count() > 0) {
+        detail::fillVoids(path, grid, voids.mask(), stats.min_code, stats.max_code,
+                          subProgress(options.progress, kReadShare, 1.0));
+        voids.mask() = {};
+    }
+    reportProgress(options.progress, 1.0);
+
+    raster.quantization = source->quantization();
+    raster.quantization.max_error = stats.max_error;
+    IngestStats& out = raster.stats;
+    out.data_type = band.dataTypeName();
+    out.valid_samples = stats.valid;
+    out.voids_filled = voids.count();
+    out.min_metres = stats.min_metres;
+    out.max_metres = stats.max_metres;
+    out.exact = source->exact() || stats.max_error == 0.0;
+    out.z_scale = band.z().scale;
+    out.z_offset = band.z().offset;
+    return raster;
+}
+
+struct ReferenceRaster::Impl {
+    detail::SourceBand band;
+    std::vector<uint8_t> mask_scratch;
+};
+
+ReferenceRaster::ReferenceRaster(const std::string& path, const IngestOptions& options)
+{
+    detail::GdalErrorCapture capture;
+    auto impl = std::make_unique<Impl>(Impl{detail::SourceBand(path, options), {}});
+    width_ = impl->band.width();
+    height_ = impl->band.height();
+    impl_ = impl.release();
+}
+
+ReferenceRaster::~ReferenceRaster()
+{
+    detail::GdalErrorCapture capture; // closing must not print
+    delete impl_;
+}
+
+void ReferenceRaster::readRows(int y0, int rows, double* out)
+{
+    if (y0 < 0 || rows < 0 || rows > height_ - y0)
+        impl_->band.fail("rows " + std::to_string(y0) + "+" + std::to_string(rows) +
+                         " are outside the raster's " + std::to_string(height_) + " rows");
+    if (rows == 0)
+        return;
+    impl_->band.readValues(y0, rows, out, impl_->mask_scratch);
+    const detail::ZTransform& z = impl_->band.z();
+    const size_t count = static_cast<size_t>(rows) * width_;
+    for (size_t i = 0; i < count; ++i)
+        out[i] = z.toMetres(out[i]); // NaN voids stay NaN
+}
+
+} // namespace ridge::io

@@ -1,0 +1,234 @@
+#include "source_band.h"
+
+#include "number_format.h"
+
+#include "ridge/core/error.h"
+
+#include <cpl_string.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cfloat>
+#include <cmath>
+
+namespace ridge::io::detail {
+
+namespace {
+
+std::string lowerTrimmed(const std::string& s)
+{
+    const auto first = s.find_first_not_of(" \t");
+    if (first == std::string::npos)
+        return {};
+    const auto last = s.find_last_not_of(" \t");
+    std::string out = s.substr(first, last - first + 1);
+    std::transform(out.begin(), out.end(), out.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    return out;
+}
+
+bool isComplex(GDALDataType type)
+{
+    return GDALDataTypeIsComplex(type) != 0;
+}
+
+// "; it has N subdatasets, e.g. NAME" for container formats (netCDF, HDF, ...) whose rasters
+// live in subdatasets, so the user knows what to open instead.
+std::string subdatasetHint(GDALDatasetH ds)
+{
+    char** subdatasets = GDALGetMetadata(ds, "SUBDATASETS");
+    const int count = CSLCount(subdatasets) / 2;
+    if (count == 0)
+        return {};
+    const char* first = CSLFetchNameValue(subdatasets, "SUBDATASET_1_NAME");
+    return "; it has " + std::to_string(count) + " subdataset" + (count == 1 ? "" : "s") +
+           (first ? std::string(", e.g. ") + first : std::string());
+}
+
+} // namespace
+
+std::optional<double> verticalUnitFactor(const std::string& unit)
+{
+    const std::string u = lowerTrimmed(unit);
+    if (u.empty() || u == "m" || u == "metre" || u == "meter" || u == "metres" || u == "meters")
+        return 1.0;
+    if (u == "ft" || u == "foot" || u == "feet" || u == "international foot")
+        return 0.3048;
+    if (u == "us survey foot" || u == "us-ft" || u == "ftus")
+        return 1200.0 / 3937.0;
+    return std::nullopt;
+}
+
+void validateOptions(const std::string& path, const IngestOptions& options)
+{
+    if (options.spacing && !(std::isfinite(*options.spacing) && *options.spacing > 0))
+        throw Error(path + ": invalid spacing " + formatNumber(*options.spacing) +
+                    ": it must be a positive, finite number of metres");
+    if (options.z_scale && !(std::isfinite(*options.z_scale) && *options.z_scale != 0))
+        throw Error(path + ": invalid z_scale " + formatNumber(*options.z_scale) +
+                    ": it must be non-zero and finite");
+    if (options.z_offset && !std::isfinite(*options.z_offset))
+        throw Error(path + ": invalid z_offset " + formatNumber(*options.z_offset) +
+                    ": it must be finite");
+    if (options.max_error && !(std::isfinite(*options.max_error) && *options.max_error > 0))
+        throw Error(path + ": invalid max_error " + formatNumber(*options.max_error) +
+                    ": it must be a positive, finite number of metres");
+}
+
+SourceBand::SourceBand(const std::string& path, const IngestOptions& options) : path_(path)
+{
+    validateOptions(path, options);
+    ensureGdalRegistered();
+    GdalErrorCapture capture;
+
+    // GTiff decodes blocks on all cores with this option; other drivers would warn about an
+    // unknown open option, so it is only passed to GTiff.
+    CPLStringList open_options;
+    GDALDriverH driver = GDALIdentifyDriverEx(path.c_str(), GDAL_OF_RASTER, nullptr, nullptr);
+    if (driver && EQUAL(GDALGetDriverShortName(driver), "GTiff"))
+        open_options.SetNameValue("NUM_THREADS", "ALL_CPUS");
+    dataset_.reset(GDALOpenEx(path.c_str(),
+                              GDAL_OF_RASTER | GDAL_OF_READONLY | GDAL_OF_VERBOSE_ERROR, nullptr,
+                              open_options.List(), nullptr));
+    if (!dataset_)
+        fail(withGdalDetail("cannot open as a raster", capture));
+
+    if (GDALGetRasterCount(dataset_.get()) < 1)
+        fail("has no raster band" + subdatasetHint(dataset_.get()));
+    band_ = GDALGetRasterBand(dataset_.get(), 1);
+    width_ = GDALGetRasterBandXSize(band_);
+    height_ = GDALGetRasterBandYSize(band_);
+    if (width_ < 2 || height_ < 2)
+        fail("raster is " + std::to_string(width_) + "x" + std::to_string(height_) +
+             " samples; at least 2x2 are needed (too small)");
+
+    type_ = GDALGetRasterDataType(band_);
+    if (type_ == GDT_Unknown || isComplex(type_))
+        fail(std::string("data type ") + GDALGetDataTypeName(type_) + " is not supported");
+    if (type_ == GDT_Byte) {
+        // GDAL < 3.7 has no GDT_Int8; signed bytes are Byte bands flagged like this.
+        const char* pixel_type = GDALGetMetadataItem(band_, "PIXELTYPE", "IMAGE_STRUCTURE");
+        signed_byte_ = pixel_type && EQUAL(pixel_type, "SIGNEDBYTE");
+    }
+
+    GDALGetBlockSize(band_, &block_width_, &block_height_);
+    block_width_ = std::clamp(block_width_, 1, width_);
+    block_height_ = std::clamp(block_height_, 1, height_);
+
+    const char* unit = GDALGetRasterUnitType(band_);
+    vertical_units_ = unit ? unit : "";
+    const double unit_factor = verticalUnitFactor(vertical_units_).value_or(1.0);
+    int has_scale = 0;
+    int has_offset = 0;
+    double band_scale = GDALGetRasterScale(band_, &has_scale);
+    double band_offset = GDALGetRasterOffset(band_, &has_offset);
+    if (!has_scale)
+        band_scale = 1.0;
+    if (!has_offset)
+        band_offset = 0.0;
+    z_.scale = options.z_scale ? *options.z_scale : band_scale * unit_factor;
+    z_.offset = options.z_offset ? *options.z_offset : band_offset * unit_factor;
+    if (!(std::isfinite(z_.scale) && z_.scale != 0))
+        fail("invalid z_scale " + formatNumber(z_.scale) + " (from the band's scale " +
+             formatNumber(band_scale) + "): it must be non-zero and finite");
+    if (!std::isfinite(z_.offset))
+        fail("invalid z_offset " + formatNumber(z_.offset) + ": it must be finite");
+
+    // 64-bit integer bands keep their nodata apart (a double cannot hold every value); the
+    // samples are compared as doubles after RasterIO's conversion, so convert it alike.
+    int has_nodata = 0;
+    double nodata = 0;
+    if (type_ == GDT_Int64)
+        nodata = static_cast<double>(GDALGetRasterNoDataValueAsInt64(band_, &has_nodata));
+    else if (type_ == GDT_UInt64)
+        nodata = static_cast<double>(GDALGetRasterNoDataValueAsUInt64(band_, &has_nodata));
+    else
+        nodata = GDALGetRasterNoDataValue(band_, &has_nodata);
+    if (has_nodata) {
+        // Float32 samples are compared as GDAL compares them: in the band's own precision.
+        const bool as_float = type_ == GDT_Float32 && std::abs(nodata) <= FLT_MAX;
+        nodata_ = as_float ? static_cast<double>(static_cast<float>(nodata)) : nodata;
+    }
+
+    // A real mask (internal/external mask or alpha band) is read alongside the data. Masks
+    // that GDAL derives from nodata (GMF_NODATA) or that are all valid add nothing.
+    const int flags = GDALGetMaskFlags(band_);
+    has_mask_band_ = (flags & (GMF_PER_DATASET | GMF_ALPHA)) != 0 &&
+                     (flags & (GMF_NODATA | GMF_ALL_VALID)) == 0;
+}
+
+std::string SourceBand::dataTypeName() const
+{
+    return signed_byte_ ? "Int8" : GDALGetDataTypeName(type_);
+}
+
+bool SourceBand::isNodata(double value) const
+{
+    if (!nodata_)
+        return false;
+    return value == *nodata_ || (std::isnan(*nodata_) && std::isnan(value));
+}
+
+int SourceBand::stripRows(int64_t target_bytes, int sample_bytes) const
+{
+    const int64_t row_bytes = static_cast<int64_t>(width_) * sample_bytes;
+    const int64_t target_rows = std::max<int64_t>(1, target_bytes / row_bytes);
+    const int64_t rows = std::max<int64_t>(1, target_rows / block_height_) * block_height_;
+    return static_cast<int>(std::min<int64_t>(rows, height_));
+}
+
+int64_t SourceBand::blockRowBytes() const
+{
+    const int64_t blocks_across = (width_ + block_width_ - 1) / block_width_;
+    return blocks_across * block_width_ * block_height_ * GDALGetDataTypeSizeBytes(type_);
+}
+
+void SourceBand::readRows(int y0, int rows, GDALDataType buffer_type, void* out) const
+{
+    GdalErrorCapture capture;
+    if (GDALRasterIO(band_, GF_Read, 0, y0, width_, rows, out, width_, rows, buffer_type, 0, 0) !=
+        CE_None)
+        fail(withGdalDetail("cannot read rows " + std::to_string(y0) + ".." +
+                                std::to_string(y0 + rows - 1),
+                            capture));
+}
+
+void SourceBand::readMaskRows(int y0, int rows, uint8_t* out) const
+{
+    GdalErrorCapture capture;
+    if (GDALRasterIO(GDALGetMaskBand(band_), GF_Read, 0, y0, width_, rows, out, width_, rows,
+                     GDT_Byte, 0, 0) != CE_None)
+        fail(withGdalDetail("cannot read the mask of rows " + std::to_string(y0) + ".." +
+                                std::to_string(y0 + rows - 1),
+                            capture));
+}
+
+void SourceBand::readValues(int y0, int rows, double* out, std::vector<uint8_t>& mask_scratch) const
+{
+    readRows(y0, rows, GDT_Float64, out);
+    const size_t count = static_cast<size_t>(rows) * width_;
+    const uint8_t* mask = nullptr;
+    if (has_mask_band_) {
+        mask_scratch.resize(count);
+        readMaskRows(y0, rows, mask_scratch.data());
+        mask = mask_scratch.data();
+    }
+    for (size_t i = 0; i < count; ++i) {
+        const double v = out[i];
+        if (isNodata(v) || (mask && mask[i] == 0)) {
+            out[i] = std::nan("");
+        } else if (!std::isfinite(v)) {
+            const size_t x = i % width_;
+            const size_t y = y0 + i / width_;
+            fail("non-finite value " + formatNumber(v) + " at sample (" + std::to_string(x) +
+                 ", " + std::to_string(y) + ") (x = column, y = row) is not declared nodata");
+        }
+    }
+}
+
+void SourceBand::fail(const std::string& problem) const
+{
+    throw Error(path_ + ": " + problem);
+}
+
+} // namespace ridge::io::detail

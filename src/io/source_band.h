@@ -1,0 +1,87 @@
+#pragma once
+// Band 1 of a source raster as both ingestRaster and ReferenceRaster see it: opened and
+// validated, with one definition of "void", one z_scale/z_offset rule and one strip reader.
+#include "gdal_support.h"
+
+#include "ridge/io/raster_source.h"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace ridge::io::detail {
+
+// metres = value * scale + offset.
+struct ZTransform {
+    double scale = 1.0;
+    double offset = 0.0;
+
+    double toMetres(double value) const { return value * scale + offset; }
+};
+
+// Metres per unit of a band's vertical unit type ("ft", "US survey foot", "m", ...).
+// Unknown units are taken as metres (nullopt tells the caller it did not recognise them).
+std::optional<double> verticalUnitFactor(const std::string& unit);
+
+// Rejects invalid IngestOptions with an Error naming `path`.
+void validateOptions(const std::string& path, const IngestOptions& options);
+
+class SourceBand {
+public:
+    // Opens band 1 read-only. Throws Error("path: ...") when the file cannot be opened, has
+    // no raster band, is smaller than 2x2, or has an unsupported data type.
+    SourceBand(const std::string& path, const IngestOptions& options);
+
+    const std::string& path() const { return path_; }
+    GDALDatasetH dataset() const { return dataset_.get(); }
+    GDALRasterBandH band() const { return band_; }
+    int width() const { return width_; }
+    int height() const { return height_; }
+    GDALDataType dataType() const { return type_; }
+    bool isSignedByte() const { return signed_byte_; }
+    std::string dataTypeName() const;
+    const ZTransform& z() const { return z_; }
+    const std::string& verticalUnits() const { return vertical_units_; }
+
+    // Nodata as declared by the band (nullopt when none). A NaN nodata marks NaN samples.
+    const std::optional<double>& nodata() const { return nodata_; }
+    // The dataset has a real mask (per-dataset mask or alpha band), read alongside the data.
+    bool hasMaskBand() const { return has_mask_band_; }
+    bool isNodata(double value) const;
+
+    // Rows per strip: a multiple of the band's block height holding about `target_bytes` of
+    // samples of `sample_bytes` each (at least one block row, at most the raster).
+    int stripRows(int64_t target_bytes, int sample_bytes) const;
+    // Bytes of one row of blocks in GDAL's block cache.
+    int64_t blockRowBytes() const;
+
+    // Reads rows [y0, y0 + rows) of band 1 converted to `buffer_type` into `out`.
+    void readRows(int y0, int rows, GDALDataType buffer_type, void* out) const;
+    // Reads the mask band's rows [y0, y0 + rows) (0 = void). Only when hasMaskBand().
+    void readMaskRows(int y0, int rows, uint8_t* out) const;
+
+    // Reads rows [y0, y0 + rows) as stored values (before z_scale/z_offset) with voids as
+    // NaN. Throws Error with the sample position for a non-finite value that is not a void.
+    // `mask_scratch` is reused between calls to hold the mask strip.
+    void readValues(int y0, int rows, double* out, std::vector<uint8_t>& mask_scratch) const;
+
+    // Throws Error("path: problem[: GDAL's messages]").
+    [[noreturn]] void fail(const std::string& problem) const;
+
+private:
+    std::string path_;
+    DatasetPtr dataset_;
+    GDALRasterBandH band_ = nullptr;
+    int width_ = 0;
+    int height_ = 0;
+    int block_width_ = 1;
+    int block_height_ = 1;
+    GDALDataType type_ = GDT_Unknown;
+    bool signed_byte_ = false;
+    ZTransform z_;
+    std::string vertical_units_;
+    std::optional<double> nodata_;
+    bool has_mask_band_ = false;
+};
+
+} // namespace ridge::io::detail
