@@ -57,7 +57,8 @@ ArchiveReader::ArchiveReader(const std::string& path) : path_(path)
 
     // Metadata.
     if (header_.metadata_offset < kHeaderSize || header_.metadata_offset > file_size_ ||
-        header_.metadata_size > file_size_ - header_.metadata_offset)
+        header_.metadata_size > file_size_ - header_.metadata_offset ||
+        header_.metadata_offset + header_.metadata_size > header_.index_offset)
         fail("metadata lies outside the file (truncated?)");
     metadata_.resize(header_.metadata_size);
     readAt(header_.metadata_offset, metadata_.data(), metadata_.size(), "metadata");
@@ -76,15 +77,16 @@ ArchiveReader::ArchiveReader(const std::string& path) : path_(path)
     if (crc32(index.data(), index.size()) != header_.index_crc32)
         fail("index checksum mismatch (corrupt index)");
     records_.resize(count);
-    const uint64_t blobs_begin = header_.metadata_offset + header_.metadata_size;
+    const uint64_t blobs_begin = kHeaderSize;
+    const uint64_t blobs_end = header_.metadata_offset;
     for (uint64_t i = 0; i < count; ++i) {
         const PatchRecord r = parseRecord(index.data() + i * kIndexEntrySize);
         const PatchId p = geometry_.patchAt(static_cast<int64_t>(i));
         if (r.level != static_cast<uint32_t>(p.level) || r.x != static_cast<uint32_t>(p.x) ||
             r.y != static_cast<uint32_t>(p.y))
             fail("index entry " + std::to_string(i) + " is out of order");
-        if (r.offset < blobs_begin || r.offset > header_.index_offset ||
-            r.size > header_.index_offset - r.offset || r.block_errors_size > r.size)
+        if (r.offset < blobs_begin || r.offset > blobs_end || r.size > blobs_end - r.offset ||
+            r.block_errors_size > r.size)
             fail(patchName(p) + ": blob lies outside the patch area");
         records_[i] = r;
     }
@@ -168,8 +170,7 @@ std::vector<float> ArchiveReader::readBlockErrors(PatchId p) const
     const std::vector<uint8_t> blob = readBlob(p);
     const size_t count = static_cast<size_t>(blockLayout().valuesPerPatch());
     std::vector<float> lambda(count);
-    if (!unpackBlockErrors(blob.data(), record(p).block_errors_size, count,
-                           header_.block_error_quantum, lambda.data()))
+    if (!unpackBlockErrors(blob.data(), record(p).block_errors_size, count, lambda.data()))
         throw Error(describe(p) + ": corrupt tessellation block errors");
     return lambda;
 }

@@ -8,8 +8,7 @@
 
 namespace ridge::archive {
 
-ArchiveWriter::ArchiveWriter(const std::string& path, const Header& header,
-                             const std::string& metadata_json)
+ArchiveWriter::ArchiveWriter(const std::string& path, const Header& header)
     : output_(path), header_(header),
       geometry_(PyramidGeometry::fromStored(header.width, header.height, header.patch_size,
                                             header.level_count))
@@ -18,15 +17,12 @@ ArchiveWriter::ArchiveWriter(const std::string& path, const Header& header,
     if (!file_)
         throw Error(path + ": cannot create: " + std::strerror(errno));
     std::setvbuf(file_, nullptr, _IOFBF, 1 << 20);
-    records_.reserve(geometry_.patchCount());
+    records_.resize(geometry_.patchCount());
+    written_.assign(geometry_.patchCount(), false);
 
     // Placeholder header; the real one is written by finish() once offsets are known.
     const uint8_t zeros[kHeaderSize] = {};
     write(zeros, kHeaderSize);
-    header_.metadata_offset = position_;
-    header_.metadata_size = static_cast<uint32_t>(metadata_json.size());
-    header_.metadata_crc32 = crc32(metadata_json.data(), metadata_json.size());
-    write(metadata_json.data(), metadata_json.size());
 }
 
 ArchiveWriter::~ArchiveWriter()
@@ -45,25 +41,29 @@ void ArchiveWriter::write(const void* data, size_t size)
 void ArchiveWriter::writePatch(PatchRecord record, const std::vector<uint8_t>& block_errors,
                                const uint8_t* payload, size_t payload_size)
 {
-    const PatchId expected = geometry_.patchAt(static_cast<int64_t>(records_.size()));
-    if (records_.size() >= static_cast<size_t>(geometry_.patchCount()) ||
-        record.level != static_cast<uint32_t>(expected.level) ||
-        record.x != static_cast<uint32_t>(expected.x) || record.y != static_cast<uint32_t>(expected.y))
-        throw Error(output_.finalPath() + ": internal error: patches written out of index order");
+    const PatchId p{static_cast<int>(record.level), static_cast<int>(record.x), static_cast<int>(record.y)};
+    if (!geometry_.exists(p) || written_[geometry_.patchIndex(p)])
+        throw Error(output_.finalPath() + ": internal error: patch written twice or out of range");
     record.offset = position_;
     record.block_errors_size = static_cast<uint32_t>(block_errors.size());
     record.size = static_cast<uint32_t>(block_errors.size() + payload_size);
     record.crc32 = crc32(payload, payload_size, crc32(block_errors.data(), block_errors.size()));
     write(block_errors.data(), block_errors.size());
     write(payload, payload_size);
-    records_.push_back(record);
+    records_[geometry_.patchIndex(p)] = record;
+    written_[geometry_.patchIndex(p)] = true;
+    ++written_count_;
 }
 
-void ArchiveWriter::finish()
+void ArchiveWriter::finish(const std::string& metadata_json)
 {
-    if (records_.size() != static_cast<size_t>(geometry_.patchCount()))
-        throw Error(output_.finalPath() + ": internal error: " + std::to_string(records_.size()) +
+    if (written_count_ != geometry_.patchCount())
+        throw Error(output_.finalPath() + ": internal error: " + std::to_string(written_count_) +
                     " of " + std::to_string(geometry_.patchCount()) + " patches written");
+    header_.metadata_offset = position_;
+    header_.metadata_size = static_cast<uint32_t>(metadata_json.size());
+    header_.metadata_crc32 = crc32(metadata_json.data(), metadata_json.size());
+    write(metadata_json.data(), metadata_json.size());
     std::vector<uint8_t> index(records_.size() * kIndexEntrySize);
     for (size_t i = 0; i < records_.size(); ++i)
         serializeRecord(records_[i], index.data() + i * kIndexEntrySize);

@@ -39,7 +39,7 @@ enum HeaderOffset : size_t {
     kOffMagic = 0, kOffVersion = 8, kOffHeaderSize = 12, kOffWidth = 16, kOffHeight = 20,
     kOffPatchSize = 24, kOffLevelCount = 28, kOffBlockCells = 32, kOffBlockLevels = 36,
     kOffCodec = 40, kOffFilter = 44, kOffScale = 48, kOffOffset = 56, kOffSpacingX = 64,
-    kOffSpacingY = 72, kOffQuantError = 80, kOffBlockQuantum = 88, kOffCodecParam = 96,
+    kOffSpacingY = 72, kOffQuantError = 80, kOffReserved0 = 88, kOffCodecParam = 96,
     kOffMetaOffset = 112, kOffMetaSize = 120, kOffMetaCrc = 124, kOffIndexOffset = 128,
     kOffIndexCrc = 136, kOffReserved = 140, kOffHeaderCrc = 156,
 };
@@ -65,7 +65,6 @@ void serializeHeader(const Header& h, uint8_t out[kHeaderSize])
     put<double>(out + kOffSpacingX, h.spacing_x);
     put<double>(out + kOffSpacingY, h.spacing_y);
     put<double>(out + kOffQuantError, h.quantization_error);
-    put<double>(out + kOffBlockQuantum, h.block_error_quantum);
     put<double>(out + kOffCodecParam, h.codec_param[0]);
     put<double>(out + kOffCodecParam + 8, h.codec_param[1]);
     put<uint64_t>(out + kOffMetaOffset, h.metadata_offset);
@@ -101,7 +100,6 @@ std::string parseHeader(const uint8_t in[kHeaderSize], Header& h)
     h.spacing_x = get<double>(in + kOffSpacingX);
     h.spacing_y = get<double>(in + kOffSpacingY);
     h.quantization_error = get<double>(in + kOffQuantError);
-    h.block_error_quantum = get<double>(in + kOffBlockQuantum);
     h.codec_param[0] = get<double>(in + kOffCodecParam);
     h.codec_param[1] = get<double>(in + kOffCodecParam + 8);
     h.metadata_offset = get<uint64_t>(in + kOffMetaOffset);
@@ -110,7 +108,7 @@ std::string parseHeader(const uint8_t in[kHeaderSize], Header& h)
     h.index_offset = get<uint64_t>(in + kOffIndexOffset);
     h.index_crc32 = get<uint32_t>(in + kOffIndexCrc);
     if (!(h.height_scale > 0) || !std::isfinite(h.height_offset) || !(h.spacing_x > 0) ||
-        !(h.spacing_y > 0) || !(h.block_error_quantum > 0) || !(h.quantization_error >= 0))
+        !(h.spacing_y > 0) || !(h.quantization_error >= 0))
         return "invalid header values";
     return {};
 }

@@ -32,7 +32,6 @@ Header sampleHeader()
     h.height_offset = -32768.0;
     h.spacing_x = 82.25;
     h.spacing_y = 92.5;
-    h.block_error_quantum = 0.0625;
     h.metadata_offset = 160;
     h.metadata_size = 2;
     h.metadata_crc32 = 0x12345678;
@@ -68,7 +67,8 @@ TEST(ArchiveFormat, HeaderV1BytesArePinned)
     EXPECT_EQ(u32(40), 1u);    // codec
     EXPECT_EQ(f64(56), -32768.0);
     EXPECT_EQ(f64(64), 82.25);
-    EXPECT_EQ(f64(88), 0.0625);
+    EXPECT_EQ(f64(80), 0.0);   // quantization error
+    EXPECT_EQ(f64(88), 0.0);   // reserved
     EXPECT_EQ(u32(120), 2u);   // metadata size
     EXPECT_EQ(u32(124), 0x12345678u);
     EXPECT_EQ(u32(136), 0x9abcdef0u);
@@ -137,19 +137,42 @@ TEST(ArchiveFormat, FloatRoundingNeverMovesABoundInwards)
     }
 }
 
-TEST(BlockErrorStorage, RoundsUpAndSaturates)
+TEST(BlockErrorStorage, RoundsUpWithAFineQuantumForSmallErrors)
 {
-    const float lambda_codes[4] = {0.f, 0.25f, 10.f, 1e9f};
-    const std::vector<uint8_t> packed = packBlockErrors(lambda_codes, 4, 0.5, 0.0625);
+    const float lambda_codes[4] = {0.f, 0.25f, 10.f, 100.f};
+    const std::vector<uint8_t> packed = packBlockErrors(lambda_codes, 4, 0.5);
     float back[4];
-    ASSERT_TRUE(unpackBlockErrors(packed.data(), packed.size(), 4, 0.0625, back));
+    ASSERT_TRUE(unpackBlockErrors(packed.data(), packed.size(), 4, back));
     EXPECT_EQ(back[0], 0.f);
     EXPECT_GE(back[1], 0.125f);
     EXPECT_GE(back[2], 5.f);
-    EXPECT_LT(back[2], 5.0f + 0.0625f + 1e-6f);
-    EXPECT_TRUE(std::isinf(back[3]));
-    EXPECT_FALSE(unpackBlockErrors(packed.data(), packed.size() - 1, 4, 0.0625, back));
-    EXPECT_FALSE(unpackBlockErrors(packed.data(), packed.size(), 5, 0.0625, back));
+    EXPECT_LE(back[2], 5.f + 0.5f / 16 + 1e-6f); // quantum = scale / 16 here
+    EXPECT_GE(back[3], 50.f);
+}
+
+TEST(BlockErrorStorage, HugeErrorsGetACoarserQuantumInsteadOfSaturating)
+{
+    const float lambda_codes[2] = {1.f, 60000.f};
+    const std::vector<uint8_t> packed = packBlockErrors(lambda_codes, 2, 1.0);
+    float back[2];
+    ASSERT_TRUE(unpackBlockErrors(packed.data(), packed.size(), 2, back));
+    EXPECT_FALSE(std::isinf(back[1]));
+    EXPECT_GE(back[1], 60000.f);
+    EXPECT_LT(back[1], 60002.f);
+    EXPECT_GE(back[0], 1.f);
+}
+
+TEST(BlockErrorStorage, RejectsTruncatedOrMismatchedFrames)
+{
+    const float lambda_codes[4] = {1.f, 2.f, 3.f, 4.f};
+    const std::vector<uint8_t> packed = packBlockErrors(lambda_codes, 4, 1.0);
+    float back[5];
+    EXPECT_FALSE(unpackBlockErrors(packed.data(), packed.size() - 1, 4, back));
+    EXPECT_FALSE(unpackBlockErrors(packed.data(), packed.size(), 5, back));
+    EXPECT_FALSE(unpackBlockErrors(packed.data(), 3, 4, back));
+    std::vector<uint8_t> bad = packed;
+    bad[3] = 0xff; // quantum becomes NaN
+    EXPECT_FALSE(unpackBlockErrors(bad.data(), bad.size(), 4, back));
 }
 
 TEST(ArchiveReader, RejectsFilesThatAreNotArchives)

@@ -14,18 +14,19 @@ class ArchiveWriter {
 public:
     // `header` must have geometry, codec and quantization fields set; offsets and checksums
     // are filled in by the writer. Throws ridge::Error when the file cannot be created.
-    ArchiveWriter(const std::string& path, const Header& header, const std::string& metadata_json);
+    ArchiveWriter(const std::string& path, const Header& header);
     ~ArchiveWriter();
     ArchiveWriter(const ArchiveWriter&) = delete;
     ArchiveWriter& operator=(const ArchiveWriter&) = delete;
 
-    // Appends the next patch in index order. `record` carries the level/x/y and the bounds;
-    // offset, size and crc32 are set here. Blob = block_errors ++ payload.
+    // Appends a patch blob (block_errors ++ payload), in any order; each patch exactly once.
+    // `record` carries level/x/y and the bounds; offset, size and crc32 are set here.
     void writePatch(PatchRecord record, const std::vector<uint8_t>& block_errors,
                     const uint8_t* payload, size_t payload_size);
 
-    // Writes the index and the final header, then publishes the file atomically.
-    void finish();
+    // Writes the metadata, the index and the final header, then publishes the file
+    // atomically. Throws ridge::Error when a patch is missing.
+    void finish(const std::string& metadata_json);
 
     uint64_t bytesWritten() const { return position_; }
 
@@ -37,6 +38,8 @@ private:
     Header header_;
     PyramidGeometry geometry_;
     std::vector<PatchRecord> records_;
+    std::vector<bool> written_;
+    int64_t written_count_ = 0;
     uint64_t position_ = 0;
 };
 

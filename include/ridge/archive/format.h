@@ -2,7 +2,7 @@
 // The .ridge archive, format version 1. docs/FORMAT.md is the normative description; this
 // header mirrors it. All integers and floats are little-endian, IEEE-754.
 //
-//   [header: 160 bytes][metadata: UTF-8 JSON][patch blobs, index order][index: 48 B/patch]
+//   [header: 160 bytes][patch blobs][metadata: UTF-8 JSON][index: 48 B/patch]
 //
 // Compatibility: readers accept every version <= kFormatVersion and reject newer ones;
 // writers always write kFormatVersion.
@@ -36,7 +36,6 @@ struct Header {
     double spacing_x = 1.0;      // metres between finest samples along x (east)
     double spacing_y = 1.0;      // along y (south)
     double quantization_error = 0.0;  // max |metres(code) - source| over valid samples
-    double block_error_quantum = 0.0; // metres per unit of stored λ
     double codec_param[2] = {0.0, 0.0}; // codec specific (unused by lossless/raw)
     uint64_t metadata_offset = 0;
     uint32_t metadata_size = 0;
