@@ -74,21 +74,27 @@ double interpolationError(const LevelView& parent, const LevelView& child, int p
     return worst_x4 / 4.0;
 }
 
-PatchErrors computePatchErrors(const LevelPyramid& pyramid)
+PatchErrors makePatchErrors(const PyramidGeometry& geometry)
+{
+    PatchErrors errors;
+    errors.err_int.assign(geometry.patchCount(), 0.f);
+    errors.err_appr.assign(geometry.patchCount(), 0.f);
+    errors.min_code.assign(geometry.patchCount(), 0);
+    errors.max_code.assign(geometry.patchCount(), 0);
+    return errors;
+}
+
+void measurePatches(const LevelPyramid& pyramid, int first_level, int last_level,
+                    PatchErrors& errors)
 {
     const PyramidGeometry& g = pyramid.geometry();
-    PatchErrors errors;
-    errors.err_int.assign(g.patchCount(), 0.f);
-    errors.err_appr.assign(g.patchCount(), 0.f);
-    errors.min_code.assign(g.patchCount(), 0);
-    errors.max_code.assign(g.patchCount(), 0);
-
-    // Err_Int and the own sample range: independent per patch.
+    const int64_t begin = g.firstPatchIndex(first_level);
+    const int64_t end = g.firstPatchIndex(last_level) + g.patchCount(last_level);
 #pragma omp parallel
     {
         std::vector<uint16_t> samples(static_cast<size_t>(g.patchSize()) * g.patchSize());
 #pragma omp for schedule(dynamic, 4)
-        for (int64_t index = 0; index < g.patchCount(); ++index) {
+        for (int64_t index = begin; index < end; ++index) {
             const PatchId p = g.patchAt(index);
             extractPatch(pyramid.level(p.level), g.patchSize(), p, samples.data());
             const auto [lo, hi] = std::minmax_element(samples.begin(), samples.end());
@@ -99,10 +105,13 @@ PatchErrors computePatchErrors(const LevelPyramid& pyramid)
                     pyramid.level(p.level), pyramid.level(p.level + 1), g.patchSize(), p));
         }
     }
+}
 
-    // Err_Appr: the recursion, children before parents. Values are exact multiples of 1/4
-    // code, so float sums stay exact for any realistic height range.
-    for (int l = g.finestLevel() - 1; l >= 0; --l) {
+void accumulatePatchErrors(const PyramidGeometry& g, int final_level, PatchErrors& errors)
+{
+    // Values are exact multiples of 1/4 code, so float sums stay exact for any realistic
+    // height range.
+    for (int l = final_level - 1; l >= 0; --l) {
         for (int y = 0; y < g.patchesY(l); ++y) {
             for (int x = 0; x < g.patchesX(l); ++x) {
                 const int64_t index = g.patchIndex({l, x, y});
@@ -120,6 +129,14 @@ PatchErrors computePatchErrors(const LevelPyramid& pyramid)
             }
         }
     }
+}
+
+PatchErrors computePatchErrors(const LevelPyramid& pyramid)
+{
+    const PyramidGeometry& g = pyramid.geometry();
+    PatchErrors errors = makePatchErrors(g);
+    measurePatches(pyramid, 0, g.finestLevel(), errors);
+    accumulatePatchErrors(g, g.finestLevel(), errors);
     return errors;
 }
 

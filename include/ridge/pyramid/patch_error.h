@@ -38,8 +38,20 @@ struct PatchErrors {
     std::vector<uint16_t> max_code;
 };
 
-// Computes Err_Int and the own sample range for all patches (in parallel over patches), then
-// Err_Appr and the descendant ranges by the recursion, finest to coarsest.
+// PatchErrors for every patch of `geometry`, zero-initialised.
+PatchErrors makePatchErrors(const PyramidGeometry& geometry);
+
+// Err_Int (below the pyramid's finest level) and the own sample range of every patch of
+// levels [first_level, last_level] of `pyramid`, in parallel over patches. `errors` may belong
+// to a deeper geometry whose levels 0..finest coincide with the pyramid's (streaming build).
+void measurePatches(const LevelPyramid& pyramid, int first_level, int last_level,
+                    PatchErrors& errors);
+
+// The recursion, from level `final_level - 1` up to 0: Err_Appr = Err_Int + max over children,
+// ranges widened by the children's. Levels >= final_level must already hold final values.
+void accumulatePatchErrors(const PyramidGeometry& geometry, int final_level, PatchErrors& errors);
+
+// All of the above for an in-memory pyramid: Err_Appr = 0 at the finest level.
 // Cost: one pass over every sample of every level.
 PatchErrors computePatchErrors(const LevelPyramid& pyramid);
 
