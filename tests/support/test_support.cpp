@@ -26,6 +26,7 @@ ScratchDir::~ScratchDir()
     std::filesystem::remove_all(dir_, ec);
 }
 
+#ifdef RIDGE_CLI_PATH
 CommandResult runRidge(const std::string& args)
 {
     CommandResult result;
@@ -41,5 +42,6 @@ CommandResult runRidge(const std::string& args)
     result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
     return result;
 }
+#endif
 
 } // namespace ridge::test

@@ -26,6 +26,7 @@ struct CommandResult {
 };
 
 // Runs the `ridge` command line with `args` (already shell-quoted) and captures its output.
+// Only in test binaries declared NEEDS_CLI.
 CommandResult runRidge(const std::string& args);
 
 } // namespace ridge::test

@@ -1,0 +1,54 @@
+#pragma once
+// The subcommands of `ridge` and their options.
+#include "ridge/pipeline/build.h"
+#include "ridge/pipeline/extract.h"
+#include "ridge/pipeline/hillshade.h"
+
+#include <CLI/CLI.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace ridge::cli {
+
+class Commands {
+public:
+    void registerAll(CLI::App& app);
+    // Runs the subcommand that was parsed; returns the process exit code.
+    int run();
+
+private:
+    void validateBuildOptions() const;
+    int runBuild();
+    int runInfo();
+    int runVerify();
+    int runExtract();
+    int runHillshade();
+
+    CLI::App* build_ = nullptr;
+    CLI::App* info_ = nullptr;
+    CLI::App* verify_ = nullptr;
+    CLI::App* extract_ = nullptr;
+    CLI::App* hillshade_ = nullptr;
+
+    bool quiet_ = false;
+    bool json_ = false;
+    std::string input_;
+    std::string output_;
+    std::string archive_;
+    // build
+    BuildOptions build_options_;
+    std::string filter_name_ = "decimate";
+    double max_error_ = 0.0;
+    double spacing_ = 0.0;
+    double z_scale_ = 0.0;
+    double z_offset_ = 0.0;
+    // verify
+    std::string source_;
+    // extract / hillshade
+    int level_ = -1;
+    std::vector<int> window_;
+    HillshadeOptions hillshade_options_;
+};
+
+} // namespace ridge::cli

@@ -1,0 +1,48 @@
+#pragma once
+// `ridge build`: raster -> patch quadtree -> .ridge archive.
+#include "ridge/core/progress.h"
+#include "ridge/io/raster_source.h"
+#include "ridge/pyramid/level_pyramid.h"
+
+#include <cstdint>
+#include <string>
+
+namespace ridge {
+
+struct BuildOptions {
+    int patch_size = 129;          // 2^n + 1
+    int block_cells = 8;           // tessellation block: 8 cells = 9x9 samples
+    std::string codec = "lossless";
+    PyramidFilter filter = PyramidFilter::Decimate;
+    io::IngestOptions ingest;      // spacing, z-scale/offset, max_error (quantization)
+    Progress progress;
+};
+
+struct BuildReport {
+    int width = 0;
+    int height = 0;
+    int level_count = 0;
+    int64_t patch_count = 0;
+    uint64_t archive_bytes = 0;
+    int64_t voids_filled = 0;
+    double quantization_error = 0.0;
+    bool streamed = false;          // built strip by strip (decimation, no voids)
+    double seconds_total = 0.0;
+    double seconds_ingest = 0.0;
+    double seconds_errors = 0.0;
+    double seconds_encode = 0.0;
+};
+
+// Builds `output` from `input`. Throws ridge::Error (input or output problem) or
+// ridge::Cancelled; in both cases nothing is left at `output`.
+// Memory: with the decimation filter and a void-free source, the finest level is streamed in
+// strips and only level L-1 (a quarter of the samples, 2 bytes each) is held; with voids or
+// the Neville filter the whole grid is held (2 bytes per sample, +1/3 for Neville).
+BuildReport buildArchive(const std::string& input, const std::string& output,
+                         const BuildOptions& options);
+
+// Same from an already ingested raster (tests, embedding applications).
+BuildReport buildArchive(const io::ElevationRaster& raster, const std::string& output,
+                         const BuildOptions& options);
+
+} // namespace ridge

@@ -1,0 +1,26 @@
+#pragma once
+// `ridge extract`: one level (or a window of it) back to a georeferenced GeoTIFF.
+#include "ridge/core/progress.h"
+
+#include <optional>
+#include <string>
+
+namespace ridge {
+
+struct ExtractWindow {
+    int x = 0, y = 0, width = 0, height = 0; // level sample units
+};
+
+struct ExtractOptions {
+    int level = -1;                       // -1: the finest level
+    std::optional<ExtractWindow> window;  // default: the level's whole valid extent
+    Progress progress;
+};
+
+// Writes a Float32 GeoTIFF in metres. The geotransform is the source's, scaled by the level's
+// step and shifted so that every output pixel centre sits on its finest-grid sample's centre.
+// Throws ridge::Error; leaves nothing at `output` on failure.
+void extractLevel(const std::string& archive_path, const std::string& output,
+                  const ExtractOptions& options);
+
+} // namespace ridge

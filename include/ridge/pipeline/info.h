@@ -1,0 +1,38 @@
+#pragma once
+// `ridge info`: what an archive holds.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace ridge {
+
+struct LevelInfo {
+    int level = 0;
+    int64_t step = 1;           // finest samples between level samples
+    int width = 0, height = 0;  // level samples inside the valid extent
+    int patches_x = 0, patches_y = 0;
+    uint64_t bytes = 0;         // blob bytes (block errors + payloads)
+    double max_err = 0.0;       // largest Err(P), metres
+    double max_err_appr = 0.0;
+    double level_bound = 0.0;   // δ_l, metres
+};
+
+struct ArchiveInfo {
+    std::string path;
+    uint32_t format_version = 0;
+    uint64_t file_bytes = 0;
+    int width = 0, height = 0, patch_size = 0, level_count = 0;
+    int block_cells = 0, block_levels = 0;
+    int64_t patch_count = 0;
+    std::string codec, filter;
+    double height_scale = 1.0, height_offset = 0.0, quantization_error = 0.0;
+    double spacing_x = 1.0, spacing_y = 1.0;
+    double min_height = 0.0, max_height = 0.0;
+    std::string metadata_json;  // the archive's metadata document as stored
+    std::vector<LevelInfo> levels;
+};
+
+// Reads header, metadata and index (not the patches). Throws ridge::Error.
+ArchiveInfo readArchiveInfo(const std::string& archive_path);
+
+} // namespace ridge

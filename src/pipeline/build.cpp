@@ -1,0 +1,356 @@
+#include "ridge/pipeline/build.h"
+
+#include "ridge/archive/archive_writer.h"
+#include "ridge/archive/block_error_storage.h"
+#include "ridge/codec/height_codec.h"
+#include "ridge/core/error.h"
+#include "ridge/pyramid/patch_error.h"
+#include "ridge/pyramid/tessellation_block_errors.h"
+
+#include <algorithm>
+#include <chrono>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <optional>
+
+namespace ridge {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point start)
+{
+    return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// What the index needs about a patch beyond its samples. min/max start "empty" so that
+// encodePatch's own range decides unless descendants widened it.
+struct PatchSummary {
+    uint16_t min_code = 0xffff;
+    uint16_t max_code = 0;
+    float err_appr = 0.f; // code units
+};
+
+// Everything the writer needs for one patch, produced in parallel and written in order.
+struct EncodedPatch {
+    archive::PatchRecord record;
+    std::vector<uint8_t> block_errors;
+    std::vector<uint8_t> payload;
+    uint16_t own_min = 0;
+    uint16_t own_max = 0;
+};
+
+// Shared by both build paths.
+struct BuildContext {
+    PyramidGeometry geometry;
+    TessellationBlockLayout layout;
+    std::unique_ptr<HeightCodec> codec;
+    archive::Header header;
+
+    double levelBound(int level) const
+    {
+        return codec->levelErrorBound(level) * header.height_scale + header.quantization_error;
+    }
+};
+
+BuildContext makeContext(int width, int height, const HeightQuantization& q,
+                         const io::GeoReference& geo, const BuildOptions& options)
+{
+    BuildContext ctx{PyramidGeometry(width, height, options.patch_size),
+                     TessellationBlockLayout{options.patch_size, options.block_cells},
+                     makeCodec(options.codec), {}};
+    if (!ctx.layout.valid())
+        throw Error("block size " + std::to_string(options.block_cells) +
+                    " cells must be a power of two >= 2 dividing the patch's " +
+                    std::to_string(options.patch_size - 1) + " cells");
+    if (!ctx.codec->lossless())
+        throw Error("codec '" + options.codec + "' needs parent reconstructions, not supported yet");
+    archive::Header& h = ctx.header;
+    h.width = static_cast<uint32_t>(width);
+    h.height = static_cast<uint32_t>(height);
+    h.patch_size = static_cast<uint32_t>(options.patch_size);
+    h.level_count = static_cast<uint32_t>(ctx.geometry.levelCount());
+    h.block_cells = static_cast<uint32_t>(ctx.layout.block_cells);
+    h.block_levels = static_cast<uint32_t>(ctx.layout.levels());
+    h.codec_id = static_cast<uint32_t>(ctx.codec->id());
+    h.filter_id = static_cast<uint32_t>(options.filter);
+    h.height_scale = q.scale;
+    h.height_offset = q.offset;
+    h.spacing_x = geo.spacing_x;
+    h.spacing_y = geo.spacing_y;
+    h.quantization_error = q.max_error;
+    return ctx;
+}
+
+std::string metadataJson(const std::string& source_path, const io::IngestStats& stats,
+                         const io::GeoReference& geo, const BuildContext& ctx,
+                         const BuildOptions& options)
+{
+    nlohmann::json meta = {
+        {"generator", "ridge 0.1.0"},
+        {"source", {{"path", source_path},
+                    {"data_type", stats.data_type},
+                    {"width", ctx.geometry.width()},
+                    {"height", ctx.geometry.height()},
+                    {"valid_samples", stats.valid_samples},
+                    {"voids_filled", stats.voids_filled},
+                    {"void_fill", "GDALFillNodata (inverse distance weighting, 2 smoothing passes)"},
+                    {"min_metres", stats.min_metres},
+                    {"max_metres", stats.max_metres},
+                    {"exact", stats.exact}}},
+        {"georeference", {{"crs_wkt", geo.crs_wkt},
+                          {"geographic", geo.geographic},
+                          {"vertical_units", geo.vertical_units},
+                          {"spacing_from_user", geo.spacing_from_user}}},
+        {"build", {{"patch_size", options.patch_size},
+                   {"block_cells", options.block_cells},
+                   {"codec", options.codec},
+                   {"filter", filterName(options.filter)},
+                   {"z_scale", stats.z_scale},
+                   {"z_offset", stats.z_offset}}},
+    };
+    if (geo.has_geotransform)
+        meta["georeference"]["geotransform"] = geo.geotransform;
+    if (options.ingest.max_error)
+        meta["build"]["max_error"] = *options.ingest.max_error;
+    return meta.dump(2);
+}
+
+// Extracts patch `at` of `level` (the patch's own position, or its position inside a strip
+// view), measures it and encodes it as patch `id`.
+EncodedPatch encodePatch(const BuildContext& ctx, const LevelView& level, PatchId at, PatchId id,
+                         const PatchSummary& summary)
+{
+    const int n = ctx.geometry.patchSize();
+    thread_local std::vector<uint16_t> codes;
+    thread_local std::vector<float> lambda;
+    codes.resize(static_cast<size_t>(n) * n);
+    lambda.resize(ctx.layout.valuesPerPatch());
+    extractPatch(level, n, at, codes.data());
+
+    EncodedPatch out;
+    const auto [lo, hi] = std::minmax_element(codes.begin(), codes.end());
+    out.own_min = *lo;
+    out.own_max = *hi;
+    const archive::Header& h = ctx.header;
+    out.record.level = static_cast<uint32_t>(id.level);
+    out.record.x = static_cast<uint32_t>(id.x);
+    out.record.y = static_cast<uint32_t>(id.y);
+    out.record.min_height = archive::floatDown(h.height_offset + h.height_scale * std::min(*lo, summary.min_code));
+    out.record.max_height = archive::floatUp(h.height_offset + h.height_scale * std::max(*hi, summary.max_code));
+    const double err_appr = summary.err_appr * h.height_scale;
+    out.record.err_appr = archive::floatUp(err_appr);
+    out.record.err = archive::floatUp(err_appr + ctx.levelBound(id.level));
+
+    // λ is measured on what the renderer will draw; for a lossless codec that is the input.
+    computeTessellationBlockErrors(codes.data(), ctx.layout, lambda.data());
+    out.block_errors = archive::packBlockErrors(lambda.data(), lambda.size(), h.height_scale);
+
+    const PatchContext pctx{n, id.level, nullptr, (id.x & 1) | ((id.y & 1) << 1)};
+    out.payload.resize(ctx.codec->encodeBound(pctx));
+    const size_t size = ctx.codec->encode(out.payload.data(), out.payload.size(), codes.data(), pctx);
+    if (size == 0 || out.block_errors.empty())
+        throw Error("internal error: cannot encode patch");
+    out.payload.resize(size);
+    return out;
+}
+
+// Encodes `count` patches in parallel batches and writes them in order. `make(k)` encodes
+// the k-th; `done(k, patch)` sees each after it was written (for bookkeeping).
+void encodeAndWrite(int64_t count, const std::function<EncodedPatch(int64_t)>& make,
+                    archive::ArchiveWriter& writer,
+                    const std::function<void(int64_t, const EncodedPatch&)>& done = {})
+{
+    constexpr int64_t kBatch = 64;
+    std::vector<EncodedPatch> batch(kBatch);
+    for (int64_t first = 0; first < count; first += kBatch) {
+        const int64_t n = std::min(kBatch, count - first);
+        std::exception_ptr failure;
+#pragma omp parallel for schedule(dynamic, 1)
+        for (int64_t k = 0; k < n; ++k) {
+            try {
+                batch[k] = make(first + k);
+            } catch (...) {
+#pragma omp critical
+                failure = std::current_exception();
+            }
+        }
+        if (failure)
+            std::rethrow_exception(failure);
+        for (int64_t k = 0; k < n; ++k) {
+            writer.writePatch(batch[k].record, batch[k].block_errors, batch[k].payload.data(),
+                              batch[k].payload.size());
+            if (done)
+                done(first + k, batch[k]);
+        }
+    }
+}
+
+// Writes every patch of levels [0, last_level] from `pyramid` with the bounds in `errors`.
+void writeLevels(const BuildContext& ctx, const LevelPyramid& pyramid, int last_level,
+                 const PatchErrors& errors, archive::ArchiveWriter& writer, const Progress& progress)
+{
+    const int64_t count = ctx.geometry.firstPatchIndex(last_level) + ctx.geometry.patchCount(last_level);
+    encodeAndWrite(count, [&](int64_t index) {
+        const PatchId p = ctx.geometry.patchAt(index);
+        const PatchSummary summary{errors.min_code[index], errors.max_code[index], errors.err_appr[index]};
+        EncodedPatch e = encodePatch(ctx, pyramid.level(p.level), p, p, summary);
+        if (index % 64 == 63)
+            reportProgress(progress, double(index + 1) / double(count));
+        return e;
+    }, writer);
+}
+
+// The decimation build without ever holding the finest grid: the finest level is read in
+// strips of two patch rows (2C+1 sample rows); each strip's finest patches are encoded and
+// written at once, its even samples fill the materialised level L-1 (a quarter of the data),
+// and level L-1's Err_Int is measured against it. Levels 0..L-1 are then built in memory from
+// level L-1 exactly as the in-memory path would. Returns nullopt when the source has voids
+// (they need the whole grid to be filled) or the pyramid has a single level.
+std::optional<BuildReport> buildStreaming(const std::string& input, const std::string& output,
+                                          const BuildOptions& options)
+{
+    const auto start = Clock::now();
+    io::CodeRowReader source(input, options.ingest);
+    const BuildContext ctx = makeContext(source.width(), source.height(), source.quantization(),
+                                         source.geo(), options);
+    const PyramidGeometry& g = ctx.geometry;
+    const int finest = g.finestLevel();
+    if (finest == 0)
+        return std::nullopt;
+    const int cells = g.cells(), n = g.patchSize(), width = g.width(), height = g.height();
+
+    archive::ArchiveWriter writer(output, ctx.header);
+    PatchErrors errors = makePatchErrors(g);
+    CodeGrid coarse; // level L-1, materialised
+    coarse.width = g.levelWidth(finest - 1);
+    coarse.height = g.levelHeight(finest - 1);
+    coarse.codes.resize(static_cast<size_t>(coarse.width) * coarse.height);
+    std::vector<uint16_t> strip(static_cast<size_t>(2 * cells + 1) * width);
+
+    const int strips = g.patchesY(finest - 1);
+    for (int k = 0; k < strips; ++k) {
+        // 1. Read finest rows [2kC, 2kC + 2C] (the overlap row is read twice: 1/2C extra).
+        const int y0 = 2 * k * cells;
+        const int rows = std::min(2 * cells + 1, height - y0);
+        if (source.readRows(y0, rows, strip.data()) > 0)
+            return std::nullopt;
+        const LevelView strip_view{strip.data(), width, rows, 1, width, rows};
+
+        // 2. The finest patches of the two patch rows in the strip.
+        for (int half = 0; half < 2 && 2 * k + half < g.patchesY(finest); ++half) {
+            const int py = 2 * k + half;
+            encodeAndWrite(g.patchesX(finest), [&](int64_t x) {
+                return encodePatch(ctx, strip_view, {finest, int(x), half}, {finest, int(x), py}, {});
+            }, writer, [&](int64_t x, const EncodedPatch& e) {
+                const int64_t index = g.patchIndex({finest, int(x), py});
+                errors.min_code[index] = e.own_min;
+                errors.max_code[index] = e.own_max;
+            });
+        }
+
+        // 3. Level L-1 rows [kC, kC + C]: the strip's even samples (clamped at the edges).
+        const int j_end = std::min(k * cells + cells, coarse.height - 1);
+        for (int j = k * cells; j <= j_end; ++j) {
+            const uint16_t* src = strip.data() + static_cast<size_t>(std::min(2 * j - y0, rows - 1)) * width;
+            uint16_t* dst = coarse.codes.data() + static_cast<size_t>(j) * coarse.width;
+            for (int i = 0; i < coarse.width; ++i)
+                dst[i] = src[std::min(2 * i, width - 1)];
+        }
+
+        // 4. Err_Int of level L-1's patch row k, against the strip.
+        const int parent_rows = j_end - k * cells + 1;
+        const LevelView parent_view{coarse.codes.data() + static_cast<size_t>(k) * cells * coarse.width,
+                                    coarse.width, parent_rows, 1, coarse.width, parent_rows};
+#pragma omp parallel for schedule(dynamic, 1)
+        for (int x = 0; x < g.patchesX(finest - 1); ++x)
+            errors.err_int[g.patchIndex({finest - 1, x, k})] =
+                static_cast<float>(interpolationError(parent_view, strip_view, n, {finest - 1, x, 0}));
+        reportProgress(options.progress, 0.8 * double(k + 1) / strips);
+    }
+
+    // 5. Levels 0..L-1 from the materialised level L-1: same views, same patch indices.
+    const LevelPyramid pyramid(coarse, PyramidGeometry(coarse.width, coarse.height, n),
+                               PyramidFilter::Decimate);
+    if (pyramid.geometry().levelCount() != finest)
+        throw Error("internal error: level L-1 geometry mismatch");
+    measurePatches(pyramid, 0, finest - 1, errors);
+    accumulatePatchErrors(g, finest, errors);
+    writeLevels(ctx, pyramid, finest - 1, errors, writer, subProgress(options.progress, 0.8, 1.0));
+    writer.finish(metadataJson(input, source.stats(), source.geo(), ctx, options));
+    reportProgress(options.progress, 1.0);
+
+    BuildReport report;
+    report.width = width;
+    report.height = height;
+    report.level_count = g.levelCount();
+    report.patch_count = g.patchCount();
+    report.archive_bytes = writer.bytesWritten();
+    report.quantization_error = ctx.header.quantization_error;
+    report.streamed = true;
+    report.seconds_total = secondsSince(start);
+    return report;
+}
+
+} // namespace
+
+BuildReport buildArchive(const std::string& input, const std::string& output,
+                         const BuildOptions& options)
+{
+    // Decimation streams the finest level (memory ~ a quarter of the grid); voids and the
+    // Neville filter need the whole grid in memory.
+    if (options.filter == PyramidFilter::Decimate) {
+        if (std::optional<BuildReport> report = buildStreaming(input, output, options))
+            return *report;
+    }
+    const auto start = Clock::now();
+    io::IngestOptions ingest = options.ingest;
+    ingest.progress = subProgress(options.progress, 0.0, 0.35);
+    const io::ElevationRaster raster = io::ingestRaster(input, ingest);
+    const double ingest_seconds = secondsSince(start);
+    BuildOptions rest = options;
+    rest.progress = subProgress(options.progress, 0.35, 1.0);
+    BuildReport report = buildArchive(raster, output, rest);
+    report.seconds_ingest = ingest_seconds;
+    report.seconds_total = secondsSince(start);
+    return report;
+}
+
+BuildReport buildArchive(const io::ElevationRaster& raster, const std::string& output,
+                         const BuildOptions& options)
+{
+    const auto start = Clock::now();
+    // 1. Geometry and codec: validates patch and block sizes before any work is done.
+    const BuildContext ctx = makeContext(raster.grid.width, raster.grid.height,
+                                         raster.quantization, raster.geo, options);
+    const LevelPyramid pyramid(raster.grid, ctx.geometry, options.filter);
+    reportProgress(options.progress, 0.05);
+
+    // 2. Err_Int for every patch, then Err_Appr bottom-up (needs all levels, so before writing).
+    const PatchErrors errors = computePatchErrors(pyramid);
+    BuildReport report;
+    report.seconds_errors = secondsSince(start);
+    reportProgress(options.progress, 0.25);
+
+    // 3. Encode in parallel batches, write sequentially.
+    const auto t = Clock::now();
+    archive::ArchiveWriter writer(output, ctx.header);
+    writeLevels(ctx, pyramid, ctx.geometry.finestLevel(), errors, writer,
+                subProgress(options.progress, 0.25, 1.0));
+    writer.finish(metadataJson(raster.source_path, raster.stats, raster.geo, ctx, options));
+    reportProgress(options.progress, 1.0);
+    report.seconds_encode = secondsSince(t);
+    report.seconds_total = secondsSince(start);
+
+    report.width = ctx.geometry.width();
+    report.height = ctx.geometry.height();
+    report.level_count = ctx.geometry.levelCount();
+    report.patch_count = ctx.geometry.patchCount();
+    report.archive_bytes = writer.bytesWritten();
+    report.voids_filled = raster.stats.voids_filled;
+    report.quantization_error = raster.quantization.max_error;
+    return report;
+}
+
+} // namespace ridge

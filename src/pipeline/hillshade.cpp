@@ -1,0 +1,107 @@
+#include "ridge/pipeline/hillshade.h"
+
+#include "ridge/archive/archive_reader.h"
+#include "ridge/io/raster_writer.h"
+#include "ridge/pipeline/level_decoder.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numbers>
+
+namespace ridge {
+
+namespace {
+
+struct Rgb {
+    double r, g, b;
+};
+
+// Hypsometric tint over the normalised height t in [0, 1]: lowland green to rock and snow.
+Rgb hypsometricTint(double t)
+{
+    static constexpr std::array<std::pair<double, Rgb>, 6> kStops = {{
+        {0.00, {0.27, 0.47, 0.29}}, {0.25, {0.55, 0.65, 0.38}}, {0.50, {0.82, 0.76, 0.55}},
+        {0.70, {0.66, 0.52, 0.40}}, {0.85, {0.60, 0.58, 0.56}}, {1.00, {0.97, 0.97, 0.98}},
+    }};
+    t = std::clamp(t, 0.0, 1.0);
+    for (size_t k = 1; k < kStops.size(); ++k) {
+        if (t <= kStops[k].first) {
+            const auto& [t0, c0] = kStops[k - 1];
+            const auto& [t1, c1] = kStops[k];
+            const double f = (t - t0) / (t1 - t0);
+            return {c0.r + (c1.r - c0.r) * f, c0.g + (c1.g - c0.g) * f, c0.b + (c1.b - c0.b) * f};
+        }
+    }
+    return kStops.back().second;
+}
+
+uint8_t toByte(double v) { return static_cast<uint8_t>(std::clamp(std::lround(v * 255.0), 0L, 255L)); }
+
+} // namespace
+
+std::vector<uint8_t> shadeRelief(const std::vector<float>& metres, int width, int height,
+                                 double spacing_x, double spacing_y, const HillshadeOptions& options)
+{
+    const double deg = std::numbers::pi / 180.0;
+    const double zenith = (90.0 - options.altitude) * deg;
+    // Azimuth in the math convention (counter-clockwise from east), as gdaldem does.
+    const double azimuth = (360.0 - options.azimuth + 90.0) * deg;
+    const auto [lo, hi] = std::minmax_element(metres.begin(), metres.end());
+    const double range = std::max(1e-9, double(*hi - *lo));
+    const int channels = options.colour ? 3 : 1;
+    std::vector<uint8_t> pixels(static_cast<size_t>(width) * height * channels);
+    auto h = [&](int x, int y) {
+        return double(metres[static_cast<size_t>(std::clamp(y, 0, height - 1)) * width +
+                             std::clamp(x, 0, width - 1)]);
+    };
+    for (int y = 0; y < height; ++y) {
+        for (int x = 0; x < width; ++x) {
+            // Horn: 3x3 weighted differences; y grows southwards in the raster.
+            const double dzdx = ((h(x + 1, y - 1) + 2 * h(x + 1, y) + h(x + 1, y + 1)) -
+                                 (h(x - 1, y - 1) + 2 * h(x - 1, y) + h(x - 1, y + 1))) /
+                                (8 * spacing_x) * options.z_factor;
+            const double dzdy = ((h(x - 1, y + 1) + 2 * h(x, y + 1) + h(x + 1, y + 1)) -
+                                 (h(x - 1, y - 1) + 2 * h(x, y - 1) + h(x + 1, y - 1))) /
+                                (8 * spacing_y) * options.z_factor;
+            const double slope = std::atan(std::hypot(dzdx, dzdy));
+            const double aspect = std::atan2(dzdy, -dzdx);
+            const double shade = std::max(0.0, std::cos(zenith) * std::cos(slope) +
+                                                   std::sin(zenith) * std::sin(slope) *
+                                                       std::cos(azimuth - aspect));
+            uint8_t* out = pixels.data() + (static_cast<size_t>(y) * width + x) * channels;
+            if (!options.colour) {
+                out[0] = toByte(shade);
+                continue;
+            }
+            // Tint modulated by the shade, with an ambient floor so shadows keep their colour.
+            const Rgb c = hypsometricTint((h(x, y) - *lo) / range);
+            const double light = 0.35 + 0.65 * shade;
+            out[0] = toByte(c.r * light);
+            out[1] = toByte(c.g * light);
+            out[2] = toByte(c.b * light);
+        }
+    }
+    return pixels;
+}
+
+void writeHillshade(const std::string& archive_path, const std::string& output,
+                    const HillshadeOptions& options)
+{
+    const archive::ArchiveReader reader(archive_path);
+    const PyramidGeometry& g = reader.geometry();
+    const int level = options.level < 0 ? g.finestLevel() : options.level;
+    const CodeGrid grid = decodeLevel(reader, level, subProgress(options.progress, 0.0, 0.7));
+    std::vector<float> metres(grid.codes.size());
+    const HeightQuantization q = reader.quantization();
+    for (size_t i = 0; i < metres.size(); ++i)
+        metres[i] = static_cast<float>(q.toMetres(grid.codes[i]));
+    const double s = double(g.step(level));
+    const std::vector<uint8_t> pixels = shadeRelief(metres, grid.width, grid.height,
+                                                    reader.header().spacing_x * s,
+                                                    reader.header().spacing_y * s, options);
+    io::writePng(output, pixels.data(), grid.width, grid.height, options.colour ? 3 : 1);
+    reportProgress(options.progress, 1.0);
+}
+
+} // namespace ridge
