@@ -166,7 +166,7 @@ int Commands::runInfo()
                    meta["source"].value("data_type", "?"), meta["source"].value("voids_filled", 0));
     fmt::print("Grid: {} x {} samples, spacing {:.3f} x {:.3f} m{}\n", info.width, info.height,
                info.spacing_x, info.spacing_y, from_user ? " (given with --spacing or default 1, no georeferencing)" : "");
-    fmt::print("Heights: {:.2f} .. {:.2f} m, code = (metres - {:g}) / {:g}, quantization error {:g} m\n",
+    fmt::print("Heights: {:.2f} .. {:.2f} m, metres = {:g} + {:g} * code, quantization error {:g} m\n",
                info.min_height, info.max_height, info.height_offset, info.height_scale, info.quantization_error);
     fmt::print("Patches: {}x{} samples, {} levels, {} patches, tessellation blocks {}x{} cells (λ for d = 1..{})\n",
                info.patch_size, info.patch_size, info.level_count, info.patch_count,
