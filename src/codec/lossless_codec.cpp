@@ -1,5 +1,7 @@
 #include "ridge/codec/lossless_codec.h"
 
+#include "ridge/core/target_clones.h"
+
 #include <algorithm>
 #include <cstring>
 #include <memory>
@@ -42,9 +44,7 @@ inline uint16_t zigzag(uint16_t residual)
     return static_cast<uint16_t>((r << 1) ^ (r >> 15));
 }
 
-#if defined(__GNUC__) && defined(__x86_64__) && !defined(__clang__)
-__attribute__((target_clones("avx2", "default")))
-#endif
+RIDGE_TARGET_CLONES
 void encodeInteriorRow(const uint16_t* row, int size, uint8_t* low, uint8_t* high)
 {
     const uint16_t* above = row - size;

@@ -1,15 +1,11 @@
 #include "ridge/pyramid/patch_error.h"
 
+#include "ridge/core/target_clones.h"
+
 #include <algorithm>
 #include <cmath>
 
 namespace ridge {
-
-#if defined(__GNUC__) && defined(__x86_64__) && !defined(__clang__)
-#define RIDGE_TARGET_CLONES __attribute__((target_clones("avx2", "default")))
-#else
-#define RIDGE_TARGET_CLONES
-#endif
 
 namespace {
 

@@ -1,5 +1,7 @@
 #include "ridge/pyramid/tessellation_block_errors.h"
 
+#include "ridge/core/target_clones.h"
+
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -20,12 +22,6 @@ bool TessellationBlockLayout::valid() const
     const bool pow2 = block_cells >= 2 && (block_cells & (block_cells - 1)) == 0;
     return pow2 && cells > 0 && block_cells <= cells && cells % block_cells == 0;
 }
-
-#if defined(__GNUC__) && defined(__x86_64__) && !defined(__clang__)
-#define RIDGE_TARGET_CLONES __attribute__((target_clones("avx2", "default")))
-#else
-#define RIDGE_TARGET_CLONES
-#endif
 
 namespace {
 
