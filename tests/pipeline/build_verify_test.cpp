@@ -2,6 +2,7 @@
 #include "test_support.h"
 
 #include "ridge/archive/archive_reader.h"
+#include "ridge/core/crc32.h"
 #include "ridge/core/error.h"
 #include "ridge/pipeline/build.h"
 #include "ridge/pipeline/level_decoder.h"
@@ -127,15 +128,19 @@ TEST(BuildVerify, FlippedByteAnywhereIsReportedWithThePatchItHits)
     const archive::ArchiveReader reader(good);
     const archive::Header& h = reader.header();
 
-    // Every byte of header, metadata and index, and a stride through the patch blobs.
+    // Every header byte, strides through metadata and index (they fail at open, cheaply), and
+    // the first, middle and last byte of every patch blob (each costs a full verify).
     std::vector<size_t> positions;
-    for (size_t i = 0; i < h.metadata_offset + h.metadata_size; i += (i < 160 ? 1 : 11))
+    for (size_t i = 0; i < archive::kHeaderSize; ++i)
         positions.push_back(i);
-    for (size_t i = h.metadata_offset + h.metadata_size; i < h.index_offset; i += 97)
+    for (size_t i = h.metadata_offset; i < h.metadata_offset + h.metadata_size; i += 13)
         positions.push_back(i);
-    for (size_t i = h.index_offset; i < bytes.size(); i += 5)
+    for (size_t i = h.index_offset; i < bytes.size(); i += 7)
         positions.push_back(i);
     positions.push_back(bytes.size() - 1);
+    for (const archive::PatchRecord& r : reader.index())
+        for (size_t i : {r.offset, r.offset + r.size / 2, r.offset + r.size - 1})
+            positions.push_back(i);
 
     for (size_t pos : positions) {
         std::vector<uint8_t> flipped = bytes;
@@ -145,7 +150,7 @@ TEST(BuildVerify, FlippedByteAnywhereIsReportedWithThePatchItHits)
         ASSERT_FALSE(v.ok()) << "flip at byte " << pos << " went unnoticed";
         const std::string& problem = v.problems.front();
         EXPECT_NE(problem.find(bad), std::string::npos);
-        if (pos >= h.metadata_offset + h.metadata_size && pos < h.index_offset) {
+        if (pos >= archive::kHeaderSize && pos < h.metadata_offset) {
             const auto hit = std::find_if(reader.index().begin(), reader.index().end(), [&](const auto& r) {
                 return pos >= r.offset && pos < r.offset + r.size;
             });
@@ -244,4 +249,39 @@ TEST(Build, SourcesWithVoidsFallBackToTheInMemoryPathAndFillThem)
     const BuildReport r = buildArchive(test::dataPath("rainier_voids.tif"), dir.path("r.ridge"), smallPatches());
     EXPECT_FALSE(r.streamed);
     EXPECT_EQ(r.voids_filled, 368);
+}
+
+// A bound that is too small, in an otherwise valid archive (checksums recomputed), must be
+// caught by verify --source: the check can fail.
+TEST(BuildVerify, SourceCheckCatchesAnUnderstatedErrorBound)
+{
+    test::ScratchDir dir;
+    const std::string source = test::dataPath("everest_crop.tif");
+    const std::string out = dir.path("lying.ridge");
+    buildArchive(source, out, smallPatches());
+    std::vector<uint8_t> bytes = readFile(out);
+    archive::Header header;
+    ASSERT_EQ(archive::parseHeader(bytes.data(), header), "");
+
+    // Claim 1 m for Err_Appr and Err of the level-1 patch (1, 0, 0), consistently, re-signed.
+    const archive::ArchiveReader reader(out);
+    const int64_t index = reader.geometry().patchIndex({1, 0, 0});
+    uint8_t* entry = bytes.data() + header.index_offset + index * archive::kIndexEntrySize;
+    archive::PatchRecord r = archive::parseRecord(entry);
+    ASSERT_GT(r.err, 10.f);
+    r.err = 1.f;
+    r.err_appr = 1.f;
+    archive::serializeRecord(r, entry);
+    header.index_crc32 = crc32(bytes.data() + header.index_offset, bytes.size() - header.index_offset);
+    archive::serializeHeader(header, bytes.data());
+    writeFile(out, bytes);
+
+    EXPECT_TRUE(verifyArchive(out, {}).ok()) << "without the source nothing is wrong";
+    VerifyOptions options;
+    options.source = source;
+    const VerifyReport v = verifyArchive(out, options);
+    ASSERT_FALSE(v.ok());
+    EXPECT_GT(v.levels[1].bound_violations, 0);
+    EXPECT_EQ(v.levels[2].bound_violations, 0);
+    EXPECT_NE(v.problems.front().find("level 1"), std::string::npos) << v.problems.front();
 }
