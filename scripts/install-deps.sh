@@ -10,7 +10,8 @@ packages=(
   libpng-dev                     # hillshade PNG output
   libfmt-dev libcli11-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  python3                        # bench helper scripts
+  python3                        # bench and fuzz helper scripts
+  clang libclang-rt-14-dev       # libFuzzer targets (scripts/fuzz.sh)
 )
 
 missing=()

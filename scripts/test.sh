@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs dependencies, builds ridge, and runs the whole test suite:
-#   1. layering check, 2. Release build + ctest, 3. Debug build with ASan/UBSan + ctest.
-# Usage: bash scripts/test.sh            (RIDGE_SKIP_SANITIZE=1 to skip step 3)
+#   1. layering check, 2. Release build + ctest, 3. Debug build with ASan/UBSan + ctest,
+#   4. a short libFuzzer run of the archive reader and the patch decoder (clang).
+# Usage: bash scripts/test.sh   (RIDGE_SKIP_SANITIZE=1 skips 3, RIDGE_SKIP_FUZZ=1 skips 4)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
@@ -20,4 +21,8 @@ if [[ "${RIDGE_SKIP_SANITIZE:-0}" != "1" ]]; then
   ASAN_OPTIONS=detect_leaks=1 LSAN_OPTIONS=suppressions="$PWD/scripts/lsan.supp" \
   UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
     ctest --test-dir build-asan --output-on-failure -j "$jobs"
+fi
+
+if [[ "${RIDGE_SKIP_FUZZ:-0}" != "1" ]]; then
+  RIDGE_FUZZ_SECONDS=${RIDGE_FUZZ_SECONDS:-20} bash scripts/fuzz.sh
 fi

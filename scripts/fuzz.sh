@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer targets with clang and runs each for RIDGE_FUZZ_SECONDS (default 30),
+# seeded with real archives built from tests/data. Needs a Release build of the CLI in
+# ./build (scripts/test.sh makes one). Exit status is non-zero when a fuzzer finds a crash;
+# the reproducer is left in build-fuzz/. A long run by hand: RIDGE_FUZZ_SECONDS=3600 bash scripts/fuzz.sh
+set -euo pipefail
+cd "$(dirname "$0")/.."
+seconds=${RIDGE_FUZZ_SECONDS:-30}
+cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
+      -DCMAKE_C_COMPILER=clang -DRIDGE_BUILD_FUZZERS=ON -DRIDGE_USE_OPENMP=OFF \
+      -DRIDGE_BUILD_TESTS=OFF -DRIDGE_BUILD_BENCH=OFF >/dev/null
+cmake --build build-fuzz -j "$(nproc)" --target fuzz_lossless_decode fuzz_archive_reader
+
+# Seeds: small real archives, and their patch payloads prefixed with the patch-size byte.
+seeds=build-fuzz/seeds
+rm -rf "$seeds" && mkdir -p "$seeds/archive" "$seeds/payload"
+for patch in 17 65; do
+  ./build/ridge build tests/data/everest_crop.tif -o "$seeds/archive/everest_$patch.ridge" -q --patch $patch
+done
+./build/ridge build tests/data/rainier_voids.tif -o "$seeds/archive/rainier_33.ridge" -q --patch 33
+python3 - "$seeds" <<'PY'
+import struct, sys, glob, os
+seeds = sys.argv[1]
+for path in glob.glob(seeds + "/archive/*.ridge"):
+    b = open(path, "rb").read()
+    n = struct.unpack_from("<I", b, 24)[0]
+    size_byte = {5: 0, 9: 1, 17: 2, 33: 3, 65: 4, 129: 5}[n]
+    index = struct.unpack_from("<Q", b, 128)[0]
+    for k in range(0, (len(b) - index) // 48, 3):
+        _, _, _, be, off, size, _ = struct.unpack_from("<IIIIQII", b, index + 48 * k)
+        name = "%s/payload/%s_%d" % (seeds, os.path.basename(path), k)
+        open(name, "wb").write(bytes([size_byte]) + b[off + be: off + size])
+PY
+
+status=0
+for target in fuzz_lossless_decode fuzz_archive_reader; do
+  corpus=$seeds/payload
+  [[ $target == fuzz_archive_reader ]] && corpus=$seeds/archive
+  echo "fuzz: $target for ${seconds}s"
+  (cd build-fuzz && ./fuzz/$target -max_total_time="$seconds" -max_len=400000 -rss_limit_mb=2048 \
+      -print_final_stats=1 "../$corpus" 2>&1 | grep -E "stat::number_of_executed_units|ERROR|SUMMARY|Done" ) \
+    || status=1
+done
+exit $status
