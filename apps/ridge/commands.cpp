@@ -42,11 +42,18 @@ void Commands::registerAll(CLI::App& app)
     build_->add_option("--patch", build_options_.patch_size, "Patch size, 2^n+1 samples (65, 129, 257)")->capture_default_str();
     build_->add_option("--block", build_options_.block_cells, "Tessellation block size in cells (power of two)")->capture_default_str();
     build_->add_option("--codec", build_options_.codec, "Patch codec: lossless, raw")->capture_default_str();
-    build_->add_option("--filter", filter_name_, "Level filter: decimate, neville")->capture_default_str();
-    build_->add_option("--max-error", max_error_, "Largest allowed height error in metres (quantization of non-integer input)");
-    build_->add_option("--spacing", spacing_, "Ground spacing in metres for rasters without georeferencing (default 1)");
-    build_->add_option("--z-scale", z_scale_, "metres = value * z-scale + z-offset (replaces the band's own scale/unit)");
-    build_->add_option("--z-offset", z_offset_, "See --z-scale");
+    build_->add_option_function<std::string>("--filter", [this](const std::string& name) {
+        build_options_.filter = parseFilter(name.c_str());
+    }, "Level filter: decimate (default), neville")->check(CLI::IsMember({"decimate", "neville"}));
+    io::IngestOptions& ingest = build_options_.ingest;
+    build_->add_option_function<double>("--max-error", [&ingest](double v) { ingest.max_error = v; },
+                                        "Largest allowed height error in metres (quantization of non-integer input)");
+    build_->add_option_function<double>("--spacing", [&ingest](double v) { ingest.spacing = v; },
+                                        "Ground spacing in metres for rasters without georeferencing (default 1)");
+    build_->add_option_function<double>("--z-scale", [&ingest](double v) { ingest.z_scale = v; },
+                                        "metres = value * z-scale + z-offset (replaces the band's own scale/unit)");
+    build_->add_option_function<double>("--z-offset", [&ingest](double v) { ingest.z_offset = v; },
+                                        "See --z-scale");
     addCommonFlags(build_, quiet_);
 
     info_ = app.add_subcommand("info", "Describe an archive: geometry, levels, codec, georeference");
@@ -106,16 +113,6 @@ void Commands::validateBuildOptions() const
 
 int Commands::runBuild()
 {
-    build_options_.filter = parseFilter(filter_name_.c_str());
-    if (build_->count("--max-error"))
-        build_options_.ingest.max_error = max_error_;
-    if (build_->count("--spacing")) {
-        build_options_.ingest.spacing = spacing_;
-    }
-    if (build_->count("--z-scale"))
-        build_options_.ingest.z_scale = z_scale_;
-    if (build_->count("--z-offset"))
-        build_options_.ingest.z_offset = z_offset_;
     validateBuildOptions();
     build_options_.progress = terminalProgress(quiet_);
     const BuildReport r = buildArchive(input_, output_, build_options_);

@@ -38,11 +38,6 @@ private:
     std::string archive_;
     // build
     BuildOptions build_options_;
-    std::string filter_name_ = "decimate";
-    double max_error_ = 0.0;
-    double spacing_ = 0.0;
-    double z_scale_ = 0.0;
-    double z_offset_ = 0.0;
     // verify
     std::string source_;
     // extract / hillshade
