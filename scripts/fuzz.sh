@@ -34,11 +34,18 @@ PY
 
 status=0
 for target in fuzz_lossless_decode fuzz_archive_reader; do
-  corpus=$seeds/payload
-  [[ $target == fuzz_archive_reader ]] && corpus=$seeds/archive
+  seed_dir=$seeds/payload
+  [[ $target == fuzz_archive_reader ]] && seed_dir=$seeds/archive
+  corpus=build-fuzz/corpus-$target # new inputs go here; the seeds stay as built
+  mkdir -p "$corpus"
   echo "fuzz: $target for ${seconds}s"
+  rc=0
   (cd build-fuzz && ./fuzz/$target -max_total_time="$seconds" -max_len=400000 -rss_limit_mb=2048 \
-      -print_final_stats=1 "../$corpus" 2>&1 | grep -E "stat::number_of_executed_units|ERROR|SUMMARY|Done" ) \
-    || status=1
+      -print_final_stats=1 "../$corpus" "../$seed_dir" > "$target.log" 2>&1) || rc=$?
+  grep -E "^Done|stat::number_of_executed_units|stat::peak_rss_mb|ERROR|SUMMARY" "build-fuzz/$target.log" || true
+  if [[ $rc -ne 0 ]]; then
+    echo "fuzz: $target exited with $rc (full log: build-fuzz/$target.log)" >&2
+    status=1
+  fi
 done
 exit $status
