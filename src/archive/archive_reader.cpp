@@ -23,13 +23,19 @@ std::string hex32(uint32_t v)
 
 } // namespace
 
-ArchiveReader::ArchiveReader(const std::string& path) : path_(path)
+ArchiveReader::FileDescriptor::~FileDescriptor()
 {
-    fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-    if (fd_ < 0)
+    if (fd_ >= 0)
+        ::close(fd_);
+}
+
+ArchiveReader::ArchiveReader(const std::string& path)
+    : path_(path), fd_(::open(path.c_str(), O_RDONLY | O_CLOEXEC))
+{
+    if (fd_.get() < 0)
         fail(std::strerror(errno));
     struct stat st;
-    if (::fstat(fd_, &st) != 0 || !S_ISREG(st.st_mode))
+    if (::fstat(fd_.get(), &st) != 0 || !S_ISREG(st.st_mode))
         fail("not a regular file");
     file_size_ = static_cast<uint64_t>(st.st_size);
     if (file_size_ < kHeaderSize)
@@ -92,11 +98,7 @@ ArchiveReader::ArchiveReader(const std::string& path) : path_(path)
     }
 }
 
-ArchiveReader::~ArchiveReader()
-{
-    if (fd_ >= 0)
-        ::close(fd_);
-}
+ArchiveReader::~ArchiveReader() = default;
 
 TessellationBlockLayout ArchiveReader::blockLayout() const
 {
@@ -128,7 +130,7 @@ void ArchiveReader::readAt(uint64_t offset, void* dst, size_t size, const std::s
 {
     auto* p = static_cast<uint8_t*>(dst);
     while (size > 0) {
-        const ssize_t n = ::pread(fd_, p, size, static_cast<off_t>(offset));
+        const ssize_t n = ::pread(fd_.get(), p, size, static_cast<off_t>(offset));
         if (n < 0 && errno == EINTR)
             continue;
         if (n <= 0)

@@ -8,7 +8,9 @@
 
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
+#include <iterator>
 
 #include "test_support.h"
 
@@ -189,4 +191,21 @@ TEST(ArchiveReader, RejectsFilesThatAreNotArchives)
         EXPECT_NE(std::string(e.what()).find("not a ridge archive"), std::string::npos);
     }
     EXPECT_THROW(ArchiveReader(dir.path("missing.ridge")), Error);
+}
+
+// Found by fuzz_archive_reader: a constructor that throws must not leak its descriptor
+// (after ~650k rejected files the process could no longer open anything).
+TEST(ArchiveReader, RejectingAFileLeaksNoDescriptor)
+{
+    test::ScratchDir dir;
+    const std::string path = dir.path("bad.ridge");
+    std::ofstream(path) << std::string(300, 'x');
+    auto open_descriptors = [] {
+        return std::distance(std::filesystem::directory_iterator("/proc/self/fd"),
+                             std::filesystem::directory_iterator());
+    };
+    const auto before = open_descriptors();
+    for (int i = 0; i < 100; ++i)
+        EXPECT_THROW(ArchiveReader{path}, Error);
+    EXPECT_EQ(open_descriptors(), before);
 }

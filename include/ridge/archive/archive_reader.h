@@ -61,8 +61,22 @@ private:
     void readAt(uint64_t offset, void* dst, size_t size, const std::string& what) const;
     [[noreturn]] void fail(const std::string& problem) const;
 
+    // Owns the descriptor as a member so that it is closed when the constructor throws (a
+    // destructor does not run for a half-constructed object).
+    class FileDescriptor {
+    public:
+        explicit FileDescriptor(int fd = -1) : fd_(fd) {}
+        ~FileDescriptor();
+        FileDescriptor(const FileDescriptor&) = delete;
+        FileDescriptor& operator=(const FileDescriptor&) = delete;
+        int get() const { return fd_; }
+
+    private:
+        int fd_;
+    };
+
     std::string path_;
-    int fd_ = -1;
+    FileDescriptor fd_;
     uint64_t file_size_ = 0;
     Header header_;
     PyramidGeometry geometry_;
