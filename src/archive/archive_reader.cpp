@@ -156,9 +156,12 @@ std::vector<uint8_t> ArchiveReader::readBlob(PatchId p) const
     return blob;
 }
 
-void ArchiveReader::decodePatch(PatchId p, uint16_t* codes, const uint16_t* parent) const
+void ArchiveReader::decodePatch(PatchId p, uint16_t* codes, const uint16_t* parent,
+                                std::vector<float>* block_errors) const
 {
     const std::vector<uint8_t> blob = readBlob(p);
+    if (block_errors)
+        *block_errors = unpackBlockErrorsOf(p, blob);
     const PatchRecord& r = record(p);
     PatchContext ctx{geometry_.patchSize(), p.level, parent, (p.x & 1) | ((p.y & 1) << 1)};
     const int status = codec_->decode(codes, blob.data() + r.block_errors_size,
@@ -169,7 +172,11 @@ void ArchiveReader::decodePatch(PatchId p, uint16_t* codes, const uint16_t* pare
 
 std::vector<float> ArchiveReader::readBlockErrors(PatchId p) const
 {
-    const std::vector<uint8_t> blob = readBlob(p);
+    return unpackBlockErrorsOf(p, readBlob(p));
+}
+
+std::vector<float> ArchiveReader::unpackBlockErrorsOf(PatchId p, const std::vector<uint8_t>& blob) const
+{
     const size_t count = static_cast<size_t>(blockLayout().valuesPerPatch());
     std::vector<float> lambda(count);
     if (!unpackBlockErrors(blob.data(), record(p).block_errors_size, count, lambda.data()))

@@ -49,9 +49,9 @@ struct PatchBorders {
     bool decoded = false;
 };
 
-// Checks one decoded patch's stored metadata against its samples.
+// Checks one decoded patch's stored metadata against its samples and stored λ.
 void checkPatchMetadata(const ArchiveReader& reader, PatchId p, const uint16_t* codes,
-                        ProblemList& problems)
+                        const std::vector<float>& stored, ProblemList& problems)
 {
     const archive::PatchRecord& r = reader.record(p);
     const int n = reader.geometry().patchSize();
@@ -65,7 +65,6 @@ void checkPatchMetadata(const ArchiveReader& reader, PatchId p, const uint16_t* 
     const TessellationBlockLayout layout = reader.blockLayout();
     std::vector<float> computed(layout.valuesPerPatch());
     computeTessellationBlockErrors(codes, layout, computed.data());
-    const std::vector<float> stored = reader.readBlockErrors(p);
     for (size_t i = 0; i < computed.size(); ++i) {
         if (stored[i] < computed[i] * q.scale * (1 - 1e-6)) {
             problems.add(reader.describe(p) + ": stored tessellation block error is below the recomputed one");
@@ -90,9 +89,10 @@ double decodeAndCheckLevel(const ArchiveReader& reader, int level, CodeGrid& gri
     for (int64_t k = 0; k < int64_t{nx} * ny; ++k) {
         const PatchId p{level, static_cast<int>(k % nx), static_cast<int>(k / nx)};
         std::vector<uint16_t> codes(static_cast<size_t>(n) * n);
+        std::vector<float> block_errors;
         try {
-            reader.decodePatch(p, codes.data());
-            checkPatchMetadata(reader, p, codes.data(), problems);
+            reader.decodePatch(p, codes.data(), nullptr, &block_errors);
+            checkPatchMetadata(reader, p, codes.data(), block_errors, problems);
         } catch (const Error& e) {
             problems.add(e.what());
             continue;

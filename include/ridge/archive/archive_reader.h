@@ -47,8 +47,10 @@ public:
     // Reads the blob of `p` and checks its checksum. Throws ridge::Error naming the patch.
     std::vector<uint8_t> readBlob(PatchId p) const;
     // Reads and decodes patch `p` into codes[patch_size^2]. `parent` is the parent's decoded
-    // codes for codecs that predict from it (may be null for lossless codecs).
-    void decodePatch(PatchId p, uint16_t* codes, const uint16_t* parent = nullptr) const;
+    // codes for codecs that predict from it (may be null for lossless codecs). When
+    // `block_errors` is given it also receives λ(d) in metres, from the same read.
+    void decodePatch(PatchId p, uint16_t* codes, const uint16_t* parent = nullptr,
+                     std::vector<float>* block_errors = nullptr) const;
     // Reads λ(d) of every block of `p` in metres (see TessellationBlockLayout for the order).
     std::vector<float> readBlockErrors(PatchId p) const;
 
@@ -59,6 +61,7 @@ public:
 
 private:
     void readAt(uint64_t offset, void* dst, size_t size, const std::string& what) const;
+    std::vector<float> unpackBlockErrorsOf(PatchId p, const std::vector<uint8_t>& blob) const;
     [[noreturn]] void fail(const std::string& problem) const;
 
     // Owns the descriptor as a member so that it is closed when the constructor throws (a
