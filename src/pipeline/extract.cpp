@@ -37,17 +37,14 @@ void extractLevel(const std::string& archive_path, const std::string& output,
 {
     const archive::ArchiveReader reader(archive_path);
     const PyramidGeometry& g = reader.geometry();
-    const int level = options.level < 0 ? g.finestLevel() : options.level;
+    const int level = resolveLevel(reader, options.level);
     ExtractWindow w = options.window.value_or(ExtractWindow{});
     if (!options.window && level < g.levelCount())
         w = {0, 0, g.validLevelWidth(level), g.validLevelHeight(level)};
     const CodeGrid grid = decodeLevelWindow(reader, level, w.x, w.y, w.width, w.height,
                                             subProgress(options.progress, 0.0, 0.8));
 
-    std::vector<float> metres(grid.codes.size());
-    const HeightQuantization q = reader.quantization();
-    for (size_t i = 0; i < metres.size(); ++i)
-        metres[i] = static_cast<float>(q.toMetres(grid.codes[i]));
+    const std::vector<float> metres = toMetres(grid, reader.quantization());
 
     io::GeoReference geo = storedGeoReference(reader);
     if (geo.has_geotransform) {

@@ -90,12 +90,9 @@ void writeHillshade(const std::string& archive_path, const std::string& output,
 {
     const archive::ArchiveReader reader(archive_path);
     const PyramidGeometry& g = reader.geometry();
-    const int level = options.level < 0 ? g.finestLevel() : options.level;
+    const int level = resolveLevel(reader, options.level);
     const CodeGrid grid = decodeLevel(reader, level, subProgress(options.progress, 0.0, 0.7));
-    std::vector<float> metres(grid.codes.size());
-    const HeightQuantization q = reader.quantization();
-    for (size_t i = 0; i < metres.size(); ++i)
-        metres[i] = static_cast<float>(q.toMetres(grid.codes[i]));
+    const std::vector<float> metres = toMetres(grid, reader.quantization());
     const double s = double(g.step(level));
     const std::vector<uint8_t> pixels = shadeRelief(metres, grid.width, grid.height,
                                                     reader.header().spacing_x * s,

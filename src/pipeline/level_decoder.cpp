@@ -55,4 +55,17 @@ CodeGrid decodeLevel(const archive::ArchiveReader& reader, int level, const Prog
                              g.validLevelHeight(level), progress);
 }
 
+std::vector<float> toMetres(const CodeGrid& grid, const HeightQuantization& quantization)
+{
+    std::vector<float> metres(grid.codes.size());
+    for (size_t i = 0; i < metres.size(); ++i)
+        metres[i] = static_cast<float>(quantization.toMetres(grid.codes[i]));
+    return metres;
+}
+
+int resolveLevel(const archive::ArchiveReader& reader, int level)
+{
+    return level < 0 ? reader.geometry().finestLevel() : level;
+}
+
 } // namespace ridge

@@ -3,6 +3,8 @@
 #include "ridge/archive/archive_reader.h"
 #include "ridge/core/progress.h"
 
+#include <vector>
+
 namespace ridge {
 
 // Decodes the samples [x0, x0+width) x [y0, y0+height) of `level` (level sample units; the
@@ -13,5 +15,11 @@ CodeGrid decodeLevelWindow(const archive::ArchiveReader& reader, int level, int 
 
 // The samples of `level` inside the valid extent (validLevelWidth x validLevelHeight).
 CodeGrid decodeLevel(const archive::ArchiveReader& reader, int level, const Progress& progress = {});
+
+// Heights in metres of a decoded grid, row-major (float: what GeoTIFF and shading consume).
+std::vector<float> toMetres(const CodeGrid& grid, const HeightQuantization& quantization);
+
+// `level`, or the finest level when `level` < 0.
+int resolveLevel(const archive::ArchiveReader& reader, int level);
 
 } // namespace ridge
