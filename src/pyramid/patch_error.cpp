@@ -47,13 +47,20 @@ int oddRowDeviationX4(const uint16_t* c, const uint16_t* p0, const uint16_t* p1,
 double interpolationError(const LevelView& parent, const LevelView& child, int patch_size,
                           PatchId p)
 {
+    thread_local std::vector<uint16_t> parent_samples;
+    parent_samples.resize(static_cast<size_t>(patch_size) * patch_size);
+    extractPatch(parent, patch_size, p, parent_samples.data());
+    return interpolationError(parent_samples.data(), child, patch_size, p);
+}
+
+double interpolationError(const uint16_t* parent_samples, const LevelView& child, int patch_size,
+                          PatchId p)
+{
     const int n = patch_size;
     const int64_t cells = n - 1;
     const int m = 2 * static_cast<int>(cells) + 1; // the four children's joined samples
-    thread_local std::vector<uint16_t> parent_samples, child_samples;
-    parent_samples.resize(static_cast<size_t>(n) * n);
+    thread_local std::vector<uint16_t> child_samples;
     child_samples.resize(static_cast<size_t>(m) * m);
-    extractPatch(parent, n, p, parent_samples.data());
     const int64_t i0 = 2 * p.x * cells, j0 = 2 * p.y * cells;
     extractWindow(child, i0, j0, m, m, child_samples.data());
 
@@ -63,7 +70,7 @@ double interpolationError(const LevelView& parent, const LevelView& child, int p
     int worst_x4 = 0;
     for (int j = 0; j < count_y; ++j) {
         const uint16_t* c = child_samples.data() + static_cast<size_t>(j) * m;
-        const uint16_t* p0 = parent_samples.data() + static_cast<size_t>(j >> 1) * n;
+        const uint16_t* p0 = parent_samples + static_cast<size_t>(j >> 1) * n;
         worst_x4 = std::max(worst_x4, (j & 1) ? oddRowDeviationX4(c, p0, p0 + n, count_x)
                                               : evenRowDeviationX4(c, p0, count_x));
     }
@@ -98,7 +105,7 @@ void measurePatches(const LevelPyramid& pyramid, int first_level, int last_level
             errors.max_code[index] = *hi;
             if (p.level < g.finestLevel())
                 errors.err_int[index] = static_cast<float>(interpolationError(
-                    pyramid.level(p.level), pyramid.level(p.level + 1), g.patchSize(), p));
+                    samples.data(), pyramid.level(p.level + 1), g.patchSize(), p));
         }
     }
 }

@@ -26,6 +26,9 @@ namespace ridge {
 // Err_Int of patch p (level p.level < finest) in code units.
 double interpolationError(const LevelView& parent, const LevelView& child, int patch_size,
                           PatchId p);
+// Same, for a caller that already holds p's samples (patch_size^2, as extractPatch gives them).
+double interpolationError(const uint16_t* parent_samples, const LevelView& child, int patch_size,
+                          PatchId p);
 
 // Per-patch values for every patch of the pyramid, indexed by geometry.patchIndex().
 struct PatchErrors {
