@@ -2,6 +2,7 @@
 
 #include "terminal.h"
 
+#include "ridge/codec/height_codec.h"
 #include "ridge/core/error.h"
 #include "ridge/pipeline/info.h"
 #include "ridge/pipeline/verify.h"
@@ -41,13 +42,13 @@ void Commands::registerAll(CLI::App& app)
     build_->add_option("-o,--output", output_, "Output archive (.ridge)")->required();
     build_->add_option("--patch", build_options_.patch_size, "Patch size, 2^n+1 samples (65, 129, 257)")->capture_default_str();
     build_->add_option("--block", build_options_.block_cells, "Tessellation block size in cells (power of two)")->capture_default_str();
-    build_->add_option("--codec", build_options_.codec, "Patch codec: lossless, raw")->capture_default_str();
+    build_->add_option("--codec", build_options_.codec, "Patch codec: lossless, raw, progressive (lossy, needs --max-error), progressive-paper")->capture_default_str();
     build_->add_option_function<std::string>("--filter", [this](const std::string& name) {
         build_options_.filter = parseFilter(name.c_str());
     }, "Level filter: decimate (default), neville")->check(CLI::IsMember({"decimate", "neville"}));
     io::IngestOptions& ingest = build_options_.ingest;
     build_->add_option_function<double>("--max-error", [&ingest](double v) { ingest.max_error = v; },
-                                        "Largest allowed height error in metres (quantization of non-integer input)");
+                                        "Largest allowed height error in metres at the finest level, end to end (progressive codecs); with lossless codecs, the quantization step of non-integer input");
     build_->add_option_function<double>("--spacing", [&ingest](double v) { ingest.spacing = v; },
                                         "Ground spacing in metres for rasters without georeferencing (default 1)");
     build_->add_option_function<double>("--z-scale", [&ingest](double v) { ingest.z_scale = v; },
@@ -114,6 +115,11 @@ void Commands::validateBuildOptions() const
 int Commands::runBuild()
 {
     validateBuildOptions();
+    if (isLossyCodec(build_options_.codec)) {
+        // One budget: the codec gets what the ingest quantization leaves of --max-error.
+        build_options_.max_error = build_options_.ingest.max_error;
+        build_options_.ingest.max_error.reset();
+    }
     build_options_.progress = terminalProgress(quiet_);
     const BuildReport r = buildArchive(input_, output_, build_options_);
     if (!quiet_)

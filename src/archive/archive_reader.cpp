@@ -57,9 +57,13 @@ ArchiveReader::ArchiveReader(const std::string& path)
         fail("invalid tessellation block layout in header");
     if (header_.filter_id > static_cast<uint32_t>(PyramidFilter::Neville4))
         fail("unknown pyramid filter id " + std::to_string(header_.filter_id));
-    codec_ = makeCodec(static_cast<CodecId>(header_.codec_id));
+    CodecSettings settings;
+    settings.level_count = static_cast<int>(header_.level_count);
+    settings.param[0] = header_.codec_param[0];
+    settings.param[1] = header_.codec_param[1];
+    codec_ = makeCodec(static_cast<CodecId>(header_.codec_id), settings);
     if (!codec_)
-        fail("unknown codec id " + std::to_string(header_.codec_id));
+        fail("unknown codec id " + std::to_string(header_.codec_id) + " or invalid codec parameters");
 
     // Metadata.
     if (header_.metadata_offset < kHeaderSize || header_.metadata_offset > file_size_ ||
@@ -159,6 +163,14 @@ std::vector<uint8_t> ArchiveReader::readBlob(PatchId p) const
 void ArchiveReader::decodePatch(PatchId p, uint16_t* codes, const uint16_t* parent,
                                 std::vector<float>* block_errors) const
 {
+    std::vector<uint16_t> ancestor;
+    if (!parent && codec_->needsParent(p.level)) {
+        // Random access to a progressive patch: decode its ancestors first (O(level) patches;
+        // level-wide decoders pass the parent instead).
+        ancestor.resize(static_cast<size_t>(geometry_.patchSize()) * geometry_.patchSize());
+        decodePatch({p.level - 1, p.x / 2, p.y / 2}, ancestor.data());
+        parent = ancestor.data();
+    }
     const std::vector<uint8_t> blob = readBlob(p);
     if (block_errors)
         *block_errors = unpackBlockErrorsOf(p, blob);

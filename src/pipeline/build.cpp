@@ -8,6 +8,7 @@
 #include "ridge/pyramid/tessellation_block_errors.h"
 
 #include <algorithm>
+#include <cmath>
 #include <chrono>
 #include <functional>
 #include <nlohmann/json.hpp>
@@ -37,6 +38,7 @@ struct EncodedPatch {
     archive::PatchRecord record;
     std::vector<uint8_t> block_errors;
     std::vector<uint8_t> payload;
+    std::vector<uint16_t> reconstruction; // kept only when children predict from it
     uint16_t own_min = 0;
     uint16_t own_max = 0;
 };
@@ -54,18 +56,31 @@ struct BuildContext {
     }
 };
 
+// The finest-level bound of a lossy codec in codes: what --max-error leaves after the
+// ingest quantization, so that the bound in metres holds end to end.
+int codecMaxError(const HeightQuantization& q, const BuildOptions& options)
+{
+    if (!isLossyCodec(options.codec))
+        return 0;
+    if (!options.max_error)
+        throw Error("codec '" + options.codec + "' needs --max-error (metres)");
+    if (!(*options.max_error >= q.max_error))
+        throw Error("--max-error " + std::to_string(*options.max_error) +
+                    " m is below the input's own quantization error " + std::to_string(q.max_error) + " m");
+    const double codes = (*options.max_error - q.max_error) / q.scale;
+    return static_cast<int>(std::min(32767.0, std::floor(codes * (1 + 1e-12) + 1e-9)));
+}
+
 BuildContext makeContext(int width, int height, const HeightQuantization& q,
                          const io::GeoReference& geo, const BuildOptions& options)
 {
     BuildContext ctx{PyramidGeometry(width, height, options.patch_size),
-                     TessellationBlockLayout{options.patch_size, options.block_cells},
-                     makeCodec(options.codec), {}};
+                     TessellationBlockLayout{options.patch_size, options.block_cells}, nullptr, {}};
     if (!ctx.layout.valid())
         throw Error("block size " + std::to_string(options.block_cells) +
                     " cells must be a power of two >= 2 dividing the patch's " +
                     std::to_string(options.patch_size - 1) + " cells");
-    if (!ctx.codec->lossless())
-        throw Error("codec '" + options.codec + "' needs parent reconstructions, not supported yet");
+    ctx.codec = makeCodec(options.codec, codecMaxError(q, options), ctx.geometry.levelCount());
     archive::Header& h = ctx.header;
     h.width = static_cast<uint32_t>(width);
     h.height = static_cast<uint32_t>(height);
@@ -80,6 +95,7 @@ BuildContext makeContext(int width, int height, const HeightQuantization& q,
     h.spacing_x = geo.spacing_x;
     h.spacing_y = geo.spacing_y;
     h.quantization_error = q.max_error;
+    ctx.codec->storeParameters(h.codec_param);
     return ctx;
 }
 
@@ -119,8 +135,9 @@ std::string metadataJson(const std::string& source_path, const io::IngestStats& 
 
 // Extracts patch `at` of `level` (the patch's own position, or its position inside a strip
 // view), measures it and encodes it as patch `id`.
+// `parent` is the parent's reconstruction when the codec predicts from it, else null.
 EncodedPatch encodePatch(const BuildContext& ctx, const LevelView& level, PatchId at, PatchId id,
-                         const PatchSummary& summary)
+                         const PatchSummary& summary, const uint16_t* parent = nullptr)
 {
     const int n = ctx.geometry.patchSize();
     thread_local std::vector<uint16_t> codes;
@@ -128,26 +145,37 @@ EncodedPatch encodePatch(const BuildContext& ctx, const LevelView& level, PatchI
     codes.resize(static_cast<size_t>(n) * n);
     lambda.resize(ctx.layout.valuesPerPatch());
     extractPatch(level, n, at, codes.data());
+    const PatchContext pctx{n, id.level, parent, (id.x & 1) | ((id.y & 1) << 1)};
 
     EncodedPatch out;
     const auto [lo, hi] = std::minmax_element(codes.begin(), codes.end());
     out.own_min = *lo;
     out.own_max = *hi;
+    // min/max must hold what is drawn: the reconstructions of the patch and its descendants
+    // lie within δ_l of the exact heights (descendants' δ are smaller).
+    const int delta = static_cast<int>(ctx.codec->levelErrorBound(id.level));
+    const int min_code = std::max(0, int(std::min(*lo, summary.min_code)) - delta);
+    const int max_code = std::min(65535, int(std::max(*hi, summary.max_code)) + delta);
     const archive::Header& h = ctx.header;
     out.record.level = static_cast<uint32_t>(id.level);
     out.record.x = static_cast<uint32_t>(id.x);
     out.record.y = static_cast<uint32_t>(id.y);
-    out.record.min_height = archive::floatDown(h.height_offset + h.height_scale * std::min(*lo, summary.min_code));
-    out.record.max_height = archive::floatUp(h.height_offset + h.height_scale * std::max(*hi, summary.max_code));
+    out.record.min_height = archive::floatDown(h.height_offset + h.height_scale * min_code);
+    out.record.max_height = archive::floatUp(h.height_offset + h.height_scale * max_code);
     const double err_appr = summary.err_appr * h.height_scale;
     out.record.err_appr = archive::floatUp(err_appr);
     out.record.err = archive::floatUp(err_appr + ctx.levelBound(id.level));
 
-    // λ is measured on what the renderer will draw; for a lossless codec that is the input.
-    computeTessellationBlockErrors(codes.data(), ctx.layout, lambda.data());
+    // λ is measured on what the renderer will draw: the codec's reconstruction.
+    const uint16_t* drawn = codes.data();
+    if (!ctx.codec->lossless()) {
+        out.reconstruction.resize(codes.size());
+        ctx.codec->reconstruct(codes.data(), pctx, out.reconstruction.data());
+        drawn = out.reconstruction.data();
+    }
+    computeTessellationBlockErrors(drawn, ctx.layout, lambda.data());
     out.block_errors = archive::packBlockErrors(lambda.data(), lambda.size(), h.height_scale);
 
-    const PatchContext pctx{n, id.level, nullptr, (id.x & 1) | ((id.y & 1) << 1)};
     out.payload.resize(ctx.codec->encodeBound(pctx));
     const size_t size = ctx.codec->encode(out.payload.data(), out.payload.size(), codes.data(), pctx);
     if (size == 0 || out.block_errors.empty())
@@ -160,7 +188,7 @@ EncodedPatch encodePatch(const BuildContext& ctx, const LevelView& level, PatchI
 // the k-th; `done(k, patch)` sees each after it was written (for bookkeeping).
 void encodeAndWrite(int64_t count, const std::function<EncodedPatch(int64_t)>& make,
                     archive::ArchiveWriter& writer,
-                    const std::function<void(int64_t, const EncodedPatch&)>& done = {})
+                    const std::function<void(int64_t, EncodedPatch&)>& done = {})
 {
     constexpr int64_t kBatch = 64;
     std::vector<EncodedPatch> batch(kBatch);
@@ -191,15 +219,32 @@ void encodeAndWrite(int64_t count, const std::function<EncodedPatch(int64_t)>& m
 void writeLevels(const BuildContext& ctx, const LevelPyramid& pyramid, int last_level,
                  const PatchErrors& errors, archive::ArchiveWriter& writer, const Progress& progress)
 {
-    const int64_t count = ctx.geometry.firstPatchIndex(last_level) + ctx.geometry.patchCount(last_level);
-    encodeAndWrite(count, [&](int64_t index) {
-        const PatchId p = ctx.geometry.patchAt(index);
-        const PatchSummary summary{errors.min_code[index], errors.max_code[index], errors.err_appr[index]};
-        EncodedPatch e = encodePatch(ctx, pyramid.level(p.level), p, p, summary);
-        if (index % 64 == 63)
-            reportProgress(progress, double(index + 1) / double(count));
-        return e;
-    }, writer);
+    // Level by level, top-down: a progressive codec codes each patch from its parent's
+    // reconstruction, kept for one level (the children of level l are all of level l+1).
+    const PyramidGeometry& g = ctx.geometry;
+    const int64_t count = g.firstPatchIndex(last_level) + g.patchCount(last_level);
+    std::vector<std::vector<uint16_t>> parents, current;
+    for (int level = 0; level <= last_level; ++level) {
+        const int64_t first = g.firstPatchIndex(level);
+        const bool keep = ctx.codec->needsParent(level + 1) && level < last_level;
+        current.assign(keep ? static_cast<size_t>(g.patchCount(level)) : 0, {});
+        encodeAndWrite(g.patchCount(level), [&](int64_t k) {
+            const int64_t index = first + k;
+            const PatchId p = g.patchAt(index);
+            const PatchSummary summary{errors.min_code[index], errors.max_code[index], errors.err_appr[index]};
+            const uint16_t* parent = nullptr;
+            if (ctx.codec->needsParent(level))
+                parent = parents[g.patchIndex({level - 1, p.x / 2, p.y / 2}) - g.firstPatchIndex(level - 1)].data();
+            EncodedPatch e = encodePatch(ctx, pyramid.level(level), p, p, summary, parent);
+            if (index % 64 == 63)
+                reportProgress(progress, double(index + 1) / double(count));
+            return e;
+        }, writer, [&](int64_t k, EncodedPatch& e) {
+            if (keep)
+                current[k] = std::move(e.reconstruction);
+        });
+        parents.swap(current);
+    }
 }
 
 // The decimation build without ever holding the finest grid: the finest level is read in
@@ -243,7 +288,7 @@ std::optional<BuildReport> buildStreaming(const std::string& input, const std::s
             const int py = 2 * k + half;
             encodeAndWrite(g.patchesX(finest), [&](int64_t x) {
                 return encodePatch(ctx, strip_view, {finest, int(x), half}, {finest, int(x), py}, {});
-            }, writer, [&](int64_t x, const EncodedPatch& e) {
+            }, writer, [&](int64_t x, EncodedPatch& e) {
                 const int64_t index = g.patchIndex({finest, int(x), py});
                 errors.min_code[index] = e.own_min;
                 errors.max_code[index] = e.own_max;
@@ -300,7 +345,9 @@ BuildReport buildArchive(const std::string& input, const std::string& output,
 {
     // Decimation streams the finest level (memory ~ a quarter of the grid); voids and the
     // Neville filter need the whole grid in memory.
-    if (options.filter == PyramidFilter::Decimate) {
+    // Progressive codecs code top-down, the finest level last; streaming writes it first,
+    // so they take the in-memory path for now.
+    if (options.filter == PyramidFilter::Decimate && !isLossyCodec(options.codec)) {
         if (std::optional<BuildReport> report = buildStreaming(input, output, options))
             return *report;
     }

@@ -3,6 +3,7 @@
 #include "ridge/core/error.h"
 
 #include <algorithm>
+#include <exception>
 #include <string>
 
 namespace ridge {
@@ -22,28 +23,83 @@ CodeGrid decodeLevelWindow(const archive::ArchiveReader& reader, int level, int 
                     std::to_string(g.validLevelWidth(level)) + "x" +
                     std::to_string(g.validLevelHeight(level)) + ")");
 
+    const int cells = g.cells();
+    const DecodedPatches patches =
+        decodePatches(reader, level, x0 / cells, y0 / cells, (x0 + width - 1) / cells,
+                      (y0 + height - 1) / cells, progress);
     CodeGrid grid;
     grid.width = width;
     grid.height = height;
     grid.codes.resize(static_cast<size_t>(width) * height);
-    const int cells = g.cells();
-    const int n = g.patchSize();
-    const int px0 = x0 / cells, px1 = std::min((x0 + width - 1) / cells, g.patchesX(level) - 1);
-    const int py0 = y0 / cells, py1 = std::min((y0 + height - 1) / cells, g.patchesY(level) - 1);
-    std::vector<uint16_t> patch(static_cast<size_t>(n) * n);
-    for (int py = py0; py <= py1; ++py) {
-        for (int px = px0; px <= px1; ++px) {
-            reader.decodePatch({level, px, py}, patch.data());
-            // Copy the part of the patch inside the window.
-            const int ia = std::max(x0, px * cells), ib = std::min(x0 + width - 1, px * cells + cells);
-            const int ja = std::max(y0, py * cells), jb = std::min(y0 + height - 1, py * cells + cells);
-            for (int j = ja; j <= jb; ++j)
-                for (int i = ia; i <= ib; ++i)
-                    grid.at(i - x0, j - y0) = patch[static_cast<size_t>(j - py * cells) * n + (i - px * cells)];
-        }
-        reportProgress(progress, double(py - py0 + 1) / double(py1 - py0 + 1));
-    }
+    const int gx = x0 - patches.px0 * cells, gy = y0 - patches.py0 * cells;
+    for (int j = 0; j < height; ++j)
+        std::copy_n(patches.grid.codes.data() + static_cast<size_t>(gy + j) * patches.grid.width + gx,
+                    width, &grid.at(0, j));
     return grid;
+}
+
+void DecodedPatches::copyPatch(PatchId p, int n, uint16_t* out) const
+{
+    const int cells = n - 1;
+    const int gx = (p.x - px0) * cells, gy = (p.y - py0) * cells;
+    for (int j = 0; j < n; ++j)
+        std::copy_n(grid.codes.data() + static_cast<size_t>(gy + j) * grid.width + gx, n,
+                    out + static_cast<size_t>(j) * n);
+}
+
+DecodedPatches decodePatches(const archive::ArchiveReader& reader, int level, int px0, int py0,
+                             int px1, int py1, const Progress& progress)
+{
+    const PyramidGeometry& g = reader.geometry();
+    const int n = g.patchSize(), cells = g.cells();
+    DecodedPatches out;
+    out.level = level;
+    out.px0 = std::clamp(px0, 0, g.patchesX(level) - 1);
+    out.py0 = std::clamp(py0, 0, g.patchesY(level) - 1);
+    out.px1 = std::clamp(px1, out.px0, g.patchesX(level) - 1);
+    out.py1 = std::clamp(py1, out.py0, g.patchesY(level) - 1);
+    const int nx = out.px1 - out.px0 + 1, ny = out.py1 - out.py0 + 1;
+
+    // The parents first: the coarser level's patches covering this range.
+    DecodedPatches parents;
+    const bool needs_parent = reader.codec().needsParent(level);
+    if (needs_parent)
+        parents = decodePatches(reader, level - 1, out.px0 / 2, out.py0 / 2, out.px1 / 2,
+                                out.py1 / 2, subProgress(progress, 0.0, 0.25));
+
+    out.grid.width = nx * cells + 1;
+    out.grid.height = ny * cells + 1;
+    out.grid.codes.resize(static_cast<size_t>(out.grid.width) * out.grid.height);
+    std::exception_ptr failure;
+#pragma omp parallel
+    {
+        std::vector<uint16_t> patch(static_cast<size_t>(n) * n), parent;
+        if (needs_parent)
+            parent.resize(patch.size());
+#pragma omp for schedule(dynamic, 1)
+        for (int64_t k = 0; k < int64_t{nx} * ny; ++k) {
+            const PatchId p{level, out.px0 + static_cast<int>(k % nx), out.py0 + static_cast<int>(k / nx)};
+            try {
+                if (needs_parent)
+                    parents.copyPatch({level - 1, p.x / 2, p.y / 2}, n, parent.data());
+                reader.decodePatch(p, patch.data(), needs_parent ? parent.data() : nullptr);
+            } catch (...) {
+#pragma omp critical
+                failure = std::current_exception();
+                continue;
+            }
+            // Neighbours write the same shared-border values, so the overlap is benign;
+            // still, each patch writes only its own cells plus the far border on the last.
+            const int gx = (p.x - out.px0) * cells, gy = (p.y - out.py0) * cells;
+            const int w = p.x == out.px1 ? n : cells, h = p.y == out.py1 ? n : cells;
+            for (int j = 0; j < h; ++j)
+                std::copy_n(patch.data() + static_cast<size_t>(j) * n, w, &out.grid.at(gx, gy + j));
+        }
+    }
+    if (failure)
+        std::rethrow_exception(failure);
+    reportProgress(progress, 1.0);
+    return out;
 }
 
 CodeGrid decodeLevel(const archive::ArchiveReader& reader, int level, const Progress& progress)

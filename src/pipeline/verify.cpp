@@ -74,24 +74,32 @@ void checkPatchMetadata(const ArchiveReader& reader, PatchId p, const uint16_t* 
 }
 
 // Decodes all patches of a level into `grid`, checking each; returns the level's largest Err.
+// The grid covers whole patches (padding included) so the next level can take its parents
+// from it; `parents` is the previous level's grid (progressive codecs), else null.
 double decodeAndCheckLevel(const ArchiveReader& reader, int level, CodeGrid& grid,
-                           ProblemList& problems)
+                           const CodeGrid* parents, ProblemList& problems)
 {
     const PyramidGeometry& g = reader.geometry();
     const int n = g.patchSize(), cells = g.cells();
     const int nx = g.patchesX(level), ny = g.patchesY(level);
-    grid.width = g.levelWidth(level);
-    grid.height = g.levelHeight(level);
+    grid.width = nx * cells + 1;
+    grid.height = ny * cells + 1;
     grid.codes.assign(static_cast<size_t>(grid.width) * grid.height, 0);
     std::vector<PatchBorders> borders(static_cast<size_t>(nx) * ny);
 
 #pragma omp parallel for schedule(dynamic, 1)
     for (int64_t k = 0; k < int64_t{nx} * ny; ++k) {
         const PatchId p{level, static_cast<int>(k % nx), static_cast<int>(k / nx)};
-        std::vector<uint16_t> codes(static_cast<size_t>(n) * n);
+        std::vector<uint16_t> codes(static_cast<size_t>(n) * n), parent;
         std::vector<float> block_errors;
+        if (parents) {
+            parent.resize(codes.size());
+            for (int j = 0; j < n; ++j)
+                for (int i = 0; i < n; ++i)
+                    parent[static_cast<size_t>(j) * n + i] = parents->at(p.x / 2 * cells + i, p.y / 2 * cells + j);
+        }
         try {
-            reader.decodePatch(p, codes.data(), nullptr, &block_errors);
+            reader.decodePatch(p, codes.data(), parents ? parent.data() : nullptr, &block_errors);
             checkPatchMetadata(reader, p, codes.data(), block_errors, problems);
         } catch (const Error& e) {
             problems.add(e.what());
@@ -297,7 +305,8 @@ VerifyReport verifyArchive(const std::string& archive_path, const VerifyOptions&
             LevelVerifyReport lr;
             lr.level = l;
             lr.patches = g.patchCount(l);
-            lr.max_err_bound = decodeAndCheckLevel(reader, l, levels[l], problems);
+            const CodeGrid* parents = reader.codec().needsParent(l) ? &levels[l - 1] : nullptr;
+            lr.max_err_bound = decodeAndCheckLevel(reader, l, levels[l], parents, problems);
             lr.level_bound = reader.levelErrorBound(l);
             report.levels.push_back(lr);
             report.patches_checked += lr.patches;

@@ -18,6 +18,7 @@ namespace ridge {
 enum class CodecId : uint32_t {
     Raw16 = 0,    // uncompressed little-endian codes (debugging, speed baseline)
     Lossless = 1, // MED prediction + zstd (default)
+    Progressive = 2, // the paper's progressive L-inf codec, adaptive range coding (lossy)
 };
 
 enum CodecStatus : int {
@@ -25,7 +26,8 @@ enum CodecStatus : int {
     kCodecBadHeader = -1,    // magic/version/parameters do not match
     kCodecTruncated = -2,    // payload ends early
     kCodecCorrupt = -3,      // inconsistent content (entropy stream, sizes)
-    kCodecTrailingBytes = -4 // payload longer than its content
+    kCodecTrailingBytes = -4, // payload longer than its content
+    kCodecNeedsParent = -5    // a patch below the root decoded without its parent
 };
 
 const char* codecStatusMessage(int status);
@@ -54,11 +56,30 @@ public:
     // Decodes into dst[patch_size^2]; returns kCodecOk or a negative CodecStatus.
     virtual int decode(uint16_t* dst, const uint8_t* src, size_t src_size,
                        const PatchContext& ctx) const = 0;
+
+    // True when a patch of `level` decodes only with ctx.parent (progressive coding).
+    virtual bool needsParent(int /*level*/) const { return false; }
+    // What decode(encode(codes)) returns, without coding: the heights a renderer will draw,
+    // on which the build measures block errors and min/max. Identity for lossless codecs.
+    virtual void reconstruct(const uint16_t* codes, const PatchContext& ctx, uint16_t* out) const;
+    // Codec settings stored in the archive header (codec_param), read back by makeCodec.
+    virtual void storeParameters(double param[2]) const { param[0] = param[1] = 0.0; }
 };
 
-// Codec by name ("lossless", "raw"); throws ridge::Error for an unknown name.
-std::unique_ptr<HeightCodec> makeCodec(const std::string& name);
-// Codec by stored id; returns null for an unknown id.
-std::unique_ptr<HeightCodec> makeCodec(CodecId id);
+// What a codec needs beyond its id: the pyramid depth and the header's codec parameters.
+struct CodecSettings {
+    int level_count = 1;            // the finest level is level_count - 1
+    double param[2] = {0.0, 0.0};   // codec specific (archive header codec_param)
+};
+
+// Codec by name ("lossless", "raw", "progressive", "progressive-paper"); `max_error` is the
+// finest-level bound in codes for lossy codecs (ignored by lossless ones). Throws
+// ridge::Error for an unknown name or invalid settings.
+std::unique_ptr<HeightCodec> makeCodec(const std::string& name, int max_error = 0,
+                                       int level_count = 1);
+// Codec by stored id and settings; returns null for an unknown id or invalid settings.
+std::unique_ptr<HeightCodec> makeCodec(CodecId id, const CodecSettings& settings = {});
+// True when `name` is a codec whose decoded heights differ from its input.
+bool isLossyCodec(const std::string& name);
 
 } // namespace ridge

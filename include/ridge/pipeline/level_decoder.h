@@ -7,6 +7,24 @@
 
 namespace ridge {
 
+// Whole patches [px0, px1] x [py0, py1] of one level, decoded into one grid whose origin is
+// sample (px0·cells, py0·cells) of the level. Whole patches, padding included, because a
+// progressive codec predicts a child from every sample of its parent.
+struct DecodedPatches {
+    int level = 0;
+    int px0 = 0, py0 = 0, px1 = -1, py1 = -1;
+    CodeGrid grid;
+
+    // Copies patch `p` (inside the range) into out[n·n].
+    void copyPatch(PatchId p, int n, uint16_t* out) const;
+};
+
+// Decodes patches [px0, px1] x [py0, py1] of `level` (clamped to the level), in parallel.
+// When the codec predicts from parents, the covering patches of every coarser level are
+// decoded first, top-down, each once. Throws ridge::Error for a corrupt patch.
+DecodedPatches decodePatches(const archive::ArchiveReader& reader, int level, int px0, int py0,
+                             int px1, int py1, const Progress& progress = {});
+
 // Decodes the samples [x0, x0+width) x [y0, y0+height) of `level` (level sample units; the
 // window may reach into the padding up to geometry.levelWidth/levelHeight). Reads only the
 // patches the window touches. Throws ridge::Error for a bad window or a corrupt patch.

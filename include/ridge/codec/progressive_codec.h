@@ -1,0 +1,60 @@
+#pragma once
+// The progressive L-inf-bounded codec of the hardware-tessellation paper (§4), as a patch
+// codec of the .ridge archive (CodecId::Progressive).
+//
+// Level l is quantized with bound δ_l (level_quantizer.h); the coarsest patch is coded
+// directly (MED prediction), every other patch from its parent's reconstruction: refined
+// R samples, then A, B, C samples predicted and their errors coded
+// (progressive_reconstruction.h), all symbols with the adaptive range coder
+// (progressive_entropy.h). Decoding = entropy decode (CPU) + reconstruct (GPU-able).
+//
+// Payload: u8 'P', u8 version 1, then the range-coded residual stream to the end.
+// Variant (archive header codec_param[1]): bit 0 nested bins, bit 1 cubic prediction,
+// bit 2 activity contexts. codec_param[0] = e, the finest-level bound in codes.
+#include "ridge/codec/height_codec.h"
+#include "ridge/codec/level_quantizer.h"
+#include "ridge/codec/progressive_reconstruction.h"
+
+namespace ridge {
+
+struct ProgressiveVariant {
+    BinLayout bins = BinLayout::Nested;
+    OddPredictor predictor = OddPredictor::Cubic;
+    bool contexts = true;
+
+    // The paper as written: dead-zone bins, bilinear prediction, one model per symbol kind.
+    static ProgressiveVariant paper() { return {BinLayout::DeadZone, OddPredictor::Bilinear, false}; }
+    int bits() const;
+    static ProgressiveVariant fromBits(int bits);
+    std::string describe() const;
+};
+
+class ProgressiveCodec final : public HeightCodec {
+public:
+    // `max_error`: e >= 0, the finest-level bound in codes; `level_count`: pyramid levels.
+    ProgressiveCodec(int max_error, int level_count, ProgressiveVariant variant = {});
+
+    CodecId id() const override { return CodecId::Progressive; }
+    const char* name() const override { return "progressive"; }
+    bool lossless() const override { return false; }
+    double levelErrorBound(int level) const override;
+    size_t encodeBound(const PatchContext& ctx) const override;
+    size_t encode(uint8_t* dst, size_t dst_capacity, const uint16_t* codes,
+                  const PatchContext& ctx) const override;
+    int decode(uint16_t* dst, const uint8_t* src, size_t src_size,
+               const PatchContext& ctx) const override;
+    bool needsParent(int level) const override { return level > 0; }
+    void reconstruct(const uint16_t* codes, const PatchContext& ctx, uint16_t* out) const override;
+    void storeParameters(double param[2]) const override;
+
+    const ProgressiveVariant& variant() const { return variant_; }
+    // The quantizer of `level` (0 = coarsest).
+    LevelQuantizer quantizer(int level) const;
+
+private:
+    int max_error_;
+    int finest_level_;
+    ProgressiveVariant variant_;
+};
+
+} // namespace ridge

@@ -1,0 +1,51 @@
+#pragma once
+// Reconstruction half of the progressive codec: refine + predict + add, on quantized bins.
+//
+// This is the part the hardware-tessellation paper runs on the GPU; the entropy decoding
+// (progressive_entropy) stays on the CPU and produces the residual grid consumed here. It
+// is integer arithmetic only (adds, shifts, no division), each pass data-parallel over its
+// samples, so a compute shader can run the passes as written.
+//
+// A child patch of n = 2^m + 1 samples covers one quadrant of its parent. In child
+// coordinates (fig. 4 of the paper):
+//   R  (even x, even y): refined parent samples, q = 2·q_parent + r, r the refinement;
+//   A  (odd x,  even y): predicted along the row from R;
+//   B  (even x, odd y):  predicted along the column from R;
+//   C  (odd x,  odd y):  predicted from A and B (Cubic) or from the 4 diagonal R (Bilinear).
+// Prediction errors follow the paper's sign: d = P − q, so q = P − d.
+// The coarsest patch has no parent; it is predicted in raster order by the median edge
+// detector of LOCO-I (the paper codes it "directly"; MED makes that cheap).
+#include <cstdint>
+
+namespace ridge {
+
+enum class OddPredictor : uint8_t {
+    Bilinear = 0, // the paper: mean of the 2 (A, B) or 4 (C) nearest refined samples
+    Cubic = 1,    // 4-tap cubic (−1, 9, 9, −1)/16; quadratic at patch borders; C averages
+                  // the row and column cubics through the A and B samples
+};
+
+enum class SampleClass : uint8_t { R = 0, A = 1, B = 2, C = 3 };
+
+inline SampleClass sampleClass(int x, int y)
+{
+    return static_cast<SampleClass>((x & 1) | ((y & 1) << 1));
+}
+
+// P at (x, y) of class A, B or C, from the samples of q that earlier passes completed.
+int32_t predictOdd(const int32_t* q, int n, int x, int y, OddPredictor predictor);
+// MED prediction of the coarsest patch at (x, y) from its west, north, north-west samples.
+int32_t predictRoot(const int32_t* q, int n, int x, int y);
+
+// Encoder side: residuals[n·n] of a child patch from its bins q and the parent's bins
+// (n·n, quadrant `child_index` = (x & 1) | (y & 1) << 1 of the child's position).
+void childResiduals(const int32_t* q, const int32_t* parent_q, int child_index, int n,
+                    OddPredictor predictor, int32_t* residuals);
+void rootResiduals(const int32_t* q, int n, int32_t* residuals);
+
+// Decoder side: the exact inverses. Write q[n·n].
+void reconstructChild(const int32_t* residuals, const int32_t* parent_q, int child_index, int n,
+                      OddPredictor predictor, int32_t* q);
+void reconstructRoot(const int32_t* residuals, int n, int32_t* q);
+
+} // namespace ridge

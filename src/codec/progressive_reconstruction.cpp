@@ -1,0 +1,130 @@
+#include "ridge/codec/progressive_reconstruction.h"
+
+#include <algorithm>
+#include <cstddef>
+
+namespace ridge {
+
+namespace {
+
+// 16 × the interpolated value halfway between line[pos − 1] and line[pos + 1], samples
+// `stride` apart along a line of `len` samples. Cubic (Catmull-Rom on a uniform grid:
+// −1, 9, 9, −1) where the line allows, quadratic (the 3 nearest: 3, 6, −1 over 8) at its
+// ends, linear when the line has only the two samples.
+inline int32_t midpoint16(const int32_t* line, ptrdiff_t stride, int pos, int len)
+{
+    const int32_t a = line[(pos - 1) * stride];
+    const int32_t b = line[(pos + 1) * stride];
+    const bool has_before = pos - 3 >= 0;
+    const bool has_after = pos + 3 < len;
+    if (has_before && has_after)
+        return 9 * (a + b) - line[(pos - 3) * stride] - line[(pos + 3) * stride];
+    if (has_after)
+        return 6 * a + 12 * b - 2 * line[(pos + 3) * stride];
+    if (has_before)
+        return 12 * a + 6 * b - 2 * line[(pos - 3) * stride];
+    return 8 * (a + b);
+}
+
+inline int32_t medPredict(int32_t w, int32_t n, int32_t nw)
+{
+    return std::clamp(w + n - nw, std::min(w, n), std::max(w, n));
+}
+
+// The parent bin under the R sample (x, y) of child `child_index` (x, y even).
+inline int32_t parentBin(const int32_t* parent_q, int child_index, int n, int x, int y)
+{
+    const int half = (n - 1) / 2;
+    const int px = (child_index & 1) * half + x / 2, py = (child_index >> 1) * half + y / 2;
+    return parent_q[static_cast<size_t>(py) * n + px];
+}
+
+} // namespace
+
+int32_t predictOdd(const int32_t* q, int n, int x, int y, OddPredictor predictor)
+{
+    const int32_t* at = q + static_cast<size_t>(y) * n + x;
+    const ptrdiff_t row = n;
+    switch (sampleClass(x, y)) {
+    case SampleClass::A: // odd x on an even row: between R samples of the row
+        if (predictor == OddPredictor::Bilinear)
+            return (at[-1] + at[1] + 1) >> 1;
+        return (midpoint16(at - x, 1, x, n) + 8) >> 4;
+    case SampleClass::B: // odd row, even x: between R samples of the column
+        if (predictor == OddPredictor::Bilinear)
+            return (at[-row] + at[row] + 1) >> 1;
+        return (midpoint16(at - y * row, row, y, n) + 8) >> 4;
+    case SampleClass::C: // odd x, odd y
+        if (predictor == OddPredictor::Bilinear)
+            return (at[-row - 1] + at[-row + 1] + at[row - 1] + at[row + 1] + 2) >> 2;
+        // Row through the B samples and column through the A samples, averaged.
+        return (midpoint16(at - x, 1, x, n) + midpoint16(at - y * row, row, y, n) + 16) >> 5;
+    case SampleClass::R: break;
+    }
+    return 0; // R samples are refined, not predicted
+}
+
+int32_t predictRoot(const int32_t* q, int n, int x, int y)
+{
+    const int32_t* at = q + static_cast<size_t>(y) * n + x;
+    if (y == 0)
+        return x == 0 ? 0 : at[-1];
+    if (x == 0)
+        return at[-n];
+    return medPredict(at[-1], at[-n], at[-n - 1]);
+}
+
+// The passes run in the order R, A, B, C; within a pass no sample depends on another, so the
+// loops below are what a GPU runs as one dispatch per pass (A and B may even share one).
+void childResiduals(const int32_t* q, const int32_t* parent_q, int child_index, int n,
+                    OddPredictor predictor, int32_t* residuals)
+{
+    for (int y = 0; y < n; y += 2)
+        for (int x = 0; x < n; x += 2) {
+            const size_t i = static_cast<size_t>(y) * n + x;
+            residuals[i] = q[i] - 2 * parentBin(parent_q, child_index, n, x, y);
+        }
+    for (int y = 0; y < n; ++y)
+        for (int x = (y & 1) ? 0 : 1; x < n; x += (y & 1) ? 1 : 2) {
+            const size_t i = static_cast<size_t>(y) * n + x;
+            residuals[i] = predictOdd(q, n, x, y, predictor) - q[i];
+        }
+}
+
+void reconstructChild(const int32_t* residuals, const int32_t* parent_q, int child_index, int n,
+                      OddPredictor predictor, int32_t* q)
+{
+    for (int y = 0; y < n; y += 2)
+        for (int x = 0; x < n; x += 2) {
+            const size_t i = static_cast<size_t>(y) * n + x;
+            q[i] = 2 * parentBin(parent_q, child_index, n, x, y) + residuals[i];
+        }
+    for (const SampleClass pass : {SampleClass::A, SampleClass::B, SampleClass::C}) {
+        const int x0 = static_cast<int>(pass) & 1, y0 = static_cast<int>(pass) >> 1;
+        for (int y = y0; y < n; y += 2)
+            for (int x = x0; x < n; x += 2) {
+                const size_t i = static_cast<size_t>(y) * n + x;
+                q[i] = predictOdd(q, n, x, y, predictor) - residuals[i];
+            }
+    }
+}
+
+void rootResiduals(const int32_t* q, int n, int32_t* residuals)
+{
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) {
+            const size_t i = static_cast<size_t>(y) * n + x;
+            residuals[i] = predictRoot(q, n, x, y) - q[i];
+        }
+}
+
+void reconstructRoot(const int32_t* residuals, int n, int32_t* q)
+{
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) {
+            const size_t i = static_cast<size_t>(y) * n + x;
+            q[i] = predictRoot(q, n, x, y) - residuals[i];
+        }
+}
+
+} // namespace ridge
