@@ -172,18 +172,36 @@ void ArchiveReader::decodePatch(PatchId p, uint16_t* codes, const uint16_t* pare
         parent = ancestor.data();
     }
     const std::vector<uint8_t> blob = readBlob(p);
-    if (block_errors)
-        *block_errors = unpackBlockErrorsOf(p, blob);
     const PatchRecord& r = record(p);
+    if (block_errors && r.block_errors_size > 0)
+        *block_errors = unpackBlockErrorsOf(p, blob);
     PatchContext ctx{geometry_.patchSize(), p.level, parent, (p.x & 1) | ((p.y & 1) << 1)};
     const int status = codec_->decode(codes, blob.data() + r.block_errors_size,
                                       blob.size() - r.block_errors_size, ctx);
     if (status != kCodecOk)
         throw Error(describe(p) + ": cannot decode: " + codecStatusMessage(status));
+    if (block_errors && r.block_errors_size == 0)
+        *block_errors = deriveBlockErrors(codes);
+}
+
+std::vector<float> ArchiveReader::deriveBlockErrors(const uint16_t* codes) const
+{
+    const TessellationBlockLayout layout = blockLayout();
+    std::vector<float> lambda(static_cast<size_t>(layout.valuesPerPatch()));
+    computeTessellationBlockErrors(codes, layout, lambda.data());
+    for (float& v : lambda)
+        v = static_cast<float>(v * header_.height_scale);
+    return lambda;
 }
 
 std::vector<float> ArchiveReader::readBlockErrors(PatchId p) const
 {
+    if (record(p).block_errors_size == 0) {
+        std::vector<float> lambda;
+        std::vector<uint16_t> codes(static_cast<size_t>(geometry_.patchSize()) * geometry_.patchSize());
+        decodePatch(p, codes.data(), nullptr, &lambda);
+        return lambda;
+    }
     return unpackBlockErrorsOf(p, readBlob(p));
 }
 

@@ -41,13 +41,13 @@ class ActivityGrid {
 public:
     explicit ActivityGrid(int n) : stride_(n + 4)
     {
-        thread_local std::vector<uint8_t> storage;
+        thread_local std::vector<uint16_t> storage; // not uint8_t: char stores alias everything
         storage.assign(static_cast<size_t>(stride_) * stride_, 0);
         origin_ = storage.data() + 2 * stride_ + 2;
     }
     void set(int x, int y, int32_t magnitude)
     {
-        origin_[y * stride_ + x] = static_cast<uint8_t>(magnitude < 255 ? magnitude : 255);
+        origin_[y * stride_ + x] = static_cast<uint16_t>(magnitude < 255 ? magnitude : 255);
     }
     int at(int x, int y) const { return origin_[y * stride_ + x]; }
 
@@ -70,7 +70,7 @@ public:
 
 private:
     int stride_;
-    uint8_t* origin_;
+    uint16_t* origin_;
 };
 
 // A magnitude beyond the octaves: 5-bit length of m − 1024, then its bits below the top one.
@@ -203,8 +203,7 @@ void traverse(int32_t* residuals, int n, const ResidualCoding& coding, Side& sid
 void encodeResiduals(const int32_t* residuals, int n, const ResidualCoding& coding,
                      std::vector<uint8_t>& out)
 {
-    thread_local Models models;
-    models = Models{};
+    Models models;
     rc::Encoder enc(out);
     EncodeSide side{enc, models};
     traverse(const_cast<int32_t*>(residuals), n, coding, side); // EncodeSide only reads
@@ -214,8 +213,7 @@ void encodeResiduals(const int32_t* residuals, int n, const ResidualCoding& codi
 int decodeResiduals(const uint8_t* data, size_t size, int n, const ResidualCoding& coding,
                     int32_t* residuals)
 {
-    thread_local Models models;
-    models = Models{};
+    Models models;
     rc::Decoder dec(data, size);
     DecodeSide side{dec, models};
     traverse(residuals, n, coding, side);

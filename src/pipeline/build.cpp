@@ -3,6 +3,7 @@
 #include "ridge/archive/archive_writer.h"
 #include "ridge/archive/block_error_storage.h"
 #include "ridge/codec/height_codec.h"
+#include "ridge/codec/progressive_codec.h"
 #include "ridge/core/error.h"
 #include "ridge/pyramid/patch_error.h"
 #include "ridge/pyramid/tessellation_block_errors.h"
@@ -49,6 +50,7 @@ struct BuildContext {
     TessellationBlockLayout layout;
     std::unique_ptr<HeightCodec> codec;
     archive::Header header;
+    bool store_block_errors = false;
 
     double levelBound(int level) const
     {
@@ -81,6 +83,7 @@ BuildContext makeContext(int width, int height, const HeightQuantization& q,
                     " cells must be a power of two >= 2 dividing the patch's " +
                     std::to_string(options.patch_size - 1) + " cells");
     ctx.codec = makeCodec(options.codec, codecMaxError(q, options), ctx.geometry.levelCount());
+    ctx.store_block_errors = options.store_block_errors;
     archive::Header& h = ctx.header;
     h.width = static_cast<uint32_t>(width);
     h.height = static_cast<uint32_t>(height);
@@ -122,6 +125,7 @@ std::string metadataJson(const std::string& source_path, const io::IngestStats& 
         {"build", {{"patch_size", options.patch_size},
                    {"block_cells", options.block_cells},
                    {"codec", options.codec},
+                   {"block_errors", options.store_block_errors ? "stored" : "derived from decoded heights"},
                    {"filter", filterName(options.filter)},
                    {"z_scale", stats.z_scale},
                    {"z_offset", stats.z_offset}}},
@@ -130,6 +134,10 @@ std::string metadataJson(const std::string& source_path, const io::IngestStats& 
         meta["georeference"]["geotransform"] = geo.geotransform;
     if (options.ingest.max_error)
         meta["build"]["max_error"] = *options.ingest.max_error;
+    if (options.max_error)
+        meta["build"]["codec_max_error"] = *options.max_error;
+    if (const auto* progressive = dynamic_cast<const ProgressiveCodec*>(ctx.codec.get()))
+        meta["build"]["codec_variant"] = progressive->variant().describe();
     return meta.dump(2);
 }
 
@@ -173,12 +181,16 @@ EncodedPatch encodePatch(const BuildContext& ctx, const LevelView& level, PatchI
         ctx.codec->reconstruct(codes.data(), pctx, out.reconstruction.data());
         drawn = out.reconstruction.data();
     }
-    computeTessellationBlockErrors(drawn, ctx.layout, lambda.data());
-    out.block_errors = archive::packBlockErrors(lambda.data(), lambda.size(), h.height_scale);
+    if (ctx.store_block_errors) {
+        computeTessellationBlockErrors(drawn, ctx.layout, lambda.data());
+        out.block_errors = archive::packBlockErrors(lambda.data(), lambda.size(), h.height_scale);
+        if (out.block_errors.empty())
+            throw Error("internal error: cannot pack block errors");
+    }
 
     out.payload.resize(ctx.codec->encodeBound(pctx));
     const size_t size = ctx.codec->encode(out.payload.data(), out.payload.size(), codes.data(), pctx);
-    if (size == 0 || out.block_errors.empty())
+    if (size == 0)
         throw Error("internal error: cannot encode patch");
     out.payload.resize(size);
     return out;

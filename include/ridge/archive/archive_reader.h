@@ -52,7 +52,11 @@ public:
     void decodePatch(PatchId p, uint16_t* codes, const uint16_t* parent = nullptr,
                      std::vector<float>* block_errors = nullptr) const;
     // Reads λ(d) of every block of `p` in metres (see TessellationBlockLayout for the order).
+    // Archives built without stored block errors derive them from the decoded heights
+    // (exact for what is drawn; costs a decode).
     std::vector<float> readBlockErrors(PatchId p) const;
+    // λ(d) in metres of decoded codes[patch_size^2], as a reader derives unstored ones.
+    std::vector<float> deriveBlockErrors(const uint16_t* codes) const;
 
     // "PATH: patch (level L, x X, y Y)" for messages.
     std::string describe(PatchId p) const { return path_ + ": " + patchName(p); }

@@ -47,17 +47,16 @@ struct AdaptiveCdf {
     }
     uint32_t cumulative(int s) const { return c[s] + static_cast<uint32_t>(s); }
 
-    // Mixes the table with a step at s: c <- c + (step_s - c) / 2^rate. Monotone by
-    // construction (a convex combination of two monotone tables, floored consistently).
+    // Mixes the table with a step at s: c <- c + floor((step_s - c) / 2^rate). Stays
+    // monotone and inside [0, kSpan] (x + floor((t - x) / 2^r) is non-decreasing in x and
+    // lies between x and t). Branch-free: the symbol is unpredictable.
     void update(int s)
     {
         const int rate = 4 + (count >= 16) + (count >= 64) + (count >= 256);
         count = static_cast<uint16_t>(count + (count < 256));
         for (int i = 1; i < N; ++i) {
-            if (i <= s)
-                c[i] = static_cast<uint16_t>(c[i] - (c[i] >> rate));
-            else
-                c[i] = static_cast<uint16_t>(c[i] + ((kSpan - c[i]) >> rate));
+            const int target = i > s ? static_cast<int>(kSpan) : 0;
+            c[i] = static_cast<uint16_t>(c[i] + ((target - c[i]) >> rate));
         }
     }
 };
@@ -139,15 +138,18 @@ public:
     template <int N>
     int decode(AdaptiveCdf<N>& cdf)
     {
-        const uint32_t r = range_ >> kProbBits;
+        const uint64_t r = range_ >> kProbBits;
         if (code_ >= r * kProbTotal) { // only a corrupt stream gets here
             corrupt_ = true;
             code_ = 0;
         }
+        // s = number of boundaries F(1..N-1) at or below the code: branch-free, since a
+        // search loop mispredicts on almost every symbol.
+        const uint32_t code = static_cast<uint32_t>(code_), rr = static_cast<uint32_t>(r);
         int s = 0;
-        while (s + 1 < N && r * cdf.cumulative(s + 1) <= code_)
-            ++s;
-        const uint32_t lo = cdf.cumulative(s);
+        for (int i = 1; i < N; ++i)
+            s += rr * cdf.cumulative(i) <= code;
+        const uint64_t lo = cdf.cumulative(s);
         code_ -= r * lo;
         range_ = r * (cdf.cumulative(s + 1) - lo);
         normalize();
@@ -194,10 +196,12 @@ private:
         }
     }
 
+    // 64-bit holders although the values fit 32 bits: int32 residual stores elsewhere may
+    // alias uint32 members, which would force a reload after every decoded symbol.
     const uint8_t* p_;
     const uint8_t* end_;
-    uint32_t code_ = 0;
-    uint32_t range_ = 0xFFFFFFFFu;
+    uint64_t code_ = 0;
+    uint64_t range_ = 0xFFFFFFFFu;
     size_t overrun_ = 0;
     bool corrupt_ = false;
 };

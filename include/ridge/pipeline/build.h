@@ -18,6 +18,9 @@ struct BuildOptions {
     // ingest quantization included; level l gets 2^(L-1-l) times that (delta_l of the paper).
     std::optional<double> max_error;
     PyramidFilter filter = PyramidFilter::Decimate;
+    // Tessellation block errors λ(d) stored in each blob. Off by default: readers derive
+    // them exactly from the decoded heights (~10% of a compressed archive saved).
+    bool store_block_errors = false;
     io::IngestOptions ingest;      // spacing, z-scale/offset, max_error (quantization)
     Progress progress;
 };
