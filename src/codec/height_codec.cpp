@@ -32,7 +32,7 @@ bool isLossyCodec(const std::string& name)
     return name == "progressive" || name == "progressive-paper";
 }
 
-std::unique_ptr<HeightCodec> makeCodec(const std::string& name, int max_error, int level_count)
+std::unique_ptr<HeightCodec> makeCodec(const std::string& name, double max_error, int level_count)
 {
     if (name == "lossless")
         return std::make_unique<LosslessCodec>();
@@ -52,10 +52,10 @@ std::unique_ptr<HeightCodec> makeCodec(CodecId id, const CodecSettings& settings
     case CodecId::Raw16: return std::make_unique<Raw16Codec>();
     case CodecId::Progressive: {
         const double e = settings.param[0], bits = settings.param[1];
-        if (!(e >= 0 && e <= 32767 && e == std::floor(e) && bits >= 0 && bits <= 7 &&
-              bits == std::floor(bits) && settings.level_count >= 1 && settings.level_count <= 32))
+        if (!(e >= 0 && e <= 32767 && (bits == 0 || bits == 2 || bits == 4 || bits == 6) &&
+              settings.level_count >= 1 && settings.level_count <= 32))
             return nullptr;
-        return std::make_unique<ProgressiveCodec>(static_cast<int>(e), settings.level_count,
+        return std::make_unique<ProgressiveCodec>(e, settings.level_count,
                                                   ProgressiveVariant::fromBits(static_cast<int>(bits)));
     }
     }

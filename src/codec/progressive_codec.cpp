@@ -43,27 +43,24 @@ bool validPatchSize(int n)
 
 int ProgressiveVariant::bits() const
 {
-    return (bins == BinLayout::Nested ? 1 : 0) | (predictor == OddPredictor::Cubic ? 2 : 0) |
-           (contexts ? 4 : 0);
+    return (predictor == OddPredictor::Cubic ? 2 : 0) | (contexts ? 4 : 0);
 }
 
 ProgressiveVariant ProgressiveVariant::fromBits(int bits)
 {
-    return {(bits & 1) ? BinLayout::Nested : BinLayout::DeadZone,
-            (bits & 2) ? OddPredictor::Cubic : OddPredictor::Bilinear, (bits & 4) != 0};
+    return {(bits & 2) ? OddPredictor::Cubic : OddPredictor::Bilinear, (bits & 4) != 0};
 }
 
 std::string ProgressiveVariant::describe() const
 {
-    return std::string(bins == BinLayout::Nested ? "nested bins" : "dead-zone bins") + ", " +
-           (predictor == OddPredictor::Cubic ? "cubic" : "bilinear") + " prediction, " +
+    return std::string(predictor == OddPredictor::Cubic ? "cubic" : "bilinear") + " prediction, " +
            (contexts ? "activity contexts" : "no contexts");
 }
 
-ProgressiveCodec::ProgressiveCodec(int max_error, int level_count, ProgressiveVariant variant)
+ProgressiveCodec::ProgressiveCodec(double max_error, int level_count, ProgressiveVariant variant)
     : max_error_(max_error), finest_level_(level_count - 1), variant_(variant)
 {
-    if (max_error < 0 || max_error > 32767)
+    if (!(max_error >= 0 && max_error <= 32767))
         throw Error("progressive codec: max error " + std::to_string(max_error) +
                     " codes is outside 0..32767");
     if (level_count < 1 || level_count > 32)
@@ -72,7 +69,7 @@ ProgressiveCodec::ProgressiveCodec(int max_error, int level_count, ProgressiveVa
 
 LevelQuantizer ProgressiveCodec::quantizer(int level) const
 {
-    return LevelQuantizer::make(max_error_, finest_level_ - level, variant_.bins);
+    return LevelQuantizer::make(max_error_, finest_level_ - level);
 }
 
 double ProgressiveCodec::levelErrorBound(int level) const
@@ -118,10 +115,9 @@ size_t ProgressiveCodec::encode(uint8_t* dst, size_t dst_capacity, const uint16_
     if (coding.root) {
         rootResiduals(s.q.data(), n, s.residuals.data());
     } else {
-        // The parent's bins from its reconstruction, exactly as the decoder derives them.
-        const LevelQuantizer parent_quant = quantizer(ctx.level - 1);
+        // The parent's reconstruction at this level's step, exactly as the decoder derives it.
         for (size_t i = 0; i < samples; ++i)
-            s.parent_q[i] = parent_quant.binOf(ctx.parent[i]);
+            s.parent_q[i] = quant.quantize(ctx.parent[i]);
         childResiduals(s.q.data(), s.parent_q.data(), ctx.child_index, n, variant_.predictor,
                        s.residuals.data());
     }
@@ -159,16 +155,15 @@ int ProgressiveCodec::decode(uint16_t* dst, const uint8_t* src, size_t src_size,
 
     // 2. Reconstruction (GPU-able): refine + predict + add, then bins to heights.
     const size_t samples = static_cast<size_t>(n) * n;
+    const LevelQuantizer quant = quantizer(ctx.level);
     if (coding.root) {
         reconstructRoot(s.residuals.data(), n, s.q.data());
     } else {
-        const LevelQuantizer parent_quant = quantizer(ctx.level - 1);
         for (size_t i = 0; i < samples; ++i)
-            s.parent_q[i] = parent_quant.binOf(ctx.parent[i]);
+            s.parent_q[i] = quant.quantize(ctx.parent[i]);
         reconstructChild(s.residuals.data(), s.parent_q.data(), ctx.child_index, n,
                          variant_.predictor, s.q.data());
     }
-    const LevelQuantizer quant = quantizer(ctx.level);
     for (size_t i = 0; i < samples; ++i)
         dst[i] = quant.reconstruct(s.q[i]);
     return kCodecOk;

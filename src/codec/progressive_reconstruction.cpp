@@ -31,7 +31,7 @@ inline int32_t medPredict(int32_t w, int32_t n, int32_t nw)
     return std::clamp(w + n - nw, std::min(w, n), std::max(w, n));
 }
 
-// The parent bin under the R sample (x, y) of child `child_index` (x, y even).
+// The requantized parent sample under the R sample (x, y) of child `child_index`.
 inline int32_t parentBin(const int32_t* parent_q, int child_index, int n, int x, int y)
 {
     const int half = (n - 1) / 2;
@@ -82,7 +82,7 @@ void childResiduals(const int32_t* q, const int32_t* parent_q, int child_index, 
     for (int y = 0; y < n; y += 2)
         for (int x = 0; x < n; x += 2) {
             const size_t i = static_cast<size_t>(y) * n + x;
-            residuals[i] = q[i] - 2 * parentBin(parent_q, child_index, n, x, y);
+            residuals[i] = q[i] - parentBin(parent_q, child_index, n, x, y);
         }
     for (int y = 0; y < n; ++y)
         for (int x = (y & 1) ? 0 : 1; x < n; x += (y & 1) ? 1 : 2) {
@@ -97,7 +97,7 @@ void reconstructChild(const int32_t* residuals, const int32_t* parent_q, int chi
     for (int y = 0; y < n; y += 2)
         for (int x = 0; x < n; x += 2) {
             const size_t i = static_cast<size_t>(y) * n + x;
-            q[i] = 2 * parentBin(parent_q, child_index, n, x, y) + residuals[i];
+            q[i] = parentBin(parent_q, child_index, n, x, y) + residuals[i];
         }
     for (const SampleClass pass : {SampleClass::A, SampleClass::B, SampleClass::C}) {
         const int x0 = static_cast<int>(pass) & 1, y0 = static_cast<int>(pass) >> 1;

@@ -60,7 +60,7 @@ struct BuildContext {
 
 // The finest-level bound of a lossy codec in codes: what --max-error leaves after the
 // ingest quantization, so that the bound in metres holds end to end.
-int codecMaxError(const HeightQuantization& q, const BuildOptions& options)
+double codecMaxError(const HeightQuantization& q, const BuildOptions& options)
 {
     if (!isLossyCodec(options.codec))
         return 0;
@@ -69,8 +69,7 @@ int codecMaxError(const HeightQuantization& q, const BuildOptions& options)
     if (!(*options.max_error >= q.max_error))
         throw Error("--max-error " + std::to_string(*options.max_error) +
                     " m is below the input's own quantization error " + std::to_string(q.max_error) + " m");
-    const double codes = (*options.max_error - q.max_error) / q.scale;
-    return static_cast<int>(std::min(32767.0, std::floor(codes * (1 + 1e-12) + 1e-9)));
+    return std::min(32767.0, (*options.max_error - q.max_error) / q.scale);
 }
 
 BuildContext makeContext(int width, int height, const HeightQuantization& q,

@@ -73,9 +73,9 @@ struct CodecSettings {
 };
 
 // Codec by name ("lossless", "raw", "progressive", "progressive-paper"); `max_error` is the
-// finest-level bound in codes for lossy codecs (ignored by lossless ones). Throws
+// finest-level bound δ_l0 in codes for lossy codecs (ignored by lossless ones). Throws
 // ridge::Error for an unknown name or invalid settings.
-std::unique_ptr<HeightCodec> makeCodec(const std::string& name, int max_error = 0,
+std::unique_ptr<HeightCodec> makeCodec(const std::string& name, double max_error = 0,
                                        int level_count = 1);
 // Codec by stored id and settings; returns null for an unknown id or invalid settings.
 std::unique_ptr<HeightCodec> makeCodec(CodecId id, const CodecSettings& settings = {});

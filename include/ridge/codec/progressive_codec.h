@@ -9,8 +9,8 @@
 // (progressive_entropy.h). Decoding = entropy decode (CPU) + reconstruct (GPU-able).
 //
 // Payload: u8 'P', u8 version 1, then the range-coded residual stream to the end.
-// Variant (archive header codec_param[1]): bit 0 nested bins, bit 1 cubic prediction,
-// bit 2 activity contexts. codec_param[0] = e, the finest-level bound in codes.
+// Variant (archive header codec_param[1]): bit 1 cubic prediction, bit 2 activity contexts
+// (bit 0 reserved, 0). codec_param[0] = δ_l0, the finest-level bound in codes (real).
 #include "ridge/codec/height_codec.h"
 #include "ridge/codec/level_quantizer.h"
 #include "ridge/codec/progressive_reconstruction.h"
@@ -18,12 +18,11 @@
 namespace ridge {
 
 struct ProgressiveVariant {
-    BinLayout bins = BinLayout::Nested;
     OddPredictor predictor = OddPredictor::Cubic;
     bool contexts = true;
 
-    // The paper as written: dead-zone bins, bilinear prediction, one model per symbol kind.
-    static ProgressiveVariant paper() { return {BinLayout::DeadZone, OddPredictor::Bilinear, false}; }
+    // The paper as written: bilinear prediction, one adaptive model per symbol kind.
+    static ProgressiveVariant paper() { return {OddPredictor::Bilinear, false}; }
     int bits() const;
     static ProgressiveVariant fromBits(int bits);
     std::string describe() const;
@@ -31,8 +30,8 @@ struct ProgressiveVariant {
 
 class ProgressiveCodec final : public HeightCodec {
 public:
-    // `max_error`: e >= 0, the finest-level bound in codes; `level_count`: pyramid levels.
-    ProgressiveCodec(int max_error, int level_count, ProgressiveVariant variant = {});
+    // `max_error`: δ_l0 >= 0, the finest-level bound in codes; `level_count`: pyramid levels.
+    ProgressiveCodec(double max_error, int level_count, ProgressiveVariant variant = {});
 
     CodecId id() const override { return CodecId::Progressive; }
     const char* name() const override { return "progressive"; }
@@ -52,7 +51,7 @@ public:
     LevelQuantizer quantizer(int level) const;
 
 private:
-    int max_error_;
+    double max_error_;
     int finest_level_;
     ProgressiveVariant variant_;
 };

@@ -8,7 +8,8 @@
 //
 // A child patch of n = 2^m + 1 samples covers one quadrant of its parent. In child
 // coordinates (fig. 4 of the paper):
-//   R  (even x, even y): refined parent samples, q = 2·q_parent + r, r the refinement;
+//   R  (even x, even y): refined parent samples, q = base + r, r the refinement and base
+//                        the parent's reconstruction requantized at the child's step;
 //   A  (odd x,  even y): predicted along the row from R;
 //   B  (even x, odd y):  predicted along the column from R;
 //   C  (odd x,  odd y):  predicted from A and B (Cubic) or from the 4 diagonal R (Bilinear).
@@ -37,14 +38,15 @@ int32_t predictOdd(const int32_t* q, int n, int x, int y, OddPredictor predictor
 // MED prediction of the coarsest patch at (x, y) from its west, north, north-west samples.
 int32_t predictRoot(const int32_t* q, int n, int x, int y);
 
-// Encoder side: residuals[n·n] of a child patch from its bins q and the parent's bins
-// (n·n, quadrant `child_index` = (x & 1) | (y & 1) << 1 of the child's position).
-void childResiduals(const int32_t* q, const int32_t* parent_q, int child_index, int n,
+// Encoder side: residuals[n·n] of a child patch from its bins q and `parent_base`, the
+// parent's reconstruction requantized at the child's step (n·n, the whole parent patch;
+// quadrant `child_index` = (x & 1) | (y & 1) << 1 of the child's position).
+void childResiduals(const int32_t* q, const int32_t* parent_base, int child_index, int n,
                     OddPredictor predictor, int32_t* residuals);
 void rootResiduals(const int32_t* q, int n, int32_t* residuals);
 
 // Decoder side: the exact inverses. Write q[n·n].
-void reconstructChild(const int32_t* residuals, const int32_t* parent_q, int child_index, int n,
+void reconstructChild(const int32_t* residuals, const int32_t* parent_base, int child_index, int n,
                       OddPredictor predictor, int32_t* q);
 void reconstructRoot(const int32_t* residuals, int n, int32_t* q);
 

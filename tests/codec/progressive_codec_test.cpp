@@ -1,0 +1,233 @@
+// The progressive codec's parts: range coder, level quantizer, reconstruction, payloads.
+#include "ridge/codec/level_quantizer.h"
+#include "ridge/codec/progressive_codec.h"
+#include "ridge/codec/range_coder.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <vector>
+
+using namespace ridge;
+
+namespace {
+
+// Terrain-like patch: smooth relief plus noise, so residuals span small and large values.
+std::vector<uint16_t> terrainPatch(int n, uint32_t seed, int noise, int base = 30000)
+{
+    std::mt19937 rng(seed);
+    std::uniform_int_distribution<int> jitter(-noise, noise);
+    std::vector<uint16_t> v(static_cast<size_t>(n) * n);
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x)
+            v[y * n + x] = static_cast<uint16_t>(std::clamp(
+                base + int(900 * std::sin(x * 0.07 + seed) + 600 * std::cos(y * 0.05)) + jitter(rng), 0, 65535));
+    return v;
+}
+
+template <int N>
+void roundTripSymbols(uint32_t seed, double skew)
+{
+    std::mt19937 rng(seed);
+    std::geometric_distribution<int> geo(skew);
+    std::uniform_int_distribution<uint32_t> bits(0, (1u << 20) - 1);
+    std::vector<int> symbols(20000);
+    std::vector<uint32_t> raw(symbols.size());
+    for (size_t i = 0; i < symbols.size(); ++i) {
+        symbols[i] = std::min(geo(rng), N - 1);
+        raw[i] = bits(rng) >> (i % 20);
+    }
+    std::vector<uint8_t> stream;
+    {
+        rc::Encoder enc(stream);
+        rc::AdaptiveCdf<N> model;
+        for (size_t i = 0; i < symbols.size(); ++i) {
+            enc.encode(model, symbols[i]);
+            if (i % 7 == 0)
+                enc.encodeBits(raw[i], 20 - int(i % 20));
+        }
+        enc.finish();
+    }
+    rc::Decoder dec(stream.data(), stream.size());
+    rc::AdaptiveCdf<N> model;
+    for (size_t i = 0; i < symbols.size(); ++i) {
+        ASSERT_EQ(dec.decode(model), symbols[i]) << "symbol " << i;
+        if (i % 7 == 0) {
+            ASSERT_EQ(dec.decodeBits(20 - int(i % 20)), raw[i]) << "bits " << i;
+        }
+    }
+    EXPECT_TRUE(dec.ok());
+    EXPECT_EQ(dec.remaining(), 0u); // the decoder reads exactly what the encoder wrote
+}
+
+} // namespace
+
+TEST(RangeCoder, RoundTripsRandomSymbolStreamsExactly)
+{
+    for (uint32_t seed = 1; seed <= 5; ++seed) {
+        roundTripSymbols<2>(seed, 0.7);
+        roundTripSymbols<3>(seed, 0.3);
+        roundTripSymbols<4>(seed, 0.5);
+        roundTripSymbols<16>(seed, 0.2);
+        roundTripSymbols<16>(seed, 0.95); // very skewed: probabilities at the frequency floor
+        roundTripSymbols<16>(seed, 0.01); // near uniform over the alphabet
+    }
+}
+
+TEST(RangeCoder, AdaptationCompressesASkewedSource)
+{
+    std::vector<uint8_t> stream;
+    rc::Encoder enc(stream);
+    rc::AdaptiveCdf<16> model;
+    for (int i = 0; i < 10000; ++i)
+        enc.encode(model, i % 50 == 0 ? 5 : 0);
+    enc.finish();
+    // Entropy of p = 0.02 is 0.14 bits/symbol: 10000 symbols must take well under 400 bytes.
+    EXPECT_LT(stream.size(), 400u);
+}
+
+TEST(RangeCoder, TruncatedStreamIsDetected)
+{
+    std::vector<uint8_t> stream;
+    {
+        rc::Encoder enc(stream);
+        rc::AdaptiveCdf<16> model;
+        for (int i = 0; i < 5000; ++i)
+            enc.encode(model, i % 13);
+        enc.finish();
+    }
+    rc::Decoder dec(stream.data(), stream.size() / 2);
+    rc::AdaptiveCdf<16> model;
+    for (int i = 0; i < 5000; ++i)
+        dec.decode(model);
+    EXPECT_FALSE(dec.ok());
+    EXPECT_TRUE(dec.truncated());
+}
+
+TEST(LevelQuantizer, EveryCodeWithinThePapersLevelBoundAndRefinementsStaySmall)
+{
+    for (const double e : {0.0, 0.4, 1.0, 2.5, 7.0, 100.0}) {
+        for (int k = 0; k <= 6; ++k) {
+            const LevelQuantizer q = LevelQuantizer::make(e, k);
+            const LevelQuantizer coarser = LevelQuantizer::make(e, k + 1);
+            // δ_l = δ_l0 · 2^k exactly as the paper, floored to integer codes.
+            EXPECT_EQ(q.bound, static_cast<int>(std::floor(e * (1 << k))));
+            int64_t large_refinements = 0;
+            for (int h = 0; h <= 65535; ++h) {
+                const int32_t bin = q.quantize(static_cast<uint16_t>(h));
+                ASSERT_LE(std::abs(int(q.reconstruct(bin)) - h), q.bound) << "e " << e << " k " << k << " h " << h;
+                // The refinement against the parent's reconstruction, requantized.
+                const uint16_t parent = coarser.reconstruct(coarser.quantize(static_cast<uint16_t>(h)));
+                const int32_t r = bin - q.quantize(parent);
+                ASSERT_LE(std::abs(r), 2) << h;
+                large_refinements += std::abs(r) == 2;
+            }
+            EXPECT_LT(large_refinements, 65536 / 50) << "e " << e << " k " << k;
+        }
+    }
+}
+
+TEST(ProgressiveCodec, DecodesWhatReconstructPredictsForEveryVariantAndQuadrant)
+{
+    for (int bits = 0; bits < 8; bits += 2) {
+        const ProgressiveVariant variant = ProgressiveVariant::fromBits(bits);
+        for (const int e : {0, 1, 3, 20}) {
+            const ProgressiveCodec codec(e, 4, variant);
+            for (const int n : {5, 17, 65}) {
+                // Root (level 0) and a chain: level 1 child of the root's reconstruction.
+                const std::vector<uint16_t> root = terrainPatch(n, 7, 40);
+                std::vector<uint16_t> root_drawn(root.size()), decoded(root.size());
+                codec.reconstruct(root.data(), {n, 0, nullptr, 0}, root_drawn.data());
+                std::vector<uint8_t> payload(codec.encodeBound({n, 0, nullptr, 0}));
+                payload.resize(codec.encode(payload.data(), payload.size(), root.data(), {n, 0, nullptr, 0}));
+                ASSERT_GT(payload.size(), 0u);
+                ASSERT_EQ(codec.decode(decoded.data(), payload.data(), payload.size(), {n, 0, nullptr, 0}), kCodecOk);
+                ASSERT_EQ(decoded, root_drawn) << variant.describe();
+                for (int child = 0; child < 4; ++child) {
+                    const std::vector<uint16_t> codes = terrainPatch(n, 11 + child, 25);
+                    const PatchContext ctx{n, 1, root_drawn.data(), child};
+                    std::vector<uint16_t> expected(codes.size());
+                    codec.reconstruct(codes.data(), ctx, expected.data());
+                    for (size_t i = 0; i < codes.size(); ++i)
+                        ASSERT_LE(std::abs(int(expected[i]) - int(codes[i])), codec.levelErrorBound(1));
+                    payload.assign(codec.encodeBound(ctx), 0);
+                    payload.resize(codec.encode(payload.data(), payload.size(), codes.data(), ctx));
+                    ASSERT_GT(payload.size(), 0u);
+                    ASSERT_EQ(codec.decode(decoded.data(), payload.data(), payload.size(), ctx), kCodecOk);
+                    ASSERT_EQ(decoded, expected) << variant.describe() << " n " << n << " child " << child;
+                }
+            }
+        }
+    }
+}
+
+TEST(ProgressiveCodec, CodesExtremeAndUnrelatedParentsThroughTheEscapes)
+{
+    // A parent unrelated to the child (Neville levels, clamped padding) and codes at both
+    // ends of the range: refinements and residuals leave the small alphabets.
+    const int n = 33;
+    const ProgressiveCodec codec(0, 3);
+    std::vector<uint16_t> parent(n * n), codes(n * n), decoded(n * n);
+    std::mt19937 rng(3);
+    for (size_t i = 0; i < codes.size(); ++i) {
+        parent[i] = static_cast<uint16_t>(rng());
+        codes[i] = (i % 3 == 0) ? 0 : (i % 3 == 1 ? 65535 : static_cast<uint16_t>(rng()));
+    }
+    const PatchContext ctx{n, 2, parent.data(), 3};
+    std::vector<uint8_t> payload(codec.encodeBound(ctx));
+    payload.resize(codec.encode(payload.data(), payload.size(), codes.data(), ctx));
+    ASSERT_GT(payload.size(), 0u);
+    ASSERT_EQ(codec.decode(decoded.data(), payload.data(), payload.size(), ctx), kCodecOk);
+    EXPECT_EQ(decoded, codes); // e = 0 at the finest level: exact
+}
+
+TEST(ProgressiveCodec, RejectsTruncatedCorruptAndParentlessPayloads)
+{
+    const int n = 65;
+    const ProgressiveCodec codec(1, 2);
+    const std::vector<uint16_t> parent = terrainPatch(n, 1, 10), codes = terrainPatch(n, 2, 30);
+    std::vector<uint16_t> parent_drawn(parent.size()), out(codes.size());
+    codec.reconstruct(parent.data(), {n, 0, nullptr, 0}, parent_drawn.data());
+    const PatchContext ctx{n, 1, parent_drawn.data(), 2};
+    std::vector<uint8_t> payload(codec.encodeBound(ctx));
+    payload.resize(codec.encode(payload.data(), payload.size(), codes.data(), ctx));
+
+    EXPECT_EQ(codec.decode(out.data(), payload.data(), payload.size(), {n, 1, nullptr, 2}), kCodecNeedsParent);
+    for (size_t size = 0; size < payload.size(); size += 1 + size / 8)
+        EXPECT_LT(codec.decode(out.data(), payload.data(), size, ctx), 0) << "truncated to " << size;
+    std::vector<uint8_t> longer = payload;
+    longer.push_back(0x5a);
+    EXPECT_EQ(codec.decode(out.data(), longer.data(), longer.size(), ctx), kCodecTrailingBytes);
+    std::vector<uint8_t> bad = payload;
+    bad[0] = 'X';
+    EXPECT_EQ(codec.decode(out.data(), bad.data(), bad.size(), ctx), kCodecBadHeader);
+    // Bit flips anywhere: an error or some decoded patch, always promptly and in bounds
+    // (ASan/UBSan runs make out-of-bounds or overflow a failure).
+    int rejected = 0;
+    for (size_t i = 2; i < payload.size(); i += 3) {
+        bad = payload;
+        bad[i] ^= static_cast<uint8_t>(1u << (i % 8));
+        rejected += codec.decode(out.data(), bad.data(), bad.size(), ctx) < 0;
+    }
+    EXPECT_GT(rejected, 0);
+}
+
+TEST(ProgressiveCodec, SettingsRoundTripThroughTheArchiveHeaderParameters)
+{
+    const ProgressiveCodec codec(5, 7, ProgressiveVariant::paper());
+    CodecSettings settings;
+    settings.level_count = 7;
+    codec.storeParameters(settings.param);
+    const std::unique_ptr<HeightCodec> back = makeCodec(CodecId::Progressive, settings);
+    ASSERT_NE(back, nullptr);
+    for (int level = 0; level < 7; ++level)
+        EXPECT_EQ(back->levelErrorBound(level), codec.levelErrorBound(level));
+    EXPECT_EQ(static_cast<const ProgressiveCodec&>(*back).variant().bits(), ProgressiveVariant::paper().bits());
+    settings.param[1] = 1; // reserved variant bit
+    EXPECT_EQ(makeCodec(CodecId::Progressive, settings), nullptr);
+    settings.param[1] = 6;
+    settings.param[0] = -1;
+    EXPECT_EQ(makeCodec(CodecId::Progressive, settings), nullptr);
+}
