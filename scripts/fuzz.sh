@@ -9,7 +9,7 @@ seconds=${RIDGE_FUZZ_SECONDS:-30}
 cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
       -DCMAKE_C_COMPILER=clang -DRIDGE_BUILD_FUZZERS=ON -DRIDGE_USE_OPENMP=OFF \
       -DRIDGE_BUILD_TESTS=OFF -DRIDGE_BUILD_BENCH=OFF >/dev/null
-cmake --build build-fuzz -j "$(nproc)" --target fuzz_lossless_decode fuzz_archive_reader
+cmake --build build-fuzz -j "$(nproc)" --target fuzz_lossless_decode fuzz_progressive_decode fuzz_archive_reader
 
 # Seeds: small real archives, and their patch payloads prefixed with the patch-size byte.
 seeds=build-fuzz/seeds
@@ -18,9 +18,14 @@ for patch in 17 65; do
   ./build/ridge build tests/data/everest_crop.tif -o "$seeds/archive/everest_$patch.ridge" -q --patch $patch
 done
 ./build/ridge build tests/data/rainier_voids.tif -o "$seeds/archive/rainier_33.ridge" -q --patch 33
+for e in 1 4; do
+  ./build/ridge build tests/data/everest_crop.tif -o "$seeds/archive/progressive_e${e}_17.ridge" -q --patch 17 \
+      --codec progressive --max-error $e
+done
 python3 - "$seeds" <<'PY'
 import struct, sys, glob, os
 seeds = sys.argv[1]
+os.makedirs(seeds + "/progressive", exist_ok=True)
 for path in glob.glob(seeds + "/archive/*.ridge"):
     b = open(path, "rb").read()
     n = struct.unpack_from("<I", b, 24)[0]
@@ -28,14 +33,21 @@ for path in glob.glob(seeds + "/archive/*.ridge"):
     index = struct.unpack_from("<Q", b, 128)[0]
     for k in range(0, (len(b) - index) // 48, 3):
         _, _, _, be, off, size, _ = struct.unpack_from("<IIIIQII", b, index + 48 * k)
-        name = "%s/payload/%s_%d" % (seeds, os.path.basename(path), k)
-        open(name, "wb").write(bytes([size_byte]) + b[off + be: off + size])
+        lvl = struct.unpack_from("<I", b, index + 48 * k)[0]
+        payload = b[off + be: off + size]
+        if payload[:1] == b"P":  # progressive: size, level|quadrant, bound|variant, parent seed
+            name = "%s/progressive/%s_%d" % (seeds, os.path.basename(path), k)
+            open(name, "wb").write(bytes([size_byte, min(lvl, 3), (6 << 4) | 1, 0]) + payload)
+        else:
+            name = "%s/payload/%s_%d" % (seeds, os.path.basename(path), k)
+            open(name, "wb").write(bytes([size_byte]) + payload)
 PY
 
 status=0
-for target in fuzz_lossless_decode fuzz_archive_reader; do
+for target in fuzz_lossless_decode fuzz_progressive_decode fuzz_archive_reader; do
   seed_dir=$seeds/payload
   [[ $target == fuzz_archive_reader ]] && seed_dir=$seeds/archive
+  [[ $target == fuzz_progressive_decode ]] && seed_dir=$seeds/progressive
   corpus=build-fuzz/corpus-$target # new inputs go here; the seeds stay as built
   mkdir -p "$corpus"
   echo "fuzz: $target for ${seconds}s"

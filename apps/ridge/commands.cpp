@@ -46,6 +46,8 @@ void Commands::registerAll(CLI::App& app)
     build_->add_option_function<std::string>("--filter", [this](const std::string& name) {
         build_options_.filter = parseFilter(name.c_str());
     }, "Level filter: decimate (default), neville")->check(CLI::IsMember({"decimate", "neville"}));
+    build_->add_flag("--store-block-errors", build_options_.store_block_errors,
+                     "Store tessellation block errors in the archive (default: readers derive them from the decoded heights)");
     io::IngestOptions& ingest = build_options_.ingest;
     build_->add_option_function<double>("--max-error", [&ingest](double v) { ingest.max_error = v; },
                                         "Largest allowed height error in metres at the finest level, end to end (progressive codecs); with lossless codecs, the quantization step of non-integer input");
@@ -83,6 +85,8 @@ void Commands::registerAll(CLI::App& app)
     hillshade_->add_option("-z,--z-factor", hillshade_options_.z_factor, "Vertical exaggeration")->capture_default_str();
     hillshade_->add_flag("--grey", [this](int64_t) { hillshade_options_.colour = false; }, "Grey shading only (like gdaldem)");
     addCommonFlags(hillshade_, quiet_);
+
+    codec_bench_.registerWith(app);
 }
 
 int Commands::run()
@@ -95,6 +99,8 @@ int Commands::run()
         return runVerify();
     if (extract_->parsed())
         return runExtract();
+    if (codec_bench_.parsed())
+        return codec_bench_.run();
     return runHillshade();
 }
 

@@ -11,6 +11,24 @@
 
 namespace ridge::cli {
 
+// `ridge codec-bench` (codec_bench_command.cpp): ridge's codec against the anchor codecs.
+class CodecBenchCommand {
+public:
+    void registerWith(CLI::App& app);
+    bool parsed() const { return command_ && command_->parsed(); }
+    int run();
+
+private:
+    CLI::App* command_ = nullptr;
+    std::string input_;
+    std::vector<double> max_errors_{0.5, 1.0, 4.0, 16.0};
+    int tile_size_ = 256;
+    std::string ridge_codec_ = "progressive";
+    std::string json_path_;
+    std::string plot_path_;
+    bool quiet_ = false;
+};
+
 class Commands {
 public:
     void registerAll(CLI::App& app);
@@ -44,6 +62,7 @@ private:
     int level_ = -1;
     std::vector<int> window_;
     HillshadeOptions hillshade_options_;
+    CodecBenchCommand codec_bench_;
 };
 
 } // namespace ridge::cli

@@ -1,0 +1,336 @@
+#include "ridge/codecbench/codec_bench.h"
+
+#include "ridge/archive/archive_reader.h"
+#include "ridge/codecbench/anchor_codec.h"
+#include "ridge/core/error.h"
+#include "ridge/pipeline/build.h"
+#include "ridge/pipeline/level_decoder.h"
+
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <memory>
+#include <unistd.h>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+namespace ridge::codecbench {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point start)
+{
+    return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// Runs ridge's OpenMP loops on one thread for the lifetime of the object, then restores the
+// caller's setting: throughput is reported per core.
+class SingleThreadScope {
+public:
+    SingleThreadScope()
+    {
+#ifdef _OPENMP
+        saved_ = omp_get_max_threads();
+        omp_set_num_threads(1);
+#endif
+    }
+    ~SingleThreadScope()
+    {
+#ifdef _OPENMP
+        omp_set_num_threads(saved_);
+#endif
+    }
+    SingleThreadScope(const SingleThreadScope&) = delete;
+    SingleThreadScope& operator=(const SingleThreadScope&) = delete;
+
+private:
+    int saved_ = 1;
+};
+
+// A path for ridge's archive that is removed when the object dies, whatever happens.
+class ScratchArchive {
+public:
+    explicit ScratchArchive(const std::string& dir)
+    {
+        static std::atomic<int> counter{0};
+        const std::filesystem::path base =
+            dir.empty() ? std::filesystem::temp_directory_path() : std::filesystem::path(dir);
+        path_ = (base / fmt::format("ridge-codec-bench-{}-{}.ridge", ::getpid(), counter++)).string();
+    }
+    ~ScratchArchive()
+    {
+        std::error_code ec;
+        std::filesystem::remove(path_, ec);
+    }
+    ScratchArchive(const ScratchArchive&) = delete;
+    ScratchArchive& operator=(const ScratchArchive&) = delete;
+    const std::string& path() const { return path_; }
+
+private:
+    std::string path_;
+};
+
+// Accumulates |decoded - source| over the finest level, in code units.
+struct ErrorTally {
+    int64_t max_abs = 0;
+    double sum_sq = 0.0;
+    int64_t samples = 0;
+    int64_t violations = 0;
+
+    // `limit`: the largest |difference| in codes that keeps the bound.
+    void add(const uint16_t* decoded, const uint16_t* source, size_t count, int64_t limit)
+    {
+        for (size_t i = 0; i < count; ++i) {
+            const int64_t d = std::abs(int64_t{decoded[i]} - int64_t{source[i]});
+            max_abs = std::max(max_abs, d);
+            sum_sq += double(d) * double(d);
+            violations += d > limit;
+        }
+        samples += int64_t(count);
+    }
+};
+
+// The error and throughput columns, shared by ridge's row and the anchors'.
+void finishRow(CodecRow& row, const ErrorTally& tally, const CodecBenchReport& report)
+{
+    const double samples = double(report.width) * double(report.height);
+    const double scale = report.quantization.scale;
+    row.ratio = row.bytes ? samples * 2.0 / double(row.bytes) : 0.0;
+    row.bits_per_sample = 8.0 * double(row.bytes) / samples;
+    row.max_error_codes = tally.max_abs;
+    row.max_error_metres = double(tally.max_abs) * scale;
+    row.rmse_metres = tally.samples ? std::sqrt(tally.sum_sq / double(tally.samples)) * scale : 0.0;
+    const double peak = double(report.max_code - report.min_code) * scale;
+    row.psnr_db = row.rmse_metres > 0.0 ? 20.0 * std::log10(peak / row.rmse_metres)
+                                        : std::numeric_limits<double>::infinity();
+    row.encode_mb_per_s = row.encode_seconds > 0.0 ? double(row.encode_bytes) / row.encode_seconds / 1e6 : 0.0;
+    row.decode_mb_per_s = row.decode_seconds > 0.0 ? double(row.decode_bytes) / row.decode_seconds / 1e6 : 0.0;
+    row.violations = tally.violations;
+    row.bound_ok = tally.violations == 0;
+}
+
+bool ridgeCodecIsLossy(const std::string& codec)
+{
+    return codec != "lossless" && codec != "raw";
+}
+
+// ridge's row: the whole pyramid built and decoded on one thread.
+CodecRow runRidge(const io::ElevationRaster& raster, double bound_metres,
+                  const CodecBenchOptions& options, const CodecBenchReport& report,
+                  const Progress& progress)
+{
+    CodecRow row;
+    row.codec = "ridge " + options.ridge_codec;
+    row.scope = "pyramid";
+    const ScratchArchive archive(options.scratch_dir);
+    const SingleThreadScope single_thread;
+
+    // 1. Build: the timed encode is everything buildArchive does from ingested codes.
+    BuildOptions build;
+    build.codec = options.ridge_codec;
+    if (ridgeCodecIsLossy(options.ridge_codec))
+        build.max_error = bound_metres;
+    build.progress = subProgress(progress, 0.0, 0.8);
+    const Clock::time_point encode_start = Clock::now();
+    const BuildReport built = buildArchive(raster, archive.path(), build);
+    row.encode_seconds = secondsSince(encode_start);
+    row.encode_bytes = uint64_t(raster.grid.codes.size()) * 2;
+
+    // 2. Decode every level, as a renderer that streams the whole pyramid would.
+    const Clock::time_point decode_start = Clock::now();
+    const archive::ArchiveReader reader(archive.path());
+    const int finest = reader.geometry().finestLevel();
+    CodeGrid finest_grid;
+    for (int level = 0; level <= finest; ++level) {
+        CodeGrid grid = decodeLevel(reader, level);
+        row.decode_bytes += uint64_t(grid.codes.size()) * 2;
+        if (level == finest)
+            finest_grid = std::move(grid);
+    }
+    row.decode_seconds = secondsSince(decode_start);
+    row.bytes = reader.fileSize();
+    (void)built;
+    reportProgress(progress, 0.9);
+
+    // 3. Check the finest level against the source: ridge's bound is E in metres.
+    if (finest_grid.width != raster.grid.width || finest_grid.height != raster.grid.height)
+        throw Error(fmt::format("ridge: finest level decodes to {}x{}, source is {}x{}",
+                                finest_grid.width, finest_grid.height, raster.grid.width,
+                                raster.grid.height));
+    const auto limit =
+        int64_t(std::min(std::floor((bound_metres + 1e-9) / report.quantization.scale), 1e15));
+    ErrorTally tally;
+    tally.add(finest_grid.codes.data(), raster.grid.codes.data(), finest_grid.codes.size(), limit);
+    finishRow(row, tally, report);
+    reportProgress(progress, 1.0);
+    return row;
+}
+
+// The finest level cut into tiles of at most `tile` x `tile` samples, row-major.
+struct Tile {
+    int width = 0;
+    int height = 0;
+    std::vector<uint16_t> codes;
+};
+
+std::vector<Tile> cutTiles(const CodeGrid& grid, int tile)
+{
+    const int tw = tile > 0 ? tile : grid.width;
+    const int th = tile > 0 ? tile : grid.height;
+    std::vector<Tile> tiles;
+    for (int y0 = 0; y0 < grid.height; y0 += th)
+        for (int x0 = 0; x0 < grid.width; x0 += tw) {
+            Tile t;
+            t.width = std::min(tw, grid.width - x0);
+            t.height = std::min(th, grid.height - y0);
+            t.codes.resize(size_t(t.width) * size_t(t.height));
+            for (int y = 0; y < t.height; ++y)
+                std::copy_n(&grid.codes[size_t(y0 + y) * size_t(grid.width) + size_t(x0)],
+                            t.width, &t.codes[size_t(y) * size_t(t.width)]);
+            tiles.push_back(std::move(t));
+        }
+    return tiles;
+}
+
+// An anchor's row: every tile encoded, then decoded, each call timed on its own so that the
+// bound check and bookkeeping stay outside the clock.
+CodecRow runAnchor(const AnchorCodec& anchor, const std::vector<Tile>& tiles, int e,
+                   const CodecBenchReport& report, const Progress& progress)
+{
+    CodecRow row;
+    row.codec = anchor.name();
+    row.scope = "finest level";
+    std::vector<std::vector<uint8_t>> streams(tiles.size());
+    for (size_t i = 0; i < tiles.size(); ++i) {
+        const Tile& t = tiles[i];
+        const Clock::time_point start = Clock::now();
+        streams[i] = anchor.encode(t.codes.data(), t.width, t.height, e);
+        row.encode_seconds += secondsSince(start);
+        row.bytes += streams[i].size();
+        row.encode_bytes += uint64_t(t.codes.size()) * 2;
+        reportProgress(progress, 0.5 * double(i + 1) / double(tiles.size()));
+    }
+    ErrorTally tally;
+    std::vector<uint16_t> decoded;
+    for (size_t i = 0; i < tiles.size(); ++i) {
+        const Tile& t = tiles[i];
+        decoded.assign(t.codes.size(), 0);
+        const Clock::time_point start = Clock::now();
+        anchor.decode(streams[i].data(), streams[i].size(), t.width, t.height, e, decoded.data());
+        row.decode_seconds += secondsSince(start);
+        row.decode_bytes += uint64_t(t.codes.size()) * 2;
+        tally.add(decoded.data(), t.codes.data(), t.codes.size(), e);
+        reportProgress(progress, 0.5 + 0.5 * double(i + 1) / double(tiles.size()));
+    }
+    finishRow(row, tally, report);
+    return row;
+}
+
+std::string cpuModel()
+{
+    std::ifstream in("/proc/cpuinfo");
+    std::string line;
+    while (std::getline(in, line))
+        if (line.rfind("model name", 0) == 0) {
+            const auto colon = line.find(':');
+            if (colon != std::string::npos) {
+                const auto start = line.find_first_not_of(" \t", colon + 1);
+                return start == std::string::npos ? "unknown" : line.substr(start);
+            }
+        }
+    return "unknown";
+}
+
+void validate(const CodecBenchOptions& options)
+{
+    if (options.max_errors.empty())
+        throw Error("--max-error: at least one bound is needed");
+    for (const double bound : options.max_errors)
+        if (!(bound >= 0.0) || !std::isfinite(bound))
+            throw Error(fmt::format("--max-error {}: bounds are metres >= 0", bound));
+    if (options.tile_size < 0)
+        throw Error(fmt::format("--tile {}: tile side must be >= 1 (or 0 for the whole grid)",
+                                options.tile_size));
+}
+
+} // namespace
+
+CodecBenchReport runCodecBench(const std::string& input, const CodecBenchOptions& options)
+{
+    validate(options);
+    io::IngestOptions ingest = options.ingest;
+    ingest.progress = subProgress(options.progress, 0.0, 0.05);
+    const io::ElevationRaster raster = io::ingestRaster(input, ingest);
+    CodecBenchOptions rest = options;
+    rest.progress = subProgress(options.progress, 0.05, 1.0);
+    return runCodecBench(raster, rest);
+}
+
+CodecBenchReport runCodecBench(const io::ElevationRaster& raster, const CodecBenchOptions& options)
+{
+    validate(options);
+    const CodeGrid& grid = raster.grid;
+    if (grid.width <= 0 || grid.height <= 0 || grid.codes.size() != size_t(grid.width) * size_t(grid.height))
+        throw Error(raster.source_path + ": empty or inconsistent grid");
+
+    // 1. What is being compared, on what, with what.
+    CodecBenchReport report;
+    report.input_path = raster.source_path;
+    report.width = grid.width;
+    report.height = grid.height;
+    report.quantization = raster.quantization;
+    const auto [lo, hi] = std::minmax_element(grid.codes.begin(), grid.codes.end());
+    report.min_code = *lo;
+    report.max_code = *hi;
+    report.tile_size = options.tile_size;
+    report.ridge_codec = options.ridge_codec;
+    report.cpu_model = cpuModel();
+    report.threads = 1;
+    const auto anchors = makeAnchorCodecs();
+    report.codecs.push_back(
+        {"ridge " + options.ridge_codec,
+         fmt::format("ridge 0.1.0, archive format v{}", archive::kFormatVersion),
+         ridgeCodecIsLossy(options.ridge_codec)
+             ? "whole pyramid, BuildOptions defaults (patch 129, block 8, decimation), "
+               "max_error = E metres end to end"
+             : "whole pyramid, BuildOptions defaults (patch 129, block 8, decimation), lossless",
+         true});
+    for (const auto& a : anchors)
+        report.codecs.push_back({a->name(), a->libraryVersion(), a->description(), a->guaranteesBound()});
+
+    // 2. Tiles are cut once: every anchor and every bound sees the same tiles.
+    const std::vector<Tile> tiles = cutTiles(grid, options.tile_size);
+
+    // 3. Each bound: ridge's pyramid, then every anchor on the finest level.
+    const double steps = double(options.max_errors.size() * (anchors.size() + 1));
+    double step = 0.0;
+    const auto stepProgress = [&] {
+        const Progress p = subProgress(options.progress, step / steps, (step + 1.0) / steps);
+        step += 1.0;
+        return p;
+    };
+    for (const double bound : options.max_errors) {
+        BoundResult result;
+        result.max_error_metres = bound;
+        const double codes = std::floor(bound / raster.quantization.scale + 1e-9);
+        result.max_error_codes = int(std::min(codes, 65535.0));
+        result.rows.push_back(runRidge(raster, bound, options, report, stepProgress()));
+        for (const auto& a : anchors)
+            result.rows.push_back(runAnchor(*a, tiles, result.max_error_codes, report, stepProgress()));
+        report.bounds.push_back(std::move(result));
+    }
+    reportProgress(options.progress, 1.0);
+    return report;
+}
+
+} // namespace ridge::codecbench

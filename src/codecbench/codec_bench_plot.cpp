@@ -1,0 +1,211 @@
+// Rate-distortion picture of the bench: compression ratio against the L-inf bound, drawn with
+// PLplot's pngcairo device (headless, anti-aliased text).
+//
+// PLplot keeps global state per stream and calls exit() on a fatal error; the plot therefore
+// runs on a stream of its own, checks the device exists before plinit (plinit would otherwise
+// prompt on stdin for another device) and is not thread-safe.
+#include "ridge/codecbench/codec_bench.h"
+
+#include "ridge/core/atomic_output.h"
+#include "ridge/core/error.h"
+
+#include <plplot.h>
+
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <vector>
+
+namespace ridge::codecbench {
+
+namespace {
+
+constexpr const char* kDevice = "pngcairo";
+
+bool deviceAvailable(const char* device)
+{
+    int count = 128;
+    std::vector<const char*> menu(count), names(count);
+    const char** menu_ptr = menu.data();
+    const char** names_ptr = names.data();
+    plgDevs(&menu_ptr, &names_ptr, &count);
+    for (int i = 0; i < count; ++i)
+        if (names[i] && std::string(names[i]) == device)
+            return true;
+    return false;
+}
+
+// PLplot treats '#' as the start of an escape sequence.
+std::string plplotText(const std::string& text)
+{
+    std::string out;
+    for (const char c : text) {
+        out += c;
+        if (c == '#')
+            out += '#';
+    }
+    return out;
+}
+
+// x is log2 of the bound in metres; ticks read as metres.
+void labelBoundAxis(PLINT axis, PLFLT value, char* label, PLINT length, PLPointer)
+{
+    const std::string text = axis == PL_X_AXIS ? fmt::format("{:g}", std::exp2(value))
+                                               : fmt::format("{:g}", value);
+    std::snprintf(label, size_t(length), "%s", text.c_str());
+}
+
+// cmap0: white background, black axes, grey grid, then one distinguishable colour per codec
+// (ridge first, in red), Tableau-10 order.
+constexpr int kPalette[][3] = {{255, 255, 255}, {0, 0, 0},      {215, 215, 215}, {214, 39, 40},
+                               {31, 119, 180},  {255, 127, 14}, {44, 160, 44},   {148, 103, 189},
+                               {140, 86, 75},   {227, 119, 194}, {127, 127, 127}, {188, 189, 34},
+                               {23, 190, 207}};
+constexpr int kPaletteSize = int(std::size(kPalette));
+constexpr int kFirstCurveColour = 3;
+constexpr const char* kMarkers[] = {"●", "■", "▲", "◆", "▼", "✚", "★", "⬟", "◀", "▶"};
+
+struct Curve {
+    std::string label;
+    std::vector<PLFLT> x;
+    std::vector<PLFLT> y;
+};
+
+} // namespace
+
+void writeCodecBenchPlot(const CodecBenchReport& report, const std::string& path)
+{
+    // 1. Curves: one per codec, points at every bound > 0 (log2 axis), in bound order.
+    std::vector<Curve> curves;
+    for (const CodecInfo& c : report.codecs)
+        curves.push_back({c.codec, {}, {}});
+    for (const BoundResult& b : report.bounds) {
+        if (!(b.max_error_metres > 0.0))
+            continue;
+        for (const CodecRow& row : b.rows)
+            for (Curve& c : curves)
+                if (c.label == row.codec) {
+                    c.x.push_back(std::log2(b.max_error_metres));
+                    c.y.push_back(row.ratio);
+                }
+    }
+    for (Curve& c : curves) {
+        std::vector<size_t> order(c.x.size());
+        for (size_t i = 0; i < order.size(); ++i)
+            order[i] = i;
+        std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return c.x[a] < c.x[b]; });
+        std::vector<PLFLT> x, y;
+        for (size_t i : order) {
+            x.push_back(c.x[i]);
+            y.push_back(c.y[i]);
+        }
+        c.x = std::move(x);
+        c.y = std::move(y);
+    }
+    double x_min = 0.0, x_max = 0.0, y_max = 0.0;
+    bool any = false;
+    for (const Curve& c : curves)
+        for (size_t i = 0; i < c.x.size(); ++i) {
+            x_min = any ? std::min(x_min, c.x[i]) : c.x[i];
+            x_max = any ? std::max(x_max, c.x[i]) : c.x[i];
+            y_max = std::max(y_max, c.y[i]);
+            any = true;
+        }
+    if (!any)
+        throw Error(path + ": nothing to plot (every bound is 0 m, which a log2 axis cannot show)");
+    x_min = std::floor(x_min) - 0.5;
+    x_max = std::ceil(x_max) + 0.5;
+    y_max = y_max > 0.0 ? y_max * 1.08 : 1.0;
+
+    // 2. Device: pngcairo on a stream of its own, into the temporary file.
+    if (!deviceAvailable(kDevice))
+        throw Error(path + ": PLplot has no '" + kDevice + "' device (install plplot-driver-cairo)");
+    AtomicOutput output(path);
+    PLINT previous_stream = 0;
+    plgstrm(&previous_stream);
+    PLINT stream = 0;
+    plmkstrm(&stream);
+    plsdev(kDevice);
+    plsfnam(output.temporaryPath().c_str());
+    plsetopt("geometry", "1100x720");
+    plscmap0n(kPaletteSize);
+    for (int i = 0; i < kPaletteSize; ++i)
+        plscol0(i, kPalette[i][0], kPalette[i][1], kPalette[i][2]);
+    plinit();
+
+    // 3. Axes: room on the right for the legend.
+    pladv(0);
+    plvpor(0.09, 0.68, 0.11, 0.86);
+    plwind(x_min, x_max, 0.0, y_max);
+    plcol0(1);
+    plwidth(1.0);
+    plslabelfunc(labelBoundAxis, nullptr);
+    plschr(0.0, 0.9);
+    plcol0(2);
+    plbox("g", 1.0, 0, "g", 0.0, 0); // grid first, so the axes and curves draw over it
+    plcol0(1);
+    plbox("bcnsto", 1.0, 0, "bcnstv", 0.0, 0);
+    plslabelfunc(nullptr, nullptr);
+    const std::string input = std::filesystem::path(report.input_path).filename().string();
+    pllab("L-inf error bound (m, log2 scale)", "compression ratio (16-bit raw / bytes)", "");
+    plschr(0.0, 1.1);
+    plmtex("t", 3.2, 0.5, 0.5, plplotText("Compression ratio vs error bound: " + input).c_str());
+    plschr(0.0, 0.8);
+    plmtex("t", 1.6, 0.5, 0.5,
+           plplotText(fmt::format("{} x {} samples; anchors: finest level, {}; ridge: whole pyramid",
+                                  report.width, report.height,
+                                  report.tile_size > 0
+                                      ? fmt::format("{} x {} tiles", report.tile_size, report.tile_size)
+                                      : std::string("one tile")))
+               .c_str());
+    plschr(0.0, 0.9);
+
+    // 4. Curves with markers, and the legend.
+    std::vector<PLINT> opts, colours, styles, symbol_numbers;
+    std::vector<PLFLT> widths, symbol_scales;
+    std::vector<std::string> texts;
+    std::vector<const char*> text_ptrs, symbol_ptrs;
+    for (size_t i = 0; i < curves.size(); ++i) {
+        const Curve& c = curves[i];
+        const PLINT colour = PLINT(kFirstCurveColour + i % (kPaletteSize - kFirstCurveColour));
+        const char* marker = kMarkers[i % std::size(kMarkers)];
+        plcol0(colour);
+        plwidth(i == 0 ? 3.0 : 2.0);
+        if (c.x.size() > 1)
+            plline(PLINT(c.x.size()), c.x.data(), c.y.data());
+        plschr(0.0, 1.1);
+        if (!c.x.empty())
+            plstring(PLINT(c.x.size()), c.x.data(), c.y.data(), marker);
+        plschr(0.0, 0.9);
+        opts.push_back(PL_LEGEND_LINE | PL_LEGEND_SYMBOL);
+        colours.push_back(colour);
+        styles.push_back(1);
+        widths.push_back(i == 0 ? 3.0 : 2.0);
+        symbol_numbers.push_back(1);
+        symbol_scales.push_back(1.1);
+        texts.push_back(plplotText(c.label));
+        symbol_ptrs.push_back(marker);
+    }
+    for (const std::string& t : texts)
+        text_ptrs.push_back(t.c_str());
+    plwidth(1.0);
+    PLFLT legend_width = 0.0, legend_height = 0.0;
+    pllegend(&legend_width, &legend_height, PL_LEGEND_BACKGROUND | PL_LEGEND_BOUNDING_BOX,
+             PL_POSITION_OUTSIDE | PL_POSITION_RIGHT | PL_POSITION_VIEWPORT, 0.03, 0.0, 0.06, 0, 1, 1, 0,
+             0, PLINT(curves.size()), opts.data(), 1.0, 0.8, 2.0, 0.0, colours.data(),
+             text_ptrs.data(), nullptr, nullptr, nullptr, nullptr, colours.data(), styles.data(),
+             widths.data(), colours.data(), symbol_scales.data(), symbol_numbers.data(),
+             symbol_ptrs.data());
+
+    // 5. Close the stream (writes the PNG), restore the caller's, then publish the file.
+    plend1();
+    plsstrm(previous_stream);
+    std::error_code ec;
+    if (std::filesystem::file_size(output.temporaryPath(), ec) == 0 || ec)
+        throw Error(path + ": PLplot wrote no image");
+    output.commit();
+}
+
+} // namespace ridge::codecbench

@@ -1,0 +1,56 @@
+// `ridge codec-bench` as a user runs it.
+#include "test_support.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <fstream>
+
+using namespace ridge;
+namespace fs = std::filesystem;
+
+TEST(CodecBenchCli, WritesTablesJsonAndPlot)
+{
+    test::ScratchDir dir;
+    const std::string json = dir.path("bench.json");
+    const std::string png = dir.path("bench.png");
+    // Defaults: ridge's progressive codec, built with max_error = 1 m.
+    const test::CommandResult r = test::runRidge(
+        "codec-bench '" + test::dataPath("everest_crop.tif") + "' --max-error 1 --tile 64 --json '" +
+        json + "' --plot '" + png + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find("100 - done."), std::string::npos) << "progress on stderr";
+    EXPECT_EQ(r.output.find("VIOLATED"), std::string::npos) << r.output;
+    for (const char* name : {"ridge progressive", "LERC", "JPEG-LS", "JPEG 2000", "JPEG XL", "MED+zstd", "ZFP"})
+        EXPECT_NE(r.output.find(name), std::string::npos) << name;
+    ASSERT_TRUE(fs::exists(json));
+    ASSERT_TRUE(fs::exists(png));
+    std::ifstream in(json);
+    const nlohmann::json j = nlohmann::json::parse(in);
+    EXPECT_EQ(j["bounds"].size(), 1u);
+    EXPECT_EQ(j["bounds"][0]["rows"].size(), 7u);
+    EXPECT_TRUE(j["bounds"][0]["rows"][0]["bound_ok"].get<bool>());
+    for (const auto& entry : fs::directory_iterator(dir.dir()))
+        EXPECT_EQ(entry.path().string().find(".tmp."), std::string::npos) << "left behind: " << entry.path();
+}
+
+TEST(CodecBenchCli, MissingInputFailsNamingThePath)
+{
+    test::ScratchDir dir;
+    const std::string missing = dir.path("missing.hgt");
+    const std::string json = dir.path("bench.json");
+    const test::CommandResult r =
+        test::runRidge("codec-bench '" + missing + "' --json '" + json + "' -q --ridge-codec lossless");
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_NE(r.output.find(missing), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(json));
+}
+
+TEST(CodecBenchCli, NegativeBoundIsAParseError)
+{
+    const test::CommandResult r = test::runRidge(
+        "codec-bench '" + test::dataPath("everest_crop.tif") + "' --max-error -1 -q");
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_NE(r.output.find("max-error"), std::string::npos) << r.output;
+}

@@ -1,0 +1,175 @@
+// The bench driver on the fixture with ridge's lossless codec: every row present and checked,
+// the same integer bound for every anchor, and reports that name everything they compare.
+#include "ridge/codecbench/codec_bench.h"
+#include "ridge/core/error.h"
+#include "ridge/io/raster_source.h"
+
+#include "test_support.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <fstream>
+
+using namespace ridge;
+using namespace ridge::codecbench;
+
+namespace {
+
+const std::vector<std::string> kAnchors{"LERC", "JPEG-LS", "JPEG 2000", "JPEG XL", "MED+zstd", "ZFP"};
+
+const io::ElevationRaster& everest()
+{
+    static const io::ElevationRaster raster = io::ingestRaster(test::dataPath("everest_crop.tif"));
+    return raster;
+}
+
+CodecBenchOptions losslessOptions(const test::ScratchDir& dir, std::vector<double> bounds)
+{
+    CodecBenchOptions options;
+    options.max_errors = std::move(bounds);
+    options.tile_size = 64;
+    options.ridge_codec = "lossless";
+    options.scratch_dir = dir.dir().string();
+    return options;
+}
+
+} // namespace
+
+TEST(CodecBench, LosslessRidgeRowKeepsItsBoundAndEveryAnchorIsReported)
+{
+    test::ScratchDir dir;
+    const CodecBenchReport r = runCodecBench(everest(), losslessOptions(dir, {1.0}));
+    ASSERT_EQ(r.bounds.size(), 1u);
+    const BoundResult& b = r.bounds[0];
+    EXPECT_EQ(b.max_error_codes, 1); // Int16 metres: 1 m per code
+    ASSERT_EQ(b.rows.size(), 1 + kAnchors.size());
+
+    const CodecRow& ridge_row = b.rows[0];
+    EXPECT_EQ(ridge_row.codec, "ridge lossless");
+    EXPECT_EQ(ridge_row.scope, "pyramid");
+    EXPECT_TRUE(ridge_row.bound_ok);
+    EXPECT_EQ(ridge_row.max_error_codes, 0);
+    EXPECT_GT(ridge_row.bytes, 0u);
+    // Every level is decoded, so ridge's decoder produces more samples than the finest level.
+    EXPECT_GT(ridge_row.decode_bytes, uint64_t(r.width) * r.height * 2);
+
+    for (size_t i = 0; i < kAnchors.size(); ++i) {
+        const CodecRow& row = b.rows[1 + i];
+        EXPECT_EQ(row.codec, kAnchors[i]);
+        EXPECT_EQ(row.scope, "finest level");
+        EXPECT_TRUE(row.bound_ok) << row.codec << " max error " << row.max_error_codes;
+        EXPECT_LE(row.max_error_codes, 1) << row.codec;
+        EXPECT_GT(row.bytes, 0u);
+        EXPECT_NEAR(row.ratio, double(r.width) * r.height * 2 / double(row.bytes), 1e-9);
+        EXPECT_GT(row.encode_mb_per_s, 0.0);
+        EXPECT_GT(row.decode_mb_per_s, 0.0);
+        EXPECT_EQ(row.encode_bytes, uint64_t(r.width) * r.height * 2);
+    }
+    EXPECT_TRUE(std::filesystem::is_empty(dir.dir())) << "ridge's scratch archive must be removed";
+}
+
+TEST(CodecBench, ProgressiveRidgeRowKeepsItsEndToEndBound)
+{
+    test::ScratchDir dir;
+    CodecBenchOptions options = losslessOptions(dir, {1.0, 4.0});
+    options.ridge_codec = "progressive";
+    const CodecBenchReport r = runCodecBench(everest(), options);
+    for (const BoundResult& b : r.bounds) {
+        const CodecRow& ridge_row = b.rows.front();
+        EXPECT_EQ(ridge_row.codec, "ridge progressive");
+        EXPECT_TRUE(ridge_row.bound_ok) << b.max_error_metres << " m: " << ridge_row.max_error_metres;
+        EXPECT_LE(ridge_row.max_error_metres, b.max_error_metres + 1e-9);
+    }
+    // A looser bound must not cost more bytes.
+    EXPECT_LE(r.bounds[1].rows.front().bytes, r.bounds[0].rows.front().bytes);
+}
+
+TEST(CodecBench, TableAndJsonNameEveryCodecAndSayWhatRidgeCounts)
+{
+    test::ScratchDir dir;
+    const CodecBenchReport r = runCodecBench(everest(), losslessOptions(dir, {0.5, 4.0}));
+    const std::string table = formatCodecBenchTable(r);
+    for (const std::string& name : kAnchors)
+        EXPECT_NE(table.find(name), std::string::npos) << name;
+    EXPECT_NE(table.find("ridge lossless"), std::string::npos);
+    EXPECT_NE(table.find("every coarser level"), std::string::npos) << "footnote on ridge's scope";
+    EXPECT_EQ(table.find("VIOLATED"), std::string::npos) << table;
+
+    const nlohmann::json j = nlohmann::json::parse(formatCodecBenchJson(r));
+    EXPECT_EQ(j["machine"]["threads"], 1);
+    EXPECT_EQ(j["tile_size"], 64);
+    EXPECT_FALSE(j["machine"]["cpu_model"].get<std::string>().empty());
+    ASSERT_EQ(j["bounds"].size(), 2u);
+    EXPECT_EQ(j["bounds"][0]["max_error_codes"], 0); // 0.5 m < 1 m per code: lossless
+    EXPECT_EQ(j["bounds"][1]["max_error_codes"], 4);
+    for (const auto& bound : j["bounds"]) {
+        std::vector<std::string> codecs;
+        for (const auto& row : bound["rows"]) {
+            codecs.push_back(row["codec"]);
+            EXPECT_TRUE(row["bound_ok"].get<bool>()) << row.dump();
+        }
+        EXPECT_EQ(codecs.front(), "ridge lossless");
+        for (const std::string& name : kAnchors)
+            EXPECT_NE(std::find(codecs.begin(), codecs.end(), name), codecs.end()) << name;
+    }
+    for (const auto& row : j["bounds"][0]["rows"])
+        EXPECT_TRUE(row["psnr_db"].is_null()) << row["codec"] << " is exact at e = 0";
+    size_t libraries = 0;
+    for (const auto& c : j["codecs"])
+        libraries += c["library"].get<std::string>().find_first_of("0123456789") != std::string::npos;
+    EXPECT_EQ(libraries, 1 + kAnchors.size()) << "every library states its version";
+}
+
+TEST(CodecBench, WholeGridTileIsOneTilePerAnchor)
+{
+    test::ScratchDir dir;
+    CodecBenchOptions options = losslessOptions(dir, {16.0});
+    options.tile_size = 0;
+    const CodecBenchReport r = runCodecBench(everest(), options);
+    for (const CodecRow& row : r.bounds[0].rows)
+        EXPECT_TRUE(row.bound_ok) << row.codec;
+}
+
+TEST(CodecBench, InvalidOptionsAreRejectedByName)
+{
+    test::ScratchDir dir;
+    CodecBenchOptions options = losslessOptions(dir, {-1.0});
+    EXPECT_THROW(runCodecBench(everest(), options), Error);
+    options = losslessOptions(dir, {});
+    EXPECT_THROW(runCodecBench(everest(), options), Error);
+    options = losslessOptions(dir, {1.0});
+    options.tile_size = -5;
+    try {
+        runCodecBench(everest(), options);
+        FAIL();
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("--tile"), std::string::npos) << e.what();
+    }
+}
+
+TEST(CodecBench, MissingInputIsAnErrorNamingTheFile)
+{
+    test::ScratchDir dir;
+    const std::string missing = dir.path("no-such-dem.tif");
+    try {
+        runCodecBench(missing, losslessOptions(dir, {1.0}));
+        FAIL();
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find(missing), std::string::npos) << e.what();
+    }
+}
+
+TEST(CodecBench, PlotIsAPng)
+{
+    test::ScratchDir dir;
+    const CodecBenchReport r = runCodecBench(everest(), losslessOptions(dir, {1.0, 4.0}));
+    const std::string png = dir.path("plot.png");
+    writeCodecBenchPlot(r, png);
+    std::ifstream in(png, std::ios::binary);
+    char magic[8] = {};
+    in.read(magic, 8);
+    EXPECT_EQ(std::string(magic + 1, 3), "PNG");
+    EXPECT_GT(std::filesystem::file_size(png), 10000u);
+}
