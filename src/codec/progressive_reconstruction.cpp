@@ -123,7 +123,9 @@ void reconstructRoot(const int32_t* residuals, int n, int32_t* q)
     for (int y = 0; y < n; ++y)
         for (int x = 0; x < n; ++x) {
             const size_t i = static_cast<size_t>(y) * n + x;
-            q[i] = predictRoot(q, n, x, y) - residuals[i];
+            // Valid bins are <= 65535; the clamp only stops a corrupt stream from letting the
+            // raster-order chain overflow int32 on large patches.
+            q[i] = std::clamp(predictRoot(q, n, x, y) - residuals[i], -(1 << 24), 1 << 24);
         }
 }
 
