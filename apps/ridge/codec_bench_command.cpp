@@ -15,15 +15,17 @@ void CodecBenchCommand::registerWith(CLI::App& app)
         "codec-bench", "Compare ridge's codec with error-bounded anchor codecs (LERC, JPEG-LS, "
                        "JPEG 2000, JPEG XL, MED+zstd, ZFP) on one raster");
     command_->add_option("input", input_, "Input raster (anything GDAL reads)")->required();
-    command_->add_option("--max-error", max_errors_,
-                         "L-inf bounds in metres; repeat or give several (default 0.5 1 4 16)")
+    command_
+        ->add_option("--max-error", max_errors_,
+                     "L-inf bounds in metres; repeat or give several (default 0.5 1 4 16)")
         ->expected(1, 64)
         ->check(CLI::NonNegativeNumber);
     command_->add_option("--tile", tile_size_, "Anchors' tile side in samples, 0 = whole grid")
         ->capture_default_str()
         ->check(CLI::NonNegativeNumber);
-    command_->add_option("--ridge-codec", ridge_codec_,
-                         "ridge's codec for its row (progressive: max_error = bound; lossless)")
+    command_
+        ->add_option("--ridge-codec", ridge_codec_,
+                     "ridge's codec for its row (progressive: max_error = bound; lossless)")
         ->capture_default_str();
     command_->add_option("--json", json_path_, "Write every number as JSON");
     command_->add_option("--plot", plot_path_, "Write ratio vs bound as a PNG");

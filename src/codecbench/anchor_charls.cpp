@@ -28,12 +28,12 @@ int precisionOf(const uint16_t* codes, size_t count)
 }
 
 class JpegLsAnchor final : public AnchorCodec {
-public:
+  public:
     std::string name() const override { return "JPEG-LS"; }
     std::string description() const override
     {
-        return "CharLS, NEAR = min(e, 255, MAXVAL/2), one grey component, precision = bits of "
-               "the tile's largest code, default thresholds";
+        return "NEAR = min(e, 255, MAXVAL/2), one grey component, precision = bits of the "
+               "tile's largest code, default thresholds";
     }
     std::string libraryVersion() const override
     {

@@ -38,7 +38,7 @@ std::string versionString(uint32_t v)
 }
 
 class JpegXlAnchor final : public AnchorCodec {
-public:
+  public:
     std::string name() const override { return "JPEG XL"; }
     std::string description() const override
     {
@@ -69,7 +69,8 @@ public:
         info.uses_original_profile = JXL_TRUE; // no XYB: samples are coded as given
         JxlColorEncoding colour;
         JxlColorEncodingSetToLinearSRGB(&colour, /*is_gray=*/JXL_TRUE);
-        check(JxlEncoderSetBasicInfo(encoder.get(), &info), encoder.get(), "JxlEncoderSetBasicInfo");
+        check(JxlEncoderSetBasicInfo(encoder.get(), &info), encoder.get(),
+              "JxlEncoderSetBasicInfo");
         check(JxlEncoderSetColorEncoding(encoder.get(), &colour), encoder.get(),
               "JxlEncoderSetColorEncoding");
         JxlEncoderFrameSettings* settings = JxlEncoderFrameSettingsCreate(encoder.get(), nullptr);
@@ -123,13 +124,15 @@ public:
                     anchorFail(name(), "unreadable basic info");
                 if (info.xsize != uint32_t(width) || info.ysize != uint32_t(height) ||
                     info.num_color_channels != 1 || info.bits_per_sample != 16)
-                    anchorFail(name(), fmt::format("stream describes {}x{}, {} channels of {} bits, "
-                                                   "expected {}x{} 16-bit grey",
-                                                   info.xsize, info.ysize, info.num_color_channels,
-                                                   info.bits_per_sample, width, height));
+                    anchorFail(name(),
+                               fmt::format("stream describes {}x{}, {} channels of {} bits, "
+                                           "expected {}x{} 16-bit grey",
+                                           info.xsize, info.ysize, info.num_color_channels,
+                                           info.bits_per_sample, width, height));
             } else if (status == JXL_DEC_NEED_IMAGE_OUT_BUFFER) {
                 size_t needed = 0;
-                if (JxlDecoderImageOutBufferSize(decoder.get(), &kGrey16, &needed) != JXL_DEC_SUCCESS ||
+                if (JxlDecoderImageOutBufferSize(decoder.get(), &kGrey16, &needed) !=
+                        JXL_DEC_SUCCESS ||
                     needed != q.size() * sizeof(uint16_t) ||
                     JxlDecoderSetImageOutBuffer(decoder.get(), &kGrey16, q.data(), needed) !=
                         JXL_DEC_SUCCESS)
@@ -154,7 +157,7 @@ public:
         }
     }
 
-private:
+  private:
     void check(JxlEncoderStatus status, JxlEncoder* encoder, const char* step) const
     {
         if (status != JXL_ENC_SUCCESS)

@@ -18,7 +18,7 @@ namespace {
 constexpr unsigned kLercUShort = static_cast<unsigned>(LercNS::DataType::dt_ushort);
 
 class LercAnchor final : public AnchorCodec {
-public:
+  public:
     std::string name() const override { return "LERC"; }
     std::string description() const override
     {
@@ -34,14 +34,15 @@ public:
                                 int max_error) const override
     {
         unsigned size = 0;
-        lerc_status status = lerc_computeCompressedSize(codes, kLercUShort, 1, width, height, 1,
-                                                        0, nullptr, double(max_error), &size);
+        lerc_status status = lerc_computeCompressedSize(codes, kLercUShort, 1, width, height, 1, 0,
+                                                        nullptr, double(max_error), &size);
         if (status != 0)
-            anchorFail(name(), fmt::format("lerc_computeCompressedSize failed (status {})", status));
+            anchorFail(name(),
+                       fmt::format("lerc_computeCompressedSize failed (status {})", status));
         std::vector<uint8_t> blob(size);
         unsigned written = 0;
-        status = lerc_encode(codes, kLercUShort, 1, width, height, 1, 0, nullptr,
-                             double(max_error), blob.data(), size, &written);
+        status = lerc_encode(codes, kLercUShort, 1, width, height, 1, 0, nullptr, double(max_error),
+                             blob.data(), size, &written);
         if (status != 0)
             anchorFail(name(), fmt::format("lerc_encode failed (status {})", status));
         blob.resize(written);
@@ -58,11 +59,12 @@ public:
         if (size == 0 || size > 0xFFFFFFFFu)
             anchorFail(name(), fmt::format("invalid blob size {}", size));
         const unsigned blob_size = static_cast<unsigned>(size);
-        lerc_status status = lerc_getBlobInfo(bytes, blob_size, info, ranges,
-                                              static_cast<int>(std::size(info)),
-                                              static_cast<int>(std::size(ranges)));
+        lerc_status status =
+            lerc_getBlobInfo(bytes, blob_size, info, ranges, static_cast<int>(std::size(info)),
+                             static_cast<int>(std::size(ranges)));
         if (status != 0)
-            anchorFail(name(), fmt::format("lerc_getBlobInfo rejected the blob (status {})", status));
+            anchorFail(name(),
+                       fmt::format("lerc_getBlobInfo rejected the blob (status {})", status));
         using I = LercNS::InfoArrOrder;
         const auto at = [&](I i) { return info[static_cast<int>(i)]; };
         if (at(I::dataType) != kLercUShort || at(I::nDepth) != 1 || at(I::nBands) != 1 ||
@@ -72,8 +74,7 @@ public:
                                            "expected {}x{} uint16",
                                            at(I::nCols), at(I::nRows), at(I::dataType),
                                            at(I::nDepth), at(I::nBands), width, height));
-        status = lerc_decode(bytes, blob_size, 0, nullptr, 1, width, height, 1, kLercUShort,
-                             codes);
+        status = lerc_decode(bytes, blob_size, 0, nullptr, 1, width, height, 1, kLercUShort, codes);
         if (status != 0)
             anchorFail(name(), fmt::format("lerc_decode failed (status {})", status));
     }

@@ -134,7 +134,7 @@ void installHandlers(opj_codec_t* codec, std::string* first_error)
 }
 
 class Jpeg2000Anchor final : public AnchorCodec {
-public:
+  public:
     std::string name() const override { return "JPEG 2000"; }
     std::string description() const override
     {
@@ -142,10 +142,7 @@ public:
                "codestream only, up to 6 resolutions, 64x64 code-blocks, precision = bits of "
                "the largest index";
     }
-    std::string libraryVersion() const override
-    {
-        return std::string("OpenJPEG ") + opj_version();
-    }
+    std::string libraryVersion() const override { return std::string("OpenJPEG ") + opj_version(); }
 
     std::vector<uint8_t> encode(const uint16_t* codes, int width, int height,
                                 int max_error) const override

@@ -52,7 +52,7 @@ std::unique_ptr<zfp_stream, StreamDeleter> openStream(int max_error)
 }
 
 class ZfpAnchor final : public AnchorCodec {
-public:
+  public:
     std::string name() const override { return "ZFP"; }
     std::string description() const override
     {

@@ -54,7 +54,7 @@ uint16_t unZigZag(uint16_t z)
 }
 
 class MedZstdAnchor final : public AnchorCodec {
-public:
+  public:
     std::string name() const override { return "MED+zstd"; }
     std::string description() const override
     {
@@ -95,15 +95,17 @@ public:
         const size_t count = size_t(width) * size_t(height);
         const unsigned long long content = ZSTD_getFrameContentSize(bytes, size);
         if (content != count * 2)
-            anchorFail(name(), content == ZSTD_CONTENTSIZE_ERROR || content == ZSTD_CONTENTSIZE_UNKNOWN
-                                   ? std::string("not a zstd frame with a content size")
-                                   : fmt::format("frame holds {} bytes, expected {}", content, count * 2));
+            anchorFail(name(),
+                       content == ZSTD_CONTENTSIZE_ERROR || content == ZSTD_CONTENTSIZE_UNKNOWN
+                           ? std::string("not a zstd frame with a content size")
+                           : fmt::format("frame holds {} bytes, expected {}", content, count * 2));
         std::vector<uint8_t> residuals(count * 2);
         const size_t got = ZSTD_decompress(residuals.data(), residuals.size(), bytes, size);
         if (ZSTD_isError(got))
             anchorFail(name(), std::string("zstd: ") + ZSTD_getErrorName(got));
         if (got != residuals.size())
-            anchorFail(name(), fmt::format("frame decoded to {} bytes, expected {}", got, residuals.size()));
+            anchorFail(name(), fmt::format("frame decoded to {} bytes, expected {}", got,
+                                           residuals.size()));
         // Indices are rebuilt in place in `codes` (the predictor only looks back), then
         // dequantized once every prediction is done.
         const uint32_t max_q = maxQuantizedCode(max_error);
@@ -115,7 +117,8 @@ public:
             }
         for (size_t i = 0; i < count; ++i) {
             if (codes[i] > max_q)
-                anchorFail(name(), fmt::format("decoded index {} out of range 0..{}", codes[i], max_q));
+                anchorFail(name(),
+                           fmt::format("decoded index {} out of range 0..{}", codes[i], max_q));
             codes[i] = dequantizeCode(codes[i], max_error);
         }
     }

@@ -36,7 +36,7 @@ double secondsSince(Clock::time_point start)
 // Runs ridge's OpenMP loops on one thread for the lifetime of the object, then restores the
 // caller's setting: throughput is reported per core.
 class SingleThreadScope {
-public:
+  public:
     SingleThreadScope()
     {
 #ifdef _OPENMP
@@ -53,19 +53,20 @@ public:
     SingleThreadScope(const SingleThreadScope&) = delete;
     SingleThreadScope& operator=(const SingleThreadScope&) = delete;
 
-private:
+  private:
     int saved_ = 1;
 };
 
 // A path for ridge's archive that is removed when the object dies, whatever happens.
 class ScratchArchive {
-public:
+  public:
     explicit ScratchArchive(const std::string& dir)
     {
         static std::atomic<int> counter{0};
         const std::filesystem::path base =
             dir.empty() ? std::filesystem::temp_directory_path() : std::filesystem::path(dir);
-        path_ = (base / fmt::format("ridge-codec-bench-{}-{}.ridge", ::getpid(), counter++)).string();
+        path_ =
+            (base / fmt::format("ridge-codec-bench-{}-{}.ridge", ::getpid(), counter++)).string();
     }
     ~ScratchArchive()
     {
@@ -76,7 +77,7 @@ public:
     ScratchArchive& operator=(const ScratchArchive&) = delete;
     const std::string& path() const { return path_; }
 
-private:
+  private:
     std::string path_;
 };
 
@@ -113,8 +114,10 @@ void finishRow(CodecRow& row, const ErrorTally& tally, const CodecBenchReport& r
     const double peak = double(report.max_code - report.min_code) * scale;
     row.psnr_db = row.rmse_metres > 0.0 ? 20.0 * std::log10(peak / row.rmse_metres)
                                         : std::numeric_limits<double>::infinity();
-    row.encode_mb_per_s = row.encode_seconds > 0.0 ? double(row.encode_bytes) / row.encode_seconds / 1e6 : 0.0;
-    row.decode_mb_per_s = row.decode_seconds > 0.0 ? double(row.decode_bytes) / row.decode_seconds / 1e6 : 0.0;
+    row.encode_mb_per_s =
+        row.encode_seconds > 0.0 ? double(row.encode_bytes) / row.encode_seconds / 1e6 : 0.0;
+    row.decode_mb_per_s =
+        row.decode_seconds > 0.0 ? double(row.decode_bytes) / row.decode_seconds / 1e6 : 0.0;
     row.violations = tally.violations;
     row.bound_ok = tally.violations == 0;
 }
@@ -142,7 +145,7 @@ CodecRow runRidge(const io::ElevationRaster& raster, double bound_metres,
         build.max_error = bound_metres;
     build.progress = subProgress(progress, 0.0, 0.8);
     const Clock::time_point encode_start = Clock::now();
-    const BuildReport built = buildArchive(raster, archive.path(), build);
+    buildArchive(raster, archive.path(), build);
     row.encode_seconds = secondsSince(encode_start);
     row.encode_bytes = uint64_t(raster.grid.codes.size()) * 2;
 
@@ -159,7 +162,6 @@ CodecRow runRidge(const io::ElevationRaster& raster, double bound_metres,
     }
     row.decode_seconds = secondsSince(decode_start);
     row.bytes = reader.fileSize();
-    (void)built;
     reportProgress(progress, 0.9);
 
     // 3. Check the finest level against the source: ridge's bound is E in metres.
@@ -195,8 +197,8 @@ std::vector<Tile> cutTiles(const CodeGrid& grid, int tile)
             t.height = std::min(th, grid.height - y0);
             t.codes.resize(size_t(t.width) * size_t(t.height));
             for (int y = 0; y < t.height; ++y)
-                std::copy_n(&grid.codes[size_t(y0 + y) * size_t(grid.width) + size_t(x0)],
-                            t.width, &t.codes[size_t(y) * size_t(t.width)]);
+                std::copy_n(&grid.codes[size_t(y0 + y) * size_t(grid.width) + size_t(x0)], t.width,
+                            &t.codes[size_t(y) * size_t(t.width)]);
             tiles.push_back(std::move(t));
         }
     return tiles;
@@ -280,7 +282,8 @@ CodecBenchReport runCodecBench(const io::ElevationRaster& raster, const CodecBen
 {
     validate(options);
     const CodeGrid& grid = raster.grid;
-    if (grid.width <= 0 || grid.height <= 0 || grid.codes.size() != size_t(grid.width) * size_t(grid.height))
+    if (grid.width <= 0 || grid.height <= 0 ||
+        grid.codes.size() != size_t(grid.width) * size_t(grid.height))
         throw Error(raster.source_path + ": empty or inconsistent grid");
 
     // 1. What is being compared, on what, with what.
@@ -306,7 +309,8 @@ CodecBenchReport runCodecBench(const io::ElevationRaster& raster, const CodecBen
              : "whole pyramid, BuildOptions defaults (patch 129, block 8, decimation), lossless",
          true});
     for (const auto& a : anchors)
-        report.codecs.push_back({a->name(), a->libraryVersion(), a->description(), a->guaranteesBound()});
+        report.codecs.push_back(
+            {a->name(), a->libraryVersion(), a->description(), a->guaranteesBound()});
 
     // 2. Tiles are cut once: every anchor and every bound sees the same tiles.
     const std::vector<Tile> tiles = cutTiles(grid, options.tile_size);
@@ -326,7 +330,8 @@ CodecBenchReport runCodecBench(const io::ElevationRaster& raster, const CodecBen
         result.max_error_codes = int(std::min(codes, 65535.0));
         result.rows.push_back(runRidge(raster, bound, options, report, stepProgress()));
         for (const auto& a : anchors)
-            result.rows.push_back(runAnchor(*a, tiles, result.max_error_codes, report, stepProgress()));
+            result.rows.push_back(
+                runAnchor(*a, tiles, result.max_error_codes, report, stepProgress()));
         report.bounds.push_back(std::move(result));
     }
     reportProgress(options.progress, 1.0);

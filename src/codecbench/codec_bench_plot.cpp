@@ -52,15 +52,15 @@ std::string plplotText(const std::string& text)
 // x is log2 of the bound in metres; ticks read as metres.
 void labelBoundAxis(PLINT axis, PLFLT value, char* label, PLINT length, PLPointer)
 {
-    const std::string text = axis == PL_X_AXIS ? fmt::format("{:g}", std::exp2(value))
-                                               : fmt::format("{:g}", value);
+    const std::string text =
+        axis == PL_X_AXIS ? fmt::format("{:g}", std::exp2(value)) : fmt::format("{:g}", value);
     std::snprintf(label, size_t(length), "%s", text.c_str());
 }
 
 // cmap0: white background, black axes, grey grid, then one distinguishable colour per codec
 // (ridge first, in red), Tableau-10 order.
-constexpr int kPalette[][3] = {{255, 255, 255}, {0, 0, 0},      {215, 215, 215}, {214, 39, 40},
-                               {31, 119, 180},  {255, 127, 14}, {44, 160, 44},   {148, 103, 189},
+constexpr int kPalette[][3] = {{255, 255, 255}, {0, 0, 0},       {215, 215, 215}, {214, 39, 40},
+                               {31, 119, 180},  {255, 127, 14},  {44, 160, 44},   {148, 103, 189},
                                {140, 86, 75},   {227, 119, 194}, {127, 127, 127}, {188, 189, 34},
                                {23, 190, 207}};
 constexpr int kPaletteSize = int(std::size(kPalette));
@@ -121,7 +121,8 @@ void writeCodecBenchPlot(const CodecBenchReport& report, const std::string& path
 
     // 2. Device: pngcairo on a stream of its own, into the temporary file.
     if (!deviceAvailable(kDevice))
-        throw Error(path + ": PLplot has no '" + kDevice + "' device (install plplot-driver-cairo)");
+        throw Error(path + ": PLplot has no '" + kDevice +
+                    "' device (install plplot-driver-cairo)");
     AtomicOutput output(path);
     PLINT previous_stream = 0;
     plgstrm(&previous_stream);
@@ -154,11 +155,12 @@ void writeCodecBenchPlot(const CodecBenchReport& report, const std::string& path
     plmtex("t", 3.2, 0.5, 0.5, plplotText("Compression ratio vs error bound: " + input).c_str());
     plschr(0.0, 0.8);
     plmtex("t", 1.6, 0.5, 0.5,
-           plplotText(fmt::format("{} x {} samples; anchors: finest level, {}; ridge: whole pyramid",
-                                  report.width, report.height,
-                                  report.tile_size > 0
-                                      ? fmt::format("{} x {} tiles", report.tile_size, report.tile_size)
-                                      : std::string("one tile")))
+           plplotText(
+               fmt::format("{} x {} samples; anchors: finest level, {}; ridge: whole pyramid",
+                           report.width, report.height,
+                           report.tile_size > 0
+                               ? fmt::format("{} x {} tiles", report.tile_size, report.tile_size)
+                               : std::string("one tile")))
                .c_str());
     plschr(0.0, 0.9);
 
@@ -193,8 +195,8 @@ void writeCodecBenchPlot(const CodecBenchReport& report, const std::string& path
     plwidth(1.0);
     PLFLT legend_width = 0.0, legend_height = 0.0;
     pllegend(&legend_width, &legend_height, PL_LEGEND_BACKGROUND | PL_LEGEND_BOUNDING_BOX,
-             PL_POSITION_OUTSIDE | PL_POSITION_RIGHT | PL_POSITION_VIEWPORT, 0.03, 0.0, 0.06, 0, 1, 1, 0,
-             0, PLINT(curves.size()), opts.data(), 1.0, 0.8, 2.0, 0.0, colours.data(),
+             PL_POSITION_OUTSIDE | PL_POSITION_RIGHT | PL_POSITION_VIEWPORT, 0.03, 0.0, 0.06, 0, 1,
+             1, 0, 0, PLINT(curves.size()), opts.data(), 1.0, 0.8, 2.0, 0.0, colours.data(),
              text_ptrs.data(), nullptr, nullptr, nullptr, nullptr, colours.data(), styles.data(),
              widths.data(), colours.data(), symbol_scales.data(), symbol_numbers.data(),
              symbol_ptrs.data());

@@ -38,43 +38,53 @@ nlohmann::json finiteOrNull(double v)
 std::string formatCodecBenchTable(const CodecBenchReport& r)
 {
     std::string out;
-    out += fmt::format("Input: {}, {} x {} samples, metres = {:g} + {:g} * code, heights {:g} .. {:g} m\n",
-                       r.input_path, r.width, r.height, r.quantization.offset, r.quantization.scale,
-                       r.minMetres(), r.maxMetres());
+    out += fmt::format(
+        "Input: {}, {} x {} samples, metres = {:g} + {:g} * code, heights {:g} .. {:g} m\n",
+        r.input_path, r.width, r.height, r.quantization.offset, r.quantization.scale, r.minMetres(),
+        r.maxMetres());
     out += fmt::format("Anchors: {}, finest level only; every codec on 1 thread of {}\n",
-                       r.tile_size > 0 ? fmt::format("independent {} x {} tiles", r.tile_size, r.tile_size)
-                                       : std::string("the whole grid as one tile"),
+                       r.tile_size > 0
+                           ? fmt::format("independent {} x {} tiles", r.tile_size, r.tile_size)
+                           : std::string("the whole grid as one tile"),
                        r.cpu_model);
 
     size_t name_width = 5;
     for (const CodecInfo& c : r.codecs)
         name_width = std::max(name_width, c.codec.size());
     for (const BoundResult& b : r.bounds) {
-        out += fmt::format("\nMax error {:g} m (ridge: end to end; anchors: e = {} code{} = {:g} m)\n",
-                           b.max_error_metres, b.max_error_codes, b.max_error_codes == 1 ? "" : "s",
-                           b.max_error_codes * r.quantization.scale);
+        out +=
+            fmt::format("\nMax error {:g} m (ridge: end to end; anchors: e = {} code{} = {:g} m)\n",
+                        b.max_error_metres, b.max_error_codes, b.max_error_codes == 1 ? "" : "s",
+                        b.max_error_codes * r.quantization.scale);
         out += fmt::format("{:<{}}  {:<13} {:>12} {:>8} {:>9} {:>10} {:>9} {:>8} {:>9} {:>9}  {}\n",
                            "codec", name_width, "scope", "bytes", "ratio", "bits/smp", "max err m",
                            "RMSE m", "PSNR dB", "enc MB/s", "dec MB/s", "bound");
         for (const CodecRow& row : b.rows)
-            out += fmt::format("{:<{}}  {:<13} {:>12} {:>8.2f} {:>9.3f} {:>10.3f} {:>9.3f} {:>8} "
-                               "{:>9.1f} {:>9.1f}  {}\n",
-                               row.codec, name_width, row.scope == "pyramid" ? "pyramid *" : row.scope,
-                               row.bytes, row.ratio, row.bits_per_sample, row.max_error_metres,
-                               row.rmse_metres, formatPsnr(row.psnr_db), row.encode_mb_per_s,
-                               row.decode_mb_per_s, formatBound(row));
+            out +=
+                fmt::format("{:<{}}  {:<13} {:>12} {:>8.2f} {:>9.3f} {:>10.3f} {:>9.3f} {:>8} "
+                            "{:>9.1f} {:>9.1f}  {}\n",
+                            row.codec, name_width, row.scope == "pyramid" ? "pyramid *" : row.scope,
+                            row.bytes, row.ratio, row.bits_per_sample, row.max_error_metres,
+                            row.rmse_metres, formatPsnr(row.psnr_db), row.encode_mb_per_s,
+                            row.decode_mb_per_s, formatBound(row));
     }
 
-    out += "\n* ridge's bytes are the whole .ridge archive: the finest level AND every coarser level of "
-           "the\n  pyramid, the index, λ tables and metadata. The anchors code the finest level only.\n";
-    out += fmt::format("ratio = finest level as 16-bit samples ({} bytes) / bytes; bits/smp = 8 bytes / "
-                       "{} samples.\n",
-                       uint64_t(r.width) * uint64_t(r.height) * 2, uint64_t(r.width) * uint64_t(r.height));
-    out += "Errors are measured on every finest-level sample against the ingested codes; PSNR peak = "
-           "max - min height.\n";
-    out += "MB/s = 10^6 bytes of 16-bit samples per second on one core: encode counts the finest level "
-           "in,\n  decode the samples out (ridge: every level of the pyramid; its encode is the whole "
-           "build, its decode\n  opens the archive and decodes every level).\n";
+    out += "\n* ridge's bytes are the whole .ridge archive: the finest level AND every coarser "
+           "level of "
+           "the\n  pyramid, the index, λ tables and metadata. The anchors code the finest level "
+           "only.\n";
+    out += fmt::format(
+        "ratio = finest level as 16-bit samples ({} bytes) / bytes; bits/smp = 8 bytes / "
+        "{} samples.\n",
+        uint64_t(r.width) * uint64_t(r.height) * 2, uint64_t(r.width) * uint64_t(r.height));
+    out +=
+        "Errors are measured on every finest-level sample against the ingested codes; PSNR peak = "
+        "max - min height.\n";
+    out +=
+        "MB/s = 10^6 bytes of 16-bit samples per second on one core: encode counts the finest "
+        "level "
+        "in,\n  decode the samples out (ridge: every level of the pyramid; its encode is the whole "
+        "build, its decode\n  opens the archive and decodes every level).\n";
     out += "Codecs:\n";
     for (const CodecInfo& c : r.codecs)
         out += fmt::format("  {:<{}}  {}: {}{}\n", c.codec, name_width, c.library, c.configuration,
@@ -101,7 +111,8 @@ std::string formatCodecBenchJson(const CodecBenchReport& r)
         {"anchor_scope", "finest level only, independent tiles"},
         {"ratio", "width * height * 2 / bytes"},
         {"bits_per_sample", "8 * bytes / (width * height)"},
-        {"mb_per_s", "1e6 bytes of 16-bit samples per second, one thread; ridge decode counts all levels"},
+        {"mb_per_s",
+         "1e6 bytes of 16-bit samples per second, one thread; ridge decode counts all levels"},
         {"psnr_peak", "max - min height of the source; null psnr = exact"}};
     nlohmann::json codecs = nlohmann::json::array();
     for (const CodecInfo& c : r.codecs)

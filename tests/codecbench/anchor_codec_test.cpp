@@ -58,8 +58,11 @@ void expectRoundTripWithinBound(const AnchorCodec& anchor, const std::vector<uin
 }
 
 class AnchorTest : public testing::TestWithParam<int> {
-protected:
-    std::unique_ptr<AnchorCodec> anchor() const { return std::move(makeAnchorCodecs()[size_t(GetParam())]); }
+  protected:
+    std::unique_ptr<AnchorCodec> anchor() const
+    {
+        return std::move(makeAnchorCodecs()[size_t(GetParam())]);
+    }
 };
 
 std::string anchorName(const testing::TestParamInfo<int>& info)
@@ -111,8 +114,8 @@ TEST_P(AnchorTest, TruncatedStreamsAreRejected)
     for (const int e : {0, 4}) {
         const std::vector<uint8_t> stream = a->encode(codes.data(), 96, 80, e);
         std::vector<uint16_t> decoded(codes.size());
-        for (const size_t keep : {size_t(0), size_t(1), stream.size() / 4, stream.size() / 2,
-                                  stream.size() - 8})
+        for (const size_t keep :
+             {size_t(0), size_t(1), stream.size() / 4, stream.size() / 2, stream.size() - 8})
             EXPECT_THROW(a->decode(stream.data(), keep, 96, 80, e, decoded.data()), Error)
                 << a->name() << " e = " << e << " accepted " << keep << " of " << stream.size()
                 << " bytes";
@@ -170,7 +173,8 @@ TEST_P(AnchorTest, DescribesItselfAndItsLibrary)
     const auto a = anchor();
     EXPECT_FALSE(a->name().empty());
     EXPECT_FALSE(a->description().empty());
-    EXPECT_NE(a->libraryVersion().find_first_of("0123456789"), std::string::npos) << a->libraryVersion();
+    EXPECT_NE(a->libraryVersion().find_first_of("0123456789"), std::string::npos)
+        << a->libraryVersion();
 }
 
 INSTANTIATE_TEST_SUITE_P(Anchors, AnchorTest, testing::Range(0, 6), anchorName);
@@ -180,5 +184,6 @@ TEST(Anchors, AllSixInTableOrder)
     std::vector<std::string> names;
     for (const auto& a : makeAnchorCodecs())
         names.push_back(a->name());
-    EXPECT_EQ(names, (std::vector<std::string>{"LERC", "JPEG-LS", "JPEG 2000", "JPEG XL", "MED+zstd", "ZFP"}));
+    EXPECT_EQ(names, (std::vector<std::string>{"LERC", "JPEG-LS", "JPEG 2000", "JPEG XL",
+                                               "MED+zstd", "ZFP"}));
 }

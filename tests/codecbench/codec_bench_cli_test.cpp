@@ -16,13 +16,14 @@ TEST(CodecBenchCli, WritesTablesJsonAndPlot)
     const std::string json = dir.path("bench.json");
     const std::string png = dir.path("bench.png");
     // Defaults: ridge's progressive codec, built with max_error = 1 m.
-    const test::CommandResult r = test::runRidge(
-        "codec-bench '" + test::dataPath("everest_crop.tif") + "' --max-error 1 --tile 64 --json '" +
-        json + "' --plot '" + png + "'");
+    const test::CommandResult r =
+        test::runRidge("codec-bench '" + test::dataPath("everest_crop.tif") +
+                       "' --max-error 1 --tile 64 --json '" + json + "' --plot '" + png + "'");
     ASSERT_EQ(r.exit_code, 0) << r.output;
     EXPECT_NE(r.output.find("100 - done."), std::string::npos) << "progress on stderr";
     EXPECT_EQ(r.output.find("VIOLATED"), std::string::npos) << r.output;
-    for (const char* name : {"ridge progressive", "LERC", "JPEG-LS", "JPEG 2000", "JPEG XL", "MED+zstd", "ZFP"})
+    for (const char* name :
+         {"ridge progressive", "LERC", "JPEG-LS", "JPEG 2000", "JPEG XL", "MED+zstd", "ZFP"})
         EXPECT_NE(r.output.find(name), std::string::npos) << name;
     ASSERT_TRUE(fs::exists(json));
     ASSERT_TRUE(fs::exists(png));
@@ -32,7 +33,8 @@ TEST(CodecBenchCli, WritesTablesJsonAndPlot)
     EXPECT_EQ(j["bounds"][0]["rows"].size(), 7u);
     EXPECT_TRUE(j["bounds"][0]["rows"][0]["bound_ok"].get<bool>());
     for (const auto& entry : fs::directory_iterator(dir.dir()))
-        EXPECT_EQ(entry.path().string().find(".tmp."), std::string::npos) << "left behind: " << entry.path();
+        EXPECT_EQ(entry.path().string().find(".tmp."), std::string::npos)
+            << "left behind: " << entry.path();
 }
 
 TEST(CodecBenchCli, MissingInputFailsNamingThePath)
@@ -40,8 +42,8 @@ TEST(CodecBenchCli, MissingInputFailsNamingThePath)
     test::ScratchDir dir;
     const std::string missing = dir.path("missing.hgt");
     const std::string json = dir.path("bench.json");
-    const test::CommandResult r =
-        test::runRidge("codec-bench '" + missing + "' --json '" + json + "' -q --ridge-codec lossless");
+    const test::CommandResult r = test::runRidge("codec-bench '" + missing + "' --json '" + json +
+                                                 "' -q --ridge-codec lossless");
     EXPECT_NE(r.exit_code, 0);
     EXPECT_NE(r.output.find(missing), std::string::npos) << r.output;
     EXPECT_FALSE(fs::exists(json));

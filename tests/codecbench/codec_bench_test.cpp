@@ -17,7 +17,8 @@ using namespace ridge::codecbench;
 
 namespace {
 
-const std::vector<std::string> kAnchors{"LERC", "JPEG-LS", "JPEG 2000", "JPEG XL", "MED+zstd", "ZFP"};
+const std::vector<std::string> kAnchors{"LERC",    "JPEG-LS",  "JPEG 2000",
+                                        "JPEG XL", "MED+zstd", "ZFP"};
 
 const io::ElevationRaster& everest()
 {
@@ -79,7 +80,8 @@ TEST(CodecBench, ProgressiveRidgeRowKeepsItsEndToEndBound)
     for (const BoundResult& b : r.bounds) {
         const CodecRow& ridge_row = b.rows.front();
         EXPECT_EQ(ridge_row.codec, "ridge progressive");
-        EXPECT_TRUE(ridge_row.bound_ok) << b.max_error_metres << " m: " << ridge_row.max_error_metres;
+        EXPECT_TRUE(ridge_row.bound_ok)
+            << b.max_error_metres << " m: " << ridge_row.max_error_metres;
         EXPECT_LE(ridge_row.max_error_metres, b.max_error_metres + 1e-9);
     }
     // A looser bound must not cost more bytes.
@@ -118,7 +120,8 @@ TEST(CodecBench, TableAndJsonNameEveryCodecAndSayWhatRidgeCounts)
         EXPECT_TRUE(row["psnr_db"].is_null()) << row["codec"] << " is exact at e = 0";
     size_t libraries = 0;
     for (const auto& c : j["codecs"])
-        libraries += c["library"].get<std::string>().find_first_of("0123456789") != std::string::npos;
+        libraries +=
+            c["library"].get<std::string>().find_first_of("0123456789") != std::string::npos;
     EXPECT_EQ(libraries, 1 + kAnchors.size()) << "every library states its version";
 }
 

@@ -18,7 +18,7 @@
 namespace ridge::codecbench {
 
 class AnchorCodec {
-public:
+  public:
     virtual ~AnchorCodec() = default;
 
     // Short name for tables and plot legends, e.g. "JPEG-LS".
@@ -43,8 +43,8 @@ public:
     // as given to encode. Throws ridge::Error naming the anchor when the library rejects the
     // stream, when it is truncated, or when what it describes does not match width x height.
     // Never reads or writes outside the given buffers.
-    virtual void decode(const uint8_t* bytes, size_t size, int width, int height,
-                        int max_error, uint16_t* codes) const = 0;
+    virtual void decode(const uint8_t* bytes, size_t size, int width, int height, int max_error,
+                        uint16_t* codes) const = 0;
 };
 
 // LERC 4 (Esri), maxZErr = e on uint16 tiles.

@@ -42,22 +42,22 @@ struct CodecBenchOptions {
 
 // One codec at one bound.
 struct CodecRow {
-    std::string codec;          // "ridge progressive", "LERC", ...
-    std::string scope;          // "pyramid" (ridge) or "finest level" (anchors)
-    uint64_t bytes = 0;         // ridge: archive file size; anchors: sum over tiles
-    double ratio = 0.0;         // finest level as 16-bit samples (width * height * 2) / bytes
+    std::string codec;            // "ridge progressive", "LERC", ...
+    std::string scope;            // "pyramid" (ridge) or "finest level" (anchors)
+    uint64_t bytes = 0;           // ridge: archive file size; anchors: sum over tiles
+    double ratio = 0.0;           // finest level as 16-bit samples (width * height * 2) / bytes
     double bits_per_sample = 0.0; // 8 * bytes / (width * height)
     int64_t max_error_codes = 0;  // largest |decoded - source| on the finest level
     double max_error_metres = 0.0;
     double rmse_metres = 0.0;
-    double psnr_db = 0.0;       // 20 log10(peak / RMSE), peak = max - min height; +inf if exact
-    double encode_seconds = 0.0; // ridge: buildArchive wall time; anchors: sum over tiles
-    double decode_seconds = 0.0; // ridge: open + decodeLevel of every level
-    uint64_t encode_bytes = 0;   // 16-bit samples consumed by the encoder (finest level)
-    uint64_t decode_bytes = 0;   // 16-bit samples produced (ridge: all levels)
+    double psnr_db = 0.0;         // 20 log10(peak / RMSE), peak = max - min height; +inf if exact
+    double encode_seconds = 0.0;  // ridge: buildArchive wall time; anchors: sum over tiles
+    double decode_seconds = 0.0;  // ridge: open + decodeLevel of every level
+    uint64_t encode_bytes = 0;    // 16-bit samples consumed by the encoder (finest level)
+    uint64_t decode_bytes = 0;    // 16-bit samples produced (ridge: all levels)
     double encode_mb_per_s = 0.0; // 10^6 bytes per second, one core
     double decode_mb_per_s = 0.0;
-    int64_t violations = 0;      // finest-level samples outside the bound
+    int64_t violations = 0; // finest-level samples outside the bound
     bool bound_ok = true;
 };
 
@@ -82,7 +82,7 @@ struct CodecBenchReport {
     HeightQuantization quantization;
     uint16_t min_code = 0; // of the ingested finest level
     uint16_t max_code = 0;
-    int tile_size = 0;     // as requested (0 = whole grid)
+    int tile_size = 0; // as requested (0 = whole grid)
     std::string ridge_codec;
     std::string cpu_model; // /proc/cpuinfo "model name", "unknown" when absent
     int threads = 1;       // threads every codec ran on
