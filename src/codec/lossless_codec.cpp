@@ -1,5 +1,7 @@
 #include "ridge/codec/lossless_codec.h"
 
+#include "ridge/codec/med_predictor.h"
+
 #include "ridge/core/target_clones.h"
 
 #include <algorithm>
@@ -19,24 +21,6 @@ namespace {
 constexpr uint8_t kMagic = 'L';
 constexpr uint8_t kVersion = 1;
 constexpr size_t kHeaderSize = 2;
-
-// LOCO-I median edge detector: min(w,n) if nw >= max(w,n), max(w,n) if nw <= min(w,n),
-// else w + n - nw. That is exactly median(w, n, w + n - nw), written branch-free.
-inline int medPredict(int w, int n, int nw)
-{
-    const int lo = std::min(w, n), hi = std::max(w, n);
-    return std::clamp(w + n - nw, lo, hi);
-}
-
-inline int predictAt(const uint16_t* codes, int size, int x, int y)
-{
-    const size_t i = static_cast<size_t>(y) * size + x;
-    if (y == 0)
-        return x == 0 ? 0 : codes[i - 1];
-    if (x == 0)
-        return codes[i - size];
-    return medPredict(codes[i - 1], codes[i - size], codes[i - size - 1]);
-}
 
 inline uint16_t zigzag(uint16_t residual)
 {
@@ -107,7 +91,7 @@ size_t LosslessCodec::encode(uint8_t* dst, size_t dst_capacity, const uint16_t* 
         const size_t row = static_cast<size_t>(y) * size;
         // Border samples (first row, first column) use the special predictions...
         for (int x = 0; x < size; x += (y == 0 ? 1 : size)) {
-            const uint16_t z = zigzag(static_cast<uint16_t>(codes[row + x] - predictAt(codes, size, x, y)));
+            const uint16_t z = zigzag(static_cast<uint16_t>(codes[row + x] - medPredictAt(codes, size, x, y)));
             planes[row + x] = static_cast<uint8_t>(z & 0xff);
             planes[n + row + x] = static_cast<uint8_t>(z >> 8);
         }
@@ -155,7 +139,7 @@ int LosslessCodec::decode(uint16_t* dst, const uint8_t* src, size_t src_size,
         for (int x = 0; x < ctx.patch_size; ++x) {
             const size_t i = static_cast<size_t>(y) * ctx.patch_size + x;
             const uint16_t z = static_cast<uint16_t>(planes[i] | (planes[n + i] << 8));
-            dst[i] = static_cast<uint16_t>(predictAt(dst, ctx.patch_size, x, y) + unzigzag(z));
+            dst[i] = static_cast<uint16_t>(medPredictAt(dst, ctx.patch_size, x, y) + unzigzag(z));
         }
     }
     return kCodecOk;

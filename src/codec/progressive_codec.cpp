@@ -34,6 +34,15 @@ Scratch& scratch(int n)
     return s;
 }
 
+// The parent's decoded codes at the child's step: the base its R samples refine. Encoder and
+// decoder both derive it from the reconstruction, so they always agree.
+void requantizeParent(const LevelQuantizer& quant, const uint16_t* parent, size_t samples,
+                      int32_t* base)
+{
+    for (size_t i = 0; i < samples; ++i)
+        base[i] = quant.quantize(parent[i]);
+}
+
 bool validPatchSize(int n)
 {
     return n >= 3 && n <= 4097 && ((n - 1) & (n - 2)) == 0;
@@ -115,9 +124,7 @@ size_t ProgressiveCodec::encode(uint8_t* dst, size_t dst_capacity, const uint16_
     if (coding.root) {
         rootResiduals(s.q.data(), n, s.residuals.data());
     } else {
-        // The parent's reconstruction at this level's step, exactly as the decoder derives it.
-        for (size_t i = 0; i < samples; ++i)
-            s.parent_q[i] = quant.quantize(ctx.parent[i]);
+        requantizeParent(quant, ctx.parent, samples, s.parent_q.data());
         childResiduals(s.q.data(), s.parent_q.data(), ctx.child_index, n, variant_.predictor,
                        s.residuals.data());
     }
@@ -159,8 +166,7 @@ int ProgressiveCodec::decode(uint16_t* dst, const uint8_t* src, size_t src_size,
     if (coding.root) {
         reconstructRoot(s.residuals.data(), n, s.q.data());
     } else {
-        for (size_t i = 0; i < samples; ++i)
-            s.parent_q[i] = quant.quantize(ctx.parent[i]);
+        requantizeParent(quant, ctx.parent, samples, s.parent_q.data());
         reconstructChild(s.residuals.data(), s.parent_q.data(), ctx.child_index, n,
                          variant_.predictor, s.q.data());
     }

@@ -1,5 +1,7 @@
 #include "ridge/codec/progressive_reconstruction.h"
 
+#include "ridge/codec/med_predictor.h"
+
 #include <algorithm>
 #include <cstddef>
 
@@ -24,11 +26,6 @@ inline int32_t midpoint16(const int32_t* line, ptrdiff_t stride, int pos, int le
     if (has_before)
         return 12 * a + 6 * b - 2 * line[(pos - 3) * stride];
     return 8 * (a + b);
-}
-
-inline int32_t medPredict(int32_t w, int32_t n, int32_t nw)
-{
-    return std::clamp(w + n - nw, std::min(w, n), std::max(w, n));
 }
 
 // The requantized parent sample under the R sample (x, y) of child `child_index`.
@@ -66,12 +63,7 @@ int32_t predictOdd(const int32_t* q, int n, int x, int y, OddPredictor predictor
 
 int32_t predictRoot(const int32_t* q, int n, int x, int y)
 {
-    const int32_t* at = q + static_cast<size_t>(y) * n + x;
-    if (y == 0)
-        return x == 0 ? 0 : at[-1];
-    if (x == 0)
-        return at[-n];
-    return medPredict(at[-1], at[-n], at[-n - 1]);
+    return medPredictAt(q, n, x, y);
 }
 
 // The passes run in the order R, A, B, C; within a pass no sample depends on another, so the

@@ -51,6 +51,31 @@ std::unique_ptr<zfp_stream, StreamDeleter> openStream(int max_error)
     return zfp;
 }
 
+// One compression or decompression: the float field over `values`, a stream for
+// `max_error`, and a bit stream over `words` (zfp reads and writes whole 64-bit words).
+struct ZfpSession {
+    std::unique_ptr<zfp_field, FieldDeleter> field;
+    std::unique_ptr<zfp_stream, StreamDeleter> zfp;
+    std::unique_ptr<bitstream, BitstreamDeleter> bits;
+
+    ZfpSession(const std::string& anchor, float* values, int width, int height, int max_error)
+        : field(zfp_field_2d(values, zfp_type_float, size_t(width), size_t(height))),
+          zfp(openStream(max_error))
+    {
+        if (!field || !zfp)
+            anchorFail(anchor, "zfp setup failed");
+    }
+    size_t maximumSize() const { return zfp_stream_maximum_size(zfp.get(), field.get()); }
+    void attach(const std::string& anchor, std::vector<uint64_t>& words)
+    {
+        bits.reset(stream_open(words.data(), words.size() * sizeof(uint64_t)));
+        if (!bits)
+            anchorFail(anchor, "stream_open failed");
+        zfp_stream_set_bit_stream(zfp.get(), bits.get());
+        zfp_stream_rewind(zfp.get());
+    }
+};
+
 class ZfpAnchor final : public AnchorCodec {
   public:
     std::string name() const override { return "ZFP"; }
@@ -67,20 +92,10 @@ class ZfpAnchor final : public AnchorCodec {
     {
         const size_t count = size_t(width) * size_t(height);
         std::vector<float> values(codes, codes + count);
-        std::unique_ptr<zfp_field, FieldDeleter> field(
-            zfp_field_2d(values.data(), zfp_type_float, size_t(width), size_t(height)));
-        auto zfp = openStream(max_error);
-        if (!field || !zfp)
-            anchorFail(name(), "zfp setup failed");
-        // Bit streams read and write whole 64-bit words: the buffer is word-aligned.
-        std::vector<uint64_t> words((zfp_stream_maximum_size(zfp.get(), field.get()) + 7) / 8);
-        std::unique_ptr<bitstream, BitstreamDeleter> bits(
-            stream_open(words.data(), words.size() * sizeof(uint64_t)));
-        if (!bits)
-            anchorFail(name(), "stream_open failed");
-        zfp_stream_set_bit_stream(zfp.get(), bits.get());
-        zfp_stream_rewind(zfp.get());
-        const size_t size = zfp_compress(zfp.get(), field.get());
+        ZfpSession session(name(), values.data(), width, height, max_error);
+        std::vector<uint64_t> words((session.maximumSize() + 7) / 8);
+        session.attach(name(), words);
+        const size_t size = zfp_compress(session.zfp.get(), session.field.get());
         if (size == 0)
             anchorFail(name(), "zfp_compress failed");
         std::vector<uint8_t> stream(size);
@@ -93,23 +108,14 @@ class ZfpAnchor final : public AnchorCodec {
     {
         const size_t count = size_t(width) * size_t(height);
         std::vector<float> values(count);
-        std::unique_ptr<zfp_field, FieldDeleter> field(
-            zfp_field_2d(values.data(), zfp_type_float, size_t(width), size_t(height)));
-        auto zfp = openStream(max_error);
-        if (!field || !zfp)
-            anchorFail(name(), "zfp setup failed");
+        ZfpSession session(name(), values.data(), width, height, max_error);
         // ZFP reads without bounds checks; a copy padded with zeros to the largest stream this
         // configuration can produce keeps a truncated or corrupt stream inside the buffer.
-        const size_t capacity = std::max(size, zfp_stream_maximum_size(zfp.get(), field.get()));
+        const size_t capacity = std::max(size, session.maximumSize());
         std::vector<uint64_t> words((capacity + 7) / 8 + 1, 0);
         std::memcpy(words.data(), bytes, size);
-        std::unique_ptr<bitstream, BitstreamDeleter> bits(
-            stream_open(words.data(), words.size() * sizeof(uint64_t)));
-        if (!bits)
-            anchorFail(name(), "stream_open failed");
-        zfp_stream_set_bit_stream(zfp.get(), bits.get());
-        zfp_stream_rewind(zfp.get());
-        const size_t consumed = zfp_decompress(zfp.get(), field.get());
+        session.attach(name(), words);
+        const size_t consumed = zfp_decompress(session.zfp.get(), session.field.get());
         if (consumed == 0)
             anchorFail(name(), "zfp_decompress failed");
         // The encoder's size is exactly what decoding consumes: anything else is a truncated

@@ -8,6 +8,7 @@
 // The median edge detector (MED) predicts from the left (a), upper (b) and upper-left (c)
 // indices; residuals are taken modulo 2^16, zig-zagged and stored as 16-bit little-endian.
 #include "ridge/codecbench/anchor_codec.h"
+#include "ridge/codec/med_predictor.h"
 
 #include "uniform_quantizer.h"
 
@@ -22,23 +23,6 @@ namespace ridge::codecbench {
 namespace {
 
 constexpr int kZstdLevel = 19;
-
-// LOCO-I's MED (Weinberger et al. 2000, eq. 2); first row predicts from the left, first
-// column from above, the first sample from 0.
-uint16_t predictMed(const uint16_t* q, int width, int x, int y)
-{
-    if (y == 0)
-        return x == 0 ? 0 : q[x - 1];
-    const size_t i = size_t(y) * size_t(width) + size_t(x);
-    if (x == 0)
-        return q[i - size_t(width)];
-    const int a = q[i - 1], b = q[i - size_t(width)], c = q[i - size_t(width) - 1];
-    if (c >= std::max(a, b))
-        return uint16_t(std::min(a, b));
-    if (c <= std::min(a, b))
-        return uint16_t(std::max(a, b));
-    return uint16_t(a + b - c);
-}
 
 // Residual modulo 2^16 as a signed 16-bit value, zig-zagged so that small magnitudes of
 // either sign become small codes.
@@ -76,7 +60,7 @@ class MedZstdAnchor final : public AnchorCodec {
         for (int y = 0; y < height; ++y)
             for (int x = 0; x < width; ++x) {
                 const size_t i = size_t(y) * size_t(width) + size_t(x);
-                const uint16_t z = zigZag(uint16_t(q[i] - predictMed(q.data(), width, x, y)));
+                const uint16_t z = zigZag(uint16_t(q[i] - medPredictAt(q.data(), width, x, y)));
                 residuals[2 * i] = uint8_t(z & 0xFF);
                 residuals[2 * i + 1] = uint8_t(z >> 8);
             }
@@ -113,7 +97,7 @@ class MedZstdAnchor final : public AnchorCodec {
             for (int x = 0; x < width; ++x) {
                 const size_t i = size_t(y) * size_t(width) + size_t(x);
                 const uint16_t z = uint16_t(residuals[2 * i] | (residuals[2 * i + 1] << 8));
-                codes[i] = uint16_t(predictMed(codes, width, x, y) + unZigZag(z));
+                codes[i] = uint16_t(medPredictAt(codes, width, x, y) + unZigZag(z));
             }
         for (size_t i = 0; i < count; ++i) {
             if (codes[i] > max_q)

@@ -38,13 +38,17 @@ CodeGrid decodeLevelWindow(const archive::ArchiveReader& reader, int level, int 
     return grid;
 }
 
+void copyPatchFromGrid(const CodeGrid& grid, int x0, int y0, int n, uint16_t* out)
+{
+    for (int j = 0; j < n; ++j)
+        std::copy_n(grid.codes.data() + static_cast<size_t>(y0 + j) * grid.width + x0, n,
+                    out + static_cast<size_t>(j) * n);
+}
+
 void DecodedPatches::copyPatch(PatchId p, int n, uint16_t* out) const
 {
     const int cells = n - 1;
-    const int gx = (p.x - px0) * cells, gy = (p.y - py0) * cells;
-    for (int j = 0; j < n; ++j)
-        std::copy_n(grid.codes.data() + static_cast<size_t>(gy + j) * grid.width + gx, n,
-                    out + static_cast<size_t>(j) * n);
+    copyPatchFromGrid(grid, (p.x - px0) * cells, (p.y - py0) * cells, n, out);
 }
 
 DecodedPatches decodePatches(const archive::ArchiveReader& reader, int level, int px0, int py0,

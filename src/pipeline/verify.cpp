@@ -1,5 +1,7 @@
 #include "ridge/pipeline/verify.h"
 
+#include "ridge/pipeline/level_decoder.h"
+
 #include "ridge/archive/archive_reader.h"
 #include "ridge/core/error.h"
 #include "ridge/io/raster_source.h"
@@ -94,9 +96,7 @@ double decodeAndCheckLevel(const ArchiveReader& reader, int level, CodeGrid& gri
         std::vector<float> block_errors;
         if (parents) {
             parent.resize(codes.size());
-            for (int j = 0; j < n; ++j)
-                for (int i = 0; i < n; ++i)
-                    parent[static_cast<size_t>(j) * n + i] = parents->at(p.x / 2 * cells + i, p.y / 2 * cells + j);
+            copyPatchFromGrid(*parents, p.x / 2 * cells, p.y / 2 * cells, n, parent.data());
         }
         try {
             reader.decodePatch(p, codes.data(), parents ? parent.data() : nullptr, &block_errors);

@@ -7,6 +7,10 @@
 
 namespace ridge {
 
+// Copies the n x n samples of `grid` at (x0, y0) into out[n·n]: a whole patch out of a
+// decoded level, e.g. the parent a progressive codec predicts from.
+void copyPatchFromGrid(const CodeGrid& grid, int x0, int y0, int n, uint16_t* out);
+
 // Whole patches [px0, px1] x [py0, py1] of one level, decoded into one grid whose origin is
 // sample (px0·cells, py0·cells) of the level. Whole patches, padding included, because a
 // progressive codec predicts a child from every sample of its parent.
