@@ -16,8 +16,7 @@ inline int32_t medPredict(int32_t w, int32_t n, int32_t nw)
 
 // MED at (x, y) of a row-major grid with `width` columns, with ridge's border rule: 0 for
 // the first sample, the west neighbour on row 0, the north neighbour on column 0.
-template <class T>
-int32_t medPredictAt(const T* grid, int width, int x, int y)
+template <class T> int32_t medPredictAt(const T* grid, int width, int x, int y)
 {
     const T* at = grid + static_cast<size_t>(y) * width + x;
     if (y == 0)
