@@ -15,6 +15,10 @@ packages=(
   # ridge codec-bench: anchor codecs (LERC, JPEG-LS, JPEG 2000, JPEG XL, ZFP) and its PNG plot
   liblerc-dev libcharls-dev libopenjp2-7-dev libjxl-dev libzfp-dev
   libplplot-dev plplot-driver-cairo
+  # GPU layer and renderer: OpenGL 4.5 core through libepoxy, headless EGL (Mesa llvmpipe on CI),
+  # windows through GLFW, GLM maths, Dear ImGui overlay; xvfb + xauth for the windowed smoke test
+  libepoxy-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libglfw3-dev libglm-dev libimgui-dev
+  xvfb xauth
 )
 
 missing=()

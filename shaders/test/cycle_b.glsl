@@ -1,0 +1,2 @@
+// See test/cycle_a.glsl.
+#include "test/cycle_a.glsl"
