@@ -1,0 +1,75 @@
+#pragma once
+// Coarse LOD: the unbalanced patch quad tree of the hardware-tessellation paper (§5).
+//
+// Each frame the tree is walked from the root: a patch whose bounding box is outside the view
+// frustum is dropped with its subtree; a patch is drawn when Err_Scr(P) <= ε or it is a leaf
+// of the archive, otherwise its existing children are visited. The selected patches tile the
+// visible part of the valid extent without overlap, so fine LOD (tessellation) and skirts see
+// a partition. Plain C++: no GL, cheap (a few µs per hundred patches), thread-compatible.
+#include "ridge/lod/camera.h"
+#include "ridge/lod/frustum.h"
+#include "ridge/lod/terrain_frame.h"
+
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+namespace ridge::archive {
+class ArchiveReader;
+}
+
+namespace ridge::lod {
+
+// What selection needs of a patch, from the archive index: metres, conservative.
+struct PatchBounds {
+    float min_height = 0.f; // covers the patch and its descendants
+    float max_height = 0.f;
+    float err = 0.f; // Err(P): guaranteed vertical error against the finest data
+};
+
+struct SelectionSettings {
+    double epsilon_px = 2.0; // ε, pixels
+    bool cull = true;        // view-frustum culling of patch boxes
+    // ρ in Err_Scr: the box depth bound that holds off-axis (visibleDepthBound), or the
+    // paper's distance to the closest box point (false; under-refines at screen corners).
+    bool conservative_distance = true;
+    // At most this many patches; when the tree at ε needs more, ε is raised by 25% steps
+    // until it fits, and Selection::epsilon_px says what was used.
+    size_t max_patches = std::numeric_limits<size_t>::max();
+};
+
+struct SelectedPatch {
+    PatchId id;
+    double screen_error = 0.0; // Err_Scr(P), pixels
+    Visibility visibility = Visibility::Inside;
+};
+
+struct Selection {
+    std::vector<SelectedPatch> patches;
+    double epsilon_px = 0.0; // ε actually met (>= the requested one)
+    int visited = 0;         // patches tested
+    int culled = 0;          // subtrees dropped by the frustum test
+};
+
+class PatchQuadtree {
+  public:
+    // `bounds` indexed by geometry().patchIndex(p).
+    PatchQuadtree(TerrainFrame frame, std::vector<PatchBounds> bounds);
+    static PatchQuadtree fromArchive(const archive::ArchiveReader& reader);
+
+    const TerrainFrame& frame() const { return frame_; }
+    const PyramidGeometry& geometry() const { return frame_.geometry(); }
+    const PatchBounds& bounds(PatchId p) const { return bounds_[geometry().patchIndex(p)]; }
+    Box box(PatchId p) const;
+
+    Selection select(const Camera& camera, const SelectionSettings& settings) const;
+
+  private:
+    void visit(PatchId p, const Camera& camera, const Frustum* frustum, double gamma,
+               double epsilon, bool conservative, Selection& out) const;
+
+    TerrainFrame frame_;
+    std::vector<PatchBounds> bounds_;
+};
+
+} // namespace ridge::lod

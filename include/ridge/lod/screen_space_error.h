@@ -1,0 +1,30 @@
+#pragma once
+// Screen-space error of a patch ("Coarse Level of Detail Selection", Yusov & Shevtsov 2011, §5):
+//
+//   Err_Scr(P) = γ · Err(P) / ρ(c, V),   γ = ½ · max(R_h · ctg(φ_h / 2), R_v · ctg(φ_v / 2))
+//
+// with Err(P) the patch's guaranteed geometric error in metres, ρ(c, V) the distance from the
+// camera position c to the closest point of the patch's bounding box V. The formula is the
+// standard conservative bound for a vertical error seen face-on at the screen centre.
+#include "ridge/lod/camera.h"
+#include "ridge/lod/terrain_frame.h"
+
+namespace ridge::lod {
+
+// γ of `camera`, pixels per (metre of error per metre of distance).
+double screenSpaceErrorFactor(const Camera& camera);
+
+// ρ(c, V): 0 when c is inside the box.
+double distanceToBox(glm::dvec3 c, const Box& box);
+
+// The paper's ρ assumes the error is seen face-on at the screen centre. Off-axis, a vertical
+// error e at view depth w projects to γ·e/w > γ·e/ρ pixels (w = ρ·cos θ). Every visible point
+// of the box has w >= ρ·cos θ_max (θ_max: view axis to frustum corner) and w >= the box's
+// nearest depth, so this bound in place of ρ keeps Err_Scr an upper bound anywhere on screen.
+// It costs at most 1/cos θ_max (1.55 for 60° at 16:9) more patches' worth of refinement.
+double visibleDepthBound(const Camera& camera, const Box& box, double rho);
+
+// Err_Scr in pixels; +inf when the camera is inside the box and err > 0.
+double screen_space_error(double gamma, double err_metres, double rho);
+
+} // namespace ridge::lod

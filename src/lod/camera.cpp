@@ -1,0 +1,62 @@
+#include "ridge/lod/camera.h"
+
+#include "ridge/core/error.h"
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <cmath>
+
+namespace ridge::lod {
+
+Camera::Camera(glm::dvec3 position, glm::dvec3 look_at, double fov_y_degrees, Viewport viewport,
+               double near_m, double far_m)
+    : position_(position), fov_y_(glm::radians(fov_y_degrees)), viewport_(viewport), near_(near_m),
+      far_(far_m)
+{
+    const glm::dvec3 dir = look_at - position;
+    if (glm::length(dir) <= 0.0)
+        throw Error("camera: the look-at point equals the camera position");
+    if (!(fov_y_degrees > 0.0 && fov_y_degrees < 180.0))
+        throw Error("camera: the field of view must lie in (0, 180) degrees");
+    if (viewport.width <= 0 || viewport.height <= 0)
+        throw Error("camera: the viewport must have a positive size");
+    if (!(near_m > 0.0 && far_m > near_m))
+        throw Error("camera: need 0 < near < far");
+    forward_ = glm::normalize(dir);
+    // Looking straight up or down: any horizontal right vector will do.
+    glm::dvec3 r = glm::cross(forward_, glm::dvec3(0.0, 0.0, 1.0));
+    if (glm::length(r) < 1e-9)
+        r = glm::dvec3(1.0, 0.0, 0.0);
+    right_ = glm::normalize(r);
+    up_ = glm::cross(right_, forward_);
+}
+
+double Camera::fovX() const
+{
+    const double aspect = double(viewport_.width) / viewport_.height;
+    return 2.0 * std::atan(std::tan(fov_y_ * 0.5) * aspect);
+}
+
+glm::dmat4 Camera::view() const
+{
+    return glm::lookAtRH(glm::dvec3(0.0), forward_, up_);
+}
+
+glm::dmat4 Camera::projection() const
+{
+    const double aspect = double(viewport_.width) / viewport_.height;
+    return glm::perspectiveRH_NO(fov_y_, aspect, near_, far_);
+}
+
+bool Camera::project(glm::dvec3 world, glm::dvec2& pixel) const
+{
+    const glm::dvec4 clip = viewProjection() * glm::dvec4(world - position_, 1.0);
+    if (clip.w <= near_ * 0.5)
+        return false;
+    pixel.x = (clip.x / clip.w * 0.5 + 0.5) * viewport_.width;
+    pixel.y = (0.5 - clip.y / clip.w * 0.5) * viewport_.height;
+    return true;
+}
+
+} // namespace ridge::lod

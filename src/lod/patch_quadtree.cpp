@@ -1,0 +1,77 @@
+#include "ridge/lod/patch_quadtree.h"
+
+#include "ridge/archive/archive_reader.h"
+#include "ridge/core/error.h"
+#include "ridge/lod/screen_space_error.h"
+
+namespace ridge::lod {
+
+PatchQuadtree::PatchQuadtree(TerrainFrame frame, std::vector<PatchBounds> bounds)
+    : frame_(std::move(frame)), bounds_(std::move(bounds))
+{
+    if (int64_t(bounds_.size()) != geometry().patchCount())
+        throw Error("patch quadtree: bounds for " + std::to_string(bounds_.size()) +
+                    " patches, the geometry has " + std::to_string(geometry().patchCount()));
+}
+
+PatchQuadtree PatchQuadtree::fromArchive(const archive::ArchiveReader& reader)
+{
+    std::vector<PatchBounds> bounds;
+    bounds.reserve(reader.index().size());
+    for (const archive::PatchRecord& r : reader.index())
+        bounds.push_back({r.min_height, r.max_height, r.err});
+    const archive::Header& h = reader.header();
+    return PatchQuadtree(TerrainFrame(reader.geometry(), h.spacing_x, h.spacing_y),
+                         std::move(bounds));
+}
+
+Box PatchQuadtree::box(PatchId p) const
+{
+    const PatchBounds& b = bounds(p);
+    return frame_.patchBox(p, b.min_height, b.max_height);
+}
+
+Selection PatchQuadtree::select(const Camera& camera, const SelectionSettings& settings) const
+{
+    const Frustum frustum(camera);
+    const double gamma = screenSpaceErrorFactor(camera);
+    double epsilon = settings.epsilon_px;
+    for (;;) {
+        Selection s;
+        s.epsilon_px = epsilon;
+        visit(PatchId{0, 0, 0}, camera, settings.cull ? &frustum : nullptr, gamma, epsilon,
+              settings.conservative_distance, s);
+        if (s.patches.size() <= settings.max_patches)
+            return s;
+        epsilon *= 1.25;
+    }
+}
+
+void PatchQuadtree::visit(PatchId p, const Camera& camera, const Frustum* frustum, double gamma,
+                          double epsilon, bool conservative, Selection& out) const
+{
+    ++out.visited;
+    const Box b = box(p);
+    Visibility visibility = Visibility::Inside;
+    if (frustum) {
+        visibility = frustum->classify(b);
+        if (visibility == Visibility::Outside) {
+            ++out.culled;
+            return;
+        }
+    }
+    const double rho = distanceToBox(camera.position(), b);
+    const double err_scr = screen_space_error(
+        gamma, bounds(p).err, conservative ? visibleDepthBound(camera, b, rho) : rho);
+    if (p.level == geometry().finestLevel() || err_scr <= epsilon) {
+        out.patches.push_back({p, err_scr, visibility});
+        return;
+    }
+    for (int k = 0; k < 4; ++k) {
+        const PatchId child{p.level + 1, 2 * p.x + (k & 1), 2 * p.y + (k >> 1)};
+        if (geometry().exists(child))
+            visit(child, camera, frustum, gamma, epsilon, conservative, out);
+    }
+}
+
+} // namespace ridge::lod

@@ -1,0 +1,45 @@
+#include "ridge/lod/screen_space_error.h"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace ridge::lod {
+
+double screenSpaceErrorFactor(const Camera& camera)
+{
+    const Viewport v = camera.viewport();
+    const double h = v.width / std::tan(camera.fovX() * 0.5);
+    const double w = v.height / std::tan(camera.fovY() * 0.5);
+    return 0.5 * std::max(h, w);
+}
+
+double distanceToBox(glm::dvec3 c, const Box& box)
+{
+    return glm::length(c - glm::clamp(c, box.min, box.max));
+}
+
+double visibleDepthBound(const Camera& camera, const Box& box, double rho)
+{
+    const double tx = std::tan(camera.fovX() * 0.5), ty = std::tan(camera.fovY() * 0.5);
+    const double cos_max = 1.0 / std::sqrt(1.0 + tx * tx + ty * ty);
+    // Nearest depth along the view axis: the box corner furthest against forward (n-vertex).
+    const glm::dvec3 f = camera.forward();
+    const glm::dvec3 n(f.x >= 0 ? box.min.x : box.max.x, f.y >= 0 ? box.min.y : box.max.y,
+                       f.z >= 0 ? box.min.z : box.max.z);
+    const double w_min = glm::dot(n - camera.position(), f);
+    return std::max(rho * cos_max, w_min);
+}
+
+double screen_space_error(double gamma, double err_metres, double rho)
+{
+    if (err_metres <= 0.0)
+        return 0.0;
+    if (rho <= 0.0)
+        return std::numeric_limits<double>::infinity();
+    return gamma * err_metres / rho;
+}
+
+} // namespace ridge::lod

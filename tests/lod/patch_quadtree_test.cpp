@@ -1,0 +1,201 @@
+#include "ridge/lod/patch_quadtree.h"
+#include "ridge/lod/patch_residency.h"
+#include "ridge/lod/screen_space_error.h"
+
+#include "ridge/core/error.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+#include <set>
+
+using namespace ridge;
+using namespace ridge::lod;
+
+namespace {
+
+// A 1000 x 700 sample grid at 10 m, patches of 33: errors halve per level, heights 0..500 m.
+PatchQuadtree syntheticTree()
+{
+    const PyramidGeometry g(1000, 700, 33);
+    std::vector<PatchBounds> bounds(size_t(g.patchCount()));
+    for (int64_t i = 0; i < g.patchCount(); ++i) {
+        const PatchId p = g.patchAt(i);
+        const float err = p.level == g.finestLevel() ? 0.f : 64.f / float(1 << p.level);
+        bounds[size_t(i)] = {0.f, 500.f, err};
+    }
+    return PatchQuadtree(TerrainFrame(g, 10.0, 10.0), std::move(bounds));
+}
+
+// Finest-cell coverage count of a selection (each cell once = a partition).
+std::vector<int> coverage(const PatchQuadtree& tree, const Selection& s)
+{
+    const PyramidGeometry& g = tree.geometry();
+    std::vector<int> count(size_t(g.width() - 1) * (g.height() - 1), 0);
+    for (const SelectedPatch& sp : s.patches) {
+        const int64_t span = int64_t(g.cells()) * g.step(sp.id.level);
+        for (int64_t r = sp.id.y * span;
+             r < std::min<int64_t>((sp.id.y + 1) * span, g.height() - 1); ++r)
+            for (int64_t c = sp.id.x * span;
+                 c < std::min<int64_t>((sp.id.x + 1) * span, g.width() - 1); ++c)
+                ++count[size_t(r) * (g.width() - 1) + c];
+    }
+    return count;
+}
+
+Camera overTerrain(glm::dvec3 pos, glm::dvec3 at)
+{
+    return Camera(pos, at, 60.0, {1280, 720}, 1.0, 1e6);
+}
+
+} // namespace
+
+TEST(PatchQuadtree, SelectionWithoutCullingTilesTheValidExtentExactlyOnce)
+{
+    const PatchQuadtree tree = syntheticTree();
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> x(-2000, 12000), y(-2000, 9000), z(50, 3000);
+    for (int k = 0; k < 20; ++k) {
+        const Camera cam = overTerrain({x(rng), y(rng), z(rng)}, {5000, 3500, 0});
+        SelectionSettings s;
+        s.cull = false;
+        s.epsilon_px = 1.0 + k;
+        const Selection sel = tree.select(cam, s);
+        for (int c : coverage(tree, sel))
+            ASSERT_EQ(c, 1) << "camera " << k;
+    }
+}
+
+TEST(PatchQuadtree, EverySelectedPatchMeetsEpsilonAndItsParentDidNot)
+{
+    const PatchQuadtree tree = syntheticTree();
+    const Camera cam = overTerrain({2000, 1000, 300}, {6000, 5000, 0});
+    const double gamma = screenSpaceErrorFactor(cam);
+    SelectionSettings s;
+    s.epsilon_px = 2.0;
+    const Selection sel = tree.select(cam, s);
+    ASSERT_GT(sel.patches.size(), 10u);
+    std::set<int> levels;
+    for (const SelectedPatch& sp : sel.patches) {
+        levels.insert(sp.id.level);
+        const double rho = distanceToBox(cam.position(), tree.box(sp.id));
+        const double e = screen_space_error(gamma, tree.bounds(sp.id).err,
+                                            visibleDepthBound(cam, tree.box(sp.id), rho));
+        // Never below the paper's estimate.
+        EXPECT_GE(e, screen_space_error(gamma, tree.bounds(sp.id).err, rho) - 1e-12);
+        EXPECT_NEAR(sp.screen_error, e, 1e-9);
+        if (sp.id.level < tree.geometry().finestLevel()) {
+            EXPECT_LE(e, s.epsilon_px);
+        }
+        if (sp.id.level > 0) {
+            const PatchId parent{sp.id.level - 1, sp.id.x / 2, sp.id.y / 2};
+            const double prho = distanceToBox(cam.position(), tree.box(parent));
+            EXPECT_GT(screen_space_error(gamma, tree.bounds(parent).err,
+                                         visibleDepthBound(cam, tree.box(parent), prho)),
+                      s.epsilon_px);
+        }
+    }
+    EXPECT_GE(levels.size(), 3u) << "an oblique view gives an unbalanced tree";
+}
+
+TEST(PatchQuadtree, ThePapersDistanceRefinesLessThanTheOffAxisBound)
+{
+    const PatchQuadtree tree = syntheticTree();
+    const Camera cam = overTerrain({2000, 1000, 300}, {6000, 5000, 0});
+    SelectionSettings paper, conservative;
+    paper.conservative_distance = false;
+    const size_t a = tree.select(cam, paper).patches.size(),
+                 b = tree.select(cam, conservative).patches.size();
+    EXPECT_LT(a, b);
+    EXPECT_LT(double(b), 3.0 * a) << "at most about 1/cos(θ_max)² more patches";
+}
+
+TEST(PatchQuadtree, CullingDropsOnlyPatchesOutsideTheFrustum)
+{
+    const PatchQuadtree tree = syntheticTree();
+    const Camera cam =
+        overTerrain({500, 500, 400}, {9000, 500, 0}); // looking east along the south edge
+    SelectionSettings with, without;
+    without.cull = false;
+    const Selection a = tree.select(cam, with), b = tree.select(cam, without);
+    EXPECT_LT(a.patches.size(), b.patches.size());
+    EXPECT_GT(a.culled, 0);
+    const Frustum f(cam);
+    for (const SelectedPatch& sp : a.patches)
+        EXPECT_NE(f.classify(tree.box(sp.id)), Visibility::Outside);
+    // Every patch of the unculled selection that is visible is also in the culled one.
+    std::set<int64_t> kept;
+    for (const SelectedPatch& sp : a.patches)
+        kept.insert(tree.geometry().patchIndex(sp.id));
+    for (const SelectedPatch& sp : b.patches)
+        if (f.classify(tree.box(sp.id)) != Visibility::Outside) {
+            EXPECT_TRUE(kept.count(tree.geometry().patchIndex(sp.id)));
+        }
+}
+
+TEST(PatchQuadtree, RaisesEpsilonWhenTheSelectionExceedsThePatchBudget)
+{
+    const PatchQuadtree tree = syntheticTree();
+    const Camera cam = overTerrain({2000, 1000, 100}, {6000, 5000, 0});
+    SelectionSettings s;
+    s.epsilon_px = 0.5;
+    const size_t full = tree.select(cam, s).patches.size();
+    s.max_patches = full / 3;
+    const Selection limited = tree.select(cam, s);
+    EXPECT_LE(limited.patches.size(), s.max_patches);
+    EXPECT_GT(limited.epsilon_px, 0.5);
+}
+
+TEST(PatchQuadtree, RejectsBoundsThatDoNotMatchTheGeometry)
+{
+    const PyramidGeometry g(100, 100, 33);
+    EXPECT_THROW(PatchQuadtree(TerrainFrame(g, 1, 1), std::vector<PatchBounds>(3)), Error);
+}
+
+TEST(TerrainFrame, PutsTheSouthWestCornerAtTheOriginWithYNorth)
+{
+    const PyramidGeometry g(101, 51, 33);
+    const TerrainFrame f(g, 2.0, 3.0);
+    EXPECT_DOUBLE_EQ(f.xOf(0), 0.0);
+    EXPECT_DOUBLE_EQ(f.yOf(50), 0.0);  // last row is the south edge
+    EXPECT_DOUBLE_EQ(f.yOf(0), 150.0); // first row is the north edge
+    EXPECT_DOUBLE_EQ(f.rowOf(f.yOf(17)), 17.0);
+    const Box root = f.patchBox({0, 0, 0}, -5, 9);
+    EXPECT_DOUBLE_EQ(root.max.x, 200.0); // clipped to the valid extent, not the padding
+    EXPECT_DOUBLE_EQ(root.min.y, 0.0);
+    EXPECT_DOUBLE_EQ(root.max.y, 150.0);
+}
+
+TEST(PatchResidency, ReusesResidentPatchesAndEvictsTheLeastRecentlyUsed)
+{
+    const PyramidGeometry g(1000, 1000, 33);
+    PatchResidency r(g, 3);
+    const PatchId a{2, 0, 0}, b{2, 1, 0}, c{2, 2, 0}, d{2, 3, 0};
+    EXPECT_EQ(r.update({a, b}, 1).size(), 2u);
+    EXPECT_EQ(r.update({a, b}, 2).size(), 0u) << "resident patches are not loaded again";
+    EXPECT_EQ(r.update({c}, 3).size(), 1u);
+    EXPECT_EQ(r.update({a}, 4).size(), 0u);
+    // Full: d replaces the least recently used, b (last used at frame 2).
+    const auto loads = r.update({d}, 5);
+    ASSERT_EQ(loads.size(), 1u);
+    EXPECT_EQ(r.slotOf(b), -1);
+    EXPECT_EQ(loads[0].slot, 1) << "d takes b's slot";
+    EXPECT_GE(r.slotOf(a), 0);
+    EXPECT_GE(r.slotOf(c), 0);
+    EXPECT_EQ(r.evictions(), 1u);
+    EXPECT_EQ(r.residentCount(), 3);
+}
+
+TEST(PatchResidency, NeverEvictsAPatchNeededInTheSameFrameAndRejectsOverflow)
+{
+    const PyramidGeometry g(1000, 1000, 33);
+    PatchResidency r(g, 2);
+    const PatchId a{2, 0, 0}, b{2, 1, 0}, c{2, 2, 0};
+    r.update({a, b}, 1);
+    EXPECT_THROW(r.update({a, b, c}, 2), Error);
+    EXPECT_EQ(r.update({a, a}, 3).size(), 0u) << "duplicates take no slot";
+    r.release(a);
+    EXPECT_EQ(r.slotOf(a), -1);
+    EXPECT_EQ(r.update({c}, 4).size(), 1u);
+    EXPECT_EQ(r.slotOf(b) >= 0, true);
+}

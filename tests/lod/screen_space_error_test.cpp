@@ -1,0 +1,150 @@
+#include "ridge/lod/edge_tessellation.h"
+#include "ridge/lod/frustum.h"
+#include "ridge/lod/screen_space_error.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+using namespace ridge::lod;
+
+namespace {
+Camera lookingNorth(Viewport v = {1920, 1080}, double fov = 60.0)
+{
+    return Camera({0.0, 0.0, 100.0}, {0.0, 1000.0, 100.0}, fov, v, 1.0, 1e5);
+}
+} // namespace
+
+TEST(ScreenSpaceError, GammaIsHalfTheLargerOfBothAxesCotangentTerms)
+{
+    const Camera c = lookingNorth({1920, 1080}, 60.0);
+    const double rh = 1920.0 / std::tan(c.fovX() / 2), rv = 1080.0 / std::tan(c.fovY() / 2);
+    EXPECT_NEAR(screenSpaceErrorFactor(c), 0.5 * std::max(rh, rv), 1e-9);
+    EXPECT_NEAR(screenSpaceErrorFactor(c), 0.5 * 1080.0 / std::tan(M_PI / 6), 1e-6);
+}
+
+TEST(ScreenSpaceError, EqualsTheProjectedLengthOfAnErrorSeenFaceOnAtTheScreenCentre)
+{
+    const Camera c = lookingNorth();
+    const double gamma = screenSpaceErrorFactor(c);
+    for (double rho : {10.0, 250.0, 4000.0}) {
+        const double err = 3.0;
+        const double projected =
+            projectedVerticalSegment(c.viewProjection(), c.viewport(), {0.0, rho, 0.0}, err);
+        EXPECT_NEAR(screen_space_error(gamma, err, rho), projected, projected * 1e-6) << rho;
+    }
+}
+
+TEST(ScreenSpaceError, IsInfiniteInsideTheBoxAndZeroForExactPatches)
+{
+    EXPECT_TRUE(std::isinf(screen_space_error(900.0, 1.0, 0.0)));
+    EXPECT_EQ(screen_space_error(900.0, 0.0, 0.0), 0.0);
+}
+
+TEST(ScreenSpaceError, DistanceToBoxIsToTheClosestPoint)
+{
+    const Box b{{0, 0, 0}, {10, 20, 5}};
+    EXPECT_EQ(distanceToBox({5, 5, 2}, b), 0.0);
+    EXPECT_DOUBLE_EQ(distanceToBox({13, 5, 2}, b), 3.0);
+    EXPECT_DOUBLE_EQ(distanceToBox({13, 24, 5}, b), 5.0);
+    EXPECT_DOUBLE_EQ(distanceToBox({5, 5, 17}, b), 12.0);
+}
+
+TEST(Frustum, ClassifiesBoxesAheadBehindAndAcrossTheSides)
+{
+    const Frustum f(lookingNorth());
+    EXPECT_EQ(f.classify({{-5, 100, 95}, {5, 110, 105}}), Visibility::Inside);
+    EXPECT_EQ(f.classify({{-5, -110, 95}, {5, -100, 105}}), Visibility::Outside);
+    EXPECT_EQ(f.classify({{-5, -10, 95}, {5, 10, 105}}), Visibility::Intersecting);
+    EXPECT_EQ(f.classify({{5000, 100, 95}, {5010, 110, 105}}), Visibility::Outside);
+    EXPECT_EQ(f.classify({{-5, 2e5, 95}, {5, 2e5 + 10, 105}}), Visibility::Outside); // past far
+}
+
+// The n/p-vertex test must be conservative: "outside" only when no point of the box is
+// visible, "inside" only when every point is. Checked against clip-space tests of points.
+TEST(Frustum, NeverCullsAVisiblePointAndInsideMeansEveryCornerInside)
+{
+    const Camera cam({300, -200, 400}, {0, 500, 0}, 50.0, {800, 600}, 1.0, 3000.0);
+    const Frustum f(cam);
+    const glm::dmat4 vp = cam.viewProjection();
+    auto visible = [&](glm::dvec3 p) {
+        const glm::dvec4 q = vp * glm::dvec4(p - cam.position(), 1.0);
+        return std::abs(q.x) <= q.w && std::abs(q.y) <= q.w && std::abs(q.z) <= q.w;
+    };
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> pos(-2000, 2000), size(1, 600);
+    int outside = 0, inside = 0;
+    for (int k = 0; k < 2000; ++k) {
+        glm::dvec3 lo(pos(rng), pos(rng) + 1000, pos(rng) * 0.25);
+        const Box box{lo, lo + glm::dvec3(size(rng), size(rng), size(rng))};
+        const Visibility v = f.classify(box);
+        bool any = false, all = true;
+        for (int s = 0; s < 343; ++s) {
+            const glm::dvec3 t((s % 7) / 6.0, (s / 7 % 7) / 6.0, (s / 49) / 6.0);
+            const bool in = visible(box.min + t * (box.max - box.min));
+            any |= in;
+            all &= in;
+        }
+        if (v == Visibility::Outside) {
+            ++outside;
+            EXPECT_FALSE(any) << k;
+        }
+        if (v == Visibility::Inside) {
+            ++inside;
+            EXPECT_TRUE(all) << k;
+        }
+    }
+    EXPECT_GT(outside, 100);
+    EXPECT_GT(inside, 10);
+}
+
+TEST(EdgeTessellation, SharedEdgeErrorsAreTheMaximumOfBothBlocksAndSymmetric)
+{
+    const EdgeErrors a{{1, 2, 8, 3}}, b{{2, 1, 4, 9}};
+    const EdgeErrors ab = sharedEdgeErrors(a, b, 4), ba = sharedEdgeErrors(b, a, 4);
+    for (int d = 0; d < 4; ++d) {
+        EXPECT_EQ(ab.lambda[d], std::max(a.lambda[d], b.lambda[d]));
+        EXPECT_EQ(ab.lambda[d], ba.lambda[d]);
+    }
+}
+
+TEST(EdgeTessellation, PicksTheLargestSimplificationWhoseProjectedErrorStaysBelowEpsilon)
+{
+    const Camera c = lookingNorth();
+    const glm::dmat4 vp = c.viewProjection();
+    const EdgeErrors e{{0.5f, 1.0f, 2.0f, 4.0f}};
+    const glm::dvec3 centre(0, 500, -100); // 500 m ahead, camera-relative
+    for (double eps : {0.1, 1.0, 2.0, 4.0, 8.0, 50.0}) {
+        const int d = edgeSimplification(vp, c.viewport(), centre, e, 4, eps);
+        // Brute force over the definition.
+        int expect = 0;
+        for (int k = 1; k <= 4; ++k)
+            if (projectedVerticalSegment(vp, c.viewport(), centre, e.lambda[k - 1]) < eps)
+                expect = k;
+        EXPECT_EQ(d, expect) << eps;
+        if (d > 0) {
+            EXPECT_LT(projectedVerticalSegment(vp, c.viewport(), centre, e.lambda[d - 1]), eps);
+        }
+    }
+    EXPECT_EQ(edgeSimplification(vp, c.viewport(), centre, e, 4, 1e6), 4);
+    EXPECT_EQ(edgeSimplification(vp, c.viewport(), centre, e, 2, 1e6), 2); // D limits d
+    EXPECT_EQ(tessellationFactor(8, 0), 8);
+    EXPECT_EQ(tessellationFactor(8, 3), 1);
+}
+
+TEST(EdgeTessellation, CoarsensWithDistanceAndNeverSimplifiesBehindTheCamera)
+{
+    const Camera c = lookingNorth();
+    const EdgeErrors e{{0.5f, 1.0f, 2.0f, 4.0f}};
+    int last = -1;
+    for (double y : {20.0, 100.0, 400.0, 1600.0, 6400.0}) {
+        const int d = edgeSimplification(c.viewProjection(), c.viewport(), {0, y, -100}, e, 4, 2.0);
+        EXPECT_GE(d, last) << y;
+        last = d;
+    }
+    EXPECT_EQ(last, 4);
+    EXPECT_TRUE(
+        std::isinf(projectedVerticalSegment(c.viewProjection(), c.viewport(), {0, -50, 0}, 1.0)));
+    EXPECT_EQ(edgeSimplification(c.viewProjection(), c.viewport(), {0, -50, 0}, e, 4, 2.0), 0);
+}
