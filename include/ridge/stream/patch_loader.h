@@ -1,0 +1,54 @@
+#pragma once
+// Synchronous patch loading for the renderers: reads and decodes patches of an archive and
+// keeps the decoded ones in an LRU cache, so that a patch whose codec predicts from its
+// parent (the progressive codec) finds its ancestors decoded already, and a patch that comes
+// back into view is not decoded twice. The asynchronous streaming pipeline builds on this.
+//
+// Not thread-safe: one loader per render thread.
+#include "ridge/archive/archive_reader.h"
+
+#include <cstdint>
+#include <list>
+#include <memory>
+#include <unordered_map>
+#include <vector>
+
+namespace ridge::stream {
+
+struct DecodedPatch {
+    PatchId id;
+    std::vector<uint16_t> codes;     // patch_size^2, row-major
+    std::vector<float> block_errors; // λ(d), metres, TessellationBlockLayout order
+};
+
+struct LoaderStats {
+    uint64_t decoded = 0; // patches decoded (ancestors included)
+    uint64_t cache_hits = 0;
+    uint64_t bytes_read = 0; // blob bytes
+};
+
+class PatchLoader {
+  public:
+    // Keeps at most `cache_patches` decoded patches (>= the pyramid depth, so that an ancestor
+    // chain always fits).
+    PatchLoader(const archive::ArchiveReader& reader, size_t cache_patches = 512);
+
+    // Decoded patch `p`, decoding its ancestors first when the codec needs them. Throws
+    // ridge::Error naming the archive and the patch when a blob is corrupt.
+    std::shared_ptr<const DecodedPatch> load(PatchId p);
+
+    const LoaderStats& stats() const { return stats_; }
+    const archive::ArchiveReader& reader() const { return reader_; }
+
+  private:
+    std::shared_ptr<const DecodedPatch> decode(PatchId p);
+
+    const archive::ArchiveReader& reader_;
+    size_t capacity_;
+    // Most recently used at the front.
+    std::list<std::shared_ptr<const DecodedPatch>> lru_;
+    std::unordered_map<int64_t, std::list<std::shared_ptr<const DecodedPatch>>::iterator> by_index_;
+    LoaderStats stats_;
+};
+
+} // namespace ridge::stream

@@ -1,0 +1,76 @@
+#version 450 core
+// Terrain shading: sun light on the GPU-computed normal map, a hypsometric colour ramp with
+// slope shading, distance fog; debug modes for LOD levels and tessellation factors.
+in vec3 v_position;
+in vec3 v_texcoord;
+in vec2 v_cell;
+flat in int v_level;
+flat in float v_factor;
+flat in int v_skirt;
+flat in ivec2 v_valid_cells;
+
+layout(binding = 1) uniform sampler2DArray u_normals;
+
+uniform int u_mode;             // 0 shaded, 1 LOD level colours, 2 tessellation-factor heat map, 3 flat colour
+uniform vec3 u_flat_colour;     // mode 3 (wireframe overlay)
+uniform vec3 u_sun_direction;   // unit, towards the sun, terrain frame
+uniform vec2 u_height_range;    // metres: colour ramp from min to max (camera-relative)
+uniform vec3 u_fog_colour;
+uniform float u_fog_density;    // per metre; 0 disables fog
+uniform int u_block_cells_f;    // b, for the heat map
+
+out vec4 frag_colour;
+
+vec3 hypsometric(float t) {
+    // Lowland green, upland ochre, brown, grey rock, snow.
+    const vec3 c0 = vec3(0.20, 0.42, 0.22), c1 = vec3(0.55, 0.58, 0.32), c2 = vec3(0.62, 0.50, 0.34),
+               c3 = vec3(0.52, 0.47, 0.44), c4 = vec3(0.95, 0.96, 0.98);
+    t = clamp(t, 0.0, 1.0) * 4.0;
+    if (t < 1.0) return mix(c0, c1, t);
+    if (t < 2.0) return mix(c1, c2, t - 1.0);
+    if (t < 3.0) return mix(c2, c3, t - 2.0);
+    return mix(c3, c4, smoothstep(0.0, 1.0, t - 3.0));
+}
+
+vec3 levelColour(int level) {
+    const vec3 palette[8] = vec3[8](vec3(0.90, 0.10, 0.10), vec3(0.95, 0.55, 0.10), vec3(0.95, 0.90, 0.15),
+                                    vec3(0.30, 0.80, 0.20), vec3(0.10, 0.70, 0.80), vec3(0.20, 0.35, 0.90),
+                                    vec3(0.60, 0.25, 0.85), vec3(0.85, 0.85, 0.85));
+    return palette[level % 8];
+}
+
+vec3 heat(float t) { // 0 blue (coarse) .. 1 red (full resolution)
+    return clamp(vec3(1.5 - abs(4.0 * t - 3.0), 1.5 - abs(4.0 * t - 2.0), 1.5 - abs(4.0 * t - 1.0)), 0.0, 1.0);
+}
+
+void main() {
+    // The padding beyond the valid extent is tessellated with its patch but never shown.
+    if (v_cell.x > float(v_valid_cells.x) || v_cell.y > float(v_valid_cells.y))
+        discard;
+    if (u_mode == 3) {
+        frag_colour = vec4(u_flat_colour, 1.0);
+        return;
+    }
+    vec3 n = v_skirt != 0 ? vec3(0.0, 0.0, 1.0) : normalize(texture(u_normals, v_texcoord).xyz);
+    float slope = 1.0 - n.z; // 0 flat .. 1 vertical
+    vec3 albedo;
+    if (u_mode == 1)
+        albedo = levelColour(v_level);
+    else if (u_mode == 2)
+        albedo = heat(log2(max(v_factor, 1.0)) / max(log2(float(u_block_cells_f)), 1.0));
+    else {
+        float t = (v_position.z - u_height_range.x) / max(u_height_range.y - u_height_range.x, 1e-3);
+        albedo = hypsometric(t);
+        albedo = mix(albedo, vec3(0.42, 0.39, 0.36), smoothstep(0.25, 0.55, slope) * (1.0 - step(0.9, t)));
+    }
+    if (v_skirt != 0)
+        albedo *= 0.55;
+    float sun = max(dot(n, u_sun_direction), 0.0);
+    float sky = 0.5 + 0.5 * n.z;
+    vec3 colour = albedo * (0.78 * sun + 0.30 * sky);
+    if (u_fog_density > 0.0) {
+        float fog = 1.0 - exp(-u_fog_density * length(v_position));
+        colour = mix(colour, u_fog_colour, fog);
+    }
+    frag_colour = vec4(pow(colour, vec3(1.0 / 1.1)), 1.0);
+}

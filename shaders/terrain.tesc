@@ -1,0 +1,78 @@
+#version 450 core
+// Tessellation control: per-edge factors of one tessellation block, or of one skirt segment
+// along the patch border (Yusov & Shevtsov 2011, §5, "Fine-Grain Level of Detail Selection").
+#include "terrain_common.glsl"
+#include "edge_tessellation.glsl"
+
+layout(vertices = 1) out;
+
+in flat int v_primitive[];
+in flat int v_instance[];
+
+patch out ivec2 tc_start;   // sample at domain (0, 0)
+patch out ivec2 tc_axis;    // skirt: unit sample step along u; block: (0, 0)
+patch out int tc_instance;
+patch out float tc_factor;  // interior factor, for the heat map
+
+void main() {
+    PatchInstance p = instances[v_instance[0]];
+    int B = u_blocks_per_side;
+    int b = u_block_cells;
+    tc_instance = v_instance[0];
+
+    if (v_primitive[0] < B * B) {
+        ivec2 sr = ivec2(v_primitive[0] % B, v_primitive[0] / B); // block column s, row r
+        ivec2 s0 = sr * b;
+        vec4 own = blockErrors(p, sr);
+        // Edges shared by two blocks of the patch take the max of both, so both pick the
+        // same factor; border edges have only this block (skirts cover the patch seam).
+        vec4 left = sr.x > 0 ? max(own, blockErrors(p, sr - ivec2(1, 0))) : own;
+        vec4 top = sr.y > 0 ? max(own, blockErrors(p, sr - ivec2(0, 1))) : own;
+        vec4 right = sr.x < B - 1 ? max(own, blockErrors(p, sr + ivec2(1, 0))) : own;
+        vec4 bottom = sr.y < B - 1 ? max(own, blockErrors(p, sr + ivec2(0, 1))) : own;
+        float f_left = edgeFactor(p, s0, s0 + ivec2(0, b), left);
+        float f_top = edgeFactor(p, s0, s0 + ivec2(b, 0), top);
+        float f_right = edgeFactor(p, s0 + ivec2(b, 0), s0 + ivec2(b, b), right);
+        float f_bottom = edgeFactor(p, s0 + ivec2(0, b), s0 + ivec2(b, b), bottom);
+        // GL quad domain: outer[0] u=0, [1] v=0, [2] u=1, [3] v=1; u runs along i, v along j.
+        gl_TessLevelOuter[0] = f_left;
+        gl_TessLevelOuter[1] = f_top;
+        gl_TessLevelOuter[2] = f_right;
+        gl_TessLevelOuter[3] = f_bottom;
+        // The paper: the interior takes the minimum of its edge factors.
+        float inner = min(min(f_left, f_top), min(f_right, f_bottom));
+        gl_TessLevelInner[0] = inner;
+        gl_TessLevelInner[1] = inner;
+        tc_start = s0;
+        tc_axis = ivec2(0);
+        tc_factor = inner;
+        return;
+    }
+
+    // Skirt segment: side 0 top (j = 0), 1 right (i = C), 2 bottom (j = C), 3 left (i = 0);
+    // u runs along +i or +j so that neighbouring segments meet at the same corner samples.
+    int k = v_primitive[0] - B * B;
+    int side = k / B;
+    int t = k % B;
+    int C = u_patch_cells;
+    ivec2 axis = (side == 0 || side == 2) ? ivec2(1, 0) : ivec2(0, 1);
+    ivec2 start = side == 0 ? ivec2(t * b, 0)
+                : side == 1 ? ivec2(C, t * b)
+                : side == 2 ? ivec2(t * b, C)
+                            : ivec2(0, t * b);
+    ivec2 block = side == 0 ? ivec2(t, 0)
+                : side == 1 ? ivec2(B - 1, t)
+                : side == 2 ? ivec2(t, B - 1)
+                            : ivec2(0, t);
+    // Exactly the block's own border-edge factor: the skirt's top follows its vertices.
+    float f = edgeFactor(p, start, start + axis * b, blockErrors(p, block));
+    gl_TessLevelOuter[0] = 1.0;
+    gl_TessLevelOuter[1] = f;
+    gl_TessLevelOuter[2] = 1.0;
+    gl_TessLevelOuter[3] = f;
+    gl_TessLevelInner[0] = f;
+    gl_TessLevelInner[1] = 1.0;
+    tc_start = start;
+    tc_axis = axis;
+    tc_factor = f;
+}

@@ -1,0 +1,55 @@
+#version 450 core
+// Tessellation evaluation: snaps each generated vertex to its height-map sample and displaces
+// it. Factors are b / 2^d, so every vertex falls on a sample; rounding the domain coordinate
+// to an integer sample makes vertices shared by two blocks (or a block and a skirt)
+// bit-identical, whatever the tessellator's float coordinates are.
+#include "terrain_common.glsl"
+
+layout(quads, equal_spacing, ccw) in;
+
+patch in ivec2 tc_start;
+patch in ivec2 tc_axis;
+patch in int tc_instance;
+patch in float tc_factor;
+
+out vec3 v_position;      // camera-relative
+out vec3 v_texcoord;      // normal-map uv and layer
+out vec2 v_cell;          // patch cell coordinates, for clipping to the valid extent
+flat out int v_level;
+flat out float v_factor;
+flat out int v_skirt;
+flat out ivec2 v_valid_cells;
+// Transform-feedback capture (tests): position, patch instance, 1 for skirts.
+out vec3 tf_position;
+flat out int tf_instance;
+flat out int tf_skirt;
+
+void main() {
+    PatchInstance p = instances[tc_instance];
+    int b = u_block_cells;
+    ivec2 sample_ij;
+    vec3 position;
+    bool skirt = tc_axis != ivec2(0);
+    if (!skirt) {
+        sample_ij = tc_start + ivec2(round(gl_TessCoord.xy * float(b)));
+        position = samplePosition(p, sample_ij);
+    } else {
+        sample_ij = tc_start + tc_axis * int(round(gl_TessCoord.x * float(b)));
+        position = samplePosition(p, sample_ij);
+        // v = 0 on the patch border, 1 at the skirt's foot.
+        if (gl_TessCoord.y > 0.0)
+            position.z = mix(position.z, p.skirt_bottom, gl_TessCoord.y);
+    }
+    float n = float(u_patch_cells + 1);
+    v_position = position;
+    v_texcoord = vec3((vec2(sample_ij) + 0.5) / n, float(p.layer));
+    v_cell = vec2(sample_ij);
+    v_level = p.level;
+    v_factor = tc_factor;
+    v_skirt = skirt ? 1 : 0;
+    v_valid_cells = p.valid_cells;
+    tf_position = position;
+    tf_instance = tc_instance;
+    tf_skirt = v_skirt;
+    gl_Position = u_view_projection * vec4(position, 1.0);
+}

@@ -1,0 +1,11 @@
+#version 450 core
+// One vertex per tessellation block or skirt segment; everything else comes from the
+// instance buffer, indexed by the instance (one instance per selected patch).
+out flat int v_primitive;
+out flat int v_instance;
+
+void main() {
+    v_primitive = gl_VertexID;
+    v_instance = gl_InstanceID;
+    gl_Position = vec4(0.0);
+}

@@ -1,0 +1,60 @@
+#include "ridge/render/headless_render.h"
+
+#include "ridge/core/error.h"
+#include "ridge/gpu/context.h"
+#include "ridge/gpu/render_target.h"
+#include "ridge/io/raster_writer.h"
+
+#include <glm/geometric.hpp>
+
+namespace ridge::render {
+
+lod::Camera cameraFor(const TerrainRenderer& renderer, const HeadlessRenderOptions& options)
+{
+    if (!options.camera) {
+        if (options.look_at)
+            throw Error("render: --look-at needs --camera");
+        return renderer.defaultCamera(options.viewport, options.fov_y_degrees);
+    }
+    glm::dvec3 target;
+    if (options.look_at) {
+        target = *options.look_at;
+    } else {
+        const lod::TerrainFrame& f = renderer.quadtree().frame();
+        const double x = 0.5 * f.extentX(), y = 0.5 * f.extentY();
+        target = glm::dvec3(x, y, renderer.groundHeight(x, y));
+    }
+    if (glm::length(target - *options.camera) <= 0.0)
+        throw Error("render: the camera and the look-at point coincide");
+    double near_m = 1.0, far_m = 1e6;
+    renderer.clipPlanesFor(*options.camera, near_m, far_m);
+    return lod::Camera(*options.camera, target, options.fov_y_degrees, options.viewport, near_m,
+                       far_m);
+}
+
+HeadlessRenderResult renderToPng(const std::string& archive_path,
+                                 const HeadlessRenderOptions& options, const std::string& png_path)
+{
+    if (options.viewport.width <= 0 || options.viewport.height <= 0 ||
+        options.viewport.width > 16384 || options.viewport.height > 16384)
+        throw Error(png_path + ": image size must be between 1x1 and 16384x16384");
+    const archive::ArchiveReader reader(archive_path);
+    auto context = gpu::HeadlessContext::create();
+    RendererOptions ro;
+    ro.synchronous_stats = true;
+    TerrainRenderer renderer(reader, ro);
+    HeadlessRenderResult result{cameraFor(renderer, options), {}, context->rendererName()};
+    const gpu::RenderTarget target(options.viewport.width, options.viewport.height,
+                                   options.samples);
+    target.bind();
+    result.stats = renderer.draw(result.camera, options.settings);
+    const std::vector<uint8_t> rgba = target.readRgba();
+    std::vector<uint8_t> rgb(size_t(options.viewport.width) * options.viewport.height * 3);
+    for (size_t i = 0, n = rgb.size() / 3; i < n; ++i)
+        for (int c = 0; c < 3; ++c)
+            rgb[i * 3 + c] = rgba[i * 4 + c];
+    io::writePng(png_path, rgb.data(), options.viewport.width, options.viewport.height, 3);
+    return result;
+}
+
+} // namespace ridge::render

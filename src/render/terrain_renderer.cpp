@@ -1,0 +1,506 @@
+#include "ridge/render/terrain_renderer.h"
+
+#include "ridge/core/error.h"
+#include "ridge/gpu/gl_objects.h"
+#include "ridge/gpu/gpu_timer.h"
+#include "ridge/gpu/render_target.h"
+#include "ridge/gpu/shader_program.h"
+#include "ridge/lod/edge_tessellation.h"
+#include "ridge/lod/screen_space_error.h"
+#include "ridge/stream/patch_loader.h"
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/matrix_inverse.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+namespace ridge::render {
+namespace {
+
+// std430 mirror of PatchInstance in shaders/terrain_common.glsl.
+struct GpuPatchInstance {
+    float origin[2];
+    float cell[2];
+    int32_t layer;
+    int32_t level;
+    float err;
+    float skirt_bottom;
+    int32_t valid_cells[2];
+    int32_t pad[2];
+};
+static_assert(sizeof(GpuPatchInstance) == 48, "must match the std430 layout of PatchInstance");
+static_assert(sizeof(CapturedVertex) == 20, "must match the interleaved feedback varyings");
+
+double millisecondsSince(std::chrono::steady_clock::time_point t0)
+{
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// Reverse-Z infinite perspective (depth 1 at the near plane, 0 at infinity) for
+// glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE). Its x, y and w rows equal those of
+// Camera::projection(), so screen-space measurements in the shaders match the C++ ones.
+glm::dmat4 reverseZProjection(const lod::Camera& camera)
+{
+    const double f = 1.0 / std::tan(camera.fovY() * 0.5);
+    const double aspect = double(camera.viewport().width) / camera.viewport().height;
+    glm::dmat4 p(0.0);
+    p[0][0] = f / aspect;
+    p[1][1] = f;
+    p[2][3] = -1.0;
+    p[3][2] = camera.nearPlane();
+    return p;
+}
+
+void setMatrix(const gpu::ShaderProgram& program, const char* name, const glm::dmat4& m)
+{
+    const glm::mat4 f(m);
+    glProgramUniformMatrix4fv(program.id(), program.uniform(name), 1, GL_FALSE, glm::value_ptr(f));
+}
+
+} // namespace
+
+struct TerrainRenderer::Impl {
+    const archive::ArchiveReader& reader;
+    RendererOptions options;
+    lod::PatchQuadtree quadtree;
+    lod::PatchResidency residency;
+    stream::PatchLoader loader;
+    TessellationBlockLayout layout;
+    HeightQuantization quantization;
+    int n = 0;                                                    // samples per patch side
+    int blocks_per_side = 0;                                      // B
+    int block_levels = 0;                                         // D
+    float min_height = 0.f, max_height = 0.f, skirt_bottom = 0.f; // terrain frame, metres
+    std::vector<uint16_t> root_codes;
+    uint64_t frame = 0;
+
+    gpu::GlTexture heights{GL_TEXTURE_2D_ARRAY};
+    gpu::GlTexture normals{GL_TEXTURE_2D_ARRAY};
+    gpu::GlTexture block_errors{GL_TEXTURE_2D_ARRAY};
+    gpu::GlBuffer instances;
+    size_t instance_capacity = 0;
+    gpu::GlBuffer feedback;
+    size_t feedback_capacity = 0; // bytes
+    gpu::GlVertexArray empty_vao;
+    gpu::ShaderProgram terrain_program, capture_program, normal_program, sky_program;
+    gpu::GpuTimer timer;
+    gpu::GlQuery primitives{GL_PRIMITIVES_GENERATED};
+    gpu::GlQuery written{GL_TRANSFORM_FEEDBACK_PRIMITIVES_WRITTEN};
+    // Drawing needs a complete framebuffer even with the rasterizer discarded; a surfaceless
+    // context has none, so capture binds this one.
+    std::unique_ptr<gpu::RenderTarget> capture_target;
+
+    Impl(const archive::ArchiveReader& r, const RendererOptions& o);
+    void makeResident(const lod::Selection& selection, FrameStats& stats);
+    void uploadPatch(const stream::DecodedPatch& patch, int slot);
+    size_t writeInstances(const lod::Camera& camera, const lod::Selection& selection,
+                          std::vector<PatchId>* ids, std::vector<float>* bottoms);
+    void setFrameUniforms(const gpu::ShaderProgram& program, const lod::Camera& camera,
+                          const RenderSettings& settings) const;
+    int primitivesPerInstance(const RenderSettings& settings) const
+    {
+        return blocks_per_side * blocks_per_side + (settings.skirts ? 4 * blocks_per_side : 0);
+    }
+    lod::Selection prepare(const lod::Camera& camera, const RenderSettings& settings,
+                           FrameStats& stats);
+};
+
+TerrainRenderer::Impl::Impl(const archive::ArchiveReader& r, const RendererOptions& o)
+    : reader(r), options(o), quadtree(lod::PatchQuadtree::fromArchive(r)),
+      residency(r.geometry(), o.max_resident_patches), loader(r, o.decoded_cache_patches),
+      layout(r.blockLayout()), quantization(r.quantization())
+{
+    n = reader.geometry().patchSize();
+    blocks_per_side = layout.blocksPerSide();
+    block_levels = std::min(layout.levels(), lod::kMaxBlockLevels);
+    const lod::PatchBounds& root = quadtree.bounds(PatchId{0, 0, 0});
+    min_height = root.min_height;
+    max_height = root.max_height;
+    // Skirts reach below every surface a neighbour can show: the terrain's lowest sample
+    // less the largest patch error (the root's Err bounds every level's deviation).
+    skirt_bottom = root.min_height - root.err - 1.f;
+    root_codes = loader.load(PatchId{0, 0, 0})->codes;
+
+    const int slots = o.max_resident_patches;
+    glTextureStorage3D(heights.id(), 1, GL_R16UI, n, n, slots);
+    glTextureParameteri(heights.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(heights.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTextureStorage3D(normals.id(), 1, GL_RGBA8_SNORM, n, n, slots);
+    glTextureParameteri(normals.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTextureParameteri(normals.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTextureParameteri(normals.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(normals.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glTextureStorage3D(block_errors.id(), 1, GL_RGBA32F, blocks_per_side, blocks_per_side, slots);
+    glTextureParameteri(block_errors.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(block_errors.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    gpu::checkGlError("terrain renderer: texture arrays");
+
+    using gpu::ShaderStage;
+    terrain_program = gpu::ShaderProgram({{GL_VERTEX_SHADER, "terrain.vert"},
+                                          {GL_TESS_CONTROL_SHADER, "terrain.tesc"},
+                                          {GL_TESS_EVALUATION_SHADER, "terrain.tese"},
+                                          {GL_FRAGMENT_SHADER, "terrain.frag"}});
+    capture_program = gpu::ShaderProgram({{GL_VERTEX_SHADER, "terrain.vert"},
+                                          {GL_TESS_CONTROL_SHADER, "terrain.tesc"},
+                                          {GL_TESS_EVALUATION_SHADER, "terrain.tese"}},
+                                         {"tf_position", "tf_instance", "tf_skirt"});
+    normal_program = gpu::ShaderProgram({{GL_COMPUTE_SHADER, "patch_normals.comp"}});
+    sky_program =
+        gpu::ShaderProgram({{GL_VERTEX_SHADER, "sky.vert"}, {GL_FRAGMENT_SHADER, "sky.frag"}});
+}
+
+void TerrainRenderer::Impl::uploadPatch(const stream::DecodedPatch& patch, int slot)
+{
+    // Rows of 2^n + 1 16-bit codes are not 4-byte aligned.
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 2);
+    glTextureSubImage3D(heights.id(), 0, 0, 0, slot, n, n, 1, GL_RED_INTEGER, GL_UNSIGNED_SHORT,
+                        patch.codes.data());
+    // λ(d) as one RGBA texel per block; missing levels (D < 4) stay 0 and are never read.
+    const int B = blocks_per_side, D = layout.levels();
+    std::vector<float> texels(size_t(B) * B * 4, 0.f);
+    for (int b = 0; b < B * B; ++b)
+        for (int d = 0; d < block_levels; ++d)
+            texels[size_t(b) * 4 + d] = patch.block_errors[size_t(b) * D + d];
+    glTextureSubImage3D(block_errors.id(), 0, 0, 0, slot, B, B, 1, GL_RGBA, GL_FLOAT,
+                        texels.data());
+
+    // Normal map on the GPU, from the heights just uploaded.
+    const double step = double(reader.geometry().step(patch.id.level));
+    normal_program.use();
+    glBindTextureUnit(0, heights.id());
+    glBindImageTexture(0, normals.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8_SNORM);
+    glUniform1i(normal_program.uniform("u_layer"), slot);
+    glUniform1i(normal_program.uniform("u_size"), n);
+    glUniform2f(normal_program.uniform("u_cell_metres"), float(step * reader.header().spacing_x),
+                float(step * reader.header().spacing_y));
+    glUniform1f(normal_program.uniform("u_height_scale"), float(quantization.scale));
+    glDispatchCompute((n + 7) / 8, (n + 7) / 8, 1);
+}
+
+void TerrainRenderer::Impl::makeResident(const lod::Selection& selection, FrameStats& stats)
+{
+    std::vector<PatchId> ids;
+    ids.reserve(selection.patches.size());
+    for (const lod::SelectedPatch& s : selection.patches)
+        ids.push_back(s.id);
+    const auto loads = residency.update(ids, ++frame);
+    for (const lod::PatchResidency::Load& l : loads) {
+        try {
+            uploadPatch(*loader.load(l.id), l.slot);
+        } catch (...) {
+            residency.release(l.id);
+            throw;
+        }
+    }
+    if (!loads.empty())
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    stats.loaded = int(loads.size());
+    stats.resident = residency.residentCount();
+}
+
+size_t TerrainRenderer::Impl::writeInstances(const lod::Camera& camera,
+                                             const lod::Selection& selection,
+                                             std::vector<PatchId>* ids, std::vector<float>* bottoms)
+{
+    const PyramidGeometry& g = reader.geometry();
+    const lod::TerrainFrame& frame_ = quadtree.frame();
+    const glm::dvec3 c = camera.position();
+    // Front to back by box distance: early depth rejection does the rest.
+    std::vector<std::pair<double, PatchId>> order;
+    order.reserve(selection.patches.size());
+    for (const lod::SelectedPatch& s : selection.patches)
+        order.push_back({lod::distanceToBox(c, quadtree.box(s.id)), s.id});
+    std::sort(order.begin(), order.end(),
+              [](const auto& a, const auto& b) { return a.first < b.first; });
+
+    std::vector<GpuPatchInstance> data;
+    data.reserve(order.size());
+    for (const auto& [dist, p] : order) {
+        const int64_t step = g.step(p.level);
+        const int64_t c0 = int64_t(p.x) * g.cells() * step, r0 = int64_t(p.y) * g.cells() * step;
+        GpuPatchInstance inst{};
+        inst.origin[0] = float(frame_.xOf(double(c0)) - c.x);
+        inst.origin[1] = float(frame_.yOf(double(r0)) - c.y);
+        inst.cell[0] = float(step * frame_.spacingX());
+        inst.cell[1] = float(-step * frame_.spacingY());
+        inst.layer = residency.slotOf(p);
+        inst.level = p.level;
+        inst.err = quadtree.bounds(p).err;
+        inst.skirt_bottom = float(double(skirt_bottom) - c.z);
+        inst.valid_cells[0] =
+            std::clamp(g.validLevelWidth(p.level) - 1 - p.x * g.cells(), 0, g.cells());
+        inst.valid_cells[1] =
+            std::clamp(g.validLevelHeight(p.level) - 1 - p.y * g.cells(), 0, g.cells());
+        data.push_back(inst);
+        if (ids)
+            ids->push_back(p);
+        if (bottoms)
+            bottoms->push_back(inst.skirt_bottom);
+    }
+    const size_t bytes = std::max<size_t>(data.size(), 1) * sizeof(GpuPatchInstance);
+    if (bytes > instance_capacity) {
+        instances = gpu::GlBuffer();
+        instance_capacity = std::max(bytes, size_t(256) * sizeof(GpuPatchInstance));
+        glNamedBufferStorage(instances.id(), instance_capacity, nullptr, GL_DYNAMIC_STORAGE_BIT);
+    }
+    if (!data.empty())
+        glNamedBufferSubData(instances.id(), 0, data.size() * sizeof(GpuPatchInstance),
+                             data.data());
+    return data.size();
+}
+
+void TerrainRenderer::Impl::setFrameUniforms(const gpu::ShaderProgram& program,
+                                             const lod::Camera& camera,
+                                             const RenderSettings& settings) const
+{
+    const GLuint id = program.id();
+    setMatrix(program, "u_view_projection", reverseZProjection(camera) * camera.view());
+    glProgramUniform2f(id, program.uniform("u_viewport"), float(camera.viewport().width),
+                       float(camera.viewport().height));
+    glProgramUniform1f(id, program.uniform("u_epsilon"), float(settings.epsilon_px));
+    glProgramUniform1f(id, program.uniform("u_height_scale"), float(quantization.scale));
+    glProgramUniform1f(id, program.uniform("u_height_offset"),
+                       float(quantization.offset - camera.position().z));
+    glProgramUniform1i(id, program.uniform("u_patch_cells"), n - 1);
+    glProgramUniform1i(id, program.uniform("u_block_cells"), layout.block_cells);
+    glProgramUniform1i(id, program.uniform("u_blocks_per_side"), blocks_per_side);
+    glProgramUniform1i(id, program.uniform("u_block_levels"), block_levels);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, instances.id());
+    glBindTextureUnit(0, heights.id());
+    glBindTextureUnit(1, normals.id());
+    glBindTextureUnit(2, block_errors.id());
+}
+
+lod::Selection TerrainRenderer::Impl::prepare(const lod::Camera& camera,
+                                              const RenderSettings& settings, FrameStats& stats)
+{
+    auto t0 = std::chrono::steady_clock::now();
+    lod::SelectionSettings ss;
+    ss.epsilon_px = settings.epsilon_px;
+    ss.cull = settings.cull;
+    ss.max_patches = size_t(options.max_resident_patches);
+    lod::Selection selection = quadtree.select(camera, ss);
+    stats.cpu_select_ms = millisecondsSince(t0);
+    stats.patches = int(selection.patches.size());
+    stats.culled = selection.culled;
+    stats.epsilon_px = selection.epsilon_px;
+    t0 = std::chrono::steady_clock::now();
+    makeResident(selection, stats);
+    stats.cpu_load_ms = millisecondsSince(t0);
+    return selection;
+}
+
+TerrainRenderer::TerrainRenderer(const archive::ArchiveReader& reader,
+                                 const RendererOptions& options)
+    : impl_(std::make_unique<Impl>(reader, options))
+{
+}
+
+TerrainRenderer::~TerrainRenderer() = default;
+
+const lod::PatchQuadtree& TerrainRenderer::quadtree() const
+{
+    return impl_->quadtree;
+}
+
+FrameStats TerrainRenderer::draw(const lod::Camera& camera, const RenderSettings& settings)
+{
+    Impl& m = *impl_;
+    FrameStats stats;
+    const lod::Selection selection = m.prepare(camera, settings, stats);
+    // The selection used a possibly raised ε; the tessellator must use the same.
+    RenderSettings s = settings;
+    s.epsilon_px = selection.epsilon_px;
+    const size_t count = m.writeInstances(camera, selection, nullptr, nullptr);
+
+    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+    glClearColor(s.clear_colour.r, s.clear_colour.g, s.clear_colour.b, s.clear_colour.a);
+    glClearDepth(0.0);
+    glDepthMask(GL_TRUE);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glDisable(GL_CULL_FACE);
+
+    const glm::vec3 horizon(0.78f, 0.84f, 0.90f), zenith(0.30f, 0.48f, 0.75f);
+    const glm::dmat4 view_projection = reverseZProjection(camera) * camera.view();
+    if (s.sky) {
+        glDisable(GL_DEPTH_TEST);
+        m.sky_program.use();
+        setMatrix(m.sky_program, "u_inverse_view_projection", glm::inverse(view_projection));
+        glUniform3f(m.sky_program.uniform("u_horizon_colour"), horizon.r, horizon.g, horizon.b);
+        glUniform3f(m.sky_program.uniform("u_zenith_colour"), zenith.r, zenith.g, zenith.b);
+        glBindVertexArray(m.empty_vao.id());
+        glDrawArrays(GL_TRIANGLES, 0, 3);
+    }
+
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_GREATER);
+    const gpu::ShaderProgram& p = m.terrain_program;
+    p.use();
+    m.setFrameUniforms(p, camera, s);
+    const glm::dvec3 sun = glm::normalize(s.sun_direction);
+    glUniform3f(p.uniform("u_sun_direction"), float(sun.x), float(sun.y), float(sun.z));
+    glUniform2f(p.uniform("u_height_range"), float(m.min_height - camera.position().z),
+                float(m.max_height - camera.position().z));
+    glUniform3f(p.uniform("u_fog_colour"), horizon.r, horizon.g, horizon.b);
+    // Fog thickens over the terrain's own size: a tenth of the light lost across it.
+    const double extent = std::max(m.quadtree.frame().extentX(), m.quadtree.frame().extentY());
+    glUniform1f(p.uniform("u_fog_density"), s.fog ? float(0.105 / std::max(extent, 1.0)) : 0.f);
+    glUniform1i(p.uniform("u_block_cells_f"), m.layout.block_cells);
+    glUniform1i(p.uniform("u_mode"), int(s.mode));
+    glBindVertexArray(m.empty_vao.id());
+    glPatchParameteri(GL_PATCH_VERTICES, 1);
+
+    const bool count_triangles = m.options.synchronous_stats;
+    m.timer.begin();
+    if (count_triangles)
+        glBeginQuery(GL_PRIMITIVES_GENERATED, m.primitives.id());
+    if (count)
+        glDrawArraysInstanced(GL_PATCHES, 0, m.primitivesPerInstance(s), GLsizei(count));
+    if (count_triangles)
+        glEndQuery(GL_PRIMITIVES_GENERATED);
+    if (s.wireframe && count) {
+        glUniform1i(p.uniform("u_mode"), 3);
+        glUniform3f(p.uniform("u_flat_colour"), 0.05f, 0.05f, 0.08f);
+        glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
+        glEnable(GL_POLYGON_OFFSET_LINE);
+        glPolygonOffset(1.f, 1.f); // reverse-Z: larger depth is nearer
+        glDepthFunc(GL_GEQUAL);
+        glDrawArraysInstanced(GL_PATCHES, 0, m.primitivesPerInstance(s), GLsizei(count));
+        glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+        glDisable(GL_POLYGON_OFFSET_LINE);
+    }
+    m.timer.end();
+    if (count_triangles) {
+        GLuint64 generated = 0;
+        glGetQueryObjectui64v(m.primitives.id(), GL_QUERY_RESULT, &generated);
+        stats.triangles = generated;
+    }
+    stats.gpu_ms = count_triangles ? m.timer.waitMs() : m.timer.lastMs();
+
+    // Leave the default GL conventions to whatever draws next (an overlay, a test).
+    glDepthFunc(GL_LESS);
+    glClearDepth(1.0);
+    glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
+    gpu::checkGlError("terrain renderer: draw");
+    return stats;
+}
+
+CapturedSurface TerrainRenderer::capture(const lod::Camera& camera, const RenderSettings& settings)
+{
+    Impl& m = *impl_;
+    FrameStats stats;
+    const lod::Selection selection = m.prepare(camera, settings, stats);
+    RenderSettings s = settings;
+    s.epsilon_px = selection.epsilon_px;
+    CapturedSurface out;
+    out.camera_position = camera.position();
+    const size_t count = m.writeInstances(camera, selection, &out.patches, &out.skirt_bottom);
+    if (count == 0)
+        return out;
+
+    const gpu::ShaderProgram& p = m.capture_program;
+    p.use();
+    m.setFrameUniforms(p, camera, s);
+    glBindVertexArray(m.empty_vao.id());
+    glPatchParameteri(GL_PATCH_VERTICES, 1);
+    GLint previous_framebuffer = 0;
+    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &previous_framebuffer);
+    if (!m.capture_target)
+        m.capture_target = std::make_unique<gpu::RenderTarget>(1, 1, 1);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m.capture_target->framebuffer());
+    glEnable(GL_RASTERIZER_DISCARD);
+    // A block yields at most 2·b² triangles plus its transition ring, a skirt segment 4·b.
+    const size_t b = size_t(m.layout.block_cells);
+    const size_t per_instance =
+        size_t(m.blocks_per_side) * m.blocks_per_side * (2 * b * b + 8 * b) +
+        (s.skirts ? size_t(4) * m.blocks_per_side * (4 * b + 4) : 0);
+    const size_t bytes = count * per_instance * 3 * sizeof(CapturedVertex);
+    if (bytes > m.feedback_capacity) {
+        m.feedback = gpu::GlBuffer();
+        glNamedBufferStorage(m.feedback.id(), bytes, nullptr, 0);
+        m.feedback_capacity = bytes;
+    }
+    glBindBufferBase(GL_TRANSFORM_FEEDBACK_BUFFER, 0, m.feedback.id());
+    glBeginQuery(GL_TRANSFORM_FEEDBACK_PRIMITIVES_WRITTEN, m.written.id());
+    glBeginQuery(GL_PRIMITIVES_GENERATED, m.primitives.id());
+    glBeginTransformFeedback(GL_TRIANGLES);
+    glDrawArraysInstanced(GL_PATCHES, 0, m.primitivesPerInstance(s), GLsizei(count));
+    glEndTransformFeedback();
+    glEndQuery(GL_PRIMITIVES_GENERATED);
+    glEndQuery(GL_TRANSFORM_FEEDBACK_PRIMITIVES_WRITTEN);
+    glDisable(GL_RASTERIZER_DISCARD);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(previous_framebuffer));
+    GLuint64 generated = 0, stored = 0;
+    glGetQueryObjectui64v(m.primitives.id(), GL_QUERY_RESULT, &generated);
+    glGetQueryObjectui64v(m.written.id(), GL_QUERY_RESULT, &stored);
+    if (generated != stored)
+        throw Error("terrain renderer: transform feedback kept " + std::to_string(stored) + " of " +
+                    std::to_string(generated) + " triangles");
+    out.vertices.resize(size_t(stored) * 3);
+    glGetNamedBufferSubData(m.feedback.id(), 0, out.vertices.size() * sizeof(CapturedVertex),
+                            out.vertices.data());
+    gpu::checkGlError("terrain renderer: capture");
+    return out;
+}
+
+double TerrainRenderer::groundHeight(double x, double y) const
+{
+    const Impl& m = *impl_;
+    const lod::TerrainFrame& f = m.quadtree.frame();
+    const double step = double(f.geometry().step(0));
+    const double i = std::clamp(f.columnOf(x) / step, 0.0, double(m.n - 1));
+    const double j = std::clamp(f.rowOf(y) / step, 0.0, double(m.n - 1));
+    const int i0 = std::min(int(i), m.n - 2), j0 = std::min(int(j), m.n - 2);
+    const double fx = i - i0, fy = j - j0;
+    auto code = [&](int a, int b) { return double(m.root_codes[size_t(b) * m.n + a]); };
+    const double c = (code(i0, j0) * (1 - fx) + code(i0 + 1, j0) * fx) * (1 - fy) +
+                     (code(i0, j0 + 1) * (1 - fx) + code(i0 + 1, j0 + 1) * fx) * fy;
+    return m.quantization.offset + m.quantization.scale * c;
+}
+
+void TerrainRenderer::clipPlanesFor(glm::dvec3 position, double& near_m, double& far_m) const
+{
+    const Impl& m = *impl_;
+    const lod::Box root = m.quadtree.box(PatchId{0, 0, 0});
+    const double above = position.z - groundHeight(position.x, position.y);
+    const double to_box = lod::distanceToBox(position, root);
+    // Reverse-Z float depth keeps precision for a small near plane; it only has to stay in
+    // front of the closest surface.
+    near_m = std::clamp(0.25 * std::max(above, to_box), 0.05, 1e5);
+    double farthest = 0.0;
+    for (int k = 0; k < 8; ++k) {
+        const glm::dvec3 corner((k & 1) ? root.max.x : root.min.x,
+                                (k & 2) ? root.max.y : root.min.y,
+                                (k & 4) ? root.max.z : root.min.z);
+        farthest = std::max(farthest, glm::length(corner - position));
+    }
+    far_m = std::max(farthest * 1.5, near_m * 2.0);
+}
+
+lod::Camera TerrainRenderer::defaultCamera(lod::Viewport viewport, double fov_y_degrees) const
+{
+    const Impl& m = *impl_;
+    const lod::TerrainFrame& f = m.quadtree.frame();
+    const glm::dvec3 centre(0.5 * f.extentX(), 0.5 * f.extentY(),
+                            0.5 * (m.min_height + m.max_height));
+    const double radius =
+        0.5 * std::sqrt(f.extentX() * f.extentX() + f.extentY() * f.extentY() +
+                        double(m.max_height - m.min_height) * (m.max_height - m.min_height));
+    const double fov_y = fov_y_degrees * M_PI / 180.0;
+    const double aspect = double(viewport.width) / viewport.height;
+    const double fov_min = std::min(fov_y, 2.0 * std::atan(std::tan(fov_y * 0.5) * aspect));
+    const double distance = radius / std::sin(fov_min * 0.5) * 0.9;
+    // From the south-south-west, 35° above the horizon.
+    const double azimuth = 200.0 * M_PI / 180.0, elevation = 35.0 * M_PI / 180.0;
+    const glm::dvec3 dir(std::sin(azimuth) * std::cos(elevation),
+                         std::cos(azimuth) * std::cos(elevation), std::sin(elevation));
+    const glm::dvec3 position = centre + dir * distance;
+    double near_m = 1.0, far_m = 1e6;
+    clipPlanesFor(position, near_m, far_m);
+    return lod::Camera(position, centre, fov_y_degrees, viewport, near_m, far_m);
+}
+
+} // namespace ridge::render

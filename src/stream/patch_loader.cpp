@@ -1,0 +1,48 @@
+#include "ridge/stream/patch_loader.h"
+
+#include <algorithm>
+
+namespace ridge::stream {
+
+PatchLoader::PatchLoader(const archive::ArchiveReader& reader, size_t cache_patches)
+    : reader_(reader),
+      capacity_(std::max<size_t>(cache_patches, size_t(reader.geometry().levelCount()) + 1))
+{
+}
+
+std::shared_ptr<const DecodedPatch> PatchLoader::load(PatchId p)
+{
+    const int64_t key = reader_.geometry().patchIndex(p);
+    if (auto it = by_index_.find(key); it != by_index_.end()) {
+        ++stats_.cache_hits;
+        lru_.splice(lru_.begin(), lru_, it->second);
+        return *it->second;
+    }
+    std::shared_ptr<const DecodedPatch> patch = decode(p);
+    lru_.push_front(patch);
+    by_index_[key] = lru_.begin();
+    while (lru_.size() > capacity_) {
+        by_index_.erase(reader_.geometry().patchIndex(lru_.back()->id));
+        lru_.pop_back();
+    }
+    return patch;
+}
+
+std::shared_ptr<const DecodedPatch> PatchLoader::decode(PatchId p)
+{
+    // The parent stays referenced until the child is decoded, even if the cache drops it.
+    std::shared_ptr<const DecodedPatch> parent;
+    if (p.level > 0 && reader_.codec().needsParent(p.level))
+        parent = load(PatchId{p.level - 1, p.x / 2, p.y / 2});
+    auto out = std::make_shared<DecodedPatch>();
+    out->id = p;
+    const int n = reader_.geometry().patchSize();
+    out->codes.resize(size_t(n) * n);
+    reader_.decodePatch(p, out->codes.data(), parent ? parent->codes.data() : nullptr,
+                        &out->block_errors);
+    ++stats_.decoded;
+    stats_.bytes_read += reader_.record(p).size;
+    return out;
+}
+
+} // namespace ridge::stream

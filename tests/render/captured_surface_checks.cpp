@@ -1,0 +1,230 @@
+#include "captured_surface_checks.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <set>
+
+namespace ridge::test {
+namespace {
+
+using VertexKey = std::array<uint32_t, 3>;
+
+VertexKey keyOf(const render::CapturedVertex& v)
+{
+    VertexKey k;
+    std::memcpy(&k[0], &v.x, 4);
+    std::memcpy(&k[1], &v.y, 4);
+    std::memcpy(&k[2], &v.z, 4);
+    return k;
+}
+
+struct Footprint {
+    int64_t c0, c1, r0, r1; // finest samples
+};
+
+Footprint footprintOf(PatchId p, const PyramidGeometry& g)
+{
+    const int64_t span = int64_t(g.cells()) * g.step(p.level);
+    return {p.x * span, (p.x + 1) * span, p.y * span, (p.y + 1) * span};
+}
+
+// Border vertices of one patch along one seam line, as (position along the seam, height).
+using SeamProfile = std::vector<std::pair<double, double>>;
+
+double heightAt(const SeamProfile& profile, double t)
+{
+    auto it = std::lower_bound(profile.begin(), profile.end(), std::make_pair(t, -1e300));
+    if (it == profile.end())
+        return profile.back().second;
+    if (it == profile.begin() || it->first == t)
+        return it->second;
+    auto lo = std::prev(it);
+    const double f = (t - lo->first) / (it->first - lo->first);
+    return lo->second + f * (it->second - lo->second);
+}
+
+} // namespace
+
+WatertightReport checkWatertight(const render::CapturedSurface& s, const lod::TerrainFrame& frame)
+{
+    WatertightReport report;
+    const size_t instances = s.patches.size();
+    std::vector<std::map<std::pair<VertexKey, VertexKey>, int>> edges(instances);
+    std::vector<std::set<VertexKey>> surface_vertices(instances);
+    // Skirt vertices on the patch border (the skirt's top, shared with the surface).
+    std::vector<std::vector<glm::dvec3>> border(instances);
+    const size_t triangles = s.vertices.size() / 3;
+    report.triangles = triangles;
+    for (size_t t = 0; t < triangles; ++t) {
+        const render::CapturedVertex* v = &s.vertices[3 * t];
+        const size_t inst = size_t(v[0].instance);
+        if (v[0].skirt)
+            ++report.skirt_triangles;
+        for (int e = 0; e < 3; ++e) {
+            VertexKey a = keyOf(v[e]), b = keyOf(v[(e + 1) % 3]);
+            if (b < a)
+                std::swap(a, b);
+            ++edges[inst][{a, b}];
+            if (!v[0].skirt)
+                surface_vertices[inst].insert(keyOf(v[e]));
+        }
+    }
+    for (size_t i = 0; i < instances; ++i) {
+        float bottom = s.skirt_bottom[i];
+        uint32_t bottom_bits;
+        std::memcpy(&bottom_bits, &bottom, 4);
+        for (const auto& [edge, count] : edges[i]) {
+            const bool foot = edge.first[2] == bottom_bits && edge.second[2] == bottom_bits;
+            if (count == 1 && !foot) {
+                ++report.open_edges;
+                if (report.first_problem.empty())
+                    report.first_problem =
+                        "open edge in " + archive::ArchiveReader::patchName(s.patches[i]);
+            }
+            if (count > 2)
+                ++report.overused_edges;
+        }
+    }
+    // Border profiles from skirt triangles whose vertex is also a surface vertex.
+    for (size_t t = 0; t < triangles; ++t) {
+        const render::CapturedVertex* v = &s.vertices[3 * t];
+        if (!v[0].skirt)
+            continue;
+        const size_t inst = size_t(v[0].instance);
+        for (int e = 0; e < 3; ++e)
+            if (surface_vertices[inst].count(keyOf(v[e])))
+                border[inst].push_back({frame.columnOf(v[e].x + s.camera_position.x),
+                                        frame.rowOf(v[e].y + s.camera_position.y), double(v[e].z)});
+    }
+
+    const PyramidGeometry& g = frame.geometry();
+    auto profileAlong = [&](size_t inst, bool vertical_seam, double line) {
+        SeamProfile profile;
+        for (const glm::dvec3& p : border[inst]) {
+            const double across = vertical_seam ? p.x : p.y, along = vertical_seam ? p.y : p.x;
+            if (std::abs(across - line) < 1e-3)
+                profile.push_back({along, p.z});
+        }
+        std::sort(profile.begin(), profile.end());
+        return profile;
+    };
+    for (size_t a = 0; a < instances; ++a) {
+        const Footprint fa = footprintOf(s.patches[a], g);
+        for (size_t b = 0; b < instances; ++b) {
+            if (a == b)
+                continue;
+            const Footprint fb = footprintOf(s.patches[b], g);
+            // Seams where b lies east of a, or south of a (each pair once per seam).
+            const bool east = fa.c1 == fb.c0 && std::max(fa.r0, fb.r0) < std::min(fa.r1, fb.r1);
+            const bool south = fa.r1 == fb.r0 && std::max(fa.c0, fb.c0) < std::min(fa.c1, fb.c1);
+            if (!east && !south)
+                continue;
+            const double line = east ? double(fa.c1) : double(fa.r1);
+            const SeamProfile pa = profileAlong(a, east, line), pb = profileAlong(b, east, line);
+            if (pa.empty() || pb.empty()) {
+                ++report.uncovered_seams;
+                if (report.first_problem.empty())
+                    report.first_problem = "seam without skirt vertices";
+                continue;
+            }
+            const double lo =
+                east ? double(std::max(fa.r0, fb.r0)) : double(std::max(fa.c0, fb.c0));
+            const double hi =
+                east ? double(std::min(fa.r1, fb.r1)) : double(std::min(fa.c1, fb.c1));
+            std::vector<double> positions;
+            for (const auto& q : pa)
+                positions.push_back(q.first);
+            for (const auto& q : pb)
+                positions.push_back(q.first);
+            for (double t : positions) {
+                if (t < lo - 1e-6 || t > hi + 1e-6)
+                    continue;
+                ++report.seams_checked;
+                const double ha = heightAt(pa, t), hb = heightAt(pb, t);
+                const double bottom_of_higher = ha >= hb ? s.skirt_bottom[a] : s.skirt_bottom[b];
+                if (bottom_of_higher > std::min(ha, hb) + 1e-3) {
+                    ++report.uncovered_seams;
+                    if (report.first_problem.empty())
+                        report.first_problem = "gap not covered by a skirt between " +
+                                               archive::ArchiveReader::patchName(s.patches[a]) +
+                                               " and " +
+                                               archive::ArchiveReader::patchName(s.patches[b]);
+                }
+            }
+        }
+    }
+    return report;
+}
+
+ScreenErrorReport measureScreenSpaceError(const render::CapturedSurface& s,
+                                          const lod::TerrainFrame& frame,
+                                          const std::vector<float>& finest,
+                                          const lod::Camera& camera)
+{
+    ScreenErrorReport report;
+    const int W = frame.geometry().width(), H = frame.geometry().height();
+    std::vector<uint8_t> covered(size_t(W) * H, 0);
+    const glm::dvec3 c = s.camera_position;
+    const lod::Viewport vp = camera.viewport();
+    auto inView = [&](glm::dvec3 p, glm::dvec2& px) {
+        if (!camera.project(p, px))
+            return false;
+        const double depth = glm::dot(p - camera.position(), camera.forward());
+        // GL clips at the near plane; the frustum test culls boxes in front of it.
+        return px.x >= 0 && px.y >= 0 && px.x <= vp.width && px.y <= vp.height &&
+               depth >= camera.nearPlane() && depth < camera.farPlane();
+    };
+    for (size_t t = 0; t + 2 < s.vertices.size(); t += 3) {
+        const render::CapturedVertex* v = &s.vertices[t];
+        if (v[0].skirt)
+            continue;
+        glm::dvec3 q[3];
+        // Every vertex lies on a sample; rounding undoes the float error of camera-relative
+        // positions (~1e-5 samples here).
+        for (int k = 0; k < 3; ++k)
+            q[k] = {std::round(frame.columnOf(v[k].x + c.x)), std::round(frame.rowOf(v[k].y + c.y)),
+                    double(v[k].z) + c.z};
+        const double det =
+            (q[1].y - q[2].y) * (q[0].x - q[2].x) + (q[2].x - q[1].x) * (q[0].y - q[2].y);
+        if (std::abs(det) < 1e-12)
+            continue;
+        const int c0 = std::max(0, int(std::ceil(std::min({q[0].x, q[1].x, q[2].x}) - 1e-6)));
+        const int c1 = std::min(W - 1, int(std::floor(std::max({q[0].x, q[1].x, q[2].x}) + 1e-6)));
+        const int r0 = std::max(0, int(std::ceil(std::min({q[0].y, q[1].y, q[2].y}) - 1e-6)));
+        const int r1 = std::min(H - 1, int(std::floor(std::max({q[0].y, q[1].y, q[2].y}) + 1e-6)));
+        for (int r = r0; r <= r1; ++r)
+            for (int col = c0; col <= c1; ++col) {
+                const double l0 =
+                    ((q[1].y - q[2].y) * (col - q[2].x) + (q[2].x - q[1].x) * (r - q[2].y)) / det;
+                const double l1 =
+                    ((q[2].y - q[0].y) * (col - q[2].x) + (q[0].x - q[2].x) * (r - q[2].y)) / det;
+                const double l2 = 1.0 - l0 - l1;
+                if (l0 < -1e-6 || l1 < -1e-6 || l2 < -1e-6)
+                    continue;
+                covered[size_t(r) * W + col] = 1;
+                const double z_lod = l0 * q[0].z + l1 * q[1].z + l2 * q[2].z;
+                const double z_true = finest[size_t(r) * W + col];
+                const glm::dvec3 p_true(frame.xOf(col), frame.yOf(r), z_true),
+                    p_lod(p_true.x, p_true.y, z_lod);
+                glm::dvec2 a, b;
+                if (!inView(p_true, a) || !camera.project(p_lod, b))
+                    continue;
+                ++report.samples;
+                report.max_px = std::max(report.max_px, glm::length(a - b));
+                report.max_metres = std::max(report.max_metres, std::abs(z_lod - z_true));
+            }
+    }
+    for (int r = 0; r < H; ++r)
+        for (int col = 0; col < W; ++col) {
+            glm::dvec2 px;
+            if (!covered[size_t(r) * W + col] &&
+                inView({frame.xOf(col), frame.yOf(r), finest[size_t(r) * W + col]}, px))
+                ++report.uncovered;
+        }
+    return report;
+}
+
+} // namespace ridge::test

@@ -1,0 +1,42 @@
+#pragma once
+// Checks on triangles captured from the tessellation renderer with transform feedback: the
+// properties the renderer promises, measured on what the GPU actually produced.
+#include "ridge/lod/camera.h"
+#include "ridge/lod/terrain_frame.h"
+#include "ridge/render/terrain_renderer.h"
+
+#include <string>
+#include <vector>
+
+namespace ridge::test {
+
+struct WatertightReport {
+    size_t triangles = 0;
+    size_t skirt_triangles = 0;
+    size_t open_edges = 0;      // edges used once that are not a skirt's foot
+    size_t overused_edges = 0;  // edges used more than twice
+    size_t seams_checked = 0;   // positions along patch seams where coverage was tested
+    size_t uncovered_seams = 0; // positions where the higher side's skirt misses the lower
+    std::string first_problem;
+};
+
+// Per patch: every edge is shared by exactly two triangles with bit-identical endpoints,
+// except the skirts' feet. Across patches: along each seam between adjacent patches, the
+// higher surface's skirt reaches down to the lower surface (a vertical gap is covered).
+WatertightReport checkWatertight(const render::CapturedSurface& s, const lod::TerrainFrame& frame);
+
+struct ScreenErrorReport {
+    size_t samples = 0;      // full-resolution samples in view that were compared
+    double max_px = 0.0;     // largest projected vertical deviation, pixels
+    double max_metres = 0.0; // largest vertical deviation, metres
+    size_t uncovered = 0;    // samples in view with no captured triangle above them
+};
+
+// Projected vertical deviation of every full-resolution sample in view from the captured LOD
+// surface. `finest` holds width x height heights in metres (row-major, terrain rows).
+ScreenErrorReport measureScreenSpaceError(const render::CapturedSurface& s,
+                                          const lod::TerrainFrame& frame,
+                                          const std::vector<float>& finest,
+                                          const lod::Camera& camera);
+
+} // namespace ridge::test
