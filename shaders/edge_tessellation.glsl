@@ -3,11 +3,13 @@
 
 // Projected length in pixels of the vertical segment of `len` metres centred at `c`.
 float projectedVerticalSegment(vec3 c, float len) {
-    vec4 lo = u_view_projection * vec4(c - vec3(0.0, 0.0, 0.5 * len), 1.0);
-    vec4 hi = u_view_projection * vec4(c + vec3(0.0, 0.0, 0.5 * len), 1.0);
+    // precise: both blocks of a shared edge must get the same answer at every call site.
+    precise vec4 lo = u_view_projection * vec4(c - vec3(0.0, 0.0, 0.5 * len), 1.0);
+    precise vec4 hi = u_view_projection * vec4(c + vec3(0.0, 0.0, 0.5 * len), 1.0);
     if (lo.w <= 1e-6 || hi.w <= 1e-6)
         return 1e30;
-    return length((hi.xy / hi.w - lo.xy / lo.w) * 0.5 * u_viewport);
+    precise float pixels = length((hi.xy / hi.w - lo.xy / lo.w) * 0.5 * u_viewport);
+    return pixels;
 }
 
 // d = arg max_d proj(e_c ± Λ_e^(d)/2 · e_z) < ε, 0 when no simplification fits.

@@ -45,7 +45,7 @@ vec3 heat(float t) { // 0 blue (coarse) .. 1 red (full resolution)
 
 void main() {
     // The padding beyond the valid extent is tessellated with its patch but never shown.
-    if (v_cell.x > float(v_valid_cells.x) || v_cell.y > float(v_valid_cells.y))
+    if (any(greaterThan(v_cell, vec2(v_valid_cells) + 1e-3)))
         discard;
     if (u_mode == 3) {
         frag_colour = vec4(u_flat_colour, 1.0);

@@ -7,6 +7,8 @@
 
 layout(quads, equal_spacing, ccw) in;
 
+precise gl_Position;
+
 patch in ivec2 tc_start;
 patch in ivec2 tc_axis;
 patch in int tc_instance;
@@ -27,17 +29,18 @@ flat out int tf_skirt;
 void main() {
     PatchInstance p = instances[tc_instance];
     int b = u_block_cells;
-    ivec2 sample_ij;
-    vec3 position;
     bool skirt = tc_axis != ivec2(0);
-    if (!skirt) {
-        sample_ij = tc_start + ivec2(round(gl_TessCoord.xy * float(b)));
-        position = samplePosition(p, sample_ij);
-    } else {
-        sample_ij = tc_start + tc_axis * int(round(gl_TessCoord.x * float(b)));
-        position = samplePosition(p, sample_ij);
-        // v = 0 on the patch border, 1 at the skirt's foot.
-        if (gl_TessCoord.y > 0.0)
+    ivec2 sample_ij = skirt ? tc_start + tc_axis * int(round(gl_TessCoord.x * float(b)))
+                            : tc_start + ivec2(round(gl_TessCoord.xy * float(b)));
+    // One code path and `precise` (no contraction into FMAs that could differ between call
+    // sites): a vertex shared by a block and a skirt, or by two blocks, is bit-identical.
+    precise vec3 position = samplePosition(p, sample_ij);
+    if (skirt) {
+        // v = 0 on the patch border, 1 at the skirt's foot (exactly: feet of neighbouring
+        // segments must be bit-identical, which mix() does not promise at v = 1).
+        if (gl_TessCoord.y >= 1.0)
+            position.z = p.skirt_bottom;
+        else if (gl_TessCoord.y > 0.0)
             position.z = mix(position.z, p.skirt_bottom, gl_TessCoord.y);
     }
     float n = float(u_patch_cells + 1);
@@ -47,7 +50,9 @@ void main() {
     v_level = p.level;
     v_factor = tc_factor;
     v_skirt = skirt ? 1 : 0;
-    v_valid_cells = p.valid_cells;
+    // Whole patches never clip: interpolated cell coordinates overshoot their border by an
+    // ulp, which must not open a pinhole on the seam.
+    v_valid_cells = mix(p.valid_cells, ivec2(u_patch_cells + 1), equal(p.valid_cells, ivec2(u_patch_cells)));
     tf_position = position;
     tf_instance = tc_instance;
     tf_skirt = v_skirt;

@@ -3,8 +3,9 @@
 // floats stay precise however far the camera is from the origin.
 
 struct PatchInstance {
-    vec2 origin;        // camera-relative x, y of patch sample (0, 0)
-    vec2 cell;          // metres per patch cell along +i (east) and +j (rows grow south: y < 0)
+    ivec2 origin;       // finest-grid column, row of patch sample (0, 0), relative to u_anchor
+    int step;           // finest samples per patch cell: 2^(L − level)
+    int pad2;
     int layer;          // texture-array slot of heights, normals and block errors
     int level;          // quadtree level
     float err;          // Err(P), metres
@@ -17,6 +18,8 @@ struct PatchInstance {
 layout(std430, binding = 0) readonly buffer PatchInstances { PatchInstance instances[]; };
 
 uniform mat4 u_view_projection; // camera-relative terrain frame -> clip (reverse-Z)
+uniform vec2 u_spacing;         // metres per finest sample: (spacing_x, −spacing_y), rows grow south
+uniform vec2 u_anchor_offset;   // camera-relative x, y of the anchor sample (the one nearest the camera)
 uniform vec2 u_viewport;        // pixels
 uniform float u_epsilon;        // ε, pixels
 uniform float u_height_scale;   // metres per code
@@ -31,11 +34,16 @@ layout(binding = 1) uniform sampler2DArray u_normals;      // unit normals, xyz
 layout(binding = 2) uniform sampler2DArray u_block_errors; // λ(1..D) metres per block
 
 float sampleHeight(int layer, ivec2 sample_ij) {
-    return u_height_offset + u_height_scale * float(texelFetch(u_heights, ivec3(sample_ij, layer), 0).r);
+    precise float z = u_height_offset + u_height_scale * float(texelFetch(u_heights, ivec3(sample_ij, layer), 0).r);
+    return z;
 }
 
-// Camera-relative position of patch sample (i, j). Every stage that places a vertex on a
-// sample calls this with integer inputs, so shared vertices are bit-identical.
+// Camera-relative position of patch sample (i, j). x, y depend only on the sample's finest-grid
+// coordinates (integers relative to the anchor near the camera), never on the patch, so
+// vertices on a seam are bit-identical in every patch that has them; heights come from each
+// patch's own map (equal on seams between patches of one level).
 vec3 samplePosition(PatchInstance p, ivec2 sample_ij) {
-    return vec3(p.origin + vec2(sample_ij) * p.cell, sampleHeight(p.layer, sample_ij));
+    precise vec2 xy = vec2(p.origin + sample_ij * p.step) * u_spacing + u_anchor_offset;
+    precise float z = sampleHeight(p.layer, sample_ij);
+    return vec3(xy, z);
 }

@@ -7,6 +7,7 @@
 #include "ridge/gpu/shader_program.h"
 #include "ridge/lod/edge_tessellation.h"
 #include "ridge/lod/screen_space_error.h"
+#include "ridge/lod/skirt_depth.h"
 #include "ridge/stream/patch_loader.h"
 
 #include <glm/geometric.hpp>
@@ -22,8 +23,9 @@ namespace {
 
 // std430 mirror of PatchInstance in shaders/terrain_common.glsl.
 struct GpuPatchInstance {
-    float origin[2];
-    float cell[2];
+    int32_t origin[2]; // finest column, row of sample (0, 0) relative to the anchor
+    int32_t step;
+    int32_t pad2;
     int32_t layer;
     int32_t level;
     float err;
@@ -70,10 +72,12 @@ struct TerrainRenderer::Impl {
     stream::PatchLoader loader;
     TessellationBlockLayout layout;
     HeightQuantization quantization;
-    int n = 0;                                                    // samples per patch side
-    int blocks_per_side = 0;                                      // B
-    int block_levels = 0;                                         // D
-    float min_height = 0.f, max_height = 0.f, skirt_bottom = 0.f; // terrain frame, metres
+    int n = 0;                                // samples per patch side
+    int blocks_per_side = 0;                  // B
+    int block_levels = 0;                     // D
+    float min_height = 0.f, max_height = 0.f; // terrain frame, metres
+    std::vector<float> slot_lambda_max;       // per slot: max λ^(d) of the resident patch, metres
+    double skirt_margin = 0.0;                // finest level's codec + quantization error
     std::vector<uint16_t> root_codes;
     uint64_t frame = 0;
 
@@ -100,6 +104,22 @@ struct TerrainRenderer::Impl {
                           std::vector<PatchId>* ids, std::vector<float>* bottoms);
     void setFrameUniforms(const gpu::ShaderProgram& program, const lod::Camera& camera,
                           const RenderSettings& settings) const;
+    // The finest sample nearest the camera: x, y are integers relative to it times the
+    // spacing plus its camera-relative offset, exact where it matters (near the camera).
+    struct Anchor {
+        int64_t column = 0, row = 0;
+        double x_rel = 0.0, y_rel = 0.0;
+    };
+    Anchor anchorFor(const lod::Camera& camera) const
+    {
+        const lod::TerrainFrame& f = quadtree.frame();
+        Anchor a;
+        a.column = int64_t(std::llround(f.columnOf(camera.position().x)));
+        a.row = int64_t(std::llround(f.rowOf(camera.position().y)));
+        a.x_rel = f.xOf(double(a.column)) - camera.position().x;
+        a.y_rel = f.yOf(double(a.row)) - camera.position().y;
+        return a;
+    }
     int primitivesPerInstance(const RenderSettings& settings) const
     {
         return blocks_per_side * blocks_per_side + (settings.skirts ? 4 * blocks_per_side : 0);
@@ -119,9 +139,10 @@ TerrainRenderer::Impl::Impl(const archive::ArchiveReader& r, const RendererOptio
     const lod::PatchBounds& root = quadtree.bounds(PatchId{0, 0, 0});
     min_height = root.min_height;
     max_height = root.max_height;
-    // Skirts reach below every surface a neighbour can show: the terrain's lowest sample
-    // less the largest patch error (the root's Err bounds every level's deviation).
-    skirt_bottom = root.min_height - root.err - 1.f;
+    slot_lambda_max.assign(size_t(o.max_resident_patches), 0.f);
+    // The data min_height describes is the decoded finest level; the surfaces' bounds are
+    // against the source. The centimetre covers float rounding of camera-relative heights.
+    skirt_margin = reader.levelErrorBound(reader.geometry().finestLevel()) + 0.01;
     root_codes = loader.load(PatchId{0, 0, 0})->codes;
 
     const int slots = o.max_resident_patches;
@@ -166,6 +187,13 @@ void TerrainRenderer::Impl::uploadPatch(const stream::DecodedPatch& patch, int s
             texels[size_t(b) * 4 + d] = patch.block_errors[size_t(b) * D + d];
     glTextureSubImage3D(block_errors.id(), 0, 0, 0, slot, B, B, 1, GL_RGBA, GL_FLOAT,
                         texels.data());
+    // The tessellator drops at most λ max; λ never exceeds the patch's height range (every
+    // simplified vertex is a patch sample), which also tames saturated values.
+    const lod::PatchBounds& bounds = quadtree.bounds(patch.id);
+    float lambda_max = 0.f;
+    for (float v : texels)
+        lambda_max = std::max(lambda_max, v);
+    slot_lambda_max[size_t(slot)] = std::min(lambda_max, bounds.max_height - bounds.min_height);
 
     // Normal map on the GPU, from the heights just uploaded.
     const double step = double(reader.geometry().step(patch.id.level));
@@ -206,7 +234,6 @@ size_t TerrainRenderer::Impl::writeInstances(const lod::Camera& camera,
                                              std::vector<PatchId>* ids, std::vector<float>* bottoms)
 {
     const PyramidGeometry& g = reader.geometry();
-    const lod::TerrainFrame& frame_ = quadtree.frame();
     const glm::dvec3 c = camera.position();
     // Front to back by box distance: early depth rejection does the rest.
     std::vector<std::pair<double, PatchId>> order;
@@ -216,20 +243,32 @@ size_t TerrainRenderer::Impl::writeInstances(const lod::Camera& camera,
     std::sort(order.begin(), order.end(),
               [](const auto& a, const auto& b) { return a.first < b.first; });
 
+    std::vector<PatchId> drawn;
+    drawn.reserve(order.size());
+    for (const auto& entry : order)
+        drawn.push_back(entry.second);
+    const std::vector<double> feet = lod::skirtFeet(
+        quadtree, drawn,
+        [&](PatchId p) {
+            return double(quadtree.bounds(p).err) + slot_lambda_max[size_t(residency.slotOf(p))];
+        },
+        skirt_margin);
+
+    const Anchor anchor = anchorFor(camera);
     std::vector<GpuPatchInstance> data;
     data.reserve(order.size());
-    for (const auto& [dist, p] : order) {
+    for (size_t k = 0; k < order.size(); ++k) {
+        const PatchId p = order[k].second;
         const int64_t step = g.step(p.level);
         const int64_t c0 = int64_t(p.x) * g.cells() * step, r0 = int64_t(p.y) * g.cells() * step;
         GpuPatchInstance inst{};
-        inst.origin[0] = float(frame_.xOf(double(c0)) - c.x);
-        inst.origin[1] = float(frame_.yOf(double(r0)) - c.y);
-        inst.cell[0] = float(step * frame_.spacingX());
-        inst.cell[1] = float(-step * frame_.spacingY());
+        inst.origin[0] = int32_t(c0 - anchor.column);
+        inst.origin[1] = int32_t(r0 - anchor.row);
+        inst.step = int32_t(step);
         inst.layer = residency.slotOf(p);
         inst.level = p.level;
         inst.err = quadtree.bounds(p).err;
-        inst.skirt_bottom = float(double(skirt_bottom) - c.z);
+        inst.skirt_bottom = float(feet[k] - c.z);
         inst.valid_cells[0] =
             std::clamp(g.validLevelWidth(p.level) - 1 - p.x * g.cells(), 0, g.cells());
         inst.valid_cells[1] =
@@ -258,6 +297,11 @@ void TerrainRenderer::Impl::setFrameUniforms(const gpu::ShaderProgram& program,
 {
     const GLuint id = program.id();
     setMatrix(program, "u_view_projection", reverseZProjection(camera) * camera.view());
+    const Anchor anchor = anchorFor(camera);
+    glProgramUniform2f(id, program.uniform("u_spacing"), float(quadtree.frame().spacingX()),
+                       float(-quadtree.frame().spacingY()));
+    glProgramUniform2f(id, program.uniform("u_anchor_offset"), float(anchor.x_rel),
+                       float(anchor.y_rel));
     glProgramUniform2f(id, program.uniform("u_viewport"), float(camera.viewport().width),
                        float(camera.viewport().height));
     glProgramUniform1f(id, program.uniform("u_epsilon"), float(settings.epsilon_px));
