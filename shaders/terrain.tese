@@ -21,7 +21,7 @@ flat out int v_level;
 flat out float v_factor;
 flat out int v_skirt;
 flat out ivec2 v_valid_cells;
-// Transform-feedback capture (tests): position, patch instance, 1 for skirts.
+// Transform-feedback capture (tests): position, patch instance, 1 for skirts (2 on a foot).
 out vec3 tf_position;
 flat out int tf_instance;
 flat out int tf_skirt;
@@ -36,12 +36,12 @@ void main() {
     // sites): a vertex shared by a block and a skirt, or by two blocks, is bit-identical.
     precise vec3 position = samplePosition(p, sample_ij);
     if (skirt) {
-        // v = 0 on the patch border, 1 at the skirt's foot (exactly: feet of neighbouring
-        // segments must be bit-identical, which mix() does not promise at v = 1).
+        // v = 0 on the patch border, 1 at the skirt's foot, skirt_depth below (exactly at
+        // v = 1: feet of neighbouring segments must be bit-identical).
         if (gl_TessCoord.y >= 1.0)
-            position.z = p.skirt_bottom;
+            position.z = position.z - p.skirt_depth;
         else if (gl_TessCoord.y > 0.0)
-            position.z = mix(position.z, p.skirt_bottom, gl_TessCoord.y);
+            position.z = position.z - p.skirt_depth * gl_TessCoord.y;
     }
     float n = float(u_patch_cells + 1);
     v_position = position;
@@ -55,6 +55,6 @@ void main() {
     v_valid_cells = mix(p.valid_cells, ivec2(u_patch_cells + 1), equal(p.valid_cells, ivec2(u_patch_cells)));
     tf_position = position;
     tf_instance = tc_instance;
-    tf_skirt = v_skirt;
+    tf_skirt = skirt ? (gl_TessCoord.y >= 1.0 ? 2 : 1) : 0;
     gl_Position = u_view_projection * vec4(position, 1.0);
 }

@@ -9,7 +9,7 @@ struct PatchInstance {
     int layer;          // texture-array slot of heights, normals and block errors
     int level;          // quadtree level
     float err;          // Err(P), metres
-    float skirt_bottom; // camera-relative z of the skirts' lower edge
+    float skirt_depth;  // metres the skirts hang below the patch border
     ivec2 valid_cells;  // cells of the patch inside the valid extent along i, j
     int pad0;
     int pad1;

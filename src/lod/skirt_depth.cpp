@@ -76,22 +76,22 @@ std::vector<size_t> seamNeighbours(const PatchQuadtree& tree, const std::vector<
     return neighboursOf(tree.geometry(), indexOf(tree.geometry(), selected), selected[i]);
 }
 
-std::vector<double> skirtFeet(const PatchQuadtree& tree, const std::vector<PatchId>& selected,
-                              const std::function<double(PatchId)>& max_deviation, double margin)
+std::vector<double> skirtDepths(const PatchQuadtree& tree, const std::vector<PatchId>& selected,
+                                const std::function<double(PatchId)>& max_deviation, double margin)
 {
     const PyramidGeometry& g = tree.geometry();
     const SelectedIndex index = indexOf(g, selected);
     std::vector<double> deviation(selected.size());
     for (size_t i = 0; i < selected.size(); ++i)
         deviation[i] = max_deviation(selected[i]);
-    std::vector<double> feet(selected.size());
+    std::vector<double> depths(selected.size());
     for (size_t i = 0; i < selected.size(); ++i) {
-        double worst = deviation[i];
+        double worst_neighbour = 0.0;
         for (size_t j : neighboursOf(g, index, selected[i]))
-            worst = std::max(worst, deviation[j]);
-        feet[i] = double(tree.bounds(selected[i]).min_height) - worst - margin;
+            worst_neighbour = std::max(worst_neighbour, deviation[j]);
+        depths[i] = deviation[i] + worst_neighbour + margin;
     }
-    return feet;
+    return depths;
 }
 
 } // namespace ridge::lod

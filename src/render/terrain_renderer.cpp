@@ -29,7 +29,7 @@ struct GpuPatchInstance {
     int32_t layer;
     int32_t level;
     float err;
-    float skirt_bottom;
+    float skirt_depth;
     int32_t valid_cells[2];
     int32_t pad[2];
 };
@@ -101,7 +101,7 @@ struct TerrainRenderer::Impl {
     void makeResident(const lod::Selection& selection, FrameStats& stats);
     void uploadPatch(const stream::DecodedPatch& patch, int slot);
     size_t writeInstances(const lod::Camera& camera, const lod::Selection& selection,
-                          std::vector<PatchId>* ids, std::vector<float>* bottoms);
+                          std::vector<PatchId>* ids, std::vector<float>* depths_out);
     void setFrameUniforms(const gpu::ShaderProgram& program, const lod::Camera& camera,
                           const RenderSettings& settings) const;
     // The finest sample nearest the camera: x, y are integers relative to it times the
@@ -140,9 +140,8 @@ TerrainRenderer::Impl::Impl(const archive::ArchiveReader& r, const RendererOptio
     min_height = root.min_height;
     max_height = root.max_height;
     slot_lambda_max.assign(size_t(o.max_resident_patches), 0.f);
-    // The data min_height describes is the decoded finest level; the surfaces' bounds are
-    // against the source. The centimetre covers float rounding of camera-relative heights.
-    skirt_margin = reader.levelErrorBound(reader.geometry().finestLevel()) + 0.01;
+    // Float rounding of camera-relative heights: a centimetre plus a few ulps of the highest.
+    skirt_margin = 0.01 + 1e-6 * std::max(std::abs(root.min_height), std::abs(root.max_height));
     root_codes = loader.load(PatchId{0, 0, 0})->codes;
 
     const int slots = o.max_resident_patches;
@@ -231,7 +230,8 @@ void TerrainRenderer::Impl::makeResident(const lod::Selection& selection, FrameS
 
 size_t TerrainRenderer::Impl::writeInstances(const lod::Camera& camera,
                                              const lod::Selection& selection,
-                                             std::vector<PatchId>* ids, std::vector<float>* bottoms)
+                                             std::vector<PatchId>* ids,
+                                             std::vector<float>* depths_out)
 {
     const PyramidGeometry& g = reader.geometry();
     const glm::dvec3 c = camera.position();
@@ -247,7 +247,7 @@ size_t TerrainRenderer::Impl::writeInstances(const lod::Camera& camera,
     drawn.reserve(order.size());
     for (const auto& entry : order)
         drawn.push_back(entry.second);
-    const std::vector<double> feet = lod::skirtFeet(
+    const std::vector<double> depths = lod::skirtDepths(
         quadtree, drawn,
         [&](PatchId p) {
             return double(quadtree.bounds(p).err) + slot_lambda_max[size_t(residency.slotOf(p))];
@@ -268,7 +268,7 @@ size_t TerrainRenderer::Impl::writeInstances(const lod::Camera& camera,
         inst.layer = residency.slotOf(p);
         inst.level = p.level;
         inst.err = quadtree.bounds(p).err;
-        inst.skirt_bottom = float(feet[k] - c.z);
+        inst.skirt_depth = float(depths[k]);
         inst.valid_cells[0] =
             std::clamp(g.validLevelWidth(p.level) - 1 - p.x * g.cells(), 0, g.cells());
         inst.valid_cells[1] =
@@ -276,8 +276,8 @@ size_t TerrainRenderer::Impl::writeInstances(const lod::Camera& camera,
         data.push_back(inst);
         if (ids)
             ids->push_back(p);
-        if (bottoms)
-            bottoms->push_back(inst.skirt_bottom);
+        if (depths_out)
+            depths_out->push_back(inst.skirt_depth);
     }
     const size_t bytes = std::max<size_t>(data.size(), 1) * sizeof(GpuPatchInstance);
     if (bytes > instance_capacity) {
@@ -441,7 +441,7 @@ CapturedSurface TerrainRenderer::capture(const lod::Camera& camera, const Render
     s.epsilon_px = selection.epsilon_px;
     CapturedSurface out;
     out.camera_position = camera.position();
-    const size_t count = m.writeInstances(camera, selection, &out.patches, &out.skirt_bottom);
+    const size_t count = m.writeInstances(camera, selection, &out.patches, &out.skirt_depth);
     if (count == 0)
         return out;
 
@@ -533,18 +533,35 @@ lod::Camera TerrainRenderer::defaultCamera(lod::Viewport viewport, double fov_y_
     const double radius =
         0.5 * std::sqrt(f.extentX() * f.extentX() + f.extentY() * f.extentY() +
                         double(m.max_height - m.min_height) * (m.max_height - m.min_height));
-    const double fov_y = fov_y_degrees * M_PI / 180.0;
-    const double aspect = double(viewport.width) / viewport.height;
-    const double fov_min = std::min(fov_y, 2.0 * std::atan(std::tan(fov_y * 0.5) * aspect));
-    const double distance = radius / std::sin(fov_min * 0.5) * 0.9;
-    // From the south-south-west, 35° above the horizon.
+    // From the south-south-west, 35° above the horizon, as close as lets every corner of the
+    // terrain's box project inside the picture with a 4% margin.
     const double azimuth = 200.0 * M_PI / 180.0, elevation = 35.0 * M_PI / 180.0;
     const glm::dvec3 dir(std::sin(azimuth) * std::cos(elevation),
                          std::cos(azimuth) * std::cos(elevation), std::sin(elevation));
-    const glm::dvec3 position = centre + dir * distance;
-    double near_m = 1.0, far_m = 1e6;
-    clipPlanesFor(position, near_m, far_m);
-    return lod::Camera(position, centre, fov_y_degrees, viewport, near_m, far_m);
+    const lod::Box box = m.quadtree.box(PatchId{0, 0, 0});
+    auto framed = [&](const lod::Camera& camera) {
+        for (int k = 0; k < 8; ++k) {
+            const glm::dvec3 corner((k & 1) ? box.max.x : box.min.x,
+                                    (k & 2) ? box.max.y : box.min.y,
+                                    (k & 4) ? box.max.z : box.min.z);
+            glm::dvec2 px;
+            if (!camera.project(corner, px) || px.x < 0.04 * viewport.width ||
+                px.x > 0.96 * viewport.width || px.y < 0.04 * viewport.height ||
+                px.y > 0.96 * viewport.height)
+                return false;
+        }
+        return true;
+    };
+    double distance = 0.25 * radius;
+    for (;;) {
+        const glm::dvec3 position = centre + dir * distance;
+        double near_m = 1.0, far_m = 1e6;
+        clipPlanesFor(position, near_m, far_m);
+        const lod::Camera camera(position, centre, fov_y_degrees, viewport, near_m, far_m);
+        if (framed(camera) || distance > 100.0 * radius)
+            return camera;
+        distance *= 1.05;
+    }
 }
 
 } // namespace ridge::render

@@ -56,18 +56,18 @@ TEST(SkirtDepth, FindsNeighboursAcrossLevelsOnEverySeamAndNoCornerOnlyOnes)
     EXPECT_EQ(std::find(diagonal.begin(), diagonal.end(), PatchId{1, 0, 0}), diagonal.end());
 }
 
-TEST(SkirtDepth, FootIsTheMinimumLessTheWorstDeviationOfThePatchAndItsNeighbours)
+TEST(SkirtDepth, DepthIsThePatchsDeviationPlusItsWorstSeamNeighboursDeviation)
 {
     const PatchQuadtree tree = flatTree();
     const std::vector<PatchId> s = unbalancedSelection();
     // Deviation grows with coarseness: 1 m per level above the finest.
     auto deviation = [](PatchId p) { return double(3 - p.level) * 1.0 + 0.5; };
-    const std::vector<double> feet = skirtFeet(tree, s, deviation, 0.25);
+    const std::vector<double> feet = skirtDepths(tree, s, deviation, 0.25);
     ASSERT_EQ(feet.size(), s.size());
     // (3,5,1): neighbours are level 3 and 2 patches (worst: level 2, 1.5 m) — not level 1.
     const size_t a = find(s, {3, 5, 1});
-    EXPECT_DOUBLE_EQ(feet[a], 103.0 - 1.5 - 0.25);
+    EXPECT_DOUBLE_EQ(feet[a], 0.5 + 1.5 + 0.25);
     // (3,4,1) borders the level-1 patch to the west: 2.5 m.
     const size_t b = find(s, {3, 4, 1});
-    EXPECT_DOUBLE_EQ(feet[b], 103.0 - 2.5 - 0.25);
+    EXPECT_DOUBLE_EQ(feet[b], 0.5 + 2.5 + 0.25);
 }

@@ -53,7 +53,7 @@ WatertightReport checkWatertight(const render::CapturedSurface& s, const lod::Te
     WatertightReport report;
     const size_t instances = s.patches.size();
     std::vector<std::map<std::pair<VertexKey, VertexKey>, int>> edges(instances);
-    std::vector<std::set<VertexKey>> surface_vertices(instances);
+    std::vector<std::set<VertexKey>> surface_vertices(instances), foot_vertices(instances);
     // Skirt vertices on the patch border (the skirt's top, shared with the surface).
     std::vector<std::vector<glm::dvec3>> border(instances);
     const size_t triangles = s.vertices.size() / 3;
@@ -70,14 +70,14 @@ WatertightReport checkWatertight(const render::CapturedSurface& s, const lod::Te
             ++edges[inst][{a, b}];
             if (!v[0].skirt)
                 surface_vertices[inst].insert(keyOf(v[e]));
+            if (v[e].skirt == 2)
+                foot_vertices[inst].insert(keyOf(v[e]));
         }
     }
     for (size_t i = 0; i < instances; ++i) {
-        float bottom = s.skirt_bottom[i];
-        uint32_t bottom_bits;
-        std::memcpy(&bottom_bits, &bottom, 4);
         for (const auto& [edge, count] : edges[i]) {
-            const bool foot = edge.first[2] == bottom_bits && edge.second[2] == bottom_bits;
+            const bool foot =
+                foot_vertices[i].count(edge.first) && foot_vertices[i].count(edge.second);
             if (count == 1 && !foot) {
                 ++report.open_edges;
                 if (report.first_problem.empty())
@@ -144,7 +144,8 @@ WatertightReport checkWatertight(const render::CapturedSurface& s, const lod::Te
                     continue;
                 ++report.seams_checked;
                 const double ha = heightAt(pa, t), hb = heightAt(pb, t);
-                const double bottom_of_higher = ha >= hb ? s.skirt_bottom[a] : s.skirt_bottom[b];
+                const double bottom_of_higher =
+                    ha >= hb ? ha - s.skirt_depth[a] : hb - s.skirt_depth[b];
                 if (bottom_of_higher > std::min(ha, hb) + 1e-3) {
                     ++report.uncovered_seams;
                     if (report.first_problem.empty())

@@ -52,13 +52,13 @@ struct FrameStats {
 struct CapturedVertex {
     float x, y, z;    // camera-relative terrain frame, metres
     int32_t instance; // index into CapturedSurface::patches
-    int32_t skirt;    // 1 for skirt triangles
+    int32_t skirt;    // 0 surface, 1 skirt, 2 a skirt's foot vertex
 };
 struct CapturedSurface {
     glm::dvec3 camera_position{0.0};      // add to positions for the terrain frame
     std::vector<CapturedVertex> vertices; // 3 per triangle
     std::vector<PatchId> patches;         // per instance
-    std::vector<float> skirt_bottom;      // per instance, camera-relative z
+    std::vector<float> skirt_depth;       // per instance, metres below the border
 };
 
 struct RendererOptions {
