@@ -15,6 +15,7 @@ uniform int u_mode;             // 0 shaded, 1 LOD level colours, 2 tessellation
 uniform vec3 u_flat_colour;     // mode 3 (wireframe overlay)
 uniform vec3 u_sun_direction;   // unit, towards the sun, terrain frame
 uniform vec2 u_height_range;    // metres: colour ramp from min to max (camera-relative)
+uniform float u_sea_level;      // camera-relative z of 0 m
 uniform vec3 u_fog_colour;
 uniform float u_fog_density;    // per metre; 0 disables fog
 uniform int u_block_cells_f;    // b, for the heat map
@@ -62,6 +63,9 @@ void main() {
         float t = (v_position.z - u_height_range.x) / max(u_height_range.y - u_height_range.x, 1e-3);
         albedo = hypsometric(t);
         albedo = mix(albedo, vec3(0.42, 0.39, 0.36), smoothstep(0.25, 0.55, slope) * (1.0 - step(0.9, t)));
+        // DEMs store the sea as flat 0 m: shade it as water (land below sea level keeps its slope).
+        if (abs(v_position.z - u_sea_level) < 0.25 && slope < 1e-4)
+            albedo = vec3(0.16, 0.30, 0.48);
     }
     if (v_skirt != 0)
         albedo *= 0.55;

@@ -388,6 +388,7 @@ FrameStats TerrainRenderer::draw(const lod::Camera& camera, const RenderSettings
     glUniform3f(p.uniform("u_sun_direction"), float(sun.x), float(sun.y), float(sun.z));
     glUniform2f(p.uniform("u_height_range"), float(m.min_height - camera.position().z),
                 float(m.max_height - camera.position().z));
+    glUniform1f(p.uniform("u_sea_level"), float(-camera.position().z));
     glUniform3f(p.uniform("u_fog_colour"), horizon.r, horizon.g, horizon.b);
     // Fog thickens over the terrain's own size: a tenth of the light lost across it.
     const double extent = std::max(m.quadtree.frame().extentX(), m.quadtree.frame().extentY());
