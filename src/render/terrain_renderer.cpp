@@ -90,8 +90,17 @@ struct TerrainRenderer::Impl {
     size_t feedback_capacity = 0; // bytes
     gpu::GlVertexArray empty_vao;
     gpu::ShaderProgram terrain_program, capture_program, normal_program, sky_program;
-    gpu::GpuTimer timer;
-    gpu::GlQuery primitives{GL_PRIMITIVES_GENERATED};
+    gpu::GpuTimer timer;                              // terrain pass
+    gpu::GpuTimer upload_timer;                       // uploads and normal maps of new patches
+    gpu::GlQuery primitives{GL_PRIMITIVES_GENERATED}; // capture(), synchronous stats
+    // Triangles of the terrain pass for interactive use: a ring of queries read only once
+    // their results are available, so counting never stalls the pipeline.
+    static constexpr int kTriangleQueries = 4;
+    std::vector<gpu::GlQuery> triangle_queries;
+    std::vector<bool> triangle_query_pending = std::vector<bool>(kTriangleQueries, false);
+    int next_triangle_query = 0;
+    uint64_t last_triangles = 0;
+    uint64_t latestTriangles();
     gpu::GlQuery written{GL_TRANSFORM_FEEDBACK_PRIMITIVES_WRITTEN};
     // Drawing needs a complete framebuffer even with the rasterizer discarded; a surfaceless
     // context has none, so capture binds this one.
@@ -332,9 +341,37 @@ lod::Selection TerrainRenderer::Impl::prepare(const lod::Camera& camera,
     stats.culled = selection.culled;
     stats.epsilon_px = selection.epsilon_px;
     t0 = std::chrono::steady_clock::now();
-    makeResident(selection, stats);
+    upload_timer.begin();
+    try {
+        makeResident(selection, stats);
+    } catch (...) {
+        upload_timer.end(); // keep begin/end balanced for the next frame
+        throw;
+    }
+    upload_timer.end();
+    stats.gpu_upload_ms = options.synchronous_stats ? upload_timer.waitMs() : upload_timer.lastMs();
     stats.cpu_load_ms = millisecondsSince(t0);
     return selection;
+}
+
+uint64_t TerrainRenderer::Impl::latestTriangles()
+{
+    // Oldest first, so the newest available result wins.
+    for (int k = 1; k <= kTriangleQueries; ++k) {
+        const int q = (next_triangle_query + k) % kTriangleQueries;
+        if (!triangle_query_pending[size_t(q)])
+            continue;
+        GLuint available = 0;
+        glGetQueryObjectuiv(triangle_queries[size_t(q)].id(), GL_QUERY_RESULT_AVAILABLE,
+                            &available);
+        if (!available)
+            continue;
+        GLuint64 generated = 0;
+        glGetQueryObjectui64v(triangle_queries[size_t(q)].id(), GL_QUERY_RESULT, &generated);
+        last_triangles = generated;
+        triangle_query_pending[size_t(q)] = false;
+    }
+    return last_triangles;
 }
 
 TerrainRenderer::TerrainRenderer(const archive::ArchiveReader& reader,
@@ -398,14 +435,19 @@ FrameStats TerrainRenderer::draw(const lod::Camera& camera, const RenderSettings
     glBindVertexArray(m.empty_vao.id());
     glPatchParameteri(GL_PATCH_VERTICES, 1);
 
-    const bool count_triangles = m.options.synchronous_stats;
+    const bool synchronous = m.options.synchronous_stats;
+    if (m.triangle_queries.empty())
+        for (int k = 0; k < Impl::kTriangleQueries; ++k)
+            m.triangle_queries.emplace_back(GL_PRIMITIVES_GENERATED);
+    const int query = m.next_triangle_query;
+    m.next_triangle_query = (query + 1) % Impl::kTriangleQueries;
     m.timer.begin();
-    if (count_triangles)
-        glBeginQuery(GL_PRIMITIVES_GENERATED, m.primitives.id());
+    // A still-pending query in this slot is dropped: its frame is 4 frames old.
+    glBeginQuery(GL_PRIMITIVES_GENERATED, m.triangle_queries[size_t(query)].id());
     if (count)
         glDrawArraysInstanced(GL_PATCHES, 0, m.primitivesPerInstance(s), GLsizei(count));
-    if (count_triangles)
-        glEndQuery(GL_PRIMITIVES_GENERATED);
+    glEndQuery(GL_PRIMITIVES_GENERATED);
+    m.triangle_query_pending[size_t(query)] = true;
     if (s.wireframe && count) {
         glUniform1i(p.uniform("u_mode"), 3);
         glUniform3f(p.uniform("u_flat_colour"), 0.05f, 0.05f, 0.08f);
@@ -418,12 +460,16 @@ FrameStats TerrainRenderer::draw(const lod::Camera& camera, const RenderSettings
         glDisable(GL_POLYGON_OFFSET_LINE);
     }
     m.timer.end();
-    if (count_triangles) {
+    if (synchronous) {
         GLuint64 generated = 0;
-        glGetQueryObjectui64v(m.primitives.id(), GL_QUERY_RESULT, &generated);
+        glGetQueryObjectui64v(m.triangle_queries[size_t(query)].id(), GL_QUERY_RESULT, &generated);
+        m.triangle_query_pending[size_t(query)] = false;
+        m.last_triangles = generated;
         stats.triangles = generated;
+    } else {
+        stats.triangles = m.latestTriangles();
     }
-    stats.gpu_ms = count_triangles ? m.timer.waitMs() : m.timer.lastMs();
+    stats.gpu_ms = synchronous ? m.timer.waitMs() : m.timer.lastMs();
 
     // Leave the default GL conventions to whatever draws next (an overlay, a test).
     glDepthFunc(GL_LESS);
