@@ -87,6 +87,8 @@ void Commands::registerAll(CLI::App& app)
     addCommonFlags(hillshade_, quiet_);
 
     codec_bench_.registerWith(app);
+    view_.registerWith(app);
+    render_.registerWith(app);
 }
 
 int Commands::run()
@@ -101,6 +103,10 @@ int Commands::run()
         return runExtract();
     if (codec_bench_.parsed())
         return codec_bench_.run();
+    if (view_.parsed())
+        return view_.run();
+    if (render_.parsed())
+        return render_.run();
     return runHillshade();
 }
 

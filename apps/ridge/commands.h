@@ -29,6 +29,53 @@ private:
     bool quiet_ = false;
 };
 
+// `ridge render` (render_command.cpp): one headless frame of an archive as a PNG.
+class RenderCommand {
+public:
+    void registerWith(CLI::App& app);
+    bool parsed() const { return command_ && command_->parsed(); }
+    int run();
+
+private:
+    CLI::App* command_ = nullptr;
+    std::string archive_;
+    std::string output_;
+    std::vector<double> camera_;
+    std::vector<double> look_at_;
+    double fov_ = 60.0;
+    std::string size_ = "1920x1080";
+    double error_ = 2.0;
+    std::string mode_ = "shaded";
+    bool wireframe_ = false;
+    bool no_cull_ = false;
+    bool no_skirts_ = false;
+    bool no_fog_ = false;
+    bool no_sky_ = false;
+    int samples_ = 4;
+    bool json_ = false;
+    bool quiet_ = false;
+};
+
+// `ridge view` (view_command.cpp): the interactive fly-through of an archive with the
+// hardware-tessellation renderer and a Dear ImGui stats overlay. Needs a display; run() throws
+// ridge::Error when there is none, or when the build has no viewer (RIDGE_HAVE_VIEWER=0).
+class ViewCommand {
+public:
+    void registerWith(CLI::App& app);
+    bool parsed() const { return command_ && command_->parsed(); }
+    int run();
+
+private:
+    CLI::App* command_ = nullptr;
+    std::string archive_;
+    std::string size_ = "1600x900"; // window, screen coordinates
+    double fov_y_degrees_ = 60.0;
+    double epsilon_px_ = 2.0;
+    bool vsync_ = true;
+    int frames_ = 0;         // > 0: render this many frames, then exit (smoke tests)
+    std::string screenshot_; // PNG of the last frame, read back before the final swap
+};
+
 class Commands {
 public:
     void registerAll(CLI::App& app);
@@ -63,6 +110,8 @@ private:
     std::vector<int> window_;
     HillshadeOptions hillshade_options_;
     CodecBenchCommand codec_bench_;
+    ViewCommand view_;
+    RenderCommand render_;
 };
 
 } // namespace ridge::cli

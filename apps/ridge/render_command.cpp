@@ -1,0 +1,128 @@
+// `ridge render ARCHIVE -o OUT.png`: one frame of the tessellation renderer, headless (EGL).
+#include "commands.h"
+
+#include "ridge/core/error.h"
+#include "ridge/render/headless_render.h"
+
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdio>
+
+namespace ridge::cli {
+namespace {
+
+lod::Viewport parseSize(const std::string& text)
+{
+    int w = 0, h = 0;
+    char x = 0, extra = 0;
+    if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X'))
+        throw Error("--size " + text + ": expected WIDTHxHEIGHT, e.g. 1920x1080");
+    return {w, h};
+}
+
+render::DebugMode parseMode(const std::string& mode)
+{
+    if (mode == "shaded")
+        return render::DebugMode::Shaded;
+    if (mode == "lod")
+        return render::DebugMode::LodLevels;
+    if (mode == "tess")
+        return render::DebugMode::TessellationFactors;
+    throw Error("--mode " + mode + ": expected shaded, lod or tess");
+}
+
+} // namespace
+
+void RenderCommand::registerWith(CLI::App& app)
+{
+    command_ = app.add_subcommand(
+        "render",
+        "Render a view of an archive to a PNG without a window (EGL; hardware tessellation)");
+    command_->add_option("archive", archive_, "Archive (.ridge)")->required();
+    command_->add_option("-o,--output", output_, "Output PNG")->required();
+    command_
+        ->add_option("--camera", camera_,
+                     "Camera position X,Y,Z in metres: x east of the first column, y north of the "
+                     "last row, z elevation (default: an oblique view of the whole terrain)")
+        ->delimiter(',')
+        ->expected(3);
+    command_
+        ->add_option("--look-at", look_at_,
+                     "Point the camera looks at, X,Y,Z (default: terrain centre)")
+        ->delimiter(',')
+        ->expected(3);
+    command_->add_option("--fov", fov_, "Vertical field of view, degrees")
+        ->capture_default_str()
+        ->check(CLI::Range(1.0, 170.0));
+    command_->add_option("--size", size_, "Image size WIDTHxHEIGHT")->capture_default_str();
+    command_->add_option("--error", error_, "Screen-space error threshold ε, pixels")
+        ->capture_default_str()
+        ->check(CLI::Range(0.05, 1000.0));
+    command_
+        ->add_option("--mode", mode_,
+                     "shaded, lod (level colours) or tess (tessellation-factor heat map)")
+        ->capture_default_str();
+    command_->add_flag("--wireframe", wireframe_, "Draw triangle edges over the shading");
+    command_->add_flag("--no-cull", no_cull_, "Disable view-frustum culling");
+    command_->add_flag("--no-skirts", no_skirts_, "Disable the vertical skirts between patches");
+    command_->add_flag("--no-fog", no_fog_, "Disable distance fog");
+    command_->add_flag("--no-sky", no_sky_, "Plain background instead of the sky gradient");
+    command_->add_option("--samples", samples_, "MSAA samples")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 16));
+    command_->add_flag("--json", json_, "Print the camera and frame statistics as JSON");
+    command_->add_flag("-q,--quiet", quiet_, "Print nothing on success");
+}
+
+int RenderCommand::run()
+{
+    render::HeadlessRenderOptions options;
+    if (!camera_.empty())
+        options.camera = glm::dvec3(camera_[0], camera_[1], camera_[2]);
+    if (!look_at_.empty())
+        options.look_at = glm::dvec3(look_at_[0], look_at_[1], look_at_[2]);
+    options.fov_y_degrees = fov_;
+    options.viewport = parseSize(size_);
+    options.samples = samples_;
+    options.settings.epsilon_px = error_;
+    options.settings.mode = parseMode(mode_);
+    options.settings.wireframe = wireframe_;
+    options.settings.cull = !no_cull_;
+    options.settings.skirts = !no_skirts_;
+    options.settings.fog = !no_fog_;
+    options.settings.sky = !no_sky_;
+    const render::HeadlessRenderResult r = render::renderToPng(archive_, options, output_);
+    const glm::dvec3 p = r.camera.position(), f = r.camera.forward();
+    if (json_) {
+        nlohmann::json j = {{"output", output_},
+                            {"gl_renderer", r.gl_renderer},
+                            {"camera", {p.x, p.y, p.z}},
+                            {"forward", {f.x, f.y, f.z}},
+                            {"fov_y_degrees", fov_},
+                            {"size", {options.viewport.width, options.viewport.height}},
+                            {"epsilon_px", r.stats.epsilon_px},
+                            {"patches", r.stats.patches},
+                            {"culled_subtrees", r.stats.culled},
+                            {"triangles", r.stats.triangles},
+                            {"gpu_ms", std::isfinite(r.stats.gpu_ms)
+                                           ? nlohmann::json(r.stats.gpu_ms)
+                                           : nlohmann::json()},
+                            {"gpu_upload_ms", std::isfinite(r.stats.gpu_upload_ms)
+                                                  ? nlohmann::json(r.stats.gpu_upload_ms)
+                                                  : nlohmann::json()},
+                            {"cpu_select_ms", r.stats.cpu_select_ms},
+                            {"cpu_load_ms", r.stats.cpu_load_ms}};
+        fmt::print("{}\n", j.dump(2));
+    } else if (!quiet_) {
+        fmt::print("{}: {}x{}, camera {:.1f},{:.1f},{:.1f}, ε {:.2g} px: {} patches, {} triangles, "
+                   "GPU {:.2f} ms ({})\n",
+                   output_, options.viewport.width, options.viewport.height, p.x, p.y, p.z,
+                   r.stats.epsilon_px, r.stats.patches, r.stats.triangles, r.stats.gpu_ms,
+                   r.gl_renderer);
+    }
+    return 0;
+}
+
+} // namespace ridge::cli

@@ -1,0 +1,486 @@
+// `ridge view ARCHIVE`: the interactive fly-through. Parse, open a window, then per frame map
+// GLFW input onto FlyCamera and RenderSettings, draw with TerrainRenderer and lay a Dear ImGui
+// stats overlay over it. Everything terrain-related lives in libridge; this file is input
+// plumbing and the overlay.
+#include "commands.h"
+#include "terminal.h"
+
+#include "ridge/core/error.h"
+
+#include <fmt/core.h>
+
+#include <charconv>
+#include <cstdlib>
+
+#if RIDGE_HAVE_VIEWER
+#include "ridge/archive/archive_reader.h"
+#include "ridge/gpu/context.h"
+#include "ridge/io/raster_writer.h"
+#include "ridge/render/fly_camera.h"
+#include "ridge/render/terrain_renderer.h"
+
+#include <epoxy/gl.h>
+#define GLFW_INCLUDE_NONE // GL declarations come from epoxy
+#include <GLFW/glfw3.h>
+#include <imgui.h>
+#include <imgui_impl_glfw.h>
+#include <imgui_impl_opengl3.h>
+
+#if defined(__SANITIZE_ADDRESS__)
+#define RIDGE_LEAK_CHECKED 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define RIDGE_LEAK_CHECKED 1
+#endif
+#endif
+#if RIDGE_LEAK_CHECKED
+#include <sanitizer/lsan_interface.h>
+#endif
+
+#include <algorithm>
+#include <cstdint>
+#include <memory>
+#include <vector>
+#endif
+
+namespace ridge::cli {
+
+namespace {
+
+constexpr double kMinEpsilonPx = 0.25, kMaxEpsilonPx = 16.0;
+
+// "1600x900" -> 1600, 900. Throws ridge::Error naming the option.
+void parseSize(const std::string& text, int& width, int& height)
+{
+    const char* begin = text.data();
+    const char* end = begin + text.size();
+    auto [after_w, ec_w] = std::from_chars(begin, end, width);
+    bool ok = ec_w == std::errc() && after_w != end && (*after_w == 'x' || *after_w == 'X');
+    if (ok) {
+        auto [after_h, ec_h] = std::from_chars(after_w + 1, end, height);
+        ok = ec_h == std::errc() && after_h == end;
+    }
+    if (!ok || width < 1 || height < 1 || width > 16384 || height > 16384)
+        throw Error(fmt::format("--size {}: expected WIDTHxHEIGHT between 1x1 and 16384x16384, "
+                                "e.g. 1600x900",
+                                text));
+}
+
+#if RIDGE_HAVE_VIEWER
+
+// Dear ImGui with its GLFW and OpenGL 3 backends, for one window. Must be created after the
+// window's context and destroyed before it (it owns GL objects). Installs ImGui's GLFW
+// callbacks, which chain to the ones already set on the window.
+class ImGuiSession {
+  public:
+    explicit ImGuiSession(GLFWwindow* window)
+    {
+        IMGUI_CHECKVERSION();
+        ImGui::CreateContext();
+        // No imgui.ini in whatever directory the user ran ridge from.
+        ImGui::GetIO().IniFilename = nullptr;
+        ImGui::StyleColorsDark();
+        if (!ImGui_ImplGlfw_InitForOpenGL(window, true) ||
+            !ImGui_ImplOpenGL3_Init("#version 450")) {
+            ImGui::DestroyContext();
+            throw Error("ridge view: cannot initialise the Dear ImGui overlay");
+        }
+    }
+    ~ImGuiSession()
+    {
+        ImGui_ImplOpenGL3_Shutdown();
+        ImGui_ImplGlfw_Shutdown();
+        ImGui::DestroyContext();
+    }
+    ImGuiSession(const ImGuiSession&) = delete;
+    ImGuiSession& operator=(const ImGuiSession&) = delete;
+};
+
+// Discrete input between two frames, filled by GLFW callbacks (main thread, inside
+// pollEvents) and consumed by the frame loop.
+struct PendingInput {
+    double scroll = 0.0; // wheel notches, + = away from the user
+    std::vector<int> pressed_keys;
+};
+
+void onScroll(GLFWwindow* window, double /*x*/, double y)
+{
+    // ImGui's callback runs after this one (it chains), so its WantCaptureMouse is last frame's:
+    // good enough to keep the wheel for scrolling the overlay when hovering it.
+    if (ImGui::GetCurrentContext() && ImGui::GetIO().WantCaptureMouse)
+        return;
+    if (auto* pending = static_cast<PendingInput*>(glfwGetWindowUserPointer(window)))
+        pending->scroll += y;
+}
+
+void onKey(GLFWwindow* window, int key, int /*scancode*/, int action, int /*mods*/)
+{
+    if (action != GLFW_PRESS || (ImGui::GetCurrentContext() && ImGui::GetIO().WantCaptureKeyboard))
+        return;
+    if (auto* pending = static_cast<PendingInput*>(glfwGetWindowUserPointer(window)))
+        pending->pressed_keys.push_back(key);
+}
+
+// The window's default framebuffer, bottom row first as GL stores it, written top row first.
+void writeScreenshot(const std::string& path, int width, int height)
+{
+    std::vector<uint8_t> rgb(size_t(width) * height * 3);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+    glReadBuffer(GL_BACK);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, width, height, GL_RGB, GL_UNSIGNED_BYTE, rgb.data());
+    const size_t row = size_t(width) * 3;
+    for (int y = 0; y < height / 2; ++y)
+        std::swap_ranges(rgb.begin() + y * row, rgb.begin() + (y + 1) * row,
+                         rgb.begin() + (height - 1 - y) * row);
+    io::writePng(path, rgb.data(), width, height, 3);
+}
+
+const char* modeName(render::DebugMode mode)
+{
+    switch (mode) {
+    case render::DebugMode::Shaded:
+        return "shaded";
+    case render::DebugMode::LodLevels:
+        return "LOD levels";
+    case render::DebugMode::TessellationFactors:
+        return "tessellation factors";
+    }
+    return "?";
+}
+
+// The viewer's per-session state and its frame.
+class Viewer {
+  public:
+    Viewer(gpu::WindowContext& window, render::TerrainRenderer& renderer, double fov_y_degrees,
+           double epsilon_px)
+        : window_(window), renderer_(renderer), fov_y_degrees_(fov_y_degrees)
+    {
+        settings_.epsilon_px = std::clamp(epsilon_px, kMinEpsilonPx, kMaxEpsilonPx);
+        int w = 1, h = 1;
+        window_.framebufferSize(w, h);
+        const lod::Viewport viewport{std::max(w, 1), std::max(h, 1)};
+        // Crossing the terrain takes about 20 s at the starting speed, whatever its size.
+        const lod::TerrainFrame& frame = renderer_.quadtree().frame();
+        const double extent = std::max(frame.extentX(), frame.extentY());
+        fly_ = render::FlyCamera::from(renderer_.defaultCamera(viewport, fov_y_degrees_),
+                                       std::max(extent / 20.0, 1.0));
+        glfwSetWindowUserPointer(window_.window(), &pending_);
+        glfwSetScrollCallback(window_.window(), onScroll);
+        glfwSetKeyCallback(window_.window(), onKey);
+        last_time_ = glfwGetTime();
+    }
+    ~Viewer() { glfwSetWindowUserPointer(window_.window(), nullptr); }
+    Viewer(const Viewer&) = delete;
+    Viewer& operator=(const Viewer&) = delete;
+
+    bool quitRequested() const { return quit_ || window_.shouldClose(); }
+
+    // Polls input, moves the camera, renders terrain and overlay into the back buffer.
+    // Returns false (and draws nothing) while the framebuffer is empty (minimised window).
+    bool frame()
+    {
+        window_.pollEvents();
+        const double now = glfwGetTime();
+        // A stalled frame (window drag, a slow synchronous patch load) must not teleport the
+        // camera: cap the step at half a second.
+        const double dt = std::clamp(now - last_time_, 0.0, 0.5);
+        last_time_ = now;
+        window_.framebufferSize(width_, height_);
+        if (width_ <= 0 || height_ <= 0) {
+            pending_ = {};
+            glfwWaitEventsTimeout(0.1);
+            return false;
+        }
+        handleKeys();
+        updateCamera(dt);
+
+        double near_m = 1.0, far_m = 1e6;
+        renderer_.clipPlanesFor(fly_.position(), near_m, far_m);
+        const lod::Camera camera = fly_.camera({width_, height_}, fov_y_degrees_, near_m, far_m);
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        glViewport(0, 0, width_, height_);
+        stats_ = renderer_.draw(camera, settings_);
+
+        // Smoothed over roughly the last 20 frames so the numbers are readable.
+        const double frame_ms = dt * 1000.0;
+        smoothed_ms_ =
+            smoothed_ms_ <= 0.0 ? frame_ms : smoothed_ms_ + 0.05 * (frame_ms - smoothed_ms_);
+        drawOverlay(frame_ms);
+        return true;
+    }
+
+    int width() const { return width_; }
+    int height() const { return height_; }
+
+  private:
+    void handleKeys()
+    {
+        for (const int key : pending_.pressed_keys) {
+            switch (key) {
+            case GLFW_KEY_ESCAPE:
+                quit_ = true;
+                break;
+            case GLFW_KEY_F1:
+                settings_.mode = render::DebugMode::Shaded;
+                break;
+            case GLFW_KEY_F2:
+                settings_.mode = render::DebugMode::LodLevels;
+                break;
+            case GLFW_KEY_F3:
+                settings_.mode = render::DebugMode::TessellationFactors;
+                break;
+            case GLFW_KEY_F4:
+            case GLFW_KEY_Z:
+                settings_.wireframe = !settings_.wireframe;
+                break;
+            case GLFW_KEY_C:
+                settings_.cull = !settings_.cull;
+                break;
+            case GLFW_KEY_K:
+                settings_.skirts = !settings_.skirts;
+                break;
+            case GLFW_KEY_G:
+                settings_.fog = !settings_.fog;
+                break;
+            case GLFW_KEY_H:
+                clamp_to_ground_ = !clamp_to_ground_;
+                break;
+            case GLFW_KEY_TAB:
+                captured_ = !captured_;
+                break;
+            case GLFW_KEY_EQUAL: // '+' without Shift on US layouts
+            case GLFW_KEY_KP_ADD:
+                settings_.epsilon_px = std::min(settings_.epsilon_px * 1.25, kMaxEpsilonPx);
+                break;
+            case GLFW_KEY_MINUS:
+            case GLFW_KEY_KP_SUBTRACT:
+                settings_.epsilon_px = std::max(settings_.epsilon_px / 1.25, kMinEpsilonPx);
+                break;
+            default:
+                break;
+            }
+        }
+        pending_.pressed_keys.clear();
+    }
+
+    void updateCamera(double dt)
+    {
+        GLFWwindow* w = window_.window();
+        const ImGuiIO& io = ImGui::GetIO();
+        auto down = [&](int key) {
+            return !io.WantCaptureKeyboard && glfwGetKey(w, key) == GLFW_PRESS;
+        };
+        render::FlyInput in;
+        in.forward = down(GLFW_KEY_W);
+        in.back = down(GLFW_KEY_S);
+        in.left = down(GLFW_KEY_A);
+        in.right = down(GLFW_KEY_D);
+        in.up = down(GLFW_KEY_E) || down(GLFW_KEY_SPACE);
+        in.down = down(GLFW_KEY_Q) || down(GLFW_KEY_LEFT_CONTROL);
+        in.fast = down(GLFW_KEY_LEFT_SHIFT) || down(GLFW_KEY_RIGHT_SHIFT);
+        in.speed_steps = pending_.scroll;
+        pending_.scroll = 0.0;
+
+        // Mouse look while the right button is held (a press over the overlay belongs to the
+        // overlay) or while Tab has captured the cursor. The cursor is hidden and unbounded
+        // meanwhile, so a long drag never stops at the screen edge.
+        const bool rmb = glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS;
+        if (!rmb)
+            dragging_ = false;
+        else if (!dragging_ && !io.WantCaptureMouse)
+            dragging_ = true;
+        const bool look = dragging_ || captured_;
+        if (look != looking_) {
+            glfwSetInputMode(w, GLFW_CURSOR, look ? GLFW_CURSOR_DISABLED : GLFW_CURSOR_NORMAL);
+            looking_ = look;
+            have_cursor_ = false; // the mode switch moves the reported position: no delta
+        }
+        if (looking_) {
+            double x = 0.0, y = 0.0;
+            glfwGetCursorPos(w, &x, &y);
+            if (have_cursor_) {
+                in.mouse_dx = x - cursor_x_;
+                in.mouse_dy = y - cursor_y_;
+            }
+            cursor_x_ = x;
+            cursor_y_ = y;
+            have_cursor_ = true;
+        }
+
+        fly_.update(in, dt);
+        if (clamp_to_ground_) {
+            glm::dvec3 p = fly_.position();
+            p.z = std::max(p.z, renderer_.groundHeight(p.x, p.y) + 2.0);
+            fly_.setPosition(p);
+        }
+    }
+
+    void drawOverlay(double frame_ms)
+    {
+        ImGui_ImplOpenGL3_NewFrame();
+        ImGui_ImplGlfw_NewFrame();
+        ImGui::NewFrame();
+        ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
+        ImGui::SetNextWindowBgAlpha(0.75f);
+        ImGui::Begin("ridge view", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
+        ImGui::Text("%.1f fps (%.2f ms smoothed), this frame %.2f ms",
+                    1000.0 / std::max(smoothed_ms_, 1e-3), smoothed_ms_, frame_ms);
+        ImGui::Text("GPU terrain pass %.2f ms, uploads %.2f ms", stats_.gpu_ms,
+                    stats_.gpu_upload_ms);
+        ImGui::Text("triangles %.3f M (%.1f Mtri/s)", double(stats_.triangles) * 1e-6,
+                    double(stats_.triangles) * 1e-3 / std::max(smoothed_ms_, 1e-3));
+        ImGui::Text("CPU select %.2f ms, load %.2f ms", stats_.cpu_select_ms, stats_.cpu_load_ms);
+        ImGui::Text("patches: %d drawn, %d culled, %d resident, %d loaded this frame",
+                    stats_.patches, stats_.culled, stats_.resident, stats_.loaded);
+        if (stats_.epsilon_px > settings_.epsilon_px * 1.0001)
+            ImGui::TextColored(ImVec4(1.f, 0.7f, 0.3f, 1.f),
+                               "epsilon raised to %.2f px: the selection exceeded the slots",
+                               stats_.epsilon_px);
+        ImGui::Separator();
+        float epsilon = float(settings_.epsilon_px);
+        if (ImGui::SliderFloat("epsilon (px)", &epsilon, float(kMinEpsilonPx), float(kMaxEpsilonPx),
+                               "%.2f", ImGuiSliderFlags_Logarithmic))
+            settings_.epsilon_px = std::clamp(double(epsilon), kMinEpsilonPx, kMaxEpsilonPx);
+        int mode = int(settings_.mode);
+        if (ImGui::Combo("mode", &mode, "shaded\0LOD levels\0tessellation factors\0"))
+            settings_.mode = render::DebugMode(mode);
+        ImGui::Checkbox("wireframe", &settings_.wireframe);
+        ImGui::SameLine();
+        ImGui::Checkbox("cull", &settings_.cull);
+        ImGui::SameLine();
+        ImGui::Checkbox("skirts", &settings_.skirts);
+        ImGui::SameLine();
+        ImGui::Checkbox("fog", &settings_.fog);
+        ImGui::Checkbox("stay above ground", &clamp_to_ground_);
+        ImGui::Separator();
+        const glm::dvec3 p = fly_.position();
+        ImGui::Text("camera %.1f E, %.1f N, %.1f m (%.1f m above ground)", p.x, p.y, p.z,
+                    p.z - renderer_.groundHeight(p.x, p.y));
+        ImGui::Text("heading %.1f deg, pitch %.1f deg, speed %.1f m/s",
+                    fly_.yaw() * 180.0 / 3.14159265358979323846,
+                    fly_.pitch() * 180.0 / 3.14159265358979323846, fly_.speed());
+        ImGui::Text("mode: %s", modeName(settings_.mode));
+        ImGui::Text("GL: %s", window_.rendererName().c_str());
+        ImGui::Separator();
+        ImGui::TextUnformatted(
+            "WASD move, Q/E down/up, Shift fast, wheel speed, right-drag or Tab look");
+        ImGui::TextUnformatted("F1-F3 modes, F4/Z wireframe, C cull, K skirts, G fog, H ground, "
+                               "+/- epsilon, Esc quit");
+        ImGui::End();
+        ImGui::Render();
+        ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+    }
+
+    gpu::WindowContext& window_;
+    render::TerrainRenderer& renderer_;
+    double fov_y_degrees_;
+    render::RenderSettings settings_;
+    render::FlyCamera fly_;
+    render::FrameStats stats_;
+    PendingInput pending_;
+    bool quit_ = false;
+    bool clamp_to_ground_ = true;
+    bool captured_ = false; // Tab: mouse look without holding a button
+    bool dragging_ = false; // right button held, pressed outside the overlay
+    bool looking_ = false;  // cursor disabled for mouse look
+    bool have_cursor_ = false;
+    double cursor_x_ = 0.0, cursor_y_ = 0.0; // screen coordinates, last frame
+    double last_time_ = 0.0;                 // seconds, glfwGetTime
+    double smoothed_ms_ = 0.0;
+    int width_ = 0, height_ = 0; // framebuffer pixels
+};
+
+#endif // RIDGE_HAVE_VIEWER
+
+} // namespace
+
+void ViewCommand::registerWith(CLI::App& app)
+{
+    command_ = app.add_subcommand(
+        "view", "Fly over an archive in a window (hardware-tessellation renderer, stats overlay)");
+    command_->add_option("archive", archive_, "Archive (.ridge)")->required();
+    command_->add_option("--size", size_, "Window size WIDTHxHEIGHT in screen coordinates")
+        ->capture_default_str();
+    command_->add_option("--fov", fov_y_degrees_, "Vertical field of view, degrees")
+        ->capture_default_str()
+        ->check(CLI::Range(1.0, 170.0));
+    command_->add_option("--error", epsilon_px_, "Screen-space error threshold ε, pixels")
+        ->capture_default_str()
+        ->check(CLI::Range(kMinEpsilonPx, kMaxEpsilonPx));
+    command_->add_flag("--vsync,!--no-vsync", vsync_,
+                       "Wait for the display's refresh (default on)");
+    command_
+        ->add_option("--frames", frames_, "Render this many frames, then exit (0 = until closed)")
+        ->check(CLI::NonNegativeNumber);
+    // For scripts, docs and bug reports: the last frame, overlay included. Hidden (empty group)
+    // to keep the user-facing help short.
+    command_->add_option("--screenshot", screenshot_, "Write the last frame as a PNG")->group("");
+}
+
+int ViewCommand::run()
+{
+    int width = 0, height = 0;
+    parseSize(size_, width, height);
+#if !RIDGE_HAVE_VIEWER
+    throw Error("ridge view: this ridge was built without the viewer (Dear ImGui or its "
+                "GLFW/OpenGL3 backend sources were missing at configure time); use `ridge render` "
+                "for images");
+#else
+    // Checked up front: GLFW's own message for this ("X11: The DISPLAY environment variable is
+    // missing") does not say what to do instead.
+    const char* display = std::getenv("DISPLAY");
+    const char* wayland = std::getenv("WAYLAND_DISPLAY");
+    if ((!display || !*display) && (!wayland || !*wayland))
+        throw Error("ridge view: cannot open a window: no display (DISPLAY is not set); use "
+                    "`ridge render` for headless output");
+    const archive::ArchiveReader reader(archive_);
+    std::unique_ptr<gpu::WindowContext> window;
+    try {
+        window =
+            std::make_unique<gpu::WindowContext>(width, height, "ridge view: " + archive_, vsync_);
+    } catch (const Error& e) {
+        throw Error(
+            fmt::format("ridge view: {}; use `ridge render` for headless output", e.what()));
+    }
+    {
+        // Declaration order is destruction order in reverse: the overlay and the renderer
+        // release their GL objects while the window's context is still alive.
+        render::TerrainRenderer renderer(reader);
+        Viewer viewer(*window, renderer, fov_y_degrees_, epsilon_px_);
+        const ImGuiSession imgui(window->window());
+
+        for (int frame = 0; frames_ == 0 || frame < frames_; ++frame) {
+            if (interrupted())
+                throw Cancelled();
+            if (viewer.quitRequested())
+                break;
+            const bool drawn = viewer.frame();
+            const bool last = frames_ > 0 && frame + 1 == frames_;
+            if (drawn && last && !screenshot_.empty()) {
+                writeScreenshot(screenshot_, viewer.width(), viewer.height());
+                screenshot_.clear();
+            }
+            if (drawn)
+                window->swapBuffers();
+        }
+        // Closed by the user (or minimised at the last frame): one more frame for the shot.
+        if (!screenshot_.empty()) {
+            if (!viewer.frame())
+                throw Error(fmt::format(
+                    "{}: cannot take a screenshot of an empty (minimised) window", screenshot_));
+            writeScreenshot(screenshot_, viewer.width(), viewer.height());
+        }
+    }
+#if RIDGE_LEAK_CHECKED
+    // The window's destructor (glfwTerminate, XCloseDisplay) unloads Mesa's DRI driver; LSan's
+    // exit-time check then cannot name the driver's own leftovers, so no suppression in
+    // scripts/lsan.supp can match them. Check now, with every ridge object of the viewer gone
+    // and the driver still loaded (the exit-time check is then skipped).
+    __lsan_do_leak_check();
+#endif
+    return 0;
+#endif
+}
+
+} // namespace ridge::cli

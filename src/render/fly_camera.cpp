@@ -1,0 +1,86 @@
+#include "ridge/render/fly_camera.h"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace ridge::render {
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+} // namespace
+
+FlyCamera::FlyCamera(glm::dvec3 position, double yaw, double pitch, double speed_mps)
+    : position_(position)
+{
+    setAngles(yaw, pitch);
+    setSpeed(speed_mps);
+}
+
+FlyCamera FlyCamera::from(const lod::Camera& camera, double speed_mps)
+{
+    const glm::dvec3 f = camera.forward();
+    // Inverse of forward(): the heading from north towards east, the elevation above the
+    // horizon (f is unit; clamp guards asin against rounding just past ±1).
+    return FlyCamera(camera.position(), std::atan2(f.x, f.y), std::asin(std::clamp(f.z, -1.0, 1.0)),
+                     speed_mps);
+}
+
+void FlyCamera::setAngles(double yaw, double pitch)
+{
+    // Wrapped so that yaw stays accurate however long the user spins.
+    yaw_ = std::remainder(yaw, 2.0 * kPi);
+    pitch_ = std::clamp(pitch, -kMaxPitch, kMaxPitch);
+}
+
+void FlyCamera::setSpeed(double speed_mps)
+{
+    // NaN (a bad caller) falls back to the slowest speed rather than poisoning the position.
+    speed_ = std::isnan(speed_mps) ? kMinSpeed : std::clamp(speed_mps, kMinSpeed, kMaxSpeed);
+}
+
+void FlyCamera::scaleSpeed(double steps)
+{
+    setSpeed(speed_ * std::pow(speed_factor_, steps));
+}
+
+glm::dvec3 FlyCamera::forward() const
+{
+    const double c = std::cos(pitch_);
+    return {std::sin(yaw_) * c, std::cos(yaw_) * c, std::sin(pitch_)};
+}
+
+glm::dvec3 FlyCamera::right() const
+{
+    // forward × z, normalised; independent of pitch, so strafing stays horizontal.
+    return {std::cos(yaw_), -std::sin(yaw_), 0.0};
+}
+
+void FlyCamera::update(const FlyInput& in, double dt_seconds)
+{
+    setAngles(yaw_ + in.mouse_dx * sensitivity_, pitch_ - in.mouse_dy * sensitivity_);
+    if (in.speed_steps != 0.0)
+        scaleSpeed(in.speed_steps);
+
+    const double dt = std::max(dt_seconds, 0.0);
+    glm::dvec3 direction(0.0);
+    direction += forward() * double(int(in.forward) - int(in.back));
+    direction += right() * double(int(in.right) - int(in.left));
+    direction.z += double(int(in.up) - int(in.down));
+    const double length = glm::length(direction);
+    if (length < 1e-12 || dt == 0.0)
+        return;
+    const double speed = speed_ * (in.fast ? kFastFactor : 1.0);
+    position_ += direction / length * (speed * dt);
+}
+
+lod::Camera FlyCamera::camera(lod::Viewport viewport, double fov_y_deg, double near_m,
+                              double far_m) const
+{
+    // Camera wants a look-at point; one metre ahead keeps its subtraction exact enough at any
+    // position a terrain reaches (|position| ≪ 2^52 m).
+    return lod::Camera(position_, position_ + forward(), fov_y_deg, viewport, near_m, far_m);
+}
+
+} // namespace ridge::render
