@@ -1,11 +1,27 @@
 #!/usr/bin/env bash
-# Fails when GDAL (or, later, GL) headers leak out of the modules that own them.
+# Fails when a library's headers leak out of the modules that own them:
+#   GDAL only in src/io; GL, EGL and GLFW headers only in the GPU layer (src/gpu,
+#   include/ridge/gpu) and the viewer's window code; the GPU layer (ridge/gpu/...) only in the
+#   renderers, the apps, benchmarks and tests — LOD, culling, error metrics and codecs stay
+#   plain C++ that runs without a GL context.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+status=0
+report() {
+  echo "layering: $1:" >&2
+  echo "$2" >&2
+  status=1
+}
 bad=$(grep -rlE '#include *[<"](gdal|ogr|cpl_)[a-z_]*\.h' src include apps | grep -v '^src/io/' || true)
-if [[ -n "$bad" ]]; then
-  echo "layering: GDAL headers outside src/io:" >&2
-  echo "$bad" >&2
-  exit 1
-fi
-echo "layering: ok"
+[[ -z "$bad" ]] || report "GDAL headers outside src/io" "$bad"
+bad=$(grep -rlE '#include *[<"](epoxy|GL|EGL|GLFW)/' src include apps |
+      grep -vE '^(src/gpu/|include/ridge/gpu/|apps/ridge/view_command\.cpp$)' || true)
+[[ -z "$bad" ]] || report "GL/EGL/GLFW headers outside the GPU layer" "$bad"
+bad=$(grep -rlE '#include *[<"]ridge/gpu/' src include |
+      grep -vE '^(src/gpu/|src/render/|include/ridge/gpu/)' || true)
+[[ -z "$bad" ]] || report "the GPU layer used outside the renderers" "$bad"
+bad=$(grep -rlE '#include *[<"]ridge/(gpu|render)/' src/lod src/stream src/pyramid src/codec src/archive \
+      src/io src/core include/ridge/lod include/ridge/stream 2>/dev/null || true)
+[[ -z "$bad" ]] || report "GL-free stages include the GPU layer or the renderers" "$bad"
+((status == 0)) && echo "layering: ok"
+exit $status
