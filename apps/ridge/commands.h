@@ -52,6 +52,7 @@ private:
     bool no_fog_ = false;
     bool no_sky_ = false;
     int samples_ = 4;
+    std::vector<double> sun_{315.0, 45.0};
     bool json_ = false;
     bool quiet_ = false;
 };

@@ -72,6 +72,13 @@ void RenderCommand::registerWith(CLI::App& app)
     command_->add_option("--samples", samples_, "MSAA samples")
         ->capture_default_str()
         ->check(CLI::Range(1, 16));
+    command_
+        ->add_option(
+            "--sun", sun_,
+            "Sun azimuth (degrees clockwise from north) and altitude (degrees), e.g. 315,45")
+        ->delimiter(',')
+        ->expected(2)
+        ->capture_default_str();
     command_->add_flag("--json", json_, "Print the camera and frame statistics as JSON");
     command_->add_flag("-q,--quiet", quiet_, "Print nothing on success");
 }
@@ -93,6 +100,11 @@ int RenderCommand::run()
     options.settings.skirts = !no_skirts_;
     options.settings.fog = !no_fog_;
     options.settings.sky = !no_sky_;
+    if (!(sun_[1] > 0.0 && sun_[1] <= 90.0))
+        throw Error("--sun: the altitude must be in (0, 90] degrees");
+    const double az = sun_[0] * M_PI / 180.0, alt = sun_[1] * M_PI / 180.0;
+    options.settings.sun_direction =
+        glm::dvec3(std::sin(az) * std::cos(alt), std::cos(az) * std::cos(alt), std::sin(alt));
     const render::HeadlessRenderResult r = render::renderToPng(archive_, options, output_);
     const glm::dvec3 p = r.camera.position(), f = r.camera.forward();
     if (json_) {

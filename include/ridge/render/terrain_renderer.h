@@ -33,7 +33,8 @@ struct RenderSettings {
     bool sky = true;        // gradient sky; otherwise clear to clear_colour
     bool fog = true;
     glm::vec4 clear_colour{0.62f, 0.74f, 0.88f, 1.f};
-    glm::dvec3 sun_direction{-0.45, 0.55, 0.70}; // towards the sun (normalised on use)
+    // Towards the sun (normalised on use): azimuth 315° (north-west, as hillshades), altitude 45°.
+    glm::dvec3 sun_direction{-0.5, 0.5, 0.70710678};
 };
 
 struct FrameStats {
