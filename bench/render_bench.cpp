@@ -82,6 +82,7 @@ void BM_TessellationFrame(benchmark::State& state)
     settings.epsilon_px = double(state.range(1));
     settings.skirts = state.range(2) != 0;
     settings.cull = state.range(3) != 0;
+    settings.cull_blocks = state.range(4) != 0;
     s.target->bind();
     render::FrameStats stats = s.renderer->draw(camera, settings); // loads patches
     glFinish();
@@ -96,15 +97,16 @@ void BM_TessellationFrame(benchmark::State& state)
     state.counters["Mtri/s"] = benchmark::Counter(double(stats.triangles) * 1e-6,
                                                   benchmark::Counter::kIsIterationInvariantRate);
 }
-// view, ε, skirts, cull
+// view, ε, skirts, cull (patches), blocks (cull tessellation blocks too)
 BENCHMARK(BM_TessellationFrame)
-    ->ArgNames({"view", "eps", "skirts", "cull"})
-    ->Args({0, 2, 1, 1})
-    ->Args({1, 2, 1, 1})
-    ->Args({1, 1, 1, 1})
-    ->Args({1, 4, 1, 1})
-    ->Args({1, 2, 0, 1})
-    ->Args({1, 2, 1, 0})
+    ->ArgNames({"view", "eps", "skirts", "cull", "blocks"})
+    ->Args({0, 2, 1, 1, 1})
+    ->Args({1, 2, 1, 1, 1})
+    ->Args({1, 1, 1, 1, 1})
+    ->Args({1, 4, 1, 1, 1})
+    ->Args({1, 2, 0, 1, 1})
+    ->Args({1, 2, 1, 1, 0})
+    ->Args({1, 2, 1, 0, 0})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 

@@ -6,6 +6,37 @@
 
 layout(vertices = 1) out;
 
+// True when the box [lo, hi] is entirely outside one frustum plane (the p-vertex test).
+bool outsideFrustum(vec3 lo, vec3 hi) {
+    for (int i = 0; i < 6; ++i) {
+        vec4 pl = u_frustum[i];
+        vec3 p_vertex = mix(lo, hi, greaterThanEqual(pl.xyz, vec3(0.0)));
+        if (dot(pl.xyz, p_vertex) + pl.w < 0.0)
+            return true;
+    }
+    return false;
+}
+
+// Drops the primitive: a zero outer level discards it.
+void cull() {
+    gl_TessLevelOuter[0] = 0.0;
+    gl_TessLevelOuter[1] = 0.0;
+    gl_TessLevelOuter[2] = 0.0;
+    gl_TessLevelOuter[3] = 0.0;
+    gl_TessLevelInner[0] = 0.0;
+    gl_TessLevelInner[1] = 0.0;
+}
+
+// Frustum test of the footprint from sample a to sample b (inclusive) over the patch's height
+// range, extended `below` metres down for skirts. Invisible blocks are not tessellated;
+// their neighbours' shared edges do not depend on it, so nothing visible can crack.
+bool blockInvisible(PatchInstance p, ivec2 a, ivec2 b, float below) {
+    if (u_cull_blocks == 0)
+        return false;
+    vec2 pa = samplePosition(p, a).xy, pb = samplePosition(p, b).xy;
+    return outsideFrustum(vec3(min(pa, pb), p.min_z - below), vec3(max(pa, pb), p.max_z));
+}
+
 in flat int v_primitive[];
 in flat int v_instance[];
 
@@ -23,6 +54,10 @@ void main() {
     if (v_primitive[0] < B * B) {
         ivec2 sr = ivec2(v_primitive[0] % B, v_primitive[0] / B); // block column s, row r
         ivec2 s0 = sr * b;
+        if (blockInvisible(p, s0, s0 + ivec2(b), 0.0)) {
+            cull();
+            return;
+        }
         vec4 own = blockErrors(p, sr);
         // Edges shared by two blocks of the patch take the max of both, so both pick the
         // same factor; border edges have only this block (skirts cover the patch seam).
@@ -64,6 +99,10 @@ void main() {
                 : side == 1 ? ivec2(B - 1, t)
                 : side == 2 ? ivec2(t, B - 1)
                             : ivec2(0, t);
+    if (blockInvisible(p, start, start + axis * b, p.skirt_depth)) {
+        cull();
+        return;
+    }
     // Exactly the block's own border-edge factor: the skirt's top follows its vertices.
     float f = edgeFactor(p, start, start + axis * b, blockErrors(p, block));
     gl_TessLevelOuter[0] = 1.0;

@@ -11,8 +11,8 @@ struct PatchInstance {
     float err;          // Err(P), metres
     float skirt_depth;  // metres the skirts hang below the patch border
     ivec2 valid_cells;  // cells of the patch inside the valid extent along i, j
-    int pad0;
-    int pad1;
+    float min_z;        // camera-relative bounds of the patch's heights (and descendants')
+    float max_z;
 };
 
 layout(std430, binding = 0) readonly buffer PatchInstances { PatchInstance instances[]; };
@@ -28,6 +28,8 @@ uniform int u_patch_cells;      // C = 2^n
 uniform int u_block_cells;      // b
 uniform int u_blocks_per_side;  // C / b
 uniform int u_block_levels;     // D
+uniform int u_cull_blocks;      // 1: drop tessellation blocks outside the view frustum
+uniform vec4 u_frustum[6];      // camera-relative planes (n, d), n·p + d >= 0 inside
 
 layout(binding = 0) uniform usampler2DArray u_heights;     // codes, one layer per patch
 layout(binding = 1) uniform sampler2DArray u_normals;      // unit normals, xyz

@@ -31,7 +31,8 @@ struct GpuPatchInstance {
     float err;
     float skirt_depth;
     int32_t valid_cells[2];
-    int32_t pad[2];
+    float min_z; // camera-relative
+    float max_z;
 };
 static_assert(sizeof(GpuPatchInstance) == 48, "must match the std430 layout of PatchInstance");
 static_assert(sizeof(CapturedVertex) == 20, "must match the interleaved feedback varyings");
@@ -278,6 +279,8 @@ size_t TerrainRenderer::Impl::writeInstances(const lod::Camera& camera,
         inst.level = p.level;
         inst.err = quadtree.bounds(p).err;
         inst.skirt_depth = float(depths[k]);
+        inst.min_z = float(double(quadtree.bounds(p).min_height) - c.z);
+        inst.max_z = float(double(quadtree.bounds(p).max_height) - c.z);
         inst.valid_cells[0] =
             std::clamp(g.validLevelWidth(p.level) - 1 - p.x * g.cells(), 0, g.cells());
         inst.valid_cells[1] =
@@ -321,6 +324,22 @@ void TerrainRenderer::Impl::setFrameUniforms(const gpu::ShaderProgram& program,
     glProgramUniform1i(id, program.uniform("u_block_cells"), layout.block_cells);
     glProgramUniform1i(id, program.uniform("u_blocks_per_side"), blocks_per_side);
     glProgramUniform1i(id, program.uniform("u_block_levels"), block_levels);
+    // Block culling uses the camera-relative frustum: the terrain-frame planes moved by −c.
+    glProgramUniform1i(id, program.uniform("u_cull_blocks"),
+                       settings.cull && settings.cull_blocks ? 1 : 0);
+    const lod::Frustum frustum(camera);
+    float planes[6][4];
+    for (int i = 0; i < 6; ++i) {
+        const glm::dvec4 pl = frustum.plane(i);
+        const double d = pl.w + glm::dot(glm::dvec3(pl), camera.position());
+        planes[i][0] = float(pl.x);
+        planes[i][1] = float(pl.y);
+        planes[i][2] = float(pl.z);
+        // Widened beyond float rounding of camera-relative positions (~1e-7 of the distance):
+        // a visible block must never be culled.
+        planes[i][3] = float(d + 0.01 + 1e-6 * camera.farPlane());
+    }
+    glProgramUniform4fv(id, program.uniform("u_frustum"), 6, &planes[0][0]);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, instances.id());
     glBindTextureUnit(0, heights.id());
     glBindTextureUnit(1, normals.id());

@@ -13,8 +13,10 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cstdio>
 #include <random>
+#include <set>
 
 using namespace ridge;
 
@@ -106,7 +108,10 @@ TEST_F(TerrainRendererTest, CapturedSurfaceIsWatertightForRandomCameras)
         const auto cameras = randomCameras(*s.renderer, 12, {480, 270}, 11);
         size_t seams = 0;
         for (size_t k = 0; k < cameras.size(); ++k) {
-            const render::CapturedSurface surface = s.renderer->capture(cameras[k], {});
+            // Whole patches: block culling would open edges towards invisible blocks.
+            render::RenderSettings whole;
+            whole.cull_blocks = false;
+            const render::CapturedSurface surface = s.renderer->capture(cameras[k], whole);
             const test::WatertightReport w =
                 test::checkWatertight(surface, s.renderer->quadtree().frame());
             ASSERT_GT(w.triangles, 0u) << codec << " camera " << k;
@@ -127,9 +132,52 @@ TEST_F(TerrainRendererTest, WithoutSkirtsTheSeamsBetweenLevelsAreOpen)
     const lod::Camera cam = s.renderer->defaultCamera({480, 270});
     render::RenderSettings settings;
     settings.skirts = false;
+    settings.cull_blocks = false;
     const test::WatertightReport w =
         test::checkWatertight(s.renderer->capture(cam, settings), s.renderer->quadtree().frame());
     EXPECT_GT(w.open_edges, 0u);
+}
+
+TEST_F(TerrainRendererTest, BlockCullingDropsOnlyTrianglesOutsideTheView)
+{
+    // Fewer triangles, and every triangle dropped lies outside the view frustum.
+    Scene s = scene("lossless");
+    const auto cameras = randomCameras(*s.renderer, 8, {480, 270}, 23);
+    size_t kept = 0, all = 0;
+    for (const lod::Camera& cam : cameras) {
+        render::RenderSettings whole;
+        whole.cull_blocks = false;
+        const render::CapturedSurface a = s.renderer->capture(cam, whole);
+        const render::CapturedSurface b = s.renderer->capture(cam, {});
+        all += a.vertices.size() / 3;
+        kept += b.vertices.size() / 3;
+        // Every triangle of the full mesh with a vertex inside the view is still there.
+        std::set<std::array<float, 9>> culled;
+        for (size_t t = 0; t < b.vertices.size(); t += 3)
+            culled.insert({b.vertices[t].x, b.vertices[t].y, b.vertices[t].z, b.vertices[t + 1].x,
+                           b.vertices[t + 1].y, b.vertices[t + 1].z, b.vertices[t + 2].x,
+                           b.vertices[t + 2].y, b.vertices[t + 2].z});
+        const glm::dmat4 vp = cam.viewProjection();
+        size_t missing = 0;
+        for (size_t t = 0; t < a.vertices.size(); t += 3) {
+            bool visible = false;
+            for (int e = 0; e < 3; ++e) {
+                const render::CapturedVertex& v = a.vertices[t + e];
+                const glm::dvec4 q = vp * glm::dvec4(v.x, v.y, v.z, 1.0);
+                visible |= q.w > cam.nearPlane() && std::abs(q.x) <= q.w && std::abs(q.y) <= q.w;
+            }
+            const std::array<float, 9> key{
+                a.vertices[t].x,     a.vertices[t].y,     a.vertices[t].z,
+                a.vertices[t + 1].x, a.vertices[t + 1].y, a.vertices[t + 1].z,
+                a.vertices[t + 2].x, a.vertices[t + 2].y, a.vertices[t + 2].z};
+            if (visible && !culled.count(key))
+                ++missing;
+        }
+        EXPECT_EQ(missing, 0u);
+    }
+    EXPECT_LT(kept, all);
+    std::printf("block culling kept %zu of %zu triangles (%.0f%%)\n", kept, all,
+                100.0 * kept / all);
 }
 
 TEST_F(TerrainRendererTest, ScreenSpaceErrorOfEveryFullResolutionSampleStaysWithinEpsilon)

@@ -27,6 +27,9 @@ enum class DebugMode : int { Shaded = 0, LodLevels = 1, TessellationFactors = 2 
 struct RenderSettings {
     double epsilon_px = 2.0; // ε, pixels
     bool cull = true;        // view-frustum culling of patches
+    // ... and of tessellation blocks in the control shader (with `cull`). capture() keeps
+    // whatever is set: tests that check a whole patch's mesh turn it off.
+    bool cull_blocks = true;
     bool skirts = true;
     DebugMode mode = DebugMode::Shaded;
     bool wireframe = false; // triangle edges over the shading
