@@ -52,7 +52,9 @@ void main() {
         frag_colour = vec4(u_flat_colour, 1.0);
         return;
     }
-    vec3 n = v_skirt != 0 ? vec3(0.0, 0.0, 1.0) : normalize(texture(u_normals, v_texcoord).xyz);
+    // Skirts take the normal of the border sample above them, so that a step between two
+    // levels reads as part of the slope rather than as a dark line.
+    vec3 n = normalize(texture(u_normals, v_texcoord).xyz);
     float slope = 1.0 - n.z; // 0 flat .. 1 vertical
     vec3 albedo;
     if (u_mode == 1)
@@ -67,8 +69,6 @@ void main() {
         if (abs(v_position.z - u_sea_level) < 0.25 && slope < 1e-4)
             albedo = vec3(0.16, 0.30, 0.48);
     }
-    if (v_skirt != 0)
-        albedo *= 0.55;
     float sun = max(dot(n, u_sun_direction), 0.0);
     float sky = 0.5 + 0.5 * n.z;
     vec3 colour = albedo * (0.78 * sun + 0.30 * sky);

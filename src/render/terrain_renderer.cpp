@@ -8,6 +8,7 @@
 #include "ridge/lod/edge_tessellation.h"
 #include "ridge/lod/screen_space_error.h"
 #include "ridge/lod/skirt_depth.h"
+#include "ridge/stream/bordered_patch.h"
 #include "ridge/stream/patch_loader.h"
 
 #include <glm/geometric.hpp>
@@ -85,6 +86,7 @@ struct TerrainRenderer::Impl {
     gpu::GlTexture heights{GL_TEXTURE_2D_ARRAY};
     gpu::GlTexture normals{GL_TEXTURE_2D_ARRAY};
     gpu::GlTexture block_errors{GL_TEXTURE_2D_ARRAY};
+    gpu::GlTexture bordered_heights{GL_TEXTURE_2D}; // staging for the normal-map pass
     gpu::GlBuffer instances;
     size_t instance_capacity = 0;
     gpu::GlBuffer feedback;
@@ -110,6 +112,7 @@ struct TerrainRenderer::Impl {
     Impl(const archive::ArchiveReader& r, const RendererOptions& o);
     void makeResident(const lod::Selection& selection, FrameStats& stats);
     void uploadPatch(const stream::DecodedPatch& patch, int slot);
+    std::vector<float> borderedHeights(const stream::DecodedPatch& patch);
     size_t writeInstances(const lod::Camera& camera, const lod::Selection& selection,
                           std::vector<PatchId>* ids, std::vector<float>* depths_out);
     void setFrameUniforms(const gpu::ShaderProgram& program, const lod::Camera& camera,
@@ -163,6 +166,9 @@ TerrainRenderer::Impl::Impl(const archive::ArchiveReader& r, const RendererOptio
     glTextureParameteri(normals.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     glTextureParameteri(normals.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
     glTextureParameteri(normals.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glTextureStorage2D(bordered_heights.id(), 1, GL_R32F, n + 2, n + 2);
+    glTextureParameteri(bordered_heights.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(bordered_heights.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     glTextureStorage3D(block_errors.id(), 1, GL_RGBA32F, blocks_per_side, blocks_per_side, slots);
     glTextureParameteri(block_errors.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTextureParameteri(block_errors.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
@@ -204,10 +210,14 @@ void TerrainRenderer::Impl::uploadPatch(const stream::DecodedPatch& patch, int s
         lambda_max = std::max(lambda_max, v);
     slot_lambda_max[size_t(slot)] = std::min(lambda_max, bounds.max_height - bounds.min_height);
 
-    // Normal map on the GPU, from the heights just uploaded.
+    // Normal map on the GPU, from the heights with a ring from the same-level neighbours.
+    const std::vector<float> bordered = borderedHeights(patch);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    glTextureSubImage2D(bordered_heights.id(), 0, 0, 0, n + 2, n + 2, GL_RED, GL_FLOAT,
+                        bordered.data());
     const double step = double(reader.geometry().step(patch.id.level));
     normal_program.use();
-    glBindTextureUnit(0, heights.id());
+    glBindTextureUnit(0, bordered_heights.id());
     glBindImageTexture(0, normals.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8_SNORM);
     glUniform1i(normal_program.uniform("u_layer"), slot);
     glUniform1i(normal_program.uniform("u_size"), n);
@@ -215,6 +225,27 @@ void TerrainRenderer::Impl::uploadPatch(const stream::DecodedPatch& patch, int s
                 float(step * reader.header().spacing_y));
     glUniform1f(normal_program.uniform("u_height_scale"), float(quantization.scale));
     glDispatchCompute((n + 7) / 8, (n + 7) / 8, 1);
+}
+
+std::vector<float> TerrainRenderer::Impl::borderedHeights(const stream::DecodedPatch& patch)
+{
+    // Neighbours come through the decoded-patch cache: usually decoded already, or about to
+    // be; a missing one (terrain border) is extrapolated.
+    const PyramidGeometry& g = reader.geometry();
+    const PatchId p = patch.id;
+    std::shared_ptr<const stream::DecodedPatch> side[4];
+    const PatchId ids[4] = {{p.level, p.x - 1, p.y},
+                            {p.level, p.x + 1, p.y},
+                            {p.level, p.x, p.y - 1},
+                            {p.level, p.x, p.y + 1}};
+    for (int k = 0; k < 4; ++k)
+        if (options.seamless_normals && g.exists(ids[k]))
+            side[k] = loader.load(ids[k]);
+    auto codes = [](const std::shared_ptr<const stream::DecodedPatch>& d) {
+        return d ? d->codes.data() : nullptr;
+    };
+    return stream::borderedPatch(patch.codes.data(), n, codes(side[0]), codes(side[1]),
+                                 codes(side[2]), codes(side[3]));
 }
 
 void TerrainRenderer::Impl::makeResident(const lod::Selection& selection, FrameStats& stats)

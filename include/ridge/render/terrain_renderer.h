@@ -69,6 +69,10 @@ struct CapturedSurface {
 struct RendererOptions {
     int max_resident_patches = 512; // texture-array slots
     size_t decoded_cache_patches = 1024;
+    // Normal maps continuous across seams between patches of one level: the normal pass
+    // borrows a ring of samples from the four neighbours (decoding them if they are not
+    // cached). Off: one-sided differences at patch borders, no extra decodes.
+    bool seamless_normals = true;
     // Waits for this frame's GPU timer and GL_PRIMITIVES_GENERATED query (stalls the
     // pipeline: headless renders and tests). Otherwise gpu_ms and triangles are those of the
     // latest finished frame (a few frames old).

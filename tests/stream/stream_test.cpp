@@ -1,0 +1,118 @@
+#include "test_support.h"
+
+#include "ridge/core/error.h"
+#include "ridge/pipeline/build.h"
+#include "ridge/pipeline/level_decoder.h"
+#include "ridge/stream/bordered_patch.h"
+#include "ridge/stream/patch_loader.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+using namespace ridge;
+
+namespace {
+
+std::string buildFixture(const test::ScratchDir& dir, const std::string& codec)
+{
+    BuildOptions options;
+    options.patch_size = 33;
+    options.codec = codec;
+    if (codec == "progressive")
+        options.max_error = 2.0;
+    options.progress = {};
+    const std::string path = dir.path(codec + ".ridge");
+    buildArchive(test::dataPath("everest_crop.tif"), path, options);
+    return path;
+}
+
+} // namespace
+
+TEST(PatchLoader, DecodesWhatTheLevelDecoderDecodesAndCachesIt)
+{
+    test::ScratchDir dir;
+    for (const char* codec : {"lossless", "progressive"}) {
+        const archive::ArchiveReader reader(buildFixture(dir, codec));
+        stream::PatchLoader loader(reader, 64);
+        const int finest = reader.geometry().finestLevel();
+        const DecodedPatches level = decodePatches(reader, finest, 2, 1, 2, 1);
+        const int n = reader.geometry().patchSize();
+        std::vector<uint16_t> expected(size_t(n) * n);
+        level.copyPatch({finest, 2, 1}, n, expected.data());
+
+        const auto patch = loader.load({finest, 2, 1});
+        EXPECT_EQ(patch->codes, expected) << codec;
+        EXPECT_EQ(patch->block_errors.size(), size_t(reader.blockLayout().valuesPerPatch()));
+        const uint64_t decoded = loader.stats().decoded;
+        // The progressive codec needs the ancestors: decoded first, once.
+        EXPECT_EQ(decoded, std::string(codec) == "progressive" ? uint64_t(finest + 1) : 1u)
+            << codec;
+        EXPECT_EQ(loader.load({finest, 2, 1}).get(), patch.get())
+            << "a cached patch is not decoded again";
+        EXPECT_EQ(loader.stats().decoded, decoded);
+        EXPECT_GE(loader.stats().cache_hits, 1u);
+        EXPECT_GT(loader.stats().bytes_read, 0u);
+    }
+}
+
+TEST(PatchLoader, EvictsTheLeastRecentlyUsedAndNamesACorruptPatch)
+{
+    test::ScratchDir dir;
+    const std::string path = buildFixture(dir, "lossless");
+    {
+        const archive::ArchiveReader reader(path);
+        stream::PatchLoader loader(reader, 6); // at least the depth + 1 (5 levels here)
+        const int L = reader.geometry().finestLevel();
+        for (int x = 0; x < 8; ++x)
+            loader.load({L, x, 0});
+        const uint64_t decoded = loader.stats().decoded;
+        loader.load({L, 7, 0}); // still cached
+        EXPECT_EQ(loader.stats().decoded, decoded);
+        loader.load({L, 0, 0}); // evicted by the later ones
+        EXPECT_EQ(loader.stats().decoded, decoded + 1);
+    }
+    // Flip a byte in the first blob (a finest patch: streamed builds write those first).
+    {
+        std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+        f.seekp(200);
+        f.put('\x33');
+    }
+    const archive::ArchiveReader reader(path);
+    stream::PatchLoader loader(reader);
+    try {
+        loader.load({reader.geometry().finestLevel(), 0, 0});
+        FAIL() << "a corrupt patch must not decode";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("patch (level"), std::string::npos) << e.what();
+    }
+}
+
+TEST(BorderedPatch, BorrowsTheRingFromTheNeighboursAndExtrapolatesAtTheTerrainBorder)
+{
+    // Three patches of 5 samples in a row of one level, sharing their border columns.
+    const int n = 5;
+    auto make = [&](int x0) {
+        std::vector<uint16_t> p(size_t(n) * n);
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i)
+                p[size_t(j) * n + i] = uint16_t(100 + 3 * (x0 + i) + 7 * j + (x0 + i) * (x0 + i));
+        return p;
+    };
+    const auto west = make(0), centre = make(4), east = make(8);
+    const std::vector<float> b =
+        stream::borderedPatch(centre.data(), n, west.data(), east.data(), nullptr, nullptr);
+    const int m = n + 2;
+    for (int j = 0; j < n; ++j) {
+        // The sample west of our column 0 is the level's column 3 = the west patch's column 3.
+        EXPECT_EQ(b[size_t(j + 1) * m + 0], float(west[size_t(j) * n + 3]));
+        EXPECT_EQ(b[size_t(j + 1) * m + (n + 1)], float(east[size_t(j) * n + 1]));
+        for (int i = 0; i < n; ++i)
+            EXPECT_EQ(b[size_t(j + 1) * m + i + 1], float(centre[size_t(j) * n + i]));
+    }
+    // No northern neighbour: 2·h(k, 0) − h(k, 1), so the central difference is one-sided.
+    for (int k = 0; k < n; ++k)
+        EXPECT_EQ(b[size_t(0) * m + k + 1], 2.f * centre[size_t(k)] - centre[size_t(n) + k]);
+}
