@@ -1,13 +1,16 @@
 #version 450 core
 // Terrain shading: sun light on the GPU-computed normal map, a hypsometric colour ramp with
 // slope shading, distance fog; debug modes for LOD levels and tessellation factors.
-in vec3 v_position;
-in vec3 v_texcoord;
-in vec2 v_cell;
-flat in int v_level;
-flat in float v_factor;
-flat in int v_skirt;
-flat in ivec2 v_valid_cells;
+// From the evaluation shader, or from terrain_clip.geom for patches partly outside the
+// valid extent (clipped there exactly, with a wall under the cut).
+in Vertex {
+    vec3 position;      // camera-relative
+    vec3 texcoord;      // normal-map uv and layer
+    vec2 cell;          // patch cell coordinates
+    flat int level;
+    flat float factor;  // interior tessellation factor
+    flat int skirt;     // 1 for skirts, 2 for the walls on the clipped border
+} v;
 
 layout(binding = 1) uniform sampler2DArray u_normals;
 
@@ -45,35 +48,40 @@ vec3 heat(float t) { // 0 blue (coarse) .. 1 red (full resolution)
 }
 
 void main() {
-    // The padding beyond the valid extent is tessellated with its patch but never shown.
-    if (any(greaterThan(v_cell, vec2(v_valid_cells) + 1e-3)))
-        discard;
     if (u_mode == 3) {
         frag_colour = vec4(u_flat_colour, 1.0);
         return;
     }
     // Skirts take the normal of the border sample above them, so that a step between two
     // levels reads as part of the slope rather than as a dark line.
-    vec3 n = normalize(texture(u_normals, v_texcoord).xyz);
+    vec3 n = normalize(texture(u_normals, v.texcoord).xyz);
+    if (v.skirt == 2) {
+        // A wall is a flat vertical face: its own normal, towards the viewer.
+        n = normalize(cross(dFdx(v.position), dFdy(v.position)));
+        if (dot(n, v.position) > 0.0)
+            n = -n;
+    }
     float slope = 1.0 - n.z; // 0 flat .. 1 vertical
     vec3 albedo;
     if (u_mode == 1)
-        albedo = levelColour(v_level);
+        albedo = levelColour(v.level);
     else if (u_mode == 2)
-        albedo = heat(log2(max(v_factor, 1.0)) / max(log2(float(u_block_cells_f)), 1.0));
+        albedo = heat(log2(max(v.factor, 1.0)) / max(log2(float(u_block_cells_f)), 1.0));
     else {
-        float t = (v_position.z - u_height_range.x) / max(u_height_range.y - u_height_range.x, 1e-3);
+        float t = (v.position.z - u_height_range.x) / max(u_height_range.y - u_height_range.x, 1e-3);
         albedo = hypsometric(t);
+        if (v.skirt == 2)
+            albedo = mix(albedo, vec3(0.36, 0.29, 0.22), 0.6); // walls: earth
         albedo = mix(albedo, vec3(0.42, 0.39, 0.36), smoothstep(0.25, 0.55, slope) * (1.0 - step(0.9, t)));
         // DEMs store the sea as flat 0 m: shade it as water (land below sea level keeps its slope).
-        if (abs(v_position.z - u_sea_level) < 0.25 && slope < 1e-4)
+        if (abs(v.position.z - u_sea_level) < 0.25 && slope < 1e-4)
             albedo = vec3(0.16, 0.30, 0.48);
     }
     float sun = max(dot(n, u_sun_direction), 0.0);
     float sky = 0.5 + 0.5 * n.z;
     vec3 colour = albedo * (0.78 * sun + 0.30 * sky);
     if (u_fog_density > 0.0) {
-        float fog = 1.0 - exp(-u_fog_density * length(v_position));
+        float fog = 1.0 - exp(-u_fog_density * length(v.position));
         colour = mix(colour, u_fog_colour, fog);
     }
     frag_colour = vec4(pow(colour, vec3(1.0 / 1.1)), 1.0);

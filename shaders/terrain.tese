@@ -14,17 +14,20 @@ patch in ivec2 tc_axis;
 patch in int tc_instance;
 patch in float tc_factor;
 
-out vec3 v_position;      // camera-relative
-out vec3 v_texcoord;      // normal-map uv and layer
-out vec2 v_cell;          // patch cell coordinates, for clipping to the valid extent
-flat out int v_level;
-flat out float v_factor;
-flat out int v_skirt;
-flat out ivec2 v_valid_cells;
+out Vertex {
+    vec3 position;      // camera-relative
+    vec3 texcoord;      // normal-map uv and layer
+    vec2 cell;          // patch cell coordinates (clipping to the valid extent)
+    flat int level;
+    flat float factor;  // interior tessellation factor
+    flat int skirt;     // 1 for skirts
+} v;
 // Transform-feedback capture (tests): position, patch instance, 1 for skirts (2 on a foot).
-out vec3 tf_position;
-flat out int tf_instance;
-flat out int tf_skirt;
+out Capture {
+    vec3 tf_position;
+    flat int tf_instance;
+    flat int tf_skirt;
+} capture;
 
 void main() {
     PatchInstance p = instances[tc_instance];
@@ -44,17 +47,14 @@ void main() {
             position.z = position.z - p.skirt_depth * gl_TessCoord.y;
     }
     float n = float(u_patch_cells + 1);
-    v_position = position;
-    v_texcoord = vec3((vec2(sample_ij) + 0.5) / n, float(p.layer));
-    v_cell = vec2(sample_ij);
-    v_level = p.level;
-    v_factor = tc_factor;
-    v_skirt = skirt ? 1 : 0;
-    // Whole patches never clip: interpolated cell coordinates overshoot their border by an
-    // ulp, which must not open a pinhole on the seam.
-    v_valid_cells = mix(p.valid_cells, ivec2(u_patch_cells + 1), equal(p.valid_cells, ivec2(u_patch_cells)));
-    tf_position = position;
-    tf_instance = tc_instance;
-    tf_skirt = skirt ? (gl_TessCoord.y >= 1.0 ? 2 : 1) : 0;
+    v.position = position;
+    v.texcoord = vec3((vec2(sample_ij) + 0.5) / n, float(p.layer));
+    v.cell = vec2(sample_ij);
+    v.level = p.level;
+    v.factor = tc_factor;
+    v.skirt = skirt ? 1 : 0;
+    capture.tf_position = position;
+    capture.tf_instance = tc_instance;
+    capture.tf_skirt = skirt ? (gl_TessCoord.y >= 1.0 ? 2 : 1) : 0;
     gl_Position = u_view_projection * vec4(position, 1.0);
 }

@@ -4,8 +4,10 @@
 out flat int v_primitive;
 out flat int v_instance;
 
+uniform int u_instance_offset; // first instance of this draw (GL 4.5 has no gl_BaseInstance)
+
 void main() {
     v_primitive = gl_VertexID;
-    v_instance = gl_InstanceID;
+    v_instance = gl_InstanceID + u_instance_offset;
     gl_Position = vec4(0.0);
 }

@@ -92,7 +92,10 @@ struct TerrainRenderer::Impl {
     gpu::GlBuffer feedback;
     size_t feedback_capacity = 0; // bytes
     gpu::GlVertexArray empty_vao;
-    gpu::ShaderProgram terrain_program, capture_program, normal_program, sky_program;
+    // Whole patches go through the tessellator only; patches reaching past the valid extent
+    // also through terrain_clip.geom (exact clipping, walls). Each pass draws both groups.
+    gpu::ShaderProgram terrain_program, terrain_clip_program, capture_program, capture_clip_program;
+    gpu::ShaderProgram normal_program, sky_program;
     gpu::GpuTimer timer;                              // terrain pass
     gpu::GpuTimer upload_timer;                       // uploads and normal maps of new patches
     gpu::GlQuery primitives{GL_PRIMITIVES_GENERATED}; // capture(), synchronous stats
@@ -113,8 +116,13 @@ struct TerrainRenderer::Impl {
     void makeResident(const lod::Selection& selection, FrameStats& stats);
     void uploadPatch(const stream::DecodedPatch& patch, int slot);
     std::vector<float> borderedHeights(const stream::DecodedPatch& patch);
-    size_t writeInstances(const lod::Camera& camera, const lod::Selection& selection,
-                          std::vector<PatchId>* ids, std::vector<float>* depths_out);
+    // Instances [0, whole) are whole patches, [whole, whole + partial) reach past the extent.
+    struct InstanceRanges {
+        size_t whole = 0, partial = 0;
+        size_t total() const { return whole + partial; }
+    };
+    InstanceRanges writeInstances(const lod::Camera& camera, const lod::Selection& selection,
+                                  std::vector<PatchId>* ids, std::vector<float>* depths_out);
     void setFrameUniforms(const gpu::ShaderProgram& program, const lod::Camera& camera,
                           const RenderSettings& settings) const;
     // The finest sample nearest the camera: x, y are integers relative to it times the
@@ -132,6 +140,17 @@ struct TerrainRenderer::Impl {
         a.x_rel = f.xOf(double(a.column)) - camera.position().x;
         a.y_rel = f.yOf(double(a.row)) - camera.position().y;
         return a;
+    }
+    // Calls draw(program, first, count) for the non-empty instance groups: whole patches with
+    // the plain (or capture) program, partial ones with the clipping one.
+    template <class Draw>
+    void forEachGroup(const InstanceRanges& r, const RenderSettings&, Draw&& draw,
+                      bool capture) const
+    {
+        if (r.whole)
+            draw(capture ? capture_program : terrain_program, size_t(0), r.whole);
+        if (r.partial)
+            draw(capture ? capture_clip_program : terrain_clip_program, r.whole, r.partial);
     }
     int primitivesPerInstance(const RenderSettings& settings) const
     {
@@ -179,10 +198,22 @@ TerrainRenderer::Impl::Impl(const archive::ArchiveReader& r, const RendererOptio
                                           {GL_TESS_CONTROL_SHADER, "terrain.tesc"},
                                           {GL_TESS_EVALUATION_SHADER, "terrain.tese"},
                                           {GL_FRAGMENT_SHADER, "terrain.frag"}});
+    terrain_clip_program = gpu::ShaderProgram({{GL_VERTEX_SHADER, "terrain.vert"},
+                                               {GL_TESS_CONTROL_SHADER, "terrain.tesc"},
+                                               {GL_TESS_EVALUATION_SHADER, "terrain.tese"},
+                                               {GL_GEOMETRY_SHADER, "terrain_clip.geom"},
+                                               {GL_FRAGMENT_SHADER, "terrain.frag"}});
+    const std::vector<std::string> varyings = {"Capture.tf_position", "Capture.tf_instance",
+                                               "Capture.tf_skirt"};
     capture_program = gpu::ShaderProgram({{GL_VERTEX_SHADER, "terrain.vert"},
                                           {GL_TESS_CONTROL_SHADER, "terrain.tesc"},
                                           {GL_TESS_EVALUATION_SHADER, "terrain.tese"}},
-                                         {"tf_position", "tf_instance", "tf_skirt"});
+                                         varyings);
+    capture_clip_program = gpu::ShaderProgram({{GL_VERTEX_SHADER, "terrain.vert"},
+                                               {GL_TESS_CONTROL_SHADER, "terrain.tesc"},
+                                               {GL_TESS_EVALUATION_SHADER, "terrain.tese"},
+                                               {GL_GEOMETRY_SHADER, "terrain_clip.geom"}},
+                                              varyings);
     normal_program = gpu::ShaderProgram({{GL_COMPUTE_SHADER, "patch_normals.comp"}});
     sky_program =
         gpu::ShaderProgram({{GL_VERTEX_SHADER, "sky.vert"}, {GL_FRAGMENT_SHADER, "sky.frag"}});
@@ -269,10 +300,9 @@ void TerrainRenderer::Impl::makeResident(const lod::Selection& selection, FrameS
     stats.resident = residency.residentCount();
 }
 
-size_t TerrainRenderer::Impl::writeInstances(const lod::Camera& camera,
-                                             const lod::Selection& selection,
-                                             std::vector<PatchId>* ids,
-                                             std::vector<float>* depths_out)
+TerrainRenderer::Impl::InstanceRanges
+TerrainRenderer::Impl::writeInstances(const lod::Camera& camera, const lod::Selection& selection,
+                                      std::vector<PatchId>* ids, std::vector<float>* depths_out)
 {
     const PyramidGeometry& g = reader.geometry();
     const glm::dvec3 c = camera.position();
@@ -283,6 +313,16 @@ size_t TerrainRenderer::Impl::writeInstances(const lod::Camera& camera,
         order.push_back({lod::distanceToBox(c, quadtree.box(s.id)), s.id});
     std::sort(order.begin(), order.end(),
               [](const auto& a, const auto& b) { return a.first < b.first; });
+    // Whole patches first: the clipping draw takes the rest.
+    auto whole = [&](PatchId p) {
+        return g.validLevelWidth(p.level) - 1 - p.x * g.cells() >= g.cells() &&
+               g.validLevelHeight(p.level) - 1 - p.y * g.cells() >= g.cells();
+    };
+    const auto split = std::stable_partition(order.begin(), order.end(),
+                                             [&](const auto& e) { return whole(e.second); });
+    InstanceRanges ranges;
+    ranges.whole = size_t(split - order.begin());
+    ranges.partial = order.size() - ranges.whole;
 
     std::vector<PatchId> drawn;
     drawn.reserve(order.size());
@@ -331,7 +371,7 @@ size_t TerrainRenderer::Impl::writeInstances(const lod::Camera& camera,
     if (!data.empty())
         glNamedBufferSubData(instances.id(), 0, data.size() * sizeof(GpuPatchInstance),
                              data.data());
-    return data.size();
+    return ranges;
 }
 
 void TerrainRenderer::Impl::setFrameUniforms(const gpu::ShaderProgram& program,
@@ -445,7 +485,7 @@ FrameStats TerrainRenderer::draw(const lod::Camera& camera, const RenderSettings
     // The selection used a possibly raised ε; the tessellator must use the same.
     RenderSettings s = settings;
     s.epsilon_px = selection.epsilon_px;
-    const size_t count = m.writeInstances(camera, selection, nullptr, nullptr);
+    const Impl::InstanceRanges ranges = m.writeInstances(camera, selection, nullptr, nullptr);
 
     glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
     glClearColor(s.clear_colour.r, s.clear_colour.g, s.clear_colour.b, s.clear_colour.a);
@@ -468,22 +508,38 @@ FrameStats TerrainRenderer::draw(const lod::Camera& camera, const RenderSettings
 
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_GREATER);
-    const gpu::ShaderProgram& p = m.terrain_program;
-    p.use();
-    m.setFrameUniforms(p, camera, s);
     const glm::dvec3 sun = glm::normalize(s.sun_direction);
-    glUniform3f(p.uniform("u_sun_direction"), float(sun.x), float(sun.y), float(sun.z));
-    glUniform2f(p.uniform("u_height_range"), float(m.min_height - camera.position().z),
-                float(m.max_height - camera.position().z));
-    glUniform1f(p.uniform("u_sea_level"), float(-camera.position().z));
-    glUniform3f(p.uniform("u_fog_colour"), horizon.r, horizon.g, horizon.b);
     // Fog thickens over the terrain's own size: a tenth of the light lost across it.
     const double extent = std::max(m.quadtree.frame().extentX(), m.quadtree.frame().extentY());
-    glUniform1f(p.uniform("u_fog_density"), s.fog ? float(0.105 / std::max(extent, 1.0)) : 0.f);
-    glUniform1i(p.uniform("u_block_cells_f"), m.layout.block_cells);
-    glUniform1i(p.uniform("u_mode"), int(s.mode));
+    for (const gpu::ShaderProgram* p : {&m.terrain_program, &m.terrain_clip_program}) {
+        const GLuint id = p->id();
+        m.setFrameUniforms(*p, camera, s);
+        glProgramUniform3f(id, p->uniform("u_sun_direction"), float(sun.x), float(sun.y),
+                           float(sun.z));
+        glProgramUniform2f(id, p->uniform("u_height_range"),
+                           float(m.min_height - camera.position().z),
+                           float(m.max_height - camera.position().z));
+        glProgramUniform1f(id, p->uniform("u_sea_level"), float(-camera.position().z));
+        glProgramUniform3f(id, p->uniform("u_fog_colour"), horizon.r, horizon.g, horizon.b);
+        glProgramUniform1f(id, p->uniform("u_fog_density"),
+                           s.fog ? float(0.105 / std::max(extent, 1.0)) : 0.f);
+        glProgramUniform1i(id, p->uniform("u_block_cells_f"), m.layout.block_cells);
+        glProgramUniform3f(id, p->uniform("u_flat_colour"), 0.05f, 0.05f, 0.08f);
+    }
     glBindVertexArray(m.empty_vao.id());
     glPatchParameteri(GL_PATCH_VERTICES, 1);
+    // Both instance groups with `mode` (3: the wireframe's flat colour).
+    auto drawTerrain = [&](int mode) {
+        m.forEachGroup(
+            ranges, s,
+            [&](const gpu::ShaderProgram& p, size_t first, size_t n) {
+                p.use();
+                glUniform1i(p.uniform("u_mode"), mode);
+                glUniform1i(p.uniform("u_instance_offset"), GLint(first));
+                glDrawArraysInstanced(GL_PATCHES, 0, m.primitivesPerInstance(s), GLsizei(n));
+            },
+            false);
+    };
 
     const bool synchronous = m.options.synchronous_stats;
     if (m.triangle_queries.empty())
@@ -494,18 +550,15 @@ FrameStats TerrainRenderer::draw(const lod::Camera& camera, const RenderSettings
     m.timer.begin();
     // A still-pending query in this slot is dropped: its frame is 4 frames old.
     glBeginQuery(GL_PRIMITIVES_GENERATED, m.triangle_queries[size_t(query)].id());
-    if (count)
-        glDrawArraysInstanced(GL_PATCHES, 0, m.primitivesPerInstance(s), GLsizei(count));
+    drawTerrain(int(s.mode));
     glEndQuery(GL_PRIMITIVES_GENERATED);
     m.triangle_query_pending[size_t(query)] = true;
-    if (s.wireframe && count) {
-        glUniform1i(p.uniform("u_mode"), 3);
-        glUniform3f(p.uniform("u_flat_colour"), 0.05f, 0.05f, 0.08f);
+    if (s.wireframe && ranges.total()) {
         glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
         glEnable(GL_POLYGON_OFFSET_LINE);
         glPolygonOffset(1.f, 1.f); // reverse-Z: larger depth is nearer
         glDepthFunc(GL_GEQUAL);
-        glDrawArraysInstanced(GL_PATCHES, 0, m.primitivesPerInstance(s), GLsizei(count));
+        drawTerrain(3);
         glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
         glDisable(GL_POLYGON_OFFSET_LINE);
     }
@@ -538,13 +591,13 @@ CapturedSurface TerrainRenderer::capture(const lod::Camera& camera, const Render
     s.epsilon_px = selection.epsilon_px;
     CapturedSurface out;
     out.camera_position = camera.position();
-    const size_t count = m.writeInstances(camera, selection, &out.patches, &out.skirt_depth);
-    if (count == 0)
+    const Impl::InstanceRanges ranges =
+        m.writeInstances(camera, selection, &out.patches, &out.skirt_depth);
+    if (ranges.total() == 0)
         return out;
 
-    const gpu::ShaderProgram& p = m.capture_program;
-    p.use();
-    m.setFrameUniforms(p, camera, s);
+    m.setFrameUniforms(m.capture_program, camera, s);
+    m.setFrameUniforms(m.capture_clip_program, camera, s);
     glBindVertexArray(m.empty_vao.id());
     glPatchParameteri(GL_PATCH_VERTICES, 1);
     GLint previous_framebuffer = 0;
@@ -553,33 +606,49 @@ CapturedSurface TerrainRenderer::capture(const lod::Camera& camera, const Render
         m.capture_target = std::make_unique<gpu::RenderTarget>(1, 1, 1);
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m.capture_target->framebuffer());
     glEnable(GL_RASTERIZER_DISCARD);
-    // A block yields at most 2·b² triangles plus its transition ring, a skirt segment 4·b.
+    // A block yields at most 2·b² triangles plus its transition ring, a skirt segment 4·b;
+    // clipping makes at most 3 triangles and 2 walls (4 triangles) of one.
     const size_t b = size_t(m.layout.block_cells);
     const size_t per_instance =
         size_t(m.blocks_per_side) * m.blocks_per_side * (2 * b * b + 8 * b) +
         (s.skirts ? size_t(4) * m.blocks_per_side * (4 * b + 4) : 0);
-    const size_t bytes = count * per_instance * 3 * sizeof(CapturedVertex);
+    const size_t bytes =
+        (ranges.whole + 7 * ranges.partial) * per_instance * 3 * sizeof(CapturedVertex);
     if (bytes > m.feedback_capacity) {
         m.feedback = gpu::GlBuffer();
         glNamedBufferStorage(m.feedback.id(), bytes, nullptr, 0);
         m.feedback_capacity = bytes;
     }
-    glBindBufferBase(GL_TRANSFORM_FEEDBACK_BUFFER, 0, m.feedback.id());
-    glBeginQuery(GL_TRANSFORM_FEEDBACK_PRIMITIVES_WRITTEN, m.written.id());
-    glBeginQuery(GL_PRIMITIVES_GENERATED, m.primitives.id());
-    glBeginTransformFeedback(GL_TRIANGLES);
-    glDrawArraysInstanced(GL_PATCHES, 0, m.primitivesPerInstance(s), GLsizei(count));
-    glEndTransformFeedback();
-    glEndQuery(GL_PRIMITIVES_GENERATED);
-    glEndQuery(GL_TRANSFORM_FEEDBACK_PRIMITIVES_WRITTEN);
+    // One feedback session per program (programs cannot change while it is active); the
+    // second appends after the first.
+    size_t stored_total = 0;
+    m.forEachGroup(
+        ranges, s,
+        [&](const gpu::ShaderProgram& p, size_t first, size_t n) {
+            p.use();
+            glUniform1i(p.uniform("u_instance_offset"), GLint(first));
+            const GLintptr offset = GLintptr(stored_total * 3 * sizeof(CapturedVertex));
+            glBindBufferRange(GL_TRANSFORM_FEEDBACK_BUFFER, 0, m.feedback.id(), offset,
+                              GLsizeiptr(m.feedback_capacity - size_t(offset)));
+            glBeginQuery(GL_TRANSFORM_FEEDBACK_PRIMITIVES_WRITTEN, m.written.id());
+            glBeginQuery(GL_PRIMITIVES_GENERATED, m.primitives.id());
+            glBeginTransformFeedback(GL_TRIANGLES);
+            glDrawArraysInstanced(GL_PATCHES, 0, m.primitivesPerInstance(s), GLsizei(n));
+            glEndTransformFeedback();
+            glEndQuery(GL_PRIMITIVES_GENERATED);
+            glEndQuery(GL_TRANSFORM_FEEDBACK_PRIMITIVES_WRITTEN);
+            GLuint64 generated = 0, stored = 0;
+            glGetQueryObjectui64v(m.primitives.id(), GL_QUERY_RESULT, &generated);
+            glGetQueryObjectui64v(m.written.id(), GL_QUERY_RESULT, &stored);
+            if (generated != stored)
+                throw Error("terrain renderer: transform feedback kept " + std::to_string(stored) +
+                            " of " + std::to_string(generated) + " triangles");
+            stored_total += size_t(stored);
+        },
+        true);
     glDisable(GL_RASTERIZER_DISCARD);
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(previous_framebuffer));
-    GLuint64 generated = 0, stored = 0;
-    glGetQueryObjectui64v(m.primitives.id(), GL_QUERY_RESULT, &generated);
-    glGetQueryObjectui64v(m.written.id(), GL_QUERY_RESULT, &stored);
-    if (generated != stored)
-        throw Error("terrain renderer: transform feedback kept " + std::to_string(stored) + " of " +
-                    std::to_string(generated) + " triangles");
+    const size_t stored = stored_total;
     out.vertices.resize(size_t(stored) * 3);
     glGetNamedBufferSubData(m.feedback.id(), 0, out.vertices.size() * sizeof(CapturedVertex),
                             out.vertices.data());

@@ -74,18 +74,36 @@ WatertightReport checkWatertight(const render::CapturedSurface& s, const lod::Te
                 foot_vertices[inst].insert(keyOf(v[e]));
         }
     }
+    // The terrain's own outer border (where patches are clipped to the valid extent) is open
+    // by nature: its walls end there, vertically.
+    const double last_column = frame.geometry().width() - 1,
+                 last_row = frame.geometry().height() - 1;
+    auto onOuterBorder = [&](const VertexKey& a, const VertexKey& b) {
+        float ax, ay, bx, by;
+        std::memcpy(&ax, &a[0], 4);
+        std::memcpy(&ay, &a[1], 4);
+        std::memcpy(&bx, &b[0], 4);
+        std::memcpy(&by, &b[1], 4);
+        const double ca = frame.columnOf(ax + s.camera_position.x),
+                     cb = frame.columnOf(bx + s.camera_position.x);
+        const double ra = frame.rowOf(ay + s.camera_position.y),
+                     rb = frame.rowOf(by + s.camera_position.y);
+        return (std::abs(ca - last_column) < 1e-3 && std::abs(cb - last_column) < 1e-3) ||
+               (std::abs(ra - last_row) < 1e-3 && std::abs(rb - last_row) < 1e-3);
+    };
     for (size_t i = 0; i < instances; ++i) {
         for (const auto& [edge, count] : edges[i]) {
             const bool foot =
                 foot_vertices[i].count(edge.first) && foot_vertices[i].count(edge.second);
-            if (count == 1 && !foot) {
+            if (count == 1 && !foot && !onOuterBorder(edge.first, edge.second)) {
                 ++report.open_edges;
                 if (report.first_problem.empty())
                     report.first_problem =
                         "open edge in " + archive::ArchiveReader::patchName(s.patches[i]);
             }
-            if (count > 2)
+            if (count > 2) {
                 ++report.overused_edges;
+            }
         }
     }
     // Border profiles from skirt triangles whose vertex is also a surface vertex.

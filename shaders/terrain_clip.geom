@@ -1,0 +1,183 @@
+#version 450 core
+// For patches partly outside the valid extent only (a second draw): clips each triangle to
+// the valid cells exactly (cell.x <= valid.x, cell.y <= valid.y) and hangs a wall under
+// every cut, skirt_depth deep. The terrain then ends on its true border with a closed side,
+// instead of fragments discarded over the padding with the skirts of inner seams showing.
+// Cut points are computed from the edge's endpoints in a fixed order, so the two triangles
+// sharing an edge produce the same point, bit for bit (`precise`): the clipped surface and
+// its walls stay watertight.
+#include "terrain_common.glsl"
+
+layout(triangles) in;
+// A triangle clipped by two lines has at most 5 corners (3 triangles) and 2 cuts (2 quads).
+layout(triangle_strip, max_vertices = 17) out;
+
+precise gl_Position;
+
+in Vertex {
+    vec3 position;
+    vec3 texcoord;
+    vec2 cell;
+    flat int level;
+    flat float factor;
+    flat int skirt;
+} vin[];
+in Capture {
+    vec3 tf_position;
+    flat int tf_instance;
+    flat int tf_skirt;
+} cin[];
+
+out Vertex {
+    vec3 position;
+    vec3 texcoord;
+    vec2 cell;
+    flat int level;
+    flat float factor;
+    flat int skirt;
+} vout;
+out Capture {
+    vec3 tf_position;
+    flat int tf_instance;
+    flat int tf_skirt;
+} cout;
+
+struct Corner {
+    vec3 position;
+    vec3 texcoord;
+    vec2 cell;
+    int foot; // tf_skirt of the vertex: 0 surface, 1 skirt, 2 skirt foot
+};
+
+Corner corner(int k) {
+    return Corner(vin[k].position, vin[k].texcoord, vin[k].cell, cin[k].tf_skirt);
+}
+
+// a before b in a fixed order of their cell coordinates (then heights, for skirt edges).
+bool before(Corner a, Corner b) {
+    if (a.cell.x != b.cell.x)
+        return a.cell.x < b.cell.x;
+    if (a.cell.y != b.cell.y)
+        return a.cell.y < b.cell.y;
+    return a.position.z < b.position.z;
+}
+
+// The point of edge a-b on the line cell[axis] = limit, the same whichever way round.
+Corner cut(Corner a, Corner b, int axis, float limit) {
+    if (before(b, a)) {
+        Corner t = a;
+        a = b;
+        b = t;
+    }
+    precise float t = (limit - a.cell[axis]) / (b.cell[axis] - a.cell[axis]);
+    Corner c;
+    c.position = mix(a.position, b.position, t);
+    c.texcoord = mix(a.texcoord, b.texcoord, t);
+    c.cell = mix(a.cell, b.cell, t);
+    c.cell[axis] = limit;
+    c.foot = (a.foot == 2 && b.foot == 2) ? 2 : max(a.foot, b.foot);
+    return c;
+}
+
+bool same(Corner a, Corner b) {
+    return a.cell == b.cell && a.position == b.position;
+}
+
+// Appends c unless it repeats the last corner.
+void push(inout Corner poly[5], inout int n, Corner c) {
+    if (n < 5 && (n == 0 || !same(poly[n - 1], c)))
+        poly[n++] = c;
+}
+
+void emit(Corner c, int skirt) {
+    vout.position = c.position;
+    vout.texcoord = c.texcoord;
+    vout.cell = c.cell;
+    vout.level = vin[0].level;
+    vout.factor = vin[0].factor;
+    vout.skirt = skirt;
+    cout.tf_position = c.position;
+    cout.tf_instance = cin[0].tf_instance;
+    cout.tf_skirt = c.foot;
+    gl_Position = u_view_projection * vec4(c.position, 1.0);
+    EmitVertex();
+}
+
+void main() {
+    PatchInstance p = instances[cin[0].tf_instance];
+    Corner poly[5];
+    int count = 3;
+    for (int k = 0; k < 3; ++k)
+        poly[k] = corner(k);
+    bool clipped[2] = bool[2](false, false);
+    for (int axis = 0; axis < 2; ++axis) {
+        if (p.valid_cells[axis] >= u_patch_cells)
+            continue; // the patch does not reach past the valid extent on this side
+        clipped[axis] = true;
+        float limit = float(p.valid_cells[axis]);
+        Corner next[5];
+        int n = 0;
+        for (int k = 0; k < count; ++k) {
+            Corner a = poly[k], b = poly[(k + 1) % count];
+            bool a_in = a.cell[axis] <= limit, b_in = b.cell[axis] <= limit;
+            if (a_in)
+                push(next, n, a);
+            if (a_in != b_in)
+                push(next, n, cut(a, b, axis, limit));
+        }
+        // A cut that lands on a corner repeats it; repeated corners would make degenerate
+        // triangles that count an edge twice.
+        if (n > 1 && same(next[n - 1], next[0]))
+            --n;
+        count = n;
+        for (int k = 0; k < n; ++k)
+            poly[k] = next[k];
+        if (count < 3)
+            return;
+    }
+    // Nothing left but a sliver on the line (a triangle of the padding touching it): its 3-D
+    // area vanishes (skirts are vertical, so the area is not measured in the plane).
+    vec3 normal_sum = vec3(0.0);
+    float perimeter = 0.0;
+    for (int k = 0; k < count; ++k) {
+        vec3 a = poly[k].position - poly[0].position, b = poly[(k + 1) % count].position - poly[0].position;
+        normal_sum += cross(a, b);
+        perimeter += length(poly[(k + 1) % count].position - poly[k].position);
+    }
+    if (length(normal_sum) <= 1e-6 * perimeter * perimeter)
+        return;
+
+    int skirt = vin[0].skirt;
+    for (int k = 1; k + 1 < count; ++k) {
+        emit(poly[0], skirt);
+        emit(poly[k], skirt);
+        emit(poly[k + 1], skirt);
+        EndPrimitive();
+    }
+    if (skirt != 0)
+        return; // skirts are cut, not walled
+    // Walls under every edge of the surface that lies on a clipping line: top on the edge,
+    // foot skirt_depth below, like the skirts on the patch borders.
+    for (int k = 0; k < count; ++k) {
+        Corner a = poly[k], b = poly[(k + 1) % count];
+        bool on_line = false;
+        for (int axis = 0; axis < 2; ++axis) {
+            float limit = float(p.valid_cells[axis]);
+            on_line = on_line || (clipped[axis] && a.cell[axis] == limit && b.cell[axis] == limit);
+        }
+        if (!on_line)
+            continue;
+        Corner a_foot = a, b_foot = b;
+        a_foot.position.z = a.position.z - p.skirt_depth;
+        b_foot.position.z = b.position.z - p.skirt_depth;
+        a_foot.foot = 2;
+        b_foot.foot = 2;
+        a.foot = 1;
+        b.foot = 1;
+        emit(a, 2);
+        emit(b, 2);
+        emit(a_foot, 2);
+        emit(b_foot, 2);
+        EndPrimitive();
+    }
+}
