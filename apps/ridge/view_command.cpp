@@ -206,7 +206,8 @@ class Viewer {
         const double frame_ms = dt * 1000.0;
         smoothed_ms_ =
             smoothed_ms_ <= 0.0 ? frame_ms : smoothed_ms_ + 0.05 * (frame_ms - smoothed_ms_);
-        drawOverlay(frame_ms);
+        if (show_overlay_)
+            drawOverlay(frame_ms);
         return true;
     }
 
@@ -245,6 +246,10 @@ class Viewer {
                 break;
             case GLFW_KEY_H:
                 clamp_to_ground_ = !clamp_to_ground_;
+                break;
+            case GLFW_KEY_O:
+            case GLFW_KEY_F10:
+                show_overlay_ = !show_overlay_;
                 break;
             case GLFW_KEY_TAB:
                 captured_ = !captured_;
@@ -365,8 +370,9 @@ class Viewer {
         ImGui::Separator();
         ImGui::TextUnformatted(
             "WASD move, Q/E down/up, Shift fast, wheel speed, right-drag or Tab look");
-        ImGui::TextUnformatted("F1-F3 modes, F4/Z wireframe, C cull, K skirts, G fog, H ground, "
-                               "+/- epsilon, Esc quit");
+        ImGui::TextUnformatted(
+            "F1-F3 modes, F4/Z wireframe, C cull, K skirts, G fog, H ground, O overlay, "
+            "+/- epsilon, Esc quit");
         ImGui::End();
         ImGui::Render();
         ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
@@ -381,9 +387,10 @@ class Viewer {
     PendingInput pending_;
     bool quit_ = false;
     bool clamp_to_ground_ = true;
-    bool captured_ = false; // Tab: mouse look without holding a button
-    bool dragging_ = false; // right button held, pressed outside the overlay
-    bool looking_ = false;  // cursor disabled for mouse look
+    bool show_overlay_ = true; // O or F10
+    bool captured_ = false;    // Tab: mouse look without holding a button
+    bool dragging_ = false;    // right button held, pressed outside the overlay
+    bool looking_ = false;     // cursor disabled for mouse look
     bool have_cursor_ = false;
     double cursor_x_ = 0.0, cursor_y_ = 0.0; // screen coordinates, last frame
     double last_time_ = 0.0;                 // seconds, glfwGetTime
