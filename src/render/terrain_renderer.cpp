@@ -1,5 +1,8 @@
 #include "ridge/render/terrain_renderer.h"
 
+#include "patch_instances.h"
+#include "patch_textures.h"
+
 #include "ridge/core/error.h"
 #include "ridge/gpu/gl_objects.h"
 #include "ridge/gpu/gpu_timer.h"
@@ -7,7 +10,6 @@
 #include "ridge/gpu/shader_program.h"
 #include "ridge/lod/edge_tessellation.h"
 #include "ridge/lod/screen_space_error.h"
-#include "ridge/lod/skirt_depth.h"
 #include "ridge/stream/bordered_patch.h"
 #include "ridge/stream/patch_loader.h"
 
@@ -22,20 +24,6 @@
 namespace ridge::render {
 namespace {
 
-// std430 mirror of PatchInstance in shaders/terrain_common.glsl.
-struct GpuPatchInstance {
-    int32_t origin[2]; // finest column, row of sample (0, 0) relative to the anchor
-    int32_t step;
-    int32_t pad2;
-    int32_t layer;
-    int32_t level;
-    float err;
-    float skirt_depth;
-    int32_t valid_cells[2];
-    float min_z; // camera-relative
-    float max_z;
-};
-static_assert(sizeof(GpuPatchInstance) == 48, "must match the std430 layout of PatchInstance");
 static_assert(sizeof(CapturedVertex) == 20, "must match the interleaved feedback varyings");
 
 double millisecondsSince(std::chrono::steady_clock::time_point t0)
@@ -78,15 +66,11 @@ struct TerrainRenderer::Impl {
     int blocks_per_side = 0;                  // B
     int block_levels = 0;                     // D
     float min_height = 0.f, max_height = 0.f; // terrain frame, metres
-    std::vector<float> slot_lambda_max;       // per slot: max λ^(d) of the resident patch, metres
-    double skirt_margin = 0.0;                // finest level's codec + quantization error
+    double skirt_margin = 0.0;                // float rounding of camera-relative heights
     std::vector<uint16_t> root_codes;
     uint64_t frame = 0;
 
-    gpu::GlTexture heights{GL_TEXTURE_2D_ARRAY};
-    gpu::GlTexture normals{GL_TEXTURE_2D_ARRAY};
-    gpu::GlTexture block_errors{GL_TEXTURE_2D_ARRAY};
-    gpu::GlTexture bordered_heights{GL_TEXTURE_2D}; // staging for the normal-map pass
+    std::unique_ptr<PatchTextures> textures;
     gpu::GlBuffer instances;
     size_t instance_capacity = 0;
     gpu::GlBuffer feedback;
@@ -95,7 +79,7 @@ struct TerrainRenderer::Impl {
     // Whole patches go through the tessellator only; patches reaching past the valid extent
     // also through terrain_clip.geom (exact clipping, walls). Each pass draws both groups.
     gpu::ShaderProgram terrain_program, terrain_clip_program, capture_program, capture_clip_program;
-    gpu::ShaderProgram normal_program, sky_program;
+    gpu::ShaderProgram sky_program;
     gpu::GpuTimer timer;                              // terrain pass
     gpu::GpuTimer upload_timer;                       // uploads and normal maps of new patches
     gpu::GlQuery primitives{GL_PRIMITIVES_GENERATED}; // capture(), synchronous stats
@@ -116,35 +100,14 @@ struct TerrainRenderer::Impl {
     void makeResident(const lod::Selection& selection, FrameStats& stats);
     void uploadPatch(const stream::DecodedPatch& patch, int slot);
     std::vector<float> borderedHeights(const stream::DecodedPatch& patch);
-    // Instances [0, whole) are whole patches, [whole, whole + partial) reach past the extent.
-    struct InstanceRanges {
-        size_t whole = 0, partial = 0;
-        size_t total() const { return whole + partial; }
-    };
-    InstanceRanges writeInstances(const lod::Camera& camera, const lod::Selection& selection,
+    PatchInstances writeInstances(const lod::Camera& camera, const lod::Selection& selection,
                                   std::vector<PatchId>* ids, std::vector<float>* depths_out);
     void setFrameUniforms(const gpu::ShaderProgram& program, const lod::Camera& camera,
                           const RenderSettings& settings) const;
-    // The finest sample nearest the camera: x, y are integers relative to it times the
-    // spacing plus its camera-relative offset, exact where it matters (near the camera).
-    struct Anchor {
-        int64_t column = 0, row = 0;
-        double x_rel = 0.0, y_rel = 0.0;
-    };
-    Anchor anchorFor(const lod::Camera& camera) const
-    {
-        const lod::TerrainFrame& f = quadtree.frame();
-        Anchor a;
-        a.column = int64_t(std::llround(f.columnOf(camera.position().x)));
-        a.row = int64_t(std::llround(f.rowOf(camera.position().y)));
-        a.x_rel = f.xOf(double(a.column)) - camera.position().x;
-        a.y_rel = f.yOf(double(a.row)) - camera.position().y;
-        return a;
-    }
     // Calls draw(program, first, count) for the non-empty instance groups: whole patches with
     // the plain (or capture) program, partial ones with the clipping one.
     template <class Draw>
-    void forEachGroup(const InstanceRanges& r, const RenderSettings&, Draw&& draw,
+    void forEachGroup(const PatchInstances& r, const RenderSettings&, Draw&& draw,
                       bool capture) const
     {
         if (r.whole)
@@ -171,28 +134,12 @@ TerrainRenderer::Impl::Impl(const archive::ArchiveReader& r, const RendererOptio
     const lod::PatchBounds& root = quadtree.bounds(PatchId{0, 0, 0});
     min_height = root.min_height;
     max_height = root.max_height;
-    slot_lambda_max.assign(size_t(o.max_resident_patches), 0.f);
     // Float rounding of camera-relative heights: a centimetre plus a few ulps of the highest.
     skirt_margin = 0.01 + 1e-6 * std::max(std::abs(root.min_height), std::abs(root.max_height));
     root_codes = loader.load(PatchId{0, 0, 0})->codes;
 
-    const int slots = o.max_resident_patches;
-    glTextureStorage3D(heights.id(), 1, GL_R16UI, n, n, slots);
-    glTextureParameteri(heights.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTextureParameteri(heights.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glTextureStorage3D(normals.id(), 1, GL_RGBA8_SNORM, n, n, slots);
-    glTextureParameteri(normals.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTextureParameteri(normals.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTextureParameteri(normals.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTextureParameteri(normals.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    glTextureStorage2D(bordered_heights.id(), 1, GL_R32F, n + 2, n + 2);
-    glTextureParameteri(bordered_heights.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTextureParameteri(bordered_heights.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glTextureStorage3D(block_errors.id(), 1, GL_RGBA32F, blocks_per_side, blocks_per_side, slots);
-    glTextureParameteri(block_errors.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTextureParameteri(block_errors.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    gpu::checkGlError("terrain renderer: texture arrays");
-
+    textures = std::make_unique<PatchTextures>(n, layout, block_levels, o.max_resident_patches,
+                                               quantization);
     using gpu::ShaderStage;
     terrain_program = gpu::ShaderProgram({{GL_VERTEX_SHADER, "terrain.vert"},
                                           {GL_TESS_CONTROL_SHADER, "terrain.tesc"},
@@ -214,48 +161,16 @@ TerrainRenderer::Impl::Impl(const archive::ArchiveReader& r, const RendererOptio
                                                {GL_TESS_EVALUATION_SHADER, "terrain.tese"},
                                                {GL_GEOMETRY_SHADER, "terrain_clip.geom"}},
                                               varyings);
-    normal_program = gpu::ShaderProgram({{GL_COMPUTE_SHADER, "patch_normals.comp"}});
     sky_program =
         gpu::ShaderProgram({{GL_VERTEX_SHADER, "sky.vert"}, {GL_FRAGMENT_SHADER, "sky.frag"}});
 }
 
 void TerrainRenderer::Impl::uploadPatch(const stream::DecodedPatch& patch, int slot)
 {
-    // Rows of 2^n + 1 16-bit codes are not 4-byte aligned.
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 2);
-    glTextureSubImage3D(heights.id(), 0, 0, 0, slot, n, n, 1, GL_RED_INTEGER, GL_UNSIGNED_SHORT,
-                        patch.codes.data());
-    // λ(d) as one RGBA texel per block; missing levels (D < 4) stay 0 and are never read.
-    const int B = blocks_per_side, D = layout.levels();
-    std::vector<float> texels(size_t(B) * B * 4, 0.f);
-    for (int b = 0; b < B * B; ++b)
-        for (int d = 0; d < block_levels; ++d)
-            texels[size_t(b) * 4 + d] = patch.block_errors[size_t(b) * D + d];
-    glTextureSubImage3D(block_errors.id(), 0, 0, 0, slot, B, B, 1, GL_RGBA, GL_FLOAT,
-                        texels.data());
-    // The tessellator drops at most λ max; λ never exceeds the patch's height range (every
-    // simplified vertex is a patch sample), which also tames saturated values.
-    const lod::PatchBounds& bounds = quadtree.bounds(patch.id);
-    float lambda_max = 0.f;
-    for (float v : texels)
-        lambda_max = std::max(lambda_max, v);
-    slot_lambda_max[size_t(slot)] = std::min(lambda_max, bounds.max_height - bounds.min_height);
-
-    // Normal map on the GPU, from the heights with a ring from the same-level neighbours.
-    const std::vector<float> bordered = borderedHeights(patch);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    glTextureSubImage2D(bordered_heights.id(), 0, 0, 0, n + 2, n + 2, GL_RED, GL_FLOAT,
-                        bordered.data());
     const double step = double(reader.geometry().step(patch.id.level));
-    normal_program.use();
-    glBindTextureUnit(0, bordered_heights.id());
-    glBindImageTexture(0, normals.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8_SNORM);
-    glUniform1i(normal_program.uniform("u_layer"), slot);
-    glUniform1i(normal_program.uniform("u_size"), n);
-    glUniform2f(normal_program.uniform("u_cell_metres"), float(step * reader.header().spacing_x),
-                float(step * reader.header().spacing_y));
-    glUniform1f(normal_program.uniform("u_height_scale"), float(quantization.scale));
-    glDispatchCompute((n + 7) / 8, (n + 7) / 8, 1);
+    const lod::PatchBounds& bounds = quadtree.bounds(patch.id);
+    textures->upload(patch, slot, borderedHeights(patch), step * reader.header().spacing_x,
+                     step * reader.header().spacing_y, bounds.max_height - bounds.min_height);
 }
 
 std::vector<float> TerrainRenderer::Impl::borderedHeights(const stream::DecodedPatch& patch)
@@ -295,73 +210,25 @@ void TerrainRenderer::Impl::makeResident(const lod::Selection& selection, FrameS
         }
     }
     if (!loads.empty())
-        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+        textures->finishUploads();
     stats.loaded = int(loads.size());
     stats.resident = residency.residentCount();
 }
 
-TerrainRenderer::Impl::InstanceRanges
-TerrainRenderer::Impl::writeInstances(const lod::Camera& camera, const lod::Selection& selection,
-                                      std::vector<PatchId>* ids, std::vector<float>* depths_out)
+PatchInstances TerrainRenderer::Impl::writeInstances(const lod::Camera& camera,
+                                                     const lod::Selection& selection,
+                                                     std::vector<PatchId>* ids,
+                                                     std::vector<float>* depths_out)
 {
-    const PyramidGeometry& g = reader.geometry();
-    const glm::dvec3 c = camera.position();
-    // Front to back by box distance: early depth rejection does the rest.
-    std::vector<std::pair<double, PatchId>> order;
-    order.reserve(selection.patches.size());
-    for (const lod::SelectedPatch& s : selection.patches)
-        order.push_back({lod::distanceToBox(c, quadtree.box(s.id)), s.id});
-    std::sort(order.begin(), order.end(),
-              [](const auto& a, const auto& b) { return a.first < b.first; });
-    // Whole patches first: the clipping draw takes the rest.
-    auto whole = [&](PatchId p) {
-        return g.validLevelWidth(p.level) - 1 - p.x * g.cells() >= g.cells() &&
-               g.validLevelHeight(p.level) - 1 - p.y * g.cells() >= g.cells();
-    };
-    const auto split = std::stable_partition(order.begin(), order.end(),
-                                             [&](const auto& e) { return whole(e.second); });
-    InstanceRanges ranges;
-    ranges.whole = size_t(split - order.begin());
-    ranges.partial = order.size() - ranges.whole;
-
-    std::vector<PatchId> drawn;
-    drawn.reserve(order.size());
-    for (const auto& entry : order)
-        drawn.push_back(entry.second);
-    const std::vector<double> depths = lod::skirtDepths(
-        quadtree, drawn,
-        [&](PatchId p) {
-            return double(quadtree.bounds(p).err) + slot_lambda_max[size_t(residency.slotOf(p))];
-        },
-        skirt_margin);
-
-    const Anchor anchor = anchorFor(camera);
-    std::vector<GpuPatchInstance> data;
-    data.reserve(order.size());
-    for (size_t k = 0; k < order.size(); ++k) {
-        const PatchId p = order[k].second;
-        const int64_t step = g.step(p.level);
-        const int64_t c0 = int64_t(p.x) * g.cells() * step, r0 = int64_t(p.y) * g.cells() * step;
-        GpuPatchInstance inst{};
-        inst.origin[0] = int32_t(c0 - anchor.column);
-        inst.origin[1] = int32_t(r0 - anchor.row);
-        inst.step = int32_t(step);
-        inst.layer = residency.slotOf(p);
-        inst.level = p.level;
-        inst.err = quadtree.bounds(p).err;
-        inst.skirt_depth = float(depths[k]);
-        inst.min_z = float(double(quadtree.bounds(p).min_height) - c.z);
-        inst.max_z = float(double(quadtree.bounds(p).max_height) - c.z);
-        inst.valid_cells[0] =
-            std::clamp(g.validLevelWidth(p.level) - 1 - p.x * g.cells(), 0, g.cells());
-        inst.valid_cells[1] =
-            std::clamp(g.validLevelHeight(p.level) - 1 - p.y * g.cells(), 0, g.cells());
-        data.push_back(inst);
-        if (ids)
-            ids->push_back(p);
-        if (depths_out)
-            depths_out->push_back(inst.skirt_depth);
-    }
+    PatchInstances built = buildPatchInstances(
+        quadtree, selection, camera.position(), [&](PatchId p) { return residency.slotOf(p); },
+        [&](PatchId p) { return double(textures->lambdaMax(residency.slotOf(p))); }, skirt_margin);
+    const std::vector<GpuPatchInstance>& data = built.records;
+    if (ids)
+        *ids = built.patches;
+    if (depths_out)
+        for (const GpuPatchInstance& r : data)
+            depths_out->push_back(r.skirt_depth);
     const size_t bytes = std::max<size_t>(data.size(), 1) * sizeof(GpuPatchInstance);
     if (bytes > instance_capacity) {
         instances = gpu::GlBuffer();
@@ -371,7 +238,7 @@ TerrainRenderer::Impl::writeInstances(const lod::Camera& camera, const lod::Sele
     if (!data.empty())
         glNamedBufferSubData(instances.id(), 0, data.size() * sizeof(GpuPatchInstance),
                              data.data());
-    return ranges;
+    return built;
 }
 
 void TerrainRenderer::Impl::setFrameUniforms(const gpu::ShaderProgram& program,
@@ -380,7 +247,7 @@ void TerrainRenderer::Impl::setFrameUniforms(const gpu::ShaderProgram& program,
 {
     const GLuint id = program.id();
     setMatrix(program, "u_view_projection", reverseZProjection(camera) * camera.view());
-    const Anchor anchor = anchorFor(camera);
+    const CameraAnchor anchor = cameraAnchor(quadtree.frame(), camera.position());
     glProgramUniform2f(id, program.uniform("u_spacing"), float(quadtree.frame().spacingX()),
                        float(-quadtree.frame().spacingY()));
     glProgramUniform2f(id, program.uniform("u_anchor_offset"), float(anchor.x_rel),
@@ -412,9 +279,7 @@ void TerrainRenderer::Impl::setFrameUniforms(const gpu::ShaderProgram& program,
     }
     glProgramUniform4fv(id, program.uniform("u_frustum"), 6, &planes[0][0]);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, instances.id());
-    glBindTextureUnit(0, heights.id());
-    glBindTextureUnit(1, normals.id());
-    glBindTextureUnit(2, block_errors.id());
+    textures->bind();
 }
 
 lod::Selection TerrainRenderer::Impl::prepare(const lod::Camera& camera,
@@ -485,7 +350,7 @@ FrameStats TerrainRenderer::draw(const lod::Camera& camera, const RenderSettings
     // The selection used a possibly raised ε; the tessellator must use the same.
     RenderSettings s = settings;
     s.epsilon_px = selection.epsilon_px;
-    const Impl::InstanceRanges ranges = m.writeInstances(camera, selection, nullptr, nullptr);
+    const PatchInstances ranges = m.writeInstances(camera, selection, nullptr, nullptr);
 
     glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
     glClearColor(s.clear_colour.r, s.clear_colour.g, s.clear_colour.b, s.clear_colour.a);
@@ -591,7 +456,7 @@ CapturedSurface TerrainRenderer::capture(const lod::Camera& camera, const Render
     s.epsilon_px = selection.epsilon_px;
     CapturedSurface out;
     out.camera_position = camera.position();
-    const Impl::InstanceRanges ranges =
+    const PatchInstances ranges =
         m.writeInstances(camera, selection, &out.patches, &out.skirt_depth);
     if (ranges.total() == 0)
         return out;

@@ -1,0 +1,80 @@
+#include "patch_instances.h"
+
+#include "ridge/lod/screen_space_error.h"
+#include "ridge/lod/skirt_depth.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ridge::render {
+
+CameraAnchor cameraAnchor(const lod::TerrainFrame& frame, glm::dvec3 camera_position)
+{
+    CameraAnchor a;
+    a.column = int64_t(std::llround(frame.columnOf(camera_position.x)));
+    a.row = int64_t(std::llround(frame.rowOf(camera_position.y)));
+    a.x_rel = frame.xOf(double(a.column)) - camera_position.x;
+    a.y_rel = frame.yOf(double(a.row)) - camera_position.y;
+    return a;
+}
+
+PatchInstances buildPatchInstances(const lod::PatchQuadtree& tree, const lod::Selection& selection,
+                                   glm::dvec3 camera_position,
+                                   const std::function<int(PatchId)>& slot_of,
+                                   const std::function<double(PatchId)>& lambda_max,
+                                   double skirt_margin)
+{
+    const PyramidGeometry& g = tree.geometry();
+    // Cells of `p` inside the valid extent along i and j (C for a patch that ends inside it).
+    auto validCells = [&](PatchId p, bool along_j) {
+        const int valid = along_j ? g.validLevelHeight(p.level) : g.validLevelWidth(p.level);
+        return std::clamp(valid - 1 - (along_j ? p.y : p.x) * g.cells(), 0, g.cells());
+    };
+    auto whole = [&](PatchId p) {
+        return validCells(p, false) == g.cells() && validCells(p, true) == g.cells();
+    };
+
+    // Front to back by box distance (early depth rejection does the rest), whole patches
+    // first.
+    std::vector<std::pair<double, PatchId>> order;
+    order.reserve(selection.patches.size());
+    for (const lod::SelectedPatch& s : selection.patches)
+        order.push_back({lod::distanceToBox(camera_position, tree.box(s.id)), s.id});
+    std::sort(order.begin(), order.end(),
+              [](const auto& a, const auto& b) { return a.first < b.first; });
+    const auto split = std::stable_partition(order.begin(), order.end(),
+                                             [&](const auto& e) { return whole(e.second); });
+
+    PatchInstances out;
+    out.whole = size_t(split - order.begin());
+    out.partial = order.size() - out.whole;
+    for (const auto& entry : order)
+        out.patches.push_back(entry.second);
+    const std::vector<double> depths = lod::skirtDepths(
+        tree, out.patches, [&](PatchId p) { return double(tree.bounds(p).err) + lambda_max(p); },
+        skirt_margin);
+
+    const CameraAnchor anchor = cameraAnchor(tree.frame(), camera_position);
+    out.records.reserve(order.size());
+    for (size_t k = 0; k < out.patches.size(); ++k) {
+        const PatchId p = out.patches[k];
+        const lod::PatchBounds& b = tree.bounds(p);
+        const int64_t step = g.step(p.level);
+        GpuPatchInstance r{};
+        r.origin[0] = int32_t(int64_t(p.x) * g.cells() * step - anchor.column);
+        r.origin[1] = int32_t(int64_t(p.y) * g.cells() * step - anchor.row);
+        r.step = int32_t(step);
+        r.layer = slot_of(p);
+        r.level = p.level;
+        r.err = b.err;
+        r.skirt_depth = float(depths[k]);
+        r.min_z = float(double(b.min_height) - camera_position.z);
+        r.max_z = float(double(b.max_height) - camera_position.z);
+        r.valid_cells[0] = validCells(p, false);
+        r.valid_cells[1] = validCells(p, true);
+        out.records.push_back(r);
+    }
+    return out;
+}
+
+} // namespace ridge::render

@@ -1,0 +1,56 @@
+#pragma once
+// Per-instance records of the terrain draw (internal to ridge_render): one per selected
+// patch, ordered front to back with whole patches first, each with its skirt depth and its
+// texture-array slot. Plain C++: what goes into the instance buffer, testable without GL.
+#include "ridge/lod/patch_quadtree.h"
+
+#include <glm/vec3.hpp>
+
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+namespace ridge::render {
+
+// std430 mirror of PatchInstance in shaders/terrain_common.glsl.
+struct GpuPatchInstance {
+    int32_t origin[2]; // finest column, row of sample (0, 0) relative to the camera anchor
+    int32_t step;      // finest samples per patch cell
+    int32_t pad2;
+    int32_t layer; // texture-array slot
+    int32_t level;
+    float err;         // Err(P), metres
+    float skirt_depth; // metres below the patch border
+    int32_t valid_cells[2];
+    float min_z; // camera-relative bounds of the patch's heights
+    float max_z;
+};
+static_assert(sizeof(GpuPatchInstance) == 48, "must match the std430 layout of PatchInstance");
+
+// The finest sample nearest the camera. Vertex x, y are integers relative to it times the
+// spacing plus its camera-relative offset (shaders/terrain_common.glsl), so they depend only
+// on the sample, never on the patch, and are exact where it matters: near the camera.
+struct CameraAnchor {
+    int64_t column = 0, row = 0;
+    double x_rel = 0.0, y_rel = 0.0; // camera-relative x, y of the anchor sample
+};
+CameraAnchor cameraAnchor(const lod::TerrainFrame& frame, glm::dvec3 camera_position);
+
+struct PatchInstances {
+    std::vector<GpuPatchInstance> records;
+    std::vector<PatchId> patches; // per record
+    // [0, whole) are whole patches; [whole, whole + partial) reach past the valid extent
+    // (the clipping draw takes those).
+    size_t whole = 0, partial = 0;
+    size_t total() const { return whole + partial; }
+};
+
+// Records for `selection` seen from `camera_position`. `slot_of(p)` is the resident slot of
+// a selected patch, `lambda_max(p)` the largest λ^(d) of its blocks (metres).
+PatchInstances buildPatchInstances(const lod::PatchQuadtree& tree, const lod::Selection& selection,
+                                   glm::dvec3 camera_position,
+                                   const std::function<int(PatchId)>& slot_of,
+                                   const std::function<double(PatchId)>& lambda_max,
+                                   double skirt_margin);
+
+} // namespace ridge::render

@@ -1,0 +1,90 @@
+// The instance records of the terrain draw, without GL.
+#include "patch_instances.h"
+
+#include <gtest/gtest.h>
+
+using namespace ridge;
+using namespace ridge::render;
+
+namespace {
+
+// 1000 x 700 samples at 10 m, patches of 33 (cells 32): the last column of patches holds
+// samples 992..999 of 1024 (partial), the last row 672..699 of 704.
+lod::PatchQuadtree tree()
+{
+    const PyramidGeometry g(1000, 700, 33);
+    std::vector<lod::PatchBounds> bounds(size_t(g.patchCount()));
+    for (int64_t i = 0; i < g.patchCount(); ++i)
+        bounds[size_t(i)] = {100.f, 300.f, float(g.finestLevel() - g.patchAt(i).level)};
+    return lod::PatchQuadtree(lod::TerrainFrame(g, 10.0, 10.0), std::move(bounds));
+}
+
+} // namespace
+
+TEST(PatchInstances, WholePatchesComeFirstEachGroupFrontToBack)
+{
+    const lod::PatchQuadtree t = tree();
+    const int L = t.geometry().finestLevel();
+    lod::Selection s;
+    for (PatchId p : {PatchId{L, 31, 0}, PatchId{L, 0, 0}, PatchId{L, 5, 3}, PatchId{L, 2, 21},
+                      PatchId{L, 1, 0}})
+        s.patches.push_back({p, 0.0, lod::Visibility::Inside});
+    // Camera over the north-west corner (x 0, y at the first row).
+    const glm::dvec3 camera(5.0, t.frame().yOf(0) - 5.0, 500.0);
+    const PatchInstances r = buildPatchInstances(
+        t, s, camera, [](PatchId p) { return p.x; }, [](PatchId) { return 2.0; }, 0.01);
+    ASSERT_EQ(r.total(), 5u);
+    EXPECT_EQ(r.whole, 3u);
+    EXPECT_EQ(r.partial, 2u) << "column 31 and row 21 reach past the valid extent";
+    EXPECT_EQ(r.patches[0], (PatchId{L, 0, 0}));
+    EXPECT_EQ(r.patches[1], (PatchId{L, 1, 0}));
+    EXPECT_EQ(r.patches[2], (PatchId{L, 5, 3}));
+    for (size_t k = r.whole; k < r.total(); ++k)
+        EXPECT_TRUE(r.patches[k].x == 31 || r.patches[k].y == 21);
+    // The partial ones know how many cells are valid: 999 − 992 = 7 columns, 699 − 672 = 27 rows.
+    for (size_t k = 0; k < r.total(); ++k) {
+        const GpuPatchInstance& g = r.records[k];
+        EXPECT_EQ(g.valid_cells[0], r.patches[k].x == 31 ? 7 : 32);
+        EXPECT_EQ(g.valid_cells[1], r.patches[k].y == 21 ? 27 : 32);
+        EXPECT_EQ(g.layer, r.patches[k].x);
+        EXPECT_FLOAT_EQ(g.min_z, 100.f - 500.f);
+        EXPECT_FLOAT_EQ(g.max_z, 300.f - 500.f);
+    }
+}
+
+TEST(PatchInstances, OriginsAreIntegerSamplesRelativeToTheAnchorNearTheCamera)
+{
+    const lod::PatchQuadtree t = tree();
+    const int L = t.geometry().finestLevel();
+    lod::Selection s;
+    s.patches.push_back({PatchId{L, 3, 2}, 0.0, lod::Visibility::Inside});
+    s.patches.push_back({PatchId{L - 2, 0, 0}, 0.0, lod::Visibility::Inside});
+    const glm::dvec3 camera(1234.4, 3456.6, 900.0);
+    const CameraAnchor a = cameraAnchor(t.frame(), camera);
+    EXPECT_EQ(a.column, 123);
+    EXPECT_NEAR(a.x_rel, 1230.0 - 1234.4, 1e-9);
+    EXPECT_EQ(a.row, 699 - 346); // y 3456.6 is row 699 − 345.66
+    const PatchInstances r = buildPatchInstances(
+        t, s, camera, [](PatchId) { return 0; }, [](PatchId) { return 0.0; }, 0.0);
+    for (size_t k = 0; k < r.total(); ++k) {
+        const PatchId p = r.patches[k];
+        const int64_t step = t.geometry().step(p.level);
+        EXPECT_EQ(r.records[k].step, step);
+        EXPECT_EQ(r.records[k].origin[0], p.x * 32 * step - a.column);
+        EXPECT_EQ(r.records[k].origin[1], p.y * 32 * step - a.row);
+    }
+}
+
+TEST(PatchInstances, SkirtDepthsAddTheNeighboursDeviation)
+{
+    const lod::PatchQuadtree t = tree();
+    const int L = t.geometry().finestLevel();
+    lod::Selection s;
+    s.patches.push_back({PatchId{L, 0, 0}, 0.0, lod::Visibility::Inside}); // Err 0
+    s.patches.push_back({PatchId{L, 1, 0}, 0.0, lod::Visibility::Inside}); // Err 0
+    const PatchInstances r = buildPatchInstances(
+        t, s, {0, 0, 0}, [](PatchId) { return 0; }, [](PatchId p) { return p.x == 0 ? 1.5 : 4.0; },
+        0.25);
+    for (size_t k = 0; k < 2; ++k)
+        EXPECT_FLOAT_EQ(r.records[k].skirt_depth, float(1.5 + 4.0 + 0.25));
+}
