@@ -100,8 +100,18 @@ struct TerrainRenderer::Impl {
     void makeResident(const lod::Selection& selection, FrameStats& stats);
     void uploadPatch(const stream::DecodedPatch& patch, int slot);
     std::vector<float> borderedHeights(const stream::DecodedPatch& patch);
-    PatchInstances writeInstances(const lod::Camera& camera, const lod::Selection& selection,
-                                  std::vector<PatchId>* ids, std::vector<float>* depths_out);
+    PatchInstances writeInstances(const lod::Camera& camera, const lod::Selection& selection);
+    // Selection, residency and instance buffer for one frame; `used` receives `settings` with
+    // the ε actually met (raised when the selection exceeded the slots), which the
+    // tessellator must use too.
+    PatchInstances beginFrame(const lod::Camera& camera, const RenderSettings& settings,
+                              FrameStats& stats, RenderSettings& used)
+    {
+        const lod::Selection selection = prepare(camera, settings, stats);
+        used = settings;
+        used.epsilon_px = selection.epsilon_px;
+        return writeInstances(camera, selection);
+    }
     void setFrameUniforms(const gpu::ShaderProgram& program, const lod::Camera& camera,
                           const RenderSettings& settings) const;
     // Calls draw(program, first, count) for the non-empty instance groups: whole patches with
@@ -216,19 +226,12 @@ void TerrainRenderer::Impl::makeResident(const lod::Selection& selection, FrameS
 }
 
 PatchInstances TerrainRenderer::Impl::writeInstances(const lod::Camera& camera,
-                                                     const lod::Selection& selection,
-                                                     std::vector<PatchId>* ids,
-                                                     std::vector<float>* depths_out)
+                                                     const lod::Selection& selection)
 {
     PatchInstances built = buildPatchInstances(
         quadtree, selection, camera.position(), [&](PatchId p) { return residency.slotOf(p); },
         [&](PatchId p) { return double(textures->lambdaMax(residency.slotOf(p))); }, skirt_margin);
     const std::vector<GpuPatchInstance>& data = built.records;
-    if (ids)
-        *ids = built.patches;
-    if (depths_out)
-        for (const GpuPatchInstance& r : data)
-            depths_out->push_back(r.skirt_depth);
     const size_t bytes = std::max<size_t>(data.size(), 1) * sizeof(GpuPatchInstance);
     if (bytes > instance_capacity) {
         instances = gpu::GlBuffer();
@@ -346,11 +349,8 @@ FrameStats TerrainRenderer::draw(const lod::Camera& camera, const RenderSettings
 {
     Impl& m = *impl_;
     FrameStats stats;
-    const lod::Selection selection = m.prepare(camera, settings, stats);
-    // The selection used a possibly raised ε; the tessellator must use the same.
-    RenderSettings s = settings;
-    s.epsilon_px = selection.epsilon_px;
-    const PatchInstances ranges = m.writeInstances(camera, selection, nullptr, nullptr);
+    RenderSettings s;
+    const PatchInstances ranges = m.beginFrame(camera, settings, stats, s);
 
     glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
     glClearColor(s.clear_colour.r, s.clear_colour.g, s.clear_colour.b, s.clear_colour.a);
@@ -451,13 +451,13 @@ CapturedSurface TerrainRenderer::capture(const lod::Camera& camera, const Render
 {
     Impl& m = *impl_;
     FrameStats stats;
-    const lod::Selection selection = m.prepare(camera, settings, stats);
-    RenderSettings s = settings;
-    s.epsilon_px = selection.epsilon_px;
+    RenderSettings s;
+    const PatchInstances ranges = m.beginFrame(camera, settings, stats, s);
     CapturedSurface out;
     out.camera_position = camera.position();
-    const PatchInstances ranges =
-        m.writeInstances(camera, selection, &out.patches, &out.skirt_depth);
+    out.patches = ranges.patches;
+    for (const GpuPatchInstance& r : ranges.records)
+        out.skirt_depth.push_back(r.skirt_depth);
     if (ranges.total() == 0)
         return out;
 

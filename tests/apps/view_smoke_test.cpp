@@ -17,22 +17,6 @@ using namespace ridge;
 
 namespace {
 
-// Runs a shell command line, stdout and stderr together.
-test::CommandResult runShell(const std::string& command)
-{
-    test::CommandResult result;
-    FILE* pipe = ::popen((command + " 2>&1").c_str(), "r");
-    if (!pipe)
-        return result;
-    std::array<char, 4096> buf;
-    size_t n;
-    while ((n = std::fread(buf.data(), 1, buf.size(), pipe)) > 0)
-        result.output.append(buf.data(), n);
-    const int status = ::pclose(pipe);
-    result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    return result;
-}
-
 bool haveXvfbRun()
 {
     return std::system("command -v xvfb-run > /dev/null 2>&1") == 0;
@@ -58,7 +42,7 @@ TEST(ViewSmoke, RendersFramesInAVirtualDisplayAndExits)
     const std::string arc = buildArchive(dir);
     const std::string png = dir.path("last-frame.png");
     const test::CommandResult r =
-        runShell("xvfb-run -a -s '-screen 0 1280x1024x24' " + std::string(RIDGE_CLI_PATH) +
+        test::runShell("xvfb-run -a -s '-screen 0 1280x1024x24' " + std::string(RIDGE_CLI_PATH) +
                  " view '" + arc + "' --frames 5 --size 640x360 --screenshot '" + png + "'");
     ASSERT_EQ(r.exit_code, 0) << r.output;
 
@@ -87,7 +71,7 @@ TEST(ViewSmoke, WithoutADisplayItFailsAndSaysWhy)
     test::ScratchDir dir;
     const std::string arc = buildArchive(dir);
     const std::string cli = "env -u DISPLAY -u WAYLAND_DISPLAY " + std::string(RIDGE_CLI_PATH);
-    test::CommandResult r = runShell(cli + " view '" + arc + "' --frames 1");
+    test::CommandResult r = test::runShell(cli + " view '" + arc + "' --frames 1");
     EXPECT_NE(r.exit_code, 0) << r.output;
     EXPECT_NE(r.output.find("no display"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("DISPLAY"), std::string::npos) << r.output;
@@ -95,7 +79,7 @@ TEST(ViewSmoke, WithoutADisplayItFailsAndSaysWhy)
         << "should point to the alternative: " << r.output;
     EXPECT_EQ(r.output.find("Segmentation"), std::string::npos);
 
-    r = runShell(cli + " view '" + arc + "' --size 640by360");
+    r = test::runShell(cli + " view '" + arc + "' --size 640by360");
     EXPECT_NE(r.exit_code, 0);
     EXPECT_NE(r.output.find("--size 640by360"), std::string::npos) << r.output;
 }

@@ -26,21 +26,25 @@ ScratchDir::~ScratchDir()
     std::filesystem::remove_all(dir_, ec);
 }
 
-#ifdef RIDGE_CLI_PATH
-CommandResult runRidge(const std::string& args)
+CommandResult runShell(const std::string& command)
 {
     CommandResult result;
-    std::string cmd = std::string(RIDGE_CLI_PATH) + " " + args + " 2>&1";
-    FILE* pipe = ::popen(cmd.c_str(), "r");
+    FILE* pipe = ::popen((command + " 2>&1").c_str(), "r");
     if (!pipe)
         return result;
     std::array<char, 4096> buf;
     size_t n;
     while ((n = std::fread(buf.data(), 1, buf.size(), pipe)) > 0)
         result.output.append(buf.data(), n);
-    int status = ::pclose(pipe);
+    const int status = ::pclose(pipe);
     result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
     return result;
+}
+
+#ifdef RIDGE_CLI_PATH
+CommandResult runRidge(const std::string& args)
+{
+    return runShell(std::string(RIDGE_CLI_PATH) + " " + args);
 }
 #endif
 

@@ -25,6 +25,9 @@ struct CommandResult {
     std::string output; // stdout and stderr together
 };
 
+// Runs a shell command line and captures stdout and stderr together.
+CommandResult runShell(const std::string& command);
+
 // Runs the `ridge` command line with `args` (already shell-quoted) and captures its output.
 // Only in test binaries declared NEEDS_CLI.
 CommandResult runRidge(const std::string& args);
