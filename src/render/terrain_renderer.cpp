@@ -54,10 +54,37 @@ void setMatrix(const gpu::ShaderProgram& program, const char* name, const glm::d
 
 } // namespace
 
+namespace {
+
+// Slots for resident patches: the requested count within the VRAM budget and the GL limit on
+// array layers; at least 4, so that raising ε always finds a selection that fits.
+int slotCount(const archive::ArchiveReader& reader, const RendererOptions& options)
+{
+    const double n = reader.geometry().patchSize();
+    const double blocks = double(reader.blockLayout().blocksPerSide());
+    const double bytes_per_slot =
+        n * n * (2.0 + 4.0) + blocks * blocks * 16.0; // R16UI, RGBA8, RGBA32F
+    GLint max_layers = 256;
+    glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &max_layers);
+    const double by_budget = std::floor(options.vram_budget_mb * 1024.0 * 1024.0 / bytes_per_slot);
+    const int wanted =
+        int(std::min({double(options.max_resident_patches), by_budget, double(max_layers)}));
+    const int minimum = 4;
+    if (wanted < minimum)
+        throw Error(reader.path() + ": patches of " + std::to_string(int(n)) + "^2 samples need " +
+                    std::to_string(int(std::ceil(minimum * bytes_per_slot / 1048576.0))) +
+                    " MB of texture memory at least; the budget is " +
+                    std::to_string(int(options.vram_budget_mb)) + " MB");
+    return wanted;
+}
+
+} // namespace
+
 struct TerrainRenderer::Impl {
     const archive::ArchiveReader& reader;
     RendererOptions options;
     lod::PatchQuadtree quadtree;
+    int slots = 0; // texture-array layers
     lod::PatchResidency residency;
     stream::PatchLoader loader;
     TessellationBlockLayout layout;
@@ -134,9 +161,9 @@ struct TerrainRenderer::Impl {
 };
 
 TerrainRenderer::Impl::Impl(const archive::ArchiveReader& r, const RendererOptions& o)
-    : reader(r), options(o), quadtree(lod::PatchQuadtree::fromArchive(r)),
-      residency(r.geometry(), o.max_resident_patches), loader(r, o.decoded_cache_patches),
-      layout(r.blockLayout()), quantization(r.quantization())
+    : reader(r), options(o), quadtree(lod::PatchQuadtree::fromArchive(r)), slots(slotCount(r, o)),
+      residency(r.geometry(), slots), loader(r, o.decoded_cache_patches), layout(r.blockLayout()),
+      quantization(r.quantization())
 {
     n = reader.geometry().patchSize();
     blocks_per_side = layout.blocksPerSide();
@@ -148,8 +175,7 @@ TerrainRenderer::Impl::Impl(const archive::ArchiveReader& r, const RendererOptio
     skirt_margin = 0.01 + 1e-6 * std::max(std::abs(root.min_height), std::abs(root.max_height));
     root_codes = loader.load(PatchId{0, 0, 0})->codes;
 
-    textures = std::make_unique<PatchTextures>(n, layout, block_levels, o.max_resident_patches,
-                                               quantization);
+    textures = std::make_unique<PatchTextures>(n, layout, block_levels, slots, quantization);
     using gpu::ShaderStage;
     terrain_program = gpu::ShaderProgram({{GL_VERTEX_SHADER, "terrain.vert"},
                                           {GL_TESS_CONTROL_SHADER, "terrain.tesc"},
@@ -292,7 +318,7 @@ lod::Selection TerrainRenderer::Impl::prepare(const lod::Camera& camera,
     lod::SelectionSettings ss;
     ss.epsilon_px = settings.epsilon_px;
     ss.cull = settings.cull;
-    ss.max_patches = size_t(options.max_resident_patches);
+    ss.max_patches = size_t(slots);
     lod::Selection selection = quadtree.select(camera, ss);
     stats.cpu_select_ms = millisecondsSince(t0);
     stats.patches = int(selection.patches.size());
@@ -343,6 +369,11 @@ TerrainRenderer::~TerrainRenderer() = default;
 const lod::PatchQuadtree& TerrainRenderer::quadtree() const
 {
     return impl_->quadtree;
+}
+
+int TerrainRenderer::residentSlots() const
+{
+    return impl_->slots;
 }
 
 FrameStats TerrainRenderer::draw(const lod::Camera& camera, const RenderSettings& settings)

@@ -4,6 +4,7 @@
 #include "captured_surface_checks.h"
 #include "test_support.h"
 
+#include "ridge/core/error.h"
 #include "ridge/gpu/context.h"
 #include "ridge/gpu/render_target.h"
 #include "ridge/io/raster_writer.h"
@@ -136,6 +137,31 @@ TEST_F(TerrainRendererTest, WithoutSkirtsTheSeamsBetweenLevelsAreOpen)
     const test::WatertightReport w =
         test::checkWatertight(s.renderer->capture(cam, settings), s.renderer->quadtree().frame());
     EXPECT_GT(w.open_edges, 0u);
+}
+
+TEST_F(TerrainRendererTest, ASmallTextureBudgetRaisesEpsilonInsteadOfFailing)
+{
+    const Scene s = scene("lossless");
+    render::RendererOptions tight;
+    // Slots of 33² heights + normals + 4×4 block errors: 6790 bytes; 10 of them.
+    tight.vram_budget_mb = 10 * 6790.0 / (1024 * 1024);
+    render::TerrainRenderer renderer(*s.reader, tight);
+    EXPECT_EQ(renderer.residentSlots(), 10);
+    const lod::Camera cam = renderer.defaultCamera({320, 180});
+    gpu::RenderTarget target(320, 180, 1);
+    target.bind();
+    const render::FrameStats stats = renderer.draw(cam, {});
+    EXPECT_LE(stats.patches, 10);
+    EXPECT_GT(stats.epsilon_px, 2.0) << "ε is raised until the selection fits the slots";
+    // A budget that cannot hold a handful of patches is refused with a message.
+    render::RendererOptions impossible;
+    impossible.vram_budget_mb = 0.01;
+    try {
+        render::TerrainRenderer r(*s.reader, impossible);
+        FAIL() << "expected an error";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("texture memory"), std::string::npos) << e.what();
+    }
 }
 
 TEST_F(TerrainRendererTest, BlockCullingDropsOnlyTrianglesOutsideTheView)

@@ -67,7 +67,12 @@ struct CapturedSurface {
 };
 
 struct RendererOptions {
-    int max_resident_patches = 512; // texture-array slots
+    // Texture-array slots: at most this many, at most what `vram_budget_mb` holds (heights,
+    // normals and block errors of one patch per slot) and at most the GL implementation's
+    // array layers. When a view needs more patches than slots, ε is raised until it fits
+    // (FrameStats::epsilon_px says so).
+    int max_resident_patches = 512;
+    double vram_budget_mb = 256.0;
     size_t decoded_cache_patches = 1024;
     // Normal maps continuous across seams between patches of one level: the normal pass
     // borrows a ring of samples from the four neighbours (decoding them if they are not
@@ -93,6 +98,8 @@ class TerrainRenderer {
     CapturedSurface capture(const lod::Camera& camera, const RenderSettings& settings);
 
     const lod::PatchQuadtree& quadtree() const;
+    // Texture-array slots actually allocated (see RendererOptions::max_resident_patches).
+    int residentSlots() const;
     // An oblique view from the south-south-west that frames the whole terrain.
     lod::Camera defaultCamera(lod::Viewport viewport, double fov_y_degrees = 60.0) const;
     // near/far planes that suit a camera at `position` over this terrain.
