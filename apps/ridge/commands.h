@@ -53,6 +53,7 @@ private:
     bool no_sky_ = false;
     int samples_ = 4;
     std::vector<double> sun_{315.0, 45.0};
+    double vram_mb_ = 256.0;
     bool json_ = false;
     bool quiet_ = false;
 };

@@ -79,6 +79,11 @@ void RenderCommand::registerWith(CLI::App& app)
         ->delimiter(',')
         ->expected(2)
         ->capture_default_str();
+    command_
+        ->add_option("--vram", vram_mb_,
+                     "Texture memory for resident patches, MB (ε is raised when a view needs more)")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
     command_->add_flag("--json", json_, "Print the camera and frame statistics as JSON");
     command_->add_flag("-q,--quiet", quiet_, "Print nothing on success");
 }
@@ -93,6 +98,7 @@ int RenderCommand::run()
     options.fov_y_degrees = fov_;
     options.viewport = parseSize(size_);
     options.samples = samples_;
+    options.vram_budget_mb = vram_mb_;
     options.settings.epsilon_px = error_;
     options.settings.mode = parseMode(mode_);
     options.settings.wireframe = wireframe_;

@@ -42,6 +42,7 @@ HeadlessRenderResult renderToPng(const std::string& archive_path,
     auto context = gpu::HeadlessContext::create();
     RendererOptions ro;
     ro.synchronous_stats = true;
+    ro.vram_budget_mb = options.vram_budget_mb;
     TerrainRenderer renderer(reader, ro);
     HeadlessRenderResult result{cameraFor(renderer, options), {}, context->rendererName()};
     const gpu::RenderTarget target(options.viewport.width, options.viewport.height,

@@ -20,6 +20,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 
 namespace ridge::render {
 namespace {
@@ -70,11 +71,15 @@ int slotCount(const archive::ArchiveReader& reader, const RendererOptions& optio
     const int wanted =
         int(std::min({double(options.max_resident_patches), by_budget, double(max_layers)}));
     const int minimum = 4;
-    if (wanted < minimum)
-        throw Error(reader.path() + ": patches of " + std::to_string(int(n)) + "^2 samples need " +
-                    std::to_string(int(std::ceil(minimum * bytes_per_slot / 1048576.0))) +
-                    " MB of texture memory at least; the budget is " +
-                    std::to_string(int(options.vram_budget_mb)) + " MB");
+    if (wanted < minimum) {
+        char message[160];
+        std::snprintf(
+            message, sizeof message,
+            ": patches of %d^2 samples need %.3g MB of texture memory at least; the budget "
+            "is %.3g MB",
+            int(n), minimum * bytes_per_slot / 1048576.0, options.vram_budget_mb);
+        throw Error(reader.path() + message);
+    }
     return wanted;
 }
 
