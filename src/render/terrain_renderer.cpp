@@ -149,8 +149,7 @@ struct TerrainRenderer::Impl {
     // Calls draw(program, first, count) for the non-empty instance groups: whole patches with
     // the plain (or capture) program, partial ones with the clipping one.
     template <class Draw>
-    void forEachGroup(const PatchInstances& r, const RenderSettings&, Draw&& draw,
-                      bool capture) const
+    void forEachGroup(const PatchInstances& r, Draw&& draw, bool capture) const
     {
         if (r.whole)
             draw(capture ? capture_program : terrain_program, size_t(0), r.whole);
@@ -432,7 +431,7 @@ FrameStats TerrainRenderer::draw(const lod::Camera& camera, const RenderSettings
     // Both instance groups with `mode` (3: the wireframe's flat colour).
     auto drawTerrain = [&](int mode) {
         m.forEachGroup(
-            ranges, s,
+            ranges,
             [&](const gpu::ShaderProgram& p, size_t first, size_t n) {
                 p.use();
                 glUniform1i(p.uniform("u_mode"), mode);
@@ -524,7 +523,7 @@ CapturedSurface TerrainRenderer::capture(const lod::Camera& camera, const Render
     // second appends after the first.
     size_t stored_total = 0;
     m.forEachGroup(
-        ranges, s,
+        ranges,
         [&](const gpu::ShaderProgram& p, size_t first, size_t n) {
             p.use();
             glUniform1i(p.uniform("u_instance_offset"), GLint(first));
