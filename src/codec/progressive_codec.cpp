@@ -99,7 +99,8 @@ void ProgressiveCodec::storeParameters(double param[2]) const
     param[1] = variant_.bits();
 }
 
-void ProgressiveCodec::reconstruct(const uint16_t* codes, const PatchContext& ctx, uint16_t* out) const
+void ProgressiveCodec::reconstruct(const uint16_t* codes, const PatchContext& ctx,
+                                   uint16_t* out) const
 {
     const LevelQuantizer quant = quantizer(ctx.level);
     const size_t samples = static_cast<size_t>(ctx.patch_size) * ctx.patch_size;
@@ -138,12 +139,28 @@ size_t ProgressiveCodec::encode(uint8_t* dst, size_t dst_capacity, const uint16_
     return s.bytes.size();
 }
 
+int ProgressiveCodec::decodeResiduals(const uint8_t* src, size_t src_size, const PatchContext& ctx,
+                                      int32_t* residuals) const
+{
+    const int n = ctx.patch_size;
+    if (!validPatchSize(n) || ctx.level <= 0 || ctx.level > finest_level_ || ctx.child_index < 0 ||
+        ctx.child_index > 3)
+        return kCodecBadHeader;
+    if (src_size < kHeaderSize)
+        return kCodecTruncated;
+    if (src[0] != kMagic || src[1] != kVersion)
+        return kCodecBadHeader;
+    const ResidualCoding coding{false, variant_.contexts};
+    return ::ridge::decodeResiduals(src + kHeaderSize, src_size - kHeaderSize, n, coding,
+                                    residuals);
+}
+
 int ProgressiveCodec::decode(uint16_t* dst, const uint8_t* src, size_t src_size,
                              const PatchContext& ctx) const
 {
     const int n = ctx.patch_size;
-    if (!validPatchSize(n) || ctx.level < 0 || ctx.level > finest_level_ ||
-        ctx.child_index < 0 || ctx.child_index > 3)
+    if (!validPatchSize(n) || ctx.level < 0 || ctx.level > finest_level_ || ctx.child_index < 0 ||
+        ctx.child_index > 3)
         return kCodecBadHeader;
     if (ctx.level > 0 && !ctx.parent)
         return kCodecNeedsParent;
@@ -155,8 +172,8 @@ int ProgressiveCodec::decode(uint16_t* dst, const uint8_t* src, size_t src_size,
     // 1. Entropy decoding (CPU): the residual grid.
     Scratch& s = scratch(n);
     const ResidualCoding coding{ctx.level == 0, variant_.contexts};
-    const int status = decodeResiduals(src + kHeaderSize, src_size - kHeaderSize, n, coding,
-                                       s.residuals.data());
+    const int status = ::ridge::decodeResiduals(src + kHeaderSize, src_size - kHeaderSize, n,
+                                                coding, s.residuals.data());
     if (status != kCodecOk)
         return status;
 

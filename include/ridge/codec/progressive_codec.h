@@ -46,6 +46,14 @@ public:
     void reconstruct(const uint16_t* codes, const PatchContext& ctx, uint16_t* out) const override;
     void storeParameters(double param[2]) const override;
 
+    // The CPU half of decode() (the paper's split: entropy decoding on the CPU, refine +
+    // predict + add on the GPU): the residual grid of a child patch, residuals[n·n], which
+    // reconstructChild turns into bins from the parent requantized at quantizer(ctx.level).
+    // Returns kCodecOk or a negative CodecStatus. The root (level 0) is reconstructed in
+    // raster order and stays with decode().
+    int decodeResiduals(const uint8_t* src, size_t src_size, const PatchContext& ctx,
+                        int32_t* residuals) const;
+
     const ProgressiveVariant& variant() const { return variant_; }
     // The quantizer of `level` (0 = coarsest).
     LevelQuantizer quantizer(int level) const;

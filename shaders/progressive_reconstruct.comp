@@ -1,0 +1,90 @@
+#version 450 core
+// GPU half of the progressive codec's decoding (hardware-tessellation paper, "Implementation
+// Details"): the CPU entropy-decodes a child patch's residuals; these passes refine the parent
+// and add the predictions, writing the child's height map straight into its texture-array
+// layer. Integer arithmetic only, the same as src/codec/progressive_reconstruction.cpp, so
+// the result is bit-identical to the CPU decoder (tests/render check every patch).
+//
+// Passes (u_pass), each one dispatch over the samples of its class:
+//   0 R (even x, even y): q = Q_child(parent code) + r     — the refined parent samples
+//   1 A (odd x,  even y): q = P(row of R) − r
+//   2 B (even x, odd y):  q = P(column of R) − r
+//   3 C (odd x,  odd y):  q = P(A, B) − r
+//   4 store:              code = clamp(step · q, 0, 65535)
+layout(local_size_x = 8, local_size_y = 8) in;
+
+layout(binding = 0) uniform usampler2DArray u_heights; // the parent's codes
+layout(binding = 1, r16ui) uniform writeonly uimage2DArray u_child_heights;
+layout(std430, binding = 1) readonly buffer Residuals { int residuals[]; };
+layout(std430, binding = 2) buffer Bins { int q[]; };
+
+uniform int u_pass;
+uniform int u_n;           // samples per side, 2^m + 1
+uniform int u_child_index; // quadrant in the parent: (x & 1) | (y & 1) << 1
+uniform int u_parent_layer;
+uniform int u_child_layer;
+uniform int u_step;        // the child level's quantizer: s_k = 2·e_k + 1
+uniform int u_bound;       // e_k
+uniform int u_cubic;       // OddPredictor::Cubic (else Bilinear)
+
+int at(int x, int y) { return q[y * u_n + x]; }
+
+// 16 × the value halfway between samples pos − 1 and pos + 1 of a line (see midpoint16 in
+// progressive_reconstruction.cpp): cubic inside, quadratic at the ends, linear when short.
+int midpoint16(ivec2 origin, ivec2 dir, int pos) {
+    int a = at(origin.x + dir.x * (pos - 1), origin.y + dir.y * (pos - 1));
+    int b = at(origin.x + dir.x * (pos + 1), origin.y + dir.y * (pos + 1));
+    bool has_before = pos - 3 >= 0, has_after = pos + 3 < u_n;
+    if (has_before && has_after)
+        return 9 * (a + b) - at(origin.x + dir.x * (pos - 3), origin.y + dir.y * (pos - 3)) -
+               at(origin.x + dir.x * (pos + 3), origin.y + dir.y * (pos + 3));
+    if (has_after)
+        return 6 * a + 12 * b - 2 * at(origin.x + dir.x * (pos + 3), origin.y + dir.y * (pos + 3));
+    if (has_before)
+        return 12 * a + 6 * b - 2 * at(origin.x + dir.x * (pos - 3), origin.y + dir.y * (pos - 3));
+    return 8 * (a + b);
+}
+
+int predictOdd(int x, int y) {
+    int cls = (x & 1) | ((y & 1) << 1);
+    if (cls == 1) { // A
+        if (u_cubic == 0)
+            return (at(x - 1, y) + at(x + 1, y) + 1) >> 1;
+        return (midpoint16(ivec2(0, y), ivec2(1, 0), x) + 8) >> 4;
+    }
+    if (cls == 2) { // B
+        if (u_cubic == 0)
+            return (at(x, y - 1) + at(x, y + 1) + 1) >> 1;
+        return (midpoint16(ivec2(x, 0), ivec2(0, 1), y) + 8) >> 4;
+    }
+    // C
+    if (u_cubic == 0)
+        return (at(x - 1, y - 1) + at(x + 1, y - 1) + at(x - 1, y + 1) + at(x + 1, y + 1) + 2) >> 2;
+    return (midpoint16(ivec2(0, y), ivec2(1, 0), x) + midpoint16(ivec2(x, 0), ivec2(0, 1), y) + 16) >> 5;
+}
+
+void main() {
+    // Thread (i, j) handles sample (2i + x0, 2j + y0) of its pass, or (i, j) when storing.
+    ivec2 id = ivec2(gl_GlobalInvocationID.xy);
+    if (u_pass == 4) {
+        if (id.x >= u_n || id.y >= u_n)
+            return;
+        // clamp(q) first: step · q then fits in 32 bits and clamps like the CPU's 64-bit product.
+        int bins = clamp(q[id.y * u_n + id.x], -1, 65535 / u_step + 1);
+        imageStore(u_child_heights, ivec3(id, u_child_layer), uvec4(uint(clamp(u_step * bins, 0, 65535))));
+        return;
+    }
+    ivec2 offset = ivec2(u_pass & 1, u_pass >> 1);
+    ivec2 xy = 2 * id + offset;
+    if (xy.x >= u_n || xy.y >= u_n)
+        return;
+    int i = xy.y * u_n + xy.x;
+    if (u_pass == 0) {
+        int half_n = (u_n - 1) / 2;
+        ivec2 parent = ivec2((u_child_index & 1) * half_n, (u_child_index >> 1) * half_n) + xy / 2;
+        int code = int(texelFetch(u_heights, ivec3(parent, u_parent_layer), 0).r);
+        q[i] = (code + u_bound) / u_step + residuals[i];
+    } else {
+        q[i] = predictOdd(xy.x, xy.y) - residuals[i];
+    }
+}

@@ -1,0 +1,43 @@
+#include "gpu_progressive_decoder.h"
+
+namespace ridge::render {
+
+GpuProgressiveDecoder::GpuProgressiveDecoder(int patch_size)
+    : n_(patch_size), program_({{GL_COMPUTE_SHADER, "progressive_reconstruct.comp"}})
+{
+    const GLsizeiptr bytes = GLsizeiptr(n_) * n_ * GLsizeiptr(sizeof(int32_t));
+    glNamedBufferStorage(residuals_.id(), bytes, nullptr, GL_DYNAMIC_STORAGE_BIT);
+    glNamedBufferStorage(bins_.id(), bytes, nullptr, 0);
+    gpu::checkGlError("progressive decoder: buffers");
+}
+
+void GpuProgressiveDecoder::reconstruct(const int32_t* residuals, GLuint heights, int parent_layer,
+                                        int child_layer, int child_index,
+                                        const LevelQuantizer& quantizer, OddPredictor predictor)
+{
+    glNamedBufferSubData(residuals_.id(), 0, GLsizeiptr(n_) * n_ * GLsizeiptr(sizeof(int32_t)),
+                         residuals);
+    program_.use();
+    glUniform1i(program_.uniform("u_n"), n_);
+    glUniform1i(program_.uniform("u_child_index"), child_index);
+    glUniform1i(program_.uniform("u_parent_layer"), parent_layer);
+    glUniform1i(program_.uniform("u_child_layer"), child_layer);
+    glUniform1i(program_.uniform("u_step"), GLint(quantizer.step));
+    glUniform1i(program_.uniform("u_bound"), quantizer.bound);
+    glUniform1i(program_.uniform("u_cubic"), predictor == OddPredictor::Cubic ? 1 : 0);
+    glBindTextureUnit(0, heights);
+    glBindImageTexture(1, heights, 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_R16UI);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, residuals_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, bins_.id());
+    // R, A, B, C in order (each reads what the previous wrote), then the codes.
+    const GLuint half = GLuint(n_ / 2 + 1), all = GLuint(n_);
+    for (int pass = 0; pass <= 4; ++pass) {
+        glUniform1i(program_.uniform("u_pass"), pass);
+        const GLuint samples = pass == 4 ? all : half;
+        glDispatchCompute((samples + 7) / 8, (samples + 7) / 8, 1);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    }
+    gpu::checkGlError("progressive decoder: reconstruct");
+}
+
+} // namespace ridge::render

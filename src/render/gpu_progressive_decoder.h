@@ -1,0 +1,35 @@
+#pragma once
+// The GPU half of progressive-codec decoding (internal to ridge_render): the CPU entropy-
+// decodes a child patch's residuals (ProgressiveCodec::decodeResiduals), this runs the
+// reconstruction passes of shaders/progressive_reconstruct.comp, reading the parent's codes
+// from one layer of a height-map array and writing the child's codes into another.
+// Bit-identical to ProgressiveCodec::decode (tests/render/gpu_progressive_decoder_test.cpp).
+// Needs a current GL 4.5 context.
+#include "ridge/codec/level_quantizer.h"
+#include "ridge/codec/progressive_reconstruction.h"
+#include "ridge/gpu/gl_objects.h"
+#include "ridge/gpu/shader_program.h"
+
+#include <cstdint>
+
+namespace ridge::render {
+
+class GpuProgressiveDecoder {
+  public:
+    explicit GpuProgressiveDecoder(int patch_size);
+
+    // `heights`: a complete GL_TEXTURE_2D_ARRAY of R16UI codes, patch_size² per layer (one
+    // level, GL_NEAREST: an incomplete texture reads as zeros). The child's
+    // codes land in `child_layer`; call glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT) before
+    // sampling them. `quantizer` is the child level's.
+    void reconstruct(const int32_t* residuals, GLuint heights, int parent_layer, int child_layer,
+                     int child_index, const LevelQuantizer& quantizer, OddPredictor predictor);
+
+  private:
+    int n_;
+    gpu::GlBuffer residuals_;
+    gpu::GlBuffer bins_;
+    gpu::ShaderProgram program_;
+};
+
+} // namespace ridge::render
