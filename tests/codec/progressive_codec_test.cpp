@@ -22,13 +22,14 @@ std::vector<uint16_t> terrainPatch(int n, uint32_t seed, int noise, int base = 3
     std::vector<uint16_t> v(static_cast<size_t>(n) * n);
     for (int y = 0; y < n; ++y)
         for (int x = 0; x < n; ++x)
-            v[y * n + x] = static_cast<uint16_t>(std::clamp(
-                base + int(900 * std::sin(x * 0.07 + seed) + 600 * std::cos(y * 0.05)) + jitter(rng), 0, 65535));
+            v[y * n + x] = static_cast<uint16_t>(
+                std::clamp(base + int(900 * std::sin(x * 0.07 + seed) + 600 * std::cos(y * 0.05)) +
+                               jitter(rng),
+                           0, 65535));
     return v;
 }
 
-template <int N>
-void roundTripSymbols(uint32_t seed, double skew)
+template <int N> void roundTripSymbols(uint32_t seed, double skew)
 {
     std::mt19937 rng(seed);
     std::geometric_distribution<int> geo(skew);
@@ -117,9 +118,11 @@ TEST(LevelQuantizer, EveryCodeWithinThePapersLevelBoundAndRefinementsStaySmall)
             int64_t large_refinements = 0;
             for (int h = 0; h <= 65535; ++h) {
                 const int32_t bin = q.quantize(static_cast<uint16_t>(h));
-                ASSERT_LE(std::abs(int(q.reconstruct(bin)) - h), q.bound) << "e " << e << " k " << k << " h " << h;
+                ASSERT_LE(std::abs(int(q.reconstruct(bin)) - h), q.bound)
+                    << "e " << e << " k " << k << " h " << h;
                 // The refinement against the parent's reconstruction, requantized.
-                const uint16_t parent = coarser.reconstruct(coarser.quantize(static_cast<uint16_t>(h)));
+                const uint16_t parent =
+                    coarser.reconstruct(coarser.quantize(static_cast<uint16_t>(h)));
                 const int32_t r = bin - q.quantize(parent);
                 ASSERT_LE(std::abs(r), 2) << h;
                 large_refinements += std::abs(r) == 2;
@@ -141,9 +144,12 @@ TEST(ProgressiveCodec, DecodesWhatReconstructPredictsForEveryVariantAndQuadrant)
                 std::vector<uint16_t> root_drawn(root.size()), decoded(root.size());
                 codec.reconstruct(root.data(), {n, 0, nullptr, 0}, root_drawn.data());
                 std::vector<uint8_t> payload(codec.encodeBound({n, 0, nullptr, 0}));
-                payload.resize(codec.encode(payload.data(), payload.size(), root.data(), {n, 0, nullptr, 0}));
+                payload.resize(
+                    codec.encode(payload.data(), payload.size(), root.data(), {n, 0, nullptr, 0}));
                 ASSERT_GT(payload.size(), 0u);
-                ASSERT_EQ(codec.decode(decoded.data(), payload.data(), payload.size(), {n, 0, nullptr, 0}), kCodecOk);
+                ASSERT_EQ(codec.decode(decoded.data(), payload.data(), payload.size(),
+                                       {n, 0, nullptr, 0}),
+                          kCodecOk);
                 ASSERT_EQ(decoded, root_drawn) << variant.describe();
                 for (int child = 0; child < 4; ++child) {
                     const std::vector<uint16_t> codes = terrainPatch(n, 11 + child, 25);
@@ -151,12 +157,15 @@ TEST(ProgressiveCodec, DecodesWhatReconstructPredictsForEveryVariantAndQuadrant)
                     std::vector<uint16_t> expected(codes.size());
                     codec.reconstruct(codes.data(), ctx, expected.data());
                     for (size_t i = 0; i < codes.size(); ++i)
-                        ASSERT_LE(std::abs(int(expected[i]) - int(codes[i])), codec.levelErrorBound(1));
+                        ASSERT_LE(std::abs(int(expected[i]) - int(codes[i])),
+                                  codec.levelErrorBound(1));
                     payload.assign(codec.encodeBound(ctx), 0);
                     payload.resize(codec.encode(payload.data(), payload.size(), codes.data(), ctx));
                     ASSERT_GT(payload.size(), 0u);
-                    ASSERT_EQ(codec.decode(decoded.data(), payload.data(), payload.size(), ctx), kCodecOk);
-                    ASSERT_EQ(decoded, expected) << variant.describe() << " n " << n << " child " << child;
+                    ASSERT_EQ(codec.decode(decoded.data(), payload.data(), payload.size(), ctx),
+                              kCodecOk);
+                    ASSERT_EQ(decoded, expected)
+                        << variant.describe() << " n " << n << " child " << child;
                 }
             }
         }
@@ -194,9 +203,11 @@ TEST(ProgressiveCodec, RejectsTruncatedCorruptAndParentlessPayloads)
     std::vector<uint8_t> payload(codec.encodeBound(ctx));
     payload.resize(codec.encode(payload.data(), payload.size(), codes.data(), ctx));
 
-    EXPECT_EQ(codec.decode(out.data(), payload.data(), payload.size(), {n, 1, nullptr, 2}), kCodecNeedsParent);
+    EXPECT_EQ(codec.decode(out.data(), payload.data(), payload.size(), {n, 1, nullptr, 2}),
+              kCodecNeedsParent);
     for (size_t size = 0; size < payload.size(); size += 1 + size / 8)
-        EXPECT_LT(codec.decode(out.data(), payload.data(), size, ctx), 0) << "truncated to " << size;
+        EXPECT_LT(codec.decode(out.data(), payload.data(), size, ctx), 0)
+            << "truncated to " << size;
     std::vector<uint8_t> longer = payload;
     longer.push_back(0x5a);
     EXPECT_EQ(codec.decode(out.data(), longer.data(), longer.size(), ctx), kCodecTrailingBytes);
@@ -224,10 +235,54 @@ TEST(ProgressiveCodec, SettingsRoundTripThroughTheArchiveHeaderParameters)
     ASSERT_NE(back, nullptr);
     for (int level = 0; level < 7; ++level)
         EXPECT_EQ(back->levelErrorBound(level), codec.levelErrorBound(level));
-    EXPECT_EQ(static_cast<const ProgressiveCodec&>(*back).variant().bits(), ProgressiveVariant::paper().bits());
+    EXPECT_EQ(static_cast<const ProgressiveCodec&>(*back).variant().bits(),
+              ProgressiveVariant::paper().bits());
     settings.param[1] = 1; // reserved variant bit
     EXPECT_EQ(makeCodec(CodecId::Progressive, settings), nullptr);
     settings.param[1] = 6;
     settings.param[0] = -1;
     EXPECT_EQ(makeCodec(CodecId::Progressive, settings), nullptr);
+}
+
+TEST(ProgressiveCodec, DecodeResidualsIsTheCpuHalfOfDecodeAndRejectsBadPayloads)
+{
+    // decodeResiduals + reconstructChild over the requantized parent == decode: the split the
+    // GPU decoder (render/gpu_progressive_decoder) relies on.
+    const int n = 33;
+    for (int bits : {0, 6}) {
+        const ProgressiveVariant variant = ProgressiveVariant::fromBits(bits);
+        const ProgressiveCodec codec(2, 3, variant);
+        const std::vector<uint16_t> parent = terrainPatch(n, 5, 30), codes = terrainPatch(n, 6, 20);
+        std::vector<uint16_t> parent_drawn(parent.size()), decoded(codes.size());
+        codec.reconstruct(parent.data(), {n, 0, nullptr, 0}, parent_drawn.data());
+        const PatchContext ctx{n, 2, parent_drawn.data(), 1};
+        std::vector<uint8_t> payload(codec.encodeBound(ctx));
+        payload.resize(codec.encode(payload.data(), payload.size(), codes.data(), ctx));
+        ASSERT_EQ(codec.decode(decoded.data(), payload.data(), payload.size(), ctx), kCodecOk);
+
+        std::vector<int32_t> residuals(codes.size()), base(codes.size()), q(codes.size());
+        ASSERT_EQ(codec.decodeResiduals(payload.data(), payload.size(), ctx, residuals.data()),
+                  kCodecOk);
+        const LevelQuantizer quant = codec.quantizer(2);
+        for (size_t i = 0; i < base.size(); ++i)
+            base[i] = quant.quantize(parent_drawn[i]);
+        reconstructChild(residuals.data(), base.data(), 1, n, variant.predictor, q.data());
+        for (size_t i = 0; i < q.size(); ++i)
+            ASSERT_EQ(quant.reconstruct(q[i]), decoded[i]) << variant.describe() << " sample " << i;
+
+        EXPECT_EQ(codec.decodeResiduals(payload.data(), payload.size(), {n, 0, nullptr, 0},
+                                        residuals.data()),
+                  kCodecBadHeader)
+            << "the root is not split";
+        EXPECT_EQ(codec.decodeResiduals(payload.data(), payload.size(), {n, 2, nullptr, 7},
+                                        residuals.data()),
+                  kCodecBadHeader);
+        for (size_t size = 0; size < payload.size(); size += 1 + size / 8)
+            EXPECT_LT(codec.decodeResiduals(payload.data(), size, ctx, residuals.data()), 0)
+                << size;
+        std::vector<uint8_t> bad = payload;
+        bad[0] ^= 0xff;
+        EXPECT_EQ(codec.decodeResiduals(bad.data(), bad.size(), ctx, residuals.data()),
+                  kCodecBadHeader);
+    }
 }
