@@ -5,11 +5,13 @@
 #include "ridge/pipeline/level_decoder.h"
 #include "ridge/stream/bordered_patch.h"
 #include "ridge/stream/patch_loader.h"
+#include "ridge/stream/patch_streamer.h"
 
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
+#include <set>
 
 using namespace ridge;
 
@@ -115,4 +117,93 @@ TEST(BorderedPatch, BorrowsTheRingFromTheNeighboursAndExtrapolatesAtTheTerrainBo
     // No northern neighbour: 2·h(k, 0) − h(k, 1), so the central difference is one-sided.
     for (int k = 0; k < n; ++k)
         EXPECT_EQ(b[size_t(0) * m + k + 1], 2.f * centre[size_t(k)] - centre[size_t(n) + k]);
+}
+
+TEST(PatchStreamer, DeliversWhatTheLoaderDecodesWithoutBlockingTheCaller)
+{
+    test::ScratchDir dir;
+    for (const char* codec : {"lossless", "progressive"}) {
+        const archive::ArchiveReader reader(buildFixture(dir, codec));
+        stream::PatchStreamer streamer(reader, 64 << 20, 2);
+        stream::PatchLoader loader(reader);
+        const PyramidGeometry& g = reader.geometry();
+        const int L = g.finestLevel();
+        streamer.beginFrame();
+        std::vector<PatchId> wanted;
+        for (int x = 0; x < g.patchesX(L); ++x)
+            wanted.push_back({L, x, 1});
+        for (size_t k = 0; k < wanted.size(); ++k)
+            streamer.request(wanted[k], double(k));
+        streamer.waitIdle();
+        const auto ready = streamer.takeReady();
+        EXPECT_EQ(ready.size(), wanted.size()) << codec;
+        for (const auto& patch : ready)
+            EXPECT_EQ(patch->codes, loader.load(patch->id)->codes) << codec;
+        EXPECT_TRUE(streamer.takeReady().empty()) << "each patch is delivered once";
+        // Asked again: served from the RAM cache, no decoding.
+        const uint64_t decoded = streamer.stats().decoded;
+        streamer.request(wanted[0], 1.0);
+        EXPECT_EQ(streamer.takeReady().size(), 1u);
+        EXPECT_EQ(streamer.stats().decoded, decoded);
+        EXPECT_GE(streamer.stats().cache_hits, 1u);
+        EXPECT_TRUE(streamer.error().empty());
+    }
+}
+
+TEST(PatchStreamer, DropsStaleRequestsAndServesRenewedOnes)
+{
+    test::ScratchDir dir;
+    const archive::ArchiveReader reader(buildFixture(dir, "progressive"));
+    const PyramidGeometry& g = reader.geometry();
+    const int L = g.finestLevel();
+    // One worker and a small RAM budget: most of the first frame's requests are still queued
+    // when the next frame renews only a few of them.
+    stream::PatchStreamer streamer(reader, 1 << 20, 1);
+    for (int round = 0; round < 3; ++round) {
+        streamer.beginFrame();
+        for (int y = 0; y < g.patchesY(L); ++y)
+            for (int x = 0; x < g.patchesX(L); ++x)
+                streamer.request({L, x, y}, double(x + y));
+        streamer.beginFrame();
+        const PatchId keep[2] = {{L, 0, 0}, {L, 3, 2}};
+        for (PatchId p : keep)
+            streamer.request(p, 100.0);
+        streamer.waitIdle();
+        std::set<int64_t> got;
+        for (const auto& patch : streamer.takeReady())
+            got.insert(g.patchIndex(patch->id));
+        for (PatchId p : keep)
+            EXPECT_TRUE(got.count(g.patchIndex(p))) << "renewed requests are served";
+    }
+    const stream::StreamerStats s = streamer.stats();
+    EXPECT_EQ(s.queued, 0u);
+    EXPECT_EQ(s.in_flight, 0u);
+    EXPECT_LE(s.cache_bytes, size_t(1 << 20) + size_t(6) * 33 * 33 * 2 + 4096)
+        << "RAM cache within budget";
+    EXPECT_GT(s.cancelled + s.decoded, 0u);
+}
+
+TEST(PatchStreamer, ReportsACorruptPatchOnceAndKeepsServingTheOthers)
+{
+    test::ScratchDir dir;
+    const std::string path = buildFixture(dir, "lossless");
+    {
+        std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+        f.seekp(200); // the first blob: patch (finest, 0, 0)
+        f.put('\x42');
+    }
+    const archive::ArchiveReader reader(path);
+    const int L = reader.geometry().finestLevel();
+    stream::PatchStreamer streamer(reader, 8 << 20, 2);
+    streamer.beginFrame();
+    streamer.request({L, 0, 0}, 1.0);
+    streamer.request({L, 1, 0}, 1.0);
+    streamer.waitIdle();
+    const auto ready = streamer.takeReady();
+    ASSERT_EQ(ready.size(), 1u);
+    EXPECT_EQ(ready[0]->id, (PatchId{L, 1, 0}));
+    EXPECT_NE(streamer.error().find("patch (level"), std::string::npos) << streamer.error();
+    streamer.request({L, 0, 0}, 1.0); // failed patches are not retried
+    streamer.waitIdle();
+    EXPECT_TRUE(streamer.takeReady().empty());
 }
