@@ -9,9 +9,11 @@
 #include "ridge/gpu/render_target.h"
 #include "ridge/gpu/shader_program.h"
 #include "ridge/lod/edge_tessellation.h"
+#include "ridge/lod/resident_cover.h"
 #include "ridge/lod/screen_space_error.h"
 #include "ridge/stream/bordered_patch.h"
 #include "ridge/stream/patch_loader.h"
+#include "ridge/stream/patch_streamer.h"
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_inverse.hpp>
@@ -103,6 +105,11 @@ struct TerrainRenderer::Impl {
     uint64_t frame = 0;
 
     std::unique_ptr<PatchTextures> textures;
+    // Streaming mode: decoded patches arrive from the streamer's workers and wait here for an
+    // upload slot in a later frame.
+    std::unique_ptr<stream::PatchStreamer> streamer;
+    std::vector<std::shared_ptr<const stream::DecodedPatch>> arrived;
+    std::vector<PatchId> last_drawn;
     gpu::GlBuffer instances;
     size_t instance_capacity = 0;
     gpu::GlBuffer feedback;
@@ -130,6 +137,9 @@ struct TerrainRenderer::Impl {
 
     Impl(const archive::ArchiveReader& r, const RendererOptions& o);
     void makeResident(const lod::Selection& selection, FrameStats& stats);
+    // Streaming: requests what is missing, uploads what arrived (within the per-frame budget)
+    // and returns what to draw now — missing patches replaced by resident ancestors.
+    lod::Selection streamResident(const lod::Selection& desired, FrameStats& stats);
     void uploadPatch(const stream::DecodedPatch& patch, int slot);
     std::vector<float> borderedHeights(const stream::DecodedPatch& patch);
     PatchInstances writeInstances(const lod::Camera& camera, const lod::Selection& selection);
@@ -180,6 +190,15 @@ TerrainRenderer::Impl::Impl(const archive::ArchiveReader& r, const RendererOptio
     root_codes = loader.load(PatchId{0, 0, 0})->codes;
 
     textures = std::make_unique<PatchTextures>(n, layout, block_levels, slots, quantization);
+    if (options.streaming) {
+        streamer = std::make_unique<stream::PatchStreamer>(
+            reader, size_t(options.ram_budget_mb * 1024.0 * 1024.0), options.io_threads);
+        // The root stays resident: the last resort of every fallback.
+        const PatchId root{0, 0, 0};
+        for (const lod::PatchResidency::Load& l : residency.update({root}, ++frame))
+            uploadPatch(*loader.load(l.id), l.slot);
+        textures->finishUploads();
+    }
     using gpu::ShaderStage;
     terrain_program = gpu::ShaderProgram({{GL_VERTEX_SHADER, "terrain.vert"},
                                           {GL_TESS_CONTROL_SHADER, "terrain.tesc"},
@@ -226,7 +245,8 @@ std::vector<float> TerrainRenderer::Impl::borderedHeights(const stream::DecodedP
                             {p.level, p.x, p.y + 1}};
     for (int k = 0; k < 4; ++k)
         if (options.seamless_normals && g.exists(ids[k]))
-            side[k] = loader.load(ids[k]);
+            // Streaming never decodes on the render thread: only neighbours already cached.
+            side[k] = streamer ? streamer->cached(ids[k]) : loader.load(ids[k]);
     auto codes = [](const std::shared_ptr<const stream::DecodedPatch>& d) {
         return d ? d->codes.data() : nullptr;
     };
@@ -331,7 +351,10 @@ lod::Selection TerrainRenderer::Impl::prepare(const lod::Camera& camera,
     t0 = std::chrono::steady_clock::now();
     upload_timer.begin();
     try {
-        makeResident(selection, stats);
+        if (streamer)
+            selection = streamResident(selection, stats);
+        else
+            makeResident(selection, stats);
     } catch (...) {
         upload_timer.end(); // keep begin/end balanced for the next frame
         throw;
@@ -339,7 +362,66 @@ lod::Selection TerrainRenderer::Impl::prepare(const lod::Camera& camera,
     upload_timer.end();
     stats.gpu_upload_ms = options.synchronous_stats ? upload_timer.waitMs() : upload_timer.lastMs();
     stats.cpu_load_ms = millisecondsSince(t0);
+    stats.patches = int(selection.patches.size());
+    last_drawn.clear();
+    for (const lod::SelectedPatch& p : selection.patches)
+        last_drawn.push_back(p.id);
     return selection;
+}
+
+lod::Selection TerrainRenderer::Impl::streamResident(const lod::Selection& desired,
+                                                     FrameStats& stats)
+{
+    const PyramidGeometry& g = reader.geometry();
+    const PatchId root{0, 0, 0};
+    streamer->beginFrame();
+    for (auto& patch : streamer->takeReady())
+        arrived.push_back(std::move(patch));
+    // Requests: coarse before fine, then by screen-space error.
+    std::unordered_map<int64_t, const lod::SelectedPatch*> wanted;
+    for (const lod::SelectedPatch& sp : desired.patches) {
+        wanted[g.patchIndex(sp.id)] = &sp;
+        if (residency.slotOf(sp.id) < 0)
+            streamer->request(sp.id, 1e6 * (g.levelCount() - sp.id.level) + sp.screen_error);
+    }
+    auto resident = [&](PatchId p) { return residency.slotOf(p) >= 0; };
+    const lod::ResidentCover before = lod::residentCover(desired, g, resident);
+
+    // Uploads: arrived patches still wanted, as many as the budget and the free slots allow
+    // (what is drawn now keeps its slot).
+    std::vector<PatchId> needed{root};
+    for (const lod::SelectedPatch& d : before.patches)
+        if (!(d.id == root))
+            needed.push_back(d.id);
+    std::vector<std::shared_ptr<const stream::DecodedPatch>> uploads, keep;
+    for (auto& patch : arrived) {
+        const int64_t key = g.patchIndex(patch->id);
+        if (!wanted.count(key) || resident(patch->id))
+            continue; // no longer wanted: the RAM cache still has it for a later request
+        if (int(uploads.size()) < options.uploads_per_frame && needed.size() < size_t(slots)) {
+            needed.push_back(patch->id);
+            uploads.push_back(patch);
+        } else {
+            keep.push_back(patch);
+        }
+    }
+    arrived.swap(keep);
+    const auto loads = residency.update(needed, ++frame);
+    for (const lod::PatchResidency::Load& l : loads) {
+        for (const auto& patch : uploads)
+            if (patch->id == l.id)
+                uploadPatch(*patch, l.slot);
+    }
+    if (!loads.empty())
+        textures->finishUploads();
+    stats.loaded = int(loads.size());
+    stats.resident = residency.residentCount();
+
+    const lod::ResidentCover cover = lod::residentCover(desired, g, resident);
+    stats.missing = cover.missing;
+    lod::Selection drawn = desired;
+    drawn.patches = cover.patches;
+    return drawn;
 }
 
 uint64_t TerrainRenderer::Impl::latestTriangles()
@@ -378,6 +460,27 @@ const lod::PatchQuadtree& TerrainRenderer::quadtree() const
 int TerrainRenderer::residentSlots() const
 {
     return impl_->slots;
+}
+
+const std::vector<PatchId>& TerrainRenderer::lastDrawnPatches() const
+{
+    return impl_->last_drawn;
+}
+
+void TerrainRenderer::waitForStreaming()
+{
+    if (impl_->streamer)
+        impl_->streamer->waitIdle();
+}
+
+std::string TerrainRenderer::streamingError() const
+{
+    return impl_->streamer ? impl_->streamer->error() : std::string();
+}
+
+size_t TerrainRenderer::streamingCacheBytes() const
+{
+    return impl_->streamer ? impl_->streamer->stats().cache_bytes : 0;
 }
 
 FrameStats TerrainRenderer::draw(const lod::Camera& camera, const RenderSettings& settings)

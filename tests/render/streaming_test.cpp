@@ -1,0 +1,159 @@
+// Streaming: draw() never waits, never shows a hole, stays within its budgets, and converges
+// to full detail once the workers are done.
+#include "test_support.h"
+
+#include "ridge/gpu/context.h"
+#include "ridge/gpu/render_target.h"
+#include "ridge/pipeline/build.h"
+#include "ridge/render/terrain_renderer.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <tuple>
+
+using namespace ridge;
+
+namespace {
+
+// The drawn patches tile the valid extent without holes or overlaps: every finest cell is
+// under exactly one of them (culling off, so the whole extent is drawn).
+size_t holesOrOverlaps(const PyramidGeometry& g, const std::vector<PatchId>& drawn)
+{
+    const int W = g.width() - 1, H = g.height() - 1;
+    std::vector<uint8_t> count(size_t(W) * H, 0);
+    for (PatchId p : drawn) {
+        const int64_t span = int64_t(g.cells()) * g.step(p.level);
+        for (int64_t r = p.y * span; r < std::min<int64_t>((p.y + 1) * span, H); ++r)
+            for (int64_t c = p.x * span; c < std::min<int64_t>((p.x + 1) * span, W); ++c)
+                ++count[size_t(r) * W + c];
+    }
+    size_t bad = 0;
+    for (uint8_t c : count)
+        bad += c != 1;
+    return bad;
+}
+
+struct StreamingScene {
+    test::ScratchDir dir;
+    std::unique_ptr<gpu::HeadlessContext> context = gpu::HeadlessContext::create();
+    std::unique_ptr<archive::ArchiveReader> reader;
+
+    explicit StreamingScene(const std::string& codec)
+    {
+        BuildOptions options;
+        options.patch_size = 33;
+        options.codec = codec;
+        if (codec == "progressive")
+            options.max_error = 2.0;
+        options.progress = {};
+        buildArchive(test::dataPath("everest_crop.tif"), dir.path("s.ridge"), options);
+        reader = std::make_unique<archive::ArchiveReader>(dir.path("s.ridge"));
+    }
+};
+
+// A low, fast fly-over from the south-west corner to the north-east one.
+lod::Camera flyover(const render::TerrainRenderer& r, int frame, int frames)
+{
+    const lod::TerrainFrame& f = r.quadtree().frame();
+    const double t = double(frame) / frames;
+    const double x = f.extentX() * (0.05 + 0.9 * t), y = f.extentY() * (0.05 + 0.9 * t);
+    const glm::dvec3 pos(x, y, r.groundHeight(x, y) + 400.0);
+    const glm::dvec3 at(x + 3000.0, y + 3000.0, r.groundHeight(x, y) - 300.0);
+    double near_m, far_m;
+    r.clipPlanesFor(pos, near_m, far_m);
+    return lod::Camera(pos, at, 60.0, {320, 180}, near_m, far_m);
+}
+
+} // namespace
+
+TEST(Streaming, AFastFlyOverUnderATinyBudgetNeverShowsAHoleAndStaysWithinBudget)
+{
+    for (const char* codec : {"lossless", "progressive"}) {
+        StreamingScene scene(codec);
+        render::RendererOptions options;
+        options.streaming = true;
+        options.vram_budget_mb = 24 * 6790.0 / (1024 * 1024); // 24 slots of 33² patches
+        options.ram_budget_mb = 0.25;
+        options.uploads_per_frame = 3;
+        render::TerrainRenderer renderer(*scene.reader, options);
+        ASSERT_EQ(renderer.residentSlots(), 24);
+        gpu::RenderTarget target(320, 180, 1);
+        target.bind();
+        render::RenderSettings settings;
+        settings.cull = false; // the whole extent is drawn: holes anywhere are visible to the check
+        settings.epsilon_px = 1.0;
+        const int frames = 60;
+        int frames_with_missing = 0;
+        for (int k = 0; k < frames; ++k) {
+            const render::FrameStats stats = renderer.draw(flyover(renderer, k, frames), settings);
+            ASSERT_EQ(holesOrOverlaps(scene.reader->geometry(), renderer.lastDrawnPatches()), 0u)
+                << codec << " frame " << k;
+            EXPECT_LE(stats.resident, 24);
+            EXPECT_LE(renderer.streamingCacheBytes(),
+                      size_t(0.25 * 1024 * 1024) + 6 * 33 * 33 * 2 + 4096);
+            frames_with_missing += stats.missing > 0;
+        }
+        EXPECT_GT(frames_with_missing, 0)
+            << "the budget must force fallbacks for this test to mean anything";
+        EXPECT_TRUE(renderer.streamingError().empty());
+    }
+}
+
+TEST(Streaming, ATeleportReachesFullDetailWithinBoundedFramesOnceTheWorkersAreDone)
+{
+    StreamingScene scene("progressive");
+    render::RendererOptions options;
+    options.streaming = true;
+    options.uploads_per_frame = 8;
+    render::TerrainRenderer renderer(*scene.reader, options);
+    gpu::RenderTarget target(320, 180, 1);
+    target.bind();
+    const lod::Camera far_view = renderer.defaultCamera({320, 180});
+    const lod::Camera close_view = flyover(renderer, 30, 60);
+    for (const lod::Camera& cam : {far_view, close_view}) {
+        render::FrameStats stats = renderer.draw(cam, {});
+        EXPECT_GT(stats.missing, 0) << "right after the jump the new detail is not there yet";
+        const int desired = stats.missing; // a lower bound of what has to arrive
+        int frames = 1;
+        while (stats.missing > 0 && frames < 100) {
+            renderer.waitForStreaming(); // I/O done ...
+            stats = renderer.draw(cam, {});
+            ++frames;
+        }
+        EXPECT_EQ(stats.missing, 0);
+        // ... then each frame uploads up to 8 patches; a request round per level of depth.
+        const int bound = scene.reader->geometry().levelCount() + (desired + 7) / 8 + 2;
+        EXPECT_LE(frames, bound) << "frames to full detail";
+    }
+}
+
+TEST(Streaming, FullDetailMatchesTheSynchronousRenderer)
+{
+    StreamingScene scene("lossless");
+    render::RendererOptions streaming;
+    streaming.streaming = true;
+    render::TerrainRenderer a(*scene.reader, streaming);
+    render::TerrainRenderer b(*scene.reader);
+    gpu::RenderTarget target(320, 180, 1);
+    target.bind();
+    const lod::Camera cam = flyover(a, 20, 60);
+    render::FrameStats stats = a.draw(cam, {});
+    for (int k = 0; k < 50 && stats.missing > 0; ++k) {
+        a.waitForStreaming();
+        stats = a.draw(cam, {});
+    }
+    ASSERT_EQ(stats.missing, 0);
+    b.draw(cam, {});
+    auto sorted = [](std::vector<PatchId> v) {
+        std::sort(v.begin(), v.end(), [](PatchId p, PatchId q) {
+            return std::tie(p.level, p.y, p.x) < std::tie(q.level, q.y, q.x);
+        });
+        return v;
+    };
+    EXPECT_EQ(sorted(a.lastDrawnPatches()), sorted(b.lastDrawnPatches()));
+    // Same patches, same triangles.
+    const render::CapturedSurface sa = a.capture(cam, {}), sb = b.capture(cam, {});
+    EXPECT_EQ(sa.vertices.size(), sb.vertices.size());
+}
