@@ -76,6 +76,9 @@ private:
     bool vsync_ = true;
     int frames_ = 0;         // > 0: render this many frames, then exit (smoke tests)
     std::string screenshot_; // PNG of the last frame, read back before the final swap
+    double vram_mb_ = 256.0;
+    double ram_mb_ = 256.0;
+    bool no_streaming_ = false;
 };
 
 class Commands {

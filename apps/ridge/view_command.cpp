@@ -338,6 +338,10 @@ class Viewer {
         ImGui::Text("CPU select %.2f ms, load %.2f ms", stats_.cpu_select_ms, stats_.cpu_load_ms);
         ImGui::Text("patches: %d drawn, %d culled, %d resident, %d loaded this frame",
                     stats_.patches, stats_.culled, stats_.resident, stats_.loaded);
+        ImGui::Text("streaming: %d patches still coming (drawn by an ancestor)", stats_.missing);
+        const std::string stream_error = renderer_.streamingError();
+        if (!stream_error.empty())
+            ImGui::TextColored(ImVec4(1.f, 0.4f, 0.3f, 1.f), "%s", stream_error.c_str());
         if (stats_.epsilon_px > settings_.epsilon_px * 1.0001)
             ImGui::TextColored(ImVec4(1.f, 0.7f, 0.3f, 1.f),
                                "epsilon raised to %.2f px: the selection exceeded the slots",
@@ -415,6 +419,14 @@ void ViewCommand::registerWith(CLI::App& app)
     command_->add_option("--error", epsilon_px_, "Screen-space error threshold ε, pixels")
         ->capture_default_str()
         ->check(CLI::Range(kMinEpsilonPx, kMaxEpsilonPx));
+    command_->add_option("--vram", vram_mb_, "Texture memory for resident patches, MB")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    command_->add_option("--ram", ram_mb_, "Memory for decoded patches, MB")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    command_->add_flag("--no-streaming", no_streaming_,
+                       "Load every patch before drawing the frame that needs it (stalls)");
     command_->add_flag("--vsync,!--no-vsync", vsync_,
                        "Wait for the display's refresh (default on)");
     command_
@@ -453,7 +465,13 @@ int ViewCommand::run()
     {
         // Declaration order is destruction order in reverse: the overlay and the renderer
         // release their GL objects while the window's context is still alive.
-        render::TerrainRenderer renderer(reader);
+        // Streaming: the window never waits for disk or decoding; missing patches are drawn by
+        // their resident ancestors until they arrive.
+        render::RendererOptions options;
+        options.streaming = !no_streaming_;
+        options.vram_budget_mb = vram_mb_;
+        options.ram_budget_mb = ram_mb_;
+        render::TerrainRenderer renderer(reader, options);
         Viewer viewer(*window, renderer, fov_y_degrees_, epsilon_px_);
         const ImGuiSession imgui(window->window());
 
