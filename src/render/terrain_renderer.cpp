@@ -110,6 +110,9 @@ struct TerrainRenderer::Impl {
     std::unique_ptr<stream::PatchStreamer> streamer;
     std::vector<std::shared_ptr<const stream::DecodedPatch>> arrived;
     std::vector<PatchId> last_drawn;
+    // Camera-path extrapolation for prefetching (the JPEG 2000 terrain paper, §4).
+    bool has_last_camera = false;
+    glm::dvec3 last_camera{0.0};
     gpu::GlBuffer instances;
     size_t instance_capacity = 0;
     gpu::GlBuffer feedback;
@@ -139,7 +142,12 @@ struct TerrainRenderer::Impl {
     void makeResident(const lod::Selection& selection, FrameStats& stats);
     // Streaming: requests what is missing, uploads what arrived (within the per-frame budget)
     // and returns what to draw now — missing patches replaced by resident ancestors.
-    lod::Selection streamResident(const lod::Selection& desired, FrameStats& stats);
+    lod::Selection streamResident(const lod::Selection& desired, FrameStats& stats,
+                                  const lod::Camera& camera,
+                                  const lod::SelectionSettings& settings);
+    // Requests, below everything the current frame needs, what the camera will need
+    // `prefetch_frames` frames ahead if it keeps its velocity.
+    void prefetch(const lod::Camera& camera, const lod::SelectionSettings& settings);
     void uploadPatch(const stream::DecodedPatch& patch, int slot);
     std::vector<float> borderedHeights(const stream::DecodedPatch& patch);
     PatchInstances writeInstances(const lod::Camera& camera, const lod::Selection& selection);
@@ -352,7 +360,7 @@ lod::Selection TerrainRenderer::Impl::prepare(const lod::Camera& camera,
     upload_timer.begin();
     try {
         if (streamer)
-            selection = streamResident(selection, stats);
+            selection = streamResident(selection, stats, camera, ss);
         else
             makeResident(selection, stats);
     } catch (...) {
@@ -369,8 +377,26 @@ lod::Selection TerrainRenderer::Impl::prepare(const lod::Camera& camera,
     return selection;
 }
 
+void TerrainRenderer::Impl::prefetch(const lod::Camera& camera,
+                                     const lod::SelectionSettings& settings)
+{
+    const glm::dvec3 velocity = has_last_camera ? camera.position() - last_camera : glm::dvec3(0.0);
+    last_camera = camera.position();
+    has_last_camera = true;
+    if (options.prefetch_frames <= 0 || glm::length(velocity) <= 0.0)
+        return;
+    const glm::dvec3 ahead = camera.position() + velocity * double(options.prefetch_frames);
+    const lod::Camera future(ahead, ahead + camera.forward(), glm::degrees(camera.fovY()),
+                             camera.viewport(), camera.nearPlane(), camera.farPlane());
+    const PyramidGeometry& g = reader.geometry();
+    for (const lod::SelectedPatch& sp : quadtree.select(future, settings).patches)
+        if (residency.slotOf(sp.id) < 0)
+            streamer->request(sp.id, -1e7 + 1e6 * (g.levelCount() - sp.id.level) + sp.screen_error);
+}
+
 lod::Selection TerrainRenderer::Impl::streamResident(const lod::Selection& desired,
-                                                     FrameStats& stats)
+                                                     FrameStats& stats, const lod::Camera& camera,
+                                                     const lod::SelectionSettings& settings)
 {
     const PyramidGeometry& g = reader.geometry();
     const PatchId root{0, 0, 0};
@@ -384,6 +410,7 @@ lod::Selection TerrainRenderer::Impl::streamResident(const lod::Selection& desir
         if (residency.slotOf(sp.id) < 0)
             streamer->request(sp.id, 1e6 * (g.levelCount() - sp.id.level) + sp.screen_error);
     }
+    prefetch(camera, settings);
     auto resident = [&](PatchId p) { return residency.slotOf(p) >= 0; };
     const lod::ResidentCover before = lod::residentCover(desired, g, resident);
 

@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <tuple>
 
 using namespace ridge;
@@ -70,35 +71,44 @@ lod::Camera flyover(const render::TerrainRenderer& r, int frame, int frames)
 
 TEST(Streaming, AFastFlyOverUnderATinyBudgetNeverShowsAHoleAndStaysWithinBudget)
 {
-    for (const char* codec : {"lossless", "progressive"}) {
-        StreamingScene scene(codec);
-        render::RendererOptions options;
-        options.streaming = true;
-        options.vram_budget_mb = 24 * 6790.0 / (1024 * 1024); // 24 slots of 33² patches
-        options.ram_budget_mb = 0.25;
-        options.uploads_per_frame = 3;
-        render::TerrainRenderer renderer(*scene.reader, options);
-        ASSERT_EQ(renderer.residentSlots(), 24);
-        gpu::RenderTarget target(320, 180, 1);
-        target.bind();
-        render::RenderSettings settings;
-        settings.cull = false; // the whole extent is drawn: holes anywhere are visible to the check
-        settings.epsilon_px = 1.0;
-        const int frames = 60;
-        int frames_with_missing = 0;
-        for (int k = 0; k < frames; ++k) {
-            const render::FrameStats stats = renderer.draw(flyover(renderer, k, frames), settings);
-            ASSERT_EQ(holesOrOverlaps(scene.reader->geometry(), renderer.lastDrawnPatches()), 0u)
-                << codec << " frame " << k;
-            EXPECT_LE(stats.resident, 24);
-            EXPECT_LE(renderer.streamingCacheBytes(),
-                      size_t(0.25 * 1024 * 1024) + 6 * 33 * 33 * 2 + 4096);
-            frames_with_missing += stats.missing > 0;
+    for (const char* codec : {"lossless", "progressive"})
+        for (const int prefetch : {0, 20}) {
+            StreamingScene scene(codec);
+            render::RendererOptions options;
+            options.prefetch_frames = prefetch;
+            options.streaming = true;
+            options.vram_budget_mb = 24 * 6790.0 / (1024 * 1024); // 24 slots of 33² patches
+            options.ram_budget_mb = 0.25;
+            options.uploads_per_frame = 3;
+            render::TerrainRenderer renderer(*scene.reader, options);
+            ASSERT_EQ(renderer.residentSlots(), 24);
+            gpu::RenderTarget target(320, 180, 1);
+            target.bind();
+            render::RenderSettings settings;
+            settings.cull =
+                false; // the whole extent is drawn: holes anywhere are visible to the check
+            settings.epsilon_px = 1.0;
+            const int frames = 60;
+            int frames_with_missing = 0, missing_total = 0;
+            for (int k = 0; k < frames; ++k) {
+                const render::FrameStats stats =
+                    renderer.draw(flyover(renderer, k, frames), settings);
+                ASSERT_EQ(holesOrOverlaps(scene.reader->geometry(), renderer.lastDrawnPatches()),
+                          0u)
+                    << codec << " frame " << k;
+                EXPECT_LE(stats.resident, 24);
+                EXPECT_LE(renderer.streamingCacheBytes(),
+                          size_t(0.25 * 1024 * 1024) + 6 * 33 * 33 * 2 + 4096);
+                frames_with_missing += stats.missing > 0;
+                missing_total += stats.missing;
+            }
+            std::printf(
+                "%s, prefetch %d frames: %d of %d frames had patches still coming (%d in all)\n",
+                codec, prefetch, frames_with_missing, frames, missing_total);
+            EXPECT_GT(frames_with_missing, 0)
+                << "the budget must force fallbacks for this test to mean anything";
+            EXPECT_TRUE(renderer.streamingError().empty());
         }
-        EXPECT_GT(frames_with_missing, 0)
-            << "the budget must force fallbacks for this test to mean anything";
-        EXPECT_TRUE(renderer.streamingError().empty());
-    }
 }
 
 TEST(Streaming, ATeleportReachesFullDetailWithinBoundedFramesOnceTheWorkersAreDone)

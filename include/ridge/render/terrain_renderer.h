@@ -88,6 +88,9 @@ struct RendererOptions {
     double ram_budget_mb = 256.0; // decoded-patch cache of the streamer
     int io_threads = 2;
     int uploads_per_frame = 16;
+    // Streaming: also request what the camera will see this many frames ahead at its current
+    // velocity (after everything the current frame needs). 0 disables prefetching.
+    int prefetch_frames = 20;
     // Waits for this frame's GPU timer and GL_PRIMITIVES_GENERATED query (stalls the
     // pipeline: headless renders and tests). Otherwise gpu_ms and triangles are those of the
     // latest finished frame (a few frames old).
