@@ -1,7 +1,7 @@
 // The GPU reconstruction of the progressive codec equals the CPU decoder, bit for bit, on
 // every patch of real archives (both predictors, two patch sizes).
+#include "fixture_archives.h"
 #include "gpu_progressive_decoder.h"
-#include "test_support.h"
 
 #include "ridge/archive/archive_reader.h"
 #include "ridge/codec/progressive_codec.h"
@@ -78,14 +78,6 @@ TEST(GpuProgressiveDecoder, ReconstructsEveryPatchBitForBitLikeTheCpuDecoder)
     };
     for (const Case c : {Case{33, "progressive", 1.0}, Case{65, "progressive", 4.0},
                          Case{33, "progressive-paper", 2.0}}) {
-        BuildOptions options;
-        options.patch_size = c.patch;
-        options.codec = c.codec;
-        options.max_error = c.error;
-        options.progress = {};
-        const std::string path =
-            dir.path(std::string(c.codec) + std::to_string(c.patch) + ".ridge");
-        buildArchive(test::dataPath("everest_crop.tif"), path, options);
-        expectGpuEqualsCpu(path);
+        expectGpuEqualsCpu(test::buildEverestArchive(dir, c.codec, c.patch, c.error));
     }
 }

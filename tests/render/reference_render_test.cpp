@@ -1,7 +1,7 @@
 // A fixed view of the bundled Everest fixture against a stored reference picture
 // (tests/data/render_reference_everest.png). Regenerate it deliberately, after looking at the
 // new picture, with RIDGE_UPDATE_REFERENCE=1.
-#include "test_support.h"
+#include "fixture_archives.h"
 
 #include "ridge/gpu/context.h"
 #include "ridge/gpu/render_target.h"
@@ -40,11 +40,7 @@ std::vector<uint8_t> readRgb(const std::string& path, int& width, int& height)
 TEST(ReferenceRender, DefaultViewOfEverestHasSkyAboveTerrainAndMatchesTheReference)
 {
     test::ScratchDir scratch;
-    BuildOptions options;
-    options.patch_size = 33;
-    options.progress = {};
-    buildArchive(test::dataPath("everest_crop.tif"), scratch.path("everest.ridge"), options);
-    const archive::ArchiveReader reader(scratch.path("everest.ridge"));
+    const archive::ArchiveReader reader(test::buildEverestArchive(scratch));
     auto context = gpu::HeadlessContext::create();
     render::TerrainRenderer renderer(reader);
     const lod::Viewport vp{320, 180};
@@ -100,5 +96,6 @@ TEST(ReferenceRender, DefaultViewOfEverestHasSkyAboveTerrainAndMatchesTheReferen
     EXPECT_LT(mean, 3.0) << "mean absolute difference per channel";
     EXPECT_LT(double(far_off) / (vp.width * vp.height), 0.02) << "pixels far off the reference";
     if (HasFailure())
-        io::writePng("render_reference_actual.png", rgb.data(), vp.width, vp.height, 3); // for a look
+        io::writePng("render_reference_actual.png", rgb.data(), vp.width, vp.height,
+                     3); // for a look
 }

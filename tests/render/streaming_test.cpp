@@ -1,6 +1,6 @@
 // Streaming: draw() never waits, never shows a hole, stays within its budgets, and converges
 // to full detail once the workers are done.
-#include "test_support.h"
+#include "fixture_archives.h"
 
 #include "ridge/gpu/context.h"
 #include "ridge/gpu/render_target.h"
@@ -43,14 +43,7 @@ struct StreamingScene {
 
     explicit StreamingScene(const std::string& codec)
     {
-        BuildOptions options;
-        options.patch_size = 33;
-        options.codec = codec;
-        if (codec == "progressive")
-            options.max_error = 2.0;
-        options.progress = {};
-        buildArchive(test::dataPath("everest_crop.tif"), dir.path("s.ridge"), options);
-        reader = std::make_unique<archive::ArchiveReader>(dir.path("s.ridge"));
+        reader = std::make_unique<archive::ArchiveReader>(test::buildEverestArchive(dir, codec));
     }
 };
 

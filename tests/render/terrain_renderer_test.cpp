@@ -2,7 +2,7 @@
 // the GPU (Mesa llvmpipe in CI) actually produced: no cracks, and no more than ε pixels of
 // screen-space error.
 #include "captured_surface_checks.h"
-#include "test_support.h"
+#include "fixture_archives.h"
 
 #include "ridge/core/error.h"
 #include "ridge/gpu/context.h"
@@ -48,14 +48,7 @@ class TerrainRendererTest : public ::testing::Test {
     // between patches up to 4 levels apart.
     static Scene scene(const std::string& codec, double max_error = 0.0)
     {
-        BuildOptions options;
-        options.patch_size = 33;
-        options.codec = codec;
-        if (max_error > 0)
-            options.max_error = max_error;
-        options.progress = {};
-        const std::string path = scratch_->path(codec + ".ridge");
-        buildArchive(test::dataPath("everest_crop.tif"), path, options);
+        const std::string path = test::buildEverestArchive(*scratch_, codec, 33, max_error);
         Scene s;
         s.reader = std::make_unique<archive::ArchiveReader>(path);
         render::RendererOptions ro;

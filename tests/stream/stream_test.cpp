@@ -1,4 +1,4 @@
-#include "test_support.h"
+#include "fixture_archives.h"
 
 #include "ridge/core/error.h"
 #include "ridge/pipeline/build.h"
@@ -19,15 +19,7 @@ namespace {
 
 std::string buildFixture(const test::ScratchDir& dir, const std::string& codec)
 {
-    BuildOptions options;
-    options.patch_size = 33;
-    options.codec = codec;
-    if (codec == "progressive")
-        options.max_error = 2.0;
-    options.progress = {};
-    const std::string path = dir.path(codec + ".ridge");
-    buildArchive(test::dataPath("everest_crop.tif"), path, options);
-    return path;
+    return test::buildEverestArchive(dir, codec);
 }
 
 } // namespace
