@@ -48,7 +48,8 @@ Scene& scene()
         out.reader = std::make_unique<archive::ArchiveReader>(archive);
         render::RendererOptions options;
         options.synchronous_stats = true;
-        options.max_resident_patches = 1024;
+        options.max_resident_patches = 2048; // brute force needs every finest patch in view
+        options.vram_budget_mb = 512.0;
         out.renderer = std::make_unique<render::TerrainRenderer>(*out.reader, options);
         out.target = std::make_unique<gpu::RenderTarget>(1920, 1080, 1);
         return out;
@@ -83,6 +84,7 @@ void BM_TessellationFrame(benchmark::State& state)
     settings.skirts = state.range(2) != 0;
     settings.cull = state.range(3) != 0;
     settings.cull_blocks = state.range(4) != 0;
+    settings.scheme = render::LodScheme(state.range(5));
     s.target->bind();
     render::FrameStats stats = s.renderer->draw(camera, settings); // loads patches
     glFinish();
@@ -97,16 +99,20 @@ void BM_TessellationFrame(benchmark::State& state)
     state.counters["Mtri/s"] = benchmark::Counter(double(stats.triangles) * 1e-6,
                                                   benchmark::Counter::kIsIterationInvariantRate);
 }
-// view, ε, skirts, cull (patches), blocks (cull tessellation blocks too)
+// view, ε, skirts, cull (patches), blocks (cull tessellation blocks too), scheme (0 tess,
+// 1 chunked LOD, 2 brute force)
 BENCHMARK(BM_TessellationFrame)
-    ->ArgNames({"view", "eps", "skirts", "cull", "blocks"})
-    ->Args({0, 2, 1, 1, 1})
-    ->Args({1, 2, 1, 1, 1})
-    ->Args({1, 1, 1, 1, 1})
-    ->Args({1, 4, 1, 1, 1})
-    ->Args({1, 2, 0, 1, 1})
-    ->Args({1, 2, 1, 1, 0})
-    ->Args({1, 2, 1, 0, 0})
+    ->ArgNames({"view", "eps", "skirts", "cull", "blocks", "scheme"})
+    ->Args({0, 2, 1, 1, 1, 0})
+    ->Args({1, 2, 1, 1, 1, 0})
+    ->Args({1, 1, 1, 1, 1, 0})
+    ->Args({1, 4, 1, 1, 1, 0})
+    ->Args({1, 2, 0, 1, 1, 0})
+    ->Args({1, 2, 1, 1, 0, 0})
+    ->Args({1, 2, 1, 0, 0, 0})
+    ->Args({1, 2, 1, 1, 1, 1})
+    ->Args({1, 1, 1, 1, 1, 1})
+    ->Args({1, 2, 1, 1, 1, 2})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 

@@ -46,6 +46,7 @@ private:
     std::string size_ = "1920x1080";
     double error_ = 2.0;
     std::string mode_ = "shaded";
+    std::string lod_ = "tess";
     bool wireframe_ = false;
     bool no_cull_ = false;
     bool no_skirts_ = false;

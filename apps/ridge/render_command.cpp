@@ -22,6 +22,17 @@ lod::Viewport parseSize(const std::string& text)
     return {w, h};
 }
 
+render::LodScheme parseLod(const std::string& lod)
+{
+    if (lod == "tess")
+        return render::LodScheme::Tessellation;
+    if (lod == "chunked")
+        return render::LodScheme::ChunkedLod;
+    if (lod == "brute")
+        return render::LodScheme::BruteForce;
+    throw Error("--lod " + lod + ": expected tess, chunked or brute");
+}
+
 render::DebugMode parseMode(const std::string& mode)
 {
     if (mode == "shaded")
@@ -64,6 +75,12 @@ void RenderCommand::registerWith(CLI::App& app)
         ->add_option("--mode", mode_,
                      "shaded, lod (level colours) or tess (tessellation-factor heat map)")
         ->capture_default_str();
+    command_
+        ->add_option(
+            "--lod", lod_,
+            "tess (the paper's tessellation), chunked (one mesh per selected patch) or brute "
+            "(finest level everywhere): the baselines share selection, data and shading")
+        ->capture_default_str();
     command_->add_flag("--wireframe", wireframe_, "Draw triangle edges over the shading");
     command_->add_flag("--no-cull", no_cull_, "Disable view-frustum culling");
     command_->add_flag("--no-skirts", no_skirts_, "Disable the vertical skirts between patches");
@@ -101,6 +118,7 @@ int RenderCommand::run()
     options.vram_budget_mb = vram_mb_;
     options.settings.epsilon_px = error_;
     options.settings.mode = parseMode(mode_);
+    options.settings.scheme = parseLod(lod_);
     options.settings.wireframe = wireframe_;
     options.settings.cull = !no_cull_;
     options.settings.skirts = !no_skirts_;

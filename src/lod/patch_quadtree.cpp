@@ -4,6 +4,8 @@
 #include "ridge/core/error.h"
 #include "ridge/lod/screen_space_error.h"
 
+#include <algorithm>
+
 namespace ridge::lod {
 
 PatchQuadtree::PatchQuadtree(TerrainFrame frame, std::vector<PatchBounds> bounds)
@@ -43,7 +45,7 @@ Selection PatchQuadtree::select(const Camera& camera, const SelectionSettings& s
               settings.conservative_distance, s);
         if (s.patches.size() <= settings.max_patches)
             return s;
-        epsilon *= 1.25;
+        epsilon = std::max(epsilon * 1.25, 1e-3); // from ε = 0 (brute force) too
     }
 }
 

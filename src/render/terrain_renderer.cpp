@@ -118,6 +118,12 @@ struct TerrainRenderer::Impl {
     gpu::GlBuffer feedback;
     size_t feedback_capacity = 0; // bytes
     gpu::GlVertexArray empty_vao;
+    // Chunked LOD and brute force: one index buffer for every patch (see shaders/chunk.vert).
+    gpu::GlVertexArray chunk_vao;
+    gpu::GlBuffer chunk_indices;
+    GLsizei chunk_surface_indices = 0, chunk_all_indices = 0;
+    gpu::ShaderProgram chunk_program, chunk_clip_program, chunk_capture_program,
+        chunk_capture_clip_program;
     // Whole patches go through the tessellator only; patches reaching past the valid extent
     // also through terrain_clip.geom (exact clipping, walls). Each pass draws both groups.
     gpu::ShaderProgram terrain_program, terrain_clip_program, capture_program, capture_clip_program;
@@ -167,13 +173,35 @@ struct TerrainRenderer::Impl {
     // Calls draw(program, first, count) for the non-empty instance groups: whole patches with
     // the plain (or capture) program, partial ones with the clipping one.
     template <class Draw>
-    void forEachGroup(const PatchInstances& r, Draw&& draw, bool capture) const
+    void forEachGroup(const PatchInstances& r, const RenderSettings& s, Draw&& draw,
+                      bool capture) const
     {
+        const bool mesh = s.scheme != LodScheme::Tessellation;
+        const gpu::ShaderProgram& whole = mesh ? (capture ? chunk_capture_program : chunk_program)
+                                               : (capture ? capture_program : terrain_program);
+        const gpu::ShaderProgram& clip =
+            mesh ? (capture ? chunk_capture_clip_program : chunk_clip_program)
+                 : (capture ? capture_clip_program : terrain_clip_program);
         if (r.whole)
-            draw(capture ? capture_program : terrain_program, size_t(0), r.whole);
+            draw(whole, size_t(0), r.whole);
         if (r.partial)
-            draw(capture ? capture_clip_program : terrain_clip_program, r.whole, r.partial);
+            draw(clip, r.whole, r.partial);
     }
+    // Binds the vertex array and issues the instanced draw of `count` patches.
+    void drawPatches(const RenderSettings& s, size_t count) const
+    {
+        if (s.scheme == LodScheme::Tessellation) {
+            glBindVertexArray(empty_vao.id());
+            glPatchParameteri(GL_PATCH_VERTICES, 1);
+            glDrawArraysInstanced(GL_PATCHES, 0, primitivesPerInstance(s), GLsizei(count));
+        } else {
+            glBindVertexArray(chunk_vao.id());
+            glDrawElementsInstanced(GL_TRIANGLES,
+                                    s.skirts ? chunk_all_indices : chunk_surface_indices,
+                                    GL_UNSIGNED_INT, nullptr, GLsizei(count));
+        }
+    }
+    void buildChunkMesh();
     int primitivesPerInstance(const RenderSettings& settings) const
     {
         return blocks_per_side * blocks_per_side + (settings.skirts ? 4 * blocks_per_side : 0);
@@ -228,8 +256,53 @@ TerrainRenderer::Impl::Impl(const archive::ArchiveReader& r, const RendererOptio
                                                {GL_TESS_EVALUATION_SHADER, "terrain.tese"},
                                                {GL_GEOMETRY_SHADER, "terrain_clip.geom"}},
                                               varyings);
+    chunk_program = gpu::ShaderProgram(
+        {{GL_VERTEX_SHADER, "chunk.vert"}, {GL_FRAGMENT_SHADER, "terrain.frag"}});
+    chunk_clip_program = gpu::ShaderProgram({{GL_VERTEX_SHADER, "chunk.vert"},
+                                             {GL_GEOMETRY_SHADER, "terrain_clip.geom"},
+                                             {GL_FRAGMENT_SHADER, "terrain.frag"}});
+    chunk_capture_program = gpu::ShaderProgram({{GL_VERTEX_SHADER, "chunk.vert"}}, varyings);
+    chunk_capture_clip_program = gpu::ShaderProgram(
+        {{GL_VERTEX_SHADER, "chunk.vert"}, {GL_GEOMETRY_SHADER, "terrain_clip.geom"}}, varyings);
+    buildChunkMesh();
     sky_program =
         gpu::ShaderProgram({{GL_VERTEX_SHADER, "sky.vert"}, {GL_FRAGMENT_SHADER, "sky.frag"}});
+}
+
+void TerrainRenderer::Impl::buildChunkMesh()
+{
+    // The patch's cells as two triangles each (one diagonal: Err(P) holds for either), then
+    // the skirt: a quad under each border cell, its first and last vertices feet (the capture
+    // tests tell skirt triangles by their first vertex; shading reads the last).
+    const GLuint C = GLuint(n - 1), N = GLuint(n);
+    std::vector<GLuint> indices;
+    indices.reserve(size_t(C) * C * 6 + size_t(4) * C * 6);
+    for (GLuint j = 0; j < C; ++j)
+        for (GLuint i = 0; i < C; ++i) {
+            const GLuint a = j * N + i, b = a + 1, c = a + N, d = c + 1;
+            indices.insert(indices.end(), {a, b, c, b, d, c});
+        }
+    chunk_surface_indices = GLsizei(indices.size());
+    auto ring = [&](GLuint k) -> GLuint {
+        if (k < C)
+            return k; // north row
+        if (k < 2 * C)
+            return (k - C) * N + C; // east column
+        if (k < 3 * C)
+            return C * N + (C - (k - 2 * C)); // south row, east to west
+        return (C - (k - 3 * C)) * N;         // west column, south to north
+    };
+    const GLuint R = 4 * C;
+    for (GLuint k = 0; k < R; ++k) {
+        const GLuint t0 = ring(k), t1 = ring((k + 1) % R);
+        const GLuint f0 = N * N + k, f1 = N * N + (k + 1) % R;
+        indices.insert(indices.end(), {f0, t0, t1, f0, t1, f1});
+    }
+    chunk_all_indices = GLsizei(indices.size());
+    glNamedBufferStorage(chunk_indices.id(), GLsizeiptr(indices.size() * sizeof(GLuint)),
+                         indices.data(), 0);
+    glVertexArrayElementBuffer(chunk_vao.id(), chunk_indices.id());
+    gpu::checkGlError("terrain renderer: chunk mesh");
 }
 
 void TerrainRenderer::Impl::uploadPatch(const stream::DecodedPatch& patch, int slot)
@@ -348,7 +421,8 @@ lod::Selection TerrainRenderer::Impl::prepare(const lod::Camera& camera,
 {
     auto t0 = std::chrono::steady_clock::now();
     lod::SelectionSettings ss;
-    ss.epsilon_px = settings.epsilon_px;
+    // Brute force: ε = 0 refines to the finest level wherever the frustum lets it.
+    ss.epsilon_px = settings.scheme == LodScheme::BruteForce ? 0.0 : settings.epsilon_px;
     ss.cull = settings.cull;
     ss.max_patches = size_t(slots);
     lod::Selection selection = quadtree.select(camera, ss);
@@ -541,7 +615,8 @@ FrameStats TerrainRenderer::draw(const lod::Camera& camera, const RenderSettings
     const glm::dvec3 sun = glm::normalize(s.sun_direction);
     // Fog thickens over the terrain's own size: a tenth of the light lost across it.
     const double extent = std::max(m.quadtree.frame().extentX(), m.quadtree.frame().extentY());
-    for (const gpu::ShaderProgram* p : {&m.terrain_program, &m.terrain_clip_program}) {
+    for (const gpu::ShaderProgram* p :
+         {&m.terrain_program, &m.terrain_clip_program, &m.chunk_program, &m.chunk_clip_program}) {
         const GLuint id = p->id();
         m.setFrameUniforms(*p, camera, s);
         glProgramUniform3f(id, p->uniform("u_sun_direction"), float(sun.x), float(sun.y),
@@ -561,12 +636,12 @@ FrameStats TerrainRenderer::draw(const lod::Camera& camera, const RenderSettings
     // Both instance groups with `mode` (3: the wireframe's flat colour).
     auto drawTerrain = [&](int mode) {
         m.forEachGroup(
-            ranges,
+            ranges, s,
             [&](const gpu::ShaderProgram& p, size_t first, size_t n) {
                 p.use();
                 glUniform1i(p.uniform("u_mode"), mode);
                 glUniform1i(p.uniform("u_instance_offset"), GLint(first));
-                glDrawArraysInstanced(GL_PATCHES, 0, m.primitivesPerInstance(s), GLsizei(n));
+                m.drawPatches(s, n);
             },
             false);
     };
@@ -626,8 +701,9 @@ CapturedSurface TerrainRenderer::capture(const lod::Camera& camera, const Render
     if (ranges.total() == 0)
         return out;
 
-    m.setFrameUniforms(m.capture_program, camera, s);
-    m.setFrameUniforms(m.capture_clip_program, camera, s);
+    for (const gpu::ShaderProgram* p : {&m.capture_program, &m.capture_clip_program,
+                                        &m.chunk_capture_program, &m.chunk_capture_clip_program})
+        m.setFrameUniforms(*p, camera, s);
     glBindVertexArray(m.empty_vao.id());
     glPatchParameteri(GL_PATCH_VERTICES, 1);
     GLint previous_framebuffer = 0;
@@ -640,8 +716,9 @@ CapturedSurface TerrainRenderer::capture(const lod::Camera& camera, const Render
     // clipping makes at most 3 triangles and 2 walls (4 triangles) of one.
     const size_t b = size_t(m.layout.block_cells);
     const size_t per_instance =
-        size_t(m.blocks_per_side) * m.blocks_per_side * (2 * b * b + 8 * b) +
-        (s.skirts ? size_t(4) * m.blocks_per_side * (4 * b + 4) : 0);
+        std::max<size_t>(size_t(m.blocks_per_side) * m.blocks_per_side * (2 * b * b + 8 * b) +
+                             (s.skirts ? size_t(4) * m.blocks_per_side * (4 * b + 4) : 0),
+                         size_t(m.chunk_all_indices) / 3);
     const size_t bytes =
         (ranges.whole + 7 * ranges.partial) * per_instance * 3 * sizeof(CapturedVertex);
     if (bytes > m.feedback_capacity) {
@@ -653,7 +730,7 @@ CapturedSurface TerrainRenderer::capture(const lod::Camera& camera, const Render
     // second appends after the first.
     size_t stored_total = 0;
     m.forEachGroup(
-        ranges,
+        ranges, s,
         [&](const gpu::ShaderProgram& p, size_t first, size_t n) {
             p.use();
             glUniform1i(p.uniform("u_instance_offset"), GLint(first));
@@ -663,7 +740,7 @@ CapturedSurface TerrainRenderer::capture(const lod::Camera& camera, const Render
             glBeginQuery(GL_TRANSFORM_FEEDBACK_PRIMITIVES_WRITTEN, m.written.id());
             glBeginQuery(GL_PRIMITIVES_GENERATED, m.primitives.id());
             glBeginTransformFeedback(GL_TRIANGLES);
-            glDrawArraysInstanced(GL_PATCHES, 0, m.primitivesPerInstance(s), GLsizei(n));
+            m.drawPatches(s, n);
             glEndTransformFeedback();
             glEndQuery(GL_PRIMITIVES_GENERATED);
             glEndQuery(GL_TRANSFORM_FEEDBACK_PRIMITIVES_WRITTEN);

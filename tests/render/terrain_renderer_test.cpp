@@ -132,6 +132,46 @@ TEST_F(TerrainRendererTest, WithoutSkirtsTheSeamsBetweenLevelsAreOpen)
     EXPECT_GT(w.open_edges, 0u);
 }
 
+TEST_F(TerrainRendererTest, ChunkedAndBruteForceBaselinesAreWatertightAndWithinEpsilon)
+{
+    // The baselines draw each selected patch at its level's full resolution: the coarse
+    // selection alone bounds their error, so they must meet ε itself (no fine-LOD excess),
+    // and brute force on a lossless archive draws the data exactly.
+    const Scene s = scene("lossless");
+    const auto cameras = randomCameras(*s.renderer, 8, {480, 270}, 31);
+    for (const render::LodScheme scheme :
+         {render::LodScheme::ChunkedLod, render::LodScheme::BruteForce}) {
+        double worst = 0.0;
+        for (size_t k = 0; k < cameras.size(); ++k) {
+            render::RenderSettings settings;
+            settings.scheme = scheme;
+            settings.cull_blocks = false;
+            const render::CapturedSurface surface = s.renderer->capture(cameras[k], settings);
+            const test::WatertightReport w =
+                test::checkWatertight(surface, s.renderer->quadtree().frame());
+            EXPECT_GT(w.skirt_triangles, 0u);
+            EXPECT_EQ(w.open_edges, 0u)
+                << int(scheme) << " camera " << k << ": " << w.first_problem;
+            EXPECT_EQ(w.overused_edges, 0u) << int(scheme) << " camera " << k;
+            EXPECT_EQ(w.uncovered_seams, 0u)
+                << int(scheme) << " camera " << k << ": " << w.first_problem;
+            const test::ScreenErrorReport e = test::measureScreenSpaceError(
+                surface, s.renderer->quadtree().frame(), s.finest, cameras[k]);
+            EXPECT_EQ(e.uncovered, 0u);
+            worst = std::max(worst, e.max_px);
+        }
+        if (scheme == render::LodScheme::ChunkedLod) {
+            EXPECT_LE(worst, 2.0 * 1.001) << "chunked LOD at ε = 2 px";
+            EXPECT_GT(worst, 0.5) << "and not far below it";
+        } else {
+            // Only float rounding of camera-relative heights separates it from the data.
+            EXPECT_LT(worst, 0.01) << "brute force draws the finest samples themselves";
+        }
+        std::printf("%s: max projected error %.3f px at ε = 2\n",
+                    scheme == render::LodScheme::ChunkedLod ? "chunked LOD" : "brute force", worst);
+    }
+}
+
 TEST_F(TerrainRendererTest, ASmallTextureBudgetRaisesEpsilonInsteadOfFailing)
 {
     const Scene s = scene("lossless");

@@ -25,8 +25,18 @@ namespace ridge::render {
 
 enum class DebugMode : int { Shaded = 0, LodLevels = 1, TessellationFactors = 2 };
 
+// How patches become triangles. The baselines share everything else — archive, selection,
+// texture arrays, skirts, shading — so that frame rates compare the schemes alone.
+enum class LodScheme : int {
+    Tessellation = 0, // the paper: per-edge tessellation factors inside each selected patch
+    ChunkedLod = 1,   // Ulrich's chunked LOD: the same selection, each patch one precomputed
+                      // full-resolution mesh of its level
+    BruteForce = 2,   // the finest level everywhere (frustum culling only), as meshes
+};
+
 struct RenderSettings {
-    double epsilon_px = 2.0; // ε, pixels
+    LodScheme scheme = LodScheme::Tessellation;
+    double epsilon_px = 2.0; // ε, pixels (ignored by BruteForce)
     bool cull = true;        // view-frustum culling of patches
     // ... and of tessellation blocks in the control shader (with `cull`). capture() keeps
     // whatever is set: tests that check a whole patch's mesh turn it off.
