@@ -199,3 +199,19 @@ TEST(PatchResidency, NeverEvictsAPatchNeededInTheSameFrameAndRejectsOverflow)
     EXPECT_EQ(r.update({c}, 4).size(), 1u);
     EXPECT_EQ(r.slotOf(b) >= 0, true);
 }
+
+TEST(PatchQuadtree, EpsilonZeroSelectsTheFinestLevelAndStillFitsABudget)
+{
+    const PatchQuadtree tree = syntheticTree();
+    const Camera cam = overTerrain({2000, 1000, 300}, {6000, 5000, 0});
+    SelectionSettings s;
+    s.epsilon_px = 0.0; // brute force
+    s.cull = false;
+    const Selection all = tree.select(cam, s);
+    for (const SelectedPatch& sp : all.patches)
+        EXPECT_EQ(sp.id.level, tree.geometry().finestLevel());
+    s.max_patches = 5; // raising ε from 0 must terminate
+    const Selection limited = tree.select(cam, s);
+    EXPECT_LE(limited.patches.size(), 5u);
+    EXPECT_GT(limited.epsilon_px, 0.0);
+}
