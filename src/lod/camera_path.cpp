@@ -1,0 +1,103 @@
+#include "ridge/lod/camera_path.h"
+
+#include "ridge/core/error.h"
+
+#include <glm/geometric.hpp>
+
+#include <cmath>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+namespace ridge::lod {
+namespace {
+
+// Low along the diagonal from the south-west to the north-east corner, looking ahead and
+// down, bouncing back at the ends.
+CameraPose flyover(const TerrainFrame& f, const std::function<double(double, double)>& ground,
+                   const CameraPathSettings& s, double distance)
+{
+    const glm::dvec2 a(0.05 * f.extentX(), 0.05 * f.extentY()),
+        b(0.95 * f.extentX(), 0.95 * f.extentY());
+    const double length = glm::length(b - a);
+    double t = std::fmod(distance, 2.0 * length);
+    const bool back = t > length;
+    t = back ? 2.0 * length - t : t;
+    const glm::dvec2 dir = (back ? a - b : b - a) / length;
+    const glm::dvec2 xy = a + (b - a) * (t / length);
+    const double z = ground(xy.x, xy.y) + s.height_above_ground;
+    const glm::dvec2 ahead = xy + dir * (10.0 * s.height_above_ground);
+    return {{xy.x, xy.y, z}, {ahead.x, ahead.y, ground(ahead.x, ahead.y)}};
+}
+
+// A circle around the terrain centre at a third of its size, looking at the centre.
+CameraPose orbit(const TerrainFrame& f, double min_h, double max_h, const CameraPathSettings&,
+                 double distance)
+{
+    const glm::dvec2 c(0.5 * f.extentX(), 0.5 * f.extentY());
+    const double r = 0.35 * std::max(f.extentX(), f.extentY());
+    const double angle = distance / r;
+    const double z = max_h + 0.25 * r;
+    return {{c.x + r * std::cos(angle), c.y + r * std::sin(angle), z},
+            {c.x, c.y, 0.5 * (min_h + max_h)}};
+}
+
+std::vector<CameraPose> fromFile(const std::string& path)
+{
+    std::ifstream in(path);
+    if (!in)
+        throw Error(path + ": cannot open the camera path file");
+    std::vector<CameraPose> poses;
+    std::string line;
+    int number = 0;
+    while (std::getline(in, line)) {
+        ++number;
+        if (line.empty() || line[0] == '#')
+            continue;
+        std::istringstream fields(line);
+        CameraPose p;
+        if (!(fields >> p.position.x >> p.position.y >> p.position.z >> p.look_at.x >>
+              p.look_at.y >> p.look_at.z))
+            throw Error(path + ":" + std::to_string(number) +
+                        ": expected 6 numbers: x y z look-x look-y look-z");
+        if (glm::length(p.look_at - p.position) <= 0.0)
+            throw Error(path + ":" + std::to_string(number) +
+                        ": the camera looks at its own position");
+        poses.push_back(p);
+    }
+    if (poses.empty())
+        throw Error(path + ": no camera poses in the file");
+    return poses;
+}
+
+} // namespace
+
+std::vector<CameraPose> makeCameraPath(const TerrainFrame& frame, double min_height,
+                                       double max_height,
+                                       const std::function<double(double, double)>& ground,
+                                       const CameraPathSettings& s, int frames)
+{
+    std::vector<CameraPose> out;
+    if (s.kind != "flyover" && s.kind != "orbit" && s.kind != "teleport") {
+        const std::vector<CameraPose> file = fromFile(s.kind);
+        for (int k = 0; k < frames; ++k)
+            out.push_back(file[size_t(k) % file.size()]);
+        return out;
+    }
+    std::mt19937 rng(12345); // teleports: the same jumps every run
+    std::uniform_real_distribution<double> u(0.05, 0.95);
+    double offset = 0.0;
+    for (int k = 0; k < frames; ++k) {
+        const double distance = s.speed_mps * s.frame_seconds * k;
+        if (s.kind == "orbit") {
+            out.push_back(orbit(frame, min_height, max_height, s, distance));
+            continue;
+        }
+        if (s.kind == "teleport" && s.teleport_every > 0 && k % s.teleport_every == 0)
+            offset = u(rng) * 4.0 * (frame.extentX() + frame.extentY());
+        out.push_back(flyover(frame, ground, s, distance + offset));
+    }
+    return out;
+}
+
+} // namespace ridge::lod
