@@ -2,7 +2,7 @@
 # Fails when a library's headers leak out of the modules that own them:
 #   GDAL only in src/io; GL, EGL and GLFW headers only in the GPU layer (src/gpu,
 #   include/ridge/gpu) and the viewer's window code; the GPU layer (ridge/gpu/...) only in the
-#   renderers, the apps, benchmarks and tests — LOD, culling, error metrics and codecs stay
+#   renderers and the tools that drive them (renderbench), the apps, benchmarks and tests — LOD, culling, error metrics and codecs stay
 #   plain C++ that runs without a GL context.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -18,7 +18,7 @@ bad=$(grep -rlE '#include *[<"](epoxy|GL|EGL|GLFW)/' src include apps |
       grep -vE '^(src/gpu/|include/ridge/gpu/|apps/ridge/view_command\.cpp$)' || true)
 [[ -z "$bad" ]] || report "GL/EGL/GLFW headers outside the GPU layer" "$bad"
 bad=$(grep -rlE '#include *[<"]ridge/gpu/' src include |
-      grep -vE '^(src/gpu/|src/render/|include/ridge/gpu/)' || true)
+      grep -vE '^(src/gpu/|src/render/|src/renderbench/|include/ridge/gpu/)' || true)
 [[ -z "$bad" ]] || report "the GPU layer used outside the renderers" "$bad"
 bad=$(grep -rlE '#include *[<"]ridge/(gpu|render)/' src/lod src/stream src/pyramid src/codec src/archive \
       src/io src/core include/ridge/lod include/ridge/stream 2>/dev/null || true)

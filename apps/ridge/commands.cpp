@@ -37,39 +37,66 @@ std::string humanBytes(uint64_t bytes)
 
 void Commands::registerAll(CLI::App& app)
 {
-    build_ = app.add_subcommand("build", "Build a .ridge archive from any elevation raster GDAL reads");
-    build_->add_option("input", input_, "Input raster (GeoTIFF, SRTM .hgt, PNG, ASCII grid, netCDF, ...)")->required();
+    build_ =
+        app.add_subcommand("build", "Build a .ridge archive from any elevation raster GDAL reads");
+    build_
+        ->add_option("input", input_,
+                     "Input raster (GeoTIFF, SRTM .hgt, PNG, ASCII grid, netCDF, ...)")
+        ->required();
     build_->add_option("-o,--output", output_, "Output archive (.ridge)")->required();
-    build_->add_option("--patch", build_options_.patch_size, "Patch size, 2^n+1 samples (65, 129, 257)")->capture_default_str();
-    build_->add_option("--block", build_options_.block_cells, "Tessellation block size in cells (power of two)")->capture_default_str();
-    build_->add_option("--codec", build_options_.codec, "Patch codec: lossless, raw, progressive (lossy, needs --max-error), progressive-paper")->capture_default_str();
-    build_->add_option_function<std::string>("--filter", [this](const std::string& name) {
-        build_options_.filter = parseFilter(name.c_str());
-    }, "Level filter: decimate (default), neville")->check(CLI::IsMember({"decimate", "neville"}));
+    build_
+        ->add_option("--patch", build_options_.patch_size,
+                     "Patch size, 2^n+1 samples (65, 129, 257)")
+        ->capture_default_str();
+    build_
+        ->add_option("--block", build_options_.block_cells,
+                     "Tessellation block size in cells (power of two)")
+        ->capture_default_str();
+    build_
+        ->add_option(
+            "--codec", build_options_.codec,
+            "Patch codec: lossless, raw, progressive (lossy, needs --max-error), progressive-paper")
+        ->capture_default_str();
+    build_
+        ->add_option_function<std::string>(
+            "--filter",
+            [this](const std::string& name) { build_options_.filter = parseFilter(name.c_str()); },
+            "Level filter: decimate (default), neville")
+        ->check(CLI::IsMember({"decimate", "neville"}));
     build_->add_flag("--store-block-errors", build_options_.store_block_errors,
-                     "Store tessellation block errors in the archive (default: readers derive them from the decoded heights)");
+                     "Store tessellation block errors in the archive (default: readers derive them "
+                     "from the decoded heights)");
     io::IngestOptions& ingest = build_options_.ingest;
-    build_->add_option_function<double>("--max-error", [&ingest](double v) { ingest.max_error = v; },
-                                        "Largest allowed height error in metres at the finest level, end to end (progressive codecs); with lossless codecs, the quantization step of non-integer input");
-    build_->add_option_function<double>("--spacing", [&ingest](double v) { ingest.spacing = v; },
-                                        "Ground spacing in metres for rasters without georeferencing (default 1)");
-    build_->add_option_function<double>("--z-scale", [&ingest](double v) { ingest.z_scale = v; },
-                                        "metres = value * z-scale + z-offset (replaces the band's own scale/unit)");
-    build_->add_option_function<double>("--z-offset", [&ingest](double v) { ingest.z_offset = v; },
-                                        "See --z-scale");
+    build_->add_option_function<double>(
+        "--max-error", [&ingest](double v) { ingest.max_error = v; },
+        "Largest allowed height error in metres at the finest level, end to end (progressive "
+        "codecs); with lossless codecs, the quantization step of non-integer input");
+    build_->add_option_function<double>(
+        "--spacing", [&ingest](double v) { ingest.spacing = v; },
+        "Ground spacing in metres for rasters without georeferencing (default 1)");
+    build_->add_option_function<double>(
+        "--z-scale", [&ingest](double v) { ingest.z_scale = v; },
+        "metres = value * z-scale + z-offset (replaces the band's own scale/unit)");
+    build_->add_option_function<double>(
+        "--z-offset", [&ingest](double v) { ingest.z_offset = v; }, "See --z-scale");
     addCommonFlags(build_, quiet_);
 
-    info_ = app.add_subcommand("info", "Describe an archive: geometry, levels, codec, georeference");
+    info_ =
+        app.add_subcommand("info", "Describe an archive: geometry, levels, codec, georeference");
     info_->add_option("archive", archive_, "Archive (.ridge)")->required();
     info_->add_flag("--json", json_, "Machine-readable output");
 
-    verify_ = app.add_subcommand("verify", "Check checksums, decoding, shared borders and error bounds");
+    verify_ =
+        app.add_subcommand("verify", "Check checksums, decoding, shared borders and error bounds");
     verify_->add_option("archive", archive_, "Archive (.ridge)")->required();
-    verify_->add_option("--source", source_, "The raster the archive was built from: check the L-inf bound of every level on every sample");
+    verify_->add_option("--source", source_,
+                        "The raster the archive was built from: check the L-inf bound of every "
+                        "level on every sample");
     verify_->add_flag("--json", json_, "Machine-readable output");
     addCommonFlags(verify_, quiet_);
 
-    extract_ = app.add_subcommand("extract", "Write a level (or a window) as a georeferenced GeoTIFF");
+    extract_ =
+        app.add_subcommand("extract", "Write a level (or a window) as a georeferenced GeoTIFF");
     extract_->add_option("archive", archive_, "Archive (.ridge)")->required();
     extract_->add_option("-o,--output", output_, "Output GeoTIFF")->required();
     extract_->add_option("--level", level_, "Level (default: finest)");
@@ -80,15 +107,21 @@ void Commands::registerAll(CLI::App& app)
     hillshade_->add_option("archive", archive_, "Archive (.ridge)")->required();
     hillshade_->add_option("-o,--output", output_, "Output PNG")->required();
     hillshade_->add_option("--level", level_, "Level (default: finest)");
-    hillshade_->add_option("--azimuth", hillshade_options_.azimuth, "Light azimuth, degrees")->capture_default_str();
-    hillshade_->add_option("--altitude", hillshade_options_.altitude, "Light altitude, degrees")->capture_default_str();
-    hillshade_->add_option("-z,--z-factor", hillshade_options_.z_factor, "Vertical exaggeration")->capture_default_str();
-    hillshade_->add_flag("--grey", [this](int64_t) { hillshade_options_.colour = false; }, "Grey shading only (like gdaldem)");
+    hillshade_->add_option("--azimuth", hillshade_options_.azimuth, "Light azimuth, degrees")
+        ->capture_default_str();
+    hillshade_->add_option("--altitude", hillshade_options_.altitude, "Light altitude, degrees")
+        ->capture_default_str();
+    hillshade_->add_option("-z,--z-factor", hillshade_options_.z_factor, "Vertical exaggeration")
+        ->capture_default_str();
+    hillshade_->add_flag(
+        "--grey", [this](int64_t) { hillshade_options_.colour = false; },
+        "Grey shading only (like gdaldem)");
     addCommonFlags(hillshade_, quiet_);
 
     codec_bench_.registerWith(app);
     view_.registerWith(app);
     render_.registerWith(app);
+    bench_.registerWith(app);
 }
 
 int Commands::run()
@@ -107,6 +140,8 @@ int Commands::run()
         return view_.run();
     if (render_.parsed())
         return render_.run();
+    if (bench_.parsed())
+        return bench_.run();
     return runHillshade();
 }
 
@@ -120,8 +155,9 @@ void Commands::validateBuildOptions() const
     }
     const TessellationBlockLayout layout{build_options_.patch_size, build_options_.block_cells};
     if (!layout.valid())
-        throw Error(fmt::format("--block {}: must be a power of two >= 2 dividing the patch's {} cells",
-                                build_options_.block_cells, build_options_.patch_size - 1));
+        throw Error(
+            fmt::format("--block {}: must be a power of two >= 2 dividing the patch's {} cells",
+                        build_options_.block_cells, build_options_.patch_size - 1));
 }
 
 int Commands::runBuild()
@@ -135,16 +171,17 @@ int Commands::runBuild()
     build_options_.progress = terminalProgress(quiet_);
     const BuildReport r = buildArchive(input_, output_, build_options_);
     if (!quiet_)
-        fmt::print("{}: {}x{} samples, {} levels, {} patches, {} ({:.2f} bits/sample), "
-                   "{} voids filled, quantization error {:g} m\n"
-                   "time: {:.2f} s{}\n",
-                   output_, r.width, r.height, r.level_count, r.patch_count,
-                   humanBytes(r.archive_bytes),
-                   8.0 * double(r.archive_bytes) / (double(r.width) * r.height), r.voids_filled,
-                   r.quantization_error, r.seconds_total,
-                   r.streamed ? " (streamed)"
-                              : fmt::format(" (ingest {:.2f} s, error bounds {:.2f} s, encode+write {:.2f} s)",
-                                            r.seconds_ingest, r.seconds_errors, r.seconds_encode));
+        fmt::print(
+            "{}: {}x{} samples, {} levels, {} patches, {} ({:.2f} bits/sample), "
+            "{} voids filled, quantization error {:g} m\n"
+            "time: {:.2f} s{}\n",
+            output_, r.width, r.height, r.level_count, r.patch_count, humanBytes(r.archive_bytes),
+            8.0 * double(r.archive_bytes) / (double(r.width) * r.height), r.voids_filled,
+            r.quantization_error, r.seconds_total,
+            r.streamed
+                ? " (streamed)"
+                : fmt::format(" (ingest {:.2f} s, error bounds {:.2f} s, encode+write {:.2f} s)",
+                              r.seconds_ingest, r.seconds_errors, r.seconds_encode));
     return 0;
 }
 
@@ -154,36 +191,57 @@ int Commands::runInfo()
     const nlohmann::json meta = nlohmann::json::parse(info.metadata_json, nullptr, false);
     if (json_) {
         nlohmann::json j = {
-            {"path", info.path}, {"format_version", info.format_version},
-            {"file_bytes", info.file_bytes}, {"width", info.width}, {"height", info.height},
-            {"patch_size", info.patch_size}, {"level_count", info.level_count},
-            {"block_cells", info.block_cells}, {"block_levels", info.block_levels},
-            {"patch_count", info.patch_count}, {"codec", info.codec}, {"filter", info.filter},
-            {"height_scale", info.height_scale}, {"height_offset", info.height_offset},
+            {"path", info.path},
+            {"format_version", info.format_version},
+            {"file_bytes", info.file_bytes},
+            {"width", info.width},
+            {"height", info.height},
+            {"patch_size", info.patch_size},
+            {"level_count", info.level_count},
+            {"block_cells", info.block_cells},
+            {"block_levels", info.block_levels},
+            {"patch_count", info.patch_count},
+            {"codec", info.codec},
+            {"filter", info.filter},
+            {"height_scale", info.height_scale},
+            {"height_offset", info.height_offset},
             {"quantization_error", info.quantization_error},
-            {"spacing_x", info.spacing_x}, {"spacing_y", info.spacing_y},
-            {"min_height", info.min_height}, {"max_height", info.max_height},
+            {"spacing_x", info.spacing_x},
+            {"spacing_y", info.spacing_y},
+            {"min_height", info.min_height},
+            {"max_height", info.max_height},
             {"metadata", meta.is_discarded() ? nlohmann::json(nullptr) : meta},
         };
         for (const LevelInfo& l : info.levels)
-            j["levels"].push_back({{"level", l.level}, {"step", l.step}, {"width", l.width},
-                                   {"height", l.height}, {"patches_x", l.patches_x},
-                                   {"patches_y", l.patches_y}, {"bytes", l.bytes},
-                                   {"max_err", l.max_err}, {"max_err_appr", l.max_err_appr},
+            j["levels"].push_back({{"level", l.level},
+                                   {"step", l.step},
+                                   {"width", l.width},
+                                   {"height", l.height},
+                                   {"patches_x", l.patches_x},
+                                   {"patches_y", l.patches_y},
+                                   {"bytes", l.bytes},
+                                   {"max_err", l.max_err},
+                                   {"max_err_appr", l.max_err_appr},
                                    {"level_bound", l.level_bound}});
         fmt::print("{}\n", j.dump(2));
         return 0;
     }
-    const bool from_user = !meta.is_discarded() && meta["georeference"].value("spacing_from_user", false);
-    fmt::print("Archive: {} (ridge format v{}, {})\n", info.path, info.format_version, humanBytes(info.file_bytes));
+    const bool from_user =
+        !meta.is_discarded() && meta["georeference"].value("spacing_from_user", false);
+    fmt::print("Archive: {} (ridge format v{}, {})\n", info.path, info.format_version,
+               humanBytes(info.file_bytes));
     if (!meta.is_discarded())
         fmt::print("Source: {} ({}, {} voids filled)\n", meta["source"].value("path", "?"),
                    meta["source"].value("data_type", "?"), meta["source"].value("voids_filled", 0));
     fmt::print("Grid: {} x {} samples, spacing {:.3f} x {:.3f} m{}\n", info.width, info.height,
-               info.spacing_x, info.spacing_y, from_user ? " (given with --spacing or default 1, no georeferencing)" : "");
-    fmt::print("Heights: {:.2f} .. {:.2f} m, metres = {:g} + {:g} * code, quantization error {:g} m\n",
-               info.min_height, info.max_height, info.height_offset, info.height_scale, info.quantization_error);
-    fmt::print("Patches: {}x{} samples, {} levels, {} patches, tessellation blocks {}x{} cells (λ for d = 1..{})\n",
+               info.spacing_x, info.spacing_y,
+               from_user ? " (given with --spacing or default 1, no georeferencing)" : "");
+    fmt::print(
+        "Heights: {:.2f} .. {:.2f} m, metres = {:g} + {:g} * code, quantization error {:g} m\n",
+        info.min_height, info.max_height, info.height_offset, info.height_scale,
+        info.quantization_error);
+    fmt::print("Patches: {}x{} samples, {} levels, {} patches, tessellation blocks {}x{} cells (λ "
+               "for d = 1..{})\n",
                info.patch_size, info.patch_size, info.level_count, info.patch_count,
                info.block_cells, info.block_cells, info.block_levels);
     fmt::print("Codec: {}, level filter: {}\n", info.codec, info.filter);
@@ -197,8 +255,10 @@ int Commands::runInfo()
         }
         const std::string wkt = geo.value("crs_wkt", "");
         const auto name_start = wkt.find('"');
-        const auto name_end = name_start == std::string::npos ? name_start : wkt.find('"', name_start + 1);
-        fmt::print("CRS: {}\n", wkt.empty() ? "none" : wkt.substr(name_start + 1, name_end - name_start - 1));
+        const auto name_end =
+            name_start == std::string::npos ? name_start : wkt.find('"', name_start + 1);
+        fmt::print("CRS: {}\n",
+                   wkt.empty() ? "none" : wkt.substr(name_start + 1, name_end - name_start - 1));
     }
     fmt::print("\n{:>5} {:>6} {:>13} {:>11} {:>11} {:>12} {:>12}\n", "level", "step", "samples",
                "patches", "bytes", "max Err(P)", "δ_l");
@@ -218,15 +278,19 @@ int Commands::runVerify()
     options.progress = terminalProgress(quiet_ || json_);
     const VerifyReport report = verifyArchive(archive_, options);
     if (json_) {
-        nlohmann::json j = {{"archive", archive_}, {"ok", report.ok()},
+        nlohmann::json j = {{"archive", archive_},
+                            {"ok", report.ok()},
                             {"patches_checked", report.patches_checked},
                             {"source_checked", report.source_checked},
                             {"source_voids", report.source_voids},
                             {"problems", report.problems}};
         for (const LevelVerifyReport& l : report.levels)
-            j["levels"].push_back({{"level", l.level}, {"patches", l.patches},
-                                   {"max_err_bound", l.max_err_bound}, {"samples", l.samples},
-                                   {"max_error", l.max_error}, {"rms_error", l.rms_error},
+            j["levels"].push_back({{"level", l.level},
+                                   {"patches", l.patches},
+                                   {"max_err_bound", l.max_err_bound},
+                                   {"samples", l.samples},
+                                   {"max_error", l.max_error},
+                                   {"rms_error", l.rms_error},
                                    {"bound_violations", l.bound_violations},
                                    {"level_samples", l.level_samples},
                                    {"max_level_error", l.max_level_error},
@@ -237,19 +301,22 @@ int Commands::runVerify()
     }
     if (!report.levels.empty()) {
         if (report.source_checked) {
-            fmt::print("{:>5} {:>12} {:>12} {:>12} {:>12} {:>10} {:>14} {:>10}\n", "level", "samples",
-                       "max |e| m", "RMS m", "max Err(P)", "over Err", "max |e| @lvl", "δ_l");
+            fmt::print("{:>5} {:>12} {:>12} {:>12} {:>12} {:>10} {:>14} {:>10}\n", "level",
+                       "samples", "max |e| m", "RMS m", "max Err(P)", "over Err", "max |e| @lvl",
+                       "δ_l");
             for (const LevelVerifyReport& l : report.levels)
                 fmt::print("{:>5} {:>12} {:>12.4f} {:>12.4f} {:>12.4f} {:>10} {:>14} {:>10.4f}\n",
                            l.level, l.samples, l.max_error, l.rms_error, l.max_err_bound,
                            l.bound_violations,
                            l.level_samples ? fmt::format("{:.4f}", l.max_level_error) : "-",
                            l.level_bound);
-            fmt::print("{} void samples of the source skipped (no measurement there)\n", report.source_voids);
+            fmt::print("{} void samples of the source skipped (no measurement there)\n",
+                       report.source_voids);
         } else {
             fmt::print("{:>5} {:>10} {:>12} {:>10}\n", "level", "patches", "max Err(P)", "δ_l");
             for (const LevelVerifyReport& l : report.levels)
-                fmt::print("{:>5} {:>10} {:>10.4f} m {:>8.4f} m\n", l.level, l.patches, l.max_err_bound, l.level_bound);
+                fmt::print("{:>5} {:>10} {:>10.4f} m {:>8.4f} m\n", l.level, l.patches,
+                           l.max_err_bound, l.level_bound);
         }
     }
     for (const std::string& p : report.problems)
@@ -259,7 +326,8 @@ int Commands::runVerify()
         return 1;
     }
     fmt::print("{}: OK ({} patches{})\n", archive_, report.patches_checked,
-               report.source_checked ? ", every error bound holds on every valid source sample" : "");
+               report.source_checked ? ", every error bound holds on every valid source sample"
+                                     : "");
     return 0;
 }
 

@@ -13,12 +13,12 @@ namespace ridge::cli {
 
 // `ridge codec-bench` (codec_bench_command.cpp): ridge's codec against the anchor codecs.
 class CodecBenchCommand {
-public:
+  public:
     void registerWith(CLI::App& app);
     bool parsed() const { return command_ && command_->parsed(); }
     int run();
 
-private:
+  private:
     CLI::App* command_ = nullptr;
     std::string input_;
     std::vector<double> max_errors_{0.5, 1.0, 4.0, 16.0};
@@ -29,14 +29,38 @@ private:
     bool quiet_ = false;
 };
 
-// `ridge render` (render_command.cpp): one headless frame of an archive as a PNG.
-class RenderCommand {
-public:
+// `ridge bench` (bench_command.cpp): a renderer along a camera path, headless, with figures.
+class BenchCommand {
+  public:
     void registerWith(CLI::App& app);
     bool parsed() const { return command_ && command_->parsed(); }
     int run();
 
-private:
+  private:
+    CLI::App* command_ = nullptr;
+    std::string archive_;
+    std::string renderer_ = "tess";
+    std::string path_ = "flyover";
+    double speed_ = 250.0;
+    int frames_ = 600;
+    std::string size_ = "1920x1080";
+    double error_ = 2.0;
+    double ram_mb_ = 256.0;
+    double vram_mb_ = 256.0;
+    bool no_cull_ = false;
+    bool no_streaming_ = false;
+    std::string json_path_;
+    std::string plot_path_;
+};
+
+// `ridge render` (render_command.cpp): one headless frame of an archive as a PNG.
+class RenderCommand {
+  public:
+    void registerWith(CLI::App& app);
+    bool parsed() const { return command_ && command_->parsed(); }
+    int run();
+
+  private:
     CLI::App* command_ = nullptr;
     std::string archive_;
     std::string output_;
@@ -63,12 +87,12 @@ private:
 // hardware-tessellation renderer and a Dear ImGui stats overlay. Needs a display; run() throws
 // ridge::Error when there is none, or when the build has no viewer (RIDGE_HAVE_VIEWER=0).
 class ViewCommand {
-public:
+  public:
     void registerWith(CLI::App& app);
     bool parsed() const { return command_ && command_->parsed(); }
     int run();
 
-private:
+  private:
     CLI::App* command_ = nullptr;
     std::string archive_;
     std::string size_ = "1600x900"; // window, screen coordinates
@@ -83,12 +107,12 @@ private:
 };
 
 class Commands {
-public:
+  public:
     void registerAll(CLI::App& app);
     // Runs the subcommand that was parsed; returns the process exit code.
     int run();
 
-private:
+  private:
     void validateBuildOptions() const;
     int runBuild();
     int runInfo();
@@ -118,6 +142,7 @@ private:
     CodecBenchCommand codec_bench_;
     ViewCommand view_;
     RenderCommand render_;
+    BenchCommand bench_;
 };
 
 } // namespace ridge::cli

@@ -1,5 +1,6 @@
 // `ridge render ARCHIVE -o OUT.png`: one frame of the tessellation renderer, headless (EGL).
 #include "commands.h"
+#include "render_args.h"
 
 #include "ridge/core/error.h"
 #include "ridge/render/headless_render.h"
@@ -12,26 +13,6 @@
 
 namespace ridge::cli {
 namespace {
-
-lod::Viewport parseSize(const std::string& text)
-{
-    int w = 0, h = 0;
-    char x = 0, extra = 0;
-    if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X'))
-        throw Error("--size " + text + ": expected WIDTHxHEIGHT, e.g. 1920x1080");
-    return {w, h};
-}
-
-render::LodScheme parseLod(const std::string& lod)
-{
-    if (lod == "tess")
-        return render::LodScheme::Tessellation;
-    if (lod == "chunked")
-        return render::LodScheme::ChunkedLod;
-    if (lod == "brute")
-        return render::LodScheme::BruteForce;
-    throw Error("--lod " + lod + ": expected tess, chunked or brute");
-}
 
 render::DebugMode parseMode(const std::string& mode)
 {
@@ -118,7 +99,7 @@ int RenderCommand::run()
     options.vram_budget_mb = vram_mb_;
     options.settings.epsilon_px = error_;
     options.settings.mode = parseMode(mode_);
-    options.settings.scheme = parseLod(lod_);
+    options.settings.scheme = parseLodScheme(lod_, "--lod");
     options.settings.wireframe = wireframe_;
     options.settings.cull = !no_cull_;
     options.settings.skirts = !no_skirts_;

@@ -3,6 +3,7 @@
 // stats overlay over it. Everything terrain-related lives in libridge; this file is input
 // plumbing and the overlay.
 #include "commands.h"
+#include "render_args.h"
 #include "terminal.h"
 
 #include "ridge/core/error.h"
@@ -48,23 +49,6 @@ namespace ridge::cli {
 namespace {
 
 constexpr double kMinEpsilonPx = 0.25, kMaxEpsilonPx = 16.0;
-
-// "1600x900" -> 1600, 900. Throws ridge::Error naming the option.
-void parseSize(const std::string& text, int& width, int& height)
-{
-    const char* begin = text.data();
-    const char* end = begin + text.size();
-    auto [after_w, ec_w] = std::from_chars(begin, end, width);
-    bool ok = ec_w == std::errc() && after_w != end && (*after_w == 'x' || *after_w == 'X');
-    if (ok) {
-        auto [after_h, ec_h] = std::from_chars(after_w + 1, end, height);
-        ok = ec_h == std::errc() && after_h == end;
-    }
-    if (!ok || width < 1 || height < 1 || width > 16384 || height > 16384)
-        throw Error(fmt::format("--size {}: expected WIDTHxHEIGHT between 1x1 and 16384x16384, "
-                                "e.g. 1600x900",
-                                text));
-}
 
 #if RIDGE_HAVE_VIEWER
 
@@ -439,8 +423,8 @@ void ViewCommand::registerWith(CLI::App& app)
 
 int ViewCommand::run()
 {
-    int width = 0, height = 0;
-    parseSize(size_, width, height);
+    const lod::Viewport size = parseSize(size_);
+    const int width = size.width, height = size.height;
 #if !RIDGE_HAVE_VIEWER
     throw Error("ridge view: this ridge was built without the viewer (Dear ImGui or its "
                 "GLFW/OpenGL3 backend sources were missing at configure time); use `ridge render` "

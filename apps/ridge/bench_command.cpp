@@ -1,0 +1,70 @@
+// `ridge bench ARCHIVE`: a renderer flown along a camera path, headless; prints the summary,
+// writes the optional JSON and frame-time plot.
+#include "commands.h"
+#include "render_args.h"
+
+#include "ridge/renderbench/render_bench.h"
+
+#include <fmt/core.h>
+
+namespace ridge::cli {
+
+void BenchCommand::registerWith(CLI::App& app)
+{
+    command_ = app.add_subcommand(
+        "bench",
+        "Fly a renderer along a camera path headless and report fps, frame times, triangles");
+    command_->add_option("archive", archive_, "Archive (.ridge)")->required();
+    command_->add_option("--renderer", renderer_, "tess, chunked or brute")->capture_default_str();
+    command_
+        ->add_option("--path", path_,
+                     "flyover, orbit, teleport, or a file of 'x y z look-x look-y look-z' lines")
+        ->capture_default_str();
+    command_
+        ->add_option("--speed", speed_,
+                     "Camera speed along the path, m/s (60 frames per simulated s)")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    command_->add_option("--frames", frames_, "Frames to render")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    command_->add_option("--size", size_, "Frame size WIDTHxHEIGHT")->capture_default_str();
+    command_->add_option("--error", error_, "Screen-space error threshold ε, pixels")
+        ->capture_default_str()
+        ->check(CLI::Range(0.05, 1000.0));
+    command_->add_option("--ram", ram_mb_, "Decoded-patch cache, MB")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    command_->add_option("--vram", vram_mb_, "Texture memory for resident patches, MB")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    command_->add_flag("--no-cull", no_cull_, "Disable view-frustum culling");
+    command_->add_flag("--no-streaming", no_streaming_,
+                       "Load every patch before its frame (stalls)");
+    command_->add_option("--json", json_path_, "Write every frame's figures as JSON");
+    command_->add_option("--plot", plot_path_, "Write the frame times as a PNG");
+}
+
+int BenchCommand::run()
+{
+    renderbench::RenderBenchOptions options;
+    options.scheme = parseLodScheme(renderer_, "--renderer");
+    options.path.kind = path_;
+    options.path.speed_mps = speed_;
+    options.frames = frames_;
+    options.viewport = parseSize(size_);
+    options.epsilon_px = error_;
+    options.cull = !no_cull_;
+    options.ram_mb = ram_mb_;
+    options.vram_mb = vram_mb_;
+    options.streaming = !no_streaming_;
+    const renderbench::RenderBenchReport report = renderbench::runRenderBench(archive_, options);
+    fmt::print("{}", renderbench::formatRenderBenchSummary(report));
+    if (!json_path_.empty())
+        renderbench::writeRenderBenchJson(report, json_path_);
+    if (!plot_path_.empty())
+        renderbench::writeRenderBenchPlot(report, plot_path_);
+    return 0;
+}
+
+} // namespace ridge::cli

@@ -1,0 +1,57 @@
+#pragma once
+// `ridge bench ARCHIVE`: a renderer flown along a deterministic camera path, headless, with
+// per-frame figures (CPU ms by stage, GPU ms from timer queries, triangles, patches drawn and
+// still streaming, uploads) and a summary. Not part of libridge (it plots with PLplot).
+#include "ridge/lod/camera_path.h"
+#include "ridge/render/terrain_renderer.h"
+
+#include <string>
+#include <vector>
+
+namespace ridge::renderbench {
+
+struct RenderBenchOptions {
+    render::LodScheme scheme = render::LodScheme::Tessellation;
+    lod::CameraPathSettings path;
+    int frames = 600;
+    lod::Viewport viewport{1920, 1080};
+    double epsilon_px = 2.0;
+    bool cull = true;
+    double ram_mb = 256.0;
+    double vram_mb = 256.0;
+    bool streaming = true;
+};
+
+struct FrameRecord {
+    double frame_ms = 0.0;  // wall time of draw() until the GPU finished it
+    double select_ms = 0.0; // CPU: selection + culling
+    double load_ms = 0.0;   // CPU: residency, uploads (streaming: requests and uploads only)
+    double gpu_ms = 0.0;    // terrain pass, timer query
+    uint64_t triangles = 0;
+    int patches = 0;
+    int missing = 0; // drawn by an ancestor while streaming
+    int loaded = 0;
+};
+
+struct RenderBenchReport {
+    std::string archive;
+    std::string gl_renderer;
+    RenderBenchOptions options;
+    std::vector<FrameRecord> frames;
+    // Summary over all frames.
+    double fps_min = 0, fps_median = 0, fps_max = 0;
+    double frame_ms_p99 = 0;
+    double mtri_per_s = 0;      // triangles drawn / wall time
+    int frames_missing = 0;     // frames that drew at least one patch by an ancestor
+    double select_ms_max = 0;   // CPU selection + culling, worst frame
+    size_t ram_cache_bytes = 0; // decoded-patch cache at the end
+};
+
+// Throws ridge::Error naming the archive or path file on bad input.
+RenderBenchReport runRenderBench(const std::string& archive, const RenderBenchOptions& options);
+std::string formatRenderBenchSummary(const RenderBenchReport& report);
+void writeRenderBenchJson(const RenderBenchReport& report, const std::string& path);
+// Frame time per frame as a PNG (PLplot, pngcairo).
+void writeRenderBenchPlot(const RenderBenchReport& report, const std::string& path);
+
+} // namespace ridge::renderbench

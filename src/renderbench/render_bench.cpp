@@ -1,0 +1,174 @@
+#include "ridge/renderbench/render_bench.h"
+
+#include "ridge/core/atomic_output.h"
+#include "ridge/core/error.h"
+#include "ridge/gpu/context.h"
+#include "ridge/gpu/render_target.h"
+
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+
+namespace ridge::renderbench {
+namespace {
+
+const char* schemeName(render::LodScheme s)
+{
+    switch (s) {
+    case render::LodScheme::Tessellation:
+        return "tess";
+    case render::LodScheme::ChunkedLod:
+        return "chunked";
+    case render::LodScheme::BruteForce:
+        return "brute";
+    }
+    return "?";
+}
+
+double percentile(std::vector<double> v, double p)
+{
+    if (v.empty())
+        return 0.0;
+    std::sort(v.begin(), v.end());
+    return v[std::min(v.size() - 1, size_t(std::ceil(p * double(v.size() - 1))))];
+}
+
+void summarise(RenderBenchReport& r)
+{
+    std::vector<double> ms;
+    double total_ms = 0.0, triangles = 0.0;
+    for (const FrameRecord& f : r.frames) {
+        ms.push_back(f.frame_ms);
+        total_ms += f.frame_ms;
+        triangles += double(f.triangles);
+        r.frames_missing += f.missing > 0;
+        r.select_ms_max = std::max(r.select_ms_max, f.select_ms);
+    }
+    if (ms.empty())
+        return;
+    auto fps = [](double frame_ms) { return frame_ms > 0.0 ? 1000.0 / frame_ms : 0.0; };
+    r.fps_min = fps(percentile(ms, 1.0));
+    r.fps_median = fps(percentile(ms, 0.5));
+    r.fps_max = fps(percentile(ms, 0.0));
+    r.frame_ms_p99 = percentile(ms, 0.99);
+    r.mtri_per_s = total_ms > 0.0 ? triangles / (total_ms * 1e3) : 0.0;
+}
+
+} // namespace
+
+RenderBenchReport runRenderBench(const std::string& archive, const RenderBenchOptions& o)
+{
+    if (o.frames <= 0)
+        throw Error("bench: --frames must be positive");
+    RenderBenchReport report;
+    report.archive = archive;
+    report.options = o;
+    const archive::ArchiveReader reader(archive);
+    auto context = gpu::HeadlessContext::create();
+    report.gl_renderer = context->rendererName();
+    render::RendererOptions ro;
+    ro.streaming = o.streaming;
+    ro.ram_budget_mb = o.ram_mb;
+    ro.vram_budget_mb = o.vram_mb;
+    ro.max_resident_patches = 2048;
+    ro.synchronous_stats = true; // per-frame GPU time and triangles, measured
+    render::TerrainRenderer renderer(reader, ro);
+    const lod::PatchBounds& root = renderer.quadtree().bounds({0, 0, 0});
+    const std::vector<lod::CameraPose> path = lod::makeCameraPath(
+        renderer.quadtree().frame(), root.min_height, root.max_height,
+        [&](double x, double y) { return renderer.groundHeight(x, y); }, o.path, o.frames);
+    const gpu::RenderTarget target(o.viewport.width, o.viewport.height, 1);
+    target.bind();
+    render::RenderSettings settings;
+    settings.scheme = o.scheme;
+    settings.epsilon_px = o.epsilon_px;
+    settings.cull = o.cull;
+    for (const lod::CameraPose& pose : path) {
+        double near_m = 1.0, far_m = 1e6;
+        renderer.clipPlanesFor(pose.position, near_m, far_m);
+        const lod::Camera camera(pose.position, pose.look_at, 60.0, o.viewport, near_m, far_m);
+        const auto t0 = std::chrono::steady_clock::now();
+        // Synchronous stats wait for the frame's timer query: the GPU has finished the frame.
+        const render::FrameStats s = renderer.draw(camera, settings);
+        FrameRecord f;
+        f.frame_ms =
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                .count();
+        f.select_ms = s.cpu_select_ms;
+        f.load_ms = s.cpu_load_ms;
+        f.gpu_ms = std::isfinite(s.gpu_ms) ? s.gpu_ms : 0.0;
+        f.triangles = s.triangles;
+        f.patches = s.patches;
+        f.missing = s.missing;
+        f.loaded = s.loaded;
+        report.frames.push_back(f);
+    }
+    if (!renderer.streamingError().empty())
+        throw Error(renderer.streamingError());
+    report.ram_cache_bytes = renderer.streamingCacheBytes();
+    summarise(report);
+    return report;
+}
+
+std::string formatRenderBenchSummary(const RenderBenchReport& r)
+{
+    return fmt::format("{}: {} renderer, path {}, {} frames at {}x{}, ε {} px, culling {}, {}\n"
+                       "  fps min / median / max   {:.1f} / {:.1f} / {:.1f}\n"
+                       "  frame time p99           {:.2f} ms\n"
+                       "  triangles                {:.2f} Mtri/s\n"
+                       "  CPU selection, worst     {:.3f} ms\n"
+                       "  frames still streaming   {} of {}\n"
+                       "  decoded-patch cache      {:.1f} MiB\n",
+                       r.archive, schemeName(r.options.scheme), r.options.path.kind,
+                       r.frames.size(), r.options.viewport.width, r.options.viewport.height,
+                       r.options.epsilon_px, r.options.cull ? "on" : "off", r.gl_renderer,
+                       r.fps_min, r.fps_median, r.fps_max, r.frame_ms_p99, r.mtri_per_s,
+                       r.select_ms_max, r.frames_missing, r.frames.size(),
+                       double(r.ram_cache_bytes) / (1024.0 * 1024.0));
+}
+
+void writeRenderBenchJson(const RenderBenchReport& r, const std::string& path)
+{
+    nlohmann::json frames = nlohmann::json::array();
+    for (const FrameRecord& f : r.frames)
+        frames.push_back({{"frame_ms", f.frame_ms},
+                          {"select_ms", f.select_ms},
+                          {"load_ms", f.load_ms},
+                          {"gpu_ms", f.gpu_ms},
+                          {"triangles", f.triangles},
+                          {"patches", f.patches},
+                          {"missing", f.missing},
+                          {"loaded", f.loaded}});
+    const nlohmann::json j = {{"archive", r.archive},
+                              {"gl_renderer", r.gl_renderer},
+                              {"renderer", schemeName(r.options.scheme)},
+                              {"path", r.options.path.kind},
+                              {"speed_mps", r.options.path.speed_mps},
+                              {"size", {r.options.viewport.width, r.options.viewport.height}},
+                              {"epsilon_px", r.options.epsilon_px},
+                              {"cull", r.options.cull},
+                              {"summary",
+                               {{"fps_min", r.fps_min},
+                                {"fps_median", r.fps_median},
+                                {"fps_max", r.fps_max},
+                                {"frame_ms_p99", r.frame_ms_p99},
+                                {"mtri_per_s", r.mtri_per_s},
+                                {"frames_missing", r.frames_missing},
+                                {"select_ms_max", r.select_ms_max},
+                                {"ram_cache_bytes", r.ram_cache_bytes}}},
+                              {"frames", frames}};
+    AtomicOutput out(path);
+    {
+        std::ofstream f(out.temporaryPath());
+        f << j.dump(1) << "\n";
+        if (!f)
+            throw Error(path + ": cannot write the JSON report");
+    }
+    out.commit();
+}
+
+} // namespace ridge::renderbench

@@ -1,0 +1,68 @@
+// `ridge bench` as a user runs it: figures for every frame, a plot, and clear errors.
+#include "test_support.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <fstream>
+
+using namespace ridge;
+namespace fs = std::filesystem;
+
+TEST(BenchCli, FliesEachRendererAlongAPathAndWritesJsonAndAPlot)
+{
+    test::ScratchDir dir;
+    const std::string arc = dir.path("everest.ridge");
+    ASSERT_EQ(test::runRidge("build '" + test::dataPath("everest_crop.tif") + "' -o '" + arc +
+                             "' -q --patch 33")
+                  .exit_code,
+              0);
+    for (const std::string renderer : {"tess", "chunked", "brute"})
+        for (const std::string path : {"flyover", "orbit", "teleport"}) {
+            const std::string json = dir.path(renderer + path + ".json"),
+                              png = dir.path(renderer + path + ".png");
+            const test::CommandResult r = test::runRidge(
+                "bench '" + arc + "' --renderer " + renderer + " --path " + path +
+                " --frames 12 --size 160x90 --json '" + json + "' --plot '" + png + "'");
+            ASSERT_EQ(r.exit_code, 0) << r.output;
+            EXPECT_NE(r.output.find("fps min / median / max"), std::string::npos) << r.output;
+            std::ifstream in(json);
+            const nlohmann::json j = nlohmann::json::parse(in);
+            EXPECT_EQ(j["frames"].size(), 12u);
+            EXPECT_EQ(j["renderer"], renderer);
+            EXPECT_GT(j["summary"]["fps_median"].get<double>(), 0.0);
+            for (const auto& f : j["frames"])
+                EXPECT_GT(f["triangles"].get<uint64_t>(), 0u) << renderer << " " << path;
+            EXPECT_GT(fs::file_size(png), 1000u);
+        }
+}
+
+TEST(BenchCli, BadInputsGetAClearErrorAndANonZeroExit)
+{
+    test::ScratchDir dir;
+    const std::string arc = dir.path("everest.ridge");
+    ASSERT_EQ(
+        test::runRidge("build '" + test::dataPath("everest_crop.tif") + "' -o '" + arc + "' -q")
+            .exit_code,
+        0);
+    {
+        std::ofstream(dir.path("bad_path.txt")) << "1 2 3 4 5 6\nnot numbers\n";
+    }
+    struct Case {
+        std::string args, phrase;
+    };
+    for (const Case& c :
+         {Case{"--path '" + dir.path("bad_path.txt") + "'", "bad_path.txt:2:"},
+          Case{"--path '" + dir.path("missing.txt") + "'", "missing.txt"},
+          Case{"--renderer fancy", "--renderer fancy"}, Case{"--size 0x0", "--size"}}) {
+        const test::CommandResult r = test::runRidge("bench '" + arc + "' --frames 3 " + c.args);
+        EXPECT_NE(r.exit_code, 0) << c.args;
+        EXPECT_NE(r.output.find(c.phrase), std::string::npos)
+            << "expected '" << c.phrase << "' in: " << r.output;
+    }
+    const test::CommandResult r =
+        test::runRidge("bench '" + dir.path("nope.ridge") + "' --frames 3");
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_NE(r.output.find("nope.ridge"), std::string::npos) << r.output;
+}
