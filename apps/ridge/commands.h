@@ -49,6 +49,7 @@ class BenchCommand {
     double vram_mb_ = 256.0;
     bool no_cull_ = false;
     bool no_streaming_ = false;
+    bool table_ = false;
     std::string json_path_;
     std::string plot_path_;
 };

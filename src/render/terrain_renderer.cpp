@@ -579,6 +579,16 @@ std::string TerrainRenderer::streamingError() const
     return impl_->streamer ? impl_->streamer->error() : std::string();
 }
 
+uint64_t TerrainRenderer::streamingMisses() const
+{
+    return impl_->streamer ? impl_->streamer->stats().requested : 0;
+}
+
+uint64_t TerrainRenderer::streamingHits() const
+{
+    return impl_->streamer ? impl_->streamer->stats().cache_hits : 0;
+}
+
 size_t TerrainRenderer::streamingCacheBytes() const
 {
     return impl_->streamer ? impl_->streamer->stats().cache_bytes : 0;

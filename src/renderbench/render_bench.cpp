@@ -56,6 +56,7 @@ void summarise(RenderBenchReport& r)
     r.fps_max = fps(percentile(ms, 0.0));
     r.frame_ms_p99 = percentile(ms, 0.99);
     r.mtri_per_s = total_ms > 0.0 ? triangles / (total_ms * 1e3) : 0.0;
+    r.triangles_mean = triangles / double(r.frames.size());
 }
 
 } // namespace
@@ -110,6 +111,7 @@ RenderBenchReport runRenderBench(const std::string& archive, const RenderBenchOp
     if (!renderer.streamingError().empty())
         throw Error(renderer.streamingError());
     report.ram_cache_bytes = renderer.streamingCacheBytes();
+    report.cache_misses = renderer.streamingMisses();
     summarise(report);
     return report;
 }
@@ -129,6 +131,23 @@ std::string formatRenderBenchSummary(const RenderBenchReport& r)
                        r.fps_min, r.fps_median, r.fps_max, r.frame_ms_p99, r.mtri_per_s,
                        r.select_ms_max, r.frames_missing, r.frames.size(),
                        double(r.ram_cache_bytes) / (1024.0 * 1024.0));
+}
+
+std::string formatRenderBenchTable(const std::vector<RenderBenchReport>& reports)
+{
+    std::string out = fmt::format("{:<38} {:>9} {:>9} {:>9} {:>11} {:>12}\n", "approach", "FPS min",
+                                  "FPS max", "FPS med", "cache miss", "triangles");
+    for (const RenderBenchReport& r : reports) {
+        const std::string name =
+            fmt::format("{}{}",
+                        r.options.scheme == render::LodScheme::Tessellation ? "tessellation (paper)"
+                        : r.options.scheme == render::LodScheme::ChunkedLod ? "chunked LOD"
+                                                                            : "brute force",
+                        r.options.cull ? "" : " without frustum");
+        out += fmt::format("{:<38} {:>9.1f} {:>9.1f} {:>9.1f} {:>11} {:>12.0f}\n", name, r.fps_min,
+                           r.fps_max, r.fps_median, r.cache_misses, r.triangles_mean);
+    }
+    return out;
 }
 
 void writeRenderBenchJson(const RenderBenchReport& r, const std::string& path)
@@ -159,7 +178,9 @@ void writeRenderBenchJson(const RenderBenchReport& r, const std::string& path)
                                 {"mtri_per_s", r.mtri_per_s},
                                 {"frames_missing", r.frames_missing},
                                 {"select_ms_max", r.select_ms_max},
-                                {"ram_cache_bytes", r.ram_cache_bytes}}},
+                                {"ram_cache_bytes", r.ram_cache_bytes},
+                                {"cache_misses", r.cache_misses},
+                                {"triangles_mean", r.triangles_mean}}},
                               {"frames", frames}};
     AtomicOutput out(path);
     {

@@ -66,3 +66,21 @@ TEST(BenchCli, BadInputsGetAClearErrorAndANonZeroExit)
     EXPECT_NE(r.exit_code, 0);
     EXPECT_NE(r.output.find("nope.ridge"), std::string::npos) << r.output;
 }
+
+TEST(BenchCli, TablePrintsTheFractalRingsRowsForEveryRendererWithAndWithoutCulling)
+{
+    test::ScratchDir dir;
+    const std::string arc = dir.path("everest.ridge");
+    ASSERT_EQ(test::runRidge("build '" + test::dataPath("everest_crop.tif") + "' -o '" + arc +
+                             "' -q --patch 33")
+                  .exit_code,
+              0);
+    const test::CommandResult r =
+        test::runRidge("bench '" + arc + "' --table --frames 6 --size 160x90");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    for (const char* row :
+         {"tessellation (paper)  ", "tessellation (paper) without frustum", "chunked LOD  ",
+          "chunked LOD without frustum", "brute force  ", "brute force without frustum"})
+        EXPECT_NE(r.output.find(row), std::string::npos) << row << " in:\n" << r.output;
+    EXPECT_NE(r.output.find("cache miss"), std::string::npos);
+}

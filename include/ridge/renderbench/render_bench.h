@@ -45,11 +45,16 @@ struct RenderBenchReport {
     int frames_missing = 0;     // frames that drew at least one patch by an ancestor
     double select_ms_max = 0;   // CPU selection + culling, worst frame
     size_t ram_cache_bytes = 0; // decoded-patch cache at the end
+    uint64_t cache_misses = 0;  // patches decoded because the RAM cache did not have them
+    double triangles_mean = 0;
 };
 
 // Throws ridge::Error naming the archive or path file on bad input.
 RenderBenchReport runRenderBench(const std::string& archive, const RenderBenchOptions& options);
 std::string formatRenderBenchSummary(const RenderBenchReport& report);
+// The fractal-rings paper's Table 1, one row per report: approach, FPS min / max / median,
+// cache misses, mean triangles.
+std::string formatRenderBenchTable(const std::vector<RenderBenchReport>& reports);
 void writeRenderBenchJson(const RenderBenchReport& report, const std::string& path);
 // Frame time per frame as a PNG (PLplot, pngcairo).
 void writeRenderBenchPlot(const RenderBenchReport& report, const std::string& path);
