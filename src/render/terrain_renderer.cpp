@@ -579,14 +579,14 @@ std::string TerrainRenderer::streamingError() const
     return impl_->streamer ? impl_->streamer->error() : std::string();
 }
 
-uint64_t TerrainRenderer::streamingMisses() const
+uint64_t TerrainRenderer::cacheMisses() const
 {
-    return impl_->streamer ? impl_->streamer->stats().requested : 0;
+    return impl_->streamer ? impl_->streamer->stats().requested : impl_->loader.stats().decoded;
 }
 
-uint64_t TerrainRenderer::streamingHits() const
+uint64_t TerrainRenderer::cacheHits() const
 {
-    return impl_->streamer ? impl_->streamer->stats().cache_hits : 0;
+    return impl_->streamer ? impl_->streamer->stats().cache_hits : impl_->loader.stats().cache_hits;
 }
 
 size_t TerrainRenderer::streamingCacheBytes() const

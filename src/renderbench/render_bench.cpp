@@ -47,6 +47,9 @@ void summarise(RenderBenchReport& r)
         triangles += double(f.triangles);
         r.frames_missing += f.missing > 0;
         r.select_ms_max = std::max(r.select_ms_max, f.select_ms);
+        const double asked =
+            r.options.scheme == render::LodScheme::BruteForce ? 0.0 : r.options.epsilon_px;
+        r.frames_epsilon_raised += f.epsilon_px > asked * 1.0001 + 1e-9;
     }
     if (ms.empty())
         return;
@@ -106,12 +109,13 @@ RenderBenchReport runRenderBench(const std::string& archive, const RenderBenchOp
         f.patches = s.patches;
         f.missing = s.missing;
         f.loaded = s.loaded;
+        f.epsilon_px = s.epsilon_px;
         report.frames.push_back(f);
     }
     if (!renderer.streamingError().empty())
         throw Error(renderer.streamingError());
     report.ram_cache_bytes = renderer.streamingCacheBytes();
-    report.cache_misses = renderer.streamingMisses();
+    report.cache_misses = renderer.cacheMisses();
     summarise(report);
     return report;
 }
@@ -124,19 +128,21 @@ std::string formatRenderBenchSummary(const RenderBenchReport& r)
                        "  triangles                {:.2f} Mtri/s\n"
                        "  CPU selection, worst     {:.3f} ms\n"
                        "  frames still streaming   {} of {}\n"
+                       "  frames drawn coarser     {} (more patches in view than texture slots)\n"
                        "  decoded-patch cache      {:.1f} MiB\n",
                        r.archive, schemeName(r.options.scheme), r.options.path.kind,
                        r.frames.size(), r.options.viewport.width, r.options.viewport.height,
                        r.options.epsilon_px, r.options.cull ? "on" : "off", r.gl_renderer,
                        r.fps_min, r.fps_median, r.fps_max, r.frame_ms_p99, r.mtri_per_s,
-                       r.select_ms_max, r.frames_missing, r.frames.size(),
+                       r.select_ms_max, r.frames_missing, r.frames.size(), r.frames_epsilon_raised,
                        double(r.ram_cache_bytes) / (1024.0 * 1024.0));
 }
 
 std::string formatRenderBenchTable(const std::vector<RenderBenchReport>& reports)
 {
-    std::string out = fmt::format("{:<38} {:>9} {:>9} {:>9} {:>11} {:>12}\n", "approach", "FPS min",
-                                  "FPS max", "FPS med", "cache miss", "triangles");
+    std::string out =
+        fmt::format("{:<38} {:>9} {:>9} {:>9} {:>11} {:>12} {:>8}\n", "approach", "FPS min",
+                    "FPS max", "FPS med", "cache miss", "triangles", "coarser");
     for (const RenderBenchReport& r : reports) {
         const std::string name =
             fmt::format("{}{}",
@@ -144,8 +150,9 @@ std::string formatRenderBenchTable(const std::vector<RenderBenchReport>& reports
                         : r.options.scheme == render::LodScheme::ChunkedLod ? "chunked LOD"
                                                                             : "brute force",
                         r.options.cull ? "" : " without frustum");
-        out += fmt::format("{:<38} {:>9.1f} {:>9.1f} {:>9.1f} {:>11} {:>12.0f}\n", name, r.fps_min,
-                           r.fps_max, r.fps_median, r.cache_misses, r.triangles_mean);
+        out += fmt::format("{:<38} {:>9.1f} {:>9.1f} {:>9.1f} {:>11} {:>12.0f} {:>8}\n", name,
+                           r.fps_min, r.fps_max, r.fps_median, r.cache_misses, r.triangles_mean,
+                           r.frames_epsilon_raised);
     }
     return out;
 }
@@ -161,7 +168,8 @@ void writeRenderBenchJson(const RenderBenchReport& r, const std::string& path)
                           {"triangles", f.triangles},
                           {"patches", f.patches},
                           {"missing", f.missing},
-                          {"loaded", f.loaded}});
+                          {"loaded", f.loaded},
+                          {"epsilon_px", f.epsilon_px}});
     const nlohmann::json j = {{"archive", r.archive},
                               {"gl_renderer", r.gl_renderer},
                               {"renderer", schemeName(r.options.scheme)},
@@ -180,7 +188,8 @@ void writeRenderBenchJson(const RenderBenchReport& r, const std::string& path)
                                 {"select_ms_max", r.select_ms_max},
                                 {"ram_cache_bytes", r.ram_cache_bytes},
                                 {"cache_misses", r.cache_misses},
-                                {"triangles_mean", r.triangles_mean}}},
+                                {"triangles_mean", r.triangles_mean},
+                                {"frames_epsilon_raised", r.frames_epsilon_raised}}},
                               {"frames", frames}};
     AtomicOutput out(path);
     {

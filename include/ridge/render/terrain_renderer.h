@@ -131,10 +131,10 @@ class TerrainRenderer {
     // Such a patch stays drawn by its ancestor.
     std::string streamingError() const;
     size_t streamingCacheBytes() const;
-    // Streaming: patches decoded because they were not in the RAM cache (cache misses), and
-    // requests served from it (hits), since construction.
-    uint64_t streamingMisses() const;
-    uint64_t streamingHits() const;
+    // Patches decoded because the decoded-patch cache did not have them (misses), and loads
+    // it served (hits), since construction; either mode.
+    uint64_t cacheMisses() const;
+    uint64_t cacheHits() const;
     // An oblique view from the south-south-west that frames the whole terrain.
     lod::Camera defaultCamera(lod::Viewport viewport, double fov_y_degrees = 60.0) const;
     // near/far planes that suit a camera at `position` over this terrain.

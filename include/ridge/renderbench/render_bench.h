@@ -31,6 +31,7 @@ struct FrameRecord {
     int patches = 0;
     int missing = 0; // drawn by an ancestor while streaming
     int loaded = 0;
+    double epsilon_px = 0; // ε met: above the requested one when the view needed more slots
 };
 
 struct RenderBenchReport {
@@ -47,6 +48,7 @@ struct RenderBenchReport {
     size_t ram_cache_bytes = 0; // decoded-patch cache at the end
     uint64_t cache_misses = 0;  // patches decoded because the RAM cache did not have them
     double triangles_mean = 0;
+    int frames_epsilon_raised = 0; // frames drawn coarser than asked (texture slots too few)
 };
 
 // Throws ridge::Error naming the archive or path file on bad input.
