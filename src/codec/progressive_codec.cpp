@@ -139,48 +139,51 @@ size_t ProgressiveCodec::encode(uint8_t* dst, size_t dst_capacity, const uint16_
     return s.bytes.size();
 }
 
-int ProgressiveCodec::decodeResiduals(const uint8_t* src, size_t src_size, const PatchContext& ctx,
-                                      int32_t* residuals) const
+bool ProgressiveCodec::validContext(const PatchContext& ctx) const
 {
-    const int n = ctx.patch_size;
-    if (!validPatchSize(n) || ctx.level <= 0 || ctx.level > finest_level_ || ctx.child_index < 0 ||
-        ctx.child_index > 3)
-        return kCodecBadHeader;
+    return validPatchSize(ctx.patch_size) && ctx.level >= 0 && ctx.level <= finest_level_ &&
+           ctx.child_index >= 0 && ctx.child_index <= 3;
+}
+
+int ProgressiveCodec::entropyDecode(const uint8_t* src, size_t src_size, const PatchContext& ctx,
+                                    int32_t* residuals) const
+{
     if (src_size < kHeaderSize)
         return kCodecTruncated;
     if (src[0] != kMagic || src[1] != kVersion)
         return kCodecBadHeader;
-    const ResidualCoding coding{false, variant_.contexts};
-    return ::ridge::decodeResiduals(src + kHeaderSize, src_size - kHeaderSize, n, coding,
-                                    residuals);
+    const ResidualCoding coding{ctx.level == 0, variant_.contexts};
+    return ::ridge::decodeResiduals(src + kHeaderSize, src_size - kHeaderSize, ctx.patch_size,
+                                    coding, residuals);
+}
+
+int ProgressiveCodec::decodeResiduals(const uint8_t* src, size_t src_size, const PatchContext& ctx,
+                                      int32_t* residuals) const
+{
+    if (!validContext(ctx) || ctx.level == 0)
+        return kCodecBadHeader;
+    return entropyDecode(src, src_size, ctx, residuals);
 }
 
 int ProgressiveCodec::decode(uint16_t* dst, const uint8_t* src, size_t src_size,
                              const PatchContext& ctx) const
 {
-    const int n = ctx.patch_size;
-    if (!validPatchSize(n) || ctx.level < 0 || ctx.level > finest_level_ || ctx.child_index < 0 ||
-        ctx.child_index > 3)
+    if (!validContext(ctx))
         return kCodecBadHeader;
     if (ctx.level > 0 && !ctx.parent)
         return kCodecNeedsParent;
-    if (src_size < kHeaderSize)
-        return kCodecTruncated;
-    if (src[0] != kMagic || src[1] != kVersion)
-        return kCodecBadHeader;
 
     // 1. Entropy decoding (CPU): the residual grid.
+    const int n = ctx.patch_size;
     Scratch& s = scratch(n);
-    const ResidualCoding coding{ctx.level == 0, variant_.contexts};
-    const int status = ::ridge::decodeResiduals(src + kHeaderSize, src_size - kHeaderSize, n,
-                                                coding, s.residuals.data());
+    const int status = entropyDecode(src, src_size, ctx, s.residuals.data());
     if (status != kCodecOk)
         return status;
 
     // 2. Reconstruction (GPU-able): refine + predict + add, then bins to heights.
     const size_t samples = static_cast<size_t>(n) * n;
     const LevelQuantizer quant = quantizer(ctx.level);
-    if (coding.root) {
+    if (ctx.level == 0) {
         reconstructRoot(s.residuals.data(), n, s.q.data());
     } else {
         requantizeParent(quant, ctx.parent, samples, s.parent_q.data());

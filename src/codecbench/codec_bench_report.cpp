@@ -8,7 +8,6 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
-#include <fstream>
 
 namespace ridge::codecbench {
 
@@ -152,16 +151,7 @@ std::string formatCodecBenchJson(const CodecBenchReport& r)
 
 void writeCodecBenchJson(const CodecBenchReport& report, const std::string& path)
 {
-    const std::string text = formatCodecBenchJson(report);
-    AtomicOutput output(path);
-    {
-        std::ofstream out(output.temporaryPath(), std::ios::binary);
-        out << text;
-        out.flush();
-        if (!out)
-            throw Error(path + ": cannot write");
-    }
-    output.commit();
+    writeFileAtomically(path, formatCodecBenchJson(report));
 }
 
 } // namespace ridge::codecbench

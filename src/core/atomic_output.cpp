@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fcntl.h>
+#include <fstream>
 #include <unistd.h>
 
 namespace ridge {
@@ -33,6 +34,19 @@ void AtomicOutput::commit()
     if (std::rename(temp_path_.c_str(), final_path_.c_str()) != 0)
         throw Error(final_path_ + ": cannot create output: " + std::strerror(errno));
     committed_ = true;
+}
+
+void writeFileAtomically(const std::string& path, const std::string& text)
+{
+    AtomicOutput output(path);
+    {
+        std::ofstream out(output.temporaryPath(), std::ios::binary);
+        out << text;
+        out.flush();
+        if (!out)
+            throw Error(path + ": cannot write");
+    }
+    output.commit();
 }
 
 } // namespace ridge

@@ -641,8 +641,6 @@ FrameStats TerrainRenderer::draw(const lod::Camera& camera, const RenderSettings
         glProgramUniform1i(id, p->uniform("u_block_cells_f"), m.layout.block_cells);
         glProgramUniform3f(id, p->uniform("u_flat_colour"), 0.05f, 0.05f, 0.08f);
     }
-    glBindVertexArray(m.empty_vao.id());
-    glPatchParameteri(GL_PATCH_VERTICES, 1);
     // Both instance groups with `mode` (3: the wireframe's flat colour).
     auto drawTerrain = [&](int mode) {
         m.forEachGroup(
@@ -714,8 +712,6 @@ CapturedSurface TerrainRenderer::capture(const lod::Camera& camera, const Render
     for (const gpu::ShaderProgram* p : {&m.capture_program, &m.capture_clip_program,
                                         &m.chunk_capture_program, &m.chunk_capture_clip_program})
         m.setFrameUniforms(*p, camera, s);
-    glBindVertexArray(m.empty_vao.id());
-    glPatchParameteri(GL_PATCH_VERTICES, 1);
     GLint previous_framebuffer = 0;
     glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &previous_framebuffer);
     if (!m.capture_target)

@@ -11,7 +11,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <fstream>
 
 namespace ridge::renderbench {
 namespace {
@@ -191,14 +190,7 @@ void writeRenderBenchJson(const RenderBenchReport& r, const std::string& path)
                                 {"triangles_mean", r.triangles_mean},
                                 {"frames_epsilon_raised", r.frames_epsilon_raised}}},
                               {"frames", frames}};
-    AtomicOutput out(path);
-    {
-        std::ofstream f(out.temporaryPath());
-        f << j.dump(1) << "\n";
-        if (!f)
-            throw Error(path + ": cannot write the JSON report");
-    }
-    out.commit();
+    writeFileAtomically(path, j.dump(1) + "\n");
 }
 
 } // namespace ridge::renderbench

@@ -10,14 +10,24 @@
 using namespace ridge;
 namespace fs = std::filesystem;
 
+namespace {
+
+// The Everest fixture at patches of 33 (5 levels) in `dir`.
+std::string buildArchive(const test::ScratchDir& dir)
+{
+    const std::string arc = dir.path("everest.ridge");
+    const test::CommandResult r = test::runRidge("build '" + test::dataPath("everest_crop.tif") +
+                                                 "' -o '" + arc + "' -q --patch 33");
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    return arc;
+}
+
+} // namespace
+
 TEST(BenchCli, FliesEachRendererAlongAPathAndWritesJsonAndAPlot)
 {
     test::ScratchDir dir;
-    const std::string arc = dir.path("everest.ridge");
-    ASSERT_EQ(test::runRidge("build '" + test::dataPath("everest_crop.tif") + "' -o '" + arc +
-                             "' -q --patch 33")
-                  .exit_code,
-              0);
+    const std::string arc = buildArchive(dir);
     for (const std::string renderer : {"tess", "chunked", "brute"})
         for (const std::string path : {"flyover", "orbit", "teleport"}) {
             const std::string json = dir.path(renderer + path + ".json"),
@@ -41,11 +51,7 @@ TEST(BenchCli, FliesEachRendererAlongAPathAndWritesJsonAndAPlot)
 TEST(BenchCli, BadInputsGetAClearErrorAndANonZeroExit)
 {
     test::ScratchDir dir;
-    const std::string arc = dir.path("everest.ridge");
-    ASSERT_EQ(
-        test::runRidge("build '" + test::dataPath("everest_crop.tif") + "' -o '" + arc + "' -q")
-            .exit_code,
-        0);
+    const std::string arc = buildArchive(dir);
     {
         std::ofstream(dir.path("bad_path.txt")) << "1 2 3 4 5 6\nnot numbers\n";
     }
@@ -70,11 +76,7 @@ TEST(BenchCli, BadInputsGetAClearErrorAndANonZeroExit)
 TEST(BenchCli, TablePrintsTheFractalRingsRowsForEveryRendererWithAndWithoutCulling)
 {
     test::ScratchDir dir;
-    const std::string arc = dir.path("everest.ridge");
-    ASSERT_EQ(test::runRidge("build '" + test::dataPath("everest_crop.tif") + "' -o '" + arc +
-                             "' -q --patch 33")
-                  .exit_code,
-              0);
+    const std::string arc = buildArchive(dir);
     const test::CommandResult r =
         test::runRidge("bench '" + arc + "' --table --frames 6 --size 160x90");
     ASSERT_EQ(r.exit_code, 0) << r.output;

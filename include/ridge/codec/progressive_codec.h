@@ -29,7 +29,7 @@ struct ProgressiveVariant {
 };
 
 class ProgressiveCodec final : public HeightCodec {
-public:
+  public:
     // `max_error`: δ_l0 >= 0, the finest-level bound in codes; `level_count`: pyramid levels.
     ProgressiveCodec(double max_error, int level_count, ProgressiveVariant variant = {});
 
@@ -58,7 +58,12 @@ public:
     // The quantizer of `level` (0 = coarsest).
     LevelQuantizer quantizer(int level) const;
 
-private:
+  private:
+    bool validContext(const PatchContext& ctx) const;
+    // Header checks and the entropy decoding shared by decode() and decodeResiduals().
+    int entropyDecode(const uint8_t* src, size_t src_size, const PatchContext& ctx,
+                      int32_t* residuals) const;
+
     double max_error_;
     int finest_level_;
     ProgressiveVariant variant_;

@@ -11,7 +11,7 @@
 namespace ridge {
 
 class AtomicOutput {
-public:
+  public:
     explicit AtomicOutput(std::string final_path);
     ~AtomicOutput();
     AtomicOutput(const AtomicOutput&) = delete;
@@ -23,10 +23,14 @@ public:
     // fsyncs the temporary file and renames it over the final path. Throws Error on failure.
     void commit();
 
-private:
+  private:
     std::string final_path_;
     std::string temp_path_;
     bool committed_ = false;
 };
+
+// Writes `text` to `path` through an AtomicOutput (reports, JSON). Throws Error naming the
+// path when it cannot be written.
+void writeFileAtomically(const std::string& path, const std::string& text);
 
 } // namespace ridge
