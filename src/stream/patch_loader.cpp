@@ -6,25 +6,19 @@ namespace ridge::stream {
 
 PatchLoader::PatchLoader(const archive::ArchiveReader& reader, size_t cache_patches)
     : reader_(reader),
-      capacity_(std::max<size_t>(cache_patches, size_t(reader.geometry().levelCount()) + 1))
+      cache_(std::max<size_t>(cache_patches, size_t(reader.geometry().levelCount()) + 1))
 {
 }
 
 std::shared_ptr<const DecodedPatch> PatchLoader::load(PatchId p)
 {
     const int64_t key = reader_.geometry().patchIndex(p);
-    if (auto it = by_index_.find(key); it != by_index_.end()) {
+    if (const auto* hit = cache_.find(key)) {
         ++stats_.cache_hits;
-        lru_.splice(lru_.begin(), lru_, it->second);
-        return *it->second;
+        return *hit;
     }
     std::shared_ptr<const DecodedPatch> patch = decode(p);
-    lru_.push_front(patch);
-    by_index_[key] = lru_.begin();
-    while (lru_.size() > capacity_) {
-        by_index_.erase(reader_.geometry().patchIndex(lru_.back()->id));
-        lru_.pop_back();
-    }
+    cache_.insert(key, patch);
     return patch;
 }
 

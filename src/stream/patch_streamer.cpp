@@ -5,15 +5,24 @@
 #include <algorithm>
 
 namespace ridge::stream {
+namespace {
+
+size_t decodedPatchBytes(const archive::ArchiveReader& reader)
+{
+    const size_t n = size_t(reader.geometry().patchSize());
+    return n * n * sizeof(uint16_t) +
+           size_t(reader.blockLayout().valuesPerPatch()) * sizeof(float) + sizeof(DecodedPatch);
+}
+
+} // namespace
 
 PatchStreamer::PatchStreamer(const archive::ArchiveReader& reader, size_t ram_budget_bytes,
                              int threads)
-    : reader_(reader), budget_(ram_budget_bytes)
+    : reader_(reader), patch_bytes_(decodedPatchBytes(reader)),
+      // All patches weigh the same: the byte budget is a count, and a root-to-leaf chain
+      // always fits, whatever the budget.
+      cache_(std::max(ram_budget_bytes / patch_bytes_, size_t(reader.geometry().levelCount()) + 1))
 {
-    const size_t n = size_t(reader.geometry().patchSize());
-    patch_bytes_ = n * n * sizeof(uint16_t) +
-                   size_t(reader.blockLayout().valuesPerPatch()) * sizeof(float) +
-                   sizeof(DecodedPatch);
     for (int t = 0; t < std::max(threads, 1); ++t)
         workers_.emplace_back([this] { work(); });
 }
@@ -96,28 +105,13 @@ std::string PatchStreamer::error() const
 
 std::shared_ptr<const DecodedPatch> PatchStreamer::findCacheLocked(int64_t key)
 {
-    auto it = cache_.find(key);
-    if (it == cache_.end())
-        return nullptr;
-    // Most recently used at the back.
-    lru_.erase(std::find(lru_.begin(), lru_.end(), key));
-    lru_.push_back(key);
-    return it->second;
+    const auto* hit = cache_.find(key);
+    return hit ? *hit : nullptr;
 }
 
 void PatchStreamer::insertCacheLocked(const std::shared_ptr<const DecodedPatch>& patch)
 {
-    const int64_t key = reader_.geometry().patchIndex(patch->id);
-    if (cache_.count(key))
-        return;
-    cache_[key] = patch;
-    lru_.push_back(key);
-    // A root-to-leaf chain always fits, whatever the budget.
-    const size_t keep = size_t(reader_.geometry().levelCount()) + 1;
-    while (cache_.size() > keep && cache_.size() * patch_bytes_ > budget_) {
-        cache_.erase(lru_.front());
-        lru_.pop_front();
-    }
+    cache_.insert(reader_.geometry().patchIndex(patch->id), patch);
 }
 
 // Decodes `p` (ancestors first when the codec predicts from them), unlocking around the

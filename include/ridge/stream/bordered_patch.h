@@ -14,7 +14,8 @@ namespace ridge::stream {
 // (i, j) of the patch at (i+1, j+1). Where a neighbour is missing the ring is linearly
 // extrapolated (2·h0 − h1), so a central difference there equals the one-sided one; corners
 // are never read by central differences and hold the nearest ring value.
-std::vector<float> borderedPatch(const uint16_t* codes, int n, const uint16_t* west, const uint16_t* east,
-                                 const uint16_t* north, const uint16_t* south);
+std::vector<float> borderedPatch(const uint16_t* codes, int n, const uint16_t* west,
+                                 const uint16_t* east, const uint16_t* north,
+                                 const uint16_t* south);
 
 } // namespace ridge::stream

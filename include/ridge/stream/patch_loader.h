@@ -6,11 +6,10 @@
 //
 // Not thread-safe: one loader per render thread.
 #include "ridge/archive/archive_reader.h"
+#include "ridge/stream/lru_cache.h"
 
 #include <cstdint>
-#include <list>
 #include <memory>
-#include <unordered_map>
 #include <vector>
 
 namespace ridge::stream {
@@ -44,10 +43,7 @@ class PatchLoader {
     std::shared_ptr<const DecodedPatch> decode(PatchId p);
 
     const archive::ArchiveReader& reader_;
-    size_t capacity_;
-    // Most recently used at the front.
-    std::list<std::shared_ptr<const DecodedPatch>> lru_;
-    std::unordered_map<int64_t, std::list<std::shared_ptr<const DecodedPatch>>::iterator> by_index_;
+    LruCache<int64_t, std::shared_ptr<const DecodedPatch>> cache_; // by patch index
     LoaderStats stats_;
 };
 

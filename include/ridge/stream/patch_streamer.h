@@ -10,11 +10,11 @@
 //
 // Thread safety: every member may be called from the render thread while workers run; the
 // destructor stops and joins the workers (in-flight decodes finish first).
+#include "ridge/stream/lru_cache.h"
 #include "ridge/stream/patch_loader.h"
 
 #include <condition_variable>
 #include <cstdint>
-#include <deque>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -74,7 +74,6 @@ class PatchStreamer {
     std::shared_ptr<const DecodedPatch> findCacheLocked(int64_t key);
 
     const archive::ArchiveReader& reader_;
-    size_t budget_;
     size_t patch_bytes_;
     mutable std::mutex mutex_;
     std::condition_variable work_cv_, idle_cv_;
@@ -82,9 +81,7 @@ class PatchStreamer {
     std::unordered_set<int64_t> in_flight_, failed_;
     std::vector<std::shared_ptr<const DecodedPatch>> ready_;
     std::unordered_set<int64_t> ready_keys_;
-    // LRU cache of decoded patches, most recent at the back.
-    std::deque<int64_t> lru_;
-    std::unordered_map<int64_t, std::shared_ptr<const DecodedPatch>> cache_;
+    LruCache<int64_t, std::shared_ptr<const DecodedPatch>> cache_; // decoded, by patch index
     uint64_t frame_ = 0;
     bool stop_ = false;
     std::string error_;
