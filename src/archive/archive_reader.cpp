@@ -1,6 +1,7 @@
 #include "ridge/archive/archive_reader.h"
 
 #include "ridge/archive/block_error_storage.h"
+#include "ridge/codec/progressive_codec.h"
 #include "ridge/core/crc32.h"
 #include "ridge/core/error.h"
 
@@ -63,7 +64,8 @@ ArchiveReader::ArchiveReader(const std::string& path)
     settings.param[1] = header_.codec_param[1];
     codec_ = makeCodec(static_cast<CodecId>(header_.codec_id), settings);
     if (!codec_)
-        fail("unknown codec id " + std::to_string(header_.codec_id) + " or invalid codec parameters");
+        fail("unknown codec id " + std::to_string(header_.codec_id) +
+             " or invalid codec parameters");
 
     // Metadata.
     if (header_.metadata_offset < kHeaderSize || header_.metadata_offset > file_size_ ||
@@ -138,8 +140,9 @@ void ArchiveReader::readAt(uint64_t offset, void* dst, size_t size, const std::s
         if (n < 0 && errno == EINTR)
             continue;
         if (n <= 0)
-            fail("cannot read " + what + (n < 0 ? std::string(": ") + std::strerror(errno)
-                                                 : std::string(": unexpected end of file")));
+            fail("cannot read " + what +
+                 (n < 0 ? std::string(": ") + std::strerror(errno)
+                        : std::string(": unexpected end of file")));
         p += n;
         offset += static_cast<uint64_t>(n);
         size -= static_cast<size_t>(n);
@@ -171,8 +174,15 @@ void ArchiveReader::decodePatch(PatchId p, uint16_t* codes, const uint16_t* pare
         decodePatch({p.level - 1, p.x / 2, p.y / 2}, ancestor.data());
         parent = ancestor.data();
     }
-    const std::vector<uint8_t> blob = readBlob(p);
+    decodeBlob(p, readBlob(p), codes, parent, block_errors);
+}
+
+void ArchiveReader::decodeBlob(PatchId p, const std::vector<uint8_t>& blob, uint16_t* codes,
+                               const uint16_t* parent, std::vector<float>* block_errors) const
+{
     const PatchRecord& r = record(p);
+    if (blob.size() < r.block_errors_size)
+        fail(patchName(p) + ": blob shorter than its block errors");
     if (block_errors && r.block_errors_size > 0)
         *block_errors = unpackBlockErrorsOf(p, blob);
     PatchContext ctx{geometry_.patchSize(), p.level, parent, (p.x & 1) | ((p.y & 1) << 1)};
@@ -182,6 +192,32 @@ void ArchiveReader::decodePatch(PatchId p, uint16_t* codes, const uint16_t* pare
         throw Error(describe(p) + ": cannot decode: " + codecStatusMessage(status));
     if (block_errors && r.block_errors_size == 0)
         *block_errors = deriveBlockErrors(codes);
+}
+
+bool ArchiveReader::decodesResiduals(int level) const
+{
+    return level > 0 && dynamic_cast<const ProgressiveCodec*>(codec_.get()) != nullptr;
+}
+
+void ArchiveReader::decodeResiduals(PatchId p, const std::vector<uint8_t>& blob, int32_t* residuals,
+                                    std::vector<float>* block_errors) const
+{
+    const auto* progressive = dynamic_cast<const ProgressiveCodec*>(codec_.get());
+    if (!progressive || p.level == 0)
+        throw Error(describe(p) + ": not decodable as residuals");
+    const PatchRecord& r = record(p);
+    if (blob.size() < r.block_errors_size)
+        fail(patchName(p) + ": blob shorter than its block errors");
+    if (block_errors) {
+        block_errors->clear();
+        if (r.block_errors_size > 0)
+            *block_errors = unpackBlockErrorsOf(p, blob);
+    }
+    PatchContext ctx{geometry_.patchSize(), p.level, nullptr, (p.x & 1) | ((p.y & 1) << 1)};
+    const int status = progressive->decodeResiduals(
+        blob.data() + r.block_errors_size, blob.size() - r.block_errors_size, ctx, residuals);
+    if (status != kCodecOk)
+        throw Error(describe(p) + ": cannot decode: " + codecStatusMessage(status));
 }
 
 std::vector<float> ArchiveReader::deriveBlockErrors(const uint16_t* codes) const
@@ -198,14 +234,16 @@ std::vector<float> ArchiveReader::readBlockErrors(PatchId p) const
 {
     if (record(p).block_errors_size == 0) {
         std::vector<float> lambda;
-        std::vector<uint16_t> codes(static_cast<size_t>(geometry_.patchSize()) * geometry_.patchSize());
+        std::vector<uint16_t> codes(static_cast<size_t>(geometry_.patchSize()) *
+                                    geometry_.patchSize());
         decodePatch(p, codes.data(), nullptr, &lambda);
         return lambda;
     }
     return unpackBlockErrorsOf(p, readBlob(p));
 }
 
-std::vector<float> ArchiveReader::unpackBlockErrorsOf(PatchId p, const std::vector<uint8_t>& blob) const
+std::vector<float> ArchiveReader::unpackBlockErrorsOf(PatchId p,
+                                                      const std::vector<uint8_t>& blob) const
 {
     const size_t count = static_cast<size_t>(blockLayout().valuesPerPatch());
     std::vector<float> lambda(count);

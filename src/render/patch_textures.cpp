@@ -1,13 +1,16 @@
 #include "patch_textures.h"
 
 #include <algorithm>
+#include <cstring>
 
 namespace ridge::render {
 
 PatchTextures::PatchTextures(int patch_size, const TessellationBlockLayout& layout, int levels,
-                             int slots, const HeightQuantization& quantization)
+                             int slots, const HeightQuantization& quantization,
+                             const ProgressiveCodec* progressive)
     : n_(patch_size), layout_(layout), levels_(levels), quantization_(quantization),
-      lambda_max_(size_t(slots), 0.f)
+      progressive_(progressive), lambda_max_(size_t(slots), 0.f), lambda_cap_(size_t(slots), 0.f),
+      generation_(size_t(slots), 0)
 {
     const int B = layout_.blocksPerSide();
     glTextureStorage3D(heights_.id(), 1, GL_R16UI, n_, n_, slots);
@@ -24,18 +27,25 @@ PatchTextures::PatchTextures(int patch_size, const TessellationBlockLayout& layo
     glTextureStorage2D(bordered_.id(), 1, GL_R32F, n_ + 2, n_ + 2);
     glTextureParameteri(bordered_.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTextureParameteri(bordered_.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glNamedBufferStorage(lambda_max_bits_.id(), GLsizeiptr(slots) * GLsizeiptr(sizeof(uint32_t)),
+                         nullptr, GL_DYNAMIC_STORAGE_BIT);
     gpu::checkGlError("patch textures: texture arrays");
     normal_program_ = gpu::ShaderProgram({{GL_COMPUTE_SHADER, "patch_normals.comp"}});
+    if (progressive_) {
+        decoder_ = std::make_unique<GpuProgressiveDecoder>(n_);
+        block_error_program_ = gpu::ShaderProgram({{GL_COMPUTE_SHADER, "block_errors.comp"}});
+    }
 }
 
-void PatchTextures::upload(const stream::DecodedPatch& patch, int slot,
-                           const std::vector<float>& bordered, double cell_metres_i,
-                           double cell_metres_j, float lambda_cap)
+PatchTextures::~PatchTextures()
 {
-    // Rows of 2^n + 1 16-bit codes are not 4-byte aligned.
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 2);
-    glTextureSubImage3D(heights_.id(), 0, 0, 0, slot, n_, n_, 1, GL_RED_INTEGER, GL_UNSIGNED_SHORT,
-                        patch.codes.data());
+    for (const PendingReadback& p : pending_)
+        glDeleteSync(p.fence);
+}
+
+size_t PatchTextures::uploadBlockErrors(const stream::DecodedPatch& patch, int slot,
+                                        float lambda_cap)
+{
     // λ(d) as one RGBA texel per block; missing levels (D < 4) stay 0 and are never read.
     const int B = layout_.blocksPerSide(), D = layout_.levels();
     std::vector<float> texels(size_t(B) * B * 4, 0.f);
@@ -48,24 +58,122 @@ void PatchTextures::upload(const stream::DecodedPatch& patch, int slot,
     // simplified vertex is a patch sample), which also tames saturated values.
     const float lambda_max = *std::max_element(texels.begin(), texels.end());
     lambda_max_[size_t(slot)] = std::min(lambda_max, lambda_cap);
+    return texels.size() * sizeof(float);
+}
 
-    // Normal map on the GPU, from the heights with a ring from the same-level neighbours.
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    glTextureSubImage2D(bordered_.id(), 0, 0, 0, n_ + 2, n_ + 2, GL_RED, GL_FLOAT, bordered.data());
+void PatchTextures::computeNormals(int slot, bool from_layers, const std::array<int, 4>& neighbours,
+                                   double cell_metres_i, double cell_metres_j)
+{
     normal_program_.use();
     glBindTextureUnit(0, bordered_.id());
+    glBindTextureUnit(1, heights_.id());
     glBindImageTexture(0, normals_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8_SNORM);
     glUniform1i(normal_program_.uniform("u_layer"), slot);
     glUniform1i(normal_program_.uniform("u_size"), n_);
     glUniform2f(normal_program_.uniform("u_cell_metres"), float(cell_metres_i),
                 float(cell_metres_j));
     glUniform1f(normal_program_.uniform("u_height_scale"), float(quantization_.scale));
+    glUniform1i(normal_program_.uniform("u_from_layers"), from_layers ? 1 : 0);
+    glUniform4i(normal_program_.uniform("u_neighbour_layers"), neighbours[0], neighbours[1],
+                neighbours[2], neighbours[3]);
     glDispatchCompute(GLuint(n_ + 7) / 8, GLuint(n_ + 7) / 8, 1);
 }
 
-void PatchTextures::finishUploads() const
+size_t PatchTextures::upload(const stream::DecodedPatch& patch, int slot,
+                             const std::vector<float>& bordered, double cell_metres_i,
+                             double cell_metres_j, float lambda_cap)
 {
+    ++generation_[size_t(slot)];
+    // Rows of 2^n + 1 16-bit codes are not 4-byte aligned.
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 2);
+    glTextureSubImage3D(heights_.id(), 0, 0, 0, slot, n_, n_, 1, GL_RED_INTEGER, GL_UNSIGNED_SHORT,
+                        patch.codes.data());
+    size_t bytes = patch.codes.size() * sizeof(uint16_t);
+    bytes += uploadBlockErrors(patch, slot, lambda_cap);
+    // Normal map on the GPU, from the heights with a ring from the same-level neighbours.
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    glTextureSubImage2D(bordered_.id(), 0, 0, 0, n_ + 2, n_ + 2, GL_RED, GL_FLOAT, bordered.data());
+    bytes += bordered.size() * sizeof(float);
+    computeNormals(slot, false, {-1, -1, -1, -1}, cell_metres_i, cell_metres_j);
+    return bytes;
+}
+
+size_t PatchTextures::reconstruct(const stream::DecodedPatch& patch, int parent_slot, int slot,
+                                  const std::array<int, 4>& neighbour_slots, double cell_metres_i,
+                                  double cell_metres_j, float lambda_cap)
+{
+    ++generation_[size_t(slot)];
+    const PatchId p = patch.id;
+    decoder_->reconstruct(patch.residuals.data(), heights_.id(), parent_slot, slot,
+                          (p.x & 1) | ((p.y & 1) << 1), progressive_->quantizer(p.level),
+                          progressive_->variant().predictor);
+    // The passes below (and children reconstructed later in this batch) read the codes.
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    size_t bytes = patch.residuals.size() * sizeof(int32_t);
+    if (!patch.block_errors.empty()) {
+        bytes += uploadBlockErrors(patch, slot, lambda_cap);
+    } else {
+        const uint32_t zero = 0;
+        glNamedBufferSubData(lambda_max_bits_.id(), GLintptr(slot) * GLintptr(sizeof(uint32_t)),
+                             sizeof(uint32_t), &zero);
+        block_error_program_.use();
+        glBindTextureUnit(0, heights_.id());
+        glBindImageTexture(2, block_errors_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, lambda_max_bits_.id());
+        glUniform1i(block_error_program_.uniform("u_layer"), slot);
+        glUniform1i(block_error_program_.uniform("u_n"), n_);
+        glUniform1i(block_error_program_.uniform("u_block_cells"), layout_.block_cells);
+        glUniform1i(block_error_program_.uniform("u_blocks_per_side"), layout_.blocksPerSide());
+        glUniform1i(block_error_program_.uniform("u_levels"), levels_);
+        glUniform1d(block_error_program_.uniform("u_height_scale"), quantization_.scale);
+        const GLuint groups = GLuint(layout_.blocksPerSide() + 7) / 8;
+        glDispatchCompute(groups, groups, 1);
+        // Until the readback: the height range bounds λ.
+        lambda_max_[size_t(slot)] = lambda_cap;
+        lambda_cap_[size_t(slot)] = lambda_cap;
+        derived_in_batch_.push_back({slot, generation_[size_t(slot)]});
+    }
+    computeNormals(slot, true, neighbour_slots, cell_metres_i, cell_metres_j);
+    gpu::checkGlError("patch textures: reconstruct");
+    return bytes;
+}
+
+void PatchTextures::finishUploads()
+{
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
+                    GL_BUFFER_UPDATE_BARRIER_BIT);
+    if (derived_in_batch_.empty())
+        return;
+    PendingReadback readback{nullptr, gpu::GlBuffer(), {}};
+    const GLsizeiptr bytes = GLsizeiptr(lambda_max_.size() * sizeof(uint32_t));
+    glNamedBufferStorage(readback.copy.id(), bytes, nullptr, 0);
+    glCopyNamedBufferSubData(lambda_max_bits_.id(), readback.copy.id(), 0, 0, bytes);
+    readback.fence = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+    readback.slots.swap(derived_in_batch_);
+    pending_.push_back(std::move(readback));
+}
+
+void PatchTextures::collect()
+{
+    while (!pending_.empty()) {
+        PendingReadback& oldest = pending_.front();
+        // Flush once so that the fence is sure to signal; a zero timeout never waits.
+        const GLenum state = glClientWaitSync(oldest.fence, GL_SYNC_FLUSH_COMMANDS_BIT, 0);
+        if (state != GL_ALREADY_SIGNALED && state != GL_CONDITION_SATISFIED)
+            return;
+        std::vector<uint32_t> bits(lambda_max_.size());
+        glGetNamedBufferSubData(oldest.copy.id(), 0, GLsizeiptr(bits.size() * sizeof(uint32_t)),
+                                bits.data());
+        for (const PendingSlot& s : oldest.slots) {
+            if (generation_[size_t(s.slot)] != s.generation)
+                continue; // re-used since
+            float m;
+            std::memcpy(&m, &bits[size_t(s.slot)], sizeof m);
+            lambda_max_[size_t(s.slot)] = std::min(m, lambda_cap_[size_t(s.slot)]);
+        }
+        glDeleteSync(oldest.fence);
+        pending_.erase(pending_.begin());
+    }
 }
 
 void PatchTextures::bind() const

@@ -3,12 +3,21 @@
 // "Implementation Details" keeps them: height maps (R16UI codes), normal maps (RGBA8_SNORM,
 // computed on the GPU when a patch becomes resident) and tessellation block errors (RGBA32F,
 // λ^(1..4) per block), one layer per slot.
+//
+// A patch arrives either as codes decoded on the CPU (upload) or as progressive-codec
+// residuals that the GPU reconstructs from its parent's layer (reconstruct); λ is then
+// derived on the GPU too unless the archive stores it.
+#include "ridge/codec/progressive_codec.h"
 #include "ridge/core/height_grid.h"
 #include "ridge/gpu/gl_objects.h"
 #include "ridge/gpu/shader_program.h"
 #include "ridge/pyramid/tessellation_block_errors.h"
 #include "ridge/stream/patch_loader.h"
 
+#include "gpu_progressive_decoder.h"
+
+#include <array>
+#include <memory>
 #include <vector>
 
 namespace ridge::render {
@@ -16,33 +25,76 @@ namespace ridge::render {
 class PatchTextures {
   public:
     // Needs a current GL 4.5 context. `levels` is D as the shaders use it (<= 4).
+    // `progressive`: the archive's codec when patches may arrive as residuals, else null.
     PatchTextures(int patch_size, const TessellationBlockLayout& layout, int levels, int slots,
-                  const HeightQuantization& quantization);
+                  const HeightQuantization& quantization,
+                  const ProgressiveCodec* progressive = nullptr);
+    ~PatchTextures();
+    PatchTextures(const PatchTextures&) = delete;
+    PatchTextures& operator=(const PatchTextures&) = delete;
 
-    // Uploads `patch` into `slot` and computes its normal map from `bordered` ((n+2)² heights
-    // in code units, stream::borderedPatch). `cell_metres` is the patch's cell size along i
-    // and j. `lambda_cap` bounds λ (the patch's height range): what lambdaMax reports.
-    void upload(const stream::DecodedPatch& patch, int slot, const std::vector<float>& bordered,
-                double cell_metres_i, double cell_metres_j, float lambda_cap);
-    // Makes uploads visible to the draws that follow (one barrier per batch of uploads).
-    void finishUploads() const;
+    // Uploads `patch` (codes) into `slot` and computes its normal map from `bordered` ((n+2)²
+    // heights in code units, stream::borderedPatch). `cell_metres` is the patch's cell size
+    // along i and j. `lambda_cap` bounds λ (the patch's height range): what lambdaMax reports.
+    // Returns the bytes sent to the GPU.
+    size_t upload(const stream::DecodedPatch& patch, int slot, const std::vector<float>& bordered,
+                  double cell_metres_i, double cell_metres_j, float lambda_cap);
+    // Reconstructs `patch` (needsGpuReconstruction) into `slot` from the codes in
+    // `parent_slot`, derives λ unless the patch carries it, and computes the normal map with
+    // the ring from the resident same-level neighbours in `neighbour_slots` (west, east,
+    // north, south; −1 extrapolates). Until a derived λ's readback arrives (collect), lambdaMax
+    // reports `lambda_cap`. Returns the bytes sent to the GPU.
+    size_t reconstruct(const stream::DecodedPatch& patch, int parent_slot, int slot,
+                       const std::array<int, 4>& neighbour_slots, double cell_metres_i,
+                       double cell_metres_j, float lambda_cap);
+    // Makes uploads visible to the draws that follow (one barrier per batch of uploads) and
+    // fences the λ maxima derived in the batch for collect().
+    void finishUploads();
+    // Takes the λ maxima whose fence has passed (never waits).
+    void collect();
 
     // Binds heights, normals and block errors to texture units 0, 1 and 2.
     void bind() const;
+    GLuint heights() const { return heights_.id(); }
+    GLuint blockErrors() const { return block_errors_.id(); }
     // The largest λ^(d) of any block of the patch in `slot`, metres.
     float lambdaMax(int slot) const { return lambda_max_[size_t(slot)]; }
 
   private:
+    void computeNormals(int slot, bool from_layers, const std::array<int, 4>& neighbours,
+                        double cell_metres_i, double cell_metres_j);
+    size_t uploadBlockErrors(const stream::DecodedPatch& patch, int slot, float lambda_cap);
+
     int n_;
     TessellationBlockLayout layout_;
     int levels_;
     HeightQuantization quantization_;
+    const ProgressiveCodec* progressive_;
     std::vector<float> lambda_max_;
+    std::vector<float> lambda_cap_;
+    std::vector<uint32_t> generation_; // per slot: bumps on every upload
     gpu::GlTexture heights_{GL_TEXTURE_2D_ARRAY};
     gpu::GlTexture normals_{GL_TEXTURE_2D_ARRAY};
     gpu::GlTexture block_errors_{GL_TEXTURE_2D_ARRAY};
     gpu::GlTexture bordered_{GL_TEXTURE_2D}; // staging for the normal-map pass
+    gpu::GlBuffer lambda_max_bits_;          // per slot, written by block_errors.comp
     gpu::ShaderProgram normal_program_;
+    gpu::ShaderProgram block_error_program_;
+    std::unique_ptr<GpuProgressiveDecoder> decoder_;
+    // λ maxima derived on the GPU, waiting for their fence.
+    struct PendingSlot {
+        int slot;
+        uint32_t generation;
+    };
+    std::vector<PendingSlot> derived_in_batch_;
+    // A copy of the maxima per batch, so that reading it after its fence never waits for
+    // batches submitted later (they write lambda_max_bits_, not the copy).
+    struct PendingReadback {
+        GLsync fence;
+        gpu::GlBuffer copy;
+        std::vector<PendingSlot> slots;
+    };
+    std::vector<PendingReadback> pending_;
 };
 
 } // namespace ridge::render

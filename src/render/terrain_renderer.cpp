@@ -20,9 +20,12 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <unordered_map>
+#include <unordered_set>
 
 namespace ridge::render {
 namespace {
@@ -109,6 +112,9 @@ struct TerrainRenderer::Impl {
     // upload slot in a later frame.
     std::unique_ptr<stream::PatchStreamer> streamer;
     std::vector<std::shared_ptr<const stream::DecodedPatch>> arrived;
+    // Traffic counters at the end of the previous frame (FrameStats reports the difference).
+    stream::StreamerStats last_streamer_stats;
+    stream::LoaderStats last_loader_stats;
     std::vector<PatchId> last_drawn;
     // Camera-path extrapolation for prefetching (the JPEG 2000 terrain paper, §4).
     bool has_last_camera = false;
@@ -154,7 +160,9 @@ struct TerrainRenderer::Impl {
     // Requests, below everything the current frame needs, what the camera will need
     // `prefetch_frames` frames ahead if it keeps its velocity.
     void prefetch(const lod::Camera& camera, const lod::SelectionSettings& settings);
-    void uploadPatch(const stream::DecodedPatch& patch, int slot);
+    size_t uploadPatch(const stream::DecodedPatch& patch, int slot,
+                       const std::unordered_set<int>& pending_slots = {});
+    void countTraffic(FrameStats& stats);
     std::vector<float> borderedHeights(const stream::DecodedPatch& patch);
     PatchInstances writeInstances(const lod::Camera& camera, const lod::Selection& selection);
     // Selection, residency and instance buffer for one frame; `used` receives `settings` with
@@ -225,10 +233,16 @@ TerrainRenderer::Impl::Impl(const archive::ArchiveReader& r, const RendererOptio
     skirt_margin = 0.01 + 1e-6 * std::max(std::abs(root.min_height), std::abs(root.max_height));
     root_codes = loader.load(PatchId{0, 0, 0})->codes;
 
-    textures = std::make_unique<PatchTextures>(n, layout, block_levels, slots, quantization);
+    const bool gpu_reconstruction =
+        options.streaming && options.gpu_reconstruction && reader.decodesResiduals(1);
+    textures = std::make_unique<PatchTextures>(
+        n, layout, block_levels, slots, quantization,
+        gpu_reconstruction ? dynamic_cast<const ProgressiveCodec*>(&reader.codec()) : nullptr);
     if (options.streaming) {
-        streamer = std::make_unique<stream::PatchStreamer>(
-            reader, size_t(options.ram_budget_mb * 1024.0 * 1024.0), options.io_threads);
+        stream::StreamerOptions so = stream::StreamerOptions::forRamBudget(
+            size_t(options.ram_budget_mb * 1024.0 * 1024.0), options.io_threads);
+        so.residuals_for_gpu = gpu_reconstruction;
+        streamer = std::make_unique<stream::PatchStreamer>(reader, so);
         // The root stays resident: the last resort of every fallback.
         const PatchId root{0, 0, 0};
         for (const lod::PatchResidency::Load& l : residency.update({root}, ++frame))
@@ -305,12 +319,35 @@ void TerrainRenderer::Impl::buildChunkMesh()
     gpu::checkGlError("terrain renderer: chunk mesh");
 }
 
-void TerrainRenderer::Impl::uploadPatch(const stream::DecodedPatch& patch, int slot)
+// Makes `patch` resident in `slot`: codes are uploaded, residuals reconstructed on the GPU
+// from the parent's slot. Slots in `pending_slots` are assigned this frame but not yet
+// written: their content must not be read. Returns the bytes sent.
+size_t TerrainRenderer::Impl::uploadPatch(const stream::DecodedPatch& patch, int slot,
+                                          const std::unordered_set<int>& pending_slots)
 {
-    const double step = double(reader.geometry().step(patch.id.level));
-    const lod::PatchBounds& bounds = quadtree.bounds(patch.id);
-    textures->upload(patch, slot, borderedHeights(patch), step * reader.header().spacing_x,
-                     step * reader.header().spacing_y, bounds.max_height - bounds.min_height);
+    const PatchId p = patch.id;
+    const double step = double(reader.geometry().step(p.level));
+    const double cell_i = step * reader.header().spacing_x,
+                 cell_j = step * reader.header().spacing_y;
+    const lod::PatchBounds& bounds = quadtree.bounds(p);
+    const float lambda_cap = bounds.max_height - bounds.min_height;
+    if (!patch.needsGpuReconstruction())
+        return textures->upload(patch, slot, borderedHeights(patch), cell_i, cell_j, lambda_cap);
+    const int parent_slot = residency.slotOf(PatchId{p.level - 1, p.x / 2, p.y / 2});
+    if (parent_slot < 0 || pending_slots.count(parent_slot))
+        throw Error(reader.describe(p) + ": internal: parent not resident for GPU reconstruction");
+    const PyramidGeometry& g = reader.geometry();
+    const PatchId sides[4] = {{p.level, p.x - 1, p.y},
+                              {p.level, p.x + 1, p.y},
+                              {p.level, p.x, p.y - 1},
+                              {p.level, p.x, p.y + 1}};
+    std::array<int, 4> neighbours{-1, -1, -1, -1};
+    for (int k = 0; k < 4; ++k)
+        if (options.seamless_normals && g.exists(sides[k])) {
+            const int s = residency.slotOf(sides[k]);
+            neighbours[size_t(k)] = pending_slots.count(s) ? -1 : s;
+        }
+    return textures->reconstruct(patch, parent_slot, slot, neighbours, cell_i, cell_j, lambda_cap);
 }
 
 std::vector<float> TerrainRenderer::Impl::borderedHeights(const stream::DecodedPatch& patch)
@@ -329,7 +366,7 @@ std::vector<float> TerrainRenderer::Impl::borderedHeights(const stream::DecodedP
             // Streaming never decodes on the render thread: only neighbours already cached.
             side[k] = streamer ? streamer->cached(ids[k]) : loader.load(ids[k]);
     auto codes = [](const std::shared_ptr<const stream::DecodedPatch>& d) {
-        return d ? d->codes.data() : nullptr;
+        return d && !d->codes.empty() ? d->codes.data() : nullptr;
     };
     return stream::borderedPatch(patch.codes.data(), n, codes(side[0]), codes(side[1]),
                                  codes(side[2]), codes(side[3]));
@@ -344,7 +381,7 @@ void TerrainRenderer::Impl::makeResident(const lod::Selection& selection, FrameS
     const auto loads = residency.update(ids, ++frame);
     for (const lod::PatchResidency::Load& l : loads) {
         try {
-            uploadPatch(*loader.load(l.id), l.slot);
+            stats.bytes_uploaded += uploadPatch(*loader.load(l.id), l.slot);
         } catch (...) {
             residency.release(l.id);
             throw;
@@ -419,6 +456,7 @@ void TerrainRenderer::Impl::setFrameUniforms(const gpu::ShaderProgram& program,
 lod::Selection TerrainRenderer::Impl::prepare(const lod::Camera& camera,
                                               const RenderSettings& settings, FrameStats& stats)
 {
+    textures->collect(); // λ maxima derived on the GPU in earlier frames
     auto t0 = std::chrono::steady_clock::now();
     lod::SelectionSettings ss;
     // Brute force: ε = 0 refines to the finest level wherever the frustum lets it.
@@ -444,6 +482,7 @@ lod::Selection TerrainRenderer::Impl::prepare(const lod::Camera& camera,
     upload_timer.end();
     stats.gpu_upload_ms = options.synchronous_stats ? upload_timer.waitMs() : upload_timer.lastMs();
     stats.cpu_load_ms = millisecondsSince(t0);
+    countTraffic(stats);
     stats.patches = int(selection.patches.size());
     last_drawn.clear();
     for (const lod::SelectedPatch& p : selection.patches)
@@ -474,48 +513,106 @@ lod::Selection TerrainRenderer::Impl::streamResident(const lod::Selection& desir
 {
     const PyramidGeometry& g = reader.geometry();
     const PatchId root{0, 0, 0};
+    auto resident = [&](PatchId p) { return residency.slotOf(p) >= 0; };
+    auto parentOf = [](PatchId p) { return PatchId{p.level - 1, p.x / 2, p.y / 2}; };
+    // Coarse before fine, then by screen-space error.
+    auto priority = [&](const PatchId& p, double screen_error) {
+        return 1e6 * (g.levelCount() - p.level) + screen_error;
+    };
     streamer->beginFrame();
     for (auto& patch : streamer->takeReady())
         arrived.push_back(std::move(patch));
-    // Requests: coarse before fine, then by screen-space error.
-    std::unordered_map<int64_t, const lod::SelectedPatch*> wanted;
-    for (const lod::SelectedPatch& sp : desired.patches) {
-        wanted[g.patchIndex(sp.id)] = &sp;
-        if (residency.slotOf(sp.id) < 0)
-            streamer->request(sp.id, 1e6 * (g.levelCount() - sp.id.level) + sp.screen_error);
+    std::unordered_map<int64_t, double> wanted; // patch index -> request priority
+    for (const lod::SelectedPatch& sp : desired.patches)
+        wanted[g.patchIndex(sp.id)] = priority(sp.id, sp.screen_error);
+    // A patch reconstructed on the GPU needs its parent resident, so every ancestor up to the
+    // finest resident one is wanted too, ahead of it: one request round for the whole chain.
+    if (streamer->options().residuals_for_gpu) {
+        std::vector<PatchId> chains;
+        for (const auto& [key, pri] : wanted)
+            chains.push_back(g.patchAt(key));
+        for (PatchId p : chains)
+            for (PatchId a = p; a.level > 0 && !resident(a);) {
+                a = parentOf(a);
+                if (!wanted.emplace(g.patchIndex(a), priority(a, 0.0)).second)
+                    break; // the rest of the chain is in already
+            }
     }
+    for (const auto& [key, pri] : wanted)
+        if (residency.slotOf(g.patchAt(key)) < 0)
+            streamer->request(g.patchAt(key), pri);
     prefetch(camera, settings);
-    auto resident = [&](PatchId p) { return residency.slotOf(p) >= 0; };
     const lod::ResidentCover before = lod::residentCover(desired, g, resident);
 
-    // Uploads: arrived patches still wanted, as many as the budget and the free slots allow
-    // (what is drawn now keeps its slot).
-    std::vector<PatchId> needed{root};
+    // What this frame keeps: the root, what is drawn now, and the parents of patches waiting
+    // to be reconstructed ("ancestors needed for decoding stay resident").
+    std::vector<PatchId> needed;
+    std::unordered_set<int64_t> in_needed;
+    auto need = [&](PatchId p) {
+        if (in_needed.insert(g.patchIndex(p)).second)
+            needed.push_back(p);
+    };
+    need(root);
     for (const lod::SelectedPatch& d : before.patches)
-        if (!(d.id == root))
-            needed.push_back(d.id);
+        need(d.id);
+    std::sort(arrived.begin(), arrived.end(), [](const auto& a, const auto& b) {
+        return a->id.level < b->id.level; // parents before their children
+    });
+    for (const auto& patch : arrived)
+        if (patch->needsGpuReconstruction() && wanted.count(g.patchIndex(patch->id)) &&
+            resident(parentOf(patch->id)) && needed.size() < size_t(slots))
+            need(parentOf(patch->id));
+
+    // Uploads: arrived patches still wanted, within the per-frame budget and the free slots.
+    const double budget_bytes = options.upload_budget_mb * 1024.0 * 1024.0;
+    const size_t per_patch_bytes = size_t(n) * n * 4; // residuals, or codes + normal staging
     std::vector<std::shared_ptr<const stream::DecodedPatch>> uploads, keep;
+    std::unordered_set<int64_t> uploading;
     for (auto& patch : arrived) {
         const int64_t key = g.patchIndex(patch->id);
-        if (!wanted.count(key) || resident(patch->id))
+        if (!wanted.count(key) || resident(patch->id) || uploading.count(key))
             continue; // no longer wanted: the RAM cache still has it for a later request
-        if (int(uploads.size()) < options.uploads_per_frame && needed.size() < size_t(slots)) {
-            needed.push_back(patch->id);
+        const bool parent_ready = !patch->needsGpuReconstruction() ||
+                                  resident(parentOf(patch->id)) ||
+                                  uploading.count(g.patchIndex(parentOf(patch->id)));
+        const bool within_budget =
+            uploads.empty() || (int(uploads.size()) < options.uploads_per_frame &&
+                                double((uploads.size() + 1) * per_patch_bytes) <= budget_bytes);
+        if (parent_ready && within_budget && needed.size() < size_t(slots)) {
+            need(patch->id);
             uploads.push_back(patch);
+            uploading.insert(key);
         } else {
             keep.push_back(patch);
         }
     }
-    arrived.swap(keep);
     const auto loads = residency.update(needed, ++frame);
+    std::unordered_map<int64_t, int> slot_of_load;
+    std::unordered_set<int> pending_slots;
     for (const lod::PatchResidency::Load& l : loads) {
-        for (const auto& patch : uploads)
-            if (patch->id == l.id)
-                uploadPatch(*patch, l.slot);
+        slot_of_load[g.patchIndex(l.id)] = l.slot;
+        pending_slots.insert(l.slot);
     }
-    if (!loads.empty())
+    // Coarse first, so that a parent uploaded this frame is written before its children.
+    const auto t0 = std::chrono::steady_clock::now();
+    size_t done = 0;
+    for (; done < uploads.size(); ++done) {
+        if (done > 0 && millisecondsSince(t0) > options.upload_budget_ms)
+            break; // the time budget: the rest waits for the next frame
+        const auto& patch = uploads[done];
+        const int slot = slot_of_load.at(g.patchIndex(patch->id));
+        stats.bytes_uploaded += uploadPatch(*patch, slot, pending_slots);
+        pending_slots.erase(slot);
+        stats.reconstructed += patch->needsGpuReconstruction();
+    }
+    for (size_t k = done; k < uploads.size(); ++k) {
+        residency.release(uploads[k]->id); // assigned but never written
+        keep.push_back(uploads[k]);
+    }
+    arrived.swap(keep);
+    if (done > 0)
         textures->finishUploads();
-    stats.loaded = int(loads.size());
+    stats.loaded = int(done);
     stats.resident = residency.residentCount();
 
     const lod::ResidentCover cover = lod::residentCover(desired, g, resident);
@@ -523,6 +620,27 @@ lod::Selection TerrainRenderer::Impl::streamResident(const lod::Selection& desir
     lod::Selection drawn = desired;
     drawn.patches = cover.patches;
     return drawn;
+}
+
+void TerrainRenderer::Impl::countTraffic(FrameStats& stats)
+{
+    if (streamer) {
+        const stream::StreamerStats now = streamer->stats();
+        stats.bytes_read = now.bytes_read - last_streamer_stats.bytes_read;
+        stats.bytes_decoded = now.bytes_decoded - last_streamer_stats.bytes_decoded;
+        stats.cache_hits = int(now.cache_hits - last_streamer_stats.cache_hits);
+        stats.cache_misses = int(now.requested - last_streamer_stats.requested);
+        last_streamer_stats = now;
+    } else {
+        const stream::LoaderStats& now = loader.stats();
+        stats.bytes_read = now.bytes_read - last_loader_stats.bytes_read;
+        stats.cache_hits = int(now.cache_hits - last_loader_stats.cache_hits);
+        stats.cache_misses = int(now.decoded - last_loader_stats.decoded);
+        const size_t per_patch =
+            size_t(n) * n * sizeof(uint16_t) + size_t(layout.valuesPerPatch()) * sizeof(float);
+        stats.bytes_decoded = uint64_t(stats.cache_misses) * per_patch;
+        last_loader_stats = now;
+    }
 }
 
 uint64_t TerrainRenderer::Impl::latestTriangles()
@@ -589,9 +707,50 @@ uint64_t TerrainRenderer::cacheHits() const
     return impl_->streamer ? impl_->streamer->stats().cache_hits : impl_->loader.stats().cache_hits;
 }
 
+std::vector<uint16_t> TerrainRenderer::residentCodes(PatchId p) const
+{
+    const int slot = impl_->residency.slotOf(p);
+    if (slot < 0)
+        return {};
+    const int n = impl_->n;
+    std::vector<uint16_t> codes(size_t(n) * n);
+    glPixelStorei(GL_PACK_ALIGNMENT, 2);
+    glGetTextureSubImage(impl_->textures->heights(), 0, 0, 0, slot, n, n, 1, GL_RED_INTEGER,
+                         GL_UNSIGNED_SHORT, GLsizei(codes.size() * sizeof(uint16_t)), codes.data());
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    gpu::checkGlError("terrain renderer: read resident codes");
+    return codes;
+}
+
+std::vector<float> TerrainRenderer::residentBlockErrors(PatchId p) const
+{
+    const int slot = impl_->residency.slotOf(p);
+    if (slot < 0)
+        return {};
+    const int B = impl_->blocks_per_side, D = impl_->layout.levels();
+    std::vector<float> texels(size_t(B) * B * 4);
+    glGetTextureSubImage(impl_->textures->blockErrors(), 0, 0, 0, slot, B, B, 1, GL_RGBA, GL_FLOAT,
+                         GLsizei(texels.size() * sizeof(float)), texels.data());
+    gpu::checkGlError("terrain renderer: read resident block errors");
+    std::vector<float> lambda(size_t(B) * B * D, 0.f);
+    for (int b = 0; b < B * B; ++b)
+        for (int d = 0; d < std::min(D, 4); ++d)
+            lambda[size_t(b) * D + d] = texels[size_t(b) * 4 + d];
+    return lambda;
+}
+
+double TerrainRenderer::residentLambdaMax(PatchId p) const
+{
+    const int slot = impl_->residency.slotOf(p);
+    return slot < 0 ? -1.0 : double(impl_->textures->lambdaMax(slot));
+}
+
 size_t TerrainRenderer::streamingCacheBytes() const
 {
-    return impl_->streamer ? impl_->streamer->stats().cache_bytes : 0;
+    if (!impl_->streamer)
+        return 0;
+    const stream::StreamerStats s = impl_->streamer->stats();
+    return s.cache_bytes + s.compressed_bytes;
 }
 
 FrameStats TerrainRenderer::draw(const lod::Camera& camera, const RenderSettings& settings)

@@ -5,26 +5,27 @@
 #include <algorithm>
 
 namespace ridge::stream {
-namespace {
 
-size_t decodedPatchBytes(const archive::ArchiveReader& reader)
+StreamerOptions StreamerOptions::forRamBudget(size_t bytes, int threads)
 {
-    const size_t n = size_t(reader.geometry().patchSize());
-    return n * n * sizeof(uint16_t) +
-           size_t(reader.blockLayout().valuesPerPatch()) * sizeof(float) + sizeof(DecodedPatch);
+    StreamerOptions o;
+    o.compressed_cache_bytes = bytes / 4;
+    o.decoded_cache_bytes = bytes - o.compressed_cache_bytes;
+    // Reads are short (pread of a few kB, usually from the page cache); decoding is the work.
+    o.io_threads = 1;
+    o.decode_threads = std::max(threads, 1);
+    return o;
 }
 
-} // namespace
-
-PatchStreamer::PatchStreamer(const archive::ArchiveReader& reader, size_t ram_budget_bytes,
-                             int threads)
-    : reader_(reader), patch_bytes_(decodedPatchBytes(reader)),
-      // All patches weigh the same: the byte budget is a count, and a root-to-leaf chain
-      // always fits, whatever the budget.
-      cache_(std::max(ram_budget_bytes / patch_bytes_, size_t(reader.geometry().levelCount()) + 1))
+PatchStreamer::PatchStreamer(const archive::ArchiveReader& reader, const StreamerOptions& options)
+    : reader_(reader), options_(options), compressed_(options.compressed_cache_bytes, 1),
+      // A root-to-leaf chain always fits, whatever the budget: predictive decoding needs it.
+      decoded_(options.decoded_cache_bytes, size_t(reader.geometry().levelCount()) + 1)
 {
-    for (int t = 0; t < std::max(threads, 1); ++t)
-        workers_.emplace_back([this] { work(); });
+    for (int t = 0; t < std::max(options.io_threads, 1); ++t)
+        workers_.emplace_back([this] { readWork(); });
+    for (int t = 0; t < std::max(options.decode_threads, 1); ++t)
+        workers_.emplace_back([this] { decodeWork(); });
 }
 
 PatchStreamer::~PatchStreamer()
@@ -33,7 +34,8 @@ PatchStreamer::~PatchStreamer()
         std::lock_guard<std::mutex> lock(mutex_);
         stop_ = true;
     }
-    work_cv_.notify_all();
+    read_cv_.notify_all();
+    decode_cv_.notify_all();
     for (std::thread& t : workers_)
         t.join();
 }
@@ -48,22 +50,24 @@ void PatchStreamer::request(PatchId p, double priority)
 {
     std::lock_guard<std::mutex> lock(mutex_);
     const int64_t key = reader_.geometry().patchIndex(p);
-    if (failed_.count(key) || ready_keys_.count(key) || in_flight_.count(key))
+    if (failed_.count(key) || ready_keys_.count(key))
         return;
-    if (auto it = queued_.find(key); it != queued_.end()) {
-        it->second.priority = priority;
-        it->second.frame = frame_;
-        return;
-    }
+    for (auto* pending : {&queued_, &in_flight_})
+        if (auto it = pending->find(key); it != pending->end()) {
+            it->second.priority = priority;
+            it->second.frame = frame_;
+            return;
+        }
     if (auto hit = findCacheLocked(key)) {
         ++stats_.cache_hits;
         ready_.push_back(hit);
         ready_keys_.insert(key);
         return;
     }
-    queued_[key] = Request{p, priority, frame_};
+    const Stage stage = compressed_.find(key) ? Stage::Decode : Stage::Read;
+    queued_[key] = Request{p, priority, frame_, stage};
     ++stats_.requested;
-    work_cv_.notify_one();
+    (stage == Stage::Read ? read_cv_ : decode_cv_).notify_one();
 }
 
 std::vector<std::shared_ptr<const DecodedPatch>> PatchStreamer::takeReady()
@@ -91,7 +95,8 @@ StreamerStats PatchStreamer::stats() const
 {
     std::lock_guard<std::mutex> lock(mutex_);
     StreamerStats s = stats_;
-    s.cache_bytes = cache_.size() * patch_bytes_;
+    s.cache_bytes = decoded_.weight();
+    s.compressed_bytes = compressed_.weight();
     s.queued = queued_.size();
     s.in_flight = in_flight_.size();
     return s;
@@ -105,83 +110,161 @@ std::string PatchStreamer::error() const
 
 std::shared_ptr<const DecodedPatch> PatchStreamer::findCacheLocked(int64_t key)
 {
-    const auto* hit = cache_.find(key);
+    const auto* hit = decoded_.find(key);
     return hit ? *hit : nullptr;
 }
 
-void PatchStreamer::insertCacheLocked(const std::shared_ptr<const DecodedPatch>& patch)
+std::unordered_map<int64_t, PatchStreamer::Request>::iterator PatchStreamer::nextLocked(Stage stage)
 {
-    cache_.insert(reader_.geometry().patchIndex(patch->id), patch);
+    auto best = queued_.end();
+    for (auto it = queued_.begin(); it != queued_.end();) {
+        if (it->second.frame < frame_) {
+            it = queued_.erase(it);
+            ++stats_.cancelled;
+            continue;
+        }
+        if (it->second.stage == stage &&
+            (best == queued_.end() || it->second.priority > best->second.priority))
+            best = it;
+        ++it;
+    }
+    if (queued_.empty() && in_flight_.empty())
+        idle_cv_.notify_all();
+    return best;
 }
 
-// Decodes `p` (ancestors first when the codec predicts from them), unlocking around the
-// decoding itself. Two workers may decode a shared ancestor twice; the cache keeps one.
+void PatchStreamer::finishLocked(int64_t key)
+{
+    in_flight_.erase(key);
+    if (queued_.empty() && in_flight_.empty())
+        idle_cv_.notify_all();
+}
+
+void PatchStreamer::failLocked(int64_t key, const std::string& message)
+{
+    if (error_.empty())
+        error_ = message;
+    failed_.insert(key);
+}
+
+// The blob of `p` from the compressed cache, or read now (unlocked around the read).
+PatchStreamer::Blob PatchStreamer::blobLocked(PatchId p, std::unique_lock<std::mutex>& lock)
+{
+    const int64_t key = reader_.geometry().patchIndex(p);
+    if (const Blob* hit = compressed_.find(key))
+        return *hit;
+    lock.unlock();
+    Blob blob;
+    try {
+        blob = std::make_shared<const std::vector<uint8_t>>(reader_.readBlob(p));
+    } catch (...) {
+        lock.lock();
+        throw;
+    }
+    lock.lock();
+    stats_.bytes_read += blob->size();
+    compressed_.insert(key, blob, blob->size());
+    return blob;
+}
+
+// Decodes `p` from its blob, unlocking around the decoding itself: to residuals when the GPU
+// reconstructs it, else to codes with its ancestors first when the codec predicts from them.
+// Two workers may decode a shared ancestor twice; the cache keeps one.
 std::shared_ptr<const DecodedPatch> PatchStreamer::decodeLocked(PatchId p,
                                                                 std::unique_lock<std::mutex>& lock)
 {
-    if (auto hit = findCacheLocked(reader_.geometry().patchIndex(p)))
+    const int64_t key = reader_.geometry().patchIndex(p);
+    if (auto hit = findCacheLocked(key))
         return hit;
+    const bool residuals = options_.residuals_for_gpu && reader_.decodesResiduals(p.level);
     std::shared_ptr<const DecodedPatch> parent;
-    if (p.level > 0 && reader_.codec().needsParent(p.level))
+    if (!residuals && p.level > 0 && reader_.codec().needsParent(p.level))
         parent = decodeLocked(PatchId{p.level - 1, p.x / 2, p.y / 2}, lock);
+    const bool had_blob = compressed_.find(key) != nullptr;
+    const Blob blob = blobLocked(p, lock);
     lock.unlock();
     auto out = std::make_shared<DecodedPatch>();
     out->id = p;
-    const int n = reader_.geometry().patchSize();
-    out->codes.resize(size_t(n) * n);
+    const size_t samples = size_t(reader_.geometry().patchSize()) * reader_.geometry().patchSize();
     try {
-        reader_.decodePatch(p, out->codes.data(), parent ? parent->codes.data() : nullptr,
-                            &out->block_errors);
+        if (residuals) {
+            out->residuals.resize(samples);
+            reader_.decodeResiduals(p, *blob, out->residuals.data(), &out->block_errors);
+        } else {
+            out->codes.resize(samples);
+            reader_.decodeBlob(p, *blob, out->codes.data(), parent ? parent->codes.data() : nullptr,
+                               &out->block_errors);
+        }
     } catch (...) {
         lock.lock();
         throw;
     }
     lock.lock();
     ++stats_.decoded;
-    stats_.bytes_read += reader_.record(p).size;
-    insertCacheLocked(out);
+    stats_.compressed_hits += had_blob;
+    stats_.bytes_decoded += out->bytes();
+    decoded_.insert(key, out, out->bytes());
     return out;
 }
 
-void PatchStreamer::work()
+void PatchStreamer::readWork()
 {
     std::unique_lock<std::mutex> lock(mutex_);
     for (;;) {
-        work_cv_.wait(lock, [this] { return stop_ || !queued_.empty(); });
+        read_cv_.wait(lock, [this] {
+            return stop_ || std::any_of(queued_.begin(), queued_.end(), [](const auto& q) {
+                       return q.second.stage == Stage::Read;
+                   });
+        });
         if (stop_)
             return;
-        // Drop stale requests, then take the most urgent one.
-        auto best = queued_.end();
-        for (auto it = queued_.begin(); it != queued_.end();) {
-            if (it->second.frame < frame_) {
-                it = queued_.erase(it);
-                ++stats_.cancelled;
-                continue;
-            }
-            if (best == queued_.end() || it->second.priority > best->second.priority)
-                best = it;
-            ++it;
-        }
-        if (best == queued_.end()) {
-            idle_cv_.notify_all();
+        auto next = nextLocked(Stage::Read);
+        if (next == queued_.end())
             continue;
+        const int64_t key = next->first;
+        const PatchId id = next->second.id;
+        in_flight_[key] = next->second;
+        queued_.erase(next);
+        try {
+            blobLocked(id, lock);
+            // On to the decode pool, with whatever priority and frame renewals gave it.
+            Request r = in_flight_[key];
+            r.stage = Stage::Decode;
+            queued_[key] = r;
+            decode_cv_.notify_one();
+        } catch (const Error& e) {
+            failLocked(key, e.what());
         }
-        const int64_t key = best->first;
-        const PatchId id = best->second.id;
-        queued_.erase(best);
-        in_flight_.insert(key);
+        finishLocked(key);
+    }
+}
+
+void PatchStreamer::decodeWork()
+{
+    std::unique_lock<std::mutex> lock(mutex_);
+    for (;;) {
+        decode_cv_.wait(lock, [this] {
+            return stop_ || std::any_of(queued_.begin(), queued_.end(), [](const auto& q) {
+                       return q.second.stage == Stage::Decode;
+                   });
+        });
+        if (stop_)
+            return;
+        auto next = nextLocked(Stage::Decode);
+        if (next == queued_.end())
+            continue;
+        const int64_t key = next->first;
+        const PatchId id = next->second.id;
+        in_flight_[key] = next->second;
+        queued_.erase(next);
         try {
             std::shared_ptr<const DecodedPatch> patch = decodeLocked(id, lock);
             ready_.push_back(patch);
             ready_keys_.insert(key);
         } catch (const Error& e) {
-            if (error_.empty())
-                error_ = e.what();
-            failed_.insert(key);
+            failLocked(key, e.what());
         }
-        in_flight_.erase(key);
-        if (queued_.empty() && in_flight_.empty())
-            idle_cv_.notify_all();
+        finishLocked(key);
     }
 }
 

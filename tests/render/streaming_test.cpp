@@ -6,6 +6,7 @@
 #include "ridge/gpu/render_target.h"
 #include "ridge/pipeline/build.h"
 #include "ridge/render/terrain_renderer.h"
+#include "ridge/stream/patch_loader.h"
 
 #include <gtest/gtest.h>
 
@@ -110,6 +111,9 @@ TEST(Streaming, ATeleportReachesFullDetailWithinBoundedFramesOnceTheWorkersAreDo
     render::RendererOptions options;
     options.streaming = true;
     options.uploads_per_frame = 8;
+    // The count is the budget under test; on llvmpipe the GPU passes run on the CPU inside
+    // the upload time, which would otherwise decide.
+    options.upload_budget_ms = 1e9;
     render::TerrainRenderer renderer(*scene.reader, options);
     gpu::RenderTarget target(320, 180, 1);
     target.bind();
@@ -159,4 +163,108 @@ TEST(Streaming, FullDetailMatchesTheSynchronousRenderer)
     // Same patches, same triangles.
     const render::CapturedSurface sa = a.capture(cam, {}), sb = b.capture(cam, {});
     EXPECT_EQ(sa.vertices.size(), sb.vertices.size());
+}
+
+namespace {
+
+// Streams `cam` to full detail and checks that every drawn patch's resident codes and λ are
+// the CPU decoder's, bit for bit, and that the skirts' λ max is the true one once read back.
+void expectResidentDataIsTheCpuDecoding(const archive::ArchiveReader& reader, bool gpu,
+                                        const char* what)
+{
+    render::RendererOptions options;
+    options.streaming = true;
+    options.gpu_reconstruction = gpu;
+    render::TerrainRenderer renderer(reader, options);
+    gpu::RenderTarget target(320, 180, 1);
+    target.bind();
+    const lod::Camera cam = flyover(renderer, 25, 60);
+    render::FrameStats stats = renderer.draw(cam, {});
+    int reconstructed = stats.reconstructed;
+    for (int k = 0; k < 60 && stats.missing > 0; ++k) {
+        renderer.waitForStreaming();
+        stats = renderer.draw(cam, {});
+        reconstructed += stats.reconstructed;
+    }
+    ASSERT_EQ(stats.missing, 0) << what;
+    if (gpu)
+        EXPECT_GT(reconstructed, 10) << what << ": the GPU path must be the one taken";
+    else
+        EXPECT_EQ(reconstructed, 0) << what;
+    for (int k = 0; k < 3; ++k)
+        renderer.draw(cam, {}); // λ maxima derived on the GPU are read back a frame later
+    stream::PatchLoader cpu(reader);
+    size_t patches = 0, codes_differing = 0, lambda_differing = 0, lambda_max_wrong = 0;
+    const int levels = std::min(reader.blockLayout().levels(), 4);
+    for (PatchId p : renderer.lastDrawnPatches()) {
+        const auto expected = cpu.load(p);
+        const std::vector<uint16_t> codes = renderer.residentCodes(p);
+        const std::vector<float> lambda = renderer.residentBlockErrors(p);
+        ASSERT_EQ(codes.size(), expected->codes.size()) << what;
+        for (size_t k = 0; k < codes.size(); ++k)
+            codes_differing += codes[k] != expected->codes[k];
+        float lambda_max = 0.f;
+        for (size_t k = 0; k < lambda.size(); ++k)
+            if (int(k % size_t(reader.blockLayout().levels())) < levels) {
+                lambda_differing += lambda[k] != expected->block_errors[k];
+                lambda_max = std::max(lambda_max, expected->block_errors[k]);
+            }
+        const lod::PatchBounds& b = renderer.quadtree().bounds(p);
+        const float cap = b.max_height - b.min_height;
+        lambda_max_wrong += renderer.residentLambdaMax(p) != double(std::min(lambda_max, cap));
+        ++patches;
+    }
+    EXPECT_GT(patches, 10u) << what;
+    EXPECT_EQ(codes_differing, 0u) << what;
+    EXPECT_EQ(lambda_differing, 0u) << what;
+    EXPECT_EQ(lambda_max_wrong, 0u) << what;
+    EXPECT_TRUE(renderer.streamingError().empty()) << renderer.streamingError();
+}
+
+} // namespace
+
+TEST(Streaming, GpuReconstructionLeavesTheCpuDecodersCodesAndBlockErrorsResident)
+{
+    StreamingScene scene("progressive");
+    expectResidentDataIsTheCpuDecoding(*scene.reader, true, "progressive, λ derived on the GPU");
+    expectResidentDataIsTheCpuDecoding(*scene.reader, false, "progressive, decoded on the CPU");
+    // λ stored in the archive: uploaded, not derived.
+    BuildOptions build;
+    build.patch_size = 33;
+    build.codec = "progressive";
+    build.max_error = 2.0;
+    build.store_block_errors = true;
+    build.progress = {};
+    const std::string stored = scene.dir.path("stored.ridge");
+    buildArchive(test::dataPath("everest_crop.tif"), stored, build);
+    const archive::ArchiveReader reader(stored);
+    expectResidentDataIsTheCpuDecoding(reader, true, "progressive, λ stored");
+}
+
+TEST(Streaming, TheUploadByteBudgetLimitsEachFrameButNeverStopsProgress)
+{
+    StreamingScene scene("progressive");
+    render::RendererOptions options;
+    options.streaming = true;
+    options.upload_budget_mb = 1e-6; // less than one patch: one upload per frame
+    options.upload_budget_ms = 1e9;
+    render::TerrainRenderer renderer(*scene.reader, options);
+    gpu::RenderTarget target(320, 180, 1);
+    target.bind();
+    const lod::Camera cam = flyover(renderer, 40, 60);
+    render::FrameStats stats = renderer.draw(cam, {});
+    int frames = 1;
+    uint64_t uploaded = 0, read = 0;
+    while (stats.missing > 0 && frames < 400) {
+        renderer.waitForStreaming();
+        stats = renderer.draw(cam, {});
+        EXPECT_LE(stats.loaded, 1) << "frame " << frames;
+        uploaded += stats.bytes_uploaded;
+        read += stats.bytes_read;
+        ++frames;
+    }
+    EXPECT_EQ(stats.missing, 0) << "one patch a frame still converges";
+    EXPECT_GT(frames, 5);
+    EXPECT_GT(uploaded, 0u);
+    EXPECT_GT(read, 0u);
 }

@@ -22,7 +22,7 @@
 namespace ridge::archive {
 
 class ArchiveReader {
-public:
+  public:
     explicit ArchiveReader(const std::string& path);
     ~ArchiveReader();
     ArchiveReader(const ArchiveReader&) = delete;
@@ -51,6 +51,20 @@ public:
     // `block_errors` is given it also receives λ(d) in metres, from the same read.
     void decodePatch(PatchId p, uint16_t* codes, const uint16_t* parent = nullptr,
                      std::vector<float>* block_errors = nullptr) const;
+    // decodePatch from a blob readBlob(p) returned (a cached one, say); `parent` is required
+    // when codec().needsParent(p.level).
+    void decodeBlob(PatchId p, const std::vector<uint8_t>& blob, uint16_t* codes,
+                    const uint16_t* parent, std::vector<float>* block_errors = nullptr) const;
+
+    // The paper's CPU/GPU split of decoding: true when patches of `level` can be decoded as
+    // residuals (CPU, no parent needed) that a reconstruction on the GPU turns into codes
+    // (the progressive codec below its root).
+    bool decodesResiduals(int level) const;
+    // The CPU half for such a patch: residuals[patch_size²] from its blob (ProgressiveCodec::
+    // decodeResiduals). `block_errors` receives the stored λ(d) in metres, or is cleared when
+    // the archive derives them (the reconstruction must then derive them from the codes).
+    void decodeResiduals(PatchId p, const std::vector<uint8_t>& blob, int32_t* residuals,
+                         std::vector<float>* block_errors) const;
     // Reads λ(d) of every block of `p` in metres (see TessellationBlockLayout for the order).
     // Archives built without stored block errors derive them from the decoded heights
     // (exact for what is drawn; costs a decode).
@@ -63,7 +77,7 @@ public:
     // "patch (level L, x X, y Y)".
     static std::string patchName(PatchId p);
 
-private:
+  private:
     void readAt(uint64_t offset, void* dst, size_t size, const std::string& what) const;
     std::vector<float> unpackBlockErrorsOf(PatchId p, const std::vector<uint8_t>& blob) const;
     [[noreturn]] void fail(const std::string& problem) const;
@@ -71,14 +85,14 @@ private:
     // Owns the descriptor as a member so that it is closed when the constructor throws (a
     // destructor does not run for a half-constructed object).
     class FileDescriptor {
-    public:
+      public:
         explicit FileDescriptor(int fd = -1) : fd_(fd) {}
         ~FileDescriptor();
         FileDescriptor(const FileDescriptor&) = delete;
         FileDescriptor& operator=(const FileDescriptor&) = delete;
         int get() const { return fd_; }
 
-    private:
+      private:
         int fd_;
     };
 

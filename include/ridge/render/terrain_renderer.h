@@ -63,6 +63,14 @@ struct FrameStats {
     double gpu_upload_ms = 0.0; // texture uploads + normal-map pass of new patches, likewise
     double cpu_select_ms = 0.0;
     double cpu_load_ms = 0.0;
+    // This frame's traffic. Streaming: the streamer's reads and decodes since the last frame
+    // (worker threads), and the render thread's uploads; synchronous: the loader's.
+    uint64_t bytes_read = 0;     // compressed blobs read from the archive
+    uint64_t bytes_decoded = 0;  // decode results (codes or residuals, λ)
+    uint64_t bytes_uploaded = 0; // sent to the GPU (codes or residuals, λ, normal staging)
+    int cache_hits = 0;          // requests served by the decoded-patch cache
+    int cache_misses = 0;        // patches that had to be decoded
+    int reconstructed = 0;       // of `loaded`, patches reconstructed on the GPU
 };
 
 // Triangles as the tessellator produced them, captured with transform feedback.
@@ -95,9 +103,21 @@ struct RendererOptions {
     // `uploads_per_frame` arrive per frame. Off: every selected patch is loaded before the
     // frame is drawn (headless renders, tests of exact output).
     bool streaming = false;
-    double ram_budget_mb = 256.0; // decoded-patch cache of the streamer
-    int io_threads = 2;
+    // The streamer's RAM caches together: a quarter for compressed blobs, the rest for
+    // decoded patches (stream::StreamerOptions::forRamBudget).
+    double ram_budget_mb = 256.0;
+    int io_threads = 2; // decode threads (one more thread reads)
+    // The per-frame upload budget: a frame stops uploading once it has sent this many bytes
+    // or spent this long (CPU time submitting uploads), or made this many patches resident;
+    // at least one patch is uploaded when one is waiting, so streaming always progresses.
     int uploads_per_frame = 16;
+    double upload_budget_mb = 8.0;
+    double upload_budget_ms = 4.0;
+    // Streaming with the progressive codec: the paper's split of decoding. Workers only
+    // entropy-decode; the GPU refines the resident parent, adds the predictions and residuals
+    // and derives λ (unless stored) and the normal map in compute passes. Parents of patches
+    // waiting to be reconstructed are kept resident. Off: workers decode to codes.
+    bool gpu_reconstruction = true;
     // Streaming: also request what the camera will see this many frames ahead at its current
     // velocity (after everything the current frame needs). 0 disables prefetching.
     int prefetch_frames = 20;
@@ -131,6 +151,13 @@ class TerrainRenderer {
     // Such a patch stays drawn by its ancestor.
     std::string streamingError() const;
     size_t streamingCacheBytes() const;
+    // The codes resident for `p` (read back from the GPU: tests), empty when not resident.
+    std::vector<uint16_t> residentCodes(PatchId p) const;
+    // λ(d) resident for `p` in metres (TessellationBlockLayout order, D <= 4 levels), read
+    // back from the GPU (tests); empty when not resident.
+    std::vector<float> residentBlockErrors(PatchId p) const;
+    // The largest λ the renderer uses for `p`'s skirt (tests); −1 when not resident.
+    double residentLambdaMax(PatchId p) const;
     // Patches decoded because the decoded-patch cache did not have them (misses), and loads
     // it served (hits), since construction; either mode.
     uint64_t cacheMisses() const;

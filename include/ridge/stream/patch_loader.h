@@ -18,6 +18,18 @@ struct DecodedPatch {
     PatchId id;
     std::vector<uint16_t> codes;     // patch_size^2, row-major
     std::vector<float> block_errors; // λ(d), metres, TessellationBlockLayout order
+    // The paper's CPU/GPU split (PatchStreamer with residuals_for_gpu): instead of codes, the
+    // entropy-decoded residuals[patch_size^2] that the GPU turns into codes from the parent's
+    // resident codes. block_errors is then empty when the archive derives λ (the GPU derives
+    // it after reconstructing).
+    std::vector<int32_t> residuals;
+
+    bool needsGpuReconstruction() const { return codes.empty() && !residuals.empty(); }
+    size_t bytes() const
+    {
+        return sizeof(*this) + codes.size() * sizeof(uint16_t) +
+               block_errors.size() * sizeof(float) + residuals.size() * sizeof(int32_t);
+    }
 };
 
 struct LoaderStats {

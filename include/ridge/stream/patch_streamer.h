@@ -1,15 +1,21 @@
 #pragma once
 // Asynchronous patch streaming: the render thread never waits on disk or decoding.
 //
-// The render thread calls request() for the patches it wants (each frame, with a priority:
-// larger first) and takeReady() for what has been decoded since. Worker threads read blobs
-// (pread, ArchiveReader is thread-safe) and decode them — ancestors first for predictive
-// codecs — into a RAM cache of decoded patches bounded in bytes (LRU). Requests not renewed
-// by the latest beginFrame() are stale and dropped before a worker starts them, so a camera
-// that moves fast never queues work for places it has left.
+// Three stages, as the streaming issue and the clipmaps thesis (§5.2–5.4) ask:
+//   1. I/O threads read blobs (pread; ArchiveReader is thread-safe) into a RAM cache of
+//      compressed patches, bounded in bytes (LRU);
+//   2. a decode pool entropy-decodes cached blobs into a RAM cache of decoded patches,
+//      bounded in bytes (LRU) — either to codes (ancestors first for predictive codecs) or,
+//      with residuals_for_gpu, to the progressive codec's residuals, which the renderer
+//      reconstructs on the GPU from the resident parent (hardware-tessellation paper,
+//      "Implementation Details");
+//   3. the render thread calls request() for the patches it wants (each frame, with a
+//      priority: larger first) and takeReady() for what is decoded since.
+// Requests not renewed by the latest beginFrame() are stale and dropped before a worker
+// starts them, so a camera that moves fast never queues work for places it has left.
 //
 // Thread safety: every member may be called from the render thread while workers run; the
-// destructor stops and joins the workers (in-flight decodes finish first).
+// destructor stops and joins the workers (in-flight work finishes first).
 #include "ridge/stream/lru_cache.h"
 #include "ridge/stream/patch_loader.h"
 
@@ -25,22 +31,37 @@
 
 namespace ridge::stream {
 
+struct StreamerOptions {
+    size_t compressed_cache_bytes = size_t(64) << 20; // blobs as read
+    size_t decoded_cache_bytes = size_t(192) << 20;   // decode results
+    int io_threads = 1;
+    int decode_threads = 2;
+    // Deliver progressive patches below the root as residuals for GPU reconstruction
+    // (DecodedPatch::residuals) instead of decoding them to codes on the CPU.
+    bool residuals_for_gpu = false;
+
+    // One RAM budget split between the two caches: a quarter for compressed blobs (several
+    // times as many patches as the same bytes decoded), the rest for decoded patches.
+    static StreamerOptions forRamBudget(size_t bytes, int threads);
+};
+
 struct StreamerStats {
-    uint64_t requested = 0;  // requests accepted (not already ready, queued or cached)
-    uint64_t cancelled = 0;  // stale requests dropped
-    uint64_t decoded = 0;    // patches decoded by workers (ancestors included)
-    uint64_t bytes_read = 0; // blob bytes
-    uint64_t cache_hits = 0; // requests served from the RAM cache
-    size_t cache_bytes = 0;  // decoded patches held now
-    size_t queued = 0;       // waiting for a worker now
-    size_t in_flight = 0;    // being decoded now
+    uint64_t requested = 0;       // requests accepted (not already ready, queued or cached)
+    uint64_t cancelled = 0;       // stale requests dropped
+    uint64_t decoded = 0;         // patches decoded by the pool (ancestors included)
+    uint64_t bytes_read = 0;      // blob bytes read from the archive
+    uint64_t bytes_decoded = 0;   // bytes of decode results (codes or residuals, λ)
+    uint64_t cache_hits = 0;      // requests served from the decoded cache
+    uint64_t compressed_hits = 0; // decodes that found their blob in the compressed cache
+    size_t cache_bytes = 0;       // decoded patches held now
+    size_t compressed_bytes = 0;  // compressed blobs held now
+    size_t queued = 0;            // waiting for a worker now
+    size_t in_flight = 0;         // being read or decoded now
 };
 
 class PatchStreamer {
   public:
-    // `ram_budget_bytes` bounds the decoded-patch cache (at least a root-to-leaf chain is
-    // always kept). `threads` >= 1.
-    PatchStreamer(const archive::ArchiveReader& reader, size_t ram_budget_bytes, int threads = 2);
+    PatchStreamer(const archive::ArchiveReader& reader, const StreamerOptions& options);
     ~PatchStreamer();
     PatchStreamer(const PatchStreamer&) = delete;
     PatchStreamer& operator=(const PatchStreamer&) = delete;
@@ -58,30 +79,41 @@ class PatchStreamer {
     void waitIdle();
 
     StreamerStats stats() const;
-    // The first decode error ("PATH: patch (...): ..."), empty if none. A failed patch is
-    // not requested again.
+    const StreamerOptions& options() const { return options_; }
+    // The first error ("PATH: patch (...): ..."), empty if none. A failed patch is not
+    // requested again.
     std::string error() const;
 
   private:
+    using Blob = std::shared_ptr<const std::vector<uint8_t>>;
+    enum class Stage { Read, Decode };
     struct Request {
         PatchId id;
         double priority = 0.0;
         uint64_t frame = 0;
+        Stage stage = Stage::Read;
     };
-    void work();
+    void readWork();
+    void decodeWork();
+    // The most urgent queued request of `stage` after dropping stale ones; end() if none.
+    std::unordered_map<int64_t, Request>::iterator nextLocked(Stage stage);
+    void finishLocked(int64_t key);
+    void failLocked(int64_t key, const std::string& message);
+    Blob blobLocked(PatchId p, std::unique_lock<std::mutex>& lock);
     std::shared_ptr<const DecodedPatch> decodeLocked(PatchId p, std::unique_lock<std::mutex>& lock);
-    void insertCacheLocked(const std::shared_ptr<const DecodedPatch>& patch);
     std::shared_ptr<const DecodedPatch> findCacheLocked(int64_t key);
 
     const archive::ArchiveReader& reader_;
-    size_t patch_bytes_;
+    StreamerOptions options_;
     mutable std::mutex mutex_;
-    std::condition_variable work_cv_, idle_cv_;
+    std::condition_variable read_cv_, decode_cv_, idle_cv_;
     std::unordered_map<int64_t, Request> queued_;
-    std::unordered_set<int64_t> in_flight_, failed_;
+    std::unordered_map<int64_t, Request> in_flight_; // renewals land here while a worker runs
+    std::unordered_set<int64_t> failed_;
     std::vector<std::shared_ptr<const DecodedPatch>> ready_;
     std::unordered_set<int64_t> ready_keys_;
-    LruCache<int64_t, std::shared_ptr<const DecodedPatch>> cache_; // decoded, by patch index
+    LruCache<int64_t, Blob> compressed_;                             // by patch index
+    LruCache<int64_t, std::shared_ptr<const DecodedPatch>> decoded_; // by patch index
     uint64_t frame_ = 0;
     bool stop_ = false;
     std::string error_;
