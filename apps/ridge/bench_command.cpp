@@ -32,12 +32,21 @@ void BenchCommand::registerWith(CLI::App& app)
     command_->add_option("--error", error_, "Screen-space error threshold ε, pixels")
         ->capture_default_str()
         ->check(CLI::Range(0.05, 1000.0));
-    command_->add_option("--ram", ram_mb_, "Decoded-patch cache, MB")
+    command_->add_option("--ram", ram_mb_, "RAM caches of compressed and decoded patches, MB")
         ->capture_default_str()
         ->check(CLI::PositiveNumber);
     command_->add_option("--vram", vram_mb_, "Texture memory for resident patches, MB")
         ->capture_default_str()
         ->check(CLI::PositiveNumber);
+    command_->add_option("--upload-mb", upload_mb_, "Per-frame upload budget, MB")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    command_->add_option("--upload-ms", upload_ms_, "Per-frame upload budget, CPU ms")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    command_->add_flag("--cpu-decode", cpu_decode_,
+                       "Decode progressive patches on the CPU (default: entropy decoding on "
+                       "the CPU, reconstruction on the GPU)");
     command_->add_flag("--no-cull", no_cull_, "Disable view-frustum culling");
     command_->add_flag("--no-streaming", no_streaming_,
                        "Load every patch before its frame (stalls)");
@@ -63,6 +72,9 @@ int BenchCommand::run()
     options.ram_mb = ram_mb_;
     options.vram_mb = vram_mb_;
     options.streaming = !no_streaming_;
+    options.gpu_reconstruction = !cpu_decode_;
+    options.upload_mb = upload_mb_;
+    options.upload_ms = upload_ms_;
     if (table_) {
         std::vector<renderbench::RenderBenchReport> reports;
         for (const render::LodScheme scheme :

@@ -49,6 +49,9 @@ class BenchCommand {
     double vram_mb_ = 256.0;
     bool no_cull_ = false;
     bool no_streaming_ = false;
+    bool cpu_decode_ = false;
+    double upload_mb_ = 8.0;
+    double upload_ms_ = 4.0;
     bool table_ = false;
     std::string json_path_;
     std::string plot_path_;
@@ -105,6 +108,7 @@ class ViewCommand {
     double vram_mb_ = 256.0;
     double ram_mb_ = 256.0;
     bool no_streaming_ = false;
+    bool cpu_decode_ = false;
 };
 
 class Commands {

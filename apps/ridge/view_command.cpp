@@ -323,6 +323,9 @@ class Viewer {
         ImGui::Text("patches: %d drawn, %d culled, %d resident, %d loaded this frame",
                     stats_.patches, stats_.culled, stats_.resident, stats_.loaded);
         ImGui::Text("streaming: %d patches still coming (drawn by an ancestor)", stats_.missing);
+        ImGui::Text("this frame: read %.1f kB, decoded %.1f kB, uploaded %.1f kB (%d on the GPU)",
+                    double(stats_.bytes_read) / 1024.0, double(stats_.bytes_decoded) / 1024.0,
+                    double(stats_.bytes_uploaded) / 1024.0, stats_.reconstructed);
         const std::string stream_error = renderer_.streamingError();
         if (!stream_error.empty())
             ImGui::TextColored(ImVec4(1.f, 0.4f, 0.3f, 1.f), "%s", stream_error.c_str());
@@ -406,9 +409,11 @@ void ViewCommand::registerWith(CLI::App& app)
     command_->add_option("--vram", vram_mb_, "Texture memory for resident patches, MB")
         ->capture_default_str()
         ->check(CLI::PositiveNumber);
-    command_->add_option("--ram", ram_mb_, "Memory for decoded patches, MB")
+    command_->add_option("--ram", ram_mb_, "RAM caches of compressed and decoded patches, MB")
         ->capture_default_str()
         ->check(CLI::PositiveNumber);
+    command_->add_flag("--cpu-decode", cpu_decode_,
+                       "Decode progressive patches on the CPU (default: reconstruct on the GPU)");
     command_->add_flag("--no-streaming", no_streaming_,
                        "Load every patch before drawing the frame that needs it (stalls)");
     command_->add_flag("--vsync,!--no-vsync", vsync_,
@@ -455,6 +460,7 @@ int ViewCommand::run()
         options.streaming = !no_streaming_;
         options.vram_budget_mb = vram_mb_;
         options.ram_budget_mb = ram_mb_;
+        options.gpu_reconstruction = !cpu_decode_;
         render::TerrainRenderer renderer(reader, options);
         Viewer viewer(*window, renderer, fov_y_degrees_, epsilon_px_);
         const ImGuiSession imgui(window->window());

@@ -138,6 +138,16 @@ size_t PatchTextures::reconstruct(const stream::DecodedPatch& patch, int parent_
     return bytes;
 }
 
+size_t PatchTextures::uploadBytes(const stream::DecodedPatch& patch) const
+{
+    const size_t B = size_t(layout_.blocksPerSide());
+    const size_t lambda = patch.block_errors.empty() ? 0 : B * B * 4 * sizeof(float);
+    if (patch.needsGpuReconstruction())
+        return patch.residuals.size() * sizeof(int32_t) + lambda;
+    return patch.codes.size() * sizeof(uint16_t) + lambda +
+           size_t(n_ + 2) * (n_ + 2) * sizeof(float);
+}
+
 void PatchTextures::finishUploads()
 {
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |

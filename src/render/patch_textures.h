@@ -47,6 +47,8 @@ class PatchTextures {
     size_t reconstruct(const stream::DecodedPatch& patch, int parent_slot, int slot,
                        const std::array<int, 4>& neighbour_slots, double cell_metres_i,
                        double cell_metres_j, float lambda_cap);
+    // What upload() or reconstruct() will send for `patch`, bytes (the per-frame budget).
+    size_t uploadBytes(const stream::DecodedPatch& patch) const;
     // Makes uploads visible to the draws that follow (one barrier per batch of uploads) and
     // fences the λ maxima derived in the batch for collect().
     void finishUploads();

@@ -565,7 +565,7 @@ lod::Selection TerrainRenderer::Impl::streamResident(const lod::Selection& desir
 
     // Uploads: arrived patches still wanted, within the per-frame budget and the free slots.
     const double budget_bytes = options.upload_budget_mb * 1024.0 * 1024.0;
-    const size_t per_patch_bytes = size_t(n) * n * 4; // residuals, or codes + normal staging
+    size_t planned_bytes = 0;
     std::vector<std::shared_ptr<const stream::DecodedPatch>> uploads, keep;
     std::unordered_set<int64_t> uploading;
     for (auto& patch : arrived) {
@@ -575,10 +575,12 @@ lod::Selection TerrainRenderer::Impl::streamResident(const lod::Selection& desir
         const bool parent_ready = !patch->needsGpuReconstruction() ||
                                   resident(parentOf(patch->id)) ||
                                   uploading.count(g.patchIndex(parentOf(patch->id)));
+        const size_t bytes = textures->uploadBytes(*patch);
         const bool within_budget =
             uploads.empty() || (int(uploads.size()) < options.uploads_per_frame &&
-                                double((uploads.size() + 1) * per_patch_bytes) <= budget_bytes);
+                                double(planned_bytes + bytes) <= budget_bytes);
         if (parent_ready && within_budget && needed.size() < size_t(slots)) {
+            planned_bytes += bytes;
             need(patch->id);
             uploads.push_back(patch);
             uploading.insert(key);

@@ -49,6 +49,10 @@ void summarise(RenderBenchReport& r)
         const double asked =
             r.options.scheme == render::LodScheme::BruteForce ? 0.0 : r.options.epsilon_px;
         r.frames_epsilon_raised += f.epsilon_px > asked * 1.0001 + 1e-9;
+        r.bytes_read += f.bytes_read;
+        r.bytes_decoded += f.bytes_decoded;
+        r.bytes_uploaded += f.bytes_uploaded;
+        r.reconstructed += f.reconstructed;
     }
     if (ms.empty())
         return;
@@ -56,6 +60,10 @@ void summarise(RenderBenchReport& r)
     r.fps_min = fps(percentile(ms, 1.0));
     r.fps_median = fps(percentile(ms, 0.5));
     r.fps_max = fps(percentile(ms, 0.0));
+    r.frame_ms_max = percentile(ms, 1.0);
+    const double median = percentile(ms, 0.5);
+    r.frames_over_twice_median =
+        int(std::count_if(ms.begin(), ms.end(), [&](double m) { return m > 2.0 * median; }));
     r.frame_ms_p99 = percentile(ms, 0.99);
     r.mtri_per_s = total_ms > 0.0 ? triangles / (total_ms * 1e3) : 0.0;
     r.triangles_mean = triangles / double(r.frames.size());
@@ -77,6 +85,9 @@ RenderBenchReport runRenderBench(const std::string& archive, const RenderBenchOp
     ro.streaming = o.streaming;
     ro.ram_budget_mb = o.ram_mb;
     ro.vram_budget_mb = o.vram_mb;
+    ro.gpu_reconstruction = o.gpu_reconstruction;
+    ro.upload_budget_mb = o.upload_mb;
+    ro.upload_budget_ms = o.upload_ms;
     ro.max_resident_patches = 2048;
     ro.synchronous_stats = true; // per-frame GPU time and triangles, measured
     render::TerrainRenderer renderer(reader, ro);
@@ -108,7 +119,13 @@ RenderBenchReport runRenderBench(const std::string& archive, const RenderBenchOp
         f.patches = s.patches;
         f.missing = s.missing;
         f.loaded = s.loaded;
+        f.reconstructed = s.reconstructed;
         f.epsilon_px = s.epsilon_px;
+        f.cache_hits = s.cache_hits;
+        f.cache_misses = s.cache_misses;
+        f.bytes_read = s.bytes_read;
+        f.bytes_decoded = s.bytes_decoded;
+        f.bytes_uploaded = s.bytes_uploaded;
         report.frames.push_back(f);
     }
     if (!renderer.streamingError().empty())
@@ -121,20 +138,25 @@ RenderBenchReport runRenderBench(const std::string& archive, const RenderBenchOp
 
 std::string formatRenderBenchSummary(const RenderBenchReport& r)
 {
-    return fmt::format("{}: {} renderer, path {}, {} frames at {}x{}, ε {} px, culling {}, {}\n"
-                       "  fps min / median / max   {:.1f} / {:.1f} / {:.1f}\n"
-                       "  frame time p99           {:.2f} ms\n"
-                       "  triangles                {:.2f} Mtri/s\n"
-                       "  CPU selection, worst     {:.3f} ms\n"
-                       "  frames still streaming   {} of {}\n"
-                       "  frames drawn coarser     {} (more patches in view than texture slots)\n"
-                       "  decoded-patch cache      {:.1f} MiB\n",
-                       r.archive, schemeName(r.options.scheme), r.options.path.kind,
-                       r.frames.size(), r.options.viewport.width, r.options.viewport.height,
-                       r.options.epsilon_px, r.options.cull ? "on" : "off", r.gl_renderer,
-                       r.fps_min, r.fps_median, r.fps_max, r.frame_ms_p99, r.mtri_per_s,
-                       r.select_ms_max, r.frames_missing, r.frames.size(), r.frames_epsilon_raised,
-                       double(r.ram_cache_bytes) / (1024.0 * 1024.0));
+    auto mib = [](uint64_t bytes) { return double(bytes) / (1024.0 * 1024.0); };
+    return fmt::format(
+        "{}: {} renderer, path {}, {} frames at {}x{}, ε {} px, culling {}, {}\n"
+        "  fps min / median / max   {:.1f} / {:.1f} / {:.1f}\n"
+        "  frame time p99 / max     {:.2f} / {:.2f} ms\n"
+        "  frames over 2x median    {}\n"
+        "  triangles                {:.2f} Mtri/s\n"
+        "  CPU selection, worst     {:.3f} ms\n"
+        "  frames still streaming   {} of {}\n"
+        "  frames drawn coarser     {} (more patches in view than texture slots)\n"
+        "  RAM caches at the end    {:.1f} MiB\n"
+        "  read / decoded / upload  {:.1f} / {:.1f} / {:.1f} MiB ({} patches "
+        "reconstructed on the GPU)\n",
+        r.archive, schemeName(r.options.scheme), r.options.path.kind, r.frames.size(),
+        r.options.viewport.width, r.options.viewport.height, r.options.epsilon_px,
+        r.options.cull ? "on" : "off", r.gl_renderer, r.fps_min, r.fps_median, r.fps_max,
+        r.frame_ms_p99, r.frame_ms_max, r.frames_over_twice_median, r.mtri_per_s, r.select_ms_max,
+        r.frames_missing, r.frames.size(), r.frames_epsilon_raised, mib(r.ram_cache_bytes),
+        mib(r.bytes_read), mib(r.bytes_decoded), mib(r.bytes_uploaded), r.reconstructed);
 }
 
 std::string formatRenderBenchTable(const std::vector<RenderBenchReport>& reports)
@@ -168,7 +190,13 @@ void writeRenderBenchJson(const RenderBenchReport& r, const std::string& path)
                           {"patches", f.patches},
                           {"missing", f.missing},
                           {"loaded", f.loaded},
-                          {"epsilon_px", f.epsilon_px}});
+                          {"reconstructed", f.reconstructed},
+                          {"epsilon_px", f.epsilon_px},
+                          {"cache_hits", f.cache_hits},
+                          {"cache_misses", f.cache_misses},
+                          {"bytes_read", f.bytes_read},
+                          {"bytes_decoded", f.bytes_decoded},
+                          {"bytes_uploaded", f.bytes_uploaded}});
     const nlohmann::json j = {{"archive", r.archive},
                               {"gl_renderer", r.gl_renderer},
                               {"renderer", schemeName(r.options.scheme)},
@@ -177,11 +205,23 @@ void writeRenderBenchJson(const RenderBenchReport& r, const std::string& path)
                               {"size", {r.options.viewport.width, r.options.viewport.height}},
                               {"epsilon_px", r.options.epsilon_px},
                               {"cull", r.options.cull},
+                              {"streaming", r.options.streaming},
+                              {"gpu_reconstruction", r.options.gpu_reconstruction},
+                              {"ram_mb", r.options.ram_mb},
+                              {"vram_mb", r.options.vram_mb},
+                              {"upload_mb", r.options.upload_mb},
+                              {"upload_ms", r.options.upload_ms},
                               {"summary",
                                {{"fps_min", r.fps_min},
                                 {"fps_median", r.fps_median},
                                 {"fps_max", r.fps_max},
                                 {"frame_ms_p99", r.frame_ms_p99},
+                                {"frame_ms_max", r.frame_ms_max},
+                                {"frames_over_twice_median", r.frames_over_twice_median},
+                                {"bytes_read", r.bytes_read},
+                                {"bytes_decoded", r.bytes_decoded},
+                                {"bytes_uploaded", r.bytes_uploaded},
+                                {"reconstructed", r.reconstructed},
                                 {"mtri_per_s", r.mtri_per_s},
                                 {"frames_missing", r.frames_missing},
                                 {"select_ms_max", r.select_ms_max},

@@ -86,3 +86,41 @@ TEST(BenchCli, TablePrintsTheFractalRingsRowsForEveryRendererWithAndWithoutCulli
         EXPECT_NE(r.output.find(row), std::string::npos) << row << " in:\n" << r.output;
     EXPECT_NE(r.output.find("cache miss"), std::string::npos);
 }
+
+TEST(BenchCli, StreamingFramesAccountForTheirTrafficWithTheGpuOrTheCpuDecoding)
+{
+    test::ScratchDir dir;
+    const std::string arc = dir.path("everest_progressive.ridge");
+    ASSERT_EQ(test::runRidge("build '" + test::dataPath("everest_crop.tif") + "' -o '" + arc +
+                             "' -q --patch 33 --codec progressive --max-error 2")
+                  .exit_code,
+              0);
+    for (const std::string decode : {"", " --cpu-decode"}) {
+        const std::string json = dir.path("traffic.json");
+        const test::CommandResult r =
+            test::runRidge("bench '" + arc + "' --path teleport --frames 20 --size 160x90 " +
+                           "--upload-mb 0.05 --upload-ms 50 --json '" + json + "'" + decode);
+        ASSERT_EQ(r.exit_code, 0) << r.output;
+        EXPECT_NE(r.output.find("frames over 2x median"), std::string::npos) << r.output;
+        std::ifstream in(json);
+        const nlohmann::json j = nlohmann::json::parse(in);
+        uint64_t read = 0, uploaded = 0;
+        int reconstructed = 0;
+        for (const auto& f : j["frames"]) {
+            read += f["bytes_read"].get<uint64_t>();
+            uploaded += f["bytes_uploaded"].get<uint64_t>();
+            reconstructed += f["reconstructed"].get<int>();
+            // 0.05 MB a frame, but one patch always goes (at most 7.4 kB for 33²: codes,
+            // normal staging, λ).
+            EXPECT_LE(f["bytes_uploaded"].get<uint64_t>(), uint64_t(0.05 * 1048576) + 7400);
+        }
+        EXPECT_GT(read, 0u) << decode;
+        EXPECT_GT(uploaded, 0u) << decode;
+        EXPECT_EQ(j["summary"]["bytes_read"].get<uint64_t>(), read);
+        if (decode.empty())
+            EXPECT_GT(reconstructed, 0) << "progressive patches reconstructed on the GPU";
+        else
+            EXPECT_EQ(reconstructed, 0);
+        EXPECT_EQ(j["gpu_reconstruction"].get<bool>(), decode.empty());
+    }
+}

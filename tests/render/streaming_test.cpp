@@ -254,7 +254,7 @@ TEST(Streaming, TheUploadByteBudgetLimitsEachFrameButNeverStopsProgress)
     const lod::Camera cam = flyover(renderer, 40, 60);
     render::FrameStats stats = renderer.draw(cam, {});
     int frames = 1;
-    uint64_t uploaded = 0, read = 0;
+    uint64_t uploaded = stats.bytes_uploaded, read = stats.bytes_read;
     while (stats.missing > 0 && frames < 400) {
         renderer.waitForStreaming();
         stats = renderer.draw(cam, {});

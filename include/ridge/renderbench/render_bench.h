@@ -20,6 +20,9 @@ struct RenderBenchOptions {
     double ram_mb = 256.0;
     double vram_mb = 256.0;
     bool streaming = true;
+    bool gpu_reconstruction = true; // progressive archives: reconstruct on the GPU
+    double upload_mb = 8.0;         // per-frame upload budget
+    double upload_ms = 4.0;
 };
 
 struct FrameRecord {
@@ -31,7 +34,10 @@ struct FrameRecord {
     int patches = 0;
     int missing = 0; // drawn by an ancestor while streaming
     int loaded = 0;
+    int reconstructed = 0; // of `loaded`, on the GPU
     double epsilon_px = 0; // ε met: above the requested one when the view needed more slots
+    int cache_hits = 0, cache_misses = 0; // decoded-patch cache
+    uint64_t bytes_read = 0, bytes_decoded = 0, bytes_uploaded = 0;
 };
 
 struct RenderBenchReport {
@@ -42,6 +48,9 @@ struct RenderBenchReport {
     // Summary over all frames.
     double fps_min = 0, fps_median = 0, fps_max = 0;
     double frame_ms_p99 = 0;
+    double frame_ms_max = 0;
+    // Stalls: frames slower than twice the median (the streaming issue's target is none).
+    int frames_over_twice_median = 0;
     double mtri_per_s = 0;      // triangles drawn / wall time
     int frames_missing = 0;     // frames that drew at least one patch by an ancestor
     double select_ms_max = 0;   // CPU selection + culling, worst frame
@@ -49,6 +58,8 @@ struct RenderBenchReport {
     uint64_t cache_misses = 0;  // patches decoded because the RAM cache did not have them
     double triangles_mean = 0;
     int frames_epsilon_raised = 0; // frames drawn coarser than asked (texture slots too few)
+    uint64_t bytes_read = 0, bytes_decoded = 0, bytes_uploaded = 0; // all frames
+    int reconstructed = 0;                                          // patches, on the GPU
 };
 
 // Throws ridge::Error naming the archive or path file on bad input.
