@@ -1,13 +1,9 @@
 // Rate-distortion picture of the bench: compression ratio against the L-inf bound, drawn with
-// PLplot's pngcairo device (headless, anti-aliased text).
-//
-// PLplot keeps global state per stream and calls exit() on a fatal error; the plot therefore
-// runs on a stream of its own, checks the device exists before plinit (plinit would otherwise
-// prompt on stdin for another device) and is not thread-safe.
+// PLplot's pngcairo device through plot::PngPlot. Not thread-safe.
 #include "ridge/codecbench/codec_bench.h"
 
-#include "ridge/core/atomic_output.h"
 #include "ridge/core/error.h"
+#include "ridge/plot/png_plot.h"
 
 #include <plplot.h>
 
@@ -22,32 +18,7 @@ namespace ridge::codecbench {
 
 namespace {
 
-constexpr const char* kDevice = "pngcairo";
-
-bool deviceAvailable(const char* device)
-{
-    int count = 128;
-    std::vector<const char*> menu(count), names(count);
-    const char** menu_ptr = menu.data();
-    const char** names_ptr = names.data();
-    plgDevs(&menu_ptr, &names_ptr, &count);
-    for (int i = 0; i < count; ++i)
-        if (names[i] && std::string(names[i]) == device)
-            return true;
-    return false;
-}
-
-// PLplot treats '#' as the start of an escape sequence.
-std::string plplotText(const std::string& text)
-{
-    std::string out;
-    for (const char c : text) {
-        out += c;
-        if (c == '#')
-            out += '#';
-    }
-    return out;
-}
+using plot::plplotText;
 
 // x is log2 of the bound in metres; ticks read as metres.
 void labelBoundAxis(PLINT axis, PLFLT value, char* label, PLINT length, PLPointer)
@@ -59,11 +30,11 @@ void labelBoundAxis(PLINT axis, PLFLT value, char* label, PLINT length, PLPointe
 
 // cmap0: white background, black axes, grey grid, then one distinguishable colour per codec
 // (ridge first, in red), Tableau-10 order.
-constexpr int kPalette[][3] = {{255, 255, 255}, {0, 0, 0},       {215, 215, 215}, {214, 39, 40},
-                               {31, 119, 180},  {255, 127, 14},  {44, 160, 44},   {148, 103, 189},
-                               {140, 86, 75},   {227, 119, 194}, {127, 127, 127}, {188, 189, 34},
-                               {23, 190, 207}};
-constexpr int kPaletteSize = int(std::size(kPalette));
+const std::vector<plot::PngPlot::Rgb> kPalette = {
+    {255, 255, 255}, {0, 0, 0},      {215, 215, 215}, {214, 39, 40}, {31, 119, 180},
+    {255, 127, 14},  {44, 160, 44},  {148, 103, 189}, {140, 86, 75}, {227, 119, 194},
+    {127, 127, 127}, {188, 189, 34}, {23, 190, 207}};
+const int kPaletteSize = int(kPalette.size());
 constexpr int kFirstCurveColour = 3;
 constexpr const char* kMarkers[] = {"●", "■", "▲", "◆", "▼", "✚", "★", "⬟", "◀", "▶"};
 
@@ -119,22 +90,8 @@ void writeCodecBenchPlot(const CodecBenchReport& report, const std::string& path
     x_max = std::ceil(x_max) + 0.5;
     y_max = y_max > 0.0 ? y_max * 1.08 : 1.0;
 
-    // 2. Device: pngcairo on a stream of its own, into the temporary file.
-    if (!deviceAvailable(kDevice))
-        throw Error(path + ": PLplot has no '" + kDevice +
-                    "' device (install plplot-driver-cairo)");
-    AtomicOutput output(path);
-    PLINT previous_stream = 0;
-    plgstrm(&previous_stream);
-    PLINT stream = 0;
-    plmkstrm(&stream);
-    plsdev(kDevice);
-    plsfnam(output.temporaryPath().c_str());
-    plsetopt("geometry", "1100x720");
-    plscmap0n(kPaletteSize);
-    for (int i = 0; i < kPaletteSize; ++i)
-        plscol0(i, kPalette[i][0], kPalette[i][1], kPalette[i][2]);
-    plinit();
+    // 2. Device: pngcairo on a stream of its own, into a temporary file.
+    plot::PngPlot page(path, 1100, 720, kPalette);
 
     // 3. Axes: room on the right for the legend.
     pladv(0);
@@ -202,12 +159,7 @@ void writeCodecBenchPlot(const CodecBenchReport& report, const std::string& path
              symbol_ptrs.data());
 
     // 5. Close the stream (writes the PNG), restore the caller's, then publish the file.
-    plend1();
-    plsstrm(previous_stream);
-    std::error_code ec;
-    if (std::filesystem::file_size(output.temporaryPath(), ec) == 0 || ec)
-        throw Error(path + ": PLplot wrote no image");
-    output.commit();
+    page.commit();
 }
 
 } // namespace ridge::codecbench

@@ -1,10 +1,9 @@
-// Frame time along the camera path (PLplot, pngcairo): the picture that shows a stall as a
-// spike. Same PLplot discipline as codec_bench_plot.cpp: a stream of its own, the device
-// checked before plinit, not thread-safe.
+// Frame time along the camera path (PLplot, pngcairo through plot::PngPlot): the picture
+// that shows a stall as a spike. Not thread-safe.
 #include "ridge/renderbench/render_bench.h"
 
-#include "ridge/core/atomic_output.h"
 #include "ridge/core/error.h"
+#include "ridge/plot/png_plot.h"
 
 #include <plplot.h>
 
@@ -15,29 +14,10 @@
 #include <vector>
 
 namespace ridge::renderbench {
-namespace {
-
-bool pngcairoAvailable()
-{
-    int count = 128;
-    std::vector<const char*> menu(count), names(count);
-    const char** menu_ptr = menu.data();
-    const char** names_ptr = names.data();
-    plgDevs(&menu_ptr, &names_ptr, &count);
-    for (int i = 0; i < count; ++i)
-        if (names[i] && std::string(names[i]) == "pngcairo")
-            return true;
-    return false;
-}
-
-} // namespace
-
 void writeRenderBenchPlot(const RenderBenchReport& report, const std::string& path)
 {
     if (report.frames.empty())
         throw Error(path + ": no frames to plot");
-    if (!pngcairoAvailable())
-        throw Error(path + ": PLplot has no 'pngcairo' device (install plplot-driver-cairo)");
     std::vector<PLFLT> x, frame, gpu;
     double y_max = 0.0;
     for (size_t k = 0; k < report.frames.size(); ++k) {
@@ -46,19 +26,10 @@ void writeRenderBenchPlot(const RenderBenchReport& report, const std::string& pa
         gpu.push_back(report.frames[k].gpu_ms);
         y_max = std::max({y_max, report.frames[k].frame_ms, report.frames[k].gpu_ms});
     }
-    AtomicOutput output(path);
-    PLINT previous = 0, stream = 0;
-    plgstrm(&previous);
-    plmkstrm(&stream);
-    plsdev("pngcairo");
-    plsfnam(output.temporaryPath().c_str());
-    plsetopt("geometry", "1100x600");
-    plscol0(0, 255, 255, 255); // background
-    plscol0(1, 0, 0, 0);       // axes
-    plscol0(2, 215, 215, 215); // grid
-    plscol0(3, 214, 39, 40);   // frame time
-    plscol0(4, 31, 119, 180);  // GPU time
-    plinit();
+    // Background, axes, grid, frame time, GPU time.
+    plot::PngPlot page(
+        path, 1100, 600,
+        {{255, 255, 255}, {0, 0, 0}, {215, 215, 215}, {214, 39, 40}, {31, 119, 180}});
     pladv(0);
     plvpor(0.08, 0.97, 0.12, 0.86);
     plwind(0.0, double(report.frames.size() - 1), 0.0, y_max > 0.0 ? y_max * 1.1 : 1.0);
@@ -85,12 +56,7 @@ void writeRenderBenchPlot(const RenderBenchReport& report, const std::string& pa
     plline(PLINT(x.size()), x.data(), frame.data());
     plcol0(4);
     plline(PLINT(x.size()), x.data(), gpu.data());
-    plend1();
-    plsstrm(previous);
-    std::error_code ec;
-    if (std::filesystem::file_size(output.temporaryPath(), ec) == 0 || ec)
-        throw Error(path + ": PLplot wrote no image");
-    output.commit();
+    page.commit();
 }
 
 } // namespace ridge::renderbench
