@@ -3,6 +3,7 @@
 #include "commands.h"
 #include "render_args.h"
 
+#include "ridge/core/atomic_output.h"
 #include "ridge/renderbench/render_bench.h"
 
 #include <fmt/core.h>
@@ -61,6 +62,10 @@ void BenchCommand::registerWith(CLI::App& app)
 
 int BenchCommand::run()
 {
+    // Before the run, not after minutes of it.
+    for (const std::string& out : {json_path_, plot_path_})
+        if (!out.empty())
+            checkOutputWritable(out);
     renderbench::RenderBenchOptions options;
     options.scheme = parseLodScheme(renderer_, "--renderer");
     options.path.kind = path_;

@@ -4,6 +4,7 @@
 #include "terminal.h"
 
 #include "ridge/codecbench/codec_bench.h"
+#include "ridge/core/atomic_output.h"
 
 #include <fmt/core.h>
 
@@ -34,6 +35,9 @@ void CodecBenchCommand::registerWith(CLI::App& app)
 
 int CodecBenchCommand::run()
 {
+    for (const std::string& out : {json_path_, plot_path_})
+        if (!out.empty())
+            checkOutputWritable(out); // before the run, not after it
     codecbench::CodecBenchOptions options;
     options.max_errors = max_errors_;
     options.tile_size = tile_size_;

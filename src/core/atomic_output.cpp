@@ -36,6 +36,16 @@ void AtomicOutput::commit()
     committed_ = true;
 }
 
+void checkOutputWritable(const std::string& path)
+{
+    const std::string probe = path + ".tmp.check." + std::to_string(::getpid());
+    const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL, 0644);
+    if (fd < 0)
+        throw Error(path + ": cannot write: " + std::strerror(errno));
+    ::close(fd);
+    std::remove(probe.c_str());
+}
+
 void writeFileAtomically(const std::string& path, const std::string& text)
 {
     AtomicOutput output(path);

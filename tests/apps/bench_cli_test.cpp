@@ -61,7 +61,10 @@ TEST(BenchCli, BadInputsGetAClearErrorAndANonZeroExit)
     for (const Case& c :
          {Case{"--path '" + dir.path("bad_path.txt") + "'", "bad_path.txt:2:"},
           Case{"--path '" + dir.path("missing.txt") + "'", "missing.txt"},
-          Case{"--renderer fancy", "--renderer fancy"}, Case{"--size 0x0", "--size"}}) {
+          Case{"--renderer fancy", "--renderer fancy"}, Case{"--size 0x0", "--size"},
+          // Unwritable outputs are caught before the run (PLplot would exit() after it).
+          Case{"--plot '" + dir.path("no/such/dir/p.png") + "'", "p.png: cannot write"},
+          Case{"--json '" + dir.path("no/such/dir/f.json") + "'", "f.json: cannot write"}}) {
         const test::CommandResult r = test::runRidge("bench '" + arc + "' --frames 3 " + c.args);
         EXPECT_NE(r.exit_code, 0) << c.args;
         EXPECT_NE(r.output.find(c.phrase), std::string::npos)

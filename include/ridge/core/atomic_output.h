@@ -29,6 +29,11 @@ class AtomicOutput {
     bool committed_ = false;
 };
 
+// Throws Error("PATH: cannot write: REASON") when a file cannot be created at `path` (its
+// directory is missing or read-only), leaving nothing behind: for commands to check their
+// outputs before long work rather than after it.
+void checkOutputWritable(const std::string& path);
+
 // Writes `text` to `path` through an AtomicOutput (reports, JSON). Throws Error naming the
 // path when it cannot be written.
 void writeFileAtomically(const std::string& path, const std::string& text);
