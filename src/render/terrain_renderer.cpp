@@ -184,16 +184,21 @@ struct TerrainRenderer::Impl {
     void forEachGroup(const PatchInstances& r, const RenderSettings& s, Draw&& draw,
                       bool capture) const
     {
-        const bool mesh = s.scheme != LodScheme::Tessellation;
-        const gpu::ShaderProgram& whole = mesh ? (capture ? chunk_capture_program : chunk_program)
-                                               : (capture ? capture_program : terrain_program);
-        const gpu::ShaderProgram& clip =
-            mesh ? (capture ? chunk_capture_clip_program : chunk_clip_program)
-                 : (capture ? capture_clip_program : terrain_clip_program);
+        const auto [whole, clip] = programsFor(s, capture);
         if (r.whole)
-            draw(whole, size_t(0), r.whole);
+            draw(*whole, size_t(0), r.whole);
         if (r.partial)
-            draw(clip, r.whole, r.partial);
+            draw(*clip, r.whole, r.partial);
+    }
+    // The programs of the scheme in `s`: for whole patches and for clipped ones.
+    std::array<const gpu::ShaderProgram*, 2> programsFor(const RenderSettings& s,
+                                                         bool capture) const
+    {
+        if (s.scheme != LodScheme::Tessellation)
+            return capture ? std::array{&chunk_capture_program, &chunk_capture_clip_program}
+                           : std::array{&chunk_program, &chunk_clip_program};
+        return capture ? std::array{&capture_program, &capture_clip_program}
+                       : std::array{&terrain_program, &terrain_clip_program};
     }
     // Binds the vertex array and issues the instanced draw of `count` patches.
     void drawPatches(const RenderSettings& s, size_t count) const
@@ -786,8 +791,7 @@ FrameStats TerrainRenderer::draw(const lod::Camera& camera, const RenderSettings
     const glm::dvec3 sun = glm::normalize(s.sun_direction);
     // Fog thickens over the terrain's own size: a tenth of the light lost across it.
     const double extent = std::max(m.quadtree.frame().extentX(), m.quadtree.frame().extentY());
-    for (const gpu::ShaderProgram* p :
-         {&m.terrain_program, &m.terrain_clip_program, &m.chunk_program, &m.chunk_clip_program}) {
+    for (const gpu::ShaderProgram* p : m.programsFor(s, false)) {
         const GLuint id = p->id();
         m.setFrameUniforms(*p, camera, s);
         glProgramUniform3f(id, p->uniform("u_sun_direction"), float(sun.x), float(sun.y),
@@ -870,8 +874,7 @@ CapturedSurface TerrainRenderer::capture(const lod::Camera& camera, const Render
     if (ranges.total() == 0)
         return out;
 
-    for (const gpu::ShaderProgram* p : {&m.capture_program, &m.capture_clip_program,
-                                        &m.chunk_capture_program, &m.chunk_capture_clip_program})
+    for (const gpu::ShaderProgram* p : m.programsFor(s, true))
         m.setFrameUniforms(*p, camera, s);
     GLint previous_framebuffer = 0;
     glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &previous_framebuffer);
