@@ -11,6 +11,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <unistd.h>
 
 namespace ridge::renderbench {
 namespace {
@@ -26,6 +28,18 @@ const char* schemeName(render::LodScheme s)
         return "brute";
     }
     return "?";
+}
+
+// Resident set size of this process in MiB (/proc/self/statm), 0 where unavailable.
+double residentMib()
+{
+    std::FILE* f = std::fopen("/proc/self/statm", "r");
+    if (!f)
+        return 0.0;
+    unsigned long pages = 0, resident = 0;
+    const int got = std::fscanf(f, "%lu %lu", &pages, &resident);
+    std::fclose(f);
+    return got == 2 ? double(resident) * double(::sysconf(_SC_PAGESIZE)) / 1048576.0 : 0.0;
 }
 
 double percentile(std::vector<double> v, double p)
@@ -61,6 +75,8 @@ void summarise(RenderBenchReport& r)
     r.fps_median = fps(percentile(ms, 0.5));
     r.fps_max = fps(percentile(ms, 0.0));
     r.frame_ms_max = percentile(ms, 1.0);
+    r.rss_early_mib = r.frames[r.frames.size() / 10].rss_mib;
+    r.rss_end_mib = r.frames.back().rss_mib;
     const double median = percentile(ms, 0.5);
     r.frames_over_twice_median =
         int(std::count_if(ms.begin(), ms.end(), [&](double m) { return m > 2.0 * median; }));
@@ -101,6 +117,7 @@ RenderBenchReport runRenderBench(const std::string& archive, const RenderBenchOp
     settings.scheme = o.scheme;
     settings.epsilon_px = o.epsilon_px;
     settings.cull = o.cull;
+    double rss = residentMib();
     for (const lod::CameraPose& pose : path) {
         double near_m = 1.0, far_m = 1e6;
         renderer.clipPlanesFor(pose.position, near_m, far_m);
@@ -126,6 +143,9 @@ RenderBenchReport runRenderBench(const std::string& archive, const RenderBenchOp
         f.bytes_read = s.bytes_read;
         f.bytes_decoded = s.bytes_decoded;
         f.bytes_uploaded = s.bytes_uploaded;
+        if (report.frames.size() % 100 == 99)
+            rss = residentMib();
+        f.rss_mib = rss;
         report.frames.push_back(f);
     }
     if (!renderer.streamingError().empty())
@@ -149,6 +169,7 @@ std::string formatRenderBenchSummary(const RenderBenchReport& r)
         "  frames still streaming   {} of {}\n"
         "  frames drawn coarser     {} (more patches in view than texture slots)\n"
         "  RAM caches at the end    {:.1f} MiB\n"
+        "  resident memory          {:.1f} MiB after {} frames, {:.1f} MiB at the end\n"
         "  read / decoded / upload  {:.1f} / {:.1f} / {:.1f} MiB ({} patches "
         "reconstructed on the GPU)\n",
         r.archive, schemeName(r.options.scheme), r.options.path.kind, r.frames.size(),
@@ -156,7 +177,8 @@ std::string formatRenderBenchSummary(const RenderBenchReport& r)
         r.options.cull ? "on" : "off", r.gl_renderer, r.fps_min, r.fps_median, r.fps_max,
         r.frame_ms_p99, r.frame_ms_max, r.frames_over_twice_median, r.mtri_per_s, r.select_ms_max,
         r.frames_missing, r.frames.size(), r.frames_epsilon_raised, mib(r.ram_cache_bytes),
-        mib(r.bytes_read), mib(r.bytes_decoded), mib(r.bytes_uploaded), r.reconstructed);
+        r.rss_early_mib, r.frames.size() / 10 + 1, r.rss_end_mib, mib(r.bytes_read),
+        mib(r.bytes_decoded), mib(r.bytes_uploaded), r.reconstructed);
 }
 
 std::string formatRenderBenchTable(const std::vector<RenderBenchReport>& reports)
@@ -196,7 +218,8 @@ void writeRenderBenchJson(const RenderBenchReport& r, const std::string& path)
                           {"cache_misses", f.cache_misses},
                           {"bytes_read", f.bytes_read},
                           {"bytes_decoded", f.bytes_decoded},
-                          {"bytes_uploaded", f.bytes_uploaded}});
+                          {"bytes_uploaded", f.bytes_uploaded},
+                          {"rss_mib", f.rss_mib}});
     const nlohmann::json j = {{"archive", r.archive},
                               {"gl_renderer", r.gl_renderer},
                               {"renderer", schemeName(r.options.scheme)},
@@ -222,6 +245,8 @@ void writeRenderBenchJson(const RenderBenchReport& r, const std::string& path)
                                 {"bytes_decoded", r.bytes_decoded},
                                 {"bytes_uploaded", r.bytes_uploaded},
                                 {"reconstructed", r.reconstructed},
+                                {"rss_early_mib", r.rss_early_mib},
+                                {"rss_end_mib", r.rss_end_mib},
                                 {"mtri_per_s", r.mtri_per_s},
                                 {"frames_missing", r.frames_missing},
                                 {"select_ms_max", r.select_ms_max},

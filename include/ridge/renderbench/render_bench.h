@@ -38,6 +38,7 @@ struct FrameRecord {
     double epsilon_px = 0; // ε met: above the requested one when the view needed more slots
     int cache_hits = 0, cache_misses = 0; // decoded-patch cache
     uint64_t bytes_read = 0, bytes_decoded = 0, bytes_uploaded = 0;
+    double rss_mib = 0; // the process's resident memory, sampled every 100 frames (Linux)
 };
 
 struct RenderBenchReport {
@@ -60,6 +61,9 @@ struct RenderBenchReport {
     int frames_epsilon_raised = 0; // frames drawn coarser than asked (texture slots too few)
     uint64_t bytes_read = 0, bytes_decoded = 0, bytes_uploaded = 0; // all frames
     int reconstructed = 0;                                          // patches, on the GPU
+    // Resident memory after the first tenth of the frames and at the end (a soak is flat
+    // when the two agree once the RAM caches are full).
+    double rss_early_mib = 0, rss_end_mib = 0;
 };
 
 // Throws ridge::Error naming the archive or path file on bad input.
