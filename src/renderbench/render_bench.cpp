@@ -117,7 +117,7 @@ RenderBenchReport runRenderBench(const std::string& archive, const RenderBenchOp
     settings.scheme = o.scheme;
     settings.epsilon_px = o.epsilon_px;
     settings.cull = o.cull;
-    double rss = residentMib();
+    double rss = residentMib(), cache_mib = 0.0;
     for (const lod::CameraPose& pose : path) {
         double near_m = 1.0, far_m = 1e6;
         renderer.clipPlanesFor(pose.position, near_m, far_m);
@@ -143,9 +143,12 @@ RenderBenchReport runRenderBench(const std::string& archive, const RenderBenchOp
         f.bytes_read = s.bytes_read;
         f.bytes_decoded = s.bytes_decoded;
         f.bytes_uploaded = s.bytes_uploaded;
-        if (report.frames.size() % 100 == 99)
+        if (report.frames.size() % 100 == 99) {
             rss = residentMib();
+            cache_mib = double(renderer.streamingCacheBytes()) / 1048576.0;
+        }
         f.rss_mib = rss;
+        f.ram_cache_mib = cache_mib;
         report.frames.push_back(f);
     }
     if (!renderer.streamingError().empty())
@@ -219,7 +222,8 @@ void writeRenderBenchJson(const RenderBenchReport& r, const std::string& path)
                           {"bytes_read", f.bytes_read},
                           {"bytes_decoded", f.bytes_decoded},
                           {"bytes_uploaded", f.bytes_uploaded},
-                          {"rss_mib", f.rss_mib}});
+                          {"rss_mib", f.rss_mib},
+                          {"ram_cache_mib", f.ram_cache_mib}});
     const nlohmann::json j = {{"archive", r.archive},
                               {"gl_renderer", r.gl_renderer},
                               {"renderer", schemeName(r.options.scheme)},

@@ -276,3 +276,22 @@ TEST(PatchStreamer, DecodesFromTheCompressedCacheWithoutReadingAgain)
     EXPECT_GE(second.compressed_hits - first.compressed_hits, second.decoded - first.decoded);
     EXPECT_LE(second.cache_bytes, size_t(g.levelCount() + 1) * 33 * 33 * 4 + 4096);
 }
+
+TEST(LruCache, EvictsTheLeastRecentlyUsedBeyondItsWeightButKeepsTheMinimumEntries)
+{
+    stream::LruCache<int, int> cache(100, 2);
+    cache.insert(1, 10, 40);
+    cache.insert(2, 20, 40);
+    ASSERT_NE(cache.find(1), nullptr); // 1 is now the most recently used
+    cache.insert(3, 30, 40);           // 120 > 100: the least recently used (2) goes
+    EXPECT_EQ(cache.find(2), nullptr);
+    EXPECT_NE(cache.find(1), nullptr);
+    EXPECT_EQ(cache.weight(), 80u);
+    cache.insert(4, 40, 500); // heavier than the budget: the two newest stay (minimum 2)
+    EXPECT_EQ(cache.size(), 2u);
+    EXPECT_NE(cache.find(4), nullptr);
+    EXPECT_NE(cache.find(1), nullptr);
+    EXPECT_EQ(cache.weight(), 540u);
+    cache.insert(4, 41, 1); // present: kept as is
+    EXPECT_EQ(*cache.find(4), 40);
+}
