@@ -109,6 +109,8 @@ class ViewCommand {
     double ram_mb_ = 256.0;
     bool no_streaming_ = false;
     bool cpu_decode_ = false;
+    double upload_mb_ = 8.0;
+    double upload_ms_ = 4.0;
 };
 
 class Commands {

@@ -412,6 +412,12 @@ void ViewCommand::registerWith(CLI::App& app)
     command_->add_option("--ram", ram_mb_, "RAM caches of compressed and decoded patches, MB")
         ->capture_default_str()
         ->check(CLI::PositiveNumber);
+    command_->add_option("--upload-mb", upload_mb_, "Per-frame upload budget, MB")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    command_->add_option("--upload-ms", upload_ms_, "Per-frame upload budget, CPU ms")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
     command_->add_flag("--cpu-decode", cpu_decode_,
                        "Decode progressive patches on the CPU (default: reconstruct on the GPU)");
     command_->add_flag("--no-streaming", no_streaming_,
@@ -461,6 +467,8 @@ int ViewCommand::run()
         options.vram_budget_mb = vram_mb_;
         options.ram_budget_mb = ram_mb_;
         options.gpu_reconstruction = !cpu_decode_;
+        options.upload_budget_mb = upload_mb_;
+        options.upload_budget_ms = upload_ms_;
         render::TerrainRenderer renderer(reader, options);
         Viewer viewer(*window, renderer, fov_y_degrees_, epsilon_px_);
         const ImGuiSession imgui(window->window());
