@@ -1,32 +1,27 @@
 #version 450 core
 // Normal map of one resident patch, computed on the GPU when it becomes resident (paper,
-// "Implementation Details"). Central differences everywhere, over the patch's heights with a
-// one-sample ring borrowed from its same-level neighbours, so that both sides of a seam
-// between patches of one level get the same normals. The heights come either from a staging
-// texture with the ring filled on the CPU (stream/bordered_patch.h), or, for patches
-// reconstructed on the GPU, straight from the height-map array: the patch's layer and its
-// resident neighbours' layers; a missing neighbour is extrapolated as borderedPatch does.
+// "Implementation Details"), from the height-map array. Central differences everywhere: one
+// sample beyond the patch's border comes from its resident same-level neighbour's layer, so
+// both sides of a seam between patches of one level get the same normals (the renderer
+// recomputes a resident neighbour's map when the patch next to it arrives); a neighbour that
+// is not resident, or beyond the terrain, is extrapolated linearly (a one-sided difference).
 layout(local_size_x = 8, local_size_y = 8) in;
 
-layout(binding = 0) uniform sampler2D u_bordered;        // (size+2)^2 heights in code units
-layout(binding = 1) uniform usampler2DArray u_heights;   // the resident height maps
+layout(binding = 0) uniform usampler2DArray u_heights;
 layout(binding = 0, rgba8_snorm) uniform writeonly image2DArray u_normal_image;
 
 uniform int u_layer;
 uniform int u_size;           // samples per side
 uniform vec2 u_cell_metres;   // metres per cell along i (east) and j (south)
 uniform float u_height_scale; // metres per code
-uniform bool u_from_layers;
 uniform ivec4 u_neighbour_layers; // west, east, north, south; −1 when not resident
 
 float code(ivec2 ij, int layer) { return float(texelFetch(u_heights, ivec3(ij, layer), 0).r); }
 
+// Neighbours share the border samples: one step west of our column 0 is the west
+// neighbour's column n − 2. Central differences leave at most one coordinate outside.
 float codeAt(ivec2 ij) {
-    if (!u_from_layers)
-        return texelFetch(u_bordered, ij + 1, 0).r;
     int n = u_size;
-    // Neighbours share the border samples: one step west of our column 0 is the west
-    // neighbour's column n − 2 (central differences leave one coordinate outside at most).
     if (ij.x < 0)
         return u_neighbour_layers.x >= 0 ? code(ivec2(n - 2, ij.y), u_neighbour_layers.x)
                                          : 2.0 * code(ivec2(0, ij.y), u_layer) - code(ivec2(1, ij.y), u_layer);

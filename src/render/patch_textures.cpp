@@ -24,9 +24,6 @@ PatchTextures::PatchTextures(int patch_size, const TessellationBlockLayout& layo
     glTextureStorage3D(block_errors_.id(), 1, GL_RGBA32F, B, B, slots);
     glTextureParameteri(block_errors_.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTextureParameteri(block_errors_.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glTextureStorage2D(bordered_.id(), 1, GL_R32F, n_ + 2, n_ + 2);
-    glTextureParameteri(bordered_.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTextureParameteri(bordered_.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     glNamedBufferStorage(lambda_max_bits_.id(), GLsizeiptr(slots) * GLsizeiptr(sizeof(uint32_t)),
                          nullptr, GL_DYNAMIC_STORAGE_BIT);
     gpu::checkGlError("patch textures: texture arrays");
@@ -61,46 +58,35 @@ size_t PatchTextures::uploadBlockErrors(const stream::DecodedPatch& patch, int s
     return texels.size() * sizeof(float);
 }
 
-void PatchTextures::computeNormals(int slot, bool from_layers, const std::array<int, 4>& neighbours,
+void PatchTextures::computeNormals(int slot, const std::array<int, 4>& neighbours,
                                    double cell_metres_i, double cell_metres_j)
 {
     normal_program_.use();
-    glBindTextureUnit(0, bordered_.id());
-    glBindTextureUnit(1, heights_.id());
+    glBindTextureUnit(0, heights_.id());
     glBindImageTexture(0, normals_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8_SNORM);
     glUniform1i(normal_program_.uniform("u_layer"), slot);
     glUniform1i(normal_program_.uniform("u_size"), n_);
     glUniform2f(normal_program_.uniform("u_cell_metres"), float(cell_metres_i),
                 float(cell_metres_j));
     glUniform1f(normal_program_.uniform("u_height_scale"), float(quantization_.scale));
-    glUniform1i(normal_program_.uniform("u_from_layers"), from_layers ? 1 : 0);
     glUniform4i(normal_program_.uniform("u_neighbour_layers"), neighbours[0], neighbours[1],
                 neighbours[2], neighbours[3]);
     glDispatchCompute(GLuint(n_ + 7) / 8, GLuint(n_ + 7) / 8, 1);
 }
 
-size_t PatchTextures::upload(const stream::DecodedPatch& patch, int slot,
-                             const std::vector<float>& bordered, double cell_metres_i,
-                             double cell_metres_j, float lambda_cap)
+size_t PatchTextures::upload(const stream::DecodedPatch& patch, int slot, float lambda_cap)
 {
     ++generation_[size_t(slot)];
     // Rows of 2^n + 1 16-bit codes are not 4-byte aligned.
     glPixelStorei(GL_UNPACK_ALIGNMENT, 2);
     glTextureSubImage3D(heights_.id(), 0, 0, 0, slot, n_, n_, 1, GL_RED_INTEGER, GL_UNSIGNED_SHORT,
                         patch.codes.data());
-    size_t bytes = patch.codes.size() * sizeof(uint16_t);
-    bytes += uploadBlockErrors(patch, slot, lambda_cap);
-    // Normal map on the GPU, from the heights with a ring from the same-level neighbours.
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    glTextureSubImage2D(bordered_.id(), 0, 0, 0, n_ + 2, n_ + 2, GL_RED, GL_FLOAT, bordered.data());
-    bytes += bordered.size() * sizeof(float);
-    computeNormals(slot, false, {-1, -1, -1, -1}, cell_metres_i, cell_metres_j);
-    return bytes;
+    return patch.codes.size() * sizeof(uint16_t) + uploadBlockErrors(patch, slot, lambda_cap);
 }
 
 size_t PatchTextures::reconstruct(const stream::DecodedPatch& patch, int parent_slot, int slot,
-                                  const std::array<int, 4>& neighbour_slots, double cell_metres_i,
-                                  double cell_metres_j, float lambda_cap)
+                                  float lambda_cap)
 {
     ++generation_[size_t(slot)];
     const PatchId p = patch.id;
@@ -133,7 +119,6 @@ size_t PatchTextures::reconstruct(const stream::DecodedPatch& patch, int parent_
         lambda_cap_[size_t(slot)] = lambda_cap;
         derived_in_batch_.push_back({slot, generation_[size_t(slot)]});
     }
-    computeNormals(slot, true, neighbour_slots, cell_metres_i, cell_metres_j);
     gpu::checkGlError("patch textures: reconstruct");
     return bytes;
 }

@@ -6,7 +6,8 @@
 //
 // A patch arrives either as codes decoded on the CPU (upload) or as progressive-codec
 // residuals that the GPU reconstructs from its parent's layer (reconstruct); λ is then
-// derived on the GPU too unless the archive stores it.
+// derived on the GPU too unless the archive stores it. Normal maps are computed from the
+// height layers once a batch is written (computeNormals).
 #include "ridge/codec/progressive_codec.h"
 #include "ridge/core/height_grid.h"
 #include "ridge/gpu/gl_objects.h"
@@ -33,20 +34,20 @@ class PatchTextures {
     PatchTextures(const PatchTextures&) = delete;
     PatchTextures& operator=(const PatchTextures&) = delete;
 
-    // Uploads `patch` (codes) into `slot` and computes its normal map from `bordered` ((n+2)²
-    // heights in code units, stream::borderedPatch). `cell_metres` is the patch's cell size
-    // along i and j. `lambda_cap` bounds λ (the patch's height range): what lambdaMax reports.
-    // Returns the bytes sent to the GPU.
-    size_t upload(const stream::DecodedPatch& patch, int slot, const std::vector<float>& bordered,
-                  double cell_metres_i, double cell_metres_j, float lambda_cap);
+    // Uploads `patch` (codes and λ) into `slot`. `lambda_cap` bounds λ (the patch's height
+    // range): what lambdaMax reports. Returns the bytes sent to the GPU.
+    size_t upload(const stream::DecodedPatch& patch, int slot, float lambda_cap);
     // Reconstructs `patch` (needsGpuReconstruction) into `slot` from the codes in
-    // `parent_slot`, derives λ unless the patch carries it, and computes the normal map with
-    // the ring from the resident same-level neighbours in `neighbour_slots` (west, east,
-    // north, south; −1 extrapolates). Until a derived λ's readback arrives (collect), lambdaMax
-    // reports `lambda_cap`. Returns the bytes sent to the GPU.
+    // `parent_slot` and derives λ unless the patch carries it. Until a derived λ's readback
+    // arrives (collect), lambdaMax reports `lambda_cap`. Returns the bytes sent to the GPU.
     size_t reconstruct(const stream::DecodedPatch& patch, int parent_slot, int slot,
-                       const std::array<int, 4>& neighbour_slots, double cell_metres_i,
-                       double cell_metres_j, float lambda_cap);
+                       float lambda_cap);
+    // The normal map of the patch in `slot` from the height layers: its own and, for the ring
+    // one sample beyond its border, its same-level neighbours' in `neighbour_slots` (west,
+    // east, north, south; −1 extrapolates). `cell_metres` is the cell size along i and j.
+    // The heights it reads must be written (uploads of the batch done).
+    void computeNormals(int slot, const std::array<int, 4>& neighbour_slots, double cell_metres_i,
+                        double cell_metres_j);
     // What upload() or reconstruct() will send for `patch`, bytes (the per-frame budget).
     size_t uploadBytes(const stream::DecodedPatch& patch) const;
     // Makes uploads visible to the draws that follow (one barrier per batch of uploads) and
@@ -59,12 +60,11 @@ class PatchTextures {
     void bind() const;
     GLuint heights() const { return heights_.id(); }
     GLuint blockErrors() const { return block_errors_.id(); }
+    GLuint normals() const { return normals_.id(); }
     // The largest λ^(d) of any block of the patch in `slot`, metres.
     float lambdaMax(int slot) const { return lambda_max_[size_t(slot)]; }
 
   private:
-    void computeNormals(int slot, bool from_layers, const std::array<int, 4>& neighbours,
-                        double cell_metres_i, double cell_metres_j);
     size_t uploadBlockErrors(const stream::DecodedPatch& patch, int slot, float lambda_cap);
 
     int n_;
@@ -78,8 +78,7 @@ class PatchTextures {
     gpu::GlTexture heights_{GL_TEXTURE_2D_ARRAY};
     gpu::GlTexture normals_{GL_TEXTURE_2D_ARRAY};
     gpu::GlTexture block_errors_{GL_TEXTURE_2D_ARRAY};
-    gpu::GlTexture bordered_{GL_TEXTURE_2D}; // staging for the normal-map pass
-    gpu::GlBuffer lambda_max_bits_;          // per slot, written by block_errors.comp
+    gpu::GlBuffer lambda_max_bits_; // per slot, written by block_errors.comp
     gpu::ShaderProgram normal_program_;
     gpu::ShaderProgram block_error_program_;
     std::unique_ptr<GpuProgressiveDecoder> decoder_;

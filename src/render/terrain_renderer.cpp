@@ -11,7 +11,6 @@
 #include "ridge/lod/edge_tessellation.h"
 #include "ridge/lod/resident_cover.h"
 #include "ridge/lod/screen_space_error.h"
-#include "ridge/stream/bordered_patch.h"
 #include "ridge/stream/patch_loader.h"
 #include "ridge/stream/patch_streamer.h"
 
@@ -163,7 +162,7 @@ struct TerrainRenderer::Impl {
     size_t uploadPatch(const stream::DecodedPatch& patch, int slot,
                        const std::unordered_set<int>& pending_slots = {});
     void countTraffic(FrameStats& stats);
-    std::vector<float> borderedHeights(const stream::DecodedPatch& patch);
+    void computeNormals(const std::vector<PatchId>& uploaded);
     PatchInstances writeInstances(const lod::Camera& camera, const lod::Selection& selection);
     // Selection, residency and instance buffer for one frame; `used` receives `settings` with
     // the ε actually met (raised when the selection exceeded the slots), which the
@@ -252,6 +251,7 @@ TerrainRenderer::Impl::Impl(const archive::ArchiveReader& r, const RendererOptio
         const PatchId root{0, 0, 0};
         for (const lod::PatchResidency::Load& l : residency.update({root}, ++frame))
             uploadPatch(*loader.load(l.id), l.slot);
+        computeNormals({root});
         textures->finishUploads();
     }
     using gpu::ShaderStage;
@@ -326,55 +326,59 @@ void TerrainRenderer::Impl::buildChunkMesh()
 
 // Makes `patch` resident in `slot`: codes are uploaded, residuals reconstructed on the GPU
 // from the parent's slot. Slots in `pending_slots` are assigned this frame but not yet
-// written: their content must not be read. Returns the bytes sent.
+// written: their content must not be read. Returns the bytes sent. The normal map follows in
+// computeNormals, once the whole batch is written.
 size_t TerrainRenderer::Impl::uploadPatch(const stream::DecodedPatch& patch, int slot,
                                           const std::unordered_set<int>& pending_slots)
 {
     const PatchId p = patch.id;
-    const double step = double(reader.geometry().step(p.level));
-    const double cell_i = step * reader.header().spacing_x,
-                 cell_j = step * reader.header().spacing_y;
     const lod::PatchBounds& bounds = quadtree.bounds(p);
     const float lambda_cap = bounds.max_height - bounds.min_height;
     if (!patch.needsGpuReconstruction())
-        return textures->upload(patch, slot, borderedHeights(patch), cell_i, cell_j, lambda_cap);
+        return textures->upload(patch, slot, lambda_cap);
     const int parent_slot = residency.slotOf(PatchId{p.level - 1, p.x / 2, p.y / 2});
     if (parent_slot < 0 || pending_slots.count(parent_slot))
         throw Error(reader.describe(p) + ": internal: parent not resident for GPU reconstruction");
-    const PyramidGeometry& g = reader.geometry();
-    const PatchId sides[4] = {{p.level, p.x - 1, p.y},
-                              {p.level, p.x + 1, p.y},
-                              {p.level, p.x, p.y - 1},
-                              {p.level, p.x, p.y + 1}};
-    std::array<int, 4> neighbours{-1, -1, -1, -1};
-    for (int k = 0; k < 4; ++k)
-        if (options.seamless_normals && g.exists(sides[k])) {
-            const int s = residency.slotOf(sides[k]);
-            neighbours[size_t(k)] = pending_slots.count(s) ? -1 : s;
-        }
-    return textures->reconstruct(patch, parent_slot, slot, neighbours, cell_i, cell_j, lambda_cap);
+    return textures->reconstruct(patch, parent_slot, slot, lambda_cap);
 }
 
-std::vector<float> TerrainRenderer::Impl::borderedHeights(const stream::DecodedPatch& patch)
+// Normal maps of the patches made resident in this batch and of their resident same-level
+// neighbours, whose borders now have a real neighbour instead of an extrapolated one: every
+// same-level seam between resident patches gets the same normals on both sides, whatever
+// order the patches arrived in.
+void TerrainRenderer::Impl::computeNormals(const std::vector<PatchId>& uploaded)
 {
-    // Neighbours come through the decoded-patch cache: usually decoded already, or about to
-    // be; a missing one (terrain border) is extrapolated.
     const PyramidGeometry& g = reader.geometry();
-    const PatchId p = patch.id;
-    std::shared_ptr<const stream::DecodedPatch> side[4];
-    const PatchId ids[4] = {{p.level, p.x - 1, p.y},
-                            {p.level, p.x + 1, p.y},
-                            {p.level, p.x, p.y - 1},
-                            {p.level, p.x, p.y + 1}};
-    for (int k = 0; k < 4; ++k)
-        if (options.seamless_normals && g.exists(ids[k]))
-            // Streaming never decodes on the render thread: only neighbours already cached.
-            side[k] = streamer ? streamer->cached(ids[k]) : loader.load(ids[k]);
-    auto codes = [](const std::shared_ptr<const stream::DecodedPatch>& d) {
-        return d && !d->codes.empty() ? d->codes.data() : nullptr;
+    auto sidesOf = [](PatchId p) {
+        return std::array<PatchId, 4>{
+            PatchId{p.level, p.x - 1, p.y}, PatchId{p.level, p.x + 1, p.y},
+            PatchId{p.level, p.x, p.y - 1}, PatchId{p.level, p.x, p.y + 1}};
     };
-    return stream::borderedPatch(patch.codes.data(), n, codes(side[0]), codes(side[1]),
-                                 codes(side[2]), codes(side[3]));
+    auto slotIfResident = [&](PatchId q) { return g.exists(q) ? residency.slotOf(q) : -1; };
+    std::vector<PatchId> targets;
+    std::unordered_set<int64_t> seen;
+    auto add = [&](PatchId p) {
+        if (seen.insert(g.patchIndex(p)).second)
+            targets.push_back(p);
+    };
+    for (PatchId p : uploaded) {
+        add(p);
+        if (options.seamless_normals)
+            for (PatchId q : sidesOf(p))
+                if (slotIfResident(q) >= 0)
+                    add(q);
+    }
+    for (PatchId p : targets) {
+        std::array<int, 4> neighbours{-1, -1, -1, -1};
+        if (options.seamless_normals) {
+            const std::array<PatchId, 4> sides = sidesOf(p);
+            for (size_t k = 0; k < 4; ++k)
+                neighbours[k] = slotIfResident(sides[k]);
+        }
+        const double step = double(g.step(p.level));
+        textures->computeNormals(residency.slotOf(p), neighbours, step * reader.header().spacing_x,
+                                 step * reader.header().spacing_y);
+    }
 }
 
 void TerrainRenderer::Impl::makeResident(const lod::Selection& selection, FrameStats& stats)
@@ -384,16 +388,24 @@ void TerrainRenderer::Impl::makeResident(const lod::Selection& selection, FrameS
     for (const lod::SelectedPatch& s : selection.patches)
         ids.push_back(s.id);
     const auto loads = residency.update(ids, ++frame);
-    for (const lod::PatchResidency::Load& l : loads) {
-        try {
+    std::vector<PatchId> uploaded;
+    try {
+        for (const lod::PatchResidency::Load& l : loads) {
             stats.bytes_uploaded += uploadPatch(*loader.load(l.id), l.slot);
-        } catch (...) {
-            residency.release(l.id);
-            throw;
+            uploaded.push_back(l.id);
         }
-    }
-    if (!loads.empty())
+    } catch (...) {
+        // The failed patch and those after it were given slots they never filled.
+        for (size_t k = uploaded.size(); k < loads.size(); ++k)
+            residency.release(loads[k].id);
+        computeNormals(uploaded);
         textures->finishUploads();
+        throw;
+    }
+    if (!loads.empty()) {
+        computeNormals(uploaded);
+        textures->finishUploads();
+    }
     stats.loaded = int(loads.size());
     stats.resident = residency.residentCount();
 }
@@ -617,8 +629,13 @@ lod::Selection TerrainRenderer::Impl::streamResident(const lod::Selection& desir
         keep.push_back(uploads[k]);
     }
     arrived.swap(keep);
-    if (done > 0)
+    if (done > 0) {
+        std::vector<PatchId> uploaded;
+        for (size_t k = 0; k < done; ++k)
+            uploaded.push_back(uploads[k]->id);
+        computeNormals(uploaded);
         textures->finishUploads();
+    }
     stats.loaded = int(done);
     stats.resident = residency.residentCount();
 
@@ -744,6 +761,19 @@ std::vector<float> TerrainRenderer::residentBlockErrors(PatchId p) const
         for (int d = 0; d < std::min(D, 4); ++d)
             lambda[size_t(b) * D + d] = texels[size_t(b) * 4 + d];
     return lambda;
+}
+
+std::vector<int8_t> TerrainRenderer::residentNormals(PatchId p) const
+{
+    const int slot = impl_->residency.slotOf(p);
+    if (slot < 0)
+        return {};
+    const int n = impl_->n;
+    std::vector<int8_t> texels(size_t(n) * n * 4);
+    glGetTextureSubImage(impl_->textures->normals(), 0, 0, 0, slot, n, n, 1, GL_RGBA, GL_BYTE,
+                         GLsizei(texels.size()), texels.data());
+    gpu::checkGlError("terrain renderer: read resident normals");
+    return texels;
 }
 
 double TerrainRenderer::residentLambdaMax(PatchId p) const

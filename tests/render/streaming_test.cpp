@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <set>
 #include <tuple>
 
 using namespace ridge;
@@ -267,4 +268,59 @@ TEST(Streaming, TheUploadByteBudgetLimitsEachFrameButNeverStopsProgress)
     EXPECT_GT(frames, 5);
     EXPECT_GT(uploaded, 0u);
     EXPECT_GT(read, 0u);
+}
+
+TEST(Streaming, NormalsAgreeAcrossEverySameLevelSeamWhateverOrderPatchesArrivedIn)
+{
+    for (const char* codec : {"lossless", "progressive"}) {
+        StreamingScene scene(codec);
+        const PyramidGeometry& g = scene.reader->geometry();
+        const int n = g.patchSize();
+        for (const bool seamless : {true, false}) {
+            render::RendererOptions options;
+            options.streaming = true;
+            options.uploads_per_frame = 2; // arrivals spread over many frames, in any order
+            options.seamless_normals = seamless;
+            render::TerrainRenderer renderer(*scene.reader, options);
+            gpu::RenderTarget target(320, 180, 1);
+            target.bind();
+            render::RenderSettings settings;
+            settings.cull = false;
+            const lod::Camera cam = flyover(renderer, 30, 60);
+            render::FrameStats stats = renderer.draw(cam, settings);
+            for (int k = 0; k < 200 && stats.missing > 0; ++k) {
+                renderer.waitForStreaming();
+                stats = renderer.draw(cam, settings);
+            }
+            ASSERT_EQ(stats.missing, 0);
+            // Every shared border column or row of two drawn same-level neighbours.
+            std::set<std::tuple<int, int, int>> drawn;
+            for (PatchId p : renderer.lastDrawnPatches())
+                drawn.insert({p.level, p.x, p.y});
+            size_t seams = 0, differing = 0;
+            for (PatchId p : renderer.lastDrawnPatches())
+                for (const auto& [dx, dy] : {std::pair{1, 0}, std::pair{0, 1}}) {
+                    const PatchId q{p.level, p.x + dx, p.y + dy};
+                    if (!drawn.count({q.level, q.x, q.y}))
+                        continue;
+                    const std::vector<int8_t> a = renderer.residentNormals(p),
+                                              b = renderer.residentNormals(q);
+                    // The seam's end samples also border a third patch (which may be a
+                    // coarser one, so missing on one side): inner samples only.
+                    for (int k = 1; k < n - 1; ++k) {
+                        // East seam: p's column n−1 is q's column 0; south: rows likewise.
+                        const size_t ia = dx ? size_t(k) * n + (n - 1) : size_t(n - 1) * n + k;
+                        const size_t ib = dx ? size_t(k) * n : size_t(k);
+                        for (int c = 0; c < 3; ++c)
+                            differing += a[ia * 4 + c] != b[ib * 4 + c];
+                    }
+                    ++seams;
+                }
+            EXPECT_GT(seams, 4u) << codec;
+            if (seamless)
+                EXPECT_EQ(differing, 0u) << codec << ": " << seams << " seams";
+            else
+                EXPECT_GT(differing, 0u) << codec << ": one-sided borders must differ somewhere";
+        }
+    }
 }

@@ -4,7 +4,6 @@
 #include "ridge/core/error.h"
 #include "ridge/pipeline/build.h"
 #include "ridge/pipeline/level_decoder.h"
-#include "ridge/stream/bordered_patch.h"
 #include "ridge/stream/patch_loader.h"
 #include "ridge/stream/patch_streamer.h"
 
@@ -83,33 +82,6 @@ TEST(PatchLoader, EvictsTheLeastRecentlyUsedAndNamesACorruptPatch)
         EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
         EXPECT_NE(std::string(e.what()).find("patch (level"), std::string::npos) << e.what();
     }
-}
-
-TEST(BorderedPatch, BorrowsTheRingFromTheNeighboursAndExtrapolatesAtTheTerrainBorder)
-{
-    // Three patches of 5 samples in a row of one level, sharing their border columns.
-    const int n = 5;
-    auto make = [&](int x0) {
-        std::vector<uint16_t> p(size_t(n) * n);
-        for (int j = 0; j < n; ++j)
-            for (int i = 0; i < n; ++i)
-                p[size_t(j) * n + i] = uint16_t(100 + 3 * (x0 + i) + 7 * j + (x0 + i) * (x0 + i));
-        return p;
-    };
-    const auto west = make(0), centre = make(4), east = make(8);
-    const std::vector<float> b =
-        stream::borderedPatch(centre.data(), n, west.data(), east.data(), nullptr, nullptr);
-    const int m = n + 2;
-    for (int j = 0; j < n; ++j) {
-        // The sample west of our column 0 is the level's column 3 = the west patch's column 3.
-        EXPECT_EQ(b[size_t(j + 1) * m + 0], float(west[size_t(j) * n + 3]));
-        EXPECT_EQ(b[size_t(j + 1) * m + (n + 1)], float(east[size_t(j) * n + 1]));
-        for (int i = 0; i < n; ++i)
-            EXPECT_EQ(b[size_t(j + 1) * m + i + 1], float(centre[size_t(j) * n + i]));
-    }
-    // No northern neighbour: 2·h(k, 0) − h(k, 1), so the central difference is one-sided.
-    for (int k = 0; k < n; ++k)
-        EXPECT_EQ(b[size_t(0) * m + k + 1], 2.f * centre[size_t(k)] - centre[size_t(n) + k]);
 }
 
 TEST(PatchStreamer, DeliversWhatTheLoaderDecodesWithoutBlockingTheCaller)

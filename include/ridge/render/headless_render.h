@@ -15,7 +15,7 @@ struct HeadlessRenderOptions {
     std::optional<glm::dvec3> look_at;
     double fov_y_degrees = 60.0;
     lod::Viewport viewport{1920, 1080};
-    int samples = 4; // MSAA
+    int samples = 4;               // MSAA
     double vram_budget_mb = 256.0; // texture arrays of resident patches (RendererOptions)
     RenderSettings settings;
 };

@@ -94,9 +94,10 @@ struct RendererOptions {
     int max_resident_patches = 512;
     double vram_budget_mb = 256.0;
     size_t decoded_cache_patches = 1024;
-    // Normal maps continuous across seams between patches of one level: the normal pass
-    // borrows a ring of samples from the four neighbours (decoding them if they are not
-    // cached). Off: one-sided differences at patch borders, no extra decodes.
+    // Normal maps continuous across seams between resident patches of one level: the normal
+    // pass borrows a ring of samples from the neighbours' height layers, and a resident
+    // neighbour's map is recomputed when a patch arrives next to it. Off: one-sided
+    // differences at every patch border.
     bool seamless_normals = true;
     // Streaming: draw() never waits for disk or decoding. Missing patches are requested from
     // worker threads and drawn by their finest resident ancestor until they arrive; at most
@@ -156,6 +157,9 @@ class TerrainRenderer {
     // λ(d) resident for `p` in metres (TessellationBlockLayout order, D <= 4 levels), read
     // back from the GPU (tests); empty when not resident.
     std::vector<float> residentBlockErrors(PatchId p) const;
+    // The normal map resident for `p`: RGBA8_SNORM texels, row-major (tests); empty when not
+    // resident.
+    std::vector<int8_t> residentNormals(PatchId p) const;
     // The largest λ the renderer uses for `p`'s skirt (tests); −1 when not resident.
     double residentLambdaMax(PatchId p) const;
     // Patches decoded because the decoded-patch cache did not have them (misses), and loads
