@@ -162,7 +162,7 @@ struct TerrainRenderer::Impl {
     size_t uploadPatch(const stream::DecodedPatch& patch, int slot,
                        const std::unordered_set<int>& pending_slots = {});
     void countTraffic(FrameStats& stats);
-    void computeNormals(const std::vector<PatchId>& uploaded);
+    void computeNormals(PatchId p, const std::unordered_set<int>& pending);
     PatchInstances writeInstances(const lod::Camera& camera, const lod::Selection& selection);
     // Selection, residency and instance buffer for one frame; `used` receives `settings` with
     // the ε actually met (raised when the selection exceeded the slots), which the
@@ -251,7 +251,7 @@ TerrainRenderer::Impl::Impl(const archive::ArchiveReader& r, const RendererOptio
         const PatchId root{0, 0, 0};
         for (const lod::PatchResidency::Load& l : residency.update({root}, ++frame))
             uploadPatch(*loader.load(l.id), l.slot);
-        computeNormals({root});
+        computeNormals(root, {});
         textures->finishUploads();
     }
     using gpu::ShaderStage;
@@ -327,7 +327,7 @@ void TerrainRenderer::Impl::buildChunkMesh()
 // Makes `patch` resident in `slot`: codes are uploaded, residuals reconstructed on the GPU
 // from the parent's slot. Slots in `pending_slots` are assigned this frame but not yet
 // written: their content must not be read. Returns the bytes sent. The normal map follows in
-// computeNormals, once the whole batch is written.
+// computeNormals.
 size_t TerrainRenderer::Impl::uploadPatch(const stream::DecodedPatch& patch, int slot,
                                           const std::unordered_set<int>& pending_slots)
 {
@@ -342,43 +342,39 @@ size_t TerrainRenderer::Impl::uploadPatch(const stream::DecodedPatch& patch, int
     return textures->reconstruct(patch, parent_slot, slot, lambda_cap);
 }
 
-// Normal maps of the patches made resident in this batch and of their resident same-level
+// The normal map of `p`, just made resident, and those of its resident same-level
 // neighbours, whose borders now have a real neighbour instead of an extrapolated one: every
 // same-level seam between resident patches gets the same normals on both sides, whatever
-// order the patches arrived in.
-void TerrainRenderer::Impl::computeNormals(const std::vector<PatchId>& uploaded)
+// order the patches arrived in. Slots in `pending` (assigned, not yet written) are treated as
+// absent; when one is written it refreshes its neighbours in turn.
+void TerrainRenderer::Impl::computeNormals(PatchId p, const std::unordered_set<int>& pending)
 {
     const PyramidGeometry& g = reader.geometry();
-    auto sidesOf = [](PatchId p) {
+    auto sidesOf = [](PatchId q) {
         return std::array<PatchId, 4>{
-            PatchId{p.level, p.x - 1, p.y}, PatchId{p.level, p.x + 1, p.y},
-            PatchId{p.level, p.x, p.y - 1}, PatchId{p.level, p.x, p.y + 1}};
+            PatchId{q.level, q.x - 1, q.y}, PatchId{q.level, q.x + 1, q.y},
+            PatchId{q.level, q.x, q.y - 1}, PatchId{q.level, q.x, q.y + 1}};
     };
-    auto slotIfResident = [&](PatchId q) { return g.exists(q) ? residency.slotOf(q) : -1; };
-    std::vector<PatchId> targets;
-    std::unordered_set<int64_t> seen;
-    auto add = [&](PatchId p) {
-        if (seen.insert(g.patchIndex(p)).second)
-            targets.push_back(p);
+    auto writtenSlot = [&](PatchId q) {
+        const int s = g.exists(q) ? residency.slotOf(q) : -1;
+        return s >= 0 && !pending.count(s) ? s : -1;
     };
-    for (PatchId p : uploaded) {
-        add(p);
-        if (options.seamless_normals)
-            for (PatchId q : sidesOf(p))
-                if (slotIfResident(q) >= 0)
-                    add(q);
-    }
-    for (PatchId p : targets) {
+    auto normalsOf = [&](PatchId q) {
         std::array<int, 4> neighbours{-1, -1, -1, -1};
         if (options.seamless_normals) {
-            const std::array<PatchId, 4> sides = sidesOf(p);
+            const std::array<PatchId, 4> sides = sidesOf(q);
             for (size_t k = 0; k < 4; ++k)
-                neighbours[k] = slotIfResident(sides[k]);
+                neighbours[k] = writtenSlot(sides[k]);
         }
-        const double step = double(g.step(p.level));
-        textures->computeNormals(residency.slotOf(p), neighbours, step * reader.header().spacing_x,
+        const double step = double(g.step(q.level));
+        textures->computeNormals(residency.slotOf(q), neighbours, step * reader.header().spacing_x,
                                  step * reader.header().spacing_y);
-    }
+    };
+    normalsOf(p);
+    if (options.seamless_normals)
+        for (PatchId q : sidesOf(p))
+            if (writtenSlot(q) >= 0)
+                normalsOf(q);
 }
 
 void TerrainRenderer::Impl::makeResident(const lod::Selection& selection, FrameStats& stats)
@@ -388,24 +384,24 @@ void TerrainRenderer::Impl::makeResident(const lod::Selection& selection, FrameS
     for (const lod::SelectedPatch& s : selection.patches)
         ids.push_back(s.id);
     const auto loads = residency.update(ids, ++frame);
-    std::vector<PatchId> uploaded;
-    try {
-        for (const lod::PatchResidency::Load& l : loads) {
-            stats.bytes_uploaded += uploadPatch(*loader.load(l.id), l.slot);
-            uploaded.push_back(l.id);
+    std::unordered_set<int> pending;
+    for (const lod::PatchResidency::Load& l : loads)
+        pending.insert(l.slot);
+    for (size_t k = 0; k < loads.size(); ++k) {
+        try {
+            stats.bytes_uploaded += uploadPatch(*loader.load(loads[k].id), loads[k].slot);
+        } catch (...) {
+            // The failed patch and those after it were given slots they never filled.
+            for (size_t j = k; j < loads.size(); ++j)
+                residency.release(loads[j].id);
+            textures->finishUploads();
+            throw;
         }
-    } catch (...) {
-        // The failed patch and those after it were given slots they never filled.
-        for (size_t k = uploaded.size(); k < loads.size(); ++k)
-            residency.release(loads[k].id);
-        computeNormals(uploaded);
-        textures->finishUploads();
-        throw;
+        pending.erase(loads[k].slot);
+        computeNormals(loads[k].id, pending);
     }
-    if (!loads.empty()) {
-        computeNormals(uploaded);
+    if (!loads.empty())
         textures->finishUploads();
-    }
     stats.loaded = int(loads.size());
     stats.resident = residency.residentCount();
 }
@@ -622,6 +618,7 @@ lod::Selection TerrainRenderer::Impl::streamResident(const lod::Selection& desir
         const int slot = slot_of_load.at(g.patchIndex(patch->id));
         stats.bytes_uploaded += uploadPatch(*patch, slot, pending_slots);
         pending_slots.erase(slot);
+        computeNormals(patch->id, pending_slots); // inside the time budget too
         stats.reconstructed += patch->needsGpuReconstruction();
     }
     for (size_t k = done; k < uploads.size(); ++k) {
@@ -629,13 +626,8 @@ lod::Selection TerrainRenderer::Impl::streamResident(const lod::Selection& desir
         keep.push_back(uploads[k]);
     }
     arrived.swap(keep);
-    if (done > 0) {
-        std::vector<PatchId> uploaded;
-        for (size_t k = 0; k < done; ++k)
-            uploaded.push_back(uploads[k]->id);
-        computeNormals(uploaded);
+    if (done > 0)
         textures->finishUploads();
-    }
     stats.loaded = int(done);
     stats.resident = residency.residentCount();
 

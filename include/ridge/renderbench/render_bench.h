@@ -38,7 +38,7 @@ struct FrameRecord {
     double epsilon_px = 0; // ε met: above the requested one when the view needed more slots
     int cache_hits = 0, cache_misses = 0; // decoded-patch cache
     uint64_t bytes_read = 0, bytes_decoded = 0, bytes_uploaded = 0;
-    double rss_mib = 0;       // the process's resident memory, sampled every 100 frames (Linux)
+    double rss_mib = 0;       // the process's resident memory after the frame (Linux)
     double ram_cache_mib = 0; // the streamer's RAM caches, likewise
 };
 
