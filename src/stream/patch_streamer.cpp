@@ -23,9 +23,9 @@ PatchStreamer::PatchStreamer(const archive::ArchiveReader& reader, const Streame
       decoded_(options.decoded_cache_bytes, size_t(reader.geometry().levelCount()) + 1)
 {
     for (int t = 0; t < std::max(options.io_threads, 1); ++t)
-        workers_.emplace_back([this] { readWork(); });
+        workers_.emplace_back([this] { work(Stage::Read); });
     for (int t = 0; t < std::max(options.decode_threads, 1); ++t)
-        workers_.emplace_back([this] { decodeWork(); });
+        workers_.emplace_back([this] { work(Stage::Decode); });
 }
 
 PatchStreamer::~PatchStreamer()
@@ -207,18 +207,21 @@ std::shared_ptr<const DecodedPatch> PatchStreamer::decodeLocked(PatchId p,
     return out;
 }
 
-void PatchStreamer::readWork()
+// One worker of `stage`: takes the most urgent request of its stage and reads it into the
+// compressed cache (then hands it to the decode pool with whatever priority and frame
+// renewals gave it) or decodes it (then makes it ready).
+void PatchStreamer::work(Stage stage)
 {
+    std::condition_variable& cv = stage == Stage::Read ? read_cv_ : decode_cv_;
     std::unique_lock<std::mutex> lock(mutex_);
     for (;;) {
-        read_cv_.wait(lock, [this] {
-            return stop_ || std::any_of(queued_.begin(), queued_.end(), [](const auto& q) {
-                       return q.second.stage == Stage::Read;
-                   });
+        cv.wait(lock, [&] {
+            return stop_ || std::any_of(queued_.begin(), queued_.end(),
+                                        [&](const auto& q) { return q.second.stage == stage; });
         });
         if (stop_)
             return;
-        auto next = nextLocked(Stage::Read);
+        auto next = nextLocked(stage);
         if (next == queued_.end())
             continue;
         const int64_t key = next->first;
@@ -226,41 +229,16 @@ void PatchStreamer::readWork()
         in_flight_[key] = next->second;
         queued_.erase(next);
         try {
-            blobLocked(id, lock);
-            // On to the decode pool, with whatever priority and frame renewals gave it.
-            Request r = in_flight_[key];
-            r.stage = Stage::Decode;
-            queued_[key] = r;
-            decode_cv_.notify_one();
-        } catch (const Error& e) {
-            failLocked(key, e.what());
-        }
-        finishLocked(key);
-    }
-}
-
-void PatchStreamer::decodeWork()
-{
-    std::unique_lock<std::mutex> lock(mutex_);
-    for (;;) {
-        decode_cv_.wait(lock, [this] {
-            return stop_ || std::any_of(queued_.begin(), queued_.end(), [](const auto& q) {
-                       return q.second.stage == Stage::Decode;
-                   });
-        });
-        if (stop_)
-            return;
-        auto next = nextLocked(Stage::Decode);
-        if (next == queued_.end())
-            continue;
-        const int64_t key = next->first;
-        const PatchId id = next->second.id;
-        in_flight_[key] = next->second;
-        queued_.erase(next);
-        try {
-            std::shared_ptr<const DecodedPatch> patch = decodeLocked(id, lock);
-            ready_.push_back(patch);
-            ready_keys_.insert(key);
+            if (stage == Stage::Read) {
+                blobLocked(id, lock);
+                Request r = in_flight_[key];
+                r.stage = Stage::Decode;
+                queued_[key] = r;
+                decode_cv_.notify_one();
+            } else {
+                ready_.push_back(decodeLocked(id, lock));
+                ready_keys_.insert(key);
+            }
         } catch (const Error& e) {
             failLocked(key, e.what());
         }

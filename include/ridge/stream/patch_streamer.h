@@ -93,8 +93,7 @@ class PatchStreamer {
         uint64_t frame = 0;
         Stage stage = Stage::Read;
     };
-    void readWork();
-    void decodeWork();
+    void work(Stage stage);
     // The most urgent queued request of `stage` after dropping stale ones; end() if none.
     std::unordered_map<int64_t, Request>::iterator nextLocked(Stage stage);
     void finishLocked(int64_t key);
