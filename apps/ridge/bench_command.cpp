@@ -33,24 +33,8 @@ void BenchCommand::registerWith(CLI::App& app)
     command_->add_option("--error", error_, "Screen-space error threshold ε, pixels")
         ->capture_default_str()
         ->check(CLI::Range(0.05, 1000.0));
-    command_->add_option("--ram", ram_mb_, "RAM caches of compressed and decoded patches, MB")
-        ->capture_default_str()
-        ->check(CLI::PositiveNumber);
-    command_->add_option("--vram", vram_mb_, "Texture memory for resident patches, MB")
-        ->capture_default_str()
-        ->check(CLI::PositiveNumber);
-    command_->add_option("--upload-mb", upload_mb_, "Per-frame upload budget, MB")
-        ->capture_default_str()
-        ->check(CLI::PositiveNumber);
-    command_->add_option("--upload-ms", upload_ms_, "Per-frame upload budget, CPU ms")
-        ->capture_default_str()
-        ->check(CLI::PositiveNumber);
-    command_->add_flag("--cpu-decode", cpu_decode_,
-                       "Decode progressive patches on the CPU (default: entropy decoding on "
-                       "the CPU, reconstruction on the GPU)");
+    addStreamingOptions(*command_, renderer_options_);
     command_->add_flag("--no-cull", no_cull_, "Disable view-frustum culling");
-    command_->add_flag("--no-streaming", no_streaming_,
-                       "Load every patch before its frame (stalls)");
     command_->add_flag(
         "--table", table_,
         "Run tess, chunked and brute, with and without frustum culling, and print the "
@@ -67,6 +51,7 @@ int BenchCommand::run()
         if (!out.empty())
             checkOutputWritable(out);
     renderbench::RenderBenchOptions options;
+    options.renderer = renderer_options_;
     options.scheme = parseLodScheme(renderer_, "--renderer");
     options.path.kind = path_;
     options.path.speed_mps = speed_;
@@ -74,12 +59,6 @@ int BenchCommand::run()
     options.viewport = parseSize(size_);
     options.epsilon_px = error_;
     options.cull = !no_cull_;
-    options.ram_mb = ram_mb_;
-    options.vram_mb = vram_mb_;
-    options.streaming = !no_streaming_;
-    options.gpu_reconstruction = !cpu_decode_;
-    options.upload_mb = upload_mb_;
-    options.upload_ms = upload_ms_;
     if (table_) {
         std::vector<renderbench::RenderBenchReport> reports;
         for (const render::LodScheme scheme :
@@ -91,7 +70,7 @@ int BenchCommand::run()
                 o.cull = cull;
                 // Like the paper's table: every patch at its full detail before its frame, so
                 // the rows compare the schemes, not how far streaming got.
-                o.streaming = false;
+                o.renderer.streaming = false;
                 reports.push_back(renderbench::runRenderBench(archive_, o));
             }
         fmt::print("{}: path {}, {} frames at {}x{}, ε {} px, {}\n{}", archive_, path_, frames_,

@@ -3,6 +3,7 @@
 #include "ridge/pipeline/build.h"
 #include "ridge/pipeline/extract.h"
 #include "ridge/pipeline/hillshade.h"
+#include "ridge/render/terrain_renderer.h"
 
 #include <CLI/CLI.hpp>
 #include <optional>
@@ -45,13 +46,8 @@ class BenchCommand {
     int frames_ = 600;
     std::string size_ = "1920x1080";
     double error_ = 2.0;
-    double ram_mb_ = 256.0;
-    double vram_mb_ = 256.0;
+    render::RendererOptions renderer_options_ = render::RendererOptions::streamingDefaults();
     bool no_cull_ = false;
-    bool no_streaming_ = false;
-    bool cpu_decode_ = false;
-    double upload_mb_ = 8.0;
-    double upload_ms_ = 4.0;
     bool table_ = false;
     std::string json_path_;
     std::string plot_path_;
@@ -105,12 +101,7 @@ class ViewCommand {
     bool vsync_ = true;
     int frames_ = 0;         // > 0: render this many frames, then exit (smoke tests)
     std::string screenshot_; // PNG of the last frame, read back before the final swap
-    double vram_mb_ = 256.0;
-    double ram_mb_ = 256.0;
-    bool no_streaming_ = false;
-    bool cpu_decode_ = false;
-    double upload_mb_ = 8.0;
-    double upload_ms_ = 4.0;
+    render::RendererOptions renderer_options_ = render::RendererOptions::streamingDefaults();
 };
 
 class Commands {

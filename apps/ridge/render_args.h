@@ -3,6 +3,8 @@
 #include "ridge/core/error.h"
 #include "ridge/render/terrain_renderer.h"
 
+#include <CLI/CLI.hpp>
+
 #include <charconv>
 #include <string>
 #include <system_error>
@@ -30,6 +32,33 @@ inline render::LodScheme parseLodScheme(const std::string& name, const std::stri
     if (name == "brute")
         return render::LodScheme::BruteForce;
     throw Error(option + " " + name + ": expected tess, chunked or brute");
+}
+
+// The memory, upload and decoding options `ridge view` and `ridge bench` share, bound to the
+// renderer's options (whose values are the defaults shown).
+inline void addStreamingOptions(CLI::App& command, render::RendererOptions& options)
+{
+    command.add_option("--vram", options.vram_budget_mb, "Texture memory for resident patches, MB")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    command
+        .add_option("--ram", options.ram_budget_mb,
+                    "RAM caches of compressed and decoded patches, MB")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    command.add_option("--upload-mb", options.upload_budget_mb, "Per-frame upload budget, MB")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    command.add_option("--upload-ms", options.upload_budget_ms, "Per-frame upload budget, CPU ms")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    command.add_flag_callback(
+        "--cpu-decode", [&options] { options.gpu_reconstruction = false; },
+        "Decode progressive patches wholly on the CPU (default: entropy decoding on the CPU, "
+        "reconstruction on the GPU)");
+    command.add_flag_callback(
+        "--no-streaming", [&options] { options.streaming = false; },
+        "Load every patch before drawing the frame that needs it (stalls)");
 }
 
 } // namespace ridge::cli

@@ -406,22 +406,7 @@ void ViewCommand::registerWith(CLI::App& app)
     command_->add_option("--error", epsilon_px_, "Screen-space error threshold ε, pixels")
         ->capture_default_str()
         ->check(CLI::Range(kMinEpsilonPx, kMaxEpsilonPx));
-    command_->add_option("--vram", vram_mb_, "Texture memory for resident patches, MB")
-        ->capture_default_str()
-        ->check(CLI::PositiveNumber);
-    command_->add_option("--ram", ram_mb_, "RAM caches of compressed and decoded patches, MB")
-        ->capture_default_str()
-        ->check(CLI::PositiveNumber);
-    command_->add_option("--upload-mb", upload_mb_, "Per-frame upload budget, MB")
-        ->capture_default_str()
-        ->check(CLI::PositiveNumber);
-    command_->add_option("--upload-ms", upload_ms_, "Per-frame upload budget, CPU ms")
-        ->capture_default_str()
-        ->check(CLI::PositiveNumber);
-    command_->add_flag("--cpu-decode", cpu_decode_,
-                       "Decode progressive patches on the CPU (default: reconstruct on the GPU)");
-    command_->add_flag("--no-streaming", no_streaming_,
-                       "Load every patch before drawing the frame that needs it (stalls)");
+    addStreamingOptions(*command_, renderer_options_);
     command_->add_flag("--vsync,!--no-vsync", vsync_,
                        "Wait for the display's refresh (default on)");
     command_
@@ -462,14 +447,7 @@ int ViewCommand::run()
         // release their GL objects while the window's context is still alive.
         // Streaming: the window never waits for disk or decoding; missing patches are drawn by
         // their resident ancestors until they arrive.
-        render::RendererOptions options;
-        options.streaming = !no_streaming_;
-        options.vram_budget_mb = vram_mb_;
-        options.ram_budget_mb = ram_mb_;
-        options.gpu_reconstruction = !cpu_decode_;
-        options.upload_budget_mb = upload_mb_;
-        options.upload_budget_ms = upload_ms_;
-        render::TerrainRenderer renderer(reader, options);
+        render::TerrainRenderer renderer(reader, renderer_options_);
         Viewer viewer(*window, renderer, fov_y_degrees_, epsilon_px_);
         const ImGuiSession imgui(window->window());
 

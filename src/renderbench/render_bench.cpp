@@ -97,13 +97,7 @@ RenderBenchReport runRenderBench(const std::string& archive, const RenderBenchOp
     const archive::ArchiveReader reader(archive);
     auto context = gpu::HeadlessContext::create();
     report.gl_renderer = context->rendererName();
-    render::RendererOptions ro;
-    ro.streaming = o.streaming;
-    ro.ram_budget_mb = o.ram_mb;
-    ro.vram_budget_mb = o.vram_mb;
-    ro.gpu_reconstruction = o.gpu_reconstruction;
-    ro.upload_budget_mb = o.upload_mb;
-    ro.upload_budget_ms = o.upload_ms;
+    render::RendererOptions ro = o.renderer;
     ro.max_resident_patches = 2048;
     ro.synchronous_stats = true; // per-frame GPU time and triangles, measured
     render::TerrainRenderer renderer(reader, ro);
@@ -228,12 +222,12 @@ void writeRenderBenchJson(const RenderBenchReport& r, const std::string& path)
                               {"size", {r.options.viewport.width, r.options.viewport.height}},
                               {"epsilon_px", r.options.epsilon_px},
                               {"cull", r.options.cull},
-                              {"streaming", r.options.streaming},
-                              {"gpu_reconstruction", r.options.gpu_reconstruction},
-                              {"ram_mb", r.options.ram_mb},
-                              {"vram_mb", r.options.vram_mb},
-                              {"upload_mb", r.options.upload_mb},
-                              {"upload_ms", r.options.upload_ms},
+                              {"streaming", r.options.renderer.streaming},
+                              {"gpu_reconstruction", r.options.renderer.gpu_reconstruction},
+                              {"ram_mb", r.options.renderer.ram_budget_mb},
+                              {"vram_mb", r.options.renderer.vram_budget_mb},
+                              {"upload_mb", r.options.renderer.upload_budget_mb},
+                              {"upload_ms", r.options.renderer.upload_budget_ms},
                               {"summary",
                                {{"fps_min", r.fps_min},
                                 {"fps_median", r.fps_median},

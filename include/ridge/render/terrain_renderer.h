@@ -126,6 +126,14 @@ struct RendererOptions {
     // pipeline: headless renders and tests). Otherwise gpu_ms and triangles are those of the
     // latest finished frame (a few frames old).
     bool synchronous_stats = false;
+
+    // The defaults with streaming on (the viewer's and the benchmark's).
+    static RendererOptions streamingDefaults()
+    {
+        RendererOptions o;
+        o.streaming = true;
+        return o;
+    }
 };
 
 class TerrainRenderer {

@@ -17,12 +17,9 @@ struct RenderBenchOptions {
     lod::Viewport viewport{1920, 1080};
     double epsilon_px = 2.0;
     bool cull = true;
-    double ram_mb = 256.0;
-    double vram_mb = 256.0;
-    bool streaming = true;
-    bool gpu_reconstruction = true; // progressive archives: reconstruct on the GPU
-    double upload_mb = 8.0;         // per-frame upload budget
-    double upload_ms = 4.0;
+    // Budgets, streaming (on by default) and decoding; the bench itself raises
+    // max_resident_patches and measures with synchronous_stats.
+    render::RendererOptions renderer = render::RendererOptions::streamingDefaults();
 };
 
 struct FrameRecord {
