@@ -15,11 +15,7 @@ namespace {
 // The Everest fixture at patches of 33 (5 levels) in `dir`.
 std::string buildArchive(const test::ScratchDir& dir)
 {
-    const std::string arc = dir.path("everest.ridge");
-    const test::CommandResult r = test::runRidge("build '" + test::dataPath("everest_crop.tif") +
-                                                 "' -o '" + arc + "' -q --patch 33");
-    EXPECT_EQ(r.exit_code, 0) << r.output;
-    return arc;
+    return test::buildEverestWithCli(dir, "everest.ridge", "--patch 33");
 }
 
 } // namespace
@@ -93,11 +89,8 @@ TEST(BenchCli, TablePrintsTheFractalRingsRowsForEveryRendererWithAndWithoutCulli
 TEST(BenchCli, StreamingFramesAccountForTheirTrafficWithTheGpuOrTheCpuDecoding)
 {
     test::ScratchDir dir;
-    const std::string arc = dir.path("everest_progressive.ridge");
-    ASSERT_EQ(test::runRidge("build '" + test::dataPath("everest_crop.tif") + "' -o '" + arc +
-                             "' -q --patch 33 --codec progressive --max-error 2")
-                  .exit_code,
-              0);
+    const std::string arc = test::buildEverestWithCli(
+        dir, "everest_progressive.ridge", "--patch 33 --codec progressive --max-error 2");
     for (const std::string decode : {"", " --cpu-decode"}) {
         const std::string json = dir.path("traffic.json");
         const test::CommandResult r =

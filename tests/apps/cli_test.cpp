@@ -156,8 +156,7 @@ TEST(Cli, BadInputsGetAClearErrorANonZeroExitAndNoOutput)
 TEST(Cli, VerifyFailsWithExitCodeOneOnACorruptArchive)
 {
     test::ScratchDir dir;
-    const std::string arc = dir.path("a.ridge");
-    ASSERT_EQ(test::runRidge("build '" + test::dataPath("everest_crop.tif") + "' -o '" + arc + "' -q --patch 65").exit_code, 0);
+    const std::string arc = test::buildEverestWithCli(dir, "a.ridge", "--patch 65");
     {
         std::fstream f(arc, std::ios::in | std::ios::out | std::ios::binary);
         f.seekp(static_cast<std::streamoff>(fs::file_size(arc) / 2));

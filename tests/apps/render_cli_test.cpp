@@ -16,11 +16,7 @@ namespace {
 
 std::string buildEverest(const test::ScratchDir& dir)
 {
-    const std::string arc = dir.path("everest.ridge");
-    const test::CommandResult r = test::runRidge("build '" + test::dataPath("everest_crop.tif") +
-                                                 "' -o '" + arc + "' -q --patch 33");
-    EXPECT_EQ(r.exit_code, 0) << r.output;
-    return arc;
+    return test::buildEverestWithCli(dir, "everest.ridge", "--patch 33");
 }
 
 void expectRenderRejected(const test::ScratchDir& dir, const std::string& args,

@@ -24,11 +24,7 @@ bool haveXvfbRun()
 
 std::string buildArchive(const test::ScratchDir& dir)
 {
-    const std::string arc = dir.path("everest.ridge");
-    const test::CommandResult r =
-        test::runRidge("build '" + test::dataPath("everest_crop.tif") + "' -o '" + arc + "' -q");
-    EXPECT_EQ(r.exit_code, 0) << r.output;
-    return arc;
+    return test::buildEverestWithCli(dir, "everest.ridge", "");
 }
 
 } // namespace
@@ -43,7 +39,7 @@ TEST(ViewSmoke, RendersFramesInAVirtualDisplayAndExits)
     const std::string png = dir.path("last-frame.png");
     const test::CommandResult r =
         test::runShell("xvfb-run -a -s '-screen 0 1280x1024x24' " + std::string(RIDGE_CLI_PATH) +
-                 " view '" + arc + "' --frames 5 --size 640x360 --screenshot '" + png + "'");
+                       " view '" + arc + "' --frames 5 --size 640x360 --screenshot '" + png + "'");
     ASSERT_EQ(r.exit_code, 0) << r.output;
 
     // The last frame came back from the default framebuffer at the window's size, with more

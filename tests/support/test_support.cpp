@@ -3,6 +3,7 @@
 #include <array>
 #include <cstdio>
 #include <random>
+#include <stdexcept>
 #include <sys/wait.h>
 
 namespace ridge::test {
@@ -45,6 +46,17 @@ CommandResult runShell(const std::string& command)
 CommandResult runRidge(const std::string& args)
 {
     return runShell(std::string(RIDGE_CLI_PATH) + " " + args);
+}
+
+std::string buildEverestWithCli(const ScratchDir& dir, const std::string& name,
+                                const std::string& args)
+{
+    const std::string arc = dir.path(name);
+    const CommandResult r =
+        runRidge("build '" + dataPath("everest_crop.tif") + "' -o '" + arc + "' -q " + args);
+    if (r.exit_code != 0)
+        throw std::runtime_error("ridge build " + args + " failed: " + r.output);
+    return arc;
 }
 #endif
 

@@ -10,13 +10,13 @@ std::string dataPath(const std::string& name);
 
 // A fresh empty directory under the system temp dir, removed when the object dies.
 class ScratchDir {
-public:
+  public:
     ScratchDir();
     ~ScratchDir();
     std::string path(const std::string& name) const { return (dir_ / name).string(); }
     const std::filesystem::path& dir() const { return dir_; }
 
-private:
+  private:
     std::filesystem::path dir_;
 };
 
@@ -31,5 +31,11 @@ CommandResult runShell(const std::string& command);
 // Runs the `ridge` command line with `args` (already shell-quoted) and captures its output.
 // Only in test binaries declared NEEDS_CLI.
 CommandResult runRidge(const std::string& args);
+
+// `ridge build` of the Everest fixture (tests/data/everest_crop.tif) into `dir`/`name` with
+// the extra build arguments `args`; returns the archive's path. Throws (failing the calling
+// test) with the command's output when the build fails. NEEDS_CLI, as runRidge.
+std::string buildEverestWithCli(const ScratchDir& dir, const std::string& name,
+                                const std::string& args);
 
 } // namespace ridge::test
