@@ -652,9 +652,7 @@ void TerrainRenderer::Impl::countTraffic(FrameStats& stats)
         stats.bytes_read = now.bytes_read - last_loader_stats.bytes_read;
         stats.cache_hits = int(now.cache_hits - last_loader_stats.cache_hits);
         stats.cache_misses = int(now.decoded - last_loader_stats.decoded);
-        const size_t per_patch =
-            size_t(n) * n * sizeof(uint16_t) + size_t(layout.valuesPerPatch()) * sizeof(float);
-        stats.bytes_decoded = uint64_t(stats.cache_misses) * per_patch;
+        stats.bytes_decoded = now.bytes_decoded - last_loader_stats.bytes_decoded;
         last_loader_stats = now;
     }
 }

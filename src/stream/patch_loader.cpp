@@ -36,6 +36,7 @@ std::shared_ptr<const DecodedPatch> PatchLoader::decode(PatchId p)
                         &out->block_errors);
     ++stats_.decoded;
     stats_.bytes_read += reader_.record(p).size;
+    stats_.bytes_decoded += out->bytes();
     return out;
 }
 

@@ -35,7 +35,8 @@ struct DecodedPatch {
 struct LoaderStats {
     uint64_t decoded = 0; // patches decoded (ancestors included)
     uint64_t cache_hits = 0;
-    uint64_t bytes_read = 0; // blob bytes
+    uint64_t bytes_read = 0;    // blob bytes
+    uint64_t bytes_decoded = 0; // DecodedPatch::bytes() of what was decoded
 };
 
 class PatchLoader {
