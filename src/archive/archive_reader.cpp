@@ -171,7 +171,7 @@ void ArchiveReader::decodePatch(PatchId p, uint16_t* codes, const uint16_t* pare
         // Random access to a progressive patch: decode its ancestors first (O(level) patches;
         // level-wide decoders pass the parent instead).
         ancestor.resize(static_cast<size_t>(geometry_.patchSize()) * geometry_.patchSize());
-        decodePatch({p.level - 1, p.x / 2, p.y / 2}, ancestor.data());
+        decodePatch(p.parent(), ancestor.data());
         parent = ancestor.data();
     }
     decodeBlob(p, readBlob(p), codes, parent, block_errors);
@@ -185,7 +185,7 @@ void ArchiveReader::decodeBlob(PatchId p, const std::vector<uint8_t>& blob, uint
         fail(patchName(p) + ": blob shorter than its block errors");
     if (block_errors && r.block_errors_size > 0)
         *block_errors = unpackBlockErrorsOf(p, blob);
-    PatchContext ctx{geometry_.patchSize(), p.level, parent, (p.x & 1) | ((p.y & 1) << 1)};
+    PatchContext ctx{geometry_.patchSize(), p.level, parent, p.childIndex()};
     const int status = codec_->decode(codes, blob.data() + r.block_errors_size,
                                       blob.size() - r.block_errors_size, ctx);
     if (status != kCodecOk)
@@ -213,7 +213,7 @@ void ArchiveReader::decodeResiduals(PatchId p, const std::vector<uint8_t>& blob,
         if (r.block_errors_size > 0)
             *block_errors = unpackBlockErrorsOf(p, blob);
     }
-    PatchContext ctx{geometry_.patchSize(), p.level, nullptr, (p.x & 1) | ((p.y & 1) << 1)};
+    PatchContext ctx{geometry_.patchSize(), p.level, nullptr, p.childIndex()};
     const int status = progressive->decodeResiduals(
         blob.data() + r.block_errors_size, blob.size() - r.block_errors_size, ctx, residuals);
     if (status != kCodecOk)

@@ -9,7 +9,6 @@ namespace ridge::lod {
 ResidentCover residentCover(const Selection& selection, const PyramidGeometry& geometry,
                             const std::function<bool(PatchId)>& resident)
 {
-    auto parentOf = [](PatchId p) { return PatchId{p.level - 1, p.x / 2, p.y / 2}; };
     ResidentCover out;
     std::unordered_map<int64_t, SelectedPatch> chosen;
     for (const SelectedPatch& s : selection.patches) {
@@ -17,7 +16,7 @@ ResidentCover residentCover(const Selection& selection, const PyramidGeometry& g
         while (!resident(a)) {
             if (a.level == 0)
                 throw Error("resident cover: the root patch is not resident");
-            a = parentOf(a);
+            a = a.parent();
         }
         if (!(a == s.id))
             ++out.missing;
@@ -29,7 +28,7 @@ ResidentCover residentCover(const Selection& selection, const PyramidGeometry& g
     for (const auto& [key, s] : chosen) {
         bool covered = false;
         for (PatchId a = s.id; a.level > 0 && !covered;) {
-            a = parentOf(a);
+            a = a.parent();
             covered = chosen.count(geometry.patchIndex(a)) > 0;
         }
         if (!covered)

@@ -245,7 +245,7 @@ void writeLevels(const BuildContext& ctx, const LevelPyramid& pyramid, int last_
             const PatchSummary summary{errors.min_code[index], errors.max_code[index], errors.err_appr[index]};
             const uint16_t* parent = nullptr;
             if (ctx.codec->needsParent(level))
-                parent = parents[g.patchIndex({level - 1, p.x / 2, p.y / 2}) - g.firstPatchIndex(level - 1)].data();
+                parent = parents[g.patchIndex(p.parent()) - g.firstPatchIndex(level - 1)].data();
             EncodedPatch e = encodePatch(ctx, pyramid.level(level), p, p, summary, parent);
             if (index % 64 == 63)
                 reportProgress(progress, double(index + 1) / double(count));

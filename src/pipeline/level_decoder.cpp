@@ -85,7 +85,7 @@ DecodedPatches decodePatches(const archive::ArchiveReader& reader, int level, in
             const PatchId p{level, out.px0 + static_cast<int>(k % nx), out.py0 + static_cast<int>(k / nx)};
             try {
                 if (needs_parent)
-                    parents.copyPatch({level - 1, p.x / 2, p.y / 2}, n, parent.data());
+                    parents.copyPatch(p.parent(), n, parent.data());
                 reader.decodePatch(p, patch.data(), needs_parent ? parent.data() : nullptr);
             } catch (...) {
 #pragma omp critical

@@ -90,9 +90,8 @@ size_t PatchTextures::reconstruct(const stream::DecodedPatch& patch, int parent_
 {
     ++generation_[size_t(slot)];
     const PatchId p = patch.id;
-    decoder_->reconstruct(patch.residuals.data(), heights_.id(), parent_slot, slot,
-                          (p.x & 1) | ((p.y & 1) << 1), progressive_->quantizer(p.level),
-                          progressive_->variant().predictor);
+    decoder_->reconstruct(patch.residuals.data(), heights_.id(), parent_slot, slot, p.childIndex(),
+                          progressive_->quantizer(p.level), progressive_->variant().predictor);
     // The passes below (and children reconstructed later in this batch) read the codes.
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     size_t bytes = patch.residuals.size() * sizeof(int32_t);

@@ -336,7 +336,7 @@ size_t TerrainRenderer::Impl::uploadPatch(const stream::DecodedPatch& patch, int
     const float lambda_cap = bounds.max_height - bounds.min_height;
     if (!patch.needsGpuReconstruction())
         return textures->upload(patch, slot, lambda_cap);
-    const int parent_slot = residency.slotOf(PatchId{p.level - 1, p.x / 2, p.y / 2});
+    const int parent_slot = residency.slotOf(p.parent());
     if (parent_slot < 0 || pending_slots.count(parent_slot))
         throw Error(reader.describe(p) + ": internal: parent not resident for GPU reconstruction");
     return textures->reconstruct(patch, parent_slot, slot, lambda_cap);
@@ -527,7 +527,6 @@ lod::Selection TerrainRenderer::Impl::streamResident(const lod::Selection& desir
     const PyramidGeometry& g = reader.geometry();
     const PatchId root{0, 0, 0};
     auto resident = [&](PatchId p) { return residency.slotOf(p) >= 0; };
-    auto parentOf = [](PatchId p) { return PatchId{p.level - 1, p.x / 2, p.y / 2}; };
     // Coarse before fine, then by screen-space error.
     auto priority = [&](const PatchId& p, double screen_error) {
         return 1e6 * (g.levelCount() - p.level) + screen_error;
@@ -546,7 +545,7 @@ lod::Selection TerrainRenderer::Impl::streamResident(const lod::Selection& desir
             chains.push_back(g.patchAt(key));
         for (PatchId p : chains)
             for (PatchId a = p; a.level > 0 && !resident(a);) {
-                a = parentOf(a);
+                a = a.parent();
                 if (!wanted.emplace(g.patchIndex(a), priority(a, 0.0)).second)
                     break; // the rest of the chain is in already
             }
@@ -573,8 +572,8 @@ lod::Selection TerrainRenderer::Impl::streamResident(const lod::Selection& desir
     });
     for (const auto& patch : arrived)
         if (patch->needsGpuReconstruction() && wanted.count(g.patchIndex(patch->id)) &&
-            resident(parentOf(patch->id)) && needed.size() < size_t(slots))
-            need(parentOf(patch->id));
+            resident(patch->id.parent()) && needed.size() < size_t(slots))
+            need(patch->id.parent());
 
     // Uploads: arrived patches still wanted, within the per-frame budget and the free slots.
     const double budget_bytes = options.upload_budget_mb * 1024.0 * 1024.0;
@@ -586,8 +585,8 @@ lod::Selection TerrainRenderer::Impl::streamResident(const lod::Selection& desir
         if (!wanted.count(key) || resident(patch->id) || uploading.count(key))
             continue; // no longer wanted: the RAM cache still has it for a later request
         const bool parent_ready = !patch->needsGpuReconstruction() ||
-                                  resident(parentOf(patch->id)) ||
-                                  uploading.count(g.patchIndex(parentOf(patch->id)));
+                                  resident(patch->id.parent()) ||
+                                  uploading.count(g.patchIndex(patch->id.parent()));
         const size_t bytes = textures->uploadBytes(*patch);
         const bool within_budget =
             uploads.empty() || (int(uploads.size()) < options.uploads_per_frame &&

@@ -27,7 +27,7 @@ std::shared_ptr<const DecodedPatch> PatchLoader::decode(PatchId p)
     // The parent stays referenced until the child is decoded, even if the cache drops it.
     std::shared_ptr<const DecodedPatch> parent;
     if (p.level > 0 && reader_.codec().needsParent(p.level))
-        parent = load(PatchId{p.level - 1, p.x / 2, p.y / 2});
+        parent = load(p.parent());
     auto out = std::make_shared<DecodedPatch>();
     out->id = p;
     const int n = reader_.geometry().patchSize();

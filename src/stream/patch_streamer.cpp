@@ -179,7 +179,7 @@ std::shared_ptr<const DecodedPatch> PatchStreamer::decodeLocked(PatchId p,
     const bool residuals = options_.residuals_for_gpu && reader_.decodesResiduals(p.level);
     std::shared_ptr<const DecodedPatch> parent;
     if (!residuals && p.level > 0 && reader_.codec().needsParent(p.level))
-        parent = decodeLocked(PatchId{p.level - 1, p.x / 2, p.y / 2}, lock);
+        parent = decodeLocked(p.parent(), lock);
     const bool had_blob = compressed_.find(key) != nullptr;
     const Blob blob = blobLocked(p, lock);
     lock.unlock();

@@ -38,7 +38,7 @@ void expectGpuEqualsCpu(const std::string& path)
         const PatchId p = g.patchAt(i);
         if (p.level == 0)
             continue;
-        const PatchId parent{p.level - 1, p.x / 2, p.y / 2};
+        const PatchId parent = p.parent();
         const auto parent_codes = cpu.load(parent);
         const auto expected = cpu.load(p);
         glTextureSubImage3D(heights.id(), 0, 0, 0, 0, n, n, 1, GL_RED_INTEGER, GL_UNSIGNED_SHORT,
@@ -48,7 +48,7 @@ void expectGpuEqualsCpu(const std::string& path)
         PatchContext ctx;
         ctx.patch_size = n;
         ctx.level = p.level;
-        ctx.child_index = (p.x & 1) | ((p.y & 1) << 1);
+        ctx.child_index = p.childIndex();
         ASSERT_EQ(
             codec->decodeResiduals(blob.data() + skip, blob.size() - skip, ctx, residuals.data()),
             kCodecOk);

@@ -202,10 +202,10 @@ TEST(PatchStreamer, DeliversResidualsForTheGpuThatReconstructToTheCpuDecoding)
         // The CPU reconstruction of the delivered residuals gives the CPU decoder's codes.
         const PatchId p = patch->id;
         const LevelQuantizer quant = codec->quantizer(p.level);
-        const auto parent = loader.load({p.level - 1, p.x / 2, p.y / 2});
+        const auto parent = loader.load(p.parent());
         for (size_t k = 0; k < q.size(); ++k)
             parent_q[k] = quant.quantize(parent->codes[k]);
-        reconstructChild(patch->residuals.data(), parent_q.data(), (p.x & 1) | ((p.y & 1) << 1), n,
+        reconstructChild(patch->residuals.data(), parent_q.data(), p.childIndex(), n,
                          codec->variant().predictor, q.data());
         size_t differing = 0;
         for (size_t k = 0; k < q.size(); ++k)

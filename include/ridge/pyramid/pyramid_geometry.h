@@ -17,6 +17,11 @@ struct PatchId {
     int x = 0;
     int y = 0;
     bool operator==(const PatchId&) const = default;
+
+    // The patch one level coarser that covers this one (level > 0).
+    PatchId parent() const { return {level - 1, x / 2, y / 2}; }
+    // This patch's quadrant in its parent: (x & 1) | (y & 1) << 1 (PatchContext::child_index).
+    int childIndex() const { return (x & 1) | ((y & 1) << 1); }
 };
 
 class PyramidGeometry {
