@@ -40,8 +40,7 @@ PatchTextures::~PatchTextures()
         glDeleteSync(p.fence);
 }
 
-size_t PatchTextures::uploadBlockErrors(const stream::DecodedPatch& patch, int slot,
-                                        float lambda_cap)
+void PatchTextures::uploadBlockErrors(const stream::DecodedPatch& patch, int slot, float lambda_cap)
 {
     // λ(d) as one RGBA texel per block; missing levels (D < 4) stay 0 and are never read.
     const int B = layout_.blocksPerSide(), D = layout_.levels();
@@ -55,7 +54,6 @@ size_t PatchTextures::uploadBlockErrors(const stream::DecodedPatch& patch, int s
     // simplified vertex is a patch sample), which also tames saturated values.
     const float lambda_max = *std::max_element(texels.begin(), texels.end());
     lambda_max_[size_t(slot)] = std::min(lambda_max, lambda_cap);
-    return texels.size() * sizeof(float);
 }
 
 void PatchTextures::computeNormals(int slot, const std::array<int, 4>& neighbours,
@@ -74,7 +72,7 @@ void PatchTextures::computeNormals(int slot, const std::array<int, 4>& neighbour
     glDispatchCompute(GLuint(n_ + 7) / 8, GLuint(n_ + 7) / 8, 1);
 }
 
-size_t PatchTextures::upload(const stream::DecodedPatch& patch, int slot, float lambda_cap)
+void PatchTextures::upload(const stream::DecodedPatch& patch, int slot, float lambda_cap)
 {
     ++generation_[size_t(slot)];
     // Rows of 2^n + 1 16-bit codes are not 4-byte aligned.
@@ -82,11 +80,11 @@ size_t PatchTextures::upload(const stream::DecodedPatch& patch, int slot, float 
     glTextureSubImage3D(heights_.id(), 0, 0, 0, slot, n_, n_, 1, GL_RED_INTEGER, GL_UNSIGNED_SHORT,
                         patch.codes.data());
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    return patch.codes.size() * sizeof(uint16_t) + uploadBlockErrors(patch, slot, lambda_cap);
+    uploadBlockErrors(patch, slot, lambda_cap);
 }
 
-size_t PatchTextures::reconstruct(const stream::DecodedPatch& patch, int parent_slot, int slot,
-                                  float lambda_cap)
+void PatchTextures::reconstruct(const stream::DecodedPatch& patch, int parent_slot, int slot,
+                                float lambda_cap)
 {
     ++generation_[size_t(slot)];
     const PatchId p = patch.id;
@@ -94,9 +92,8 @@ size_t PatchTextures::reconstruct(const stream::DecodedPatch& patch, int parent_
                           progressive_->quantizer(p.level), progressive_->variant().predictor);
     // The passes below (and children reconstructed later in this batch) read the codes.
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-    size_t bytes = patch.residuals.size() * sizeof(int32_t);
     if (!patch.block_errors.empty()) {
-        bytes += uploadBlockErrors(patch, slot, lambda_cap);
+        uploadBlockErrors(patch, slot, lambda_cap);
     } else {
         const uint32_t zero = 0;
         glNamedBufferSubData(lambda_max_bits_.id(), GLintptr(slot) * GLintptr(sizeof(uint32_t)),
@@ -119,7 +116,6 @@ size_t PatchTextures::reconstruct(const stream::DecodedPatch& patch, int parent_
         derived_in_batch_.push_back({slot, generation_[size_t(slot)]});
     }
     gpu::checkGlError("patch textures: reconstruct");
-    return bytes;
 }
 
 size_t PatchTextures::uploadBytes(const stream::DecodedPatch& patch) const
@@ -128,8 +124,7 @@ size_t PatchTextures::uploadBytes(const stream::DecodedPatch& patch) const
     const size_t lambda = patch.block_errors.empty() ? 0 : B * B * 4 * sizeof(float);
     if (patch.needsGpuReconstruction())
         return patch.residuals.size() * sizeof(int32_t) + lambda;
-    return patch.codes.size() * sizeof(uint16_t) + lambda +
-           size_t(n_ + 2) * (n_ + 2) * sizeof(float);
+    return patch.codes.size() * sizeof(uint16_t) + lambda;
 }
 
 void PatchTextures::finishUploads()

@@ -35,20 +35,21 @@ class PatchTextures {
     PatchTextures& operator=(const PatchTextures&) = delete;
 
     // Uploads `patch` (codes and λ) into `slot`. `lambda_cap` bounds λ (the patch's height
-    // range): what lambdaMax reports. Returns the bytes sent to the GPU.
-    size_t upload(const stream::DecodedPatch& patch, int slot, float lambda_cap);
+    // range): what lambdaMax reports.
+    void upload(const stream::DecodedPatch& patch, int slot, float lambda_cap);
     // Reconstructs `patch` (needsGpuReconstruction) into `slot` from the codes in
     // `parent_slot` and derives λ unless the patch carries it. Until a derived λ's readback
-    // arrives (collect), lambdaMax reports `lambda_cap`. Returns the bytes sent to the GPU.
-    size_t reconstruct(const stream::DecodedPatch& patch, int parent_slot, int slot,
-                       float lambda_cap);
+    // arrives (collect), lambdaMax reports `lambda_cap`.
+    void reconstruct(const stream::DecodedPatch& patch, int parent_slot, int slot,
+                     float lambda_cap);
     // The normal map of the patch in `slot` from the height layers: its own and, for the ring
     // one sample beyond its border, its same-level neighbours' in `neighbour_slots` (west,
     // east, north, south; −1 extrapolates). `cell_metres` is the cell size along i and j.
     // The heights it reads must be written (uploads of the batch done).
     void computeNormals(int slot, const std::array<int, 4>& neighbour_slots, double cell_metres_i,
                         double cell_metres_j);
-    // What upload() or reconstruct() will send for `patch`, bytes (the per-frame budget).
+    // What upload() or reconstruct() sends for `patch`, bytes: the per-frame budget plans
+    // with it and FrameStats counts it.
     size_t uploadBytes(const stream::DecodedPatch& patch) const;
     // Makes uploads visible to the draws that follow (one barrier per batch of uploads) and
     // fences the λ maxima derived in the batch for collect().
@@ -65,7 +66,7 @@ class PatchTextures {
     float lambdaMax(int slot) const { return lambda_max_[size_t(slot)]; }
 
   private:
-    size_t uploadBlockErrors(const stream::DecodedPatch& patch, int slot, float lambda_cap);
+    void uploadBlockErrors(const stream::DecodedPatch& patch, int slot, float lambda_cap);
 
     int n_;
     TessellationBlockLayout layout_;

@@ -334,12 +334,15 @@ size_t TerrainRenderer::Impl::uploadPatch(const stream::DecodedPatch& patch, int
     const PatchId p = patch.id;
     const lod::PatchBounds& bounds = quadtree.bounds(p);
     const float lambda_cap = bounds.max_height - bounds.min_height;
-    if (!patch.needsGpuReconstruction())
-        return textures->upload(patch, slot, lambda_cap);
+    if (!patch.needsGpuReconstruction()) {
+        textures->upload(patch, slot, lambda_cap);
+        return textures->uploadBytes(patch);
+    }
     const int parent_slot = residency.slotOf(p.parent());
     if (parent_slot < 0 || pending_slots.count(parent_slot))
         throw Error(reader.describe(p) + ": internal: parent not resident for GPU reconstruction");
-    return textures->reconstruct(patch, parent_slot, slot, lambda_cap);
+    textures->reconstruct(patch, parent_slot, slot, lambda_cap);
+    return textures->uploadBytes(patch);
 }
 
 // The normal map of `p`, just made resident, and those of its resident same-level
