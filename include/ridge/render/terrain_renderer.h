@@ -65,12 +65,13 @@ struct FrameStats {
     double cpu_load_ms = 0.0;
     // This frame's traffic. Streaming: the streamer's reads and decodes since the last frame
     // (worker threads), and the render thread's uploads; synchronous: the loader's.
-    uint64_t bytes_read = 0;     // compressed blobs read from the archive
-    uint64_t bytes_decoded = 0;  // decode results (codes or residuals, λ)
-    uint64_t bytes_uploaded = 0; // sent to the GPU (codes or residuals, λ, normal staging)
-    int cache_hits = 0;          // requests served by the decoded-patch cache
-    int cache_misses = 0;        // patches that had to be decoded
-    int reconstructed = 0;       // of `loaded`, patches reconstructed on the GPU
+    uint64_t bytes_read = 0;    // compressed blobs read from the archive
+    uint64_t bytes_decoded = 0; // decode results (codes or residuals, λ)
+    // Sent to the GPU: codes or residuals, and λ unless the GPU derives it.
+    uint64_t bytes_uploaded = 0;
+    int cache_hits = 0;    // requests served by the decoded-patch cache
+    int cache_misses = 0;  // patches that had to be decoded
+    int reconstructed = 0; // of `loaded`, patches reconstructed on the GPU
 };
 
 // Triangles as the tessellator produced them, captured with transform feedback.
