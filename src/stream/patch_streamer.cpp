@@ -147,11 +147,16 @@ void PatchStreamer::failLocked(int64_t key, const std::string& message)
     failed_.insert(key);
 }
 
-// The blob of `p` from the compressed cache, or read now (unlocked around the read).
-PatchStreamer::Blob PatchStreamer::blobLocked(PatchId p, std::unique_lock<std::mutex>& lock)
+// The blob of `p` from the compressed cache (`*cached` set), or read now (unlocked around
+// the read).
+PatchStreamer::Blob PatchStreamer::blobLocked(PatchId p, std::unique_lock<std::mutex>& lock,
+                                              bool* cached)
 {
     const int64_t key = reader_.geometry().patchIndex(p);
-    if (const Blob* hit = compressed_.find(key))
+    const Blob* hit = compressed_.find(key);
+    if (cached)
+        *cached = hit != nullptr;
+    if (hit)
         return *hit;
     lock.unlock();
     Blob blob;
@@ -180,8 +185,8 @@ std::shared_ptr<const DecodedPatch> PatchStreamer::decodeLocked(PatchId p,
     std::shared_ptr<const DecodedPatch> parent;
     if (!residuals && p.level > 0 && reader_.codec().needsParent(p.level))
         parent = decodeLocked(p.parent(), lock);
-    const bool had_blob = compressed_.find(key) != nullptr;
-    const Blob blob = blobLocked(p, lock);
+    bool had_blob = false;
+    const Blob blob = blobLocked(p, lock, &had_blob);
     lock.unlock();
     auto out = std::make_shared<DecodedPatch>();
     out->id = p;

@@ -98,7 +98,7 @@ class PatchStreamer {
     std::unordered_map<int64_t, Request>::iterator nextLocked(Stage stage);
     void finishLocked(int64_t key);
     void failLocked(int64_t key, const std::string& message);
-    Blob blobLocked(PatchId p, std::unique_lock<std::mutex>& lock);
+    Blob blobLocked(PatchId p, std::unique_lock<std::mutex>& lock, bool* cached = nullptr);
     std::shared_ptr<const DecodedPatch> decodeLocked(PatchId p, std::unique_lock<std::mutex>& lock);
     std::shared_ptr<const DecodedPatch> findCacheLocked(int64_t key);
 
