@@ -1,0 +1,181 @@
+#include "ridge/lod/chunk_mesh.h"
+
+#include "ridge/core/error.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <map>
+#include <random>
+
+using namespace ridge;
+using namespace ridge::lod;
+
+namespace {
+
+// Rough terrain: midpoint displacement (diamond-square) with a fixed seed, in codes.
+std::vector<uint16_t> fractalPatch(int n, uint32_t seed, double roughness)
+{
+    std::mt19937 rng(seed);
+    std::vector<double> h(size_t(n) * n, 0.0);
+    auto at = [&](int x, int y) -> double& { return h[size_t(y) * n + x]; };
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    const int c = n - 1;
+    at(0, 0) = 2000 + 500 * u(rng), at(c, 0) = 2000 + 500 * u(rng);
+    at(0, c) = 2000 + 500 * u(rng), at(c, c) = 2000 + 500 * u(rng);
+    double amplitude = roughness * c;
+    for (int s = c; s > 1; s /= 2, amplitude *= 0.55) {
+        const int m = s / 2;
+        for (int y = m; y < n; y += s)
+            for (int x = m; x < n; x += s)
+                at(x, y) =
+                    (at(x - m, y - m) + at(x + m, y - m) + at(x - m, y + m) + at(x + m, y + m)) /
+                        4 +
+                    amplitude * u(rng);
+        for (int y = 0; y < n; y += m)
+            for (int x = (y / m) % 2 == 0 ? m : 0; x < n; x += s) {
+                double sum = 0;
+                int count = 0;
+                for (const auto& [dx, dy] : {std::pair{-m, 0}, {m, 0}, {0, -m}, {0, m}})
+                    if (x + dx >= 0 && x + dx < n && y + dy >= 0 && y + dy < n)
+                        sum += at(x + dx, y + dy), ++count;
+                at(x, y) = sum / count + amplitude * u(rng);
+            }
+    }
+    std::vector<uint16_t> codes(h.size());
+    for (size_t i = 0; i < h.size(); ++i)
+        codes[i] = uint16_t(std::clamp(std::lround(h[i]), 0L, 65535L));
+    return codes;
+}
+
+struct Xy {
+    int x, y;
+};
+Xy xyOf(uint32_t v, int n)
+{
+    return {int(v % uint32_t(n)), int(v / uint32_t(n))};
+}
+int64_t cross(Xy o, Xy a, Xy b)
+{
+    return int64_t(a.x - o.x) * (b.y - o.y) - int64_t(a.y - o.y) * (b.x - o.x);
+}
+
+// Worst |sample − mesh| over all samples, and how many samples no triangle covers.
+std::pair<double, int> measure(const ChunkMesh& m, const std::vector<uint16_t>& codes, int n)
+{
+    std::vector<double> worst(codes.size(), -1.0);
+    for (uint32_t t = 0; t < m.surface_indices; t += 3) {
+        const Xy p0 = xyOf(m.indices[t], n), p1 = xyOf(m.indices[t + 1], n),
+                 p2 = xyOf(m.indices[t + 2], n);
+        const double area2 = double(cross(p0, p1, p2));
+        for (int y = 0; y < n; ++y)
+            for (int x = 0; x < n; ++x) {
+                const Xy p{x, y};
+                const int64_t w0 = cross(p1, p2, p), w1 = cross(p2, p0, p), w2 = cross(p0, p1, p);
+                if (w0 < 0 || w1 < 0 || w2 < 0)
+                    continue;
+                auto h = [&](Xy q) { return double(codes[size_t(q.y) * n + q.x]); };
+                const double plane = (w0 * h(p0) + w1 * h(p1) + w2 * h(p2)) / area2;
+                double& w = worst[size_t(y) * n + x];
+                w = std::max(w, std::abs(h(p) - plane));
+            }
+    }
+    double max_dev = 0.0;
+    int uncovered = 0;
+    for (const double w : worst) {
+        uncovered += w < 0.0;
+        max_dev = std::max(max_dev, w);
+    }
+    return {max_dev, uncovered};
+}
+
+} // namespace
+
+TEST(ChunkMesh, EverySampleIsWithinTheToleranceOfTheMesh)
+{
+    for (const int n : {17, 33, 65})
+        for (const uint32_t seed : {1u, 2u, 3u})
+            for (const double tolerance : {0.0, 0.5, 2.0, 8.0, 40.0}) {
+                const std::vector<uint16_t> codes = fractalPatch(n, seed, 1.5);
+                const ChunkMesh m = buildChunkMesh(codes.data(), n, tolerance);
+                const auto [worst, uncovered] = measure(m, codes, n);
+                EXPECT_EQ(uncovered, 0) << n << " " << seed << " " << tolerance;
+                EXPECT_LE(worst, tolerance + 1e-9) << n << " " << seed << " " << tolerance;
+                EXPECT_NEAR(m.max_deviation, worst, 1e-9) << "the mesh reports its own error";
+            }
+}
+
+TEST(ChunkMesh, IsAConformingCounterClockwiseTriangulationClosedByItsSkirt)
+{
+    const int n = 65, c = n - 1;
+    const std::vector<uint16_t> codes = fractalPatch(n, 7, 2.0);
+    for (const double tolerance : {0.0, 3.0, 25.0}) {
+        const ChunkMesh m = buildChunkMesh(codes.data(), n, tolerance);
+        ASSERT_EQ(m.indices.size() % 3, 0u);
+        ASSERT_EQ(m.surface_indices % 3, 0u);
+        int64_t area2 = 0;
+        std::map<std::pair<uint32_t, uint32_t>, int> surface_edges, all_edges;
+        for (size_t t = 0; t < m.indices.size(); t += 3)
+            for (int e = 0; e < 3; ++e) {
+                uint32_t a = m.indices[t + e], b = m.indices[t + (e + 1) % 3];
+                if (b < a)
+                    std::swap(a, b);
+                ++all_edges[{a, b}];
+                if (t < m.surface_indices)
+                    ++surface_edges[{a, b}];
+            }
+        for (uint32_t t = 0; t < m.surface_indices; t += 3) {
+            const int64_t a =
+                cross(xyOf(m.indices[t], n), xyOf(m.indices[t + 1], n), xyOf(m.indices[t + 2], n));
+            EXPECT_GT(a, 0) << "counter-clockwise, like the full-grid mesh";
+            area2 += a;
+        }
+        EXPECT_EQ(area2, 2 * int64_t(c) * c) << "the triangles tile the patch";
+        // An edge used once lies on the patch border; a T-junction would leave one inside.
+        for (const auto& [edge, count] : surface_edges) {
+            const Xy a = xyOf(edge.first, n), b = xyOf(edge.second, n);
+            const bool border =
+                (a.x == b.x && (a.x == 0 || a.x == c)) || (a.y == b.y && (a.y == 0 || a.y == c));
+            EXPECT_EQ(count, border ? 1 : 2) << tolerance;
+        }
+        // With the skirt, only the feet's bottom edges stay open.
+        const uint32_t feet = uint32_t(n) * uint32_t(n);
+        for (const auto& [edge, count] : all_edges) {
+            const bool bottom = edge.first >= feet && edge.second >= feet;
+            EXPECT_EQ(count, bottom ? 1 : 2) << tolerance;
+        }
+    }
+}
+
+TEST(ChunkMesh, SimplifiesAsFarAsTheToleranceLets)
+{
+    const int n = 33;
+    // A plane: two triangles even at tolerance 0.
+    std::vector<uint16_t> plane(size_t(n) * n);
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x)
+            plane[size_t(y) * n + x] = uint16_t(100 + 3 * x + 2 * y);
+    EXPECT_EQ(buildChunkMesh(plane.data(), n, 0.0).surface_indices, 6u);
+
+    const std::vector<uint16_t> rough = fractalPatch(n, 11, 1.5);
+    const auto [lo, hi] = std::minmax_element(rough.begin(), rough.end());
+    EXPECT_EQ(buildChunkMesh(rough.data(), n, double(*hi - *lo)).surface_indices, 6u);
+    uint32_t previous = UINT32_MAX;
+    for (const double tolerance : {0.0, 1.0, 4.0, 16.0, 64.0}) {
+        const uint32_t count = buildChunkMesh(rough.data(), n, tolerance).surface_indices;
+        EXPECT_LE(count, previous) << tolerance;
+        previous = count;
+    }
+    EXPECT_LT(buildChunkMesh(rough.data(), n, 4.0).surface_indices,
+              buildChunkMesh(rough.data(), n, 0.0).surface_indices / 2);
+}
+
+TEST(ChunkMesh, RejectsPatchSizesThatAreNotAPowerOfTwoPlusOne)
+{
+    const std::vector<uint16_t> codes(100, 0);
+    EXPECT_THROW(buildChunkMesh(codes.data(), 10, 1.0), Error);
+    EXPECT_THROW(buildChunkMesh(codes.data(), 1, 1.0), Error);
+    EXPECT_THROW(buildChunkMesh(codes.data(), 9, -1.0), Error);
+}
