@@ -41,8 +41,9 @@ Selection PatchQuadtree::select(const Camera& camera, const SelectionSettings& s
     for (;;) {
         Selection s;
         s.epsilon_px = epsilon;
-        visit(PatchId{0, 0, 0}, camera, settings.cull ? &frustum : nullptr, gamma, epsilon,
-              settings.conservative_distance, s);
+        // Err_Scr is linear in Err(P): scaling γ scales every patch's error.
+        visit(PatchId{0, 0, 0}, camera, settings.cull ? &frustum : nullptr,
+              gamma * settings.error_scale, epsilon, settings.conservative_distance, s);
         if (s.patches.size() <= settings.max_patches)
             return s;
         epsilon = std::max(epsilon * 1.25, 1e-3); // from ε = 0 (brute force) too

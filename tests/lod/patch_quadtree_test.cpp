@@ -98,6 +98,25 @@ TEST(PatchQuadtree, EverySelectedPatchMeetsEpsilonAndItsParentDidNot)
     EXPECT_GE(levels.size(), 3u) << "an oblique view gives an unbalanced tree";
 }
 
+TEST(PatchQuadtree, AnErrorScaleOfKIsEpsilonDividedByK)
+{
+    // Ulrich's chunks simplified to Err(P) have twice its error: selecting them at ε is
+    // selecting the patches at ε / 2, and each reports its doubled Err_Scr.
+    const PatchQuadtree tree = syntheticTree();
+    const Camera cam = overTerrain({2000, 1000, 300}, {6000, 5000, 0});
+    SelectionSettings scaled, halved;
+    scaled.epsilon_px = 2.0;
+    scaled.error_scale = 2.0;
+    halved.epsilon_px = 1.0;
+    const Selection a = tree.select(cam, scaled), b = tree.select(cam, halved);
+    ASSERT_EQ(a.patches.size(), b.patches.size());
+    EXPECT_GT(a.patches.size(), tree.select(cam, SelectionSettings{}).patches.size());
+    for (size_t k = 0; k < a.patches.size(); ++k) {
+        EXPECT_EQ(a.patches[k].id, b.patches[k].id);
+        EXPECT_NEAR(a.patches[k].screen_error, 2.0 * b.patches[k].screen_error, 1e-9);
+    }
+}
+
 TEST(PatchQuadtree, ThePapersDistanceRefinesLessThanTheOffAxisBound)
 {
     const PatchQuadtree tree = syntheticTree();

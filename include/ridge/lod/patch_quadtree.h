@@ -36,6 +36,9 @@ struct SelectionSettings {
     // At most this many patches; when the tree at ε needs more, ε is raised by 25% steps
     // until it fits, and Selection::epsilon_px says what was used.
     size_t max_patches = std::numeric_limits<size_t>::max();
+    // The drawn mesh's vertical error as a multiple of Err(P): 1 for meshes of the patch's
+    // own samples; 1 + k for Ulrich's chunks simplified to k·Err(P) (lod/chunk_mesh.h).
+    double error_scale = 1.0;
 };
 
 struct SelectedPatch {
