@@ -35,6 +35,14 @@ void BenchCommand::registerWith(CLI::App& app)
         ->check(CLI::Range(0.05, 1000.0));
     addStreamingOptions(*command_, renderer_options_);
     command_->add_flag("--no-cull", no_cull_, "Disable view-frustum culling");
+    command_
+        ->add_option("--chunk-tolerance", renderer_options_.chunk_tolerance,
+                     "chunked: simplify each of Ulrich's chunks to K times its patch's "
+                     "error bound Err(P) (selected at (1 + K)·Err(P))")
+        ->capture_default_str()
+        ->check(CLI::NonNegativeNumber);
+    command_->add_flag("--grid-chunks", grid_chunks_,
+                       "chunked: draw every patch's full grid instead of simplified chunks");
     command_->add_flag(
         "--table", table_,
         "Run tess, chunked and brute, with and without frustum culling, and print the "
@@ -59,6 +67,7 @@ int BenchCommand::run()
     options.viewport = parseSize(size_);
     options.epsilon_px = error_;
     options.cull = !no_cull_;
+    options.grid_chunks = grid_chunks_;
     if (table_) {
         std::vector<renderbench::RenderBenchReport> reports;
         for (const render::LodScheme scheme :

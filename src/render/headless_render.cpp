@@ -43,6 +43,7 @@ HeadlessRenderResult renderToPng(const std::string& archive_path,
     RendererOptions ro;
     ro.synchronous_stats = true;
     ro.vram_budget_mb = options.vram_budget_mb;
+    ro.chunk_meshes = options.settings.scheme == LodScheme::ChunkedLod;
     TerrainRenderer renderer(reader, ro);
     HeadlessRenderResult result{cameraFor(renderer, options), {}, context->rendererName()};
     const gpu::RenderTarget target(options.viewport.width, options.viewport.height,

@@ -8,6 +8,7 @@
 #include "ridge/gpu/gpu_timer.h"
 #include "ridge/gpu/render_target.h"
 #include "ridge/gpu/shader_program.h"
+#include "ridge/lod/chunk_mesh.h"
 #include "ridge/lod/edge_tessellation.h"
 #include "ridge/lod/resident_cover.h"
 #include "ridge/lod/screen_space_error.h"
@@ -63,12 +64,27 @@ namespace {
 
 // Slots for resident patches: the requested count within the VRAM budget and the GL limit on
 // array layers; at least 4, so that raising ε always finds a selection that fits.
+// Ulrich's chunks: vertex ids run to n² + 4(n − 1) (the skirt's feet); 16-bit while they fit.
+GLenum chunkIndexType(int n)
+{
+    return int64_t(n) * n + 4 * int64_t(n - 1) <= 65536 ? GL_UNSIGNED_SHORT : GL_UNSIGNED_INT;
+}
+
+// The index buffer of an unsimplified chunk: two triangles per cell, two per border cell of
+// the skirt.
+size_t worstChunkMeshBytes(int n)
+{
+    const size_t c = size_t(n - 1);
+    return (6 * c * c + 24 * c) * (chunkIndexType(n) == GL_UNSIGNED_SHORT ? 2 : 4);
+}
+
 int slotCount(const archive::ArchiveReader& reader, const RendererOptions& options)
 {
     const double n = reader.geometry().patchSize();
     const double blocks = double(reader.blockLayout().blocksPerSide());
     const double bytes_per_slot =
-        n * n * (2.0 + 4.0) + blocks * blocks * 16.0; // R16UI, RGBA8, RGBA32F
+        n * n * (2.0 + 4.0) + blocks * blocks * 16.0 + // R16UI, RGBA8, RGBA32F
+        (options.chunk_meshes ? double(worstChunkMeshBytes(int(n))) : 0.0);
     GLint max_layers = 256;
     glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &max_layers);
     const double by_budget = std::floor(options.vram_budget_mb * 1024.0 * 1024.0 / bytes_per_slot);
@@ -127,6 +143,15 @@ struct TerrainRenderer::Impl {
     gpu::GlVertexArray chunk_vao;
     gpu::GlBuffer chunk_indices;
     GLsizei chunk_surface_indices = 0, chunk_all_indices = 0;
+    // Ulrich's simplified chunks (options.chunk_meshes), one per slot, each drawn on its own.
+    struct ChunkSlot {
+        gpu::GlBuffer indices;
+        GLsizei surface = 0, all = 0;
+        float max_deviation = 0.f; // metres
+    };
+    std::vector<ChunkSlot> chunk_slots;
+    GLenum chunk_index_type = GL_UNSIGNED_INT;
+    gpu::GlVertexArray chunk_mesh_vao; // its element buffer: the chunk being drawn
     gpu::ShaderProgram chunk_program, chunk_clip_program, chunk_capture_program,
         chunk_capture_clip_program;
     // Whole patches go through the tessellator only; patches reaching past the valid extent
@@ -161,9 +186,20 @@ struct TerrainRenderer::Impl {
     void prefetch(const lod::Camera& camera, const lod::SelectionSettings& settings);
     size_t uploadPatch(const stream::DecodedPatch& patch, int slot,
                        const std::unordered_set<int>& pending_slots = {});
+    size_t buildChunk(const stream::DecodedPatch& patch, int slot);
+    // What uploading `patch` will send, at most (the per-frame budget plans with it).
+    size_t plannedUploadBytes(const stream::DecodedPatch& patch) const
+    {
+        return textures->uploadBytes(patch) + (options.chunk_meshes ? worstChunkMeshBytes(n) : 0);
+    }
+    bool drawsChunkMeshes(const RenderSettings& s) const
+    {
+        return s.scheme == LodScheme::ChunkedLod && options.chunk_meshes;
+    }
     void countTraffic(FrameStats& stats);
     void computeNormals(PatchId p, const std::unordered_set<int>& pending);
-    PatchInstances writeInstances(const lod::Camera& camera, const lod::Selection& selection);
+    PatchInstances writeInstances(const lod::Camera& camera, const lod::Selection& selection,
+                                  const RenderSettings& settings);
     // Selection, residency and instance buffer for one frame; `used` receives `settings` with
     // the ε actually met (raised when the selection exceeded the slots), which the
     // tessellator must use too.
@@ -173,7 +209,7 @@ struct TerrainRenderer::Impl {
         const lod::Selection selection = prepare(camera, settings, stats);
         used = settings;
         used.epsilon_px = selection.epsilon_px;
-        return writeInstances(camera, selection);
+        return writeInstances(camera, selection, settings);
     }
     void setFrameUniforms(const gpu::ShaderProgram& program, const lod::Camera& camera,
                           const RenderSettings& settings) const;
@@ -199,9 +235,24 @@ struct TerrainRenderer::Impl {
         return capture ? std::array{&capture_program, &capture_clip_program}
                        : std::array{&terrain_program, &terrain_clip_program};
     }
-    // Binds the vertex array and issues the instanced draw of `count` patches.
-    void drawPatches(const RenderSettings& s, size_t count) const
+    // Draws instances [first, first + count) of `r` with `program`, which is in use: one
+    // instanced draw, or one draw per chunk for Ulrich's simplified chunks.
+    void drawPatches(const gpu::ShaderProgram& program, const RenderSettings& s,
+                     const PatchInstances& r, size_t first, size_t count) const
     {
+        const GLint instance_offset = program.uniform("u_instance_offset");
+        if (drawsChunkMeshes(s)) {
+            glBindVertexArray(chunk_mesh_vao.id());
+            for (size_t i = first; i < first + count; ++i) {
+                const ChunkSlot& c = chunk_slots[size_t(r.records[i].layer)];
+                glVertexArrayElementBuffer(chunk_mesh_vao.id(), c.indices.id());
+                glUniform1i(instance_offset, GLint(i));
+                glDrawElements(GL_TRIANGLES, s.skirts ? c.all : c.surface, chunk_index_type,
+                               nullptr);
+            }
+            return;
+        }
+        glUniform1i(instance_offset, GLint(first));
         if (s.scheme == LodScheme::Tessellation) {
             glBindVertexArray(empty_vao.id());
             glPatchParameteri(GL_PATCH_VERTICES, 1);
@@ -236,9 +287,16 @@ TerrainRenderer::Impl::Impl(const archive::ArchiveReader& r, const RendererOptio
     // Float rounding of camera-relative heights: a centimetre plus a few ulps of the highest.
     skirt_margin = 0.01 + 1e-6 * std::max(std::abs(root.min_height), std::abs(root.max_height));
     root_codes = loader.load(PatchId{0, 0, 0})->codes;
+    if (options.chunk_meshes) {
+        if (!(options.chunk_tolerance >= 0.0))
+            throw Error("terrain renderer: the chunk tolerance must be >= 0");
+        chunk_slots.resize(size_t(slots));
+        chunk_index_type = chunkIndexType(n);
+    }
 
-    const bool gpu_reconstruction =
-        options.streaming && options.gpu_reconstruction && reader.decodesResiduals(1);
+    // Chunk meshes are built from codes on the CPU.
+    const bool gpu_reconstruction = options.streaming && options.gpu_reconstruction &&
+                                    !options.chunk_meshes && reader.decodesResiduals(1);
     textures = std::make_unique<PatchTextures>(
         n, layout, block_levels, slots, quantization,
         gpu_reconstruction ? dynamic_cast<const ProgressiveCodec*>(&reader.codec()) : nullptr);
@@ -336,13 +394,38 @@ size_t TerrainRenderer::Impl::uploadPatch(const stream::DecodedPatch& patch, int
     const float lambda_cap = bounds.max_height - bounds.min_height;
     if (!patch.needsGpuReconstruction()) {
         textures->upload(patch, slot, lambda_cap);
-        return textures->uploadBytes(patch);
+        return textures->uploadBytes(patch) + (options.chunk_meshes ? buildChunk(patch, slot) : 0);
     }
     const int parent_slot = residency.slotOf(p.parent());
     if (parent_slot < 0 || pending_slots.count(parent_slot))
         throw Error(reader.describe(p) + ": internal: parent not resident for GPU reconstruction");
     textures->reconstruct(patch, parent_slot, slot, lambda_cap);
     return textures->uploadBytes(patch);
+}
+
+// Ulrich's chunk of `patch` into `slot`, simplified to chunk_tolerance·Err(P). Returns the
+// bytes sent.
+size_t TerrainRenderer::Impl::buildChunk(const stream::DecodedPatch& patch, int slot)
+{
+    const double tolerance =
+        options.chunk_tolerance * double(quadtree.bounds(patch.id).err) / quantization.scale;
+    const lod::ChunkMesh mesh = lod::buildChunkMesh(patch.codes.data(), n, tolerance);
+    ChunkSlot& c = chunk_slots[size_t(slot)];
+    // A new buffer: GL keeps the old one alive while a queued draw still reads it.
+    c.indices = gpu::GlBuffer();
+    size_t bytes = 0;
+    if (chunk_index_type == GL_UNSIGNED_SHORT) {
+        const std::vector<uint16_t> narrow(mesh.indices.begin(), mesh.indices.end());
+        bytes = narrow.size() * sizeof(uint16_t);
+        glNamedBufferStorage(c.indices.id(), GLsizeiptr(bytes), narrow.data(), 0);
+    } else {
+        bytes = mesh.indices.size() * sizeof(uint32_t);
+        glNamedBufferStorage(c.indices.id(), GLsizeiptr(bytes), mesh.indices.data(), 0);
+    }
+    c.surface = GLsizei(mesh.surface_indices);
+    c.all = GLsizei(mesh.indices.size());
+    c.max_deviation = float(mesh.max_deviation * quantization.scale);
+    return bytes;
 }
 
 // The normal map of `p`, just made resident, and those of its resident same-level
@@ -410,11 +493,20 @@ void TerrainRenderer::Impl::makeResident(const lod::Selection& selection, FrameS
 }
 
 PatchInstances TerrainRenderer::Impl::writeInstances(const lod::Camera& camera,
-                                                     const lod::Selection& selection)
+                                                     const lod::Selection& selection,
+                                                     const RenderSettings& settings)
 {
+    // Skirts hang by what the mesh drops beyond Err(P): the tessellator's λ, or the chunk's
+    // simplification error.
+    const bool chunks = drawsChunkMeshes(settings);
     PatchInstances built = buildPatchInstances(
         quadtree, selection, camera.position(), [&](PatchId p) { return residency.slotOf(p); },
-        [&](PatchId p) { return double(textures->lambdaMax(residency.slotOf(p))); }, skirt_margin);
+        [&](PatchId p) {
+            const int slot = residency.slotOf(p);
+            return chunks ? double(chunk_slots[size_t(slot)].max_deviation)
+                          : double(textures->lambdaMax(slot));
+        },
+        skirt_margin);
     const std::vector<GpuPatchInstance>& data = built.records;
     const size_t bytes = std::max<size_t>(data.size(), 1) * sizeof(GpuPatchInstance);
     if (bytes > instance_capacity) {
@@ -479,6 +571,8 @@ lod::Selection TerrainRenderer::Impl::prepare(const lod::Camera& camera,
     ss.epsilon_px = settings.scheme == LodScheme::BruteForce ? 0.0 : settings.epsilon_px;
     ss.cull = settings.cull;
     ss.max_patches = size_t(slots);
+    if (drawsChunkMeshes(settings))
+        ss.error_scale = 1.0 + options.chunk_tolerance;
     lod::Selection selection = quadtree.select(camera, ss);
     stats.cpu_select_ms = millisecondsSince(t0);
     stats.patches = int(selection.patches.size());
@@ -590,7 +684,7 @@ lod::Selection TerrainRenderer::Impl::streamResident(const lod::Selection& desir
         const bool parent_ready = !patch->needsGpuReconstruction() ||
                                   resident(patch->id.parent()) ||
                                   uploading.count(g.patchIndex(patch->id.parent()));
-        const size_t bytes = textures->uploadBytes(*patch);
+        const size_t bytes = plannedUploadBytes(*patch);
         const bool within_budget =
             uploads.empty() || (int(uploads.size()) < options.uploads_per_frame &&
                                 double(planned_bytes + bytes) <= budget_bytes);
@@ -835,8 +929,7 @@ FrameStats TerrainRenderer::draw(const lod::Camera& camera, const RenderSettings
             [&](const gpu::ShaderProgram& p, size_t first, size_t n) {
                 p.use();
                 glUniform1i(p.uniform("u_mode"), mode);
-                glUniform1i(p.uniform("u_instance_offset"), GLint(first));
-                m.drawPatches(s, n);
+                m.drawPatches(p, s, ranges, first, n);
             },
             false);
     };
@@ -925,14 +1018,13 @@ CapturedSurface TerrainRenderer::capture(const lod::Camera& camera, const Render
         ranges, s,
         [&](const gpu::ShaderProgram& p, size_t first, size_t n) {
             p.use();
-            glUniform1i(p.uniform("u_instance_offset"), GLint(first));
             const GLintptr offset = GLintptr(stored_total * 3 * sizeof(CapturedVertex));
             glBindBufferRange(GL_TRANSFORM_FEEDBACK_BUFFER, 0, m.feedback.id(), offset,
                               GLsizeiptr(m.feedback_capacity - size_t(offset)));
             glBeginQuery(GL_TRANSFORM_FEEDBACK_PRIMITIVES_WRITTEN, m.written.id());
             glBeginQuery(GL_PRIMITIVES_GENERATED, m.primitives.id());
             glBeginTransformFeedback(GL_TRIANGLES);
-            m.drawPatches(s, n);
+            m.drawPatches(p, s, ranges, first, n);
             glEndTransformFeedback();
             glEndQuery(GL_PRIMITIVES_GENERATED);
             glEndQuery(GL_TRANSFORM_FEEDBACK_PRIMITIVES_WRITTEN);

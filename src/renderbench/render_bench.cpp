@@ -100,6 +100,7 @@ RenderBenchReport runRenderBench(const std::string& archive, const RenderBenchOp
     render::RendererOptions ro = o.renderer;
     ro.max_resident_patches = 2048;
     ro.synchronous_stats = true; // per-frame GPU time and triangles, measured
+    ro.chunk_meshes = o.scheme == render::LodScheme::ChunkedLod && !o.grid_chunks;
     render::TerrainRenderer renderer(reader, ro);
     const lod::PatchBounds& root = renderer.quadtree().bounds({0, 0, 0});
     const std::vector<lod::CameraPose> path = lod::makeCameraPath(
@@ -222,6 +223,8 @@ void writeRenderBenchJson(const RenderBenchReport& r, const std::string& path)
                               {"size", {r.options.viewport.width, r.options.viewport.height}},
                               {"epsilon_px", r.options.epsilon_px},
                               {"cull", r.options.cull},
+                              {"chunks", r.options.grid_chunks ? "grid" : "simplified"},
+                              {"chunk_tolerance", r.options.renderer.chunk_tolerance},
                               {"streaming", r.options.renderer.streaming},
                               {"gpu_reconstruction", r.options.renderer.gpu_reconstruction},
                               {"ram_mb", r.options.renderer.ram_budget_mb},

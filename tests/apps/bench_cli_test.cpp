@@ -58,6 +58,7 @@ TEST(BenchCli, BadInputsGetAClearErrorAndANonZeroExit)
          {Case{"--path '" + dir.path("bad_path.txt") + "'", "bad_path.txt:2:"},
           Case{"--path '" + dir.path("missing.txt") + "'", "missing.txt"},
           Case{"--renderer fancy", "--renderer fancy"}, Case{"--size 0x0", "--size"},
+          Case{"--renderer chunked --chunk-tolerance -1", "--chunk-tolerance"},
           // Unwritable outputs are caught before the run (PLplot would exit() after it).
           Case{"--plot '" + dir.path("no/such/dir/p.png") + "'", "p.png: cannot write"},
           Case{"--json '" + dir.path("no/such/dir/f.json") + "'", "f.json: cannot write"}}) {

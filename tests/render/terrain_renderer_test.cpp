@@ -16,6 +16,7 @@
 
 #include <array>
 #include <cstdio>
+#include <map>
 #include <random>
 #include <set>
 
@@ -46,13 +47,14 @@ class TerrainRendererTest : public ::testing::Test {
 
     // Patches of 33 samples give the Everest crop 5 levels: an unbalanced tree and seams
     // between patches up to 4 levels apart.
-    static Scene scene(const std::string& codec, double max_error = 0.0)
+    static Scene scene(const std::string& codec, double max_error = 0.0, bool chunk_meshes = false)
     {
         const std::string path = test::buildEverestArchive(*scratch_, codec, 33, max_error);
         Scene s;
         s.reader = std::make_unique<archive::ArchiveReader>(path);
         render::RendererOptions ro;
         ro.synchronous_stats = true;
+        ro.chunk_meshes = chunk_meshes;
         ro.max_resident_patches = 1024;
         s.renderer = std::make_unique<render::TerrainRenderer>(*s.reader, ro);
         // Full resolution: the archive's finest level as decoded (for the lossless codec the
@@ -134,42 +136,59 @@ TEST_F(TerrainRendererTest, WithoutSkirtsTheSeamsBetweenLevelsAreOpen)
 
 TEST_F(TerrainRendererTest, ChunkedAndBruteForceBaselinesAreWatertightAndWithinEpsilon)
 {
-    // The baselines draw each selected patch at its level's full resolution: the coarse
-    // selection alone bounds their error, so they must meet ε itself (no fine-LOD excess),
-    // and brute force on a lossless archive draws the data exactly.
-    const Scene s = scene("lossless");
-    const auto cameras = randomCameras(*s.renderer, 8, {480, 270}, 31);
-    for (const render::LodScheme scheme :
-         {render::LodScheme::ChunkedLod, render::LodScheme::BruteForce}) {
+    // The baselines' meshes add no error beyond what their selection accounts for: Ulrich's
+    // simplified chunks select at 1.5·Err(P) and drop at most Err(P)/2 (how far they simplify
+    // is lod's ChunkMesh tests' and the Sierra benchmark's); full-grid chunks draw the
+    // level's samples. Both must meet ε itself (no fine-LOD excess), and brute force on a
+    // lossless archive draws the data exactly. Progressive: the finest level has Err > 0, so
+    // even its chunks are simplified.
+    struct Case {
+        std::string name, codec;
+        double max_error;
+        bool chunk_meshes;
+        render::LodScheme scheme;
+    };
+    const render::LodScheme chunked = render::LodScheme::ChunkedLod;
+    std::map<std::string, size_t> patches; // drawn, over all cameras
+    for (const Case& c :
+         {Case{"simplified chunks", "lossless", 0.0, true, chunked},
+          Case{"full-grid chunks", "lossless", 0.0, false, chunked},
+          Case{"brute force", "lossless", 0.0, false, render::LodScheme::BruteForce},
+          Case{"progressive simplified chunks", "progressive", 1.0, true, chunked},
+          Case{"progressive full-grid chunks", "progressive", 1.0, false, chunked}}) {
+        const Scene s = scene(c.codec, c.max_error, c.chunk_meshes);
+        const auto cameras = randomCameras(*s.renderer, 8, {480, 270}, 31);
         double worst = 0.0;
         for (size_t k = 0; k < cameras.size(); ++k) {
             render::RenderSettings settings;
-            settings.scheme = scheme;
+            settings.scheme = c.scheme;
             settings.cull_blocks = false;
             const render::CapturedSurface surface = s.renderer->capture(cameras[k], settings);
+            patches[c.name] += surface.patches.size();
             const test::WatertightReport w =
                 test::checkWatertight(surface, s.renderer->quadtree().frame());
             EXPECT_GT(w.skirt_triangles, 0u);
-            EXPECT_EQ(w.open_edges, 0u)
-                << int(scheme) << " camera " << k << ": " << w.first_problem;
-            EXPECT_EQ(w.overused_edges, 0u) << int(scheme) << " camera " << k;
+            EXPECT_EQ(w.open_edges, 0u) << c.name << " camera " << k << ": " << w.first_problem;
+            EXPECT_EQ(w.overused_edges, 0u) << c.name << " camera " << k;
             EXPECT_EQ(w.uncovered_seams, 0u)
-                << int(scheme) << " camera " << k << ": " << w.first_problem;
+                << c.name << " camera " << k << ": " << w.first_problem;
             const test::ScreenErrorReport e = test::measureScreenSpaceError(
                 surface, s.renderer->quadtree().frame(), s.finest, cameras[k]);
             EXPECT_EQ(e.uncovered, 0u);
             worst = std::max(worst, e.max_px);
         }
-        if (scheme == render::LodScheme::ChunkedLod) {
-            EXPECT_LE(worst, 2.0 * 1.001) << "chunked LOD at ε = 2 px";
-            EXPECT_GT(worst, 0.5) << "and not far below it";
+        if (c.scheme == chunked) {
+            EXPECT_LE(worst, 2.0 * 1.001) << c.name << " at ε = 2 px";
+            EXPECT_GT(worst, 0.5) << c.name << ", and not far below it";
         } else {
             // Only float rounding of camera-relative heights separates it from the data.
             EXPECT_LT(worst, 0.01) << "brute force draws the finest samples themselves";
         }
-        std::printf("%s: max projected error %.3f px at ε = 2\n",
-                    scheme == render::LodScheme::ChunkedLod ? "chunked LOD" : "brute force", worst);
+        std::printf("%s: max projected error %.3f px at ε = 2\n", c.name.c_str(), worst);
     }
+    // Their own error in the selection refines further than the full grids.
+    EXPECT_GT(patches["simplified chunks"], patches["full-grid chunks"]);
+    EXPECT_GT(patches["progressive simplified chunks"], patches["progressive full-grid chunks"]);
 }
 
 TEST_F(TerrainRendererTest, ASmallTextureBudgetRaisesEpsilonInsteadOfFailing)

@@ -29,8 +29,8 @@ enum class DebugMode : int { Shaded = 0, LodLevels = 1, TessellationFactors = 2 
 // texture arrays, skirts, shading — so that frame rates compare the schemes alone.
 enum class LodScheme : int {
     Tessellation = 0, // the paper: per-edge tessellation factors inside each selected patch
-    ChunkedLod = 1,   // Ulrich's chunked LOD: the same selection, each patch one precomputed
-                      // full-resolution mesh of its level
+    ChunkedLod = 1,   // Ulrich's chunked LOD: the same ε, each patch one precomputed mesh of
+                      // its level, simplified (RendererOptions::chunk_meshes) or full
     BruteForce = 2,   // the finest level everywhere (frustum culling only), as meshes
 };
 
@@ -127,6 +127,15 @@ struct RendererOptions {
     // pipeline: headless renders and tests). Otherwise gpu_ms and triangles are those of the
     // latest finished frame (a few frames old).
     bool synchronous_stats = false;
+    // Ulrich's chunks for LodScheme::ChunkedLod: every upload also builds its patch's chunk
+    // mesh, simplified to chunk_tolerance·Err(P) (lod::buildChunkMesh), so chunked frames
+    // select at (1 + chunk_tolerance)·Err(P), draw each chunk with its own draw call (no
+    // instancing: the paper's baseline) and hang the skirts by the chunk's error. Meshes are
+    // built from codes on the CPU, so streaming decodes on the CPU; each slot's budget
+    // counts the worst-case (unsimplified) index buffer. Off: chunked frames draw every
+    // patch's full grid of samples.
+    bool chunk_meshes = false;
+    double chunk_tolerance = 0.5; // fewest triangles and draws on the Sierra fly-over
 
     // The defaults with streaming on (the viewer's and the benchmark's).
     static RendererOptions streamingDefaults()

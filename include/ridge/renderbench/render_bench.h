@@ -17,6 +17,9 @@ struct RenderBenchOptions {
     lod::Viewport viewport{1920, 1080};
     double epsilon_px = 2.0;
     bool cull = true;
+    // Chunked: every patch's full grid instead of Ulrich's simplified chunks (simplified to
+    // renderer.chunk_tolerance·Err(P)).
+    bool grid_chunks = false;
     // Budgets, streaming (on by default) and decoding; the bench itself raises
     // max_resident_patches and measures with synchronous_stats.
     render::RendererOptions renderer = render::RendererOptions::streamingDefaults();
