@@ -7,6 +7,7 @@
 // variants run here (ε, skirts, culling); on a GPU machine they are the GPU's.
 #include "ridge/gpu/context.h"
 #include "ridge/gpu/render_target.h"
+#include "ridge/lod/chunk_mesh.h"
 #include "ridge/pipeline/build.h"
 #include "ridge/render/terrain_renderer.h"
 
@@ -26,6 +27,7 @@ struct Scene {
     std::unique_ptr<gpu::HeadlessContext> context;
     std::unique_ptr<archive::ArchiveReader> reader;
     std::unique_ptr<render::TerrainRenderer> renderer;
+    std::unique_ptr<render::TerrainRenderer> chunk_renderer; // Ulrich's simplified chunks
     std::unique_ptr<gpu::RenderTarget> target;
 };
 
@@ -51,6 +53,8 @@ Scene& scene()
         options.max_resident_patches = 2048; // brute force needs every finest patch in view
         options.vram_budget_mb = 512.0;
         out.renderer = std::make_unique<render::TerrainRenderer>(*out.reader, options);
+        options.chunk_meshes = true;
+        out.chunk_renderer = std::make_unique<render::TerrainRenderer>(*out.reader, options);
         out.target = std::make_unique<gpu::RenderTarget>(1920, 1080, 1);
         return out;
     }();
@@ -84,12 +88,16 @@ void BM_TessellationFrame(benchmark::State& state)
     settings.skirts = state.range(2) != 0;
     settings.cull = state.range(3) != 0;
     settings.cull_blocks = state.range(4) != 0;
-    settings.scheme = render::LodScheme(state.range(5));
+    // 3: chunked LOD with Ulrich's simplified chunks (its own renderer builds them).
+    const bool simplified = state.range(5) == 3;
+    settings.scheme =
+        simplified ? render::LodScheme::ChunkedLod : render::LodScheme(state.range(5));
+    render::TerrainRenderer& renderer = simplified ? *s.chunk_renderer : *s.renderer;
     s.target->bind();
-    render::FrameStats stats = s.renderer->draw(camera, settings); // loads patches
+    render::FrameStats stats = renderer.draw(camera, settings); // loads patches
     glFinish();
     for (auto _ : state) {
-        stats = s.renderer->draw(camera, settings);
+        stats = renderer.draw(camera, settings);
         glFinish();
     }
     state.counters["patches"] = stats.patches;
@@ -100,7 +108,8 @@ void BM_TessellationFrame(benchmark::State& state)
                                                   benchmark::Counter::kIsIterationInvariantRate);
 }
 // view, ε, skirts, cull (patches), blocks (cull tessellation blocks too), scheme (0 tess,
-// 1 chunked LOD, 2 brute force)
+// 1 chunked LOD with full-grid chunks, 2 brute force, 3 chunked LOD with Ulrich's simplified
+// chunks)
 BENCHMARK(BM_TessellationFrame)
     ->ArgNames({"view", "eps", "skirts", "cull", "blocks", "scheme"})
     ->Args({0, 2, 1, 1, 1, 0})
@@ -112,6 +121,8 @@ BENCHMARK(BM_TessellationFrame)
     ->Args({1, 2, 1, 0, 0, 0})
     ->Args({1, 2, 1, 1, 1, 1})
     ->Args({1, 1, 1, 1, 1, 1})
+    ->Args({1, 2, 1, 1, 1, 3})
+    ->Args({1, 1, 1, 1, 1, 3})
     ->Args({1, 2, 1, 1, 1, 2})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
@@ -141,6 +152,51 @@ BENCHMARK(BM_SelectPatches)
     ->Args({1, 2, 1})
     ->Args({1, 1, 1})
     ->Args({1, 2, 0})
+    ->Unit(benchmark::kMicrosecond);
+
+// What an upload of Ulrich's chunk costs on the CPU: building the mesh of one 129² Sierra
+// patch at 0.5·Err(P), as a ratio to decoding that patch (the baseline, same process). Levels
+// 4 and 7 (finest); the patch under view 1's look-at point.
+void BM_BuildChunkMesh(benchmark::State& state)
+{
+    Scene& s = scene();
+    if (!s.error.empty()) {
+        state.SkipWithError(s.error.c_str());
+        return;
+    }
+    const int level = int(state.range(0));
+    const bool decode_only = state.range(1) != 0;
+    const archive::ArchiveReader& reader = *s.reader;
+    const PyramidGeometry& g = reader.geometry();
+    const int n = g.patchSize();
+    const int64_t span = int64_t(g.cells()) * g.step(level);
+    const lod::TerrainFrame& frame = s.renderer->quadtree().frame();
+    const PatchId p{level, int(std::llround(frame.columnOf(318000)) / span),
+                    int(std::llround(frame.rowOf(196000)) / span)};
+    std::vector<uint16_t> codes(size_t(n) * n);
+    reader.decodePatch(p, codes.data());
+    const double tolerance =
+        0.5 * double(s.renderer->quadtree().bounds(p).err) / reader.quantization().scale;
+    size_t triangles = 0;
+    for (auto _ : state) {
+        if (decode_only) {
+            reader.decodePatch(p, codes.data());
+            benchmark::DoNotOptimize(codes.data());
+        } else {
+            const lod::ChunkMesh mesh = lod::buildChunkMesh(codes.data(), n, tolerance);
+            triangles = mesh.surface_indices / 3;
+            benchmark::DoNotOptimize(triangles);
+        }
+    }
+    if (!decode_only)
+        state.counters["triangles"] = double(triangles);
+}
+BENCHMARK(BM_BuildChunkMesh)
+    ->ArgNames({"level", "decode"})
+    ->Args({4, 1})
+    ->Args({4, 0})
+    ->Args({7, 1})
+    ->Args({7, 0})
     ->Unit(benchmark::kMicrosecond);
 
 } // namespace

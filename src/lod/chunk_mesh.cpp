@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 
 namespace ridge::lod {
 
@@ -37,34 +38,67 @@ int64_t cross(Point o, Point a, Point b)
 
 class ChunkBuilder {
   public:
-    ChunkBuilder(const uint16_t* codes, int n) : codes_(codes), n_(n) {}
+    ChunkBuilder(const uint16_t* codes, int n, int valid_x, int valid_y)
+        : codes_(codes), n_(n), valid_x_(valid_x), valid_y_(valid_y)
+    {
+    }
 
     double height(Point p) const { return codes_[size_t(p.y) * n_ + p.x]; }
     uint32_t vertex(Point p) const { return uint32_t(p.y) * uint32_t(n_) + uint32_t(p.x); }
 
-    // Worst |sample − plane of t| over the samples inside t (its border included).
+    // Worst |sample − plane of t| over the samples inside t (its border included). Row by
+    // row: the triangles of a 4-8 mesh have horizontal, vertical and 45° edges only, so each
+    // row's span is where its edges cross it, at integer x, and the plane is linear in x.
     double deviation(const Triangle& t) const
     {
-        const Point p0 = t.apex, p1 = t.left, p2 = t.right;
-        const int64_t area2 = cross(p0, p1, p2);
-        const double h0 = height(p0), h1 = height(p1), h2 = height(p2);
-        const int x0 = std::min({p0.x, p1.x, p2.x}), x1 = std::max({p0.x, p1.x, p2.x});
-        const int y0 = std::min({p0.y, p1.y, p2.y}), y1 = std::max({p0.y, p1.y, p2.y});
+        const int x0 = std::min({t.apex.x, t.left.x, t.right.x}),
+                  x1 = std::max({t.apex.x, t.left.x, t.right.x});
+        const int ymin = std::min({t.apex.y, t.left.y, t.right.y}),
+                  ymax = std::max({t.apex.y, t.left.y, t.right.y});
+        if ((x0 < valid_x_ && valid_x_ < x1) || (ymin < valid_y_ && valid_y_ < ymax))
+            return std::numeric_limits<double>::infinity(); // crosses the valid extent's border
+        if (x0 > valid_x_ || ymin > valid_y_)
+            return 0.0; // wholly outside: clipped away
+        // Half the triangles split into half cells: besides their corners they hold only
+        // the hypotenuse midpoint.
+        if (!t.leaf() && std::abs(t.left.x - t.right.x) + std::abs(t.left.y - t.right.y) == 2)
+            return std::abs(height(t.midpoint()) - 0.5 * (height(t.left) + height(t.right)));
+        const Point p[3] = {t.apex, t.left, t.right};
+        const double h[3] = {height(p[0]), height(p[1]), height(p[2])};
+        // The plane h = h0 + gx·(x − x0) + gy·(y − y0) through the three vertices.
+        const double d1x = p[1].x - p[0].x, d1y = p[1].y - p[0].y;
+        const double d2x = p[2].x - p[0].x, d2y = p[2].y - p[0].y;
+        const double det = d1x * d2y - d2x * d1y;
+        const double gx = ((h[1] - h[0]) * d2y - (h[2] - h[0]) * d1y) / det;
+        const double gy = ((h[2] - h[0]) * d1x - (h[1] - h[0]) * d2x) / det;
+        struct Edge {
+            int y0, y1, x_at_y0, slope; // x = x_at_y0 + slope·(y − y0) on rows [y0, y1]
+        };
+        Edge edges[3];
+        int count = 0, y0 = INT32_MAX, y1 = INT32_MIN;
+        for (int i = 0; i < 3; ++i) {
+            Point a = p[i], b = p[i == 2 ? 0 : i + 1];
+            y0 = std::min(y0, a.y), y1 = std::max(y1, a.y);
+            if (a.y == b.y)
+                continue; // horizontal: its ends are on the other two edges
+            if (b.y < a.y)
+                std::swap(a, b);
+            edges[count++] = {a.y, b.y, a.x, (b.x > a.x) - (b.x < a.x)}; // |dx| is 0 or dy
+        }
         double worst = 0.0;
-        for (int y = y0; y <= y1; ++y)
-            for (int x = x0; x <= x1; ++x) {
-                const Point p{x, y};
-                // Edge functions, each zero on the edge opposite one vertex: barycentrics
-                // times area2.
-                const int64_t w0 = cross(p1, p2, p), w1 = cross(p2, p0, p), w2 = cross(p0, p1, p);
-                const bool inside =
-                    area2 > 0 ? (w0 >= 0 && w1 >= 0 && w2 >= 0) : (w0 <= 0 && w1 <= 0 && w2 <= 0);
-                if (!inside)
-                    continue;
-                const double plane =
-                    (double(w0) * h0 + double(w1) * h1 + double(w2) * h2) / double(area2);
-                worst = std::max(worst, std::abs(height(p) - plane));
-            }
+        for (int y = y0; y <= std::min(y1, valid_y_); ++y) {
+            int lo = INT32_MAX, hi = INT32_MIN;
+            for (int i = 0; i < count; ++i)
+                if (y >= edges[i].y0 && y <= edges[i].y1) {
+                    const int x = edges[i].x_at_y0 + edges[i].slope * (y - edges[i].y0);
+                    lo = std::min(lo, x);
+                    hi = std::max(hi, x);
+                }
+            const uint16_t* row = codes_ + size_t(y) * n_;
+            const double plane_row = h[0] + gy * (y - p[0].y) - gx * p[0].x;
+            for (int x = lo; x <= std::min(hi, valid_x_); ++x)
+                worst = std::max(worst, std::abs(double(row[x]) - (plane_row + gx * x)));
+        }
         return worst;
     }
 
@@ -103,12 +137,14 @@ class ChunkBuilder {
         const bool ccw = cross(t.apex, t.left, t.right) > 0;
         out.indices.insert(out.indices.end(), {vertex(t.apex), vertex(ccw ? t.left : t.right),
                                                vertex(ccw ? t.right : t.left)});
-        out.max_deviation = std::max(out.max_deviation, deviation(t));
+        if (!t.leaf()) // a half cell holds only its corners
+            out.max_deviation = std::max(out.max_deviation, deviation(t));
     }
 
   private:
     const uint16_t* codes_;
     int n_;
+    int valid_x_, valid_y_; // samples beyond these are padding
 };
 
 // Sample k of the border ring (the order of shaders/chunk.vert's skirt feet).
@@ -127,12 +163,19 @@ Point ringSample(int k, int c)
 
 ChunkMesh buildChunkMesh(const uint16_t* codes, int n, double tolerance)
 {
+    return buildChunkMesh(codes, n, tolerance, n - 1, n - 1);
+}
+
+ChunkMesh buildChunkMesh(const uint16_t* codes, int n, double tolerance, int valid_x, int valid_y)
+{
     const int c = n - 1;
     if (c < 1 || (c & (c - 1)) != 0)
         throw Error("chunk mesh: patch size " + std::to_string(n) + " is not 2^k + 1");
     if (!(tolerance >= 0.0))
         throw Error("chunk mesh: the tolerance must be >= 0");
-    ChunkBuilder builder(codes, n);
+    if (valid_x < 0 || valid_x > c || valid_y < 0 || valid_y > c)
+        throw Error("chunk mesh: the valid extent must lie within the patch");
+    ChunkBuilder builder(codes, n, valid_x, valid_y);
     const Point nw{0, 0}, ne{c, 0}, se{c, c}, sw{0, c};
     const std::array<Triangle, 2> roots{Triangle{ne, nw, se}, Triangle{sw, se, nw}};
     const std::vector<double> e = builder.nestedErrors(roots);

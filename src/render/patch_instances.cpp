@@ -25,13 +25,8 @@ PatchInstances buildPatchInstances(const lod::PatchQuadtree& tree, const lod::Se
                                    double skirt_margin)
 {
     const PyramidGeometry& g = tree.geometry();
-    // Cells of `p` inside the valid extent along i and j (C for a patch that ends inside it).
-    auto validCells = [&](PatchId p, bool along_j) {
-        const int valid = along_j ? g.validLevelHeight(p.level) : g.validLevelWidth(p.level);
-        return std::clamp(valid - 1 - (along_j ? p.y : p.x) * g.cells(), 0, g.cells());
-    };
     auto whole = [&](PatchId p) {
-        return validCells(p, false) == g.cells() && validCells(p, true) == g.cells();
+        return g.validCellsX(p) == g.cells() && g.validCellsY(p) == g.cells();
     };
 
     // Front to back by box distance (early depth rejection does the rest), whole patches
@@ -70,8 +65,8 @@ PatchInstances buildPatchInstances(const lod::PatchQuadtree& tree, const lod::Se
         r.skirt_depth = float(depths[k]);
         r.min_z = float(double(b.min_height) - camera_position.z);
         r.max_z = float(double(b.max_height) - camera_position.z);
-        r.valid_cells[0] = validCells(p, false);
-        r.valid_cells[1] = validCells(p, true);
+        r.valid_cells[0] = g.validCellsX(p);
+        r.valid_cells[1] = g.validCellsY(p);
         out.records.push_back(r);
     }
     return out;

@@ -24,6 +24,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -304,6 +305,7 @@ TerrainRenderer::Impl::Impl(const archive::ArchiveReader& r, const RendererOptio
         stream::StreamerOptions so = stream::StreamerOptions::forRamBudget(
             size_t(options.ram_budget_mb * 1024.0 * 1024.0), options.io_threads);
         so.residuals_for_gpu = gpu_reconstruction;
+        so.chunk_tolerance = options.chunk_meshes ? options.chunk_tolerance : -1.0;
         streamer = std::make_unique<stream::PatchStreamer>(reader, so);
         // The root stays resident: the last resort of every fallback.
         const PatchId root{0, 0, 0};
@@ -407,9 +409,15 @@ size_t TerrainRenderer::Impl::uploadPatch(const stream::DecodedPatch& patch, int
 // bytes sent.
 size_t TerrainRenderer::Impl::buildChunk(const stream::DecodedPatch& patch, int slot)
 {
+    // Streaming: the decode worker built it. The tolerance is the streamer's (same formula).
     const double tolerance =
         options.chunk_tolerance * double(quadtree.bounds(patch.id).err) / quantization.scale;
-    const lod::ChunkMesh mesh = lod::buildChunkMesh(patch.codes.data(), n, tolerance);
+    std::optional<lod::ChunkMesh> built;
+    const lod::ChunkMesh& mesh =
+        patch.chunk ? *patch.chunk
+                    : built.emplace(lod::buildChunkMesh(patch.codes.data(), n, tolerance,
+                                                        reader.geometry().validCellsX(patch.id),
+                                                        reader.geometry().validCellsY(patch.id)));
     ChunkSlot& c = chunk_slots[size_t(slot)];
     // A new buffer: GL keeps the old one alive while a queued draw still reads it.
     c.indices = gpu::GlBuffer();

@@ -199,6 +199,11 @@ std::shared_ptr<const DecodedPatch> PatchStreamer::decodeLocked(PatchId p,
             out->codes.resize(samples);
             reader_.decodeBlob(p, *blob, out->codes.data(), parent ? parent->codes.data() : nullptr,
                                &out->block_errors);
+            if (options_.chunk_tolerance >= 0.0)
+                out->chunk = lod::buildChunkMesh(
+                    out->codes.data(), reader_.geometry().patchSize(),
+                    options_.chunk_tolerance * reader_.record(p).err / reader_.quantization().scale,
+                    reader_.geometry().validCellsX(p), reader_.geometry().validCellsY(p));
         }
     } catch (...) {
         lock.lock();

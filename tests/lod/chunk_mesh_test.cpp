@@ -172,6 +172,49 @@ TEST(ChunkMesh, SimplifiesAsFarAsTheToleranceLets)
               buildChunkMesh(rough.data(), n, 0.0).surface_indices / 2);
 }
 
+TEST(ChunkMesh, NoTriangleCrossesTheValidExtentAndOnlyValidSamplesCount)
+{
+    // A patch past the terrain's east or south border: samples beyond (vx, vy) are padding.
+    const int n = 65, c = n - 1;
+    const std::vector<uint16_t> codes = fractalPatch(n, 5, 1.5);
+    for (const auto& [vx, vy] : {std::pair{37, 64}, {64, 11}, {20, 45}, {1, 1}}) {
+        std::vector<uint16_t> padded = codes;
+        for (int y = 0; y < n; ++y)
+            for (int x = 0; x < n; ++x)
+                if (x > vx || y > vy)
+                    padded[size_t(y) * n + x] = uint16_t((x * 7919 + y * 104729) % 4000);
+        const double tolerance = 6.0;
+        const ChunkMesh m = buildChunkMesh(padded.data(), n, tolerance, vx, vy);
+        double valid_worst = 0.0;
+        auto h = [&](Xy q) { return double(padded[size_t(q.y) * n + q.x]); };
+        for (uint32_t t = 0; t < m.surface_indices; t += 3) {
+            const Xy p0 = xyOf(m.indices[t], n), p1 = xyOf(m.indices[t + 1], n),
+                     p2 = xyOf(m.indices[t + 2], n);
+            const int x0 = std::min({p0.x, p1.x, p2.x}), x1 = std::max({p0.x, p1.x, p2.x});
+            const int y0 = std::min({p0.y, p1.y, p2.y}), y1 = std::max({p0.y, p1.y, p2.y});
+            EXPECT_FALSE(x0 < vx && vx < x1) << vx << "," << vy;
+            EXPECT_FALSE(y0 < vy && vy < y1) << vx << "," << vy;
+            const double area2 = double(cross(p0, p1, p2));
+            for (int y = 0; y <= vy; ++y)
+                for (int x = 0; x <= vx; ++x) {
+                    const Xy q{x, y};
+                    const int64_t w0 = cross(p1, p2, q), w1 = cross(p2, p0, q),
+                                  w2 = cross(p0, p1, q);
+                    if (w0 >= 0 && w1 >= 0 && w2 >= 0)
+                        valid_worst = std::max(
+                            valid_worst,
+                            std::abs(h(q) - (w0 * h(p0) + w1 * h(p1) + w2 * h(p2)) / area2));
+                }
+        }
+        EXPECT_LE(valid_worst, tolerance + 1e-9) << vx << "," << vy;
+        EXPECT_NEAR(m.max_deviation, valid_worst, 1e-9) << vx << "," << vy;
+        const auto [worst, uncovered] = measure(m, padded, n);
+        EXPECT_EQ(uncovered, 0);
+        EXPECT_GT(worst, tolerance) << "the padding is not fitted";
+    }
+    EXPECT_THROW(buildChunkMesh(codes.data(), n, 1.0, c + 1, c), Error);
+}
+
 TEST(ChunkMesh, RejectsPatchSizesThatAreNotAPowerOfTwoPlusOne)
 {
     const std::vector<uint16_t> codes(100, 0);

@@ -1,5 +1,6 @@
 // Streaming: draw() never waits, never shows a hole, stays within its budgets, and converges
 // to full detail once the workers are done.
+#include "captured_surface_checks.h"
 #include "fixture_archives.h"
 
 #include "ridge/gpu/context.h"
@@ -104,6 +105,55 @@ TEST(Streaming, AFastFlyOverUnderATinyBudgetNeverShowsAHoleAndStaysWithinBudget)
                 << "the budget must force fallbacks for this test to mean anything";
             EXPECT_TRUE(renderer.streamingError().empty());
         }
+}
+
+TEST(Streaming, UlrichsChunksStreamWithoutHolesAndConvergeToAWatertightSurface)
+{
+    // The chunked baseline under streaming: its chunks are built by the decode workers, each
+    // slot's budget counts a full-grid index buffer, and the result is as sound as the
+    // synchronous renderer's.
+    for (const char* codec : {"lossless", "progressive"}) {
+        StreamingScene scene(codec);
+        render::RendererOptions options;
+        options.streaming = true;
+        options.chunk_meshes = true;
+        options.synchronous_stats = true; // this frame's triangles
+        // 24 slots of 33² patches: textures plus a 16-bit index buffer of the full grid.
+        options.vram_budget_mb = 24 * (6790.0 + (6 * 32 * 32 + 24 * 32) * 2) / (1024 * 1024);
+        options.ram_budget_mb = 0.5;
+        options.uploads_per_frame = 3;
+        render::TerrainRenderer renderer(*scene.reader, options);
+        ASSERT_EQ(renderer.residentSlots(), 24);
+        gpu::RenderTarget target(320, 180, 1);
+        target.bind();
+        render::RenderSettings settings;
+        settings.scheme = render::LodScheme::ChunkedLod;
+        settings.cull = false;
+        settings.epsilon_px = 1.0;
+        const int frames = 40;
+        for (int k = 0; k < frames; ++k) {
+            const render::FrameStats stats = renderer.draw(flyover(renderer, k, frames), settings);
+            ASSERT_EQ(holesOrOverlaps(scene.reader->geometry(), renderer.lastDrawnPatches()), 0u)
+                << codec << " frame " << k;
+            EXPECT_LE(stats.resident, 24);
+            EXPECT_GT(stats.triangles, 0u);
+        }
+        const lod::Camera cam = flyover(renderer, frames / 2, frames);
+        settings.cull_blocks = false;
+        render::FrameStats stats = renderer.draw(cam, settings);
+        for (int k = 0; k < 200 && stats.missing > 0; ++k) {
+            renderer.waitForStreaming();
+            stats = renderer.draw(cam, settings);
+        }
+        EXPECT_EQ(stats.missing, 0) << codec;
+        const render::CapturedSurface surface = renderer.capture(cam, settings);
+        const test::WatertightReport w =
+            test::checkWatertight(surface, renderer.quadtree().frame());
+        EXPECT_GT(w.triangles, 0u);
+        EXPECT_EQ(w.open_edges, 0u) << codec << ": " << w.first_problem;
+        EXPECT_EQ(w.uncovered_seams, 0u) << codec << ": " << w.first_problem;
+        EXPECT_TRUE(renderer.streamingError().empty());
+    }
 }
 
 TEST(Streaming, ATeleportReachesFullDetailWithinBoundedFramesOnceTheWorkersAreDone)

@@ -249,6 +249,38 @@ TEST(PatchStreamer, DecodesFromTheCompressedCacheWithoutReadingAgain)
     EXPECT_LE(second.cache_bytes, size_t(g.levelCount() + 1) * 33 * 33 * 4 + 4096);
 }
 
+TEST(PatchStreamer, BuildsUlrichsChunkOfEveryDecodedPatchOnItsWorkers)
+{
+    test::ScratchDir dir;
+    for (const char* codec : {"lossless", "progressive"}) {
+        const archive::ArchiveReader reader(buildFixture(dir, codec));
+        const PyramidGeometry& g = reader.geometry();
+        const int n = g.patchSize();
+        stream::StreamerOptions options;
+        options.chunk_tolerance = 0.5;
+        stream::PatchStreamer streamer(reader, options);
+        streamer.beginFrame();
+        for (int64_t i = 0; i < g.patchCount(); ++i)
+            streamer.request(g.patchAt(i), double(i));
+        streamer.waitIdle();
+        const auto ready = streamer.takeReady();
+        ASSERT_EQ(ready.size(), size_t(g.patchCount()));
+        size_t simplified = 0;
+        for (const auto& patch : ready) {
+            ASSERT_TRUE(patch->chunk) << codec;
+            const lod::ChunkMesh expected = lod::buildChunkMesh(
+                patch->codes.data(), n,
+                0.5 * reader.record(patch->id).err / reader.quantization().scale,
+                g.validCellsX(patch->id), g.validCellsY(patch->id));
+            EXPECT_EQ(patch->chunk->indices, expected.indices) << codec;
+            EXPECT_EQ(patch->chunk->surface_indices, expected.surface_indices);
+            simplified += patch->chunk->surface_indices < 6u * (n - 1) * (n - 1);
+            EXPECT_GT(patch->bytes(), patch->chunk->indices.size() * sizeof(uint32_t));
+        }
+        EXPECT_GT(simplified, ready.size() / 2) << codec;
+    }
+}
+
 TEST(LruCache, EvictsTheLeastRecentlyUsedBeyondItsWeightButKeepsTheMinimumEntries)
 {
     stream::LruCache<int, int> cache(100, 2);

@@ -22,11 +22,17 @@ struct ChunkMesh {
     // orientation of the full-grid mesh; skirt triangles start and end with a foot.
     std::vector<uint32_t> indices;
     uint32_t surface_indices = 0; // [0, surface_indices) are the surface, the rest the skirt
-    double max_deviation = 0.0;   // worst |sample − mesh| over the patch's samples, in codes
+    double max_deviation = 0.0;   // worst |sample − mesh| over the valid samples, in codes
 };
 
 // The chunk of an n×n patch of `codes` (n = 2^k + 1, row-major) simplified to `tolerance`
 // (codes, >= 0; 0 removes only samples that lie exactly on their triangle's plane).
+//
+// A patch reaching past the terrain's east or south border has valid samples only for
+// x <= valid_x, y <= valid_y (PyramidGeometry::validCellsX/Y). Only those count towards the
+// error, and no triangle crosses those lines: the renderer's clipping shader then cuts along
+// mesh edges and vertices, as it does for full grids, so clipped chunks stay watertight.
 ChunkMesh buildChunkMesh(const uint16_t* codes, int n, double tolerance);
+ChunkMesh buildChunkMesh(const uint16_t* codes, int n, double tolerance, int valid_x, int valid_y);
 
 } // namespace ridge::lod

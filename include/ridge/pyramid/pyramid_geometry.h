@@ -8,6 +8,7 @@
 // Only patches whose footprint touches the valid extent exist. Because the valid extent
 // starts at sample (0, 0), the existing patches of a level always form a rectangle
 // patchesX(l) x patchesY(l), so an index position is a pure function of (level, x, y).
+#include <algorithm>
 #include <cstdint>
 
 namespace ridge {
@@ -25,7 +26,7 @@ struct PatchId {
 };
 
 class PyramidGeometry {
-public:
+  public:
     PyramidGeometry() = default;
     // Throws ridge::Error when patch_size is not 2^n + 1 with n in [2, 12] or the grid is
     // smaller than 2x2.
@@ -46,8 +47,24 @@ public:
     int levelWidth(int level) const;
     int levelHeight(int level) const;
     // Samples of `level` that lie inside the valid extent: floor((width-1)/step) + 1.
-    int validLevelWidth(int level) const { return static_cast<int>((width_ - 1) / step(level) + 1); }
-    int validLevelHeight(int level) const { return static_cast<int>((height_ - 1) / step(level) + 1); }
+    int validLevelWidth(int level) const
+    {
+        return static_cast<int>((width_ - 1) / step(level) + 1);
+    }
+    int validLevelHeight(int level) const
+    {
+        return static_cast<int>((height_ - 1) / step(level) + 1);
+    }
+    // Cells of patch `p` inside the valid extent along x and y: cells() for a patch that
+    // ends inside it, fewer for one that reaches past its east or south border.
+    int validCellsX(PatchId p) const
+    {
+        return std::clamp(validLevelWidth(p.level) - 1 - p.x * cells(), 0, cells());
+    }
+    int validCellsY(PatchId p) const
+    {
+        return std::clamp(validLevelHeight(p.level) - 1 - p.y * cells(), 0, cells());
+    }
     int patchesX(int level) const;
     int patchesY(int level) const;
     int64_t patchCount(int level) const { return int64_t{patchesX(level)} * patchesY(level); }
@@ -59,7 +76,7 @@ public:
     PatchId patchAt(int64_t index) const;
     int64_t firstPatchIndex(int level) const { return first_index_[level]; }
 
-private:
+  private:
     int width_ = 0;
     int height_ = 0;
     int patch_size_ = 0;

@@ -6,10 +6,12 @@
 //
 // Not thread-safe: one loader per render thread.
 #include "ridge/archive/archive_reader.h"
+#include "ridge/lod/chunk_mesh.h"
 #include "ridge/stream/lru_cache.h"
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 namespace ridge::stream {
@@ -23,12 +25,16 @@ struct DecodedPatch {
     // resident codes. block_errors is then empty when the archive derives λ (the GPU derives
     // it after reconstructing).
     std::vector<int32_t> residuals;
+    // Ulrich's chunk of the codes, built by the worker that decoded them
+    // (StreamerOptions::chunk_tolerance), so that the render thread only uploads it.
+    std::optional<lod::ChunkMesh> chunk;
 
     bool needsGpuReconstruction() const { return codes.empty() && !residuals.empty(); }
     size_t bytes() const
     {
         return sizeof(*this) + codes.size() * sizeof(uint16_t) +
-               block_errors.size() * sizeof(float) + residuals.size() * sizeof(int32_t);
+               block_errors.size() * sizeof(float) + residuals.size() * sizeof(int32_t) +
+               (chunk ? chunk->indices.size() * sizeof(uint32_t) : 0);
     }
 };
 
