@@ -184,8 +184,9 @@ std::string formatRenderBenchTable(const std::vector<RenderBenchReport>& reports
         const std::string name =
             fmt::format("{}{}",
                         r.options.scheme == render::LodScheme::Tessellation ? "tessellation (paper)"
-                        : r.options.scheme == render::LodScheme::ChunkedLod ? "chunked LOD"
-                                                                            : "brute force",
+                        : r.options.scheme == render::LodScheme::ChunkedLod
+                            ? (r.options.grid_chunks ? "chunked LOD, full grids" : "chunked LOD")
+                            : "brute force",
                         r.options.cull ? "" : " without frustum");
         out += fmt::format("{:<38} {:>9.1f} {:>9.1f} {:>9.1f} {:>11} {:>12.0f} {:>8}\n", name,
                            r.fps_min, r.fps_max, r.fps_median, r.cache_misses, r.triangles_mean,
