@@ -60,9 +60,11 @@ class ChunkBuilder {
         if (x0 > valid_x_ || ymin > valid_y_)
             return 0.0; // wholly outside: clipped away
         // Half the triangles split into half cells: besides their corners they hold only
-        // the hypotenuse midpoint.
-        if (!t.leaf() && std::abs(t.left.x - t.right.x) + std::abs(t.left.y - t.right.y) == 2)
-            return std::abs(height(t.midpoint()) - 0.5 * (height(t.left) + height(t.right)));
+        // the hypotenuse midpoint (when it is a valid sample; the general scan clamps).
+        const Point m = t.midpoint();
+        if (!t.leaf() && std::abs(t.left.x - t.right.x) + std::abs(t.left.y - t.right.y) == 2 &&
+            m.x <= valid_x_ && m.y <= valid_y_)
+            return std::abs(height(m) - 0.5 * (height(t.left) + height(t.right)));
         const Point p[3] = {t.apex, t.left, t.right};
         const double h[3] = {height(p[0]), height(p[1]), height(p[2])};
         // The plane h = h0 + gx·(x − x0) + gy·(y − y0) through the three vertices.
