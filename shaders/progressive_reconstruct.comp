@@ -16,6 +16,12 @@ layout(local_size_x = 8, local_size_y = 8) in;
 layout(binding = 0) uniform usampler2DArray u_heights; // the parent's codes
 layout(binding = 1, r16ui) uniform writeonly uimage2DArray u_child_heights;
 layout(std430, binding = 1) readonly buffer Residuals { int residuals[]; };
+uniform int u_residual_bits; // 32, or 16: two residuals per int, the first in the low half
+
+int residual(int i) {
+    return u_residual_bits == 16 ? bitfieldExtract(residuals[i >> 1], (i & 1) * 16, 16)
+                                 : residuals[i];
+}
 layout(std430, binding = 2) buffer Bins { int q[]; };
 
 uniform int u_pass;
@@ -83,8 +89,8 @@ void main() {
         int half_n = (u_n - 1) / 2;
         ivec2 parent = ivec2((u_child_index & 1) * half_n, (u_child_index >> 1) * half_n) + xy / 2;
         int code = int(texelFetch(u_heights, ivec3(parent, u_parent_layer), 0).r);
-        q[i] = (code + u_bound) / u_step + residuals[i];
+        q[i] = (code + u_bound) / u_step + residual(i);
     } else {
-        q[i] = predictOdd(xy.x, xy.y) - residuals[i];
+        q[i] = predictOdd(xy.x, xy.y) - residual(i);
     }
 }

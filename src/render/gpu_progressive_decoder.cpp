@@ -17,7 +17,24 @@ void GpuProgressiveDecoder::reconstruct(const int32_t* residuals, GLuint heights
 {
     glNamedBufferSubData(residuals_.id(), 0, GLsizeiptr(n_) * n_ * GLsizeiptr(sizeof(int32_t)),
                          residuals);
+    run(32, heights, parent_layer, child_layer, child_index, quantizer, predictor);
+}
+
+void GpuProgressiveDecoder::reconstruct(const int16_t* residuals, GLuint heights, int parent_layer,
+                                        int child_layer, int child_index,
+                                        const LevelQuantizer& quantizer, OddPredictor predictor)
+{
+    glNamedBufferSubData(residuals_.id(), 0, GLsizeiptr(n_) * n_ * GLsizeiptr(sizeof(int16_t)),
+                         residuals);
+    run(16, heights, parent_layer, child_layer, child_index, quantizer, predictor);
+}
+
+void GpuProgressiveDecoder::run(int residual_bits, GLuint heights, int parent_layer,
+                                int child_layer, int child_index, const LevelQuantizer& quantizer,
+                                OddPredictor predictor)
+{
     program_.use();
+    glUniform1i(program_.uniform("u_residual_bits"), residual_bits);
     glUniform1i(program_.uniform("u_n"), n_);
     glUniform1i(program_.uniform("u_child_index"), child_index);
     glUniform1i(program_.uniform("u_parent_layer"), parent_layer);

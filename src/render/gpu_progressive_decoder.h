@@ -24,8 +24,14 @@ class GpuProgressiveDecoder {
     // sampling them. `quantizer` is the child level's.
     void reconstruct(const int32_t* residuals, GLuint heights, int parent_layer, int child_layer,
                      int child_index, const LevelQuantizer& quantizer, OddPredictor predictor);
+    // The same from residuals stored in 16 bits (uploaded as they are, half the bytes).
+    void reconstruct(const int16_t* residuals, GLuint heights, int parent_layer, int child_layer,
+                     int child_index, const LevelQuantizer& quantizer, OddPredictor predictor);
 
   private:
+    void run(int residual_bits, GLuint heights, int parent_layer, int child_layer, int child_index,
+             const LevelQuantizer& quantizer, OddPredictor predictor);
+
     int n_;
     gpu::GlBuffer residuals_;
     gpu::GlBuffer bins_;

@@ -88,8 +88,14 @@ void PatchTextures::reconstruct(const stream::DecodedPatch& patch, int parent_sl
 {
     ++generation_[size_t(slot)];
     const PatchId p = patch.id;
-    decoder_->reconstruct(patch.residuals.data(), heights_.id(), parent_slot, slot, p.childIndex(),
-                          progressive_->quantizer(p.level), progressive_->variant().predictor);
+    if (patch.residuals.empty())
+        decoder_->reconstruct(patch.residuals16.data(), heights_.id(), parent_slot, slot,
+                              p.childIndex(), progressive_->quantizer(p.level),
+                              progressive_->variant().predictor);
+    else
+        decoder_->reconstruct(patch.residuals.data(), heights_.id(), parent_slot, slot,
+                              p.childIndex(), progressive_->quantizer(p.level),
+                              progressive_->variant().predictor);
     // The passes below (and children reconstructed later in this batch) read the codes.
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     if (!patch.block_errors.empty()) {
@@ -123,7 +129,8 @@ size_t PatchTextures::uploadBytes(const stream::DecodedPatch& patch) const
     const size_t B = size_t(layout_.blocksPerSide());
     const size_t lambda = patch.block_errors.empty() ? 0 : B * B * 4 * sizeof(float);
     if (patch.needsGpuReconstruction())
-        return patch.residuals.size() * sizeof(int32_t) + lambda;
+        return patch.residuals.size() * sizeof(int32_t) +
+               patch.residuals16.size() * sizeof(int16_t) + lambda;
     return patch.codes.size() * sizeof(uint16_t) + lambda;
 }
 

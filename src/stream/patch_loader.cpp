@@ -1,8 +1,28 @@
 #include "ridge/stream/patch_loader.h"
 
 #include <algorithm>
+#include <limits>
 
 namespace ridge::stream {
+
+void DecodedPatch::setResiduals(std::vector<int32_t> values)
+{
+    const bool narrow = std::all_of(values.begin(), values.end(), [](int32_t v) {
+        return v >= std::numeric_limits<int16_t>::min() && v <= std::numeric_limits<int16_t>::max();
+    });
+    residuals16.clear();
+    residuals.clear();
+    if (narrow)
+        residuals16.assign(values.begin(), values.end());
+    else
+        residuals = std::move(values);
+}
+
+std::vector<int32_t> DecodedPatch::residualsWide() const
+{
+    return residuals.empty() ? std::vector<int32_t>(residuals16.begin(), residuals16.end())
+                             : residuals;
+}
 
 PatchLoader::PatchLoader(const archive::ArchiveReader& reader, size_t cache_patches)
     : reader_(reader),

@@ -193,8 +193,9 @@ std::shared_ptr<const DecodedPatch> PatchStreamer::decodeLocked(PatchId p,
     const size_t samples = size_t(reader_.geometry().patchSize()) * reader_.geometry().patchSize();
     try {
         if (residuals) {
-            out->residuals.resize(samples);
-            reader_.decodeResiduals(p, *blob, out->residuals.data(), &out->block_errors);
+            std::vector<int32_t> wide(samples);
+            reader_.decodeResiduals(p, *blob, wide.data(), &out->block_errors);
+            out->setResiduals(std::move(wide));
         } else {
             out->codes.resize(samples);
             reader_.decodeBlob(p, *blob, out->codes.data(), parent ? parent->codes.data() : nullptr,

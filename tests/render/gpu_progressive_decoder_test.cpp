@@ -11,6 +11,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 using namespace ridge;
 
 namespace {
@@ -33,7 +35,7 @@ void expectGpuEqualsCpu(const std::string& path)
     stream::PatchLoader cpu(reader, 4096);
     std::vector<int32_t> residuals(size_t(n) * n);
     std::vector<uint16_t> gpu_codes(size_t(n) * n);
-    size_t patches = 0, samples_differing = 0;
+    size_t patches = 0, narrow_patches = 0, samples_differing = 0;
     for (int64_t i = 0; i < g.patchCount(); ++i) {
         const PatchId p = g.patchAt(i);
         if (p.level == 0)
@@ -52,17 +54,32 @@ void expectGpuEqualsCpu(const std::string& path)
         ASSERT_EQ(
             codec->decodeResiduals(blob.data() + skip, blob.size() - skip, ctx, residuals.data()),
             kCodecOk);
-        decoder.reconstruct(residuals.data(), heights.id(), 0, 1, ctx.child_index,
-                            codec->quantizer(p.level), codec->variant().predictor);
-        glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
-        glGetTextureSubImage(heights.id(), 0, 0, 0, 1, n, n, 1, GL_RED_INTEGER, GL_UNSIGNED_SHORT,
-                             GLsizei(gpu_codes.size() * 2), gpu_codes.data());
-        for (size_t k = 0; k < gpu_codes.size(); ++k)
-            samples_differing += gpu_codes[k] != expected->codes[k];
+        // From 32-bit residuals, and from 16-bit ones (the streamer's storage) where they fit.
+        const bool narrow = std::all_of(residuals.begin(), residuals.end(),
+                                        [](int32_t r) { return r >= -32768 && r <= 32767; });
+        const std::vector<int16_t> residuals16(residuals.begin(), residuals.end());
+        for (const int bits : {32, 16}) {
+            if (bits == 16 && !narrow)
+                continue;
+            if (bits == 32)
+                decoder.reconstruct(residuals.data(), heights.id(), 0, 1, ctx.child_index,
+                                    codec->quantizer(p.level), codec->variant().predictor);
+            else
+                decoder.reconstruct(residuals16.data(), heights.id(), 0, 1, ctx.child_index,
+                                    codec->quantizer(p.level), codec->variant().predictor);
+            glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
+            glGetTextureSubImage(heights.id(), 0, 0, 0, 1, n, n, 1, GL_RED_INTEGER,
+                                 GL_UNSIGNED_SHORT, GLsizei(gpu_codes.size() * 2),
+                                 gpu_codes.data());
+            for (size_t k = 0; k < gpu_codes.size(); ++k)
+                samples_differing += gpu_codes[k] != expected->codes[k];
+            narrow_patches += bits == 16;
+        }
         ++patches;
     }
     EXPECT_EQ(samples_differing, 0u) << path;
     EXPECT_GT(patches, 4u);
+    EXPECT_GT(narrow_patches, patches / 2) << "most patches take the 16-bit path";
 }
 
 } // namespace

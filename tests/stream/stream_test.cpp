@@ -191,6 +191,7 @@ TEST(PatchStreamer, DeliversResidualsForTheGpuThatReconstructToTheCpuDecoding)
     ASSERT_EQ(ready.size(), size_t(g.patchCount()));
     const int n = g.patchSize();
     std::vector<int32_t> parent_q(size_t(n) * n), q(size_t(n) * n);
+    size_t narrow = 0; // patches whose residuals are held in 16 bits
     for (const auto& patch : ready) {
         const auto expected = loader.load(patch->id);
         if (patch->id.level == 0) {
@@ -205,13 +206,16 @@ TEST(PatchStreamer, DeliversResidualsForTheGpuThatReconstructToTheCpuDecoding)
         const auto parent = loader.load(p.parent());
         for (size_t k = 0; k < q.size(); ++k)
             parent_q[k] = quant.quantize(parent->codes[k]);
-        reconstructChild(patch->residuals.data(), parent_q.data(), p.childIndex(), n,
+        EXPECT_NE(patch->residuals.empty(), patch->residuals16.empty()) << "one storage";
+        narrow += !patch->residuals16.empty();
+        reconstructChild(patch->residualsWide().data(), parent_q.data(), p.childIndex(), n,
                          codec->variant().predictor, q.data());
         size_t differing = 0;
         for (size_t k = 0; k < q.size(); ++k)
             differing += quant.reconstruct(q[k]) != expected->codes[k];
         EXPECT_EQ(differing, 0u) << reader.describe(p);
     }
+    EXPECT_GT(narrow, ready.size() / 2);
     const stream::StreamerStats s = streamer.stats();
     EXPECT_EQ(s.decoded, uint64_t(g.patchCount())) << "no ancestor is decoded twice for residuals";
     EXPECT_GT(s.bytes_read, 0u);
@@ -279,6 +283,22 @@ TEST(PatchStreamer, BuildsUlrichsChunkOfEveryDecodedPatchOnItsWorkers)
         }
         EXPECT_GT(simplified, ready.size() / 2) << codec;
     }
+}
+
+TEST(DecodedPatch, HoldsResidualsIn16BitsWhenEveryOneFits)
+{
+    stream::DecodedPatch p;
+    p.setResiduals({-32768, 0, 32767});
+    EXPECT_EQ(p.residuals16, (std::vector<int16_t>{-32768, 0, 32767}));
+    EXPECT_TRUE(p.residuals.empty());
+    EXPECT_TRUE(p.needsGpuReconstruction());
+    EXPECT_EQ(p.residualsWide(), (std::vector<int32_t>{-32768, 0, 32767}));
+    const size_t narrow_bytes = p.bytes();
+    p.setResiduals({-32768, 0, 32768});
+    EXPECT_TRUE(p.residuals16.empty());
+    EXPECT_EQ(p.residuals, (std::vector<int32_t>{-32768, 0, 32768}));
+    EXPECT_EQ(p.residualsWide(), p.residuals);
+    EXPECT_EQ(p.bytes(), narrow_bytes + 3 * 2);
 }
 
 TEST(LruCache, EvictsTheLeastRecentlyUsedBeyondItsWeightButKeepsTheMinimumEntries)

@@ -24,16 +24,27 @@ struct DecodedPatch {
     // entropy-decoded residuals[patch_size^2] that the GPU turns into codes from the parent's
     // resident codes. block_errors is then empty when the archive derives λ (the GPU derives
     // it after reconstructing).
+    // Stored in 16 bits a sample when every one fits (quantised prediction errors nearly
+    // always do: it halves what a residual patch holds in the decoded cache), else in 32.
+    std::vector<int16_t> residuals16;
     std::vector<int32_t> residuals;
     // Ulrich's chunk of the codes, built by the worker that decoded them
     // (StreamerOptions::chunk_tolerance), so that the render thread only uploads it.
     std::optional<lod::ChunkMesh> chunk;
 
-    bool needsGpuReconstruction() const { return codes.empty() && !residuals.empty(); }
+    bool needsGpuReconstruction() const
+    {
+        return codes.empty() && (!residuals.empty() || !residuals16.empty());
+    }
+    // Stores `values` as residuals16 when every one fits in 16 bits, else as residuals.
+    void setResiduals(std::vector<int32_t> values);
+    // The residuals in 32 bits, however they are stored.
+    std::vector<int32_t> residualsWide() const;
     size_t bytes() const
     {
         return sizeof(*this) + codes.size() * sizeof(uint16_t) +
                block_errors.size() * sizeof(float) + residuals.size() * sizeof(int32_t) +
+               residuals16.size() * sizeof(int16_t) +
                (chunk ? chunk->indices.size() * sizeof(uint32_t) : 0);
     }
 };
