@@ -7,9 +7,9 @@
 // variants run here (ε, skirts, culling); on a GPU machine they are the GPU's.
 #include "ridge/gpu/context.h"
 #include "ridge/gpu/render_target.h"
-#include "ridge/lod/chunk_mesh.h"
 #include "ridge/pipeline/build.h"
 #include "ridge/render/terrain_renderer.h"
+#include "ridge/stream/patch_loader.h"
 
 #include <benchmark/benchmark.h>
 #include <epoxy/gl.h>
@@ -175,15 +175,13 @@ void BM_BuildChunkMesh(benchmark::State& state)
                     int(std::llround(frame.rowOf(196000)) / span)};
     std::vector<uint16_t> codes(size_t(n) * n);
     reader.decodePatch(p, codes.data());
-    const double tolerance =
-        0.5 * double(s.renderer->quadtree().bounds(p).err) / reader.quantization().scale;
     size_t triangles = 0;
     for (auto _ : state) {
         if (decode_only) {
             reader.decodePatch(p, codes.data());
             benchmark::DoNotOptimize(codes.data());
         } else {
-            const lod::ChunkMesh mesh = lod::buildChunkMesh(codes.data(), n, tolerance);
+            const lod::ChunkMesh mesh = stream::patchChunk(reader, p, codes.data(), 0.5);
             triangles = mesh.surface_indices / 3;
             benchmark::DoNotOptimize(triangles);
         }

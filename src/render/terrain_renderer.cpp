@@ -63,8 +63,6 @@ void setMatrix(const gpu::ShaderProgram& program, const char* name, const glm::d
 
 namespace {
 
-// Slots for resident patches: the requested count within the VRAM budget and the GL limit on
-// array layers; at least 4, so that raising ε always finds a selection that fits.
 // Ulrich's chunks: vertex ids run to n² + 4(n − 1) (the skirt's feet); 16-bit while they fit.
 GLenum chunkIndexType(int n)
 {
@@ -79,6 +77,8 @@ size_t worstChunkMeshBytes(int n)
     return (6 * c * c + 24 * c) * (chunkIndexType(n) == GL_UNSIGNED_SHORT ? 2 : 4);
 }
 
+// Slots for resident patches: the requested count within the VRAM budget and the GL limit on
+// array layers; at least 4, so that raising ε always finds a selection that fits.
 int slotCount(const archive::ArchiveReader& reader, const RendererOptions& options)
 {
     const double n = reader.geometry().patchSize();
@@ -409,15 +409,12 @@ size_t TerrainRenderer::Impl::uploadPatch(const stream::DecodedPatch& patch, int
 // bytes sent.
 size_t TerrainRenderer::Impl::buildChunk(const stream::DecodedPatch& patch, int slot)
 {
-    // Streaming: the decode worker built it. The tolerance is the streamer's (same formula).
-    const double tolerance =
-        options.chunk_tolerance * double(quadtree.bounds(patch.id).err) / quantization.scale;
+    // Streaming: the decode worker built it.
     std::optional<lod::ChunkMesh> built;
     const lod::ChunkMesh& mesh =
         patch.chunk ? *patch.chunk
-                    : built.emplace(lod::buildChunkMesh(patch.codes.data(), n, tolerance,
-                                                        reader.geometry().validCellsX(patch.id),
-                                                        reader.geometry().validCellsY(patch.id)));
+                    : built.emplace(stream::patchChunk(reader, patch.id, patch.codes.data(),
+                                                       options.chunk_tolerance));
     ChunkSlot& c = chunk_slots[size_t(slot)];
     // A new buffer: GL keeps the old one alive while a queued draw still reads it.
     c.indices = gpu::GlBuffer();

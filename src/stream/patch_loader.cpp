@@ -18,6 +18,15 @@ void DecodedPatch::setResiduals(std::vector<int32_t> values)
         residuals = std::move(values);
 }
 
+lod::ChunkMesh patchChunk(const archive::ArchiveReader& reader, PatchId p, const uint16_t* codes,
+                          double chunk_tolerance)
+{
+    const PyramidGeometry& g = reader.geometry();
+    return lod::buildChunkMesh(codes, g.patchSize(),
+                               chunk_tolerance * reader.record(p).err / reader.quantization().scale,
+                               g.validCellsX(p), g.validCellsY(p));
+}
+
 std::vector<int32_t> DecodedPatch::residualsWide() const
 {
     return residuals.empty() ? std::vector<int32_t>(residuals16.begin(), residuals16.end())

@@ -201,10 +201,7 @@ std::shared_ptr<const DecodedPatch> PatchStreamer::decodeLocked(PatchId p,
             reader_.decodeBlob(p, *blob, out->codes.data(), parent ? parent->codes.data() : nullptr,
                                &out->block_errors);
             if (options_.chunk_tolerance >= 0.0)
-                out->chunk = lod::buildChunkMesh(
-                    out->codes.data(), reader_.geometry().patchSize(),
-                    options_.chunk_tolerance * reader_.record(p).err / reader_.quantization().scale,
-                    reader_.geometry().validCellsX(p), reader_.geometry().validCellsY(p));
+                out->chunk = patchChunk(reader_, p, out->codes.data(), options_.chunk_tolerance);
         }
     } catch (...) {
         lock.lock();

@@ -49,6 +49,12 @@ struct DecodedPatch {
     }
 };
 
+// Ulrich's chunk of patch `p` of `reader` from its decoded `codes`: simplified to
+// chunk_tolerance·Err(P), within the patch's valid extent. The one formula the streamer's
+// workers and the renderer's synchronous loads both build with.
+lod::ChunkMesh patchChunk(const archive::ArchiveReader& reader, PatchId p, const uint16_t* codes,
+                          double chunk_tolerance);
+
 struct LoaderStats {
     uint64_t decoded = 0; // patches decoded (ancestors included)
     uint64_t cache_hits = 0;
