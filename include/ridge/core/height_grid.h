@@ -6,6 +6,14 @@
 
 namespace ridge {
 
+// The largest |metres| of any height, and the largest ground spacing between samples, that
+// ridge accepts anywhere (ingest, archive fields, parameters). Nothing real reaches them: no
+// relief on any planet, and no useful grid spacing, exceeds the Earth's radius (6.4e6 m);
+// values beyond are a unit mistake or a hostile file. Within them every height, sum and
+// extent stays finite in float and double.
+inline constexpr double kMaxAbsHeightMetres = 1e7;
+inline constexpr double kMaxSpacingMetres = 1e7;
+
 // metres = offset + scale * code. `max_error` is the largest |metres(code) - source value|
 // over all valid (non-void) source samples, measured during quantization (0 when exact).
 struct HeightQuantization {
