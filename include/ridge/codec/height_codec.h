@@ -11,6 +11,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 
 namespace ridge {
@@ -77,8 +78,16 @@ struct CodecSettings {
 // ridge::Error for an unknown name or invalid settings.
 std::unique_ptr<HeightCodec> makeCodec(const std::string& name, double max_error = 0,
                                        int level_count = 1);
-// Codec by stored id and settings; returns null for an unknown id or invalid settings.
-std::unique_ptr<HeightCodec> makeCodec(CodecId id, const CodecSettings& settings = {});
+// Codec by stored id and settings; returns null for an unknown id or invalid settings, and
+// then sets *problem (when given) to what is wrong, naming the archive header field:
+//   "codec_id is 7: must be 0 (raw), 1 (lossless) or 2 (progressive)"
+//   "codec_param[1] is 3: the progressive codec's variant must be 0, 2, 4 or 6"
+// Each codec validates its own parameters: raw and lossless take none (both exactly 0).
+std::unique_ptr<HeightCodec> makeCodec(CodecId id, const CodecSettings& settings = {},
+                                       std::string* problem = nullptr);
+// The id of the codecs makeCodec(name) builds ("progressive-paper" is a variant of the
+// progressive codec); nullopt for an unknown name.
+std::optional<CodecId> codecIdOf(const std::string& name);
 // True when `name` is a codec whose decoded heights differ from its input.
 bool isLossyCodec(const std::string& name);
 
