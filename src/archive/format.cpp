@@ -1,10 +1,13 @@
 #include "ridge/archive/format.h"
 
 #include "ridge/core/crc32.h"
+#include "ridge/core/height_grid.h"
+#include "ridge/core/parameter_check.h"
 
 #include <cmath>
 #include <algorithm>
 #include <bit>
+#include <cstdio>
 #include <cstring>
 
 namespace ridge::archive {
@@ -43,6 +46,65 @@ enum HeaderOffset : size_t {
     kOffMetaOffset = 112, kOffMetaSize = 120, kOffMetaCrc = 124, kOffIndexOffset = 128,
     kOffIndexCrc = 136, kOffReserved = 140, kOffHeaderCrc = 156,
 };
+
+// The largest code: metres(kMaxCode) is the highest height an archive can hold.
+constexpr double kMaxCode = 65535;
+
+// "" when the reserved bytes [begin, end) are zero, else which byte is not.
+std::string checkReserved(const uint8_t* in, size_t begin, size_t end)
+{
+    for (size_t i = begin; i < end; ++i) {
+        if (in[i] != 0) {
+            char text[96];
+            std::snprintf(text, sizeof text, "header reserved bytes %zu..%zu are not zero (byte %zu is 0x%02x)",
+                          begin, end - 1, i, unsigned(in[i]));
+            return text;
+        }
+    }
+    return {};
+}
+
+// "" when `value` lies in `range`, else "header field NAME is VALUE: must be RANGE".
+std::string checkField(const char* name, double value, ValueRange range)
+{
+    if (range.contains(value))
+        return {};
+    return std::string("header field ") + name + " is " + formatNumber(value) + ": must be " +
+           range.describe();
+}
+
+// The semantic checks of the numbers (docs/FORMAT.md, "Header"): every height an archive
+// can express, its error bounds and its spacings are finite and within the limits shared
+// with ingest, so nothing downstream (boxes, cameras, screen-space errors) sees NaN or
+// infinity. The first problem found, or "".
+std::string checkHeaderValues(const Header& h)
+{
+    const ValueRange heights = ValueRange::closed(-kMaxAbsHeightMetres, kMaxAbsHeightMetres);
+    const ValueRange spacing = ValueRange::openClosed(0, kMaxSpacingMetres);
+    if (std::string p = checkField("height_scale", h.height_scale, ValueRange::positive()); !p.empty())
+        return p;
+    if (std::string p = checkField("height_offset", h.height_offset, heights); !p.empty())
+        return p;
+    // metres = offset + scale·code is monotone in the code: codes 0 and 65535 bound them all.
+    const double top = h.height_offset + h.height_scale * kMaxCode;
+    if (!heights.contains(top))
+        return "header fields height_offset + 65535 * height_scale (the height of code 65535) are " +
+               formatNumber(top) + ": must be " + heights.describe();
+    if (std::string p = checkField("spacing_x", h.spacing_x, spacing); !p.empty())
+        return p;
+    if (std::string p = checkField("spacing_y", h.spacing_y, spacing); !p.empty())
+        return p;
+    // Ingest rounds to the nearest code (an error of about half a code); an error as large as
+    // the whole code range would mean the codes say nothing about the source.
+    if (std::string p = checkField("quantization_error", h.quantization_error,
+                                   ValueRange::closed(0, kMaxCode * h.height_scale));
+        !p.empty())
+        return p;
+    if (h.metadata_size < 2)
+        return "header field metadata_size is " + std::to_string(h.metadata_size) +
+               ": must be >= 2 (the metadata is a JSON object)";
+    return {};
+}
 
 } // namespace
 
@@ -86,7 +148,12 @@ std::string parseHeader(const uint8_t in[kHeaderSize], Header& h)
     if (get<uint32_t>(in + kOffHeaderCrc) != crc32(in, kOffHeaderCrc))
         return "header checksum mismatch (corrupt header)";
     if (get<uint32_t>(in + kOffHeaderSize) != kHeaderSize)
-        return "unexpected header size";
+        return "header field header_size is " + std::to_string(get<uint32_t>(in + kOffHeaderSize)) +
+               ": must be " + std::to_string(kHeaderSize);
+    if (std::string p = checkReserved(in, kOffReserved0, kOffCodecParam); !p.empty())
+        return p;
+    if (std::string p = checkReserved(in, kOffReserved, kOffHeaderCrc); !p.empty())
+        return p;
     h.width = get<uint32_t>(in + kOffWidth);
     h.height = get<uint32_t>(in + kOffHeight);
     h.patch_size = get<uint32_t>(in + kOffPatchSize);
@@ -107,10 +174,7 @@ std::string parseHeader(const uint8_t in[kHeaderSize], Header& h)
     h.metadata_crc32 = get<uint32_t>(in + kOffMetaCrc);
     h.index_offset = get<uint64_t>(in + kOffIndexOffset);
     h.index_crc32 = get<uint32_t>(in + kOffIndexCrc);
-    if (!(h.height_scale > 0) || !std::isfinite(h.height_offset) || !(h.spacing_x > 0) ||
-        !(h.spacing_y > 0) || !(h.quantization_error >= 0))
-        return "invalid header values";
-    return {};
+    return checkHeaderValues(h);
 }
 
 void serializeRecord(const PatchRecord& r, uint8_t out[kIndexEntrySize])

@@ -61,7 +61,11 @@ struct PatchRecord {
 };
 
 // Byte-exact (de)serialisation. parseHeader returns an empty string on success, otherwise
-// what is wrong (bad magic, newer version, checksum, inconsistent geometry).
+// what is wrong (bad magic, newer version, checksum), naming the field for values outside
+// their documented range: non-zero reserved bytes, height_scale, height_offset and the
+// height of code 65535, spacing_x/y, quantization_error, metadata_size (docs/FORMAT.md).
+// Geometry, block layout, filter and codec fields are checked by ArchiveReader, which knows
+// the codecs.
 void serializeHeader(const Header& header, uint8_t out[kHeaderSize]);
 std::string parseHeader(const uint8_t in[kHeaderSize], Header& header);
 void serializeRecord(const PatchRecord& record, uint8_t out[kIndexEntrySize]);
