@@ -1,0 +1,69 @@
+#pragma once
+// The metadata document of a .ridge archive (docs/FORMAT.md, "Metadata"), parsed once when
+// the archive is opened: every documented key with its type checked, the values that repeat
+// header fields cross-checked against the header, numbers finite. Consumers (extract, verify,
+// info) read these fields instead of re-parsing the JSON with silent fallbacks.
+//
+// Unknown keys are ignored (forward compatibility); the document as stored stays available
+// as ArchiveReader::metadataJson() for tools that print it whole.
+#include "ridge/archive/format.h"
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+
+namespace ridge::archive {
+
+// "source": the raster the archive was built from, as ingest saw it.
+struct SourceMetadata {
+    std::string path;
+    std::string data_type;     // GDAL data type name of band 1, e.g. "Int16"
+    int64_t width = 0;         // == header width
+    int64_t height = 0;        // == header height
+    int64_t valid_samples = 0; // >= 0 (streamed builds over-count: see docs/FORMAT.md)
+    int64_t voids_filled = 0;  // in [0, width·height]
+    std::string void_fill;     // how voids were filled (free text)
+    double min_metres = 0.0;   // over the valid samples; finite, <= max_metres
+    double max_metres = 0.0;
+    bool exact = false; // every valid sample is its code's height (quantization_error 0)
+};
+
+// "georeference": where the finest grid sits (GDAL conventions, pixel-is-area).
+struct GeoreferenceMetadata {
+    std::string crs_wkt;        // may be empty
+    bool geographic = false;    // CRS is lon/lat
+    std::string vertical_units; // as the source states them, may be empty
+    bool spacing_from_user = false;
+    std::optional<std::array<double, 6>> geotransform; // GDAL order, finite, of the finest grid
+};
+
+// "build": the options the archive was built with.
+struct BuildMetadata {
+    int patch_size = 0;   // == header patch_size
+    int block_cells = 0;  // == header block_cells
+    std::string codec;    // a codec name whose id is header codec_id ("progressive-paper" → 2)
+    std::string filter;   // filterName of header filter_id
+    double z_scale = 1.0; // source value → metres: value · z_scale + z_offset; finite, non-zero
+    double z_offset = 0.0;
+    std::optional<double> max_error;          // metres, finite >= 0 (ingest's --max-error)
+    std::optional<double> codec_max_error;    // metres, finite >= 0 (lossy codecs' --max-error)
+    std::optional<std::string> codec_variant; // free text (progressive codecs)
+    std::optional<std::string> block_errors;  // free text: stored or derived
+};
+
+struct ArchiveMetadata {
+    SourceMetadata source;
+    GeoreferenceMetadata georeference;
+    BuildMetadata build;
+    std::string generator;
+};
+
+// Parses and checks `json` against `header` (already checked itself). Throws ridge::Error
+// "metadata: WHAT" naming the key: "metadata: not JSON (...)", "metadata: source.width is
+// missing", "metadata: build.z_scale is \"1\": must be a number", "metadata:
+// build.patch_size is 65 but the header says 129".
+ArchiveMetadata parseArchiveMetadata(std::string_view json, const Header& header);
+
+} // namespace ridge::archive

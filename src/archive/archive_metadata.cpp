@@ -1,0 +1,254 @@
+#include "ridge/archive/archive_metadata.h"
+
+#include "ridge/codec/height_codec.h"
+#include "ridge/core/error.h"
+#include "ridge/core/parameter_check.h"
+#include "ridge/pyramid/level_pyramid.h"
+
+#include <limits>
+#include <nlohmann/json.hpp>
+
+namespace ridge::archive {
+
+namespace {
+
+using nlohmann::json;
+
+[[noreturn]] void reject(const std::string& problem)
+{
+    throw Error("metadata: " + problem);
+}
+
+// A JSON value as messages quote it: numbers as formatNumber prints them (JSON has no inf or
+// NaN, but a parsed 1e999 is one), anything else as its JSON text, cut short.
+std::string quote(const json& value)
+{
+    if (value.is_number())
+        return formatNumber(value.get<double>());
+    std::string text = value.dump();
+    if (text.size() > 40)
+        text = text.substr(0, 37) + "...";
+    return text;
+}
+
+// One object of the document, read key by key; every failure names "section.key".
+class Section {
+  public:
+    Section(const json& object, std::string name) : object_(object), name_(std::move(name)) {}
+
+    // "key" at the top level, else "section.key".
+    std::string path(const char* key) const { return name_.empty() ? key : name_ + "." + key; }
+
+    const json* find(const char* key) const
+    {
+        const auto it = object_.find(key);
+        return it == object_.end() ? nullptr : &*it;
+    }
+    const json& require(const char* key) const
+    {
+        const json* value = find(key);
+        if (!value)
+            reject(path(key) + " is missing");
+        return *value;
+    }
+
+    Section section(const char* key) const
+    {
+        const json& value = require(key);
+        if (!value.is_object())
+            reject(path(key) + " is " + quote(value) + ": must be an object");
+        return {value, path(key)};
+    }
+    std::string string(const char* key) const { return stringValue(key, require(key)); }
+    std::optional<std::string> optionalString(const char* key) const
+    {
+        const json* value = find(key);
+        return value ? std::optional(stringValue(key, *value)) : std::nullopt;
+    }
+    bool boolean(const char* key) const
+    {
+        const json& value = require(key);
+        if (!value.is_boolean())
+            reject(path(key) + " is " + quote(value) + ": must be true or false");
+        return value.get<bool>();
+    }
+    // An integer in [lo, hi] (JSON integers only: 301.0 is not one).
+    int64_t integer(const char* key, int64_t lo, int64_t hi) const
+    {
+        const json& value = require(key);
+        if (!value.is_number_integer())
+            reject(path(key) + " is " + quote(value) + ": must be an integer");
+        const bool huge = value.is_number_unsigned() &&
+                          value.get<uint64_t>() > uint64_t(std::numeric_limits<int64_t>::max());
+        const int64_t v = huge ? std::numeric_limits<int64_t>::max() : value.get<int64_t>();
+        if (huge || v < lo || v > hi)
+            reject(path(key) + " is " + value.dump() + ": must be an integer in [" +
+                   std::to_string(lo) + ", " + std::to_string(hi) + "]");
+        return v;
+    }
+    double number(const char* key, ValueRange range = ValueRange::any()) const
+    {
+        return numberValue(path(key), require(key), range);
+    }
+    std::optional<double> optionalNumber(const char* key, ValueRange range) const
+    {
+        const json* value = find(key);
+        return value ? std::optional(numberValue(path(key), *value, range)) : std::nullopt;
+    }
+    static double numberValue(const std::string& name, const json& value, ValueRange range)
+    {
+        if (!value.is_number())
+            reject(name + " is " + quote(value) + ": must be a number");
+        const double v = value.get<double>();
+        if (!range.contains(v))
+            reject(name + " is " + formatNumber(v) + ": must be " + range.describe());
+        return v;
+    }
+
+  private:
+    std::string stringValue(const char* key, const json& value) const
+    {
+        if (!value.is_string())
+            reject(path(key) + " is " + quote(value) + ": must be a string");
+        return value.get<std::string>();
+    }
+
+    const json& object_;
+    std::string name_;
+};
+
+// "NAME is VALUE but the header says HEADER" unless they agree.
+void expectHeader(const std::string& name, int64_t value, uint32_t header, const char* field)
+{
+    if (value != int64_t{header})
+        reject(name + " is " + std::to_string(value) + " but the header's " + field + " is " +
+               std::to_string(header));
+}
+
+SourceMetadata parseSource(const Section& s, const Header& header)
+{
+    SourceMetadata m;
+    m.path = s.string("path");
+    m.data_type = s.string("data_type");
+    constexpr int64_t kMaxInt = std::numeric_limits<int64_t>::max();
+    m.width = s.integer("width", 0, kMaxInt);
+    expectHeader(s.path("width"), m.width, header.width, "width");
+    m.height = s.integer("height", 0, kMaxInt);
+    expectHeader(s.path("height"), m.height, header.height, "height");
+    // Not bounded by width·height: ridge 0.1's streaming build counts the source rows that two
+    // strips share twice (CodeRowReader::stats), and those archives must open.
+    m.valid_samples = s.integer("valid_samples", 0, kMaxInt);
+    const int64_t samples = m.width * m.height; // both < 2^32: no overflow
+    m.voids_filled = s.integer("voids_filled", 0, samples);
+    m.void_fill = s.string("void_fill");
+    m.min_metres = s.number("min_metres");
+    m.max_metres = s.number("max_metres");
+    if (!(m.min_metres <= m.max_metres))
+        reject(s.path("min_metres") + " " + formatNumber(m.min_metres) + " > " +
+               s.path("max_metres") + " " + formatNumber(m.max_metres));
+    m.exact = s.boolean("exact");
+    // Exact ingest represents every valid sample by its code's height: no quantization error.
+    if (m.exact && header.quantization_error != 0)
+        reject(s.path("exact") + " is true but the header's quantization_error is " +
+               formatNumber(header.quantization_error));
+    return m;
+}
+
+GeoreferenceMetadata parseGeoreference(const Section& s)
+{
+    GeoreferenceMetadata m;
+    m.crs_wkt = s.string("crs_wkt");
+    m.geographic = s.boolean("geographic");
+    m.vertical_units = s.string("vertical_units");
+    m.spacing_from_user = s.boolean("spacing_from_user");
+    if (const json* gt = s.find("geotransform")) {
+        if (!gt->is_array() || gt->size() != 6)
+            reject(s.path("geotransform") + " is " + quote(*gt) +
+                   ": must be an array of 6 numbers (GDAL order)");
+        std::array<double, 6> values;
+        for (size_t k = 0; k < 6; ++k)
+            values[k] = Section::numberValue(s.path("geotransform") + "[" + std::to_string(k) + "]",
+                                             (*gt)[k], ValueRange::any());
+        m.geotransform = values;
+    }
+    return m;
+}
+
+BuildMetadata parseBuild(const Section& s, const Header& header)
+{
+    BuildMetadata m;
+    m.patch_size = static_cast<int>(s.integer("patch_size", 0, std::numeric_limits<int>::max()));
+    expectHeader(s.path("patch_size"), m.patch_size, header.patch_size, "patch_size");
+    m.block_cells = static_cast<int>(s.integer("block_cells", 0, std::numeric_limits<int>::max()));
+    expectHeader(s.path("block_cells"), m.block_cells, header.block_cells, "block_cells");
+
+    m.codec = s.string("codec");
+    const std::optional<CodecId> id = codecIdOf(m.codec);
+    if (!id)
+        reject(s.path("codec") + " is \"" + m.codec +
+               "\": not a codec name (raw, lossless, progressive, progressive-paper)");
+    if (static_cast<uint32_t>(*id) != header.codec_id)
+        reject(s.path("codec") + " is \"" + m.codec + "\" (codec id " +
+               std::to_string(static_cast<uint32_t>(*id)) + ") but the header's codec_id is " +
+               std::to_string(header.codec_id));
+    m.filter = s.string("filter");
+    const char* filter = filterName(static_cast<PyramidFilter>(header.filter_id));
+    if (m.filter != filter)
+        reject(s.path("filter") + " is \"" + m.filter + "\" but the header's filter_id " +
+               std::to_string(header.filter_id) + " is \"" + filter + "\"");
+
+    m.z_scale = s.number("z_scale");
+    if (m.z_scale == 0)
+        reject(s.path("z_scale") + " is 0: must be a finite number other than 0");
+    m.z_offset = s.number("z_offset");
+    m.max_error = s.optionalNumber("max_error", ValueRange::nonNegative());
+    m.codec_max_error = s.optionalNumber("codec_max_error", ValueRange::nonNegative());
+    m.codec_variant = s.optionalString("codec_variant");
+    m.block_errors = s.optionalString("block_errors");
+    return m;
+}
+
+// "an array", "a string" ...: what a document that is not an object is.
+const char* kindOf(const json& value)
+{
+    switch (value.type()) {
+    case json::value_t::array:
+        return "an array";
+    case json::value_t::string:
+        return "a string";
+    case json::value_t::boolean:
+        return "a boolean";
+    case json::value_t::null:
+        return "null";
+    default:
+        return "a number";
+    }
+}
+
+} // namespace
+
+ArchiveMetadata parseArchiveMetadata(std::string_view text, const Header& header)
+{
+    json document;
+    try {
+        document = json::parse(text);
+    } catch (const json::exception& e) {
+        // Syntax errors, invalid UTF-8, and numbers beyond double (1e999: so a parsed number
+        // is always finite). e.what() is "[json.exception.parse_error.101] parse error at
+        // ...": keep the part after the exception tag.
+        const std::string what = e.what();
+        const size_t tag_end = what.find("] ");
+        reject("not JSON: " + (tag_end == std::string::npos ? what : what.substr(tag_end + 2)));
+    }
+    if (!document.is_object())
+        reject(std::string("not a JSON object (it is ") + kindOf(document) + ")");
+    const Section root(document, "");
+    ArchiveMetadata m;
+    m.source = parseSource(root.section("source"), header);
+    m.georeference = parseGeoreference(root.section("georeference"));
+    m.build = parseBuild(root.section("build"), header);
+    m.generator = root.string("generator");
+    return m;
+}
+
+} // namespace ridge::archive
