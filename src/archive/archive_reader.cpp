@@ -1,5 +1,6 @@
 #include "ridge/archive/archive_reader.h"
 
+#include "index_checks.h"
 #include "ridge/archive/block_error_storage.h"
 #include "ridge/codec/progressive_codec.h"
 #include "ridge/core/crc32.h"
@@ -7,6 +8,7 @@
 
 #include <cerrno>
 #include <cstring>
+#include <limits>
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -41,67 +43,121 @@ ArchiveReader::ArchiveReader(const std::string& path)
     file_size_ = static_cast<uint64_t>(st.st_size);
     if (file_size_ < kHeaderSize)
         fail("not a ridge archive (file too short: " + std::to_string(file_size_) + " bytes)");
+    loadHeader();
+    loadMetadata();
+    loadIndex();
+}
 
-    // Header: magic, version, checksum, then geometry consistency.
+void ArchiveReader::loadHeader()
+{
+    // Magic, version, checksum and the numbers (parseHeader), then what needs the geometry
+    // and the codecs.
     uint8_t bytes[kHeaderSize];
     readAt(0, bytes, kHeaderSize, "header");
     if (std::string problem = parseHeader(bytes, header_); !problem.empty())
         fail(problem);
-    try {
-        geometry_ = PyramidGeometry::fromStored(header_.width, header_.height, header_.patch_size,
-                                                header_.level_count);
-    } catch (const Error& e) {
-        fail(std::string("invalid geometry in header: ") + e.what());
-    }
-    const TessellationBlockLayout layout = blockLayout();
-    if (!layout.valid() || static_cast<uint32_t>(layout.levels()) != header_.block_levels)
-        fail("invalid tessellation block layout in header");
+    checkGeometryFields();
     if (header_.filter_id > static_cast<uint32_t>(PyramidFilter::Neville4))
-        fail("unknown pyramid filter id " + std::to_string(header_.filter_id));
+        fail("header field filter_id is " + std::to_string(header_.filter_id) +
+             ": must be 0 (decimation) or 1 (Neville-4)");
     CodecSettings settings;
     settings.level_count = static_cast<int>(header_.level_count);
     settings.param[0] = header_.codec_param[0];
     settings.param[1] = header_.codec_param[1];
-    codec_ = makeCodec(static_cast<CodecId>(header_.codec_id), settings);
+    std::string problem;
+    codec_ = makeCodec(static_cast<CodecId>(header_.codec_id), settings, &problem);
     if (!codec_)
-        fail("unknown codec id " + std::to_string(header_.codec_id) +
-             " or invalid codec parameters");
+        fail("header field " + problem);
+}
 
-    // Metadata.
+void ArchiveReader::checkGeometryFields()
+{
+    // PyramidGeometry takes int extents; every valid one fits.
+    constexpr uint32_t kMaxExtent = std::numeric_limits<int>::max();
+    for (const auto& [field, value] : {std::pair{"width", header_.width},
+                                       std::pair{"height", header_.height}})
+        if (value < 2 || value > kMaxExtent)
+            fail(std::string("header field ") + field + " is " + std::to_string(value) +
+                 ": must be an integer in [2, " + std::to_string(kMaxExtent) + "]");
+    const uint32_t n = header_.patch_size;
+    if (n < 5 || n > 4097 || ((n - 1) & (n - 2)) != 0)
+        fail("header field patch_size is " + std::to_string(n) +
+             ": must be 2^k + 1 with k in [2, 12] (5, 9, 17, ..., 4097)");
+    try {
+        geometry_ = PyramidGeometry(static_cast<int>(header_.width),
+                                    static_cast<int>(header_.height), static_cast<int>(n));
+    } catch (const Error& e) {
+        fail(std::string("invalid geometry in header: ") + e.what());
+    }
+    if (static_cast<uint32_t>(geometry_.levelCount()) != header_.level_count)
+        fail("header field level_count is " + std::to_string(header_.level_count) + ": must be " +
+             std::to_string(geometry_.levelCount()) + " for a " + std::to_string(header_.width) +
+             " x " + std::to_string(header_.height) + " grid of " + std::to_string(n) +
+             "-sample patches");
+    const TessellationBlockLayout layout = blockLayout();
+    if (header_.block_cells > n || !layout.valid())
+        fail("header field block_cells is " + std::to_string(header_.block_cells) +
+             ": must be a power of two >= 2 dividing patch_size - 1 = " + std::to_string(n - 1));
+    if (static_cast<uint32_t>(layout.levels()) != header_.block_levels)
+        fail("header field block_levels is " + std::to_string(header_.block_levels) +
+             ": must be min(4, log2 block_cells) = " + std::to_string(layout.levels()));
+}
+
+void ArchiveReader::loadMetadata()
+{
+    // Between the blobs and the index, which ends the file: every byte is in one region.
     if (header_.metadata_offset < kHeaderSize || header_.metadata_offset > file_size_ ||
         header_.metadata_size > file_size_ - header_.metadata_offset ||
         header_.metadata_offset + header_.metadata_size > header_.index_offset)
         fail("metadata lies outside the file (truncated?)");
+    if (header_.metadata_offset + header_.metadata_size != header_.index_offset)
+        fail("header fields metadata_offset + metadata_size (" +
+             std::to_string(header_.metadata_offset + header_.metadata_size) +
+             ") must equal index_offset (" + std::to_string(header_.index_offset) +
+             "): the index follows the metadata");
     metadata_.resize(header_.metadata_size);
     readAt(header_.metadata_offset, metadata_.data(), metadata_.size(), "metadata");
     if (crc32(metadata_.data(), metadata_.size()) != header_.metadata_crc32)
         fail("metadata checksum mismatch (corrupt metadata)");
+    try {
+        metadata_fields_ = parseArchiveMetadata(metadata_, header_);
+    } catch (const Error& e) {
+        fail(e.what());
+    }
+}
 
-    // Index: the last bytes of the file, one entry per patch of the geometry.
+void ArchiveReader::loadIndex()
+{
+    // The last bytes of the file, one entry per patch of the geometry. The count comes from
+    // untrusted fields: compare it with the file before multiplying (count · 48 may overflow).
     const uint64_t count = static_cast<uint64_t>(geometry_.patchCount());
+    const uint64_t room = file_size_ - std::min(header_.index_offset, file_size_);
+    if (header_.index_offset > file_size_ || count > room / kIndexEntrySize)
+        fail("index lies outside the file (truncated archive): " + std::to_string(count) +
+             " patches need " + std::to_string(count) + " x " + std::to_string(kIndexEntrySize) +
+             " bytes, " + std::to_string(room) + " remain");
     const uint64_t index_size = count * kIndexEntrySize;
-    if (header_.index_offset > file_size_ || file_size_ - header_.index_offset != index_size)
-        fail(file_size_ - std::min(header_.index_offset, file_size_) < index_size
-                 ? "index lies outside the file (truncated archive)"
-                 : "unexpected bytes after the index");
+    if (room != index_size)
+        fail("unexpected bytes after the index");
     std::vector<uint8_t> index(index_size);
     readAt(header_.index_offset, index.data(), index.size(), "index");
     if (crc32(index.data(), index.size()) != header_.index_crc32)
         fail("index checksum mismatch (corrupt index)");
+
+    IndexContext ctx{header_, geometry_, {}};
+    for (int l = 0; l < geometry_.levelCount(); ++l)
+        ctx.level_bound.push_back(levelErrorBound(l));
     records_.resize(count);
-    const uint64_t blobs_begin = kHeaderSize;
-    const uint64_t blobs_end = header_.metadata_offset;
     for (uint64_t i = 0; i < count; ++i) {
-        const PatchRecord r = parseRecord(index.data() + i * kIndexEntrySize);
-        const PatchId p = geometry_.patchAt(static_cast<int64_t>(i));
-        if (r.level != static_cast<uint32_t>(p.level) || r.x != static_cast<uint32_t>(p.x) ||
-            r.y != static_cast<uint32_t>(p.y))
-            fail("index entry " + std::to_string(i) + " is out of order");
-        if (r.offset < blobs_begin || r.offset > blobs_end || r.size > blobs_end - r.offset ||
-            r.block_errors_size > r.size)
-            fail(patchName(p) + ": blob lies outside the patch area");
-        records_[i] = r;
+        records_[i] = parseRecord(index.data() + i * kIndexEntrySize);
+        if (std::string problem = checkIndexEntry(ctx, static_cast<int64_t>(i), records_[i]);
+            !problem.empty())
+            fail(problem);
     }
+    if (std::string problem = checkIndexHierarchy(ctx, records_); !problem.empty())
+        fail(problem);
+    if (std::string problem = checkBlobTiling(ctx, records_); !problem.empty())
+        fail(problem);
 }
 
 ArchiveReader::~ArchiveReader() = default;

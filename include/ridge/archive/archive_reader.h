@@ -5,10 +5,24 @@
 // patch); every patch is then read with one pread of its blob, so any patch can be fetched
 // without touching the others. Every byte of the file is covered by a checksum (header,
 // metadata, index, each blob) and all offsets and sizes are bounds-checked: archive bytes are
-// untrusted. Errors are ridge::Error messages that start with the archive path and name the
-// patch they hit: "PATH: patch (level 3, x 5, y 2): checksum mismatch ...".
+// untrusted.
+//
+// A checksum detects accidents, not a buggy writer or a hostile file, so opening also checks
+// every field against docs/FORMAT.md where it is loaded: header numbers finite and in range
+// (reserved bytes zero, codec parameters by the codec), the metadata parsed into
+// ArchiveMetadata with its duplicates of the header cross-checked, each index entry's bounds
+// finite, ordered and consistent with δ_l, parents' bounds covering their children, blobs
+// tiling the patch area. What an open archive reports can be used without further checks
+// (boxes, cameras and screen-space errors stay finite); what needs decoding (samples within
+// min/max, λ) is checked by `ridge verify`.
+//
+// Errors are ridge::Error messages that start with the archive path and name the field or
+// the patch they hit: "PATH: header field spacing_x is inf: must be a number in (0, 1e+07]",
+// "PATH: index entry 3, patch (level 1, x 0, y 1): min_height 12 > max_height 3",
+// "PATH: patch (level 3, x 5, y 2): checksum mismatch ...".
 //
 // Thread safety: after construction, every const member may be called concurrently.
+#include "ridge/archive/archive_metadata.h"
 #include "ridge/archive/format.h"
 #include "ridge/codec/height_codec.h"
 #include "ridge/core/height_grid.h"
@@ -31,7 +45,9 @@ class ArchiveReader {
     const std::string& path() const { return path_; }
     const Header& header() const { return header_; }
     const PyramidGeometry& geometry() const { return geometry_; }
+    // The metadata document as stored (valid JSON, checked), and its parsed fields.
     const std::string& metadataJson() const { return metadata_; }
+    const ArchiveMetadata& metadata() const { return metadata_fields_; }
     const HeightCodec& codec() const { return *codec_; }
     PyramidFilter filter() const { return static_cast<PyramidFilter>(header_.filter_id); }
     TessellationBlockLayout blockLayout() const;
@@ -78,6 +94,11 @@ class ArchiveReader {
     static std::string patchName(PatchId p);
 
   private:
+    // The steps of opening; each fails with a message naming the field.
+    void loadHeader();
+    void checkGeometryFields();
+    void loadMetadata();
+    void loadIndex();
     void readAt(uint64_t offset, void* dst, size_t size, const std::string& what) const;
     std::vector<float> unpackBlockErrorsOf(PatchId p, const std::vector<uint8_t>& blob) const;
     [[noreturn]] void fail(const std::string& problem) const;
@@ -102,6 +123,7 @@ class ArchiveReader {
     Header header_;
     PyramidGeometry geometry_;
     std::string metadata_;
+    ArchiveMetadata metadata_fields_;
     std::vector<PatchRecord> records_;
     std::unique_ptr<HeightCodec> codec_;
 };
