@@ -188,7 +188,6 @@ int Commands::runBuild()
 int Commands::runInfo()
 {
     const ArchiveInfo info = readArchiveInfo(archive_);
-    const nlohmann::json meta = nlohmann::json::parse(info.metadata_json, nullptr, false);
     if (json_) {
         nlohmann::json j = {
             {"path", info.path},
@@ -210,7 +209,7 @@ int Commands::runInfo()
             {"spacing_y", info.spacing_y},
             {"min_height", info.min_height},
             {"max_height", info.max_height},
-            {"metadata", meta.is_discarded() ? nlohmann::json(nullptr) : meta},
+            {"metadata", nlohmann::json::parse(info.metadata_json)}, // checked by the reader
         };
         for (const LevelInfo& l : info.levels)
             j["levels"].push_back({{"level", l.level},
@@ -226,16 +225,16 @@ int Commands::runInfo()
         fmt::print("{}\n", j.dump(2));
         return 0;
     }
-    const bool from_user =
-        !meta.is_discarded() && meta["georeference"].value("spacing_from_user", false);
+    const archive::SourceMetadata& source = info.metadata.source;
+    const archive::GeoreferenceMetadata& geo = info.metadata.georeference;
     fmt::print("Archive: {} (ridge format v{}, {})\n", info.path, info.format_version,
                humanBytes(info.file_bytes));
-    if (!meta.is_discarded())
-        fmt::print("Source: {} ({}, {} voids filled)\n", meta["source"].value("path", "?"),
-                   meta["source"].value("data_type", "?"), meta["source"].value("voids_filled", 0));
+    fmt::print("Source: {} ({}, {} voids filled)\n", source.path, source.data_type,
+               source.voids_filled);
     fmt::print("Grid: {} x {} samples, spacing {:.3f} x {:.3f} m{}\n", info.width, info.height,
                info.spacing_x, info.spacing_y,
-               from_user ? " (given with --spacing or default 1, no georeferencing)" : "");
+               geo.spacing_from_user ? " (given with --spacing or default 1, no georeferencing)"
+                                     : "");
     fmt::print(
         "Heights: {:.2f} .. {:.2f} m, metres = {:g} + {:g} * code, quantization error {:g} m\n",
         info.min_height, info.max_height, info.height_offset, info.height_scale,
@@ -245,21 +244,17 @@ int Commands::runInfo()
                info.patch_size, info.patch_size, info.level_count, info.patch_count,
                info.block_cells, info.block_cells, info.block_levels);
     fmt::print("Codec: {}, level filter: {}\n", info.codec, info.filter);
-    if (!meta.is_discarded()) {
-        const auto& geo = meta["georeference"];
-        if (geo.contains("geotransform")) {
-            const auto& gt = geo["geotransform"];
-            fmt::print("Geotransform: ({:.9g}, {:.9g}, {:.9g}, {:.9g}, {:.9g}, {:.9g})\n",
-                       gt[0].get<double>(), gt[1].get<double>(), gt[2].get<double>(),
-                       gt[3].get<double>(), gt[4].get<double>(), gt[5].get<double>());
-        }
-        const std::string wkt = geo.value("crs_wkt", "");
-        const auto name_start = wkt.find('"');
-        const auto name_end =
-            name_start == std::string::npos ? name_start : wkt.find('"', name_start + 1);
-        fmt::print("CRS: {}\n",
-                   wkt.empty() ? "none" : wkt.substr(name_start + 1, name_end - name_start - 1));
+    if (geo.geotransform) {
+        const std::array<double, 6>& gt = *geo.geotransform;
+        fmt::print("Geotransform: ({:.9g}, {:.9g}, {:.9g}, {:.9g}, {:.9g}, {:.9g})\n", gt[0],
+                   gt[1], gt[2], gt[3], gt[4], gt[5]);
     }
+    const std::string& wkt = geo.crs_wkt;
+    const auto name_start = wkt.find('"');
+    const auto name_end =
+        name_start == std::string::npos ? name_start : wkt.find('"', name_start + 1);
+    fmt::print("CRS: {}\n",
+               wkt.empty() ? "none" : wkt.substr(name_start + 1, name_end - name_start - 1));
     fmt::print("\n{:>5} {:>6} {:>13} {:>11} {:>11} {:>12} {:>12}\n", "level", "step", "samples",
                "patches", "bytes", "max Err(P)", "δ_l");
     for (const LevelInfo& l : info.levels)

@@ -4,26 +4,22 @@
 #include "ridge/io/raster_writer.h"
 #include "ridge/pipeline/level_decoder.h"
 
-#include <nlohmann/json.hpp>
-
 namespace ridge {
 
 namespace {
 
-// Reads the source's georeference back from the archive metadata.
+// The source's georeference as the archive recorded it (checked when the reader opened it).
 io::GeoReference storedGeoReference(const archive::ArchiveReader& reader)
 {
+    const archive::GeoreferenceMetadata& stored = reader.metadata().georeference;
     io::GeoReference geo;
-    const nlohmann::json meta = nlohmann::json::parse(reader.metadataJson(), nullptr, false);
-    if (meta.is_discarded() || !meta.contains("georeference"))
-        return geo;
-    const nlohmann::json& g = meta["georeference"];
-    geo.crs_wkt = g.value("crs_wkt", "");
-    geo.geographic = g.value("geographic", false);
-    if (g.contains("geotransform") && g["geotransform"].is_array() && g["geotransform"].size() == 6) {
+    geo.crs_wkt = stored.crs_wkt;
+    geo.geographic = stored.geographic;
+    geo.vertical_units = stored.vertical_units;
+    geo.spacing_from_user = stored.spacing_from_user;
+    if (stored.geotransform) {
         geo.has_geotransform = true;
-        for (int k = 0; k < 6; ++k)
-            geo.geotransform[k] = g["geotransform"][k].get<double>();
+        geo.geotransform = *stored.geotransform;
     }
     geo.spacing_x = reader.header().spacing_x;
     geo.spacing_y = reader.header().spacing_y;

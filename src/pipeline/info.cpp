@@ -30,6 +30,7 @@ ArchiveInfo readArchiveInfo(const std::string& archive_path)
     info.spacing_x = h.spacing_x;
     info.spacing_y = h.spacing_y;
     info.metadata_json = reader.metadataJson();
+    info.metadata = reader.metadata();
     const archive::PatchRecord& root = reader.record({0, 0, 0});
     info.min_height = root.min_height;
     info.max_height = root.max_height;

@@ -1,5 +1,7 @@
 #pragma once
 // `ridge info`: what an archive holds.
+#include "ridge/archive/archive_metadata.h"
+
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -28,7 +30,8 @@ struct ArchiveInfo {
     double height_scale = 1.0, height_offset = 0.0, quantization_error = 0.0;
     double spacing_x = 1.0, spacing_y = 1.0;
     double min_height = 0.0, max_height = 0.0;
-    std::string metadata_json;  // the archive's metadata document as stored
+    std::string metadata_json;  // the archive's metadata document as stored (valid JSON)
+    archive::ArchiveMetadata metadata; // its fields, checked against the header
     std::vector<LevelInfo> levels;
 };
 
