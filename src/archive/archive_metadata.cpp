@@ -19,8 +19,8 @@ using nlohmann::json;
     throw Error("metadata: " + problem);
 }
 
-// A JSON value as messages quote it: numbers as formatNumber prints them (JSON has no inf or
-// NaN, but a parsed 1e999 is one), anything else as its JSON text, cut short.
+// A JSON value as messages quote it: numbers as formatNumber prints them, anything else as
+// its JSON text, cut short.
 std::string quote(const json& value)
 {
     if (value.is_number())
@@ -95,6 +95,8 @@ class Section {
         const json* value = find(key);
         return value ? std::optional(numberValue(path(key), *value, range)) : std::nullopt;
     }
+    // A number in `range`. The parser already refuses numbers beyond f64 (1e999); the range
+    // check still refuses non-finite ones, as everywhere.
     static double numberValue(const std::string& name, const json& value, ValueRange range)
     {
         if (!value.is_number())
@@ -117,7 +119,7 @@ class Section {
     std::string name_;
 };
 
-// "NAME is VALUE but the header says HEADER" unless they agree.
+// Refuses "NAME is VALUE but the header's FIELD is HEADER" unless they agree.
 void expectHeader(const std::string& name, int64_t value, uint32_t header, const char* field)
 {
     if (value != int64_t{header})
