@@ -263,9 +263,9 @@ TEST(BuildVerify, SourceCheckCatchesAnUnderstatedErrorBound)
     archive::Header header;
     ASSERT_EQ(archive::parseHeader(bytes.data(), header), "");
 
-    // Claim 1 m for Err_Appr and Err of the level-1 patch (1, 0, 0), consistently, re-signed.
+    // Claim 1 m for Err_Appr and Err of the level-3 patch (3, 0, 0), consistently, re-signed.
     const archive::ArchiveReader reader(out);
-    const int64_t index = reader.geometry().patchIndex({1, 0, 0});
+    const int64_t index = reader.geometry().patchIndex({3, 0, 0});
     uint8_t* entry = bytes.data() + header.index_offset + index * archive::kIndexEntrySize;
     archive::PatchRecord r = archive::parseRecord(entry);
     ASSERT_GT(r.err, 10.f);
@@ -281,7 +281,8 @@ TEST(BuildVerify, SourceCheckCatchesAnUnderstatedErrorBound)
     options.source = source;
     const VerifyReport v = verifyArchive(out, options);
     ASSERT_FALSE(v.ok());
-    EXPECT_GT(v.levels[1].bound_violations, 0);
-    EXPECT_EQ(v.levels[2].bound_violations, 0);
-    EXPECT_NE(v.problems.front().find("level 1"), std::string::npos) << v.problems.front();
+    ASSERT_EQ(v.levels.size(), size_t(reader.geometry().levelCount())) << v.problems.front();
+    EXPECT_GT(v.levels[3].bound_violations, 0);
+    EXPECT_EQ(v.levels[4].bound_violations, 0);
+    EXPECT_NE(v.problems.front().find("level 3"), std::string::npos) << v.problems.front();
 }
