@@ -321,6 +321,26 @@ TEST(OutputSafety, BuildRefusesAnOutputThatIsItsInputByAnyPathAndLeavesTheInputU
               std::vector<std::string>{});
 }
 
+TEST(OutputSafety, BuildRefusesAnOutputThatReachesItsInputThroughABindMount)
+{
+    test::ScratchDir dir;
+    fs::create_directory(dir.path("a"));
+    fs::create_directory(dir.path("b"));
+    const std::string input = everestCopy(dir, "a/d.tif");
+    const std::string before = readFile(input);
+    // A private mount namespace, so that the bind mount is the child's alone.
+    if (test::runShell("unshare -m mount --bind '" + dir.path("a") + "' '" + dir.path("b") + "'")
+            .exit_code != 0)
+        GTEST_SKIP() << "no bind mounts here (unshare -m and mount need CAP_SYS_ADMIN)";
+    SpawnOptions o;
+    o.prefix = {"unshare", "-m", "sh", "-c",
+                "mount --bind \"$1\" \"$2\" && shift 2 && exec \"$@\"", "sh", dir.path("a"),
+                dir.path("b")};
+    const std::string out = dir.path("b/d.tif");
+    expectRefused(runCli({"build", input, "-o", out, "-q"}, o), out, input);
+    EXPECT_EQ(readFile(input), before);
+}
+
 TEST(OutputSafety, BuildRefusesToReplaceASideCarFileThatGdalReadsWithTheRaster)
 {
     // ENVI: the samples in .bil, the geometry in .hdr; GDALGetFileList lists both.
