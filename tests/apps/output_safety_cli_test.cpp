@@ -315,7 +315,7 @@ TEST(OutputSafety, BuildRefusesAnOutputThatIsItsInputByAnyPathAndLeavesTheInputU
         SpawnOptions o;
         o.cwd = out.cwd;
         expectRefused(runCli({"build", input, "-o", out.path, "-q"}, o), out.path, input);
-        EXPECT_EQ(readFile(input), before) << out.path;
+        EXPECT_TRUE(readFile(input) == before) << "the input was changed by -o " << out.path;
     }
     EXPECT_EQ(othersIn(dir.dir(), {"d.tif", "symlink-to-d.tif", "hardlink-to-d.tif"}),
               std::vector<std::string>{});
@@ -338,7 +338,7 @@ TEST(OutputSafety, BuildRefusesAnOutputThatReachesItsInputThroughABindMount)
                 dir.path("b")};
     const std::string out = dir.path("b/d.tif");
     expectRefused(runCli({"build", input, "-o", out, "-q"}, o), out, input);
-    EXPECT_EQ(readFile(input), before);
+    EXPECT_TRUE(readFile(input) == before) << "the input was changed";
 }
 
 TEST(OutputSafety, BuildRefusesToReplaceASideCarFileThatGdalReadsWithTheRaster)
@@ -357,7 +357,7 @@ TEST(OutputSafety, BuildRefusesToReplaceASideCarFileThatGdalReadsWithTheRaster)
     ASSERT_TRUE(fs::exists(hdr));
     const std::string before = readFile(hdr);
     expectRefused(runCli({"build", bil, "-o", hdr, "-q"}), hdr, hdr);
-    EXPECT_EQ(readFile(hdr), before);
+    EXPECT_TRUE(readFile(hdr) == before) << "the .hdr was changed";
 }
 
 TEST(OutputSafety, ExtractHillshadeAndRenderRefuseToReplaceTheArchiveByAnyPath)
@@ -374,7 +374,7 @@ TEST(OutputSafety, ExtractHillshadeAndRenderRefuseToReplaceTheArchiveByAnyPath)
             SpawnOptions o;
             o.cwd = out.cwd;
             expectRefused(runCli(args, o), out.path, arc);
-            EXPECT_EQ(readFile(arc), before) << command[0] << " -o " << out.path;
+            EXPECT_TRUE(readFile(arc) == before) << "the archive was changed by " << command[0] << " -o " << out.path;
         }
 }
 
@@ -389,8 +389,8 @@ TEST(OutputSafety, BenchAndCodecBenchRefuseReportsOverTheirInputs)
                       arc);
         expectRefused(runCli({"codec-bench", tif, "--max-error", "4", "-q", flag, tif}), tif, tif);
     }
-    EXPECT_EQ(readFile(arc), arc_before);
-    EXPECT_EQ(readFile(tif), tif_before);
+    EXPECT_TRUE(readFile(arc) == arc_before) << "the archive was changed";
+    EXPECT_TRUE(readFile(tif) == tif_before) << "the raster was changed";
 }
 
 // --- Temporary files are created safely -----------------------------------------------------
@@ -433,7 +433,7 @@ TEST_P(OutputSafetyTemporaries, SymlinksPlantedAtPredictableTemporaryNamesAreNev
         };
         const CliResult r = runCli({command, input, "-o", out, "-q"}, o);
         EXPECT_EQ(r.exit_code, 0) << command << ": " << r.output;
-        EXPECT_EQ(readFile(victim), "precious") << command << " wrote through a planted symlink";
+        EXPECT_TRUE(readFile(victim) == "precious") << command << " wrote through a planted symlink";
         EXPECT_TRUE(fs::is_regular_file(fs::symlink_status(out))) << command;
         EXPECT_GT(fs::file_size(out), 0u) << command;
         for (const std::string& n : planted) {
