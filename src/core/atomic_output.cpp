@@ -60,7 +60,7 @@ bool sameFile(const struct stat& a, const struct stat& b)
 std::string procPathOf(int fd)
 {
     const std::string path = "/proc/self/fd/" + std::to_string(fd);
-    struct stat via_proc {}, direct {};
+    struct stat via_proc = {}, direct = {};
     if (::stat(path.c_str(), &via_proc) != 0 || ::fstat(fd, &direct) != 0 ||
         !sameFile(via_proc, direct))
         return {};
@@ -203,8 +203,8 @@ void AtomicOutput::openNamed()
     for (int attempt = 0; attempt < kNameAttempts; ++attempt) {
         const std::string name = prefix + randomSuffix();
         // O_EXCL: fails on any existing name, a planted symlink included (never followed).
-        fd_ = ::openat(dir_fd_, name.c_str(),
-                       O_RDWR | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
+        fd_ = ::openat(dir_fd_, name.c_str(), O_RDWR | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC,
+                       0666);
         if (fd_ >= 0) {
             temp_name_ = name;
             const std::string proc = procPathOf(fd_);

@@ -39,12 +39,12 @@ std::string cliPath()
 }
 
 struct SpawnOptions {
-    std::string cwd;                                        // empty: the test's
-    std::vector<std::pair<std::string, std::string>> env;   // added to the environment
-    std::optional<rlim_t> file_size_limit;                  // RLIMIT_FSIZE, bytes
-    std::vector<std::string> prefix;                        // a wrapper command (setpriv)
-    bool ignore_sighup = false;                             // as under nohup
-    std::function<void(pid_t)> before_exec;                 // runs in the parent, child waits
+    std::string cwd;                                      // empty: the test's
+    std::vector<std::pair<std::string, std::string>> env; // added to the environment
+    std::optional<rlim_t> file_size_limit;                // RLIMIT_FSIZE, bytes
+    std::vector<std::string> prefix;                      // a wrapper command (setpriv)
+    bool ignore_sighup = false;                           // as under nohup
+    std::function<void(pid_t)> before_exec;               // runs in the parent, child waits
 };
 
 // A running `ridge`: stdout and stderr through one pipe.
@@ -240,8 +240,8 @@ const std::string& bigRaster()
         const std::string p = dir.path("big.tif");
         const int n = 4097;
         GDALAllRegister();
-        GDALDatasetH ds = GDALCreate(GDALGetDriverByName("GTiff"), p.c_str(), n, n, 1, GDT_Int16,
-                                     nullptr);
+        GDALDatasetH ds =
+            GDALCreate(GDALGetDriverByName("GTiff"), p.c_str(), n, n, 1, GDT_Int16, nullptr);
         if (!ds)
             throw std::runtime_error("cannot create " + p);
         std::vector<int16_t> row(n);
@@ -268,7 +268,8 @@ bool holdsUnnamedFileIn(pid_t pid, const fs::path& dir)
     std::error_code ec;
     for (const auto& e : fs::directory_iterator("/proc/" + std::to_string(pid) + "/fd", ec)) {
         const std::string target = fs::read_symlink(e.path(), ec).string();
-        if (target.rfind(dir.string() + "/", 0) == 0 && target.find("(deleted)") != std::string::npos)
+        if (target.rfind(dir.string() + "/", 0) == 0 &&
+            target.find("(deleted)") != std::string::npos)
             return true;
     }
     return false;
@@ -333,8 +334,13 @@ TEST(OutputSafety, BuildRefusesAnOutputThatReachesItsInputThroughABindMount)
             .exit_code != 0)
         GTEST_SKIP() << "no bind mounts here (unshare -m and mount need CAP_SYS_ADMIN)";
     SpawnOptions o;
-    o.prefix = {"unshare", "-m", "sh", "-c",
-                "mount --bind \"$1\" \"$2\" && shift 2 && exec \"$@\"", "sh", dir.path("a"),
+    o.prefix = {"unshare",
+                "-m",
+                "sh",
+                "-c",
+                "mount --bind \"$1\" \"$2\" && shift 2 && exec \"$@\"",
+                "sh",
+                dir.path("a"),
                 dir.path("b")};
     const std::string out = dir.path("b/d.tif");
     expectRefused(runCli({"build", input, "-o", out, "-q"}, o), out, input);
@@ -367,14 +373,16 @@ TEST(OutputSafety, ExtractHillshadeAndRenderRefuseToReplaceTheArchiveByAnyPath)
     const std::string before = readFile(arc);
     for (const OtherName& out : otherNamesOf(dir, arc))
         for (const std::vector<std::string>& command :
-             {std::vector<std::string>{"extract", arc, "-q"}, {"hillshade", arc, "-q"},
+             {std::vector<std::string>{"extract", arc, "-q"},
+              {"hillshade", arc, "-q"},
               {"render", arc, "--size", "32x32"}}) {
             std::vector<std::string> args = command;
             args.insert(args.end(), {"-o", out.path});
             SpawnOptions o;
             o.cwd = out.cwd;
             expectRefused(runCli(args, o), out.path, arc);
-            EXPECT_TRUE(readFile(arc) == before) << "the archive was changed by " << command[0] << " -o " << out.path;
+            EXPECT_TRUE(readFile(arc) == before)
+                << "the archive was changed by " << command[0] << " -o " << out.path;
         }
 }
 
@@ -405,9 +413,8 @@ TEST_P(OutputSafetyTemporaries, SymlinksPlantedAtPredictableTemporaryNamesAreNev
     std::ofstream(victim) << "precious";
     const std::string arc = everestArchive(elsewhere);
     for (const auto& [command, input, name] :
-         {std::tuple<std::string, std::string, std::string>{"build",
-                                                            test::dataPath("everest_crop.tif"),
-                                                            "out.ridge"},
+         {std::tuple<std::string, std::string, std::string>{
+              "build", test::dataPath("everest_crop.tif"), "out.ridge"},
           {"extract", arc, "out.tif"},
           {"hillshade", arc, "out.png"}}) {
         const std::string out = dir.path(name);
@@ -433,7 +440,8 @@ TEST_P(OutputSafetyTemporaries, SymlinksPlantedAtPredictableTemporaryNamesAreNev
         };
         const CliResult r = runCli({command, input, "-o", out, "-q"}, o);
         EXPECT_EQ(r.exit_code, 0) << command << ": " << r.output;
-        EXPECT_TRUE(readFile(victim) == "precious") << command << " wrote through a planted symlink";
+        EXPECT_TRUE(readFile(victim) == "precious")
+            << command << " wrote through a planted symlink";
         EXPECT_TRUE(fs::is_regular_file(fs::symlink_status(out))) << command;
         EXPECT_GT(fs::file_size(out), 0u) << command;
         for (const std::string& n : planted) {
@@ -559,7 +567,8 @@ TEST(OutputSafety, MissingOrReadOnlyOutputDirectoriesAreClearErrorsWithNothingLe
     const std::string missing = dir.path("no/such/dir/out");
     for (const std::vector<std::string>& args :
          {std::vector<std::string>{"build", test::dataPath("everest_crop.tif"), "-o", missing},
-          {"extract", arc, "-o", missing}, {"hillshade", arc, "-o", missing}}) {
+          {"extract", arc, "-o", missing},
+          {"hillshade", arc, "-o", missing}}) {
         const CliResult r = runCli(args);
         EXPECT_EQ(r.exit_code, 1) << r.output;
         EXPECT_NE(r.output.find(missing + ": cannot write"), std::string::npos) << r.output;

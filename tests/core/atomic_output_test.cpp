@@ -267,7 +267,7 @@ TEST(AtomicOutput, AnEmptyUnlockedTemporaryMayBeBeingCreatedAndIsKeptWhileYoung)
 {
     test::ScratchDir dir;
     const std::string prefix = AtomicOutput::temporaryNamePrefix("out.ridge");
-    std::ofstream(dir.path(prefix + "0000000000000000")); // created, not yet locked
+    std::ofstream(dir.path(prefix + "0000000000000000"));           // created, not yet locked
     std::ofstream(dir.path(prefix + "1111111111111111")) << "data"; // unlocked with data: dead
     AtomicOutput out(dir.path("out.ridge"));
     EXPECT_TRUE(fs::exists(dir.path(prefix + "0000000000000000")));

@@ -120,8 +120,7 @@ TEST(DatasetFiles, ListsTheHeaderOfAnEnviRasterAndTheAuxXmlOfAGeoTiff)
     const std::vector<std::string> envi_files = datasetFiles(bil);
     ASSERT_FALSE(envi_files.empty());
     EXPECT_EQ(envi_files.front(), bil);
-    EXPECT_NE(std::find(envi_files.begin(), envi_files.end(), dir.path("d.hdr")),
-              envi_files.end());
+    EXPECT_NE(std::find(envi_files.begin(), envi_files.end(), dir.path("d.hdr")), envi_files.end());
     const std::vector<std::string> tif_files = datasetFiles(tif);
     EXPECT_NE(std::find(tif_files.begin(), tif_files.end(), tif + ".aux.xml"), tif_files.end());
 }
