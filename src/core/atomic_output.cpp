@@ -192,9 +192,16 @@ void AtomicOutput::openTemporary()
         openNamed();
     // Unnamed files need the lock too: commit() gives them a name before the rename.
     // Blocking: only a cleanup scan can hold it, for the instant of one fstat.
-    while (::flock(fd_, LOCK_EX) != 0)
-        if (errno != EINTR)
-            fail("cannot lock the temporary file", errno);
+    while (::flock(fd_, LOCK_EX) != 0) {
+        if (errno == EINTR)
+            continue;
+        // A file system without locks (NFS without lockd): the output is still written; only
+        // the cleanup of dead owners' files is lost there, since it unlinks nothing it could
+        // not lock either.
+        if (errno == ENOLCK || errno == EOPNOTSUPP || errno == ENOSYS)
+            break;
+        fail("cannot lock the temporary file", errno);
+    }
 }
 
 void AtomicOutput::openNamed()

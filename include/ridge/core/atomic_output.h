@@ -12,7 +12,8 @@
 // Either way it is flock(LOCK_EX)ed for its whole life, and every new AtomicOutput for the
 // same final path first removes the temporaries of that path whose lock is free — their
 // owner is dead (SIGKILL of the fallback, or a kill inside commit() between the link and the
-// rename). A live owner's file is never removed: its lock is held.
+// rename). A live owner's file is never removed: its lock is held. (Where the file system has
+// no locks at all, nothing is locked and nothing is removed.)
 //
 // Writers write through fd(), or through temporaryPath() when a library insists on a path.
 // commit() fsyncs the file, names it and renames it over the final path, then fsyncs the
