@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -117,17 +118,16 @@ class Ridge {
     bool waitFor(const std::string& needle)
     {
         const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
-        while (output_.find(needle) == std::string::npos) {
-            if (std::chrono::steady_clock::now() > deadline || !readSome(1000))
-                return output_.find(needle) != std::string::npos;
-        }
+        while (output_.find(needle) == std::string::npos)
+            if (std::chrono::steady_clock::now() > deadline || readSome(1000) < 0)
+                return false;
         return true;
     }
 
     // Waits for the exit; the shell's numbering: the exit code, or 128 + N when killed by N.
     int finish()
     {
-        while (readSome(-1)) {
+        while (readSome(-1) >= 0) {
         }
         int status = 0;
         ::waitpid(pid_, &status, 0);
@@ -138,17 +138,19 @@ class Ridge {
     bool signalled() const { return signalled_; }
 
   private:
-    bool readSome(int timeout_ms)
+    // 1: read some output, 0: none within `timeout_ms` (-1: no limit), -1: the output ended.
+    int readSome(int timeout_ms)
     {
         pollfd p{out_, POLLIN, 0};
-        if (::poll(&p, 1, timeout_ms) <= 0)
-            return timeout_ms != 0 && ::poll(&p, 1, 0) > 0;
+        const int ready = ::poll(&p, 1, timeout_ms);
+        if (ready <= 0)
+            return ready == 0 || errno == EINTR ? 0 : -1;
         char buf[4096];
         const ssize_t n = ::read(out_, buf, sizeof buf);
         if (n <= 0)
-            return false;
+            return -1;
         output_.append(buf, size_t(n));
-        return true;
+        return 1;
     }
 
     pid_t pid_ = -1;
