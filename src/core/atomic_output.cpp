@@ -135,7 +135,7 @@ AtomicOutput::AtomicOutput(std::string final_path) : final_path_(std::move(final
     final_name_ = p.filename().string();
     dir_path_ = p.has_parent_path() ? p.parent_path().string() : ".";
     if (final_name_.empty() || final_name_ == "." || final_name_ == "..")
-        fail("not a file name", EISDIR);
+        fail("not a file name", 0);
     dir_fd_ = ::open(dir_path_.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
     if (dir_fd_ < 0)
         fail("directory " + dir_path_, errno);
@@ -143,7 +143,7 @@ AtomicOutput::AtomicOutput(std::string final_path) : final_path_(std::move(final
         struct stat st {};
         if (::fstatat(dir_fd_, final_name_.c_str(), &st, AT_SYMLINK_NOFOLLOW) == 0 &&
             S_ISDIR(st.st_mode))
-            fail("is a directory", EISDIR);
+            fail("it is a directory", 0);
         removeDeadTemporaries(dir_fd_, temporaryNamePrefix(final_name_));
         openTemporary();
     } catch (...) {
@@ -169,7 +169,8 @@ AtomicOutput::~AtomicOutput()
 
 void AtomicOutput::fail(const std::string& what, int error) const
 {
-    throw Error(final_path_ + ": cannot write: " + what + ": " + std::strerror(error));
+    throw Error(final_path_ + ": cannot write: " + what +
+                (error ? std::string(": ") + std::strerror(error) : std::string()));
 }
 
 void AtomicOutput::openTemporary()

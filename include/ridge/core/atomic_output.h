@@ -64,6 +64,7 @@ class AtomicOutput {
     static std::string temporaryNamePrefix(const std::string& final_name);
 
   private:
+    // Throws Error("FINAL: cannot write: WHAT: strerror(error)"), without the reason for 0.
     [[noreturn]] void fail(const std::string& what, int error) const;
     void openTemporary();
     void openNamed();
