@@ -4,6 +4,7 @@
 #include "render_args.h"
 
 #include "ridge/core/atomic_output.h"
+#include "ridge/core/file_identity.h"
 #include "ridge/renderbench/render_bench.h"
 
 #include <fmt/core.h>
@@ -56,8 +57,10 @@ int BenchCommand::run()
 {
     // Before the run, not after minutes of it.
     for (const std::string& out : {json_path_, plot_path_})
-        if (!out.empty())
+        if (!out.empty()) {
+            refuseOutputOverInput(out, {archive_, path_}); // path_: maybe a pose file
             checkOutputWritable(out);
+        }
     renderbench::RenderBenchOptions options;
     options.renderer = renderer_options_;
     options.scheme = parseLodScheme(renderer_, "--renderer");

@@ -5,6 +5,8 @@
 
 #include "ridge/codecbench/codec_bench.h"
 #include "ridge/core/atomic_output.h"
+#include "ridge/core/file_identity.h"
+#include "ridge/io/dataset_files.h"
 
 #include <fmt/core.h>
 
@@ -36,8 +38,10 @@ void CodecBenchCommand::registerWith(CLI::App& app)
 int CodecBenchCommand::run()
 {
     for (const std::string& out : {json_path_, plot_path_})
-        if (!out.empty())
-            checkOutputWritable(out); // before the run, not after it
+        if (!out.empty()) { // before the run, not after it
+            refuseOutputOverInput(out, io::datasetFiles(input_));
+            checkOutputWritable(out);
+        }
     codecbench::CodecBenchOptions options;
     options.max_errors = max_errors_;
     options.tile_size = tile_size_;

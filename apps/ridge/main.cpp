@@ -22,8 +22,9 @@ int main(int argc, char** argv)
     } catch (const CLI::ParseError& e) {
         return app.exit(e);
     } catch (const ridge::Cancelled&) {
-        std::fprintf(stderr, "\nridge: interrupted; no output was written\n");
-        return 130;
+        std::fprintf(stderr, "\nridge: interrupted by %s; no output was written\n",
+                     ridge::cli::interruptSignalName());
+        return ridge::cli::exitAfterInterrupt();
     } catch (const ridge::Error& e) {
         std::fprintf(stderr, "\nridge: error: %s\n", e.what());
         return 1;

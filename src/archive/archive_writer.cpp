@@ -5,6 +5,8 @@
 
 #include <cerrno>
 #include <cstring>
+#include <fcntl.h>
+#include <unistd.h>
 
 namespace ridge::archive {
 
@@ -13,9 +15,16 @@ ArchiveWriter::ArchiveWriter(const std::string& path, const Header& header)
       geometry_(PyramidGeometry::fromStored(header.width, header.height, header.patch_size,
                                             header.level_count))
 {
-    file_ = std::fopen(output_.temporaryPath().c_str(), "wb");
-    if (!file_)
-        throw Error(path + ": cannot create: " + std::strerror(errno));
+    // Through the AtomicOutput's own descriptor, never by reopening a name. A duplicate, so
+    // that fclose (which closes it) leaves the AtomicOutput's lock and descriptor alone.
+    const int fd = ::fcntl(output_.fd(), F_DUPFD_CLOEXEC, 0);
+    file_ = fd >= 0 ? ::fdopen(fd, "wb") : nullptr;
+    if (!file_) {
+        const int error = errno;
+        if (fd >= 0)
+            ::close(fd);
+        throw Error(path + ": cannot write: " + std::strerror(error));
+    }
     std::setvbuf(file_, nullptr, _IOFBF, 1 << 20);
     records_.resize(geometry_.patchCount());
     written_.assign(geometry_.patchCount(), false);

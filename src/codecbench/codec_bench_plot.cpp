@@ -3,6 +3,8 @@
 #include "ridge/codecbench/codec_bench.h"
 
 #include "ridge/core/error.h"
+#include "ridge/core/file_identity.h"
+#include "ridge/io/dataset_files.h"
 #include "ridge/plot/png_plot.h"
 
 #include <plplot.h>
@@ -48,6 +50,7 @@ struct Curve {
 
 void writeCodecBenchPlot(const CodecBenchReport& report, const std::string& path)
 {
+    refuseOutputOverInput(path, io::datasetFiles(report.input_path));
     // 1. Curves: one per codec, points at every bound > 0 (log2 axis), in bound order.
     std::vector<Curve> curves;
     for (const CodecInfo& c : report.codecs)

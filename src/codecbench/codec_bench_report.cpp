@@ -3,6 +3,8 @@
 
 #include "ridge/core/atomic_output.h"
 #include "ridge/core/error.h"
+#include "ridge/core/file_identity.h"
+#include "ridge/io/dataset_files.h"
 
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
@@ -151,6 +153,7 @@ std::string formatCodecBenchJson(const CodecBenchReport& r)
 
 void writeCodecBenchJson(const CodecBenchReport& report, const std::string& path)
 {
+    refuseOutputOverInput(path, io::datasetFiles(report.input_path));
     writeFileAtomically(path, formatCodecBenchJson(report));
 }
 

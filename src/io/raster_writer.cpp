@@ -1,4 +1,7 @@
 // GeoTIFF and PNG output through GDAL, written to a temporary file and renamed into place.
+// GDAL only takes names: it is given AtomicOutput::temporaryPath(), "/proc/self/fd/N", which
+// reopens the AtomicOutput's own (usually unnamed) file and cannot be redirected by a
+// planted symlink. Both drivers write through it (tests/io/raster_writer_test.cpp).
 #include "ridge/io/raster_writer.h"
 
 #include "gdal_support.h"
@@ -56,7 +59,8 @@ void writeGeoTiff(const std::string& path, const float* metres, int width, int h
     GDALDriverH gtiff = driver(path, "GTiff");
     AtomicOutput output(path);
     GdalErrorCapture capture;
-    // Everything goes into the TIFF itself; a side-car .aux.xml would not follow the rename.
+    // Everything goes into the TIFF itself; a side-car .aux.xml would not follow the rename
+    // (and "/proc/self/fd/N.aux.xml" cannot be created anyway).
     detail::ScopedThreadConfig no_pam("GDAL_PAM_ENABLED", "NO");
 
     CPLStringList options;
@@ -93,8 +97,8 @@ void writePng(const std::string& path, const uint8_t* pixels, int width, int hei
     GDALDriverH png = driver(path, "PNG");
     AtomicOutput output(path);
     GdalErrorCapture capture;
-    // The PNG driver stores what PNG cannot hold in PATH.tmp.PID.aux.xml, which would be left
-    // behind by the rename; there is nothing worth keeping in it.
+    // The PNG driver stores what PNG cannot hold in a side-car TEMPORARY.aux.xml, which would
+    // not follow the rename; there is nothing worth keeping in it.
     detail::ScopedThreadConfig no_pam("GDAL_PAM_ENABLED", "NO");
 
     // PNG has no Create(), only CreateCopy() from a dataset: wrap the pixels without a copy.

@@ -4,7 +4,10 @@
 #include "ridge/archive/block_error_storage.h"
 #include "ridge/codec/height_codec.h"
 #include "ridge/codec/progressive_codec.h"
+#include "ridge/core/atomic_output.h"
 #include "ridge/core/error.h"
+#include "ridge/core/file_identity.h"
+#include "ridge/io/dataset_files.h"
 #include "ridge/pyramid/patch_error.h"
 #include "ridge/pyramid/tessellation_block_errors.h"
 
@@ -354,6 +357,8 @@ std::optional<BuildReport> buildStreaming(const std::string& input, const std::s
 BuildReport buildArchive(const std::string& input, const std::string& output,
                          const BuildOptions& options)
 {
+    refuseOutputOverInput(output, io::datasetFiles(input)); // every file GDAL reads for it
+    checkOutputWritable(output);
     // Decimation streams the finest level (memory ~ a quarter of the grid); voids and the
     // Neville filter need the whole grid in memory.
     // Progressive codecs code top-down, the finest level last; streaming writes it first,
@@ -378,6 +383,8 @@ BuildReport buildArchive(const std::string& input, const std::string& output,
 BuildReport buildArchive(const io::ElevationRaster& raster, const std::string& output,
                          const BuildOptions& options)
 {
+    refuseOutputOverInput(output, {raster.source_path});
+    checkOutputWritable(output);
     const auto start = Clock::now();
     // 1. Geometry and codec: validates patch and block sizes before any work is done.
     const BuildContext ctx = makeContext(raster.grid.width, raster.grid.height,

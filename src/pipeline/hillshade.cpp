@@ -1,6 +1,8 @@
 #include "ridge/pipeline/hillshade.h"
 
 #include "ridge/archive/archive_reader.h"
+#include "ridge/core/atomic_output.h"
+#include "ridge/core/file_identity.h"
 #include "ridge/io/raster_writer.h"
 #include "ridge/pipeline/level_decoder.h"
 
@@ -88,6 +90,8 @@ std::vector<uint8_t> shadeRelief(const std::vector<float>& metres, int width, in
 void writeHillshade(const std::string& archive_path, const std::string& output,
                     const HillshadeOptions& options)
 {
+    refuseOutputOverInput(output, {archive_path});
+    checkOutputWritable(output); // before the work, not after it
     const archive::ArchiveReader reader(archive_path);
     const PyramidGeometry& g = reader.geometry();
     const int level = resolveLevel(reader, options.level);

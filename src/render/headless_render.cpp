@@ -1,6 +1,8 @@
 #include "ridge/render/headless_render.h"
 
+#include "ridge/core/atomic_output.h"
 #include "ridge/core/error.h"
+#include "ridge/core/file_identity.h"
 #include "ridge/gpu/context.h"
 #include "ridge/gpu/render_target.h"
 #include "ridge/io/raster_writer.h"
@@ -35,6 +37,8 @@ lod::Camera cameraFor(const TerrainRenderer& renderer, const HeadlessRenderOptio
 HeadlessRenderResult renderToPng(const std::string& archive_path,
                                  const HeadlessRenderOptions& options, const std::string& png_path)
 {
+    refuseOutputOverInput(png_path, {archive_path});
+    checkOutputWritable(png_path); // before the work, not after it
     if (options.viewport.width <= 0 || options.viewport.height <= 0 ||
         options.viewport.width > 16384 || options.viewport.height > 16384)
         throw Error(png_path + ": image size must be between 1x1 and 16384x16384");

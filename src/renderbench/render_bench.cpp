@@ -2,6 +2,7 @@
 
 #include "ridge/core/atomic_output.h"
 #include "ridge/core/error.h"
+#include "ridge/core/file_identity.h"
 #include "ridge/gpu/context.h"
 #include "ridge/gpu/render_target.h"
 
@@ -197,6 +198,7 @@ std::string formatRenderBenchTable(const std::vector<RenderBenchReport>& reports
 
 void writeRenderBenchJson(const RenderBenchReport& r, const std::string& path)
 {
+    refuseOutputOverInput(path, {r.archive, r.options.path.kind}); // kind: maybe a pose file
     nlohmann::json frames = nlohmann::json::array();
     for (const FrameRecord& f : r.frames)
         frames.push_back({{"frame_ms", f.frame_ms},

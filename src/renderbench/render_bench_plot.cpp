@@ -3,6 +3,7 @@
 #include "ridge/renderbench/render_bench.h"
 
 #include "ridge/core/error.h"
+#include "ridge/core/file_identity.h"
 #include "ridge/plot/png_plot.h"
 
 #include <plplot.h>
@@ -16,6 +17,7 @@
 namespace ridge::renderbench {
 void writeRenderBenchPlot(const RenderBenchReport& report, const std::string& path)
 {
+    refuseOutputOverInput(path, {report.archive, report.options.path.kind});
     if (report.frames.empty())
         throw Error(path + ": no frames to plot");
     std::vector<PLFLT> x, frame, gpu;
