@@ -1,10 +1,12 @@
 // `ridge codec-bench INPUT`: parse, run the bench (ridge_codecbench), print the tables,
 // write the optional JSON and plot.
 #include "commands.h"
+#include "range_check.h"
 #include "terminal.h"
 
 #include "ridge/codecbench/codec_bench.h"
 #include "ridge/core/atomic_output.h"
+#include "ridge/core/height_grid.h"
 
 #include <fmt/core.h>
 
@@ -20,10 +22,10 @@ void CodecBenchCommand::registerWith(CLI::App& app)
         ->add_option("--max-error", max_errors_,
                      "L-inf bounds in metres; repeat or give several (default 0.5 1 4 16)")
         ->expected(1, 64)
-        ->check(CLI::NonNegativeNumber);
+        ->check(inRange("--max-error", ValueRange::closed(0.0, kMaxAbsHeightMetres)));
     command_->add_option("--tile", tile_size_, "Anchors' tile side in samples, 0 = whole grid")
         ->capture_default_str()
-        ->check(CLI::NonNegativeNumber);
+        ->check(inIntegerRange("--tile", 0, 65536));
     command_
         ->add_option("--ridge-codec", ridge_codec_,
                      "ridge's codec for its row (progressive: max_error = bound; lossless)")
