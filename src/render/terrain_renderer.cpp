@@ -1086,9 +1086,4 @@ lod::Camera TerrainRenderer::defaultCamera(lod::Viewport viewport, double fov_y_
     return impl_->coarse->defaultCamera(viewport, fov_y_degrees);
 }
 
-const lod::CoarseTerrain& TerrainRenderer::coarseTerrain() const
-{
-    return *impl_->coarse;
-}
-
 } // namespace ridge::render

@@ -167,6 +167,12 @@ TEST_F(ParameterCli, AMillionByAMillionRasterIsRefusedWithItsSizeAndTheMemoryItN
     expectRefused(build + " --filter neville",
                   {"huge.vrt", "(in memory: ", "whole grid, 1.82 TiB", "Neville row pass"});
     expectRefused(build + " --max-memory 0", {"--max-memory 0: must be a number in (0, 1e+09]"});
+    // The other commands that read a raster: verify --source compares sizes first, codec-bench
+    // (which holds the raster) checks its memory like build.
+    expectRefused("verify " + arc() + " --source " + shellQuoted(vrt) + " -q",
+                  {"huge.vrt: size 1000000x1000000 differs"});
+    expectRefused("codec-bench " + shellQuoted(vrt) + " -q",
+                  {"huge.vrt: 1000000 x 1000000 samples need at least ", "to benchmark"});
 }
 
 TEST_F(ParameterCli, HillshadeExtractAndCodecBenchRefuseBadNumbersByFlag)

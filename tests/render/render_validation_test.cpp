@@ -6,6 +6,7 @@
 #include "ridge/core/error.h"
 #include "ridge/gpu/context.h"
 #include "ridge/gpu/render_target.h"
+#include "ridge/lod/coarse_terrain.h"
 #include "ridge/render/fly_camera.h"
 #include "ridge/render/headless_render.h"
 #include "ridge/render/terrain_renderer.h"

@@ -11,7 +11,6 @@
 #include "ridge/archive/archive_reader.h"
 #include "ridge/core/parameter_check.h"
 #include "ridge/lod/camera.h"
-#include "ridge/lod/coarse_terrain.h"
 #include "ridge/lod/patch_quadtree.h"
 #include "ridge/lod/patch_residency.h"
 
@@ -235,7 +234,6 @@ class TerrainRenderer {
     // Terrain-frame height (metres) of the level-0 patch's surface under (x, y), bilinearly
     // (cheap, for cameras); points off the terrain take its nearest border point.
     double groundHeight(double x, double y) const;
-    const lod::CoarseTerrain& coarseTerrain() const;
 
   private:
     struct Impl;
