@@ -84,7 +84,7 @@ inline CLI::Validator magnitudeInRange(const std::string& flag, ValueRange range
                 detail::reject(flag, text, "its magnitude", range.describe());
             return {};
         },
-        "magnitude " + range.describe());
+        "magnitude: " + range.describe());
 }
 
 // An integer in [lo, hi].
