@@ -1,6 +1,7 @@
 // `ridge bench ARCHIVE`: a renderer flown along a camera path, headless; prints the summary,
 // writes the optional JSON and frame-time plot.
 #include "commands.h"
+#include "range_check.h"
 #include "render_args.h"
 
 #include "ridge/core/atomic_output.h"
@@ -26,14 +27,14 @@ void BenchCommand::registerWith(CLI::App& app)
         ->add_option("--speed", speed_,
                      "Camera speed along the path, m/s (60 frames per simulated s)")
         ->capture_default_str()
-        ->check(CLI::PositiveNumber);
+        ->check(inRange("--speed", lod::CameraPathSettings::kSpeedMpsRange));
     command_->add_option("--frames", frames_, "Frames to render")
         ->capture_default_str()
-        ->check(CLI::PositiveNumber);
+        ->check(inIntegerRange("--frames", 1, lod::CameraPathSettings::kMaxFrames));
     command_->add_option("--size", size_, "Frame size WIDTHxHEIGHT")->capture_default_str();
     command_->add_option("--error", error_, "Screen-space error threshold ε, pixels")
         ->capture_default_str()
-        ->check(CLI::Range(0.05, 1000.0));
+        ->check(inRange("--error", render::RenderSettings::kEpsilonPxRange));
     addStreamingOptions(*command_, renderer_options_);
     command_->add_flag("--no-cull", no_cull_, "Disable view-frustum culling");
     command_
@@ -41,7 +42,7 @@ void BenchCommand::registerWith(CLI::App& app)
                      "chunked: simplify each of Ulrich's chunks to K times its patch's "
                      "error bound Err(P) (selected at (1 + K)·Err(P))")
         ->capture_default_str()
-        ->check(CLI::NonNegativeNumber);
+        ->check(inRange("--chunk-tolerance", render::RendererOptions::kChunkToleranceRange));
     command_->add_flag("--grid-chunks", grid_chunks_,
                        "chunked: draw every patch's full grid instead of simplified chunks");
     command_->add_flag(

@@ -1,12 +1,15 @@
 // `ridge codec-bench INPUT`: parse, run the bench (ridge_codecbench), print the tables,
 // write the optional JSON and plot.
 #include "commands.h"
+#include "range_check.h"
 #include "terminal.h"
 
 #include "ridge/codecbench/codec_bench.h"
 #include "ridge/core/atomic_output.h"
 #include "ridge/core/file_identity.h"
 #include "ridge/io/dataset_files.h"
+#include "ridge/core/height_grid.h"
+#include "ridge/pipeline/build_memory.h"
 
 #include <fmt/core.h>
 
@@ -22,10 +25,10 @@ void CodecBenchCommand::registerWith(CLI::App& app)
         ->add_option("--max-error", max_errors_,
                      "L-inf bounds in metres; repeat or give several (default 0.5 1 4 16)")
         ->expected(1, 64)
-        ->check(CLI::NonNegativeNumber);
+        ->check(inRange("--max-error", ValueRange::closed(0.0, kMaxAbsHeightMetres)));
     command_->add_option("--tile", tile_size_, "Anchors' tile side in samples, 0 = whole grid")
         ->capture_default_str()
-        ->check(CLI::NonNegativeNumber);
+        ->check(inIntegerRange("--tile", 0, 65536));
     command_
         ->add_option("--ridge-codec", ridge_codec_,
                      "ridge's codec for its row (progressive: max_error = bound; lossless)")
@@ -35,6 +38,30 @@ void CodecBenchCommand::registerWith(CLI::App& app)
     command_->add_flag("-q,--quiet", quiet_, "No progress output");
 }
 
+namespace {
+
+// The bench ingests the whole raster, copies it into tiles and builds ridge's archive of it in
+// memory: refuse, before anything is allocated, a raster whose in-memory build alone (plus the
+// tile copy) cannot fit what is available. A lower bound: the anchors' streams come on top.
+void checkCodecBenchMemory(const std::string& input)
+{
+    const io::RasterProbe probe = io::probeRaster(input);
+    BuildOptions as_built;
+    as_built.codec = "progressive";
+    BuildMemoryEstimate e =
+        estimateBuildMemory(probe, as_built, false, probe.declares_nodata || probe.has_mask_band);
+    e.terms.push_back({"tiles", uint64_t(probe.width) * uint64_t(probe.height) * 2});
+    const AvailableMemory available = availableMemory();
+    if (e.total() <= available.bytes)
+        return;
+    throw Error(input + ": " + std::to_string(probe.width) + " x " + std::to_string(probe.height) +
+                " samples need at least " + formatBytes(e.total()) + " to benchmark (" +
+                e.describe() + "; tiles), but " + formatBytes(available.bytes) +
+                " are available (" + available.source + ")");
+}
+
+} // namespace
+
 int CodecBenchCommand::run()
 {
     for (const std::string& out : {json_path_, plot_path_})
@@ -42,6 +69,7 @@ int CodecBenchCommand::run()
             refuseOutputOverInput(out, io::datasetFiles(input_));
             checkOutputWritable(out);
         }
+    checkCodecBenchMemory(input_);
     codecbench::CodecBenchOptions options;
     options.max_errors = max_errors_;
     options.tile_size = tile_size_;

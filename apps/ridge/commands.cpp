@@ -1,5 +1,6 @@
 #include "commands.h"
 
+#include "range_check.h"
 #include "terminal.h"
 
 #include "ridge/codec/height_codec.h"
@@ -33,6 +34,9 @@ std::string humanBytes(uint64_t bytes)
     return u == 0 ? fmt::format("{} B", bytes) : fmt::format("{:.1f} {}", v, units[u]);
 }
 
+// --max-memory, MB: positive, and within what a byte count holds (1 PB).
+constexpr ValueRange kMaxMemoryMbRange = ValueRange::openClosed(0.0, 1e9);
+
 } // namespace
 
 void Commands::registerAll(CLI::App& app)
@@ -44,14 +48,17 @@ void Commands::registerAll(CLI::App& app)
                      "Input raster (GeoTIFF, SRTM .hgt, PNG, ASCII grid, netCDF, ...)")
         ->required();
     build_->add_option("-o,--output", output_, "Output archive (.ridge)")->required();
+    // Integers here; whether they are 2^n+1 and a power of two is validateBuildOptions'.
     build_
         ->add_option("--patch", build_options_.patch_size,
                      "Patch size, 2^n+1 samples (65, 129, 257)")
-        ->capture_default_str();
+        ->capture_default_str()
+        ->check(inIntegerRange("--patch", 5, 4097));
     build_
         ->add_option("--block", build_options_.block_cells,
                      "Tessellation block size in cells (power of two)")
-        ->capture_default_str();
+        ->capture_default_str()
+        ->check(inIntegerRange("--block", 2, 4096));
     build_
         ->add_option(
             "--codec", build_options_.codec,
@@ -67,18 +74,37 @@ void Commands::registerAll(CLI::App& app)
                      "Store tessellation block errors in the archive (default: readers derive them "
                      "from the decoded heights)");
     io::IngestOptions& ingest = build_options_.ingest;
-    build_->add_option_function<double>(
-        "--max-error", [&ingest](double v) { ingest.max_error = v; },
-        "Largest allowed height error in metres at the finest level, end to end (progressive "
-        "codecs); with lossless codecs, the quantization step of non-integer input");
-    build_->add_option_function<double>(
-        "--spacing", [&ingest](double v) { ingest.spacing = v; },
-        "Ground spacing in metres for rasters without georeferencing (default 1)");
-    build_->add_option_function<double>(
-        "--z-scale", [&ingest](double v) { ingest.z_scale = v; },
-        "metres = value * z-scale + z-offset (replaces the band's own scale/unit)");
-    build_->add_option_function<double>(
-        "--z-offset", [&ingest](double v) { ingest.z_offset = v; }, "See --z-scale");
+    using Ingest = io::IngestOptions;
+    build_
+        ->add_option_function<double>(
+            "--max-error", [&ingest](double v) { ingest.max_error = v; },
+            "Largest allowed height error in metres at the finest level, end to end "
+            "(progressive codecs); with lossless codecs, the quantization step of non-integer "
+            "input")
+        ->check(inRange("--max-error", BuildOptions::kMaxErrorRange));
+    build_
+        ->add_option_function<double>(
+            "--spacing", [&ingest](double v) { ingest.spacing = v; },
+            "Ground spacing in metres for rasters without georeferencing (default 1)")
+        ->check(inRange("--spacing", Ingest::kSpacingRange));
+    build_
+        ->add_option_function<double>(
+            "--z-scale", [&ingest](double v) { ingest.z_scale = v; },
+            "metres = value * z-scale + z-offset (replaces the band's own scale/unit)")
+        ->check(magnitudeInRange("--z-scale", Ingest::kZScaleMagnitudeRange));
+    build_
+        ->add_option_function<double>(
+            "--z-offset", [&ingest](double v) { ingest.z_offset = v; }, "See --z-scale")
+        ->check(inRange("--z-offset", Ingest::kZOffsetRange));
+    build_
+        ->add_option_function<double>(
+            "--max-memory",
+            [this](double mb) {
+                build_options_.memory_limit_bytes = uint64_t(mb * 1024.0 * 1024.0);
+            },
+            "Memory the build may use, MB (default: what the system has available); a raster "
+            "whose estimated needs exceed it is refused before anything is allocated")
+        ->check(inRange("--max-memory", kMaxMemoryMbRange));
     addCommonFlags(build_, quiet_);
 
     info_ =
@@ -99,20 +125,30 @@ void Commands::registerAll(CLI::App& app)
         app.add_subcommand("extract", "Write a level (or a window) as a georeferenced GeoTIFF");
     extract_->add_option("archive", archive_, "Archive (.ridge)")->required();
     extract_->add_option("-o,--output", output_, "Output GeoTIFF")->required();
-    extract_->add_option("--level", level_, "Level (default: finest)");
-    extract_->add_option("--window", window_, "X Y W H in level samples")->expected(4);
+    extract_->add_option("--level", level_, "Level (default: finest)")
+        ->check(inIntegerRange("--level", -1, ExtractOptions::kMaxLevel));
+    extract_->add_option("--window", window_, "X Y W H in level samples")
+        ->expected(4)
+        ->check(inIntegerRange("--window", 0, INT32_MAX, "X").application_index(0))
+        ->check(inIntegerRange("--window", 0, INT32_MAX, "Y").application_index(1))
+        ->check(inIntegerRange("--window", 1, INT32_MAX, "W").application_index(2))
+        ->check(inIntegerRange("--window", 1, INT32_MAX, "H").application_index(3));
     addCommonFlags(extract_, quiet_);
 
     hillshade_ = app.add_subcommand("hillshade", "Write a shaded-relief PNG of a level");
     hillshade_->add_option("archive", archive_, "Archive (.ridge)")->required();
     hillshade_->add_option("-o,--output", output_, "Output PNG")->required();
-    hillshade_->add_option("--level", level_, "Level (default: finest)");
+    hillshade_->add_option("--level", level_, "Level (default: finest)")
+        ->check(inIntegerRange("--level", -1, HillshadeOptions::kMaxLevel));
     hillshade_->add_option("--azimuth", hillshade_options_.azimuth, "Light azimuth, degrees")
-        ->capture_default_str();
+        ->capture_default_str()
+        ->check(inRange("--azimuth", HillshadeOptions::kAzimuthDegreesRange));
     hillshade_->add_option("--altitude", hillshade_options_.altitude, "Light altitude, degrees")
-        ->capture_default_str();
+        ->capture_default_str()
+        ->check(inRange("--altitude", HillshadeOptions::kAltitudeDegreesRange));
     hillshade_->add_option("-z,--z-factor", hillshade_options_.z_factor, "Vertical exaggeration")
-        ->capture_default_str();
+        ->capture_default_str()
+        ->check(inRange("--z-factor", HillshadeOptions::kZFactorRange));
     hillshade_->add_flag(
         "--grey", [this](int64_t) { hillshade_options_.colour = false; },
         "Grey shading only (like gdaldem)");

@@ -1,25 +1,33 @@
 #pragma once
 // Command-line values shared by `ridge render`, `ridge view` and `ridge bench`.
+#include "range_check.h"
+
 #include "ridge/core/error.h"
+#include "ridge/render/headless_render.h"
 #include "ridge/render/terrain_renderer.h"
 
 #include <CLI/CLI.hpp>
 
 #include <charconv>
+#include <cstdio>
 #include <string>
 #include <system_error>
 
 namespace ridge::cli {
 
-// "WIDTHxHEIGHT", as --size takes it.
-inline lod::Viewport parseSize(const std::string& text)
+// "WIDTHxHEIGHT", as --size takes it, each side in [1, max_side] pixels.
+inline lod::Viewport parseSize(const std::string& text,
+                               int max_side = render::HeadlessRenderOptions::kMaxImageSide)
 {
-    int w = 0, h = 0;
+    long long w = 0, h = 0;
     char x = 0, extra = 0;
-    if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') ||
-        w <= 0 || h <= 0)
+    if (std::sscanf(text.c_str(), "%lld%c%lld%c", &w, &x, &h, &extra) != 3 ||
+        (x != 'x' && x != 'X'))
         throw Error("--size " + text + ": expected WIDTHxHEIGHT, e.g. 1920x1080");
-    return {w, h};
+    if (w < 1 || h < 1 || w > max_side || h > max_side)
+        throw Error("--size " + text + ": each side must be an integer in [1, " +
+                    std::to_string(max_side) + "]");
+    return {int(w), int(h)};
 }
 
 // "tess", "chunked" or "brute"; `option` names the flag in the message.
@@ -38,20 +46,21 @@ inline render::LodScheme parseLodScheme(const std::string& name, const std::stri
 // renderer's options (whose values are the defaults shown).
 inline void addStreamingOptions(CLI::App& command, render::RendererOptions& options)
 {
+    using Options = render::RendererOptions;
     command.add_option("--vram", options.vram_budget_mb, "Texture memory for resident patches, MB")
         ->capture_default_str()
-        ->check(CLI::PositiveNumber);
+        ->check(inRange("--vram", Options::kVramBudgetMbRange));
     command
         .add_option("--ram", options.ram_budget_mb,
                     "RAM caches of compressed and decoded patches, MB")
         ->capture_default_str()
-        ->check(CLI::PositiveNumber);
+        ->check(inRange("--ram", Options::kRamBudgetMbRange));
     command.add_option("--upload-mb", options.upload_budget_mb, "Per-frame upload budget, MB")
         ->capture_default_str()
-        ->check(CLI::PositiveNumber);
+        ->check(inRange("--upload-mb", Options::kUploadBudgetMbRange));
     command.add_option("--upload-ms", options.upload_budget_ms, "Per-frame upload budget, CPU ms")
         ->capture_default_str()
-        ->check(CLI::PositiveNumber);
+        ->check(inRange("--upload-ms", Options::kUploadBudgetMsRange));
     command.add_flag_callback(
         "--cpu-decode", [&options] { options.gpu_reconstruction = false; },
         "Decode progressive patches wholly on the CPU (default: entropy decoding on the CPU, "

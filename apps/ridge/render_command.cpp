@@ -1,5 +1,6 @@
 // `ridge render ARCHIVE -o OUT.png`: one frame of the tessellation renderer, headless (EGL).
 #include "commands.h"
+#include "range_check.h"
 #include "render_args.h"
 
 #include "ridge/core/error.h"
@@ -39,19 +40,22 @@ void RenderCommand::registerWith(CLI::App& app)
                      "Camera position X,Y,Z in metres: x east of the first column, y north of the "
                      "last row, z elevation (default: an oblique view of the whole terrain)")
         ->delimiter(',')
-        ->expected(3);
+        ->expected(3)
+        ->check(inRange("--camera", lod::kCameraCoordinateRange, "each coordinate"));
     command_
         ->add_option("--look-at", look_at_,
                      "Point the camera looks at, X,Y,Z (default: terrain centre)")
         ->delimiter(',')
-        ->expected(3);
+        ->expected(3)
+        ->check(inRange("--look-at", lod::kCameraCoordinateRange, "each coordinate"));
+    using Headless = render::HeadlessRenderOptions;
     command_->add_option("--fov", fov_, "Vertical field of view, degrees")
         ->capture_default_str()
-        ->check(CLI::Range(1.0, 170.0));
+        ->check(inRange("--fov", Headless::kFovYDegreesRange));
     command_->add_option("--size", size_, "Image size WIDTHxHEIGHT")->capture_default_str();
     command_->add_option("--error", error_, "Screen-space error threshold ε, pixels")
         ->capture_default_str()
-        ->check(CLI::Range(0.05, 1000.0));
+        ->check(inRange("--error", render::RenderSettings::kEpsilonPxRange));
     command_
         ->add_option("--mode", mode_,
                      "shaded, lod (level colours) or tess (tessellation-factor heat map)")
@@ -69,19 +73,23 @@ void RenderCommand::registerWith(CLI::App& app)
     command_->add_flag("--no-sky", no_sky_, "Plain background instead of the sky gradient");
     command_->add_option("--samples", samples_, "MSAA samples")
         ->capture_default_str()
-        ->check(CLI::Range(1, 16));
+        ->check(inIntegerRange("--samples", 1, Headless::kMaxSamples));
     command_
         ->add_option(
             "--sun", sun_,
             "Sun azimuth (degrees clockwise from north) and altitude (degrees), e.g. 315,45")
         ->delimiter(',')
         ->expected(2)
-        ->capture_default_str();
+        ->capture_default_str()
+        ->check(
+            inRange("--sun", render::kSunAzimuthDegreesRange, "the azimuth").application_index(0))
+        ->check(inRange("--sun", render::kSunAltitudeDegreesRange, "the altitude")
+                    .application_index(1));
     command_
         ->add_option("--vram", vram_mb_,
                      "Texture memory for resident patches, MB (ε is raised when a view needs more)")
         ->capture_default_str()
-        ->check(CLI::PositiveNumber);
+        ->check(inRange("--vram", render::RendererOptions::kVramBudgetMbRange));
     command_->add_flag("--json", json_, "Print the camera and frame statistics as JSON");
     command_->add_flag("-q,--quiet", quiet_, "Print nothing on success");
 }
@@ -105,11 +113,7 @@ int RenderCommand::run()
     options.settings.skirts = !no_skirts_;
     options.settings.fog = !no_fog_;
     options.settings.sky = !no_sky_;
-    if (!(sun_[1] > 0.0 && sun_[1] <= 90.0))
-        throw Error("--sun: the altitude must be in (0, 90] degrees");
-    const double az = sun_[0] * M_PI / 180.0, alt = sun_[1] * M_PI / 180.0;
-    options.settings.sun_direction =
-        glm::dvec3(std::sin(az) * std::cos(alt), std::cos(az) * std::cos(alt), std::sin(alt));
+    options.settings.sun_direction = render::sunDirection(sun_[0], sun_[1]);
     const render::HeadlessRenderResult r = render::renderToPng(archive_, options, output_);
     const glm::dvec3 p = r.camera.position(), f = r.camera.forward();
     if (json_) {

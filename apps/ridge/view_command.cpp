@@ -3,10 +3,12 @@
 // stats overlay over it. Everything terrain-related lives in libridge; this file is input
 // plumbing and the overlay.
 #include "commands.h"
+#include "range_check.h"
 #include "render_args.h"
 #include "terminal.h"
 
 #include "ridge/core/error.h"
+#include "ridge/lod/camera_path.h"
 
 #include <fmt/core.h>
 
@@ -402,16 +404,16 @@ void ViewCommand::registerWith(CLI::App& app)
         ->capture_default_str();
     command_->add_option("--fov", fov_y_degrees_, "Vertical field of view, degrees")
         ->capture_default_str()
-        ->check(CLI::Range(1.0, 170.0));
+        ->check(inRange("--fov", render::HeadlessRenderOptions::kFovYDegreesRange));
     command_->add_option("--error", epsilon_px_, "Screen-space error threshold ε, pixels")
         ->capture_default_str()
-        ->check(CLI::Range(kMinEpsilonPx, kMaxEpsilonPx));
+        ->check(inRange("--error", ValueRange::closed(kMinEpsilonPx, kMaxEpsilonPx)));
     addStreamingOptions(*command_, renderer_options_);
     command_->add_flag("--vsync,!--no-vsync", vsync_,
                        "Wait for the display's refresh (default on)");
     command_
         ->add_option("--frames", frames_, "Render this many frames, then exit (0 = until closed)")
-        ->check(CLI::NonNegativeNumber);
+        ->check(inIntegerRange("--frames", 0, lod::CameraPathSettings::kMaxFrames));
     // For scripts, docs and bug reports: the last frame, overlay included. Hidden (empty group)
     // to keep the user-facing help short.
     command_->add_option("--screenshot", screenshot_, "Write the last frame as a PNG")->group("");

@@ -48,6 +48,10 @@ public:
     DirectCodes(const SourceBand& band, const DirectLayout& layout)
         : band_(band), layout_(layout), nodata_(nodataPattern(band, layout))
     {
+        // Every code of the type is a height the archive can hold: check them all, before
+        // anything is read.
+        band.checkHeightRange(layout.type_min, layout.type_max,
+                              "the " + band.dataTypeName() + " type's values");
         // code = code_base + code_sign * int(buffer ^ base_xor), exact in 16 bits. With a
         // negative z_scale the codes run from the type's maximum down, so that the code ->
         // metre scale stays positive (archives require it).

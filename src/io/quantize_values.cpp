@@ -88,6 +88,7 @@ public:
         const ValueSurvey s = survey(band, survey_progress);
         if (s.valid == 0)
             band.fail("all samples are nodata");
+        band.checkHeightRange(s.min_value, s.max_value, "its values");
         const ZTransform& z = band.z();
         const double min_metres = std::min(z.toMetres(s.min_value), z.toMetres(s.max_value));
         const double max_metres = std::max(z.toMetres(s.min_value), z.toMetres(s.max_value));

@@ -9,6 +9,7 @@
 
 #include "ridge/core/error.h"
 
+#include <algorithm>
 #include <memory>
 
 namespace ridge::io {
@@ -53,6 +54,7 @@ ElevationRaster ingestRaster(const std::string& path, const IngestOptions& optio
     ElevationRaster raster;
     raster.source_path = path;
     raster.geo = detail::readGeoReference(band.dataset(), band.width(), band.height(), options);
+    band.checkSpacing(raster.geo);
     raster.geo.vertical_units = band.verticalUnits();
 
     const bool direct = detail::hasDirectCodes(band);
@@ -104,6 +106,23 @@ ElevationRaster ingestRaster(const std::string& path, const IngestOptions& optio
     out.z_scale = band.z().scale;
     out.z_offset = band.z().offset;
     return raster;
+}
+
+RasterProbe probeRaster(const std::string& path, const IngestOptions& options)
+{
+    detail::GdalErrorCapture capture;
+    const detail::SourceBand band(path, options);
+    RasterProbe probe;
+    probe.width = band.width();
+    probe.height = band.height();
+    probe.data_type = band.dataTypeName();
+    probe.direct_codes = detail::hasDirectCodes(band);
+    probe.has_mask_band = band.hasMaskBand();
+    probe.declares_nodata = band.nodata().has_value();
+    probe.strip_extra_bytes_per_sample =
+        (probe.direct_codes ? 0 : int(sizeof(double))) + (probe.has_mask_band ? 1 : 0);
+    probe.block_cache_bytes = std::max(detail::kIngestCacheBytes, 2 * band.blockRowBytes());
+    return probe;
 }
 
 struct ReferenceRaster::Impl {

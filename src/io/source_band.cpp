@@ -3,6 +3,7 @@
 #include "number_format.h"
 
 #include "ridge/core/error.h"
+#include "ridge/core/parameter_check.h"
 
 #include <cpl_string.h>
 
@@ -61,19 +62,25 @@ std::optional<double> verticalUnitFactor(const std::string& unit)
 
 void validateOptions(const std::string& path, const IngestOptions& options)
 {
-    if (options.spacing && !(std::isfinite(*options.spacing) && *options.spacing > 0))
-        throw Error(path + ": invalid spacing " + formatNumber(*options.spacing) +
-                    ": it must be a positive, finite number of metres");
-    if (options.z_scale && !(std::isfinite(*options.z_scale) && *options.z_scale != 0))
-        throw Error(path + ": invalid z_scale " + formatNumber(*options.z_scale) +
-                    ": it must be non-zero and finite");
-    if (options.z_offset && !std::isfinite(*options.z_offset))
-        throw Error(path + ": invalid z_offset " + formatNumber(*options.z_offset) +
-                    ": it must be finite");
-    if (options.max_error && !(std::isfinite(*options.max_error) && *options.max_error > 0))
-        throw Error(path + ": invalid max_error " + formatNumber(*options.max_error) +
-                    ": it must be a positive, finite number of metres");
+    try {
+        options.validate();
+    } catch (const Error& e) {
+        throw Error(path + ": " + e.what());
+    }
 }
+
+namespace {
+
+// z_scale's magnitude is the range's concern; its sign only mirrors the codes.
+void checkZScale(const std::string& name, double z_scale)
+{
+    checkParameter(name, z_scale, ValueRange::any());
+    if (!IngestOptions::kZScaleMagnitudeRange.contains(std::abs(z_scale)))
+        throw Error(name + " is " + ridge::formatNumber(z_scale) + ": its magnitude must be " +
+                    IngestOptions::kZScaleMagnitudeRange.describe());
+}
+
+} // namespace
 
 SourceBand::SourceBand(const std::string& path, const IngestOptions& options) : path_(path)
 {
@@ -128,11 +135,14 @@ SourceBand::SourceBand(const std::string& path, const IngestOptions& options) : 
         band_offset = 0.0;
     z_.scale = options.z_scale ? *options.z_scale : band_scale * unit_factor;
     z_.offset = options.z_offset ? *options.z_offset : band_offset * unit_factor;
-    if (!(std::isfinite(z_.scale) && z_.scale != 0))
-        fail("invalid z_scale " + formatNumber(z_.scale) + " (from the band's scale " +
-             formatNumber(band_scale) + "): it must be non-zero and finite");
-    if (!std::isfinite(z_.offset))
-        fail("invalid z_offset " + formatNumber(z_.offset) + ": it must be finite");
+    // Given options were validated above; these checks speak to the band's own scale/offset.
+    try {
+        checkZScale("z_scale", z_.scale);
+        checkParameter("z_offset", z_.offset, IngestOptions::kZOffsetRange);
+    } catch (const Error& e) {
+        fail(std::string(e.what()) + " (from the band's scale " + formatNumber(band_scale) +
+             " and offset " + formatNumber(band_offset) + ", unit '" + vertical_units_ + "')");
+    }
 
     // 64-bit integer bands keep their nodata apart (a double cannot hold every value); the
     // samples are compared as doubles after RasterIO's conversion, so convert it alike.
@@ -155,6 +165,33 @@ SourceBand::SourceBand(const std::string& path, const IngestOptions& options) : 
     const int flags = GDALGetMaskFlags(band_);
     has_mask_band_ = (flags & (GMF_PER_DATASET | GMF_ALPHA)) != 0 &&
                      (flags & (GMF_NODATA | GMF_ALL_VALID)) == 0;
+}
+
+void SourceBand::checkHeightRange(double lo_value, double hi_value, const std::string& what) const
+{
+    const double a = z_.toMetres(lo_value), b = z_.toMetres(hi_value);
+    const double lo = std::min(a, b), hi = std::max(a, b);
+    const ValueRange heights = ValueRange::closed(-kMaxAbsHeightMetres, kMaxAbsHeightMetres);
+    if (heights.contains(lo) && heights.contains(hi))
+        return;
+    fail("z_scale " + ridge::formatNumber(z_.scale) + " and z_offset " +
+         ridge::formatNumber(z_.offset) + " map " + what + " [" + ridge::formatNumber(lo_value) +
+         ", " + ridge::formatNumber(hi_value) + "] to heights [" + ridge::formatNumber(lo) + ", " +
+         ridge::formatNumber(hi) + "] m, beyond the ±" + ridge::formatNumber(kMaxAbsHeightMetres) +
+         " m any height may reach; check the z-scale (or the band's scale and unit)");
+}
+
+void SourceBand::checkSpacing(const GeoReference& geo) const
+{
+    if (geo.spacing_from_user)
+        return; // IngestOptions::validate checked it
+    const double spacing[2] = {geo.spacing_x, geo.spacing_y};
+    try {
+        checkParameters("the ground spacing its georeferencing gives (m)", spacing, 2,
+                        IngestOptions::kSpacingRange);
+    } catch (const Error& e) {
+        fail(e.what());
+    }
 }
 
 std::string SourceBand::dataTypeName() const
@@ -232,3 +269,19 @@ void SourceBand::fail(const std::string& problem) const
 }
 
 } // namespace ridge::io::detail
+
+namespace ridge::io {
+
+void IngestOptions::validate() const
+{
+    if (spacing)
+        checkParameter("spacing", *spacing, kSpacingRange);
+    if (z_scale)
+        detail::checkZScale("z_scale", *z_scale);
+    if (z_offset)
+        checkParameter("z_offset", *z_offset, kZOffsetRange);
+    if (max_error)
+        checkParameter("max_error", *max_error, kMaxErrorRange);
+}
+
+} // namespace ridge::io

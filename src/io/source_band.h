@@ -65,6 +65,14 @@ public:
     // `mask_scratch` is reused between calls to hold the mask strip.
     void readValues(int y0, int rows, double* out, std::vector<uint8_t>& mask_scratch) const;
 
+    // Throws Error naming the file, z_scale, z_offset and both ranges unless z() maps stored
+    // values [lo_value, hi_value] to heights within ±kMaxAbsHeightMetres. `what` says what
+    // the values are ("the Int16 type's values", "its values").
+    void checkHeightRange(double lo_value, double hi_value, const std::string& what) const;
+    // Throws Error naming the file unless a spacing taken from the georeferencing is within
+    // IngestOptions::kSpacingRange (user spacings are validated with the options).
+    void checkSpacing(const GeoReference& geo) const;
+
     // Throws Error("path: problem[: GDAL's messages]").
     [[noreturn]] void fail(const std::string& problem) const;
 

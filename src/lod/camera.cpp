@@ -14,15 +14,19 @@ Camera::Camera(glm::dvec3 position, glm::dvec3 look_at, double fov_y_degrees, Vi
     : position_(position), fov_y_(glm::radians(fov_y_degrees)), viewport_(viewport), near_(near_m),
       far_(far_m)
 {
+    checkParameters("camera position", &position.x, 3, kCameraCoordinateRange);
+    checkParameters("camera look-at point", &look_at.x, 3, kCameraCoordinateRange);
     const glm::dvec3 dir = look_at - position;
     if (glm::length(dir) <= 0.0)
         throw Error("camera: the look-at point equals the camera position");
-    if (!(fov_y_degrees > 0.0 && fov_y_degrees < 180.0))
-        throw Error("camera: the field of view must lie in (0, 180) degrees");
-    if (viewport.width <= 0 || viewport.height <= 0)
-        throw Error("camera: the viewport must have a positive size");
-    if (!(near_m > 0.0 && far_m > near_m))
-        throw Error("camera: need 0 < near < far");
+    checkParameter("camera field of view (degrees)", fov_y_degrees, kCameraFovYRange);
+    checkParameter("viewport width", int64_t{viewport.width}, 1, kMaxViewportPixels);
+    checkParameter("viewport height", int64_t{viewport.height}, 1, kMaxViewportPixels);
+    checkParameter("camera near plane (m)", near_m, ValueRange::positive());
+    checkParameter("camera far plane (m)", far_m, ValueRange::positive());
+    if (!(far_m > near_m))
+        throw Error("camera: the far plane (" + formatNumber(far_m) +
+                    " m) must lie beyond the near plane (" + formatNumber(near_m) + " m)");
     forward_ = glm::normalize(dir);
     // Looking straight up or down: any horizontal right vector will do.
     glm::dvec3 r = glm::cross(forward_, glm::dvec3(0.0, 0.0, 1.0));

@@ -60,6 +60,14 @@ std::vector<CameraPose> fromFile(const std::string& path)
               p.look_at.y >> p.look_at.z))
             throw Error(path + ":" + std::to_string(number) +
                         ": expected 6 numbers: x y z look-x look-y look-z");
+        if (!kCameraCoordinateRange.contains(p.position.x) ||
+            !kCameraCoordinateRange.contains(p.position.y) ||
+            !kCameraCoordinateRange.contains(p.position.z) ||
+            !kCameraCoordinateRange.contains(p.look_at.x) ||
+            !kCameraCoordinateRange.contains(p.look_at.y) ||
+            !kCameraCoordinateRange.contains(p.look_at.z))
+            throw Error(path + ":" + std::to_string(number) + ": every coordinate must be " +
+                        kCameraCoordinateRange.describe() + " metres");
         if (glm::length(p.look_at - p.position) <= 0.0)
             throw Error(path + ":" + std::to_string(number) +
                         ": the camera looks at its own position");
@@ -72,11 +80,23 @@ std::vector<CameraPose> fromFile(const std::string& path)
 
 } // namespace
 
+void CameraPathSettings::validate() const
+{
+    checkParameter("path speed_mps", speed_mps, kSpeedMpsRange);
+    checkParameter("path frame_seconds", frame_seconds, kFrameSecondsRange);
+    checkParameter("path height_above_ground", height_above_ground, kHeightAboveGroundRange);
+    checkParameter("path teleport_every", int64_t{teleport_every}, 0, kMaxFrames);
+}
+
 std::vector<CameraPose> makeCameraPath(const TerrainFrame& frame, double min_height,
                                        double max_height,
                                        const std::function<double(double, double)>& ground,
                                        const CameraPathSettings& s, int frames)
 {
+    s.validate();
+    checkParameter("path frames", int64_t{frames}, 0, CameraPathSettings::kMaxFrames);
+    const double heights[2] = {min_height, max_height};
+    checkParameters("terrain height range (m)", heights, 2, ValueRange::any());
     std::vector<CameraPose> out;
     if (s.kind != "flyover" && s.kind != "orbit" && s.kind != "teleport") {
         const std::vector<CameraPose> file = fromFile(s.kind);

@@ -5,6 +5,7 @@
 #include "ridge/lod/screen_space_error.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace ridge::lod {
 
@@ -33,8 +34,17 @@ Box PatchQuadtree::box(PatchId p) const
     return frame_.patchBox(p, b.min_height, b.max_height);
 }
 
+void SelectionSettings::validate() const
+{
+    checkParameter("epsilon_px", epsilon_px, kEpsilonPxRange);
+    checkParameter("error_scale", error_scale, kErrorScaleRange);
+    if (max_patches < 1)
+        throw Error("max_patches is 0: must be at least 1 (the root alone always fits)");
+}
+
 Selection PatchQuadtree::select(const Camera& camera, const SelectionSettings& settings) const
 {
+    settings.validate();
     const Frustum frustum(camera);
     const double gamma = screenSpaceErrorFactor(camera);
     double epsilon = settings.epsilon_px;
@@ -44,7 +54,9 @@ Selection PatchQuadtree::select(const Camera& camera, const SelectionSettings& s
         // Err_Scr is linear in Err(P): scaling γ scales every patch's error.
         visit(PatchId{0, 0, 0}, camera, settings.cull ? &frustum : nullptr,
               gamma * settings.error_scale, epsilon, settings.conservative_distance, s);
-        if (s.patches.size() <= settings.max_patches)
+        // At ε = ∞ every visible patch with a finite Err_Scr stops at the root; should a NaN
+        // bound (a corrupt index) still refine, give up raising rather than loop forever.
+        if (s.patches.size() <= settings.max_patches || std::isinf(epsilon))
             return s;
         epsilon = std::max(epsilon * 1.25, 1e-3); // from ε = 0 (brute force) too
     }

@@ -8,6 +8,8 @@
 #include "ridge/core/error.h"
 #include "ridge/core/file_identity.h"
 #include "ridge/io/dataset_files.h"
+#include "ridge/core/parameter_check.h"
+#include "ridge/pipeline/build_memory.h"
 #include "ridge/pyramid/patch_error.h"
 #include "ridge/pyramid/tessellation_block_errors.h"
 
@@ -69,6 +71,7 @@ double codecMaxError(const HeightQuantization& q, const BuildOptions& options)
         return 0;
     if (!options.max_error)
         throw Error("codec '" + options.codec + "' needs --max-error (metres)");
+    checkParameter("max_error", *options.max_error, BuildOptions::kMaxErrorRange);
     if (!(*options.max_error >= q.max_error))
         throw Error("--max-error " + std::to_string(*options.max_error) +
                     " m is below the input's own quantization error " + std::to_string(q.max_error) + " m");
@@ -204,7 +207,7 @@ void encodeAndWrite(int64_t count, const std::function<EncodedPatch(int64_t)>& m
                     archive::ArchiveWriter& writer,
                     const std::function<void(int64_t, EncodedPatch&)>& done = {})
 {
-    constexpr int64_t kBatch = 64;
+    constexpr int64_t kBatch = kEncodeBatchPatches;
     std::vector<EncodedPatch> batch(kBatch);
     for (int64_t first = 0; first < count; first += kBatch) {
         const int64_t n = std::min(kBatch, count - first);
@@ -354,18 +357,42 @@ std::optional<BuildReport> buildStreaming(const std::string& input, const std::s
 
 } // namespace
 
+void BuildOptions::validate() const
+{
+    const PyramidGeometry probe(2, 2, patch_size); // throws for a size that is not 2^n+1
+    if (!TessellationBlockLayout{patch_size, block_cells}.valid())
+        throw Error("block_cells is " + std::to_string(block_cells) +
+                    ": must be a power of two >= 2 dividing the patch's " +
+                    std::to_string(patch_size - 1) + " cells");
+    if (max_error)
+        checkParameter("max_error", *max_error, kMaxErrorRange);
+    ingest.validate();
+}
+
 BuildReport buildArchive(const std::string& input, const std::string& output,
                          const BuildOptions& options)
 {
+    options.validate();
     refuseOutputOverInput(output, io::datasetFiles(input)); // every file GDAL reads for it
     checkOutputWritable(output);
+    // The raster's size and type, read without a sample: the memory check comes before any
+    // allocation and before CodeRowReader's pre-pass over non-integer data.
+    const io::RasterProbe probe = io::probeRaster(input, options.ingest);
+    const AvailableMemory limit = buildMemoryLimit(options);
     // Decimation streams the finest level (memory ~ a quarter of the grid); voids and the
     // Neville filter need the whole grid in memory.
     // Progressive codecs code top-down, the finest level last; streaming writes it first,
     // so they take the in-memory path for now.
-    if (options.filter == PyramidFilter::Decimate && !isLossyCodec(options.codec)) {
+    const bool may_have_voids = probe.declares_nodata || probe.has_mask_band;
+    if (buildStreams(options)) {
+        checkBuildMemory(input, probe, estimateBuildMemory(probe, options, true, false), limit);
         if (std::optional<BuildReport> report = buildStreaming(input, output, options))
             return *report;
+        // Voids found (or a single level): the whole grid after all.
+        checkBuildMemory(input, probe, estimateBuildMemory(probe, options, false, true), limit);
+    } else {
+        checkBuildMemory(input, probe, estimateBuildMemory(probe, options, false, may_have_voids),
+                         limit);
     }
     const auto start = Clock::now();
     io::IngestOptions ingest = options.ingest;
@@ -383,6 +410,7 @@ BuildReport buildArchive(const std::string& input, const std::string& output,
 BuildReport buildArchive(const io::ElevationRaster& raster, const std::string& output,
                          const BuildOptions& options)
 {
+    options.validate();
     refuseOutputOverInput(output, {raster.source_path});
     checkOutputWritable(output);
     const auto start = Clock::now();

@@ -3,8 +3,11 @@
 #include "ridge/archive/archive_reader.h"
 #include "ridge/core/atomic_output.h"
 #include "ridge/core/file_identity.h"
+#include "ridge/core/parameter_check.h"
 #include "ridge/io/raster_writer.h"
 #include "ridge/pipeline/level_decoder.h"
+
+#include <cstdint>
 
 namespace ridge {
 
@@ -30,9 +33,21 @@ io::GeoReference storedGeoReference(const archive::ArchiveReader& reader)
 
 } // namespace
 
+void ExtractOptions::validate() const
+{
+    checkParameter("level", int64_t{level}, -1, kMaxLevel);
+    if (!window)
+        return;
+    checkParameter("window x", int64_t{window->x}, 0, INT32_MAX);
+    checkParameter("window y", int64_t{window->y}, 0, INT32_MAX);
+    checkParameter("window width", int64_t{window->width}, 1, INT32_MAX);
+    checkParameter("window height", int64_t{window->height}, 1, INT32_MAX);
+}
+
 void extractLevel(const std::string& archive_path, const std::string& output,
                   const ExtractOptions& options)
 {
+    options.validate();
     refuseOutputOverInput(output, {archive_path});
     checkOutputWritable(output); // before the work, not after it
     const archive::ArchiveReader reader(archive_path);

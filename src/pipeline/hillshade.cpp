@@ -42,9 +42,20 @@ uint8_t toByte(double v) { return static_cast<uint8_t>(std::clamp(std::lround(v 
 
 } // namespace
 
+void HillshadeOptions::validate() const
+{
+    checkParameter("level", int64_t{level}, -1, kMaxLevel);
+    checkParameter("azimuth (degrees)", azimuth, kAzimuthDegreesRange);
+    checkParameter("altitude (degrees)", altitude, kAltitudeDegreesRange);
+    checkParameter("z_factor", z_factor, kZFactorRange);
+}
+
 std::vector<uint8_t> shadeRelief(const std::vector<float>& metres, int width, int height,
                                  double spacing_x, double spacing_y, const HillshadeOptions& options)
 {
+    options.validate();
+    const double spacing[2] = {spacing_x, spacing_y};
+    checkParameters("hillshade spacing (m)", spacing, 2, ValueRange::positive());
     const double deg = std::numbers::pi / 180.0;
     const double zenith = (90.0 - options.altitude) * deg;
     // Azimuth in the math convention (counter-clockwise from east), as gdaldem does.
@@ -90,6 +101,7 @@ std::vector<uint8_t> shadeRelief(const std::vector<float>& metres, int width, in
 void writeHillshade(const std::string& archive_path, const std::string& output,
                     const HillshadeOptions& options)
 {
+    options.validate();
     refuseOutputOverInput(output, {archive_path});
     checkOutputWritable(output); // before the work, not after it
     const archive::ArchiveReader reader(archive_path);

@@ -1,5 +1,8 @@
 #include "ridge/render/fly_camera.h"
 
+#include "ridge/core/error.h"
+
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
 #include <algorithm>
@@ -12,8 +15,8 @@ constexpr double kPi = 3.14159265358979323846;
 } // namespace
 
 FlyCamera::FlyCamera(glm::dvec3 position, double yaw, double pitch, double speed_mps)
-    : position_(position)
 {
+    setPosition(position);
     setAngles(yaw, pitch);
     setSpeed(speed_mps);
 }
@@ -29,20 +32,43 @@ FlyCamera FlyCamera::from(const lod::Camera& camera, double speed_mps)
 
 void FlyCamera::setAngles(double yaw, double pitch)
 {
+    checkParameter("fly camera yaw (radians)", yaw, ValueRange::any());
+    checkParameter("fly camera pitch (radians)", pitch, ValueRange::any());
     // Wrapped so that yaw stays accurate however long the user spins.
     yaw_ = std::remainder(yaw, 2.0 * kPi);
     pitch_ = std::clamp(pitch, -kMaxPitch, kMaxPitch);
 }
 
+void FlyCamera::setPosition(glm::dvec3 position)
+{
+    checkParameters("fly camera position", &position.x, 3, lod::kCameraCoordinateRange);
+    position_ = position;
+}
+
 void FlyCamera::setSpeed(double speed_mps)
 {
-    // NaN (a bad caller) falls back to the slowest speed rather than poisoning the position.
-    speed_ = std::isnan(speed_mps) ? kMinSpeed : std::clamp(speed_mps, kMinSpeed, kMaxSpeed);
+    checkParameter("fly camera speed (m/s)", speed_mps, ValueRange::any());
+    speed_ = std::clamp(speed_mps, kMinSpeed, kMaxSpeed);
 }
 
 void FlyCamera::scaleSpeed(double steps)
 {
-    setSpeed(speed_ * std::pow(speed_factor_, steps));
+    checkParameter("fly camera speed steps", steps, ValueRange::any());
+    // speed_ > 0 and the factor > 1, so the product is in [0, inf], never NaN: clamp it.
+    speed_ = std::clamp(speed_ * std::pow(speed_factor_, steps), kMinSpeed, kMaxSpeed);
+}
+
+void FlyCamera::setSpeedFactor(double factor)
+{
+    checkParameter("fly camera speed factor", factor, kSpeedFactorRange);
+    speed_factor_ = factor;
+}
+
+void FlyCamera::setSensitivity(double radians_per_pixel)
+{
+    checkParameter("fly camera sensitivity (radians per pixel)", radians_per_pixel,
+                   kSensitivityRange);
+    sensitivity_ = radians_per_pixel;
 }
 
 glm::dvec3 FlyCamera::forward() const
@@ -59,6 +85,9 @@ glm::dvec3 FlyCamera::right() const
 
 void FlyCamera::update(const FlyInput& in, double dt_seconds)
 {
+    const double numbers[4] = {in.mouse_dx, in.mouse_dy, in.speed_steps, dt_seconds};
+    checkParameters("fly camera input (mouse dx, mouse dy, speed steps, dt)", numbers, 4,
+                    ValueRange::any());
     setAngles(yaw_ + in.mouse_dx * sensitivity_, pitch_ - in.mouse_dy * sensitivity_);
     if (in.speed_steps != 0.0)
         scaleSpeed(in.speed_steps);
@@ -72,7 +101,11 @@ void FlyCamera::update(const FlyInput& in, double dt_seconds)
     if (length < 1e-12 || dt == 0.0)
         return;
     const double speed = speed_ * (in.fast ? kFastFactor : 1.0);
-    position_ += direction / length * (speed * dt);
+    // A metre inside the camera range, so that camera()'s look-at point a metre ahead is too.
+    const double limit = lod::kCameraCoordinateRange.hi - 1.0;
+    // Capped so that a huge dt cannot make an infinite step (and inf · 0 = NaN components).
+    position_ += direction / length * std::min(speed * dt, 4.0 * limit);
+    position_ = glm::clamp(position_, glm::dvec3(-limit), glm::dvec3(limit));
 }
 
 lod::Camera FlyCamera::camera(lod::Viewport viewport, double fov_y_deg, double near_m,

@@ -11,8 +11,23 @@
 
 namespace ridge::render {
 
+void HeadlessRenderOptions::validate() const
+{
+    if (camera)
+        checkParameters("camera position", &camera->x, 3, lod::kCameraCoordinateRange);
+    if (look_at)
+        checkParameters("camera look-at point", &look_at->x, 3, lod::kCameraCoordinateRange);
+    checkParameter("fov_y_degrees", fov_y_degrees, kFovYDegreesRange);
+    checkParameter("image width", int64_t{viewport.width}, 1, kMaxImageSide);
+    checkParameter("image height", int64_t{viewport.height}, 1, kMaxImageSide);
+    checkParameter("samples", int64_t{samples}, 1, kMaxSamples);
+    checkParameter("vram_budget_mb", vram_budget_mb, RendererOptions::kVramBudgetMbRange);
+    settings.validate();
+}
+
 lod::Camera cameraFor(const TerrainRenderer& renderer, const HeadlessRenderOptions& options)
 {
+    options.validate();
     if (!options.camera) {
         if (options.look_at)
             throw Error("render: --look-at needs --camera");
@@ -37,11 +52,9 @@ lod::Camera cameraFor(const TerrainRenderer& renderer, const HeadlessRenderOptio
 HeadlessRenderResult renderToPng(const std::string& archive_path,
                                  const HeadlessRenderOptions& options, const std::string& png_path)
 {
+    options.validate();
     refuseOutputOverInput(png_path, {archive_path});
     checkOutputWritable(png_path); // before the work, not after it
-    if (options.viewport.width <= 0 || options.viewport.height <= 0 ||
-        options.viewport.width > 16384 || options.viewport.height > 16384)
-        throw Error(png_path + ": image size must be between 1x1 and 16384x16384");
     const archive::ArchiveReader reader(archive_path);
     auto context = gpu::HeadlessContext::create();
     RendererOptions ro;

@@ -9,12 +9,14 @@
 #include "ridge/gpu/render_target.h"
 #include "ridge/gpu/shader_program.h"
 #include "ridge/lod/chunk_mesh.h"
+#include "ridge/lod/coarse_terrain.h"
 #include "ridge/lod/edge_tessellation.h"
 #include "ridge/lod/resident_cover.h"
 #include "ridge/lod/screen_space_error.h"
 #include "ridge/stream/patch_loader.h"
 #include "ridge/stream/patch_streamer.h"
 
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_inverse.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -120,7 +122,8 @@ struct TerrainRenderer::Impl {
     int block_levels = 0;                     // D
     float min_height = 0.f, max_height = 0.f; // terrain frame, metres
     double skirt_margin = 0.0;                // float rounding of camera-relative heights
-    std::vector<uint16_t> root_codes;
+    // The level-0 patch on the CPU: ground heights and clip planes for cameras.
+    std::optional<lod::CoarseTerrain> coarse;
     uint64_t frame = 0;
 
     std::unique_ptr<PatchTextures> textures;
@@ -287,10 +290,9 @@ TerrainRenderer::Impl::Impl(const archive::ArchiveReader& r, const RendererOptio
     max_height = root.max_height;
     // Float rounding of camera-relative heights: a centimetre plus a few ulps of the highest.
     skirt_margin = 0.01 + 1e-6 * std::max(std::abs(root.min_height), std::abs(root.max_height));
-    root_codes = loader.load(PatchId{0, 0, 0})->codes;
+    coarse.emplace(quadtree.frame(), quadtree.box(PatchId{0, 0, 0}),
+                   loader.load(PatchId{0, 0, 0})->codes, quantization);
     if (options.chunk_meshes) {
-        if (!(options.chunk_tolerance >= 0.0))
-            throw Error("terrain renderer: the chunk tolerance must be >= 0");
         chunk_slots.resize(size_t(slots));
         chunk_index_type = chunkIndexType(n);
     }
@@ -613,7 +615,11 @@ void TerrainRenderer::Impl::prefetch(const lod::Camera& camera,
     has_last_camera = true;
     if (options.prefetch_frames <= 0 || glm::length(velocity) <= 0.0)
         return;
-    const glm::dvec3 ahead = camera.position() + velocity * double(options.prefetch_frames);
+    // Within the coordinates a camera may take, however far a jump extrapolates.
+    const double limit = lod::kCameraCoordinateRange.hi;
+    const glm::dvec3 ahead =
+        glm::clamp(camera.position() + velocity * double(options.prefetch_frames),
+                   glm::dvec3(-limit), glm::dvec3(limit));
     const lod::Camera future(ahead, ahead + camera.forward(), glm::degrees(camera.fovY()),
                              camera.viewport(), camera.nearPlane(), camera.farPlane());
     const PyramidGeometry& g = reader.geometry();
@@ -778,9 +784,20 @@ uint64_t TerrainRenderer::Impl::latestTriangles()
     return last_triangles;
 }
 
+namespace {
+
+// Checked before Impl touches GL or sizes anything from them.
+const RendererOptions& validated(const RendererOptions& options)
+{
+    options.validate();
+    return options;
+}
+
+} // namespace
+
 TerrainRenderer::TerrainRenderer(const archive::ArchiveReader& reader,
                                  const RendererOptions& options)
-    : impl_(std::make_unique<Impl>(reader, options))
+    : impl_(std::make_unique<Impl>(reader, validated(options)))
 {
 }
 
@@ -883,6 +900,7 @@ size_t TerrainRenderer::streamingCacheBytes() const
 
 FrameStats TerrainRenderer::draw(const lod::Camera& camera, const RenderSettings& settings)
 {
+    settings.validate();
     Impl& m = *impl_;
     FrameStats stats;
     RenderSettings s;
@@ -982,6 +1000,7 @@ FrameStats TerrainRenderer::draw(const lod::Camera& camera, const RenderSettings
 
 CapturedSurface TerrainRenderer::capture(const lod::Camera& camera, const RenderSettings& settings)
 {
+    settings.validate();
     Impl& m = *impl_;
     FrameStats stats;
     RenderSettings s;
@@ -1054,76 +1073,17 @@ CapturedSurface TerrainRenderer::capture(const lod::Camera& camera, const Render
 
 double TerrainRenderer::groundHeight(double x, double y) const
 {
-    const Impl& m = *impl_;
-    const lod::TerrainFrame& f = m.quadtree.frame();
-    const double step = double(f.geometry().step(0));
-    const double i = std::clamp(f.columnOf(x) / step, 0.0, double(m.n - 1));
-    const double j = std::clamp(f.rowOf(y) / step, 0.0, double(m.n - 1));
-    const int i0 = std::min(int(i), m.n - 2), j0 = std::min(int(j), m.n - 2);
-    const double fx = i - i0, fy = j - j0;
-    auto code = [&](int a, int b) { return double(m.root_codes[size_t(b) * m.n + a]); };
-    const double c = (code(i0, j0) * (1 - fx) + code(i0 + 1, j0) * fx) * (1 - fy) +
-                     (code(i0, j0 + 1) * (1 - fx) + code(i0 + 1, j0 + 1) * fx) * fy;
-    return m.quantization.offset + m.quantization.scale * c;
+    return impl_->coarse->groundHeight(x, y);
 }
 
 void TerrainRenderer::clipPlanesFor(glm::dvec3 position, double& near_m, double& far_m) const
 {
-    const Impl& m = *impl_;
-    const lod::Box root = m.quadtree.box(PatchId{0, 0, 0});
-    const double above = position.z - groundHeight(position.x, position.y);
-    const double to_box = lod::distanceToBox(position, root);
-    // Reverse-Z float depth keeps precision for a small near plane; it only has to stay in
-    // front of the closest surface.
-    near_m = std::clamp(0.25 * std::max(above, to_box), 0.05, 1e5);
-    double farthest = 0.0;
-    for (int k = 0; k < 8; ++k) {
-        const glm::dvec3 corner((k & 1) ? root.max.x : root.min.x,
-                                (k & 2) ? root.max.y : root.min.y,
-                                (k & 4) ? root.max.z : root.min.z);
-        farthest = std::max(farthest, glm::length(corner - position));
-    }
-    far_m = std::max(farthest * 1.5, near_m * 2.0);
+    impl_->coarse->clipPlanesFor(position, near_m, far_m);
 }
 
 lod::Camera TerrainRenderer::defaultCamera(lod::Viewport viewport, double fov_y_degrees) const
 {
-    const Impl& m = *impl_;
-    const lod::TerrainFrame& f = m.quadtree.frame();
-    const glm::dvec3 centre(0.5 * f.extentX(), 0.5 * f.extentY(),
-                            0.5 * (m.min_height + m.max_height));
-    const double radius =
-        0.5 * std::sqrt(f.extentX() * f.extentX() + f.extentY() * f.extentY() +
-                        double(m.max_height - m.min_height) * (m.max_height - m.min_height));
-    // From the south-south-west, 35° above the horizon, as close as lets every corner of the
-    // terrain's box project inside the picture with a 4% margin.
-    const double azimuth = 200.0 * M_PI / 180.0, elevation = 35.0 * M_PI / 180.0;
-    const glm::dvec3 dir(std::sin(azimuth) * std::cos(elevation),
-                         std::cos(azimuth) * std::cos(elevation), std::sin(elevation));
-    const lod::Box box = m.quadtree.box(PatchId{0, 0, 0});
-    auto framed = [&](const lod::Camera& camera) {
-        for (int k = 0; k < 8; ++k) {
-            const glm::dvec3 corner((k & 1) ? box.max.x : box.min.x,
-                                    (k & 2) ? box.max.y : box.min.y,
-                                    (k & 4) ? box.max.z : box.min.z);
-            glm::dvec2 px;
-            if (!camera.project(corner, px) || px.x < 0.04 * viewport.width ||
-                px.x > 0.96 * viewport.width || px.y < 0.04 * viewport.height ||
-                px.y > 0.96 * viewport.height)
-                return false;
-        }
-        return true;
-    };
-    double distance = 0.25 * radius;
-    for (;;) {
-        const glm::dvec3 position = centre + dir * distance;
-        double near_m = 1.0, far_m = 1e6;
-        clipPlanesFor(position, near_m, far_m);
-        const lod::Camera camera(position, centre, fov_y_degrees, viewport, near_m, far_m);
-        if (framed(camera) || distance > 100.0 * radius)
-            return camera;
-        distance *= 1.05;
-    }
+    return impl_->coarse->defaultCamera(viewport, fov_y_degrees);
 }
 
 } // namespace ridge::render

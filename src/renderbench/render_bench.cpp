@@ -5,6 +5,7 @@
 #include "ridge/core/file_identity.h"
 #include "ridge/gpu/context.h"
 #include "ridge/gpu/render_target.h"
+#include "ridge/render/headless_render.h"
 
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
@@ -88,10 +89,21 @@ void summarise(RenderBenchReport& r)
 
 } // namespace
 
+void RenderBenchOptions::validate() const
+{
+    checkParameter("frames", int64_t{frames}, 1, lod::CameraPathSettings::kMaxFrames);
+    using render::HeadlessRenderOptions;
+    checkParameter("frame width", int64_t{viewport.width}, 1, HeadlessRenderOptions::kMaxImageSide);
+    checkParameter("frame height", int64_t{viewport.height}, 1,
+                   HeadlessRenderOptions::kMaxImageSide);
+    checkParameter("epsilon_px", epsilon_px, render::RenderSettings::kEpsilonPxRange);
+    path.validate();
+    renderer.validate();
+}
+
 RenderBenchReport runRenderBench(const std::string& archive, const RenderBenchOptions& o)
 {
-    if (o.frames <= 0)
-        throw Error("bench: --frames must be positive");
+    o.validate();
     RenderBenchReport report;
     report.archive = archive;
     report.options = o;

@@ -4,6 +4,7 @@
 // This is the only module (with raster_writer.h) that talks to GDAL; GDAL headers never
 // appear in ridge's public headers.
 #include "ridge/core/height_grid.h"
+#include "ridge/core/parameter_check.h"
 #include "ridge/core/progress.h"
 
 #include <array>
@@ -29,6 +30,17 @@ struct GeoReference {
 };
 
 struct IngestOptions {
+    // The ranges validate() enforces. Spacings and max_error are positive and no larger than
+    // anything real (ridge/core/height_grid.h); z_offset is a height. The magnitude of z_scale
+    // starts at a nanometre per stored unit: below, code steps underflow the archive's float
+    // fields. The heights z_scale and z_offset make must also lie within ±kMaxAbsHeightMetres,
+    // which only the raster's values can tell (checked when it is opened).
+    static constexpr ValueRange kSpacingRange = ValueRange::openClosed(0.0, kMaxSpacingMetres);
+    static constexpr ValueRange kZScaleMagnitudeRange = {1e-9, ValueRange::any().hi, false, false};
+    static constexpr ValueRange kZOffsetRange =
+        ValueRange::closed(-kMaxAbsHeightMetres, kMaxAbsHeightMetres);
+    static constexpr ValueRange kMaxErrorRange = ValueRange::openClosed(0.0, kMaxAbsHeightMetres);
+
     // Ground spacing (metres) for rasters without georeferencing. Ignored when the raster
     // is georeferenced, unless force_spacing is set.
     std::optional<double> spacing;
@@ -41,6 +53,10 @@ struct IngestOptions {
     // representable in 16 bits. Unset: the finest step that fits 16 bits.
     std::optional<double> max_error;
     Progress progress;
+
+    // Throws ridge::Error("NAME is VALUE: must be RANGE") for the first set option outside
+    // its range above (NaN and infinities included).
+    void validate() const;
 };
 
 struct IngestStats {
@@ -76,9 +92,31 @@ struct ElevationRaster {
 // Throws ridge::Error naming `path` and the problem for: unreadable / unrecognised file,
 // no raster band, grid smaller than 2x2, all samples nodata, non-finite values that are not
 // declared nodata (with the first sample position), a range that cannot meet max_error in
-// 16 bits, invalid options (spacing <= 0, z_scale == 0, max_error <= 0).
+// 16 bits, options outside their ranges (IngestOptions::validate), a z_scale / z_offset
+// (given or the band's own) that maps the band's values beyond ±kMaxAbsHeightMetres (8/16-bit
+// integers: the type's whole range, whose codes the archive can hold; other types: the
+// values present), a georeferenced spacing beyond kMaxSpacingMetres.
 // Memory: 2 bytes per sample plus a strip buffer; voids add 1 byte per sample while filling.
 ElevationRaster ingestRaster(const std::string& path, const IngestOptions& options = {});
+
+// What sizing a build needs to know about a raster before reading any sample: opens band 1
+// and reads no pixels (cheap even for a 10^6 x 10^6 VRT), so it can come before
+// CodeRowReader's pre-pass over non-integer data. Same errors as opening for ingest
+// (options, unreadable file, no band, < 2x2, unsupported type); the value checks come later.
+struct RasterProbe {
+    int width = 0;
+    int height = 0;
+    std::string data_type;     // as IngestStats::data_type
+    bool direct_codes = false; // 8/16-bit integers: codes read in place, no pre-pass
+    bool has_mask_band = false;
+    bool declares_nodata = false;
+    // Bytes per sample that a strip reader holds besides the codes (values as doubles for
+    // non-direct types, the mask strip), and the GDAL block cache it keeps (ingest and
+    // CodeRowReader both bound it; a row of blocks must fit twice).
+    int strip_extra_bytes_per_sample = 0;
+    int64_t block_cache_bytes = 0;
+};
+RasterProbe probeRaster(const std::string& path, const IngestOptions& options = {});
 
 // Strip-wise access to band 1 as codes, for builds that never hold the whole grid.
 //

@@ -4,10 +4,21 @@
 // Matrices are camera-relative: `view()` rotates only, so the world is translated by −position
 // in double precision before anything becomes float. `viewProjection()` maps a
 // camera-relative point (world − position) to clip space (OpenGL conventions, NDC z in [−1, 1]).
+#include "ridge/core/parameter_check.h"
+
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 
 namespace ridge::lod {
+
+// Terrain-frame coordinates of a camera position or look-at point, metres. 10^15 m (7000 AU)
+// is far beyond any terrain and a double still resolves it to 1/8 m; beyond, positions and
+// the differences renderers take lose whole metres, and soon overflow to infinity.
+inline constexpr ValueRange kCameraCoordinateRange = ValueRange::closed(-1e15, 1e15);
+// φ_v in degrees: a perspective projection needs (0, 180).
+inline constexpr ValueRange kCameraFovYRange = {0.0, 180.0, true, true};
+// Viewport sides, pixels: no GL implementation draws more than 65536 across.
+inline constexpr int kMaxViewportPixels = 65536;
 
 struct Viewport {
     int width = 1920;  // pixels, R_h
@@ -17,8 +28,11 @@ struct Viewport {
 class Camera {
   public:
     Camera() = default;
-    // `fov_y_degrees` is the vertical field of view φ_v; φ_h follows from the aspect ratio.
-    // near/far in metres. `look_at` must differ from `position`.
+    // `fov_y_degrees` is the vertical field of view φ_v (kCameraFovYRange); φ_h follows from
+    // the aspect ratio. near/far in metres, finite, 0 < near < far. `position` and `look_at`
+    // within kCameraCoordinateRange and different; viewport sides in [1, kMaxViewportPixels].
+    // Throws ridge::Error naming the parameter otherwise (NaN and infinities included): every
+    // renderer, culling test and error metric downstream relies on a finite camera.
     Camera(glm::dvec3 position, glm::dvec3 look_at, double fov_y_degrees, Viewport viewport,
            double near_m, double far_m);
 

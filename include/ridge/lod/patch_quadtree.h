@@ -28,6 +28,12 @@ struct PatchBounds {
 };
 
 struct SelectionSettings {
+    // ε may be 0 (brute force: the finest level wherever the frustum lets it); the upper end
+    // only keeps ε and its 25% raises finite.
+    static constexpr ValueRange kEpsilonPxRange = ValueRange::closed(0.0, 1e9);
+    // error_scale: Ulrich's chunks reach 1 + RendererOptions::kChunkToleranceRange.hi.
+    static constexpr ValueRange kErrorScaleRange = ValueRange::closed(1.0, 1000.0);
+
     double epsilon_px = 2.0; // ε, pixels
     bool cull = true;        // view-frustum culling of patch boxes
     // ρ in Err_Scr: the box depth bound that holds off-axis (visibleDepthBound), or the
@@ -39,6 +45,9 @@ struct SelectionSettings {
     // The drawn mesh's vertical error as a multiple of Err(P): 1 for meshes of the patch's
     // own samples; 1 + k for Ulrich's chunks simplified to k·Err(P) (lod/chunk_mesh.h).
     double error_scale = 1.0;
+
+    // Throws ridge::Error naming the first field outside its range (max_patches must be >= 1).
+    void validate() const;
 };
 
 struct SelectedPatch {
@@ -65,6 +74,7 @@ class PatchQuadtree {
     const PatchBounds& bounds(PatchId p) const { return bounds_[geometry().patchIndex(p)]; }
     Box box(PatchId p) const;
 
+    // Validates `settings` first (SelectionSettings::validate).
     Selection select(const Camera& camera, const SelectionSettings& settings) const;
 
   private:

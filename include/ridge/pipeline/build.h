@@ -22,7 +22,18 @@ struct BuildOptions {
     // them exactly from the decoded heights (~10% of a compressed archive saved).
     bool store_block_errors = false;
     io::IngestOptions ingest;      // spacing, z-scale/offset, max_error (quantization)
+    // The memory the build may use, bytes; 0: what the system has available
+    // (availableMemory(): MemAvailable, the cgroup limit, RLIMIT_AS, RLIMIT_DATA). A raster
+    // whose estimate (pipeline/build_memory.h) exceeds it is refused before anything is
+    // allocated.
+    uint64_t memory_limit_bytes = 0;
     Progress progress;
+
+    // Lossy codecs' max_error: positive, and no larger than a height may be.
+    static constexpr ValueRange kMaxErrorRange = io::IngestOptions::kMaxErrorRange;
+    // Throws ridge::Error naming the first option outside its range: patch_size (2^n+1),
+    // block_cells, max_error, ingest (IngestOptions::validate). buildArchive calls it first.
+    void validate() const;
 };
 
 struct BuildReport {
@@ -44,11 +55,16 @@ struct BuildReport {
 // ridge::Cancelled; in both cases nothing is left at `output`.
 // Memory: with the decimation filter and a void-free source, the finest level is streamed in
 // strips and only level L-1 (a quarter of the samples, 2 bytes each) is held; with voids or
-// the Neville filter the whole grid is held (2 bytes per sample, +1/3 for Neville).
+// the Neville filter the whole grid is held (2 bytes per sample, +1/3 for Neville). Before
+// allocating, the path's needs are estimated from the raster's declared size
+// (pipeline/build_memory.h) and a raster that does not fit memory_limit_bytes (or what is
+// available) is refused with an Error naming the file, its size and both amounts; the
+// fallback from streaming to in memory (voids found) checks again before ingesting.
 BuildReport buildArchive(const std::string& input, const std::string& output,
                          const BuildOptions& options);
 
-// Same from an already ingested raster (tests, embedding applications).
+// Same from an already ingested raster (tests, embedding applications); no memory check
+// (the grid is already held).
 BuildReport buildArchive(const io::ElevationRaster& raster, const std::string& output,
                          const BuildOptions& options);
 

@@ -12,14 +12,21 @@ struct ExtractWindow {
 };
 
 struct ExtractOptions {
+    static constexpr int kMaxLevel = 62; // PatchId levels; -1 means the finest
+
     int level = -1;                       // -1: the finest level
     std::optional<ExtractWindow> window;  // default: the level's whole valid extent
     Progress progress;
+
+    // Throws ridge::Error naming the first field outside its range: level in [-1, kMaxLevel],
+    // window x, y >= 0 and width, height >= 1 (whether they fit the level is checked against
+    // the archive).
+    void validate() const;
 };
 
 // Writes a Float32 GeoTIFF in metres. The geotransform is the source's, scaled by the level's
 // step and shifted so that every output pixel centre sits on its finest-grid sample's centre.
-// Throws ridge::Error; leaves nothing at `output` on failure.
+// Throws ridge::Error (options are validated first); leaves nothing at `output` on failure.
 void extractLevel(const std::string& archive_path, const std::string& output,
                   const ExtractOptions& options);
 

@@ -1,6 +1,7 @@
 #pragma once
 // `ridge hillshade`: a shaded-relief picture of one level.
 #include "ridge/core/height_grid.h"
+#include "ridge/core/parameter_check.h"
 #include "ridge/core/progress.h"
 
 #include <cstdint>
@@ -10,12 +11,23 @@
 namespace ridge {
 
 struct HillshadeOptions {
+    // Light azimuth either way round up to a full turn; altitude from the horizon to the
+    // zenith (gdaldem's ranges); exaggeration positive and short of flattening every slope
+    // to a cliff.
+    static constexpr ValueRange kAzimuthDegreesRange = ValueRange::closed(-360.0, 360.0);
+    static constexpr ValueRange kAltitudeDegreesRange = ValueRange::closed(0.0, 90.0);
+    static constexpr ValueRange kZFactorRange = ValueRange::openClosed(0.0, 1e6);
+    static constexpr int kMaxLevel = 62; // PatchId levels; -1 means the finest
+
     int level = -1;          // -1: finest level
     double azimuth = 315.0;  // light from the north-west, degrees clockwise from north
     double altitude = 45.0;  // degrees above the horizon
     double z_factor = 1.0;   // vertical exaggeration
     bool colour = true;      // hypsometric tint under the shading; false = grey like gdaldem
     Progress progress;
+
+    // Throws ridge::Error naming the first field outside its range above (NaN included).
+    void validate() const;
 };
 
 // Horn's (1981) slope/aspect on metres with the level's ground spacing, the same formula as
@@ -23,7 +35,8 @@ struct HillshadeOptions {
 std::vector<uint8_t> shadeRelief(const std::vector<float>& metres, int width, int height,
                                  double spacing_x, double spacing_y, const HillshadeOptions& options);
 
-// Decodes the level and writes the picture as PNG. Throws ridge::Error.
+// Decodes the level and writes the picture as PNG. Throws ridge::Error (options are
+// validated first; shadeRelief validates them too).
 void writeHillshade(const std::string& archive_path, const std::string& output,
                     const HillshadeOptions& options);
 

@@ -34,10 +34,16 @@ class FlyCamera {
     static constexpr double kMaxSpeed = 1e6;                                   // m/s
     static constexpr double kMaxPitch = 89.0 * 3.14159265358979323846 / 180.0; // radians
     static constexpr double kFastFactor = 5.0;
+    // speedFactor() per step, and radians of turn per pixel: beyond, one wheel notch or one
+    // pixel throws the camera around.
+    static constexpr ValueRange kSpeedFactorRange = {1.0, 100.0, true, false};
+    static constexpr ValueRange kSensitivityRange = ValueRange::openClosed(0.0, 1.0);
 
     FlyCamera() = default;
     // Angles in radians (pitch is clamped to ±kMaxPitch, yaw wrapped to (−π, π]); speed in m/s
-    // (clamped to [kMinSpeed, kMaxSpeed]).
+    // (clamped to [kMinSpeed, kMaxSpeed]); position within lod::kCameraCoordinateRange.
+    // Throws ridge::Error for NaN or infinite arguments (they would poison every later pose),
+    // as do all setters and update().
     FlyCamera(glm::dvec3 position, double yaw, double pitch, double speed_mps);
 
     // Starts where `camera` is, looking where it looks (pitch clamped), at `speed_mps`.
@@ -46,7 +52,8 @@ class FlyCamera {
     // Applies mouse look (mouse deltas × sensitivity), then speed steps, then moves for
     // `dt_seconds` (≥ 0; negative is treated as 0). Opposing keys cancel; a diagonal moves at
     // the same speed as a straight line. The caller bounds dt if a stalled frame should not
-    // jump the camera.
+    // jump the camera. The position stays a metre inside lod::kCameraCoordinateRange
+    // (clamped), so that camera() always works.
     void update(const FlyInput& in, double dt_seconds);
 
     // The render camera at the current pose; near/far in metres, 0 < near < far.
@@ -57,18 +64,18 @@ class FlyCamera {
     glm::dvec3 right() const;
 
     glm::dvec3 position() const { return position_; }
-    void setPosition(glm::dvec3 position) { position_ = position; }
+    void setPosition(glm::dvec3 position);  // within lod::kCameraCoordinateRange
     double yaw() const { return yaw_; }     // radians
     double pitch() const { return pitch_; } // radians
     double speed() const { return speed_; } // m/s
-    void setSpeed(double speed_mps);        // clamped to [kMinSpeed, kMaxSpeed]
+    void setSpeed(double speed_mps);        // finite; clamped to [kMinSpeed, kMaxSpeed]
     // Multiplies the speed by speedFactor()^steps (negative steps slow down), clamped.
     void scaleSpeed(double steps);
     double speedFactor() const { return speed_factor_; }
-    void setSpeedFactor(double factor) { speed_factor_ = factor; } // > 1
+    void setSpeedFactor(double factor); // kSpeedFactorRange
     // Radians of turn per pixel of mouse movement.
     double sensitivity() const { return sensitivity_; }
-    void setSensitivity(double radians_per_pixel) { sensitivity_ = radians_per_pixel; }
+    void setSensitivity(double radians_per_pixel); // kSensitivityRange
 
   private:
     void setAngles(double yaw, double pitch);

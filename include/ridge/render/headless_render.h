@@ -8,6 +8,12 @@
 namespace ridge::render {
 
 struct HeadlessRenderOptions {
+    // φ_v in degrees: narrower than 1° is a telescope, wider than 170° a fisheye that a
+    // perspective projection stretches beyond use.
+    static constexpr ValueRange kFovYDegreesRange = ValueRange::closed(1.0, 170.0);
+    static constexpr int kMaxImageSide = 16384; // pixels: GL_MAX_RENDERBUFFER_SIZE on most GPUs
+    static constexpr int kMaxSamples = 16;      // MSAA
+
     // Camera in the archive's terrain frame (see ridge/lod/terrain_frame.h). Without a
     // position: TerrainRenderer::defaultCamera. With a position but no look-at: the centre
     // of the terrain.
@@ -18,6 +24,11 @@ struct HeadlessRenderOptions {
     int samples = 4;               // MSAA
     double vram_budget_mb = 256.0; // texture arrays of resident patches (RendererOptions)
     RenderSettings settings;
+
+    // Throws ridge::Error naming the first field outside its range: camera and look-at within
+    // lod::kCameraCoordinateRange, the field of view, image sides in [1, kMaxImageSide],
+    // samples in [1, kMaxSamples], vram_budget_mb (RendererOptions), settings.validate().
+    void validate() const;
 };
 
 struct HeadlessRenderResult {
@@ -27,11 +38,12 @@ struct HeadlessRenderResult {
 };
 
 // Renders `archive_path` and writes `png_path` atomically (nothing is left behind on
-// failure). Throws ridge::Error naming the file and the problem.
+// failure). Throws ridge::Error naming the file and the problem; options are validated
+// before the archive is opened.
 HeadlessRenderResult renderToPng(const std::string& archive_path,
                                  const HeadlessRenderOptions& options, const std::string& png_path);
 
-// Builds the camera `options` describe for `renderer`.
+// Builds the camera `options` describe for `renderer` (validating them first).
 lod::Camera cameraFor(const TerrainRenderer& renderer, const HeadlessRenderOptions& options);
 
 } // namespace ridge::render

@@ -9,6 +9,7 @@
 // its whole lifetime; draws into the framebuffer bound by the caller. Depth is reverse-Z
 // (glClipControl zero-to-one, cleared to 0, GL_GREATER), set and restored by draw().
 #include "ridge/archive/archive_reader.h"
+#include "ridge/core/parameter_check.h"
 #include "ridge/lod/camera.h"
 #include "ridge/lod/patch_quadtree.h"
 #include "ridge/lod/patch_residency.h"
@@ -35,6 +36,14 @@ enum class LodScheme : int {
 };
 
 struct RenderSettings {
+    // ε in pixels. Below 1/20 px the tessellator saturates everywhere (the finest level at
+    // 64 segments per edge costs what brute force does); above 1000 px the root patch is all
+    // any view gets.
+    static constexpr ValueRange kEpsilonPxRange = ValueRange::closed(0.05, 1000.0);
+    // Components of sun_direction: any finite direction of sane magnitude (its length is
+    // squared when it is normalised).
+    static constexpr ValueRange kSunComponentRange = ValueRange::closed(-1e6, 1e6);
+
     LodScheme scheme = LodScheme::Tessellation;
     double epsilon_px = 2.0; // ε, pixels (ignored by BruteForce)
     bool cull = true;        // view-frustum culling of patches
@@ -49,7 +58,20 @@ struct RenderSettings {
     glm::vec4 clear_colour{0.62f, 0.74f, 0.88f, 1.f};
     // Towards the sun (normalised on use): azimuth 315° (north-west, as hillshades), altitude 45°.
     glm::dvec3 sun_direction{-0.5, 0.5, 0.70710678};
+
+    // Throws ridge::Error naming the first field outside its range (NaN, infinities, ε
+    // outside kEpsilonPxRange, a zero or huge sun_direction, a clear colour outside [0, 1]).
+    // draw() and capture() call it.
+    void validate() const;
 };
+
+// Sun azimuth, degrees clockwise from north (either way round, up to a full turn), and
+// altitude above the horizon: a sun at or below it lights nothing.
+inline constexpr ValueRange kSunAzimuthDegreesRange = ValueRange::closed(-360.0, 360.0);
+inline constexpr ValueRange kSunAltitudeDegreesRange = ValueRange::openClosed(0.0, 90.0);
+// The unit vector towards a sun at `azimuth_degrees`, `altitude_degrees` in the terrain frame
+// (x east, y north, z up). Throws ridge::Error outside the ranges above.
+glm::dvec3 sunDirection(double azimuth_degrees, double altitude_degrees);
 
 struct FrameStats {
     int patches = 0; // drawn (instances)
@@ -88,6 +110,21 @@ struct CapturedSurface {
 };
 
 struct RendererOptions {
+    // The ranges validate() enforces. Budgets are positive; the upper ends are far beyond
+    // any machine (1 TB of VRAM, 1 PB of RAM) and keep byte counts within size_t.
+    static constexpr int kMinResidentPatches = 4; // raising ε must always find a fit
+    static constexpr int kMaxResidentPatches = 1 << 20;
+    static constexpr ValueRange kVramBudgetMbRange = ValueRange::openClosed(0.0, 1e6);
+    static constexpr ValueRange kRamBudgetMbRange = ValueRange::openClosed(0.0, 1e9);
+    static constexpr int kMaxIoThreads = 256;
+    static constexpr int kMaxUploadsPerFrame = 1 << 20;
+    static constexpr ValueRange kUploadBudgetMbRange = ValueRange::openClosed(0.0, 1e6);
+    static constexpr ValueRange kUploadBudgetMsRange = ValueRange::openClosed(0.0, 1e9);
+    static constexpr int kMaxPrefetchFrames = 1000000;
+    // k in k·Err(P): 0 keeps every sample; beyond 100·Err(P) every chunk is already as
+    // coarse as its two triangles.
+    static constexpr ValueRange kChunkToleranceRange = ValueRange::closed(0.0, 100.0);
+
     // Texture-array slots: at most this many, at most what `vram_budget_mb` holds (heights,
     // normals and block errors of one patch per slot) and at most the GL implementation's
     // array layers. When a view needs more patches than slots, ε is raised until it fits
@@ -137,6 +174,10 @@ struct RendererOptions {
     bool chunk_meshes = false;
     double chunk_tolerance = 0.5; // fewest triangles and draws on the Sierra fly-over
 
+    // Throws ridge::Error naming the first field outside its range above (NaN and infinities
+    // included). The TerrainRenderer constructor calls it.
+    void validate() const;
+
     // The defaults with streaming on (the viewer's and the benchmark's).
     static RendererOptions streamingDefaults()
     {
@@ -184,12 +225,14 @@ class TerrainRenderer {
     // it served (hits), since construction; either mode.
     uint64_t cacheMisses() const;
     uint64_t cacheHits() const;
+    // Camera placement over this terrain, from its level-0 patch (lod::CoarseTerrain, which
+    // says how; each throws ridge::Error for NaN, infinite or out-of-range arguments).
     // An oblique view from the south-south-west that frames the whole terrain.
     lod::Camera defaultCamera(lod::Viewport viewport, double fov_y_degrees = 60.0) const;
     // near/far planes that suit a camera at `position` over this terrain.
     void clipPlanesFor(glm::dvec3 position, double& near_m, double& far_m) const;
-    // Terrain-frame height of the surface under (x, y) at the finest resident data (metres),
-    // from the coarsest level (cheap, for cameras): the level-0 patch bilinearly.
+    // Terrain-frame height (metres) of the level-0 patch's surface under (x, y), bilinearly
+    // (cheap, for cameras); points off the terrain take its nearest border point.
     double groundHeight(double x, double y) const;
 
   private:

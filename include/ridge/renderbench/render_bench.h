@@ -23,6 +23,12 @@ struct RenderBenchOptions {
     // Budgets, streaming (on by default) and decoding; the bench itself raises
     // max_resident_patches and measures with synchronous_stats.
     render::RendererOptions renderer = render::RendererOptions::streamingDefaults();
+
+    // Throws ridge::Error naming the first field outside its range: frames in
+    // [1, lod::CameraPathSettings::kMaxFrames], frame sides in [1, kMaxImageSide] of
+    // render::HeadlessRenderOptions, epsilon_px (RenderSettings), path.validate(),
+    // renderer.validate().
+    void validate() const;
 };
 
 struct FrameRecord {
@@ -67,7 +73,8 @@ struct RenderBenchReport {
     double rss_early_mib = 0, rss_end_mib = 0;
 };
 
-// Throws ridge::Error naming the archive or path file on bad input.
+// Throws ridge::Error naming the archive or path file on bad input; options are validated
+// before the archive is opened.
 RenderBenchReport runRenderBench(const std::string& archive, const RenderBenchOptions& options);
 std::string formatRenderBenchSummary(const RenderBenchReport& report);
 // The fractal-rings paper's Table 1, one row per report: approach, FPS min / max / median,

@@ -1,0 +1,196 @@
+// Numeric flags as a user mistypes them: NaN, infinities, zero budgets, absurd z-scales and a
+// raster of 10^6 x 10^6 samples. Every one exits with status 1 (never a signal, never 0),
+// says which flag or file and what range, in a line a person can read, and leaves nothing.
+#include "test_support.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <regex>
+
+using namespace ridge;
+namespace fs = std::filesystem;
+
+namespace {
+
+// 'path', for a command line.
+std::string shellQuoted(const std::string& path)
+{
+    std::string q = "'";
+    q += path;
+    q += "'";
+    return q;
+}
+
+class ParameterCli : public ::testing::Test {
+  protected:
+    static void SetUpTestSuite()
+    {
+        scratch_ = new test::ScratchDir();
+        archive_ =
+            new std::string(test::buildEverestWithCli(*scratch_, "everest.ridge", "--patch 33"));
+    }
+    static void TearDownTestSuite()
+    {
+        delete archive_;
+        delete scratch_;
+    }
+
+    // Runs `ridge ARGS` (outputs are named out.* in the suite's directory) and checks the
+    // promises: exit status 1, every phrase in the output, no absurdly long number, and no
+    // out.* file (or its temporary) left behind.
+    static void expectRefused(const std::string& args, const std::vector<std::string>& phrases)
+    {
+        const test::CommandResult r = test::runRidge(args); // a signal reads as 128 + n
+        SCOPED_TRACE("ridge " + args);
+        EXPECT_EQ(r.exit_code, 1) << r.output;
+        for (const std::string& p : phrases)
+            EXPECT_NE(r.output.find(p), std::string::npos)
+                << "expected '" << p << "' in: " << r.output;
+        // (The scratch directory's random name is digits too.)
+        std::string text = r.output;
+        const std::string dir = scratch_->dir().string();
+        for (size_t at; (at = text.find(dir)) != std::string::npos;)
+            text.replace(at, dir.size(), "DIR");
+        EXPECT_FALSE(std::regex_search(text, std::regex("[0-9]{20}")))
+            << "a number nobody can read: " << r.output;
+        EXPECT_LT(r.output.size(), 600u) << r.output;
+        EXPECT_EQ(r.output.find("internal error"), std::string::npos) << r.output;
+        for (const auto& entry : fs::directory_iterator(scratch_->dir()))
+            EXPECT_EQ(entry.path().filename().string().rfind("out.", 0), std::string::npos)
+                << "left behind: " << entry.path();
+    }
+
+    static std::string out(const std::string& name)
+    {
+        return shellQuoted(scratch_->path("out." + name));
+    }
+    static std::string arc() { return shellQuoted(*archive_); }
+
+    static test::ScratchDir* scratch_;
+    static std::string* archive_;
+};
+
+test::ScratchDir* ParameterCli::scratch_ = nullptr;
+std::string* ParameterCli::archive_ = nullptr;
+
+} // namespace
+
+TEST_F(ParameterCli, RenderRefusesANanOrInfiniteCamera)
+{
+    const std::string render = "render " + arc() + " -o " + out("png") + " --size 64x64 ";
+    expectRefused(render + "--camera nan,0,0",
+                  {"--camera nan: each coordinate must be a number in [-1e+15, 1e+15]"});
+    expectRefused(render + "--camera inf,0,0", {"--camera inf:"});
+    expectRefused(render + "--camera 0,-inf,0", {"--camera -inf:"});
+    expectRefused(render + "--camera 1e400,0,0", {"--camera 1e400:"});
+    expectRefused(render + "--camera 1,2,3 --look-at 0,nan,0", {"--look-at nan:"});
+}
+
+TEST_F(ParameterCli, RenderRefusesNanEpsilonSunFovAndSamples)
+{
+    const std::string render = "render " + arc() + " -o " + out("png") + " --size 64x64 ";
+    expectRefused(render + "--error nan", {"--error nan: must be a number in [0.05, 1000]"});
+    expectRefused(render + "--sun nan,45",
+                  {"--sun nan: the azimuth must be a number in [-360, 360]"});
+    expectRefused(render + "--sun 315,nan",
+                  {"--sun nan: the altitude must be a number in (0, 90]"});
+    expectRefused(render + "--sun 315,0", {"--sun 0: the altitude"});
+    expectRefused(render + "--fov nan", {"--fov nan: must be a number in [1, 170]"});
+    expectRefused(render + "--samples 0", {"--samples 0: must be an integer in [1, 16]"});
+    expectRefused("render " + arc() + " -o " + out("png") + " --size 20000x10",
+                  {"--size 20000x10: each side must be an integer in [1, 16384]"});
+}
+
+TEST_F(ParameterCli, AZeroVramBudgetGetsAShortReadableRange)
+{
+    expectRefused("render " + arc() + " -o " + out("png") + " --size 64x64 --vram 0",
+                  {"--vram 0: must be a number in (0, 1e+06]"});
+    expectRefused("bench " + arc() + " --frames 2 --size 64x64 --vram 0",
+                  {"--vram 0: must be a number in (0, 1e+06]"});
+    expectRefused("bench " + arc() + " --frames 2 --size 64x64 --ram nan", {"--ram nan:"});
+    expectRefused("bench " + arc() + " --frames 2 --size 64x64 --upload-ms inf",
+                  {"--upload-ms inf:"});
+    expectRefused("bench " + arc() + " --frames 2 --size 64x64 --upload-mb -1",
+                  {"--upload-mb -1:"});
+}
+
+TEST_F(ParameterCli, BenchRefusesANanSpeedAndOtherBadNumbers)
+{
+    const std::string bench = "bench " + arc() + " --size 64x64 --json " + out("json") + " ";
+    expectRefused(bench + "--frames 2 --speed nan",
+                  {"--speed nan: must be a number in (0, 1e+06]"});
+    expectRefused(bench + "--frames 2 --speed inf", {"--speed inf:"});
+    expectRefused(bench + "--frames 2 --error nan", {"--error nan:"});
+    expectRefused(bench + "--frames 0", {"--frames 0: must be an integer in [1, 100000000]"});
+    expectRefused(bench + "--frames 2 --chunk-tolerance nan",
+                  {"--chunk-tolerance nan: must be a number in [0, 100]"});
+}
+
+TEST_F(ParameterCli, BuildRefusesAZScaleThatMakesHeightsImpossibleAndWritesNothing)
+{
+    const std::string src = shellQuoted(test::dataPath("everest_crop.tif"));
+    expectRefused("build " + src + " -o " + out("ridge") + " -q --z-scale 1e300",
+                  {"everest_crop.tif", "z_scale 1e+300", "heights [-3.2768e+304, 3.2767e+304] m"});
+    expectRefused("build " + src + " -o " + out("ridge") + " -q --z-scale 0",
+                  {"--z-scale 0: its magnitude must be a finite number >= 1e-09"});
+    expectRefused("build " + src + " -o " + out("ridge") + " -q --z-scale nan", {"--z-scale nan:"});
+    expectRefused("build " + src + " -o " + out("ridge") + " -q --z-offset inf",
+                  {"--z-offset inf:"});
+    expectRefused("build " + src + " -o " + out("ridge") + " -q --spacing nan",
+                  {"--spacing nan: must be a number in (0, 1e+07]"});
+}
+
+TEST_F(ParameterCli, ProgressiveMaxErrorBelowZeroSaysItMustBePositive)
+{
+    const std::string src = shellQuoted(test::dataPath("everest_crop.tif"));
+    expectRefused("build " + src + " -o " + out("ridge") + " -q --codec progressive --max-error -1",
+                  {"--max-error -1: must be a number in (0, 1e+07]"});
+    expectRefused("build " + src + " -o " + out("ridge") +
+                      " -q --codec progressive --max-error nan",
+                  {"--max-error nan:"});
+}
+
+TEST_F(ParameterCli, AMillionByAMillionRasterIsRefusedWithItsSizeAndTheMemoryItNeeds)
+{
+    const std::string vrt = scratch_->path("huge.vrt");
+    std::ofstream(vrt) << "<VRTDataset rasterXSize=\"1000000\" rasterYSize=\"1000000\">\n"
+                          "  <VRTRasterBand dataType=\"Int16\" band=\"1\"/>\n</VRTDataset>\n";
+    const std::string build = "build " + shellQuoted(vrt) + " -o " + out("ridge") + " -q";
+    // A small limit, so that the test does not depend on the machine ...
+    expectRefused(build + " --max-memory 64",
+                  {"huge.vrt: 1000000 x 1000000 samples need about ", "GiB to build (streaming: ",
+                   "level L-1 in memory, 466 GiB", "but 64.0 MiB are available", "--max-memory"});
+    // ... and what the machine has.
+    expectRefused(build, {"huge.vrt: 1000000 x 1000000 samples need about ", "are available ("});
+    expectRefused(build + " --filter neville",
+                  {"huge.vrt", "(in memory: ", "whole grid, 1.82 TiB", "Neville row pass"});
+    expectRefused(build + " --max-memory 0", {"--max-memory 0: must be a number in (0, 1e+09]"});
+    // The other commands that read a raster: verify --source compares sizes first, codec-bench
+    // (which holds the raster) checks its memory like build.
+    expectRefused("verify " + arc() + " --source " + shellQuoted(vrt) + " -q",
+                  {"huge.vrt: size 1000000x1000000 differs"});
+    expectRefused("codec-bench " + shellQuoted(vrt) + " -q",
+                  {"huge.vrt: 1000000 x 1000000 samples need at least ", "to benchmark"});
+}
+
+TEST_F(ParameterCli, HillshadeExtractAndCodecBenchRefuseBadNumbersByFlag)
+{
+    expectRefused("hillshade " + arc() + " -o " + out("png") + " --azimuth nan",
+                  {"--azimuth nan: must be a number in [-360, 360]"});
+    expectRefused("hillshade " + arc() + " -o " + out("png") + " --altitude 100",
+                  {"--altitude 100:"});
+    expectRefused("hillshade " + arc() + " -o " + out("png") + " -z 0", {"--z-factor 0:"});
+    expectRefused("hillshade " + arc() + " -o " + out("png") + " --level -5",
+                  {"--level -5: must be an integer in [-1, 62]"});
+    expectRefused("extract " + arc() + " -o " + out("tif") + " --window 0 0 0 10",
+                  {"--window 0: W must be an integer in [1, 2147483647]"});
+    expectRefused("codec-bench " + shellQuoted(test::dataPath("everest_crop.tif")) +
+                      " --max-error nan -q",
+                  {"--max-error nan:"});
+    expectRefused("codec-bench " + shellQuoted(test::dataPath("everest_crop.tif")) +
+                      " --tile -1 -q",
+                  {"--tile -1:"});
+    expectRefused("view " + arc() + " --fov nan --frames 1", {"--fov nan:"});
+}
