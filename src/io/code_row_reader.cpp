@@ -26,7 +26,8 @@ struct CodeRowReader::Impl {
     std::unique_ptr<detail::CodeSource> source;
     HeightQuantization quantization;
     bool exact = false;
-    detail::CodeStats stats; // rows read through readRows
+    detail::CodeStats stats; // rows read through readRows, each row once
+    std::vector<bool> counted; // rows whose samples `stats` holds
     std::vector<int64_t> void_scratch;
 
     Impl(const std::string& path, const IngestOptions& options) : band(path, options)
@@ -122,8 +123,26 @@ int64_t CodeRowReader::readRows(int y0, int rows, uint16_t* out)
     detail::GdalErrorCapture capture;
     detail::ScopedCacheLimit cache_limit(impl_->cacheLimit());
     impl_->void_scratch.clear();
-    impl_->source->readRows(y0, rows, out, impl_->void_scratch, impl_->stats);
-    return static_cast<int64_t>(impl_->void_scratch.size());
+    // Strips that share a row (the streaming build's overlap) must not count it twice in
+    // stats(): runs of rows already counted are read against a scratch tally.
+    std::vector<bool>& counted = impl_->counted;
+    counted.resize(static_cast<size_t>(height), false);
+    const size_t width = static_cast<size_t>(impl_->band.width());
+    int64_t voids = 0;
+    for (int first = y0, end = y0 + rows; first < end;) {
+        const bool seen = counted[static_cast<size_t>(first)];
+        int last = first + 1;
+        while (last < end && counted[static_cast<size_t>(last)] == seen)
+            ++last;
+        detail::CodeStats again;
+        impl_->source->readRows(first, last - first, out + static_cast<size_t>(first - y0) * width,
+                                impl_->void_scratch, seen ? again : impl_->stats);
+        voids += static_cast<int64_t>(impl_->void_scratch.size());
+        impl_->void_scratch.clear();
+        std::fill(counted.begin() + first, counted.begin() + last, true);
+        first = last;
+    }
+    return voids;
 }
 
 IngestStats CodeRowReader::stats() const
