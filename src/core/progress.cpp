@@ -10,6 +10,12 @@ void reportProgress(const Progress& progress, double fraction)
         throw Cancelled();
 }
 
+void reportDone(const Progress& progress)
+{
+    if (progress)
+        (void)progress(1.0);
+}
+
 Progress subProgress(const Progress& parent, double begin, double end)
 {
     if (!parent)

@@ -341,7 +341,7 @@ std::optional<BuildReport> buildStreaming(const std::string& input, const std::s
     accumulatePatchErrors(g, finest, errors);
     writeLevels(ctx, pyramid, finest - 1, errors, writer, subProgress(options.progress, 0.8, 1.0));
     writer.finish(metadataJson(input, source.stats(), source.geo(), ctx, options));
-    reportProgress(options.progress, 1.0);
+    reportDone(options.progress); // published: too late to cancel
 
     BuildReport report;
     report.width = width;
@@ -432,7 +432,7 @@ BuildReport buildArchive(const io::ElevationRaster& raster, const std::string& o
     writeLevels(ctx, pyramid, ctx.geometry.finestLevel(), errors, writer,
                 subProgress(options.progress, 0.25, 1.0));
     writer.finish(metadataJson(raster.source_path, raster.stats, raster.geo, ctx, options));
-    reportProgress(options.progress, 1.0);
+    reportDone(options.progress); // published: too late to cancel
     report.seconds_encode = secondsSince(t);
     report.seconds_total = secondsSince(start);
 

@@ -74,7 +74,7 @@ void extractLevel(const std::string& archive_path, const std::string& output,
             gt[k] *= s;
     }
     io::writeGeoTiff(output, metres.data(), grid.width, grid.height, geo);
-    reportProgress(options.progress, 1.0);
+    reportDone(options.progress); // published: too late to cancel
 }
 
 } // namespace ridge

@@ -114,7 +114,7 @@ void writeHillshade(const std::string& archive_path, const std::string& output,
                                                     reader.header().spacing_x * s,
                                                     reader.header().spacing_y * s, options);
     io::writePng(output, pixels.data(), grid.width, grid.height, options.colour ? 3 : 1);
-    reportProgress(options.progress, 1.0);
+    reportDone(options.progress); // published: too late to cancel
 }
 
 } // namespace ridge
