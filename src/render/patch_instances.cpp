@@ -10,9 +10,16 @@ namespace ridge::render {
 
 CameraAnchor cameraAnchor(const lod::TerrainFrame& frame, glm::dvec3 camera_position)
 {
+    // Clamped to 2^40 samples beyond the grid, whatever the camera and spacing: the origins
+    // below are differences of int64 columns and must not overflow (a camera 1e15 m away
+    // over a millimetre grid is 1e18 samples out). Such an anchor is still a sample, so seams
+    // stay bit-identical; only the precision near a camera that far out is lost.
+    constexpr double kReach = 0x1p40;
+    const double column = std::clamp(frame.columnOf(camera_position.x), -kReach, kReach);
+    const double row = std::clamp(frame.rowOf(camera_position.y), -kReach, kReach);
     CameraAnchor a;
-    a.column = int64_t(std::llround(frame.columnOf(camera_position.x)));
-    a.row = int64_t(std::llround(frame.rowOf(camera_position.y)));
+    a.column = int64_t(std::llround(column));
+    a.row = int64_t(std::llround(row));
     a.x_rel = frame.xOf(double(a.column)) - camera_position.x;
     a.y_rel = frame.yOf(double(a.row)) - camera_position.y;
     return a;

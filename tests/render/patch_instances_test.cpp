@@ -75,6 +75,24 @@ TEST(PatchInstances, OriginsAreIntegerSamplesRelativeToTheAnchorNearTheCamera)
     }
 }
 
+TEST(PatchInstances, AFarCameraOverAFineGridKeepsTheAnchorInRange)
+{
+    // 1e15 m east over a micrometre grid is 1e21 samples out: beyond int64. The anchor stays
+    // 2^40 samples out, so origins are differences that cannot overflow (UBSan would say).
+    const PyramidGeometry g(1000, 700, 33);
+    const std::vector<lod::PatchBounds> bounds(size_t(g.patchCount()), {0.f, 1.f, 1.f});
+    const lod::PatchQuadtree t(lod::TerrainFrame(g, 1e-6, 1e-6), bounds);
+    const CameraAnchor a = cameraAnchor(t.frame(), glm::dvec3(1e15, -1e15, 10.0));
+    EXPECT_EQ(a.column, int64_t(1) << 40);
+    EXPECT_EQ(a.row, int64_t(1) << 40);
+    lod::Selection s;
+    s.patches.push_back({PatchId{g.finestLevel(), 3, 2}, 0.0, lod::Visibility::Inside});
+    const PatchInstances r = buildPatchInstances(
+        t, s, glm::dvec3(1e15, -1e15, 10.0), [](PatchId) { return 0; },
+        [](PatchId) { return 1.0; }, 0.01);
+    EXPECT_EQ(r.total(), 1u);
+}
+
 TEST(PatchInstances, SkirtDepthsAddTheNeighboursDeviation)
 {
     const lod::PatchQuadtree t = tree();
