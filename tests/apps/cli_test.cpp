@@ -118,8 +118,7 @@ TEST(Cli, BuildInfoVerifyExtractHillshadeOnRealTerrain)
     EXPECT_EQ(GDALGetRasterXSize(p), w);
     EXPECT_EQ(GDALGetRasterCount(p), 3);
     GDALClose(p);
-    for (const auto& entry : fs::directory_iterator(dir.dir()))
-        EXPECT_EQ(entry.path().string().find(".tmp."), std::string::npos) << entry.path();
+    EXPECT_EQ(test::temporariesIn(dir.dir()), std::vector<std::string>{});
 }
 
 TEST(Cli, BadInputsGetAClearErrorANonZeroExitAndNoOutput)

@@ -32,9 +32,7 @@ TEST(CodecBenchCli, WritesTablesJsonAndPlot)
     EXPECT_EQ(j["bounds"].size(), 1u);
     EXPECT_EQ(j["bounds"][0]["rows"].size(), 7u);
     EXPECT_TRUE(j["bounds"][0]["rows"][0]["bound_ok"].get<bool>());
-    for (const auto& entry : fs::directory_iterator(dir.dir()))
-        EXPECT_EQ(entry.path().string().find(".tmp."), std::string::npos)
-            << "left behind: " << entry.path();
+    EXPECT_EQ(test::temporariesIn(dir.dir()), std::vector<std::string>{});
 }
 
 TEST(CodecBenchCli, MissingInputFailsNamingThePath)

@@ -2,6 +2,7 @@
 // Shared helpers for ridge's tests: fixture paths, scratch directories, running the CLI.
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace ridge::test {
 
@@ -24,6 +25,10 @@ struct CommandResult {
     int exit_code = -1;
     std::string output; // stdout and stderr together
 };
+
+// Names in `dir` that are temporary outputs of any ridge version: ".NAME.ridge-tmp-RANDOM"
+// (AtomicOutput's named fallback) and "NAME.tmp.PID" (before it). Empty when none is left.
+std::vector<std::string> temporariesIn(const std::filesystem::path& dir);
 
 // Runs a shell command line and captures stdout and stderr together.
 CommandResult runShell(const std::string& command);
