@@ -12,6 +12,7 @@
 #include <iterator>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace ridge::test {
@@ -43,6 +44,8 @@ class ArchiveBytes {
             throw std::runtime_error("cannot read " + path);
         bytes_.assign(std::istreambuf_iterator<char>(in), {});
     }
+    // Bytes that may be anything (fuzz inputs); reseal() needs at least the 160 header bytes.
+    explicit ArchiveBytes(std::vector<uint8_t> bytes) : bytes_(std::move(bytes)) {}
     void save(const std::string& path) const
     {
         std::ofstream out(path, std::ios::binary | std::ios::trunc);

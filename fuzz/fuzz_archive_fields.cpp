@@ -1,0 +1,168 @@
+// libFuzzer target: archives whose checksums are right but whose fields are hostile, fed
+// through everything a renderer does on the CPU before it touches GL.
+//
+// CRC-32 stops accidents, not a buggy writer or an attacker, so this target re-seals every
+// input (header, metadata, index and blob checksums recomputed) before opening it: every
+// mutation reaches the field checks instead of dying at a checksum. A custom mutator edits
+// whole fields of real archives (header, index entries, metadata values) with the values that
+// break arithmetic: NaN, infinities, zero, negative, huge, off-by-one.
+//
+// Then, for archives the reader accepts: the patch quadtree, LOD selection for a handful of
+// cameras and ε, slot residency, synchronous patch loading, the streaming fallback cover,
+// Ulrich's chunk meshes and the instance records of the draw, all plain C++.
+// Properties: every failure is a ridge::Error, never a crash, an out-of-bounds access, UB or
+// an unbounded allocation; what is selected exists and what is drawn has a valid slot.
+#include "archive_fields.h"
+#include "render_cpu_frame.h"
+
+#include "ridge/archive/archive_reader.h"
+#include "ridge/core/error.h"
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <random>
+#include <string>
+#include <sys/mman.h>
+#include <unistd.h>
+#include <vector>
+
+extern "C" size_t LLVMFuzzerMutate(uint8_t* data, size_t size, size_t max_size);
+
+namespace {
+
+using ridge::fuzz::FieldType;
+
+// One memory file for the whole run: the reader needs a path, the disk need not see it.
+const std::string& scratchPath()
+{
+    static const std::string path = [] {
+        const int fd = ::memfd_create("ridge-fuzz-archive", MFD_CLOEXEC);
+        if (fd < 0)
+            __builtin_trap();
+        return "/proc/self/fd/" + std::to_string(fd);
+    }();
+    return path;
+}
+
+void writeScratch(const std::vector<uint8_t>& bytes)
+{
+    const int fd = std::stoi(scratchPath().substr(std::strlen("/proc/self/fd/")));
+    if (::ftruncate(fd, 0) != 0 || ::pwrite(fd, bytes.data(), bytes.size(), 0) != ssize_t(bytes.size()))
+        __builtin_trap();
+}
+
+template <typename T>
+T pick(std::minstd_rand& rng, std::initializer_list<T> values)
+{
+    return *(values.begin() + rng() % values.size());
+}
+
+void mutateFloat(uint8_t* p, FieldType type, std::minstd_rand& rng)
+{
+    double v = type == FieldType::F64 ? ridge::fuzz::load<double>(p) : ridge::fuzz::load<float>(p);
+    switch (rng() % 4) {
+    case 0:
+        v = pick<double>(rng, {NAN, INFINITY, -INFINITY, 0.0, -0.0, -1.0, 1e-300, 1e-45, 1e30,
+                               3.4e38, 1e300, 65535.0, 1e7, -1e7, 32767.5});
+        break;
+    case 1: v = std::nextafter(v, rng() % 2 ? INFINITY : -INFINITY); break;
+    case 2: v *= pick<double>(rng, {-1.0, 2.0, 0.5, 1e6, 1e-6}); break;
+    default: v = double(int32_t(rng())) / double(1 + rng() % 1000); break;
+    }
+    if (type == FieldType::F64)
+        ridge::fuzz::store<double>(p, v);
+    else
+        ridge::fuzz::store<float>(p, static_cast<float>(v));
+}
+
+void mutateInteger(uint8_t* p, FieldType type, size_t file_size, std::minstd_rand& rng)
+{
+    const uint64_t v = type == FieldType::U64 ? ridge::fuzz::load<uint64_t>(p) : ridge::fuzz::load<uint32_t>(p);
+    uint64_t w = 0;
+    switch (rng() % 4) {
+    case 0: w = pick<uint64_t>(rng, {0, 1, 2, 3, 4, 5, 8, 9, 17, 65, 129, 160, 0x7fffffff,
+                                     0x80000000u, 0xffffffffu, ~uint64_t{0}, file_size,
+                                     file_size - 1, file_size + 1}); break;
+    case 1: w = v + (rng() % 2 ? 1 : -1); break;
+    case 2: w = v * 2 + rng() % 2; break;
+    default: w = rng() % (file_size + 2); break;
+    }
+    if (type == FieldType::U64)
+        ridge::fuzz::store<uint64_t>(p, w);
+    else
+        ridge::fuzz::store<uint32_t>(p, static_cast<uint32_t>(w));
+}
+
+// Overwrites one JSON value of the metadata with a token of another kind or range, padded
+// with spaces to the same length so that the layout of the file is unchanged.
+void mutateMetadataValue(uint8_t* data, const ridge::fuzz::Region& metadata, std::minstd_rand& rng)
+{
+    std::vector<size_t> colons;
+    for (size_t k = metadata.offset; k < metadata.offset + metadata.size; ++k)
+        if (data[k] == ':')
+            colons.push_back(k);
+    if (colons.empty())
+        return;
+    const size_t start = colons[rng() % colons.size()] + 1;
+    size_t end = start;
+    int depth = 0;
+    const size_t limit = metadata.offset + metadata.size;
+    while (end < limit && (depth > 0 || (data[end] != ',' && data[end] != '}' && data[end] != '\n'))) {
+        depth += data[end] == '[' || data[end] == '{';
+        depth -= data[end] == ']' || data[end] == '}';
+        ++end;
+    }
+    const std::string token = pick<std::string>(
+        rng, {"null", "true", "0", "-1", "1e999", "-1e999", "NaN", "1.5", "\"\"", "\"x\"", "[]",
+              "{}", "65", "129", "4294967296", "[0,0,0,0,0,0]", "[1e308,1,0,1,0,-1]", "\"raw\"",
+              "\"lossless\"", "\"neville\"", "2"});
+    if (token.size() > end - start)
+        return;
+    std::memset(data + start, ' ', end - start);
+    std::memcpy(data + start, token.data(), token.size());
+}
+
+} // namespace
+
+extern "C" size_t LLVMFuzzerCustomMutator(uint8_t* data, size_t size, size_t max_size,
+                                          unsigned int seed)
+{
+    std::minstd_rand rng(seed);
+    const ridge::fuzz::ArchiveLayout layout = ridge::fuzz::ArchiveLayout::of(data, size);
+    if (!layout.valid || rng() % 4 == 0)
+        return LLVMFuzzerMutate(data, size, max_size); // bytes too: truncations, insertions
+    const int mutations = 1 + int(rng() % 3);
+    for (int m = 0; m < mutations; ++m) {
+        const uint32_t what = rng() % 8;
+        if (what == 0 && layout.metadata.size > 0) {
+            mutateMetadataValue(data, layout.metadata, rng);
+            continue;
+        }
+        const ridge::fuzz::Field f = what < 4 ? layout.headerField(rng()) : layout.indexField(rng(), rng());
+        if (f.offset + ridge::fuzz::fieldBytes(f.type) > size)
+            continue;
+        if (f.type == FieldType::F32 || f.type == FieldType::F64)
+            mutateFloat(data + f.offset, f.type, rng);
+        else
+            mutateInteger(data + f.offset, f.type, size, rng);
+    }
+    return size;
+}
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
+{
+    ridge::test::ArchiveBytes archive(std::vector<uint8_t>(data, data + size));
+    if (size >= ridge::test::header_offset::kHeaderSize)
+        archive.reseal();
+    writeScratch(archive.bytes());
+    try {
+        const ridge::archive::ArchiveReader reader(scratchPath());
+        const int n = reader.geometry().patchSize();
+        if (reader.geometry().patchCount() > 4096 || n > 257)
+            return 0; // valid but too big to be worth walking in a fuzzing loop
+        ridge::fuzz::runCpuFrames(reader);
+    } catch (const ridge::Error&) {
+    }
+    return 0;
+}

@@ -1,0 +1,133 @@
+#pragma once
+// The CPU half of rendering a frame, as TerrainRenderer does it before any GL call, for the
+// fuzz targets: patch quadtree from the index, ground height, clip planes and default camera
+// from the root patch (lod::CoarseTerrain), LOD selection, slot residency with the root
+// pinned, synchronous patch loading, the streaming cover (missing patches drawn by resident
+// ancestors), Ulrich's chunk meshes and the instance records of the draw.
+//
+// Properties checked (a failure traps, so libFuzzer reports it): every selected patch exists,
+// the ε met is at least the one asked for, the cover holds only resident patches and every
+// instance record names a slot of the residency.
+#include "patch_instances.h"
+
+#include "ridge/archive/archive_reader.h"
+#include "ridge/core/error.h"
+#include "ridge/lod/coarse_terrain.h"
+#include "ridge/lod/patch_quadtree.h"
+#include "ridge/lod/patch_residency.h"
+#include "ridge/lod/resident_cover.h"
+#include "ridge/stream/patch_loader.h"
+
+#include <glm/geometric.hpp>
+
+#include <vector>
+
+namespace ridge::fuzz {
+
+inline void require(bool property)
+{
+    if (!property)
+        __builtin_trap();
+}
+
+// Everything one archive needs across frames: the renderer's long-lived CPU state.
+struct CpuRenderer {
+    static constexpr int kSlots = 48;
+
+    const archive::ArchiveReader& reader;
+    lod::PatchQuadtree tree;
+    stream::PatchLoader loader;
+    lod::PatchResidency residency;
+    lod::CoarseTerrain coarse;
+    uint64_t frame = 0;
+
+    explicit CpuRenderer(const archive::ArchiveReader& r)
+        : reader(r), tree(lod::PatchQuadtree::fromArchive(r)), loader(r, 64),
+          residency(r.geometry(), kSlots),
+          coarse(tree.frame(), tree.box(PatchId{0, 0, 0}), loader.load(PatchId{0, 0, 0})->codes,
+                 r.quantization())
+    {
+    }
+
+    // One frame: select, make resident (loading synchronously), cover, instance records.
+    // Throws ridge::Error where the renderer would (a corrupt patch, a camera it refuses).
+    void drawFrame(const lod::Camera& camera, const lod::SelectionSettings& settings)
+    {
+        const lod::Selection selection = tree.select(camera, settings);
+        require(selection.epsilon_px >= settings.epsilon_px);
+        std::vector<PatchId> needed{PatchId{0, 0, 0}}; // pinned, as when streaming
+        for (const lod::SelectedPatch& s : selection.patches) {
+            require(reader.geometry().exists(s.id));
+            if (needed.size() < size_t(kSlots))
+                needed.push_back(s.id);
+        }
+        for (const lod::PatchResidency::Load& l : residency.update(needed, ++frame)) {
+            try {
+                const auto patch = loader.load(l.id);
+                if (l.id.level > 0 && patch->codes.size() == size_t(reader.geometry().patchSize()) *
+                                                                  reader.geometry().patchSize())
+                    (void)stream::patchChunk(reader, l.id, patch->codes.data(), 0.5);
+            } catch (const Error&) {
+                residency.release(l.id); // drawn by an ancestor, as a failed stream
+            }
+        }
+        auto resident = [&](PatchId p) { return residency.slotOf(p) >= 0; };
+        const lod::ResidentCover cover = lod::residentCover(selection, reader.geometry(), resident);
+        lod::Selection drawn;
+        drawn.patches = cover.patches;
+        for (const lod::SelectedPatch& s : drawn.patches)
+            require(resident(s.id));
+        const render::PatchInstances instances = render::buildPatchInstances(
+            tree, drawn, camera.position(), [&](PatchId p) { return residency.slotOf(p); },
+            [&](PatchId p) {
+                const lod::PatchBounds& b = tree.bounds(p);
+                return double(b.max_height) - double(b.min_height);
+            },
+            0.01);
+        require(instances.total() == drawn.patches.size());
+        for (const render::GpuPatchInstance& r : instances.records)
+            require(r.layer >= 0 && r.layer < kSlots);
+    }
+
+    // The views a user reaches first: the default camera, straight down over the centre, low
+    // over the south-west corner looking across, and far above.
+    std::vector<lod::Camera> typicalCameras(lod::Viewport viewport) const
+    {
+        std::vector<lod::Camera> cameras{coarse.defaultCamera(viewport)};
+        const lod::Box box = coarse.box();
+        const glm::dvec3 centre = box.centre();
+        const double size = glm::length(box.max - box.min) + 1.0;
+        const glm::dvec3 corner(box.min.x, box.min.y, coarse.groundHeight(box.min.x, box.min.y));
+        const std::pair<glm::dvec3, glm::dvec3> views[] = {
+            {centre + glm::dvec3(1.0, 0.5, size), centre},
+            {corner + glm::dvec3(0.0, 0.0, 20.0), centre},
+            {centre + glm::dvec3(0.0, -size * 20.0, size * 10.0), centre},
+        };
+        for (const auto& [position, look_at] : views) {
+            double near_m = 1.0, far_m = 1e6;
+            coarse.clipPlanesFor(position, near_m, far_m);
+            cameras.emplace_back(position, look_at, 60.0, viewport, near_m, far_m);
+        }
+        return cameras;
+    }
+};
+
+// A few frames of every typical camera at several ε, culling on and off.
+inline void runCpuFrames(const archive::ArchiveReader& reader)
+{
+    CpuRenderer renderer(reader);
+    for (const lod::Camera& camera : renderer.typicalCameras({320, 200})) {
+        for (double epsilon : {0.5, 2.0, 24.0}) {
+            lod::SelectionSettings settings;
+            settings.epsilon_px = epsilon;
+            settings.cull = epsilon != 24.0;
+            settings.max_patches = CpuRenderer::kSlots - 1;
+            try {
+                renderer.drawFrame(camera, settings);
+            } catch (const Error&) {
+            }
+        }
+    }
+}
+
+} // namespace ridge::fuzz
