@@ -1,6 +1,9 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets with clang and runs each for RIDGE_FUZZ_SECONDS (default 30),
-# seeded with real archives built from tests/data. Needs a Release build of the CLI in
+# seeded with real archives built from tests/data: the payload decoders, the archive reader on
+# raw bytes, the archive reader and the renderer's CPU side on archives whose checksums are
+# resealed after every mutation (fuzz_archive_fields), and the renderer's parameters
+# (fuzz_render_params, on the seed archives). Needs a Release build of the CLI in
 # ./build (scripts/test.sh makes one). Exit status is non-zero when a fuzzer finds a crash;
 # the reproducer is left in build-fuzz/. A long run by hand: RIDGE_FUZZ_SECONDS=3600 bash scripts/fuzz.sh
 set -euo pipefail
@@ -9,11 +12,12 @@ seconds=${RIDGE_FUZZ_SECONDS:-30}
 cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
       -DCMAKE_C_COMPILER=clang -DRIDGE_BUILD_FUZZERS=ON -DRIDGE_USE_OPENMP=OFF \
       -DRIDGE_BUILD_TESTS=OFF -DRIDGE_BUILD_BENCH=OFF >/dev/null
-cmake --build build-fuzz -j "$(nproc)" --target fuzz_lossless_decode fuzz_progressive_decode fuzz_archive_reader
+cmake --build build-fuzz -j "$(nproc)" --target fuzz_lossless_decode fuzz_progressive_decode fuzz_archive_reader \
+      fuzz_archive_fields fuzz_render_params
 
 # Seeds: small real archives, and their patch payloads prefixed with the patch-size byte.
 seeds=build-fuzz/seeds
-rm -rf "$seeds" && mkdir -p "$seeds/archive" "$seeds/payload"
+rm -rf "$seeds" && mkdir -p "$seeds/archive" "$seeds/payload" "$seeds/params"
 for patch in 17 65; do
   ./build/ridge build tests/data/everest_crop.tif -o "$seeds/archive/everest_$patch.ridge" -q --patch $patch
 done
@@ -42,12 +46,20 @@ for path in glob.glob(seeds + "/archive/*.ridge"):
             name = "%s/payload/%s_%d" % (seeds, os.path.basename(path), k)
             open(name, "wb").write(bytes([size_byte]) + payload)
 PY
+# More field layouts for the archive-field fuzzer (after the payload seeds: raw is no payload
+# of the decoders above): raw codes, Neville levels with stored block errors.
+./build/ridge build tests/data/everest_crop.tif -o "$seeds/archive/raw_33.ridge" -q --patch 33 --codec raw
+./build/ridge build tests/data/everest_crop.tif -o "$seeds/archive/neville_blocks_33.ridge" -q --patch 33 \
+    --filter neville --store-block-errors
 
 status=0
-for target in fuzz_lossless_decode fuzz_progressive_decode fuzz_archive_reader; do
+export RIDGE_FUZZ_ARCHIVES=$PWD/$seeds/archive # the archives fuzz_render_params renders
+for target in fuzz_lossless_decode fuzz_progressive_decode fuzz_archive_reader fuzz_archive_fields \
+              fuzz_render_params; do
   seed_dir=$seeds/payload
-  [[ $target == fuzz_archive_reader ]] && seed_dir=$seeds/archive
+  [[ $target == fuzz_archive_reader || $target == fuzz_archive_fields ]] && seed_dir=$seeds/archive
   [[ $target == fuzz_progressive_decode ]] && seed_dir=$seeds/progressive
+  [[ $target == fuzz_render_params ]] && seed_dir=$seeds/params
   corpus=build-fuzz/corpus-$target # new inputs go here; the seeds stay as built
   mkdir -p "$corpus"
   echo "fuzz: $target for ${seconds}s"
