@@ -13,6 +13,7 @@
 // Properties: every failure is a ridge::Error, never a crash, an out-of-bounds access, UB or
 // an unbounded allocation; what is selected exists and what is drawn has a valid slot.
 #include "archive_fields.h"
+#include "memory_file.h"
 #include "render_cpu_frame.h"
 
 #include "ridge/archive/archive_reader.h"
@@ -23,8 +24,6 @@
 #include <cstring>
 #include <random>
 #include <string>
-#include <sys/mman.h>
-#include <unistd.h>
 #include <vector>
 
 extern "C" size_t LLVMFuzzerMutate(uint8_t* data, size_t size, size_t max_size);
@@ -32,25 +31,6 @@ extern "C" size_t LLVMFuzzerMutate(uint8_t* data, size_t size, size_t max_size);
 namespace {
 
 using ridge::fuzz::FieldType;
-
-// One memory file for the whole run: the reader needs a path, the disk need not see it.
-const std::string& scratchPath()
-{
-    static const std::string path = [] {
-        const int fd = ::memfd_create("ridge-fuzz-archive", MFD_CLOEXEC);
-        if (fd < 0)
-            __builtin_trap();
-        return "/proc/self/fd/" + std::to_string(fd);
-    }();
-    return path;
-}
-
-void writeScratch(const std::vector<uint8_t>& bytes)
-{
-    const int fd = std::stoi(scratchPath().substr(std::strlen("/proc/self/fd/")));
-    if (::ftruncate(fd, 0) != 0 || ::pwrite(fd, bytes.data(), bytes.size(), 0) != ssize_t(bytes.size()))
-        __builtin_trap();
-}
 
 template <typename T>
 T pick(std::minstd_rand& rng, std::initializer_list<T> values)
@@ -155,9 +135,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
     ridge::test::ArchiveBytes archive(std::vector<uint8_t>(data, data + size));
     if (size >= ridge::test::header_offset::kHeaderSize)
         archive.reseal();
-    writeScratch(archive.bytes());
+    static const ridge::fuzz::MemoryFile file; // the reader needs a path, the disk need not
+    file.write(archive.bytes().data(), archive.bytes().size());
     try {
-        const ridge::archive::ArchiveReader reader(scratchPath());
+        const ridge::archive::ArchiveReader reader(file.path());
         const int n = reader.geometry().patchSize();
         if (reader.geometry().patchCount() > 4096 || n > 257)
             return 0; // valid but too big to be worth walking in a fuzzing loop

@@ -2,27 +2,22 @@
 // Property: every failure is a ridge::Error (a clear message), never a crash, a hang, an
 // out-of-bounds access or an unbounded allocation. Seed it with real archives
 // (scripts/fuzz.sh builds some from tests/data).
+#include "memory_file.h"
+
 #include "ridge/archive/archive_reader.h"
 #include "ridge/core/error.h"
 
 #include <cstdint>
-#include <cstdio>
 #include <string>
-#include <unistd.h>
 #include <vector>
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
 {
-    // The reader works on files (pread); one scratch file per fuzzing process.
-    static const std::string path = "/tmp/ridge-fuzz-" + std::to_string(::getpid()) + ".ridge";
-    if (std::FILE* f = std::fopen(path.c_str(), "wb")) {
-        std::fwrite(data, 1, size, f);
-        std::fclose(f);
-    } else {
-        return 0;
-    }
+    // The reader works on files (pread): one memory file per fuzzing process.
+    static const ridge::fuzz::MemoryFile file;
+    file.write(data, size);
     try {
-        const ridge::archive::ArchiveReader reader(path);
+        const ridge::archive::ArchiveReader reader(file.path());
         const int n = reader.geometry().patchSize();
         if (reader.geometry().patchCount() > 4096 || n > 257)
             return 0; // valid but too big to be worth decoding in a fuzzing loop
