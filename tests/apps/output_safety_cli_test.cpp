@@ -33,6 +33,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
+using test::readFile;
+
 std::string cliPath()
 {
     const char* other = std::getenv("RIDGE_TEST_CLI");
@@ -170,14 +172,6 @@ CliResult runCli(const std::vector<std::string>& args, const SpawnOptions& optio
     Ridge r(args, options);
     const int code = r.finish();
     return {code, r.output()};
-}
-
-std::string readFile(const std::string& path)
-{
-    std::ifstream in(path, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
 }
 
 // Every name in `dir` but `keep`: leftovers (temporaries of any naming scheme).

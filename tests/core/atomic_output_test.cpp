@@ -5,6 +5,8 @@
 
 #include "test_support.h"
 
+#include "error_expectations.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -27,6 +29,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
+using test::readFile;
+
+using ridge::test::errorOf;
+
 // Forces the named fallback (where O_TMPFILE is missing) for the object's lifetime.
 class NamedTemporaries {
   public:
@@ -40,14 +46,7 @@ class NamedTemporaries {
     ~NamedTemporaries() { ::unsetenv("RIDGE_TEST_NAMED_TEMPORARIES"); }
 };
 
-std::vector<std::string> entries(const test::ScratchDir& dir)
-{
-    std::vector<std::string> names;
-    for (const auto& e : fs::directory_iterator(dir.dir()))
-        names.push_back(e.path().filename().string());
-    std::sort(names.begin(), names.end());
-    return names;
-}
+std::vector<std::string> entries(const test::ScratchDir& dir) { return test::namesIn(dir.dir()); }
 
 std::vector<std::string> temporaries(const test::ScratchDir& dir, const std::string& final_name)
 {
@@ -57,14 +56,6 @@ std::vector<std::string> temporaries(const test::ScratchDir& dir, const std::str
         if (n.rfind(prefix, 0) == 0)
             names.push_back(n);
     return names;
-}
-
-std::string readFile(const std::string& path)
-{
-    std::ifstream in(path, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
 }
 
 void writeAll(int fd, const std::string& text)
@@ -79,16 +70,6 @@ bool tmpfileSupported(const std::string& dir)
         return false;
     ::close(fd);
     return ::access("/proc/self/fd", X_OK) == 0;
-}
-
-std::string errorOf(const std::function<void()>& f)
-{
-    try {
-        f();
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return {};
 }
 
 class AtomicOutputBothWays : public ::testing::TestWithParam<bool> {};

@@ -7,6 +7,8 @@
 #include "ridge/core/error.h"
 #include "ridge/io/raster_source.h"
 
+#include "error_expectations.h"
+
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -15,23 +17,10 @@
 namespace ridge::io {
 namespace {
 
+using ridge::test::errorOf;
+using ridge::test::expectPhrases;
+
 using test::ScratchDir;
-
-std::string errorOf(const std::function<void()>& f)
-{
-    try {
-        f();
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return {};
-}
-
-void expectPhrases(const std::string& message, const std::vector<std::string>& phrases)
-{
-    for (const std::string& p : phrases)
-        EXPECT_NE(message.find(p), std::string::npos) << "expected '" << p << "' in: " << message;
-}
 
 TEST(IngestRanges, OptionsOutsideTheirRangesAreNamedWithTheRange)
 {

@@ -17,6 +17,9 @@
 namespace ridge::io {
 namespace {
 
+using test::namesIn;
+using test::readFile;
+
 namespace fs = std::filesystem;
 using test::ScratchDir;
 
@@ -29,23 +32,6 @@ class NamedTemporaries {
     }
     ~NamedTemporaries() { ::unsetenv("RIDGE_TEST_NAMED_TEMPORARIES"); }
 };
-
-std::vector<std::string> namesIn(const fs::path& dir)
-{
-    std::vector<std::string> names;
-    for (const auto& e : fs::directory_iterator(dir))
-        names.push_back(e.path().filename().string());
-    std::sort(names.begin(), names.end());
-    return names;
-}
-
-std::string readFile(const std::string& path)
-{
-    std::ifstream in(path, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
 
 class WriterThroughTheMagicLink : public ::testing::TestWithParam<bool> {};
 

@@ -4,6 +4,8 @@
 
 #include "ridge/core/error.h"
 
+#include "error_expectations.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -18,6 +20,8 @@ using namespace ridge;
 using namespace ridge::lod;
 
 namespace {
+
+using ridge::test::errorOf;
 
 constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
@@ -48,16 +52,6 @@ double planeAt(const CoarseTerrain& t, double x, double y)
     const double i = std::clamp(t.frame().columnOf(x) / step, 0.0, 32.0);
     const double j = std::clamp(t.frame().rowOf(y) / step, 0.0, 32.0);
     return 100.0 + 0.5 * (3 * i + 5 * j);
-}
-
-std::string errorOf(const std::function<void()>& f)
-{
-    try {
-        f();
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return {};
 }
 
 } // namespace

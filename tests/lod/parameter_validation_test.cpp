@@ -6,6 +6,8 @@
 
 #include "ridge/core/error.h"
 
+#include "error_expectations.h"
+
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -18,25 +20,11 @@ using namespace ridge::lod;
 
 namespace {
 
+using ridge::test::errorOf;
+using ridge::test::expectError;
+
 constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
-
-std::string errorOf(const std::function<void()>& f)
-{
-    try {
-        f();
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return {};
-}
-
-void expectError(const std::function<void()>& f, const std::string& phrase)
-{
-    const std::string message = errorOf(f);
-    EXPECT_NE(message.find(phrase), std::string::npos)
-        << "expected '" << phrase << "' in: '" << message << "'";
-}
 
 Camera camera(glm::dvec3 position, glm::dvec3 look_at = {0, 1e3, 0}, double fov = 60.0,
               double near_m = 1.0, double far_m = 1e6)

@@ -8,6 +8,8 @@
 #include "ridge/pipeline/extract.h"
 #include "ridge/pipeline/hillshade.h"
 
+#include "error_expectations.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -20,21 +22,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string errorOf(const std::function<void()>& f)
-{
-    try {
-        f();
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return {};
-}
-
-void expectPhrases(const std::string& message, const std::vector<std::string>& phrases)
-{
-    for (const std::string& p : phrases)
-        EXPECT_NE(message.find(p), std::string::npos) << "expected '" << p << "' in: " << message;
-}
+using ridge::test::errorOf;
+using ridge::test::expectPhrases;
 
 // An Int16 raster declaring `size` x `size` samples and holding none (a VRT without sources).
 std::string hugeVrt(const test::ScratchDir& dir, int size)

@@ -11,6 +11,8 @@
 #include "ridge/render/headless_render.h"
 #include "ridge/render/terrain_renderer.h"
 
+#include "error_expectations.h"
+
 #include <gtest/gtest.h>
 
 #include <cfloat>
@@ -22,25 +24,11 @@ using namespace ridge;
 
 namespace {
 
+using ridge::test::errorOf;
+using ridge::test::expectError;
+
 constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
-
-std::string errorOf(const std::function<void()>& f)
-{
-    try {
-        f();
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return {};
-}
-
-void expectError(const std::function<void()>& f, const std::string& phrase)
-{
-    const std::string message = errorOf(f);
-    EXPECT_NE(message.find(phrase), std::string::npos)
-        << "expected '" << phrase << "' in: '" << message << "'";
-}
 
 } // namespace
 

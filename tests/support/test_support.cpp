@@ -1,8 +1,11 @@
 #include "test_support.h"
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
+#include <fstream>
 #include <random>
+#include <sstream>
 #include <stdexcept>
 #include <sys/wait.h>
 
@@ -25,6 +28,23 @@ ScratchDir::~ScratchDir()
 {
     std::error_code ec;
     std::filesystem::remove_all(dir_, ec);
+}
+
+std::string readFile(const std::string& path)
+{
+    std::ifstream in(path, std::ios::binary);
+    std::stringstream content;
+    content << in.rdbuf();
+    return content.str();
+}
+
+std::vector<std::string> namesIn(const std::filesystem::path& dir)
+{
+    std::vector<std::string> names;
+    for (const auto& entry : std::filesystem::directory_iterator(dir))
+        names.push_back(entry.path().filename().string());
+    std::sort(names.begin(), names.end());
+    return names;
 }
 
 std::vector<std::string> temporariesIn(const std::filesystem::path& dir)

@@ -26,6 +26,12 @@ struct CommandResult {
     std::string output; // stdout and stderr together
 };
 
+// The whole content of a file (empty when it cannot be read).
+std::string readFile(const std::string& path);
+
+// The names of the entries of `dir`, sorted.
+std::vector<std::string> namesIn(const std::filesystem::path& dir);
+
 // Names in `dir` that are temporary outputs of any ridge version: ".NAME.ridge-tmp-RANDOM"
 // (AtomicOutput's named fallback) and "NAME.tmp.PID" (before it). Empty when none is left.
 std::vector<std::string> temporariesIn(const std::filesystem::path& dir);
