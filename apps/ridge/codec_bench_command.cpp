@@ -25,10 +25,10 @@ void CodecBenchCommand::registerWith(CLI::App& app)
         ->add_option("--max-error", max_errors_,
                      "L-inf bounds in metres; repeat or give several (default 0.5 1 4 16)")
         ->expected(1, 64)
-        ->check(inRange("--max-error", ValueRange::closed(0.0, kMaxAbsHeightMetres)));
+        ->check(inRange("--max-error", codecbench::CodecBenchOptions::kMaxErrorRange));
     command_->add_option("--tile", tile_size_, "Anchors' tile side in samples, 0 = whole grid")
         ->capture_default_str()
-        ->check(inIntegerRange("--tile", 0, 65536));
+        ->check(inIntegerRange("--tile", 0, codecbench::CodecBenchOptions::kMaxTileSize));
     command_
         ->add_option("--ridge-codec", ridge_codec_,
                      "ridge's codec for its row (progressive: max_error = bound; lossless)")

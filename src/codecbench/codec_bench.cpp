@@ -256,13 +256,11 @@ std::string cpuModel()
 void validate(const CodecBenchOptions& options)
 {
     if (options.max_errors.empty())
-        throw Error("--max-error: at least one bound is needed");
-    for (const double bound : options.max_errors)
-        if (!(bound >= 0.0) || !std::isfinite(bound))
-            throw Error(fmt::format("--max-error {}: bounds are metres >= 0", bound));
-    if (options.tile_size < 0)
-        throw Error(fmt::format("--tile {}: tile side must be >= 1 (or 0 for the whole grid)",
-                                options.tile_size));
+        throw Error("max_errors: at least one bound is needed");
+    for (size_t k = 0; k < options.max_errors.size(); ++k)
+        checkParameter("max_errors[" + std::to_string(k) + "] (metres)", options.max_errors[k],
+                       CodecBenchOptions::kMaxErrorRange);
+    checkParameter("tile_size", int64_t{options.tile_size}, 0, CodecBenchOptions::kMaxTileSize);
 }
 
 } // namespace

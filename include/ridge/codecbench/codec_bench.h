@@ -15,6 +15,7 @@
 // Sizes are not like for like, by design: ridge's bytes are the whole archive (every coarser
 // level, index, λ tables, metadata); an anchor's are the finest level only. The table says so.
 #include "ridge/core/height_grid.h"
+#include "ridge/core/parameter_check.h"
 #include "ridge/core/progress.h"
 #include "ridge/io/raster_source.h"
 
@@ -25,9 +26,15 @@
 namespace ridge::codecbench {
 
 struct CodecBenchOptions {
-    // L-inf bounds in metres, >= 0, in the order they are reported.
+    // The ranges validation enforces (the CLI's flags use them too): a bound is a height
+    // difference (0 = lossless); a tile is at most a GL-sized 65536 samples across.
+    static constexpr ValueRange kMaxErrorRange = ValueRange::closed(0.0, kMaxAbsHeightMetres);
+    static constexpr int kMaxTileSize = 65536;
+
+    // L-inf bounds in metres (kMaxErrorRange), at least one, in the order they are reported.
     std::vector<double> max_errors{0.5, 1.0, 4.0, 16.0};
-    // Anchors' tile side in samples (edge tiles are smaller); 0 = the whole grid as one tile.
+    // Anchors' tile side in samples (edge tiles are smaller), at most kMaxTileSize; 0 = the
+    // whole grid as one tile.
     int tile_size = 256;
     // ridge's codec for its row. A lossy codec ("progressive") is built with
     // BuildOptions::max_error = E; "lossless" and "raw" are built without it, once per bound.
