@@ -8,7 +8,6 @@
 #include "ridge/core/error.h"
 #include "ridge/core/file_identity.h"
 #include "ridge/io/dataset_files.h"
-#include "ridge/core/parameter_check.h"
 #include "ridge/pipeline/build_memory.h"
 #include "ridge/pyramid/patch_error.h"
 #include "ridge/pyramid/tessellation_block_errors.h"
@@ -71,8 +70,7 @@ double codecMaxError(const HeightQuantization& q, const BuildOptions& options)
         return 0;
     if (!options.max_error)
         throw Error("codec '" + options.codec + "' needs --max-error (metres)");
-    checkParameter("max_error", *options.max_error, BuildOptions::kMaxErrorRange);
-    if (!(*options.max_error >= q.max_error))
+    if (!(*options.max_error >= q.max_error)) // max_error > 0: BuildOptions::validate
         throw Error("--max-error " + std::to_string(*options.max_error) +
                     " m is below the input's own quantization error " + std::to_string(q.max_error) + " m");
     return std::min(32767.0, (*options.max_error - q.max_error) / q.scale);
@@ -355,6 +353,44 @@ std::optional<BuildReport> buildStreaming(const std::string& input, const std::s
     return report;
 }
 
+// The in-memory build of an ingested raster, once the entry point has checked the options
+// and the output (both public overloads do, first).
+BuildReport buildFromRaster(const io::ElevationRaster& raster, const std::string& output,
+                            const BuildOptions& options)
+{
+    const auto start = Clock::now();
+    // 1. Geometry and codec: validates patch and block sizes before any work is done.
+    const BuildContext ctx = makeContext(raster.grid.width, raster.grid.height,
+                                         raster.quantization, raster.geo, options);
+    const LevelPyramid pyramid(raster.grid, ctx.geometry, options.filter);
+    reportProgress(options.progress, 0.05);
+
+    // 2. Err_Int for every patch, then Err_Appr bottom-up (needs all levels, so before writing).
+    const PatchErrors errors = computePatchErrors(pyramid);
+    BuildReport report;
+    report.seconds_errors = secondsSince(start);
+    reportProgress(options.progress, 0.25);
+
+    // 3. Encode in parallel batches, write sequentially.
+    const auto t = Clock::now();
+    archive::ArchiveWriter writer(output, ctx.header);
+    writeLevels(ctx, pyramid, ctx.geometry.finestLevel(), errors, writer,
+                subProgress(options.progress, 0.25, 1.0));
+    writer.finish(metadataJson(raster.source_path, raster.stats, raster.geo, ctx, options));
+    reportDone(options.progress); // published: too late to cancel
+    report.seconds_encode = secondsSince(t);
+    report.seconds_total = secondsSince(start);
+
+    report.width = ctx.geometry.width();
+    report.height = ctx.geometry.height();
+    report.level_count = ctx.geometry.levelCount();
+    report.patch_count = ctx.geometry.patchCount();
+    report.archive_bytes = writer.bytesWritten();
+    report.voids_filled = raster.stats.voids_filled;
+    report.quantization_error = raster.quantization.max_error;
+    return report;
+}
+
 } // namespace
 
 void BuildOptions::validate() const
@@ -401,7 +437,7 @@ BuildReport buildArchive(const std::string& input, const std::string& output,
     const double ingest_seconds = secondsSince(start);
     BuildOptions rest = options;
     rest.progress = subProgress(options.progress, 0.35, 1.0);
-    BuildReport report = buildArchive(raster, output, rest);
+    BuildReport report = buildFromRaster(raster, output, rest);
     report.seconds_ingest = ingest_seconds;
     report.seconds_total = secondsSince(start);
     return report;
@@ -413,37 +449,7 @@ BuildReport buildArchive(const io::ElevationRaster& raster, const std::string& o
     options.validate();
     refuseOutputOverInput(output, {raster.source_path});
     checkOutputWritable(output);
-    const auto start = Clock::now();
-    // 1. Geometry and codec: validates patch and block sizes before any work is done.
-    const BuildContext ctx = makeContext(raster.grid.width, raster.grid.height,
-                                         raster.quantization, raster.geo, options);
-    const LevelPyramid pyramid(raster.grid, ctx.geometry, options.filter);
-    reportProgress(options.progress, 0.05);
-
-    // 2. Err_Int for every patch, then Err_Appr bottom-up (needs all levels, so before writing).
-    const PatchErrors errors = computePatchErrors(pyramid);
-    BuildReport report;
-    report.seconds_errors = secondsSince(start);
-    reportProgress(options.progress, 0.25);
-
-    // 3. Encode in parallel batches, write sequentially.
-    const auto t = Clock::now();
-    archive::ArchiveWriter writer(output, ctx.header);
-    writeLevels(ctx, pyramid, ctx.geometry.finestLevel(), errors, writer,
-                subProgress(options.progress, 0.25, 1.0));
-    writer.finish(metadataJson(raster.source_path, raster.stats, raster.geo, ctx, options));
-    reportDone(options.progress); // published: too late to cancel
-    report.seconds_encode = secondsSince(t);
-    report.seconds_total = secondsSince(start);
-
-    report.width = ctx.geometry.width();
-    report.height = ctx.geometry.height();
-    report.level_count = ctx.geometry.levelCount();
-    report.patch_count = ctx.geometry.patchCount();
-    report.archive_bytes = writer.bytesWritten();
-    report.voids_filled = raster.stats.voids_filled;
-    report.quantization_error = raster.quantization.max_error;
-    return report;
+    return buildFromRaster(raster, output, options);
 }
 
 } // namespace ridge
