@@ -47,9 +47,6 @@ enum HeaderOffset : size_t {
     kOffIndexCrc = 136, kOffReserved = 140, kOffHeaderCrc = 156,
 };
 
-// The largest code: metres(kMaxCode) is the highest height an archive can hold.
-constexpr double kMaxCode = 65535;
-
 // "" when the reserved bytes [begin, end) are zero, else which byte is not.
 std::string checkReserved(const uint8_t* in, size_t begin, size_t end)
 {

@@ -13,9 +13,6 @@ namespace ridge::archive {
 
 namespace {
 
-// The largest code; code 0 and code 65535 are the lowest and highest heights of an archive.
-constexpr double kMaxCode = 65535;
-
 // The smallest block-error region: the f32 quantum, then the smallest zstd frame that holds
 // content and states its size: 4-byte magic, frame header descriptor, 1-byte content size,
 // 3-byte block header, 1 byte of an RLE block.

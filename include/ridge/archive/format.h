@@ -20,6 +20,9 @@ inline constexpr size_t kHeaderSize = 160;
 inline constexpr size_t kIndexEntrySize = 48;
 // λ stored as this value means "larger than representable: never simplify".
 inline constexpr uint16_t kBlockErrorSaturated = 0xffff;
+// The largest code: metres(kMaxCode) is the highest height an archive can hold, metres(0) the
+// lowest (heights are monotone in the code, height_scale > 0).
+inline constexpr double kMaxCode = 65535;
 
 struct Header {
     uint32_t version = kFormatVersion;
