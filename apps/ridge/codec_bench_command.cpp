@@ -8,8 +8,6 @@
 #include "ridge/core/atomic_output.h"
 #include "ridge/core/file_identity.h"
 #include "ridge/io/dataset_files.h"
-#include "ridge/core/height_grid.h"
-#include "ridge/pipeline/build_memory.h"
 
 #include <fmt/core.h>
 
@@ -38,30 +36,6 @@ void CodecBenchCommand::registerWith(CLI::App& app)
     command_->add_flag("-q,--quiet", quiet_, "No progress output");
 }
 
-namespace {
-
-// The bench ingests the whole raster, copies it into tiles and builds ridge's archive of it in
-// memory: refuse, before anything is allocated, a raster whose in-memory build alone (plus the
-// tile copy) cannot fit what is available. A lower bound: the anchors' streams come on top.
-void checkCodecBenchMemory(const std::string& input)
-{
-    const io::RasterProbe probe = io::probeRaster(input);
-    BuildOptions as_built;
-    as_built.codec = "progressive";
-    BuildMemoryEstimate e =
-        estimateBuildMemory(probe, as_built, false, probe.declares_nodata || probe.has_mask_band);
-    e.terms.push_back({"tiles", uint64_t(probe.width) * uint64_t(probe.height) * 2});
-    const AvailableMemory available = availableMemory();
-    if (e.total() <= available.bytes)
-        return;
-    throw Error(input + ": " + std::to_string(probe.width) + " x " + std::to_string(probe.height) +
-                " samples need at least " + formatBytes(e.total()) + " to benchmark (" +
-                e.describe() + "; tiles), but " + formatBytes(available.bytes) +
-                " are available (" + available.source + ")");
-}
-
-} // namespace
-
 int CodecBenchCommand::run()
 {
     for (const std::string& out : {json_path_, plot_path_})
@@ -69,7 +43,6 @@ int CodecBenchCommand::run()
             refuseOutputOverInput(out, io::datasetFiles(input_));
             checkOutputWritable(out);
         }
-    checkCodecBenchMemory(input_);
     codecbench::CodecBenchOptions options;
     options.max_errors = max_errors_;
     options.tile_size = tile_size_;

@@ -4,6 +4,7 @@
 #include "ridge/codecbench/anchor_codec.h"
 #include "ridge/core/error.h"
 #include "ridge/pipeline/build.h"
+#include "ridge/pipeline/build_memory.h"
 #include "ridge/pipeline/level_decoder.h"
 
 #include <fmt/core.h>
@@ -263,11 +264,32 @@ void validate(const CodecBenchOptions& options)
     checkParameter("tile_size", int64_t{options.tile_size}, 0, CodecBenchOptions::kMaxTileSize);
 }
 
+// The bench ingests the whole raster, copies it into tiles and builds ridge's archive of it in
+// memory: refuse, before anything is allocated, a raster whose in-memory build alone (plus the
+// tile copy) cannot fit what is available. A lower bound: the anchors' streams come on top.
+void checkCodecBenchMemory(const std::string& input, const io::IngestOptions& ingest)
+{
+    const io::RasterProbe probe = io::probeRaster(input, ingest);
+    BuildOptions as_built;
+    as_built.codec = "progressive";
+    BuildMemoryEstimate e =
+        estimateBuildMemory(probe, as_built, false, probe.declares_nodata || probe.has_mask_band);
+    e.terms.push_back({"tiles", uint64_t(probe.width) * uint64_t(probe.height) * 2});
+    const AvailableMemory available = availableMemory();
+    if (e.total() <= available.bytes)
+        return;
+    throw Error(input + ": " + std::to_string(probe.width) + " x " + std::to_string(probe.height) +
+                " samples need at least " + formatBytes(e.total()) + " to benchmark (" +
+                e.describe() + "; tiles), but " + formatBytes(available.bytes) +
+                " are available (" + available.source + ")");
+}
+
 } // namespace
 
 CodecBenchReport runCodecBench(const std::string& input, const CodecBenchOptions& options)
 {
     validate(options);
+    checkCodecBenchMemory(input, options.ingest);
     io::IngestOptions ingest = options.ingest;
     ingest.progress = subProgress(options.progress, 0.0, 0.05);
     const io::ElevationRaster raster = io::ingestRaster(input, ingest);

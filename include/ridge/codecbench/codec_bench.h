@@ -103,7 +103,9 @@ struct CodecBenchReport {
 // Ingests `input` with options.ingest and runs the bench. Throws ridge::Error naming the
 // file for unreadable input, naming the option for an invalid bound or tile size, naming the
 // codec when a library fails; ridge::Cancelled through options.progress. A bound that a codec
-// misses is not an error: its row says VIOLATED.
+// misses is not an error: its row says VIOLATED. Before ingesting, a raster whose in-memory
+// build and tile copy cannot fit the memory available (ridge/core/system_memory.h) is refused
+// naming its size and both amounts.
 // Cost: each bound builds and decodes ridge's pyramid once and codes the finest level once
 // per anchor; memory about 3x the finest level as 16-bit codes.
 CodecBenchReport runCodecBench(const std::string& input, const CodecBenchOptions& options);
