@@ -52,11 +52,6 @@ bool interrupted()
     return g_signal.load() != 0;
 }
 
-int interruptSignal()
-{
-    return g_signal.load();
-}
-
 const char* interruptSignalName()
 {
     switch (g_signal.load()) {

@@ -14,8 +14,6 @@ namespace ridge::cli {
 // the ordinary error path reports "File too large" and cleans up instead of a core dump.
 void installInterruptHandler();
 bool interrupted();
-// The first interrupting signal received, 0 if none.
-int interruptSignal();
 // "SIGTERM" etc. for messages.
 const char* interruptSignalName();
 

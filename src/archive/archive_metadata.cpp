@@ -137,8 +137,9 @@ SourceMetadata parseSource(const Section& s, const Header& header)
     expectHeader(s.path("width"), m.width, header.width, "width");
     m.height = s.integer("height", 0, kMaxInt);
     expectHeader(s.path("height"), m.height, header.height, "height");
-    // Not bounded by width·height: ridge 0.1's streaming build counts the source rows that two
-    // strips share twice (CodeRowReader::stats), and those archives must open.
+    // Not bounded by width·height: streamed builds before December 2026 counted the source rows
+    // that two strips share twice (CodeRowReader::stats, fixed since), and those archives
+    // must open.
     m.valid_samples = s.integer("valid_samples", 0, kMaxInt);
     const int64_t samples = m.width * m.height; // both < 2^32: no overflow
     m.voids_filled = s.integer("voids_filled", 0, samples);

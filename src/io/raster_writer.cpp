@@ -1,7 +1,7 @@
 // GeoTIFF and PNG output through GDAL, written to a temporary file and renamed into place.
 // GDAL only takes names: it is given AtomicOutput::temporaryPath(), "/proc/self/fd/N", which
 // reopens the AtomicOutput's own (usually unnamed) file and cannot be redirected by a
-// planted symlink. Both drivers write through it (tests/io/raster_writer_test.cpp).
+// planted symlink. Both drivers write through it (tests/io/output_safety_io_test.cpp).
 #include "ridge/io/raster_writer.h"
 
 #include "gdal_support.h"

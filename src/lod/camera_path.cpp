@@ -4,8 +4,10 @@
 
 #include <glm/geometric.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <iterator>
 #include <random>
 #include <sstream>
 
@@ -60,12 +62,10 @@ std::vector<CameraPose> fromFile(const std::string& path)
               p.look_at.y >> p.look_at.z))
             throw Error(path + ":" + std::to_string(number) +
                         ": expected 6 numbers: x y z look-x look-y look-z");
-        if (!kCameraCoordinateRange.contains(p.position.x) ||
-            !kCameraCoordinateRange.contains(p.position.y) ||
-            !kCameraCoordinateRange.contains(p.position.z) ||
-            !kCameraCoordinateRange.contains(p.look_at.x) ||
-            !kCameraCoordinateRange.contains(p.look_at.y) ||
-            !kCameraCoordinateRange.contains(p.look_at.z))
+        const double coordinates[6] = {p.position.x, p.position.y, p.position.z,
+                                       p.look_at.x,  p.look_at.y,  p.look_at.z};
+        if (!std::all_of(std::begin(coordinates), std::end(coordinates),
+                         [](double c) { return kCameraCoordinateRange.contains(c); }))
             throw Error(path + ":" + std::to_string(number) + ": every coordinate must be " +
                         kCameraCoordinateRange.describe() + " metres");
         if (glm::length(p.look_at - p.position) <= 0.0)

@@ -123,8 +123,9 @@ RasterProbe probeRaster(const std::string& path, const IngestOptions& options = 
 // The constructor opens the band and settles the quantization exactly as ingestRaster does
 // (8/16-bit integers: exact, no pass over the data; other types: the strip-wise pre-pass for
 // range and integrality). Rows can then be read in any order; stats() covers the rows read so
-// far, each once however often it was read. Voids cannot be filled strip by strip: readRows reports how many it met, and callers
-// fall back to ingestRaster when there are any. Same errors as ingestRaster.
+// far, each once however often it was read. Voids cannot be filled strip by strip: readRows
+// reports how many it met, and callers fall back to ingestRaster when there are any. Same
+// errors as ingestRaster.
 class CodeRowReader {
 public:
     CodeRowReader(const std::string& path, const IngestOptions& options);

@@ -2,8 +2,9 @@
 // `ridge verify`: proves an archive is intact and its error bounds hold.
 //
 // Without a source: every checksum (header, metadata, index, each patch), every field the
-// reader checks when it opens an archive (docs/FORMAT.md), every patch decodes, every patch's stored min/max bound its samples, stored λ(d) are not below λ
-// recomputed from the decoded samples, and neighbouring patches agree on shared borders.
+// reader checks when it opens an archive (docs/FORMAT.md), every patch decodes, every patch's
+// stored min/max bound its samples, stored λ(d) are not below λ recomputed from the decoded
+// samples, and neighbouring patches agree on shared borders.
 // With a source: additionally, for every level l and every valid (non-void) sample of the
 // source, |bilinear surface of level l - source| <= Err(P) of the patch P covering it, and
 // at the level's own sample positions (all levels for decimation, the finest for Neville)
