@@ -8,6 +8,7 @@
 #include "ridge/gpu/context.h"
 #include "ridge/gpu/render_target.h"
 #include "ridge/pipeline/build.h"
+#include "ridge/lod/chunk_mesh.h"
 #include "ridge/render/terrain_renderer.h"
 #include "ridge/stream/patch_loader.h"
 
@@ -54,6 +55,7 @@ Scene& scene()
         options.vram_budget_mb = 512.0;
         out.renderer = std::make_unique<render::TerrainRenderer>(*out.reader, options);
         options.chunk_meshes = true;
+        options.schemes = {"chunked"};
         out.chunk_renderer = std::make_unique<render::TerrainRenderer>(*out.reader, options);
         out.target = std::make_unique<gpu::RenderTarget>(1920, 1080, 1);
         return out;
@@ -90,8 +92,8 @@ void BM_TessellationFrame(benchmark::State& state)
     settings.cull_blocks = state.range(4) != 0;
     // 3: chunked LOD with Ulrich's simplified chunks (its own renderer builds them).
     const bool simplified = state.range(5) == 3;
-    settings.scheme =
-        simplified ? render::LodScheme::ChunkedLod : render::LodScheme(state.range(5));
+    static const char* const kSchemes[] = {"tess", "chunked", "brute", "chunked"};
+    settings.scheme = kSchemes[state.range(5)];
     render::TerrainRenderer& renderer = simplified ? *s.chunk_renderer : *s.renderer;
     s.target->bind();
     render::FrameStats stats = renderer.draw(camera, settings); // loads patches
@@ -181,7 +183,10 @@ void BM_BuildChunkMesh(benchmark::State& state)
             reader.decodePatch(p, codes.data());
             benchmark::DoNotOptimize(codes.data());
         } else {
-            const lod::ChunkMesh mesh = stream::patchChunk(reader, p, codes.data(), 0.5);
+            const lod::ChunkMesh mesh = lod::buildChunkMesh(
+                codes.data(), reader.geometry().patchSize(),
+                0.5 * reader.record(p).err / reader.quantization().scale,
+                reader.geometry().validCellsX(p), reader.geometry().validCellsY(p));
             triangles = mesh.surface_indices / 3;
             benchmark::DoNotOptimize(triangles);
         }

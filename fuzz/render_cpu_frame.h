@@ -12,6 +12,7 @@
 
 #include "ridge/archive/archive_reader.h"
 #include "ridge/core/error.h"
+#include "ridge/lod/chunk_mesh.h"
 #include "ridge/lod/coarse_terrain.h"
 #include "ridge/lod/patch_quadtree.h"
 #include "ridge/lod/patch_residency.h"
@@ -66,7 +67,10 @@ struct CpuRenderer {
                 const auto patch = loader.load(l.id);
                 if (l.id.level > 0 && patch->codes.size() == size_t(reader.geometry().patchSize()) *
                                                                   reader.geometry().patchSize())
-                    (void)stream::patchChunk(reader, l.id, patch->codes.data(), 0.5);
+                    (void)lod::buildChunkMesh(
+                        patch->codes.data(), reader.geometry().patchSize(),
+                        0.5 * reader.record(l.id).err / reader.quantization().scale,
+                        reader.geometry().validCellsX(l.id), reader.geometry().validCellsY(l.id));
             } catch (const Error&) {
                 residency.release(l.id); // drawn by an ancestor, as a failed stream
             }

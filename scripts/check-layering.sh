@@ -23,5 +23,12 @@ bad=$(grep -rlE '#include *[<"]ridge/gpu/' src include |
 bad=$(grep -rlE '#include *[<"]ridge/(gpu|render)/' src/lod src/stream src/pyramid src/codec src/archive \
       src/io src/core include/ridge/lod include/ridge/stream 2>/dev/null || true)
 [[ -z "$bad" ]] || report "GL-free stages include the GPU layer or the renderers" "$bad"
+# The stream carries what LOD schemes prepare (stream::PatchProduct) without knowing any of them.
+bad=$(grep -rlE '#include *[<"]ridge/lod/chunk_mesh\.h' src/stream include/ridge/stream 2>/dev/null || true)
+[[ -z "$bad" ]] || report "the stream depends on a LOD scheme's product" "$bad"
+# Schemes are found through the registry; only their own modules include the scheme interface.
+bad=$(grep -rlE '#include *"(\.\./)?terrain_scheme\.h"' src apps bench |
+      grep -vE '^src/render/(schemes/[a-z_]+\.cpp|scheme_registry\.cpp|terrain_renderer\.cpp|terrain_scheme\.h)$' || true)
+[[ -z "$bad" ]] || report "the scheme interface used outside the renderer and the schemes" "$bad"
 ((status == 0)) && echo "layering: ok"
 exit $status

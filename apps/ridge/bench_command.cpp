@@ -18,7 +18,8 @@ void BenchCommand::registerWith(CLI::App& app)
         "bench",
         "Fly a renderer along a camera path headless and report fps, frame times, triangles");
     command_->add_option("archive", archive_, "Archive (.ridge)")->required();
-    command_->add_option("--renderer", renderer_, "tess, chunked or brute")->capture_default_str();
+    // --renderer: the name before the schemes were unified with render's --lod.
+    command_->add_option("--lod,--renderer", renderer_, lodSchemeHelp())->capture_default_str();
     command_
         ->add_option("--path", path_,
                      "flyover, orbit, teleport, or a file of 'x y z look-x look-y look-z' lines")
@@ -64,7 +65,7 @@ int BenchCommand::run()
         }
     renderbench::RenderBenchOptions options;
     options.renderer = renderer_options_;
-    options.scheme = parseLodScheme(renderer_, "--renderer");
+    options.scheme = parseLodScheme(renderer_, "--lod");
     options.path.kind = path_;
     options.path.speed_mps = speed_;
     options.frames = frames_;
@@ -74,9 +75,7 @@ int BenchCommand::run()
     options.grid_chunks = grid_chunks_;
     if (table_) {
         std::vector<renderbench::RenderBenchReport> reports;
-        for (const render::LodScheme scheme :
-             {render::LodScheme::Tessellation, render::LodScheme::ChunkedLod,
-              render::LodScheme::BruteForce})
+        for (const std::string& scheme : render::lodSchemeNames())
             for (const bool cull : {true, false}) {
                 renderbench::RenderBenchOptions o = options;
                 o.scheme = scheme;

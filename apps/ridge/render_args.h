@@ -30,16 +30,23 @@ inline lod::Viewport parseSize(const std::string& text,
     return {int(w), int(h)};
 }
 
-// "tess", "chunked" or "brute"; `option` names the flag in the message.
-inline render::LodScheme parseLodScheme(const std::string& name, const std::string& option)
+// A registered LOD scheme's name (render::lodSchemeNames()); `option` names the flag in the
+// message.
+inline std::string parseLodScheme(const std::string& name, const std::string& option)
 {
-    if (name == "tess")
-        return render::LodScheme::Tessellation;
-    if (name == "chunked")
-        return render::LodScheme::ChunkedLod;
-    if (name == "brute")
-        return render::LodScheme::BruteForce;
-    throw Error(option + " " + name + ": expected tess, chunked or brute");
+    for (const std::string& known : render::lodSchemeNames())
+        if (name == known)
+            return name;
+    throw Error(option + " " + name + ": expected " + render::lodSchemeList());
+}
+
+// --help text listing every registered scheme with its description.
+inline std::string lodSchemeHelp()
+{
+    std::string help = "LOD scheme:";
+    for (const std::string& name : render::lodSchemeNames())
+        help += "\n  " + name + ": " + render::lodSchemeDescription(name);
+    return help;
 }
 
 // The memory, upload and decoding options `ridge view` and `ridge bench` share, bound to the

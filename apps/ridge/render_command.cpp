@@ -63,8 +63,7 @@ void RenderCommand::registerWith(CLI::App& app)
     command_
         ->add_option(
             "--lod", lod_,
-            "tess (the paper's tessellation), chunked (one mesh per selected patch) or brute "
-            "(finest level everywhere): the baselines share selection, data and shading")
+            lodSchemeHelp() + "\n(every scheme shares selection, data and shading)")
         ->capture_default_str();
     command_->add_flag("--wireframe", wireframe_, "Draw triangle edges over the shading");
     command_->add_flag("--no-cull", no_cull_, "Disable view-frustum culling");

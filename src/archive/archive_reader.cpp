@@ -252,13 +252,13 @@ void ArchiveReader::decodeBlob(PatchId p, const std::vector<uint8_t>& blob, uint
 
 bool ArchiveReader::decodesResiduals(int level) const
 {
-    return level > 0 && dynamic_cast<const ProgressiveCodec*>(codec_.get()) != nullptr;
+    return level > 0 && codec_->capabilities().gpu_reconstruction != nullptr;
 }
 
 void ArchiveReader::decodeResiduals(PatchId p, const std::vector<uint8_t>& blob, int32_t* residuals,
                                     std::vector<float>* block_errors) const
 {
-    const auto* progressive = dynamic_cast<const ProgressiveCodec*>(codec_.get());
+    const ProgressiveCodec* progressive = codec_->capabilities().gpu_reconstruction;
     if (!progressive || p.level == 0)
         throw Error(describe(p) + ": not decodable as residuals");
     const PatchRecord& r = record(p);

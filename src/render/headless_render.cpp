@@ -60,7 +60,8 @@ HeadlessRenderResult renderToPng(const std::string& archive_path,
     RendererOptions ro;
     ro.synchronous_stats = true;
     ro.vram_budget_mb = options.vram_budget_mb;
-    ro.chunk_meshes = options.settings.scheme == LodScheme::ChunkedLod;
+    ro.chunk_meshes = true; // "chunked" draws Ulrich's simplified chunks
+    ro.schemes = {options.settings.scheme};
     TerrainRenderer renderer(reader, ro);
     HeadlessRenderResult result{cameraFor(renderer, options), {}, context->rendererName()};
     const gpu::RenderTarget target(options.viewport.width, options.viewport.height,

@@ -13,6 +13,7 @@ namespace ridge::render {
 
 void RenderSettings::validate() const
 {
+    lodSchemeDescription(scheme); // throws for a name that is not registered
     checkParameter("epsilon_px", epsilon_px, kEpsilonPxRange);
     checkParameters("sun_direction", &sun_direction.x, 3, kSunComponentRange);
     // Normalising a zero vector gives NaN, which would shade every pixel black.
@@ -45,6 +46,8 @@ void RendererOptions::validate() const
     checkParameter("upload_budget_ms", upload_budget_ms, kUploadBudgetMsRange);
     checkParameter("prefetch_frames", int64_t{prefetch_frames}, 0, kMaxPrefetchFrames);
     checkParameter("chunk_tolerance", chunk_tolerance, kChunkToleranceRange);
+    for (const std::string& name : schemes)
+        lodSchemeDescription(name);
 }
 
 } // namespace ridge::render

@@ -2,13 +2,13 @@
 
 #include "patch_instances.h"
 #include "patch_textures.h"
+#include "terrain_scheme.h"
 
 #include "ridge/core/error.h"
 #include "ridge/gpu/gl_objects.h"
 #include "ridge/gpu/gpu_timer.h"
 #include "ridge/gpu/render_target.h"
 #include "ridge/gpu/shader_program.h"
-#include "ridge/lod/chunk_mesh.h"
 #include "ridge/lod/coarse_terrain.h"
 #include "ridge/lod/edge_tessellation.h"
 #include "ridge/lod/resident_cover.h"
@@ -19,6 +19,7 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_inverse.hpp>
+#include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
@@ -65,29 +66,15 @@ void setMatrix(const gpu::ShaderProgram& program, const char* name, const glm::d
 
 namespace {
 
-// Ulrich's chunks: vertex ids run to n² + 4(n − 1) (the skirt's feet); 16-bit while they fit.
-GLenum chunkIndexType(int n)
-{
-    return int64_t(n) * n + 4 * int64_t(n - 1) <= 65536 ? GL_UNSIGNED_SHORT : GL_UNSIGNED_INT;
-}
-
-// The index buffer of an unsimplified chunk: two triangles per cell, two per border cell of
-// the skirt.
-size_t worstChunkMeshBytes(int n)
-{
-    const size_t c = size_t(n - 1);
-    return (6 * c * c + 24 * c) * (chunkIndexType(n) == GL_UNSIGNED_SHORT ? 2 : 4);
-}
-
 // Slots for resident patches: the requested count within the VRAM budget and the GL limit on
 // array layers; at least 4, so that raising ε always finds a selection that fits.
-int slotCount(const archive::ArchiveReader& reader, const RendererOptions& options)
+int slotCount(const archive::ArchiveReader& reader, const RendererOptions& options,
+              double scheme_slot_bytes)
 {
     const double n = reader.geometry().patchSize();
     const double blocks = double(reader.blockLayout().blocksPerSide());
-    const double bytes_per_slot =
-        n * n * (2.0 + 4.0) + blocks * blocks * 16.0 + // R16UI, RGBA8, RGBA32F
-        (options.chunk_meshes ? double(worstChunkMeshBytes(int(n))) : 0.0);
+    const double bytes_per_slot = n * n * (2.0 + 4.0) + blocks * blocks * 16.0 + // R16UI, RGBA8,
+                                  scheme_slot_bytes;                              // RGBA32F
     GLint max_layers = 256;
     glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &max_layers);
     const double by_budget = std::floor(options.vram_budget_mb * 1024.0 * 1024.0 / bytes_per_slot);
@@ -106,11 +93,49 @@ int slotCount(const archive::ArchiveReader& reader, const RendererOptions& optio
     return wanted;
 }
 
+// The schemes `options` asks for (all registered ones that need no CPU codes when empty),
+// with what each needs.
+struct PlannedSchemes {
+    std::vector<const SchemeInfo*> infos;
+    std::vector<SchemeNeeds> needs;
+    double slot_bytes = 0.0;
+    bool codes_on_cpu = false;
+    std::vector<stream::PatchPreparation> preparations;
+    std::vector<int> product; // per scheme: index into preparations, or −1
+};
+
+PlannedSchemes planSchemes(const archive::ArchiveReader& reader, const RendererOptions& options)
+{
+    PlannedSchemes out;
+    auto add = [&](const SchemeInfo& info, SchemeNeeds needs) {
+        out.infos.push_back(&info);
+        out.slot_bytes += needs.slot_bytes;
+        out.codes_on_cpu = out.codes_on_cpu || needs.codes_on_cpu;
+        out.product.push_back(needs.preparation ? int(out.preparations.size()) : -1);
+        if (needs.preparation)
+            out.preparations.push_back(needs.preparation);
+        out.needs.push_back(std::move(needs));
+    };
+    if (options.schemes.empty()) {
+        for (const SchemeInfo& info : schemeRegistry())
+            if (SchemeNeeds needs = info.needs(reader, options); !needs.codes_on_cpu)
+                add(info, std::move(needs));
+    } else {
+        for (const std::string& name : options.schemes) {
+            const SchemeInfo& info = schemeNamed(name);
+            if (std::find(out.infos.begin(), out.infos.end(), &info) == out.infos.end())
+                add(info, info.needs(reader, options));
+        }
+    }
+    return out;
+}
+
 } // namespace
 
 struct TerrainRenderer::Impl {
     const archive::ArchiveReader& reader;
     RendererOptions options;
+    PlannedSchemes planned;
     lod::PatchQuadtree quadtree;
     int slots = 0; // texture-array layers
     lod::PatchResidency residency;
@@ -143,24 +168,8 @@ struct TerrainRenderer::Impl {
     gpu::GlBuffer feedback;
     size_t feedback_capacity = 0; // bytes
     gpu::GlVertexArray empty_vao;
-    // Chunked LOD and brute force: one index buffer for every patch (see shaders/chunk.vert).
-    gpu::GlVertexArray chunk_vao;
-    gpu::GlBuffer chunk_indices;
-    GLsizei chunk_surface_indices = 0, chunk_all_indices = 0;
-    // Ulrich's simplified chunks (options.chunk_meshes), one per slot, each drawn on its own.
-    struct ChunkSlot {
-        gpu::GlBuffer indices;
-        GLsizei surface = 0, all = 0;
-        float max_deviation = 0.f; // metres
-    };
-    std::vector<ChunkSlot> chunk_slots;
-    GLenum chunk_index_type = GL_UNSIGNED_INT;
-    gpu::GlVertexArray chunk_mesh_vao; // its element buffer: the chunk being drawn
-    gpu::ShaderProgram chunk_program, chunk_clip_program, chunk_capture_program,
-        chunk_capture_clip_program;
-    // Whole patches go through the tessellator only; patches reaching past the valid extent
-    // also through terrain_clip.geom (exact clipping, walls). Each pass draws both groups.
-    gpu::ShaderProgram terrain_program, terrain_clip_program, capture_program, capture_clip_program;
+    // The drawable schemes (planned.infos order), each over the shared pieces above.
+    std::vector<std::unique_ptr<TerrainScheme>> schemes;
     gpu::ShaderProgram sky_program;
     gpu::GpuTimer timer;                              // terrain pass
     gpu::GpuTimer upload_timer;                       // uploads and normal maps of new patches
@@ -190,96 +199,53 @@ struct TerrainRenderer::Impl {
     void prefetch(const lod::Camera& camera, const lod::SelectionSettings& settings);
     size_t uploadPatch(const stream::DecodedPatch& patch, int slot,
                        const std::unordered_set<int>& pending_slots = {});
-    size_t buildChunk(const stream::DecodedPatch& patch, int slot);
     // What uploading `patch` will send, at most (the per-frame budget plans with it).
     size_t plannedUploadBytes(const stream::DecodedPatch& patch) const
     {
-        return textures->uploadBytes(patch) + (options.chunk_meshes ? worstChunkMeshBytes(n) : 0);
+        size_t bytes = textures->uploadBytes(patch);
+        for (const auto& scheme : schemes)
+            bytes += scheme->plannedUploadBytes(patch);
+        return bytes;
     }
-    bool drawsChunkMeshes(const RenderSettings& s) const
-    {
-        return s.scheme == LodScheme::ChunkedLod && options.chunk_meshes;
-    }
+    // The scheme `settings` names; throws when this renderer was not built for it.
+    TerrainScheme& schemeFor(const RenderSettings& settings) const;
     void countTraffic(FrameStats& stats);
     void computeNormals(PatchId p, const std::unordered_set<int>& pending);
-    PatchInstances writeInstances(const lod::Camera& camera, const lod::Selection& selection,
-                                  const RenderSettings& settings);
+    PatchInstances writeInstances(const lod::Camera& camera, const lod::Camera& lod_camera,
+                                  const lod::Selection& selection, const RenderSettings& settings);
     // Selection, residency and instance buffer for one frame; `used` receives `settings` with
     // the ε actually met (raised when the selection exceeded the slots), which the
     // tessellator must use too.
-    PatchInstances beginFrame(const lod::Camera& camera, const RenderSettings& settings,
-                              FrameStats& stats, RenderSettings& used)
+    PatchInstances beginFrame(const lod::Camera& camera, const lod::Camera& lod_camera,
+                              const RenderSettings& settings, FrameStats& stats,
+                              RenderSettings& used)
     {
-        const lod::Selection selection = prepare(camera, settings, stats);
+        const lod::Selection selection = prepare(lod_camera, settings, stats);
         used = settings;
         used.epsilon_px = selection.epsilon_px;
-        return writeInstances(camera, selection, settings);
+        return writeInstances(camera, lod_camera, selection, used);
     }
-    void setFrameUniforms(const gpu::ShaderProgram& program, const lod::Camera& camera,
-                          const RenderSettings& settings) const;
+    void setFrameUniforms(const gpu::ShaderProgram& program, const SchemeFrame& frame) const;
     // Calls draw(program, first, count) for the non-empty instance groups: whole patches with
-    // the plain (or capture) program, partial ones with the clipping one.
+    // the scheme's plain (or capture) program, partial ones with its clipping one.
     template <class Draw>
-    void forEachGroup(const PatchInstances& r, const RenderSettings& s, Draw&& draw,
+    void forEachGroup(TerrainScheme& scheme, const PatchInstances& r, Draw&& draw,
                       bool capture) const
     {
-        const auto [whole, clip] = programsFor(s, capture);
+        const auto [whole, clip] = scheme.programs(capture);
         if (r.whole)
             draw(*whole, size_t(0), r.whole);
         if (r.partial)
             draw(*clip, r.whole, r.partial);
-    }
-    // The programs of the scheme in `s`: for whole patches and for clipped ones.
-    std::array<const gpu::ShaderProgram*, 2> programsFor(const RenderSettings& s,
-                                                         bool capture) const
-    {
-        if (s.scheme != LodScheme::Tessellation)
-            return capture ? std::array{&chunk_capture_program, &chunk_capture_clip_program}
-                           : std::array{&chunk_program, &chunk_clip_program};
-        return capture ? std::array{&capture_program, &capture_clip_program}
-                       : std::array{&terrain_program, &terrain_clip_program};
-    }
-    // Draws instances [first, first + count) of `r` with `program`, which is in use: one
-    // instanced draw, or one draw per chunk for Ulrich's simplified chunks.
-    void drawPatches(const gpu::ShaderProgram& program, const RenderSettings& s,
-                     const PatchInstances& r, size_t first, size_t count) const
-    {
-        const GLint instance_offset = program.uniform("u_instance_offset");
-        if (drawsChunkMeshes(s)) {
-            glBindVertexArray(chunk_mesh_vao.id());
-            for (size_t i = first; i < first + count; ++i) {
-                const ChunkSlot& c = chunk_slots[size_t(r.records[i].layer)];
-                glVertexArrayElementBuffer(chunk_mesh_vao.id(), c.indices.id());
-                glUniform1i(instance_offset, GLint(i));
-                glDrawElements(GL_TRIANGLES, s.skirts ? c.all : c.surface, chunk_index_type,
-                               nullptr);
-            }
-            return;
-        }
-        glUniform1i(instance_offset, GLint(first));
-        if (s.scheme == LodScheme::Tessellation) {
-            glBindVertexArray(empty_vao.id());
-            glPatchParameteri(GL_PATCH_VERTICES, 1);
-            glDrawArraysInstanced(GL_PATCHES, 0, primitivesPerInstance(s), GLsizei(count));
-        } else {
-            glBindVertexArray(chunk_vao.id());
-            glDrawElementsInstanced(GL_TRIANGLES,
-                                    s.skirts ? chunk_all_indices : chunk_surface_indices,
-                                    GL_UNSIGNED_INT, nullptr, GLsizei(count));
-        }
-    }
-    void buildChunkMesh();
-    int primitivesPerInstance(const RenderSettings& settings) const
-    {
-        return blocks_per_side * blocks_per_side + (settings.skirts ? 4 * blocks_per_side : 0);
     }
     lod::Selection prepare(const lod::Camera& camera, const RenderSettings& settings,
                            FrameStats& stats);
 };
 
 TerrainRenderer::Impl::Impl(const archive::ArchiveReader& r, const RendererOptions& o)
-    : reader(r), options(o), quadtree(lod::PatchQuadtree::fromArchive(r)), slots(slotCount(r, o)),
-      residency(r.geometry(), slots), loader(r, o.decoded_cache_patches), layout(r.blockLayout()),
+    : reader(r), options(o), planned(planSchemes(r, o)), quadtree(lod::PatchQuadtree::fromArchive(r)),
+      slots(slotCount(r, o, planned.slot_bytes)), residency(r.geometry(), slots),
+      loader(r, o.decoded_cache_patches, planned.preparations), layout(r.blockLayout()),
       quantization(r.quantization())
 {
     n = reader.geometry().patchSize();
@@ -292,22 +258,22 @@ TerrainRenderer::Impl::Impl(const archive::ArchiveReader& r, const RendererOptio
     skirt_margin = 0.01 + 1e-6 * std::max(std::abs(root.min_height), std::abs(root.max_height));
     coarse.emplace(quadtree.frame(), quadtree.box(PatchId{0, 0, 0}),
                    loader.load(PatchId{0, 0, 0})->codes, quantization);
-    if (options.chunk_meshes) {
-        chunk_slots.resize(size_t(slots));
-        chunk_index_type = chunkIndexType(n);
-    }
 
-    // Chunk meshes are built from codes on the CPU.
-    const bool gpu_reconstruction = options.streaming && options.gpu_reconstruction &&
-                                    !options.chunk_meshes && reader.decodesResiduals(1);
-    textures = std::make_unique<PatchTextures>(
-        n, layout, block_levels, slots, quantization,
-        gpu_reconstruction ? dynamic_cast<const ProgressiveCodec*>(&reader.codec()) : nullptr);
+    // The codec's GPU reconstruction, unless a drawable scheme needs codes on the CPU.
+    const ProgressiveCodec* gpu_codec =
+        options.streaming && options.gpu_reconstruction && !planned.codes_on_cpu
+            ? reader.codec().capabilities().gpu_reconstruction
+            : nullptr;
+    textures = std::make_unique<PatchTextures>(n, layout, block_levels, slots, quantization,
+                                               gpu_codec);
+    for (size_t k = 0; k < planned.infos.size(); ++k)
+        schemes.push_back(planned.infos[k]->make(SchemeResources{
+            reader, quadtree, options, *textures, residency, slots, planned.product[k]}));
     if (options.streaming) {
         stream::StreamerOptions so = stream::StreamerOptions::forRamBudget(
             size_t(options.ram_budget_mb * 1024.0 * 1024.0), options.io_threads);
-        so.residuals_for_gpu = gpu_reconstruction;
-        so.chunk_tolerance = options.chunk_meshes ? options.chunk_tolerance : -1.0;
+        so.residuals_for_gpu = gpu_codec != nullptr;
+        so.preparations = planned.preparations;
         streamer = std::make_unique<stream::PatchStreamer>(reader, so);
         // The root stays resident: the last resort of every fallback.
         const PatchId root{0, 0, 0};
@@ -316,74 +282,21 @@ TerrainRenderer::Impl::Impl(const archive::ArchiveReader& r, const RendererOptio
         computeNormals(root, {});
         textures->finishUploads();
     }
-    using gpu::ShaderStage;
-    terrain_program = gpu::ShaderProgram({{GL_VERTEX_SHADER, "terrain.vert"},
-                                          {GL_TESS_CONTROL_SHADER, "terrain.tesc"},
-                                          {GL_TESS_EVALUATION_SHADER, "terrain.tese"},
-                                          {GL_FRAGMENT_SHADER, "terrain.frag"}});
-    terrain_clip_program = gpu::ShaderProgram({{GL_VERTEX_SHADER, "terrain.vert"},
-                                               {GL_TESS_CONTROL_SHADER, "terrain.tesc"},
-                                               {GL_TESS_EVALUATION_SHADER, "terrain.tese"},
-                                               {GL_GEOMETRY_SHADER, "terrain_clip.geom"},
-                                               {GL_FRAGMENT_SHADER, "terrain.frag"}});
-    const std::vector<std::string> varyings = {"Capture.tf_position", "Capture.tf_instance",
-                                               "Capture.tf_skirt"};
-    capture_program = gpu::ShaderProgram({{GL_VERTEX_SHADER, "terrain.vert"},
-                                          {GL_TESS_CONTROL_SHADER, "terrain.tesc"},
-                                          {GL_TESS_EVALUATION_SHADER, "terrain.tese"}},
-                                         varyings);
-    capture_clip_program = gpu::ShaderProgram({{GL_VERTEX_SHADER, "terrain.vert"},
-                                               {GL_TESS_CONTROL_SHADER, "terrain.tesc"},
-                                               {GL_TESS_EVALUATION_SHADER, "terrain.tese"},
-                                               {GL_GEOMETRY_SHADER, "terrain_clip.geom"}},
-                                              varyings);
-    chunk_program = gpu::ShaderProgram(
-        {{GL_VERTEX_SHADER, "chunk.vert"}, {GL_FRAGMENT_SHADER, "terrain.frag"}});
-    chunk_clip_program = gpu::ShaderProgram({{GL_VERTEX_SHADER, "chunk.vert"},
-                                             {GL_GEOMETRY_SHADER, "terrain_clip.geom"},
-                                             {GL_FRAGMENT_SHADER, "terrain.frag"}});
-    chunk_capture_program = gpu::ShaderProgram({{GL_VERTEX_SHADER, "chunk.vert"}}, varyings);
-    chunk_capture_clip_program = gpu::ShaderProgram(
-        {{GL_VERTEX_SHADER, "chunk.vert"}, {GL_GEOMETRY_SHADER, "terrain_clip.geom"}}, varyings);
-    buildChunkMesh();
     sky_program =
         gpu::ShaderProgram({{GL_VERTEX_SHADER, "sky.vert"}, {GL_FRAGMENT_SHADER, "sky.frag"}});
 }
 
-void TerrainRenderer::Impl::buildChunkMesh()
+TerrainScheme& TerrainRenderer::Impl::schemeFor(const RenderSettings& settings) const
 {
-    // The patch's cells as two triangles each (one diagonal: Err(P) holds for either), then
-    // the skirt: a quad under each border cell, its first and last vertices feet (the capture
-    // tests tell skirt triangles by their first vertex; shading reads the last).
-    const GLuint C = GLuint(n - 1), N = GLuint(n);
-    std::vector<GLuint> indices;
-    indices.reserve(size_t(C) * C * 6 + size_t(4) * C * 6);
-    for (GLuint j = 0; j < C; ++j)
-        for (GLuint i = 0; i < C; ++i) {
-            const GLuint a = j * N + i, b = a + 1, c = a + N, d = c + 1;
-            indices.insert(indices.end(), {a, b, c, b, d, c});
-        }
-    chunk_surface_indices = GLsizei(indices.size());
-    auto ring = [&](GLuint k) -> GLuint {
-        if (k < C)
-            return k; // north row
-        if (k < 2 * C)
-            return (k - C) * N + C; // east column
-        if (k < 3 * C)
-            return C * N + (C - (k - 2 * C)); // south row, east to west
-        return (C - (k - 3 * C)) * N;         // west column, south to north
-    };
-    const GLuint R = 4 * C;
-    for (GLuint k = 0; k < R; ++k) {
-        const GLuint t0 = ring(k), t1 = ring((k + 1) % R);
-        const GLuint f0 = N * N + k, f1 = N * N + (k + 1) % R;
-        indices.insert(indices.end(), {f0, t0, t1, f0, t1, f1});
-    }
-    chunk_all_indices = GLsizei(indices.size());
-    glNamedBufferStorage(chunk_indices.id(), GLsizeiptr(indices.size() * sizeof(GLuint)),
-                         indices.data(), 0);
-    glVertexArrayElementBuffer(chunk_vao.id(), chunk_indices.id());
-    gpu::checkGlError("terrain renderer: chunk mesh");
+    for (size_t k = 0; k < planned.infos.size(); ++k)
+        if (settings.scheme == planned.infos[k]->name)
+            return *schemes[k];
+    std::string built;
+    for (const SchemeInfo* info : planned.infos)
+        built += (built.empty() ? "" : ", ") + std::string(info->name);
+    throw Error(reader.path() + ": LOD scheme '" + settings.scheme +
+                "' is not one this renderer was built for (RendererOptions::schemes: " + built +
+                ")");
 }
 
 // Makes `patch` resident in `slot`: codes are uploaded, residuals reconstructed on the GPU
@@ -398,41 +311,16 @@ size_t TerrainRenderer::Impl::uploadPatch(const stream::DecodedPatch& patch, int
     const float lambda_cap = bounds.max_height - bounds.min_height;
     if (!patch.needsGpuReconstruction()) {
         textures->upload(patch, slot, lambda_cap);
-        return textures->uploadBytes(patch) + (options.chunk_meshes ? buildChunk(patch, slot) : 0);
+        size_t bytes = textures->uploadBytes(patch);
+        for (const auto& scheme : schemes)
+            bytes += scheme->upload(patch, slot);
+        return bytes;
     }
     const int parent_slot = residency.slotOf(p.parent());
     if (parent_slot < 0 || pending_slots.count(parent_slot))
         throw Error(reader.describe(p) + ": internal: parent not resident for GPU reconstruction");
     textures->reconstruct(patch, parent_slot, slot, lambda_cap);
     return textures->uploadBytes(patch);
-}
-
-// Ulrich's chunk of `patch` into `slot`, simplified to chunk_tolerance·Err(P). Returns the
-// bytes sent.
-size_t TerrainRenderer::Impl::buildChunk(const stream::DecodedPatch& patch, int slot)
-{
-    // Streaming: the decode worker built it.
-    std::optional<lod::ChunkMesh> built;
-    const lod::ChunkMesh& mesh =
-        patch.chunk ? *patch.chunk
-                    : built.emplace(stream::patchChunk(reader, patch.id, patch.codes.data(),
-                                                       options.chunk_tolerance));
-    ChunkSlot& c = chunk_slots[size_t(slot)];
-    // A new buffer: GL keeps the old one alive while a queued draw still reads it.
-    c.indices = gpu::GlBuffer();
-    size_t bytes = 0;
-    if (chunk_index_type == GL_UNSIGNED_SHORT) {
-        const std::vector<uint16_t> narrow(mesh.indices.begin(), mesh.indices.end());
-        bytes = narrow.size() * sizeof(uint16_t);
-        glNamedBufferStorage(c.indices.id(), GLsizeiptr(bytes), narrow.data(), 0);
-    } else {
-        bytes = mesh.indices.size() * sizeof(uint32_t);
-        glNamedBufferStorage(c.indices.id(), GLsizeiptr(bytes), mesh.indices.data(), 0);
-    }
-    c.surface = GLsizei(mesh.surface_indices);
-    c.all = GLsizei(mesh.indices.size());
-    c.max_deviation = float(mesh.max_deviation * quantization.scale);
-    return bytes;
 }
 
 // The normal map of `p`, just made resident, and those of its resident same-level
@@ -500,20 +388,17 @@ void TerrainRenderer::Impl::makeResident(const lod::Selection& selection, FrameS
 }
 
 PatchInstances TerrainRenderer::Impl::writeInstances(const lod::Camera& camera,
+                                                     const lod::Camera& lod_camera,
                                                      const lod::Selection& selection,
                                                      const RenderSettings& settings)
 {
-    // Skirts hang by what the mesh drops beyond Err(P): the tessellator's λ, or the chunk's
-    // simplification error.
-    const bool chunks = drawsChunkMeshes(settings);
+    // Skirts hang by what the scheme's mesh drops beyond Err(P) (the tessellator's λ, a
+    // chunk's simplification error, ...).
+    const TerrainScheme& scheme = schemeFor(settings);
     PatchInstances built = buildPatchInstances(
         quadtree, selection, camera.position(), [&](PatchId p) { return residency.slotOf(p); },
-        [&](PatchId p) {
-            const int slot = residency.slotOf(p);
-            return chunks ? double(chunk_slots[size_t(slot)].max_deviation)
-                          : double(textures->lambdaMax(slot));
-        },
-        skirt_margin);
+        [&](PatchId p) { return scheme.meshDeviation(residency.slotOf(p)); }, skirt_margin);
+    scheme.completeInstances(lod_camera, settings, built);
     const std::vector<GpuPatchInstance>& data = built.records;
     const size_t bytes = std::max<size_t>(data.size(), 1) * sizeof(GpuPatchInstance);
     if (bytes > instance_capacity) {
@@ -528,11 +413,18 @@ PatchInstances TerrainRenderer::Impl::writeInstances(const lod::Camera& camera,
 }
 
 void TerrainRenderer::Impl::setFrameUniforms(const gpu::ShaderProgram& program,
-                                             const lod::Camera& camera,
-                                             const RenderSettings& settings) const
+                                             const SchemeFrame& frame) const
 {
+    const lod::Camera& camera = frame.camera;
+    const RenderSettings& settings = frame.settings;
     const GLuint id = program.id();
     setMatrix(program, "u_view_projection", reverseZProjection(camera) * camera.view());
+    // LOD is decided for frame.lod_camera: positions relative to the drawn camera, moved to
+    // the LOD camera and projected by it (the same matrix when both are one camera).
+    const glm::dmat4 to_lod_camera = glm::translate(glm::dmat4(1.0), camera.position() -
+                                                                         frame.lod_camera.position());
+    setMatrix(program, "u_lod_view_projection",
+              reverseZProjection(frame.lod_camera) * frame.lod_camera.view() * to_lod_camera);
     const CameraAnchor anchor = cameraAnchor(quadtree.frame(), camera.position());
     glProgramUniform2f(id, program.uniform("u_spacing"), float(quadtree.frame().spacingX()),
                        float(-quadtree.frame().spacingY()));
@@ -566,6 +458,7 @@ void TerrainRenderer::Impl::setFrameUniforms(const gpu::ShaderProgram& program,
     glProgramUniform4fv(id, program.uniform("u_frustum"), 6, &planes[0][0]);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, instances.id());
     textures->bind();
+    schemeFor(settings).setUniforms(program, frame);
 }
 
 lod::Selection TerrainRenderer::Impl::prepare(const lod::Camera& camera,
@@ -574,17 +467,16 @@ lod::Selection TerrainRenderer::Impl::prepare(const lod::Camera& camera,
     textures->collect(); // λ maxima derived on the GPU in earlier frames
     auto t0 = std::chrono::steady_clock::now();
     lod::SelectionSettings ss;
-    // Brute force: ε = 0 refines to the finest level wherever the frustum lets it.
-    ss.epsilon_px = settings.scheme == LodScheme::BruteForce ? 0.0 : settings.epsilon_px;
+    ss.epsilon_px = settings.epsilon_px;
     ss.cull = settings.cull;
     ss.max_patches = size_t(slots);
-    if (drawsChunkMeshes(settings))
-        ss.error_scale = 1.0 + options.chunk_tolerance;
+    schemeFor(settings).adjustSelection(settings, ss);
     lod::Selection selection = quadtree.select(camera, ss);
     stats.cpu_select_ms = millisecondsSince(t0);
     stats.patches = int(selection.patches.size());
     stats.culled = selection.culled;
     stats.epsilon_px = selection.epsilon_px;
+    stats.coarser = selection.epsilon_px > ss.epsilon_px;
     t0 = std::chrono::steady_clock::now();
     upload_timer.begin();
     try {
@@ -898,13 +790,18 @@ size_t TerrainRenderer::streamingCacheBytes() const
     return s.cache_bytes + s.compressed_bytes;
 }
 
-FrameStats TerrainRenderer::draw(const lod::Camera& camera, const RenderSettings& settings)
+FrameStats TerrainRenderer::draw(const lod::Camera& camera, const RenderSettings& settings,
+                                 const lod::Camera* lod_camera)
 {
     settings.validate();
     Impl& m = *impl_;
+    TerrainScheme& scheme = m.schemeFor(settings);
+    const lod::Camera& lod = lod_camera ? *lod_camera : camera;
     FrameStats stats;
     RenderSettings s;
-    const PatchInstances ranges = m.beginFrame(camera, settings, stats, s);
+    const PatchInstances ranges = m.beginFrame(camera, lod, settings, stats, s);
+    const SchemeFrame frame{camera, lod, s, ranges};
+    stats.bytes_uploaded += scheme.beginDraw(frame);
 
     glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
     glClearColor(s.clear_colour.r, s.clear_colour.g, s.clear_colour.b, s.clear_colour.a);
@@ -930,9 +827,9 @@ FrameStats TerrainRenderer::draw(const lod::Camera& camera, const RenderSettings
     const glm::dvec3 sun = glm::normalize(s.sun_direction);
     // Fog thickens over the terrain's own size: a tenth of the light lost across it.
     const double extent = std::max(m.quadtree.frame().extentX(), m.quadtree.frame().extentY());
-    for (const gpu::ShaderProgram* p : m.programsFor(s, false)) {
+    for (const gpu::ShaderProgram* p : scheme.programs(false)) {
         const GLuint id = p->id();
-        m.setFrameUniforms(*p, camera, s);
+        m.setFrameUniforms(*p, frame);
         glProgramUniform3f(id, p->uniform("u_sun_direction"), float(sun.x), float(sun.y),
                            float(sun.z));
         glProgramUniform2f(id, p->uniform("u_height_range"),
@@ -948,11 +845,11 @@ FrameStats TerrainRenderer::draw(const lod::Camera& camera, const RenderSettings
     // Both instance groups with `mode` (3: the wireframe's flat colour).
     auto drawTerrain = [&](int mode) {
         m.forEachGroup(
-            ranges, s,
+            scheme, ranges,
             [&](const gpu::ShaderProgram& p, size_t first, size_t n) {
                 p.use();
                 glUniform1i(p.uniform("u_mode"), mode);
-                m.drawPatches(p, s, ranges, first, n);
+                scheme.draw(p, frame, first, n);
             },
             false);
     };
@@ -998,13 +895,17 @@ FrameStats TerrainRenderer::draw(const lod::Camera& camera, const RenderSettings
     return stats;
 }
 
-CapturedSurface TerrainRenderer::capture(const lod::Camera& camera, const RenderSettings& settings)
+CapturedSurface TerrainRenderer::capture(const lod::Camera& camera, const RenderSettings& settings,
+                                         const lod::Camera* lod_camera)
 {
     settings.validate();
     Impl& m = *impl_;
+    TerrainScheme& scheme = m.schemeFor(settings);
+    const lod::Camera& lod = lod_camera ? *lod_camera : camera;
     FrameStats stats;
     RenderSettings s;
-    const PatchInstances ranges = m.beginFrame(camera, settings, stats, s);
+    const PatchInstances ranges = m.beginFrame(camera, lod, settings, stats, s);
+    const SchemeFrame frame{camera, lod, s, ranges};
     CapturedSurface out;
     out.camera_position = camera.position();
     out.patches = ranges.patches;
@@ -1013,21 +914,17 @@ CapturedSurface TerrainRenderer::capture(const lod::Camera& camera, const Render
     if (ranges.total() == 0)
         return out;
 
-    for (const gpu::ShaderProgram* p : m.programsFor(s, true))
-        m.setFrameUniforms(*p, camera, s);
+    scheme.beginDraw(frame);
+    for (const gpu::ShaderProgram* p : scheme.programs(true))
+        m.setFrameUniforms(*p, frame);
     GLint previous_framebuffer = 0;
     glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &previous_framebuffer);
     if (!m.capture_target)
         m.capture_target = std::make_unique<gpu::RenderTarget>(1, 1, 1);
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m.capture_target->framebuffer());
     glEnable(GL_RASTERIZER_DISCARD);
-    // A block yields at most 2·b² triangles plus its transition ring, a skirt segment 4·b;
-    // clipping makes at most 3 triangles and 2 walls (4 triangles) of one.
-    const size_t b = size_t(m.layout.block_cells);
-    const size_t per_instance =
-        std::max<size_t>(size_t(m.blocks_per_side) * m.blocks_per_side * (2 * b * b + 8 * b) +
-                             (s.skirts ? size_t(4) * m.blocks_per_side * (4 * b + 4) : 0),
-                         size_t(m.chunk_all_indices) / 3);
+    // Clipping makes at most 3 triangles and 2 walls (4 triangles) of one.
+    const size_t per_instance = scheme.maxTrianglesPerInstance(s.skirts);
     const size_t bytes =
         (ranges.whole + 7 * ranges.partial) * per_instance * 3 * sizeof(CapturedVertex);
     if (bytes > m.feedback_capacity) {
@@ -1039,7 +936,7 @@ CapturedSurface TerrainRenderer::capture(const lod::Camera& camera, const Render
     // second appends after the first.
     size_t stored_total = 0;
     m.forEachGroup(
-        ranges, s,
+        scheme, ranges,
         [&](const gpu::ShaderProgram& p, size_t first, size_t n) {
             p.use();
             const GLintptr offset = GLintptr(stored_total * 3 * sizeof(CapturedVertex));
@@ -1048,7 +945,7 @@ CapturedSurface TerrainRenderer::capture(const lod::Camera& camera, const Render
             glBeginQuery(GL_TRANSFORM_FEEDBACK_PRIMITIVES_WRITTEN, m.written.id());
             glBeginQuery(GL_PRIMITIVES_GENERATED, m.primitives.id());
             glBeginTransformFeedback(GL_TRIANGLES);
-            m.drawPatches(p, s, ranges, first, n);
+            scheme.draw(p, frame, first, n);
             glEndTransformFeedback();
             glEndQuery(GL_PRIMITIVES_GENERATED);
             glEndQuery(GL_TRANSFORM_FEEDBACK_PRIMITIVES_WRITTEN);

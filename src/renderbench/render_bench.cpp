@@ -19,19 +19,6 @@
 namespace ridge::renderbench {
 namespace {
 
-const char* schemeName(render::LodScheme s)
-{
-    switch (s) {
-    case render::LodScheme::Tessellation:
-        return "tess";
-    case render::LodScheme::ChunkedLod:
-        return "chunked";
-    case render::LodScheme::BruteForce:
-        return "brute";
-    }
-    return "?";
-}
-
 // Resident set size of this process in MiB (/proc/self/statm), 0 where unavailable.
 double residentMib()
 {
@@ -62,9 +49,7 @@ void summarise(RenderBenchReport& r)
         triangles += double(f.triangles);
         r.frames_missing += f.missing > 0;
         r.select_ms_max = std::max(r.select_ms_max, f.select_ms);
-        const double asked =
-            r.options.scheme == render::LodScheme::BruteForce ? 0.0 : r.options.epsilon_px;
-        r.frames_epsilon_raised += f.epsilon_px > asked * 1.0001 + 1e-9;
+        r.frames_epsilon_raised += f.coarser;
         r.bytes_read += f.bytes_read;
         r.bytes_decoded += f.bytes_decoded;
         r.bytes_uploaded += f.bytes_uploaded;
@@ -113,7 +98,8 @@ RenderBenchReport runRenderBench(const std::string& archive, const RenderBenchOp
     render::RendererOptions ro = o.renderer;
     ro.max_resident_patches = 2048;
     ro.synchronous_stats = true; // per-frame GPU time and triangles, measured
-    ro.chunk_meshes = o.scheme == render::LodScheme::ChunkedLod && !o.grid_chunks;
+    ro.chunk_meshes = !o.grid_chunks; // what "chunked" draws
+    ro.schemes = {o.scheme};
     render::TerrainRenderer renderer(reader, ro);
     const lod::PatchBounds& root = renderer.quadtree().bounds({0, 0, 0});
     const std::vector<lod::CameraPose> path = lod::makeCameraPath(
@@ -145,6 +131,7 @@ RenderBenchReport runRenderBench(const std::string& archive, const RenderBenchOp
         f.loaded = s.loaded;
         f.reconstructed = s.reconstructed;
         f.epsilon_px = s.epsilon_px;
+        f.coarser = s.coarser;
         f.cache_hits = s.cache_hits;
         f.cache_misses = s.cache_misses;
         f.bytes_read = s.bytes_read;
@@ -179,7 +166,7 @@ std::string formatRenderBenchSummary(const RenderBenchReport& r)
         "  resident memory          {:.1f} MiB after {} frames, {:.1f} MiB at the end\n"
         "  read / decoded / upload  {:.1f} / {:.1f} / {:.1f} MiB ({} patches "
         "reconstructed on the GPU)\n",
-        r.archive, schemeName(r.options.scheme), r.options.path.kind, r.frames.size(),
+        r.archive, r.options.scheme, r.options.path.kind, r.frames.size(),
         r.options.viewport.width, r.options.viewport.height, r.options.epsilon_px,
         r.options.cull ? "on" : "off", r.gl_renderer, r.fps_min, r.fps_median, r.fps_max,
         r.frame_ms_p99, r.frame_ms_max, r.frames_over_twice_median, r.mtri_per_s, r.select_ms_max,
@@ -195,11 +182,7 @@ std::string formatRenderBenchTable(const std::vector<RenderBenchReport>& reports
                     "FPS max", "FPS med", "cache miss", "triangles", "coarser");
     for (const RenderBenchReport& r : reports) {
         const std::string name =
-            fmt::format("{}{}",
-                        r.options.scheme == render::LodScheme::Tessellation ? "tessellation (paper)"
-                        : r.options.scheme == render::LodScheme::ChunkedLod
-                            ? (r.options.grid_chunks ? "chunked LOD, full grids" : "chunked LOD")
-                            : "brute force",
+            fmt::format("{}{}{}", r.options.scheme, r.options.grid_chunks ? ", grid chunks" : "",
                         r.options.cull ? "" : " without frustum");
         out += fmt::format("{:<38} {:>9.1f} {:>9.1f} {:>9.1f} {:>11} {:>12.0f} {:>8}\n", name,
                            r.fps_min, r.fps_max, r.fps_median, r.cache_misses, r.triangles_mean,
@@ -232,7 +215,7 @@ void writeRenderBenchJson(const RenderBenchReport& r, const std::string& path)
                           {"ram_cache_mib", f.ram_cache_mib}});
     const nlohmann::json j = {{"archive", r.archive},
                               {"gl_renderer", r.gl_renderer},
-                              {"renderer", schemeName(r.options.scheme)},
+                              {"renderer", r.options.scheme},
                               {"path", r.options.path.kind},
                               {"speed_mps", r.options.path.speed_mps},
                               {"size", {r.options.viewport.width, r.options.viewport.height}},

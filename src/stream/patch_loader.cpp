@@ -18,13 +18,11 @@ void DecodedPatch::setResiduals(std::vector<int32_t> values)
         residuals = std::move(values);
 }
 
-lod::ChunkMesh patchChunk(const archive::ArchiveReader& reader, PatchId p, const uint16_t* codes,
-                          double chunk_tolerance)
+void prepareProducts(DecodedPatch& patch, const std::vector<PatchPreparation>& preparations)
 {
-    const PyramidGeometry& g = reader.geometry();
-    return lod::buildChunkMesh(codes, g.patchSize(),
-                               chunk_tolerance * reader.record(p).err / reader.quantization().scale,
-                               g.validCellsX(p), g.validCellsY(p));
+    patch.prepared.clear();
+    for (const PatchPreparation& prepare : preparations)
+        patch.prepared.push_back(prepare(patch.id, patch.codes.data()));
 }
 
 std::vector<int32_t> DecodedPatch::residualsWide() const
@@ -33,8 +31,9 @@ std::vector<int32_t> DecodedPatch::residualsWide() const
                              : residuals;
 }
 
-PatchLoader::PatchLoader(const archive::ArchiveReader& reader, size_t cache_patches)
-    : reader_(reader),
+PatchLoader::PatchLoader(const archive::ArchiveReader& reader, size_t cache_patches,
+                         std::vector<PatchPreparation> preparations)
+    : reader_(reader), preparations_(std::move(preparations)),
       cache_(std::max<size_t>(cache_patches, size_t(reader.geometry().levelCount()) + 1))
 {
 }
@@ -63,6 +62,7 @@ std::shared_ptr<const DecodedPatch> PatchLoader::decode(PatchId p)
     out->codes.resize(size_t(n) * n);
     reader_.decodePatch(p, out->codes.data(), parent ? parent->codes.data() : nullptr,
                         &out->block_errors);
+    prepareProducts(*out, preparations_);
     ++stats_.decoded;
     stats_.bytes_read += reader_.record(p).size;
     stats_.bytes_decoded += out->bytes();

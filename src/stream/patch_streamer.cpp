@@ -200,8 +200,7 @@ std::shared_ptr<const DecodedPatch> PatchStreamer::decodeLocked(PatchId p,
             out->codes.resize(samples);
             reader_.decodeBlob(p, *blob, out->codes.data(), parent ? parent->codes.data() : nullptr,
                                &out->block_errors);
-            if (options_.chunk_tolerance >= 0.0)
-                out->chunk = patchChunk(reader_, p, out->codes.data(), options_.chunk_tolerance);
+            prepareProducts(*out, options_.preparations);
         }
     } catch (...) {
         lock.lock();

@@ -29,7 +29,7 @@ TEST(BenchCli, FliesEachRendererAlongAPathAndWritesJsonAndAPlot)
             const std::string json = dir.path(renderer + path + ".json"),
                               png = dir.path(renderer + path + ".png");
             const test::CommandResult r = test::runRidge(
-                "bench '" + arc + "' --renderer " + renderer + " --path " + path +
+                "bench '" + arc + "' --lod " + renderer + " --path " + path +
                 " --frames 12 --size 160x90 --json '" + json + "' --plot '" + png + "'");
             ASSERT_EQ(r.exit_code, 0) << r.output;
             EXPECT_NE(r.output.find("fps min / median / max"), std::string::npos) << r.output;
@@ -57,7 +57,7 @@ TEST(BenchCli, BadInputsGetAClearErrorAndANonZeroExit)
     for (const Case& c :
          {Case{"--path '" + dir.path("bad_path.txt") + "'", "bad_path.txt:2:"},
           Case{"--path '" + dir.path("missing.txt") + "'", "missing.txt"},
-          Case{"--renderer fancy", "--renderer fancy"}, Case{"--size 0x0", "--size"},
+          Case{"--renderer fancy", "--lod fancy: expected tess, chunked, brute"}, Case{"--size 0x0", "--size"},
           Case{"--renderer chunked --chunk-tolerance -1", "--chunk-tolerance"},
           // Unwritable outputs are caught before the run (PLplot would exit() after it).
           Case{"--plot '" + dir.path("no/such/dir/p.png") + "'", "p.png: cannot write"},
@@ -81,8 +81,8 @@ TEST(BenchCli, TablePrintsTheFractalRingsRowsForEveryRendererWithAndWithoutCulli
         test::runRidge("bench '" + arc + "' --table --frames 6 --size 160x90");
     ASSERT_EQ(r.exit_code, 0) << r.output;
     for (const char* row :
-         {"tessellation (paper)  ", "tessellation (paper) without frustum", "chunked LOD  ",
-          "chunked LOD without frustum", "brute force  ", "brute force without frustum"})
+         {"tess  ", "tess without frustum", "chunked  ", "chunked without frustum", "brute  ",
+          "brute without frustum"})
         EXPECT_NE(r.output.find(row), std::string::npos) << row << " in:\n" << r.output;
     EXPECT_NE(r.output.find("cache miss"), std::string::npos);
 }

@@ -117,6 +117,7 @@ TEST(Streaming, UlrichsChunksStreamWithoutHolesAndConvergeToAWatertightSurface)
         render::RendererOptions options;
         options.streaming = true;
         options.chunk_meshes = true;
+        options.schemes = {"chunked"};
         options.synchronous_stats = true; // this frame's triangles
         // 24 slots of 33² patches: textures plus a 16-bit index buffer of the full grid.
         options.vram_budget_mb = 24 * (6790.0 + (6 * 32 * 32 + 24 * 32) * 2) / (1024 * 1024);
@@ -127,7 +128,7 @@ TEST(Streaming, UlrichsChunksStreamWithoutHolesAndConvergeToAWatertightSurface)
         gpu::RenderTarget target(320, 180, 1);
         target.bind();
         render::RenderSettings settings;
-        settings.scheme = render::LodScheme::ChunkedLod;
+        settings.scheme = "chunked";
         settings.cull = false;
         settings.epsilon_px = 1.0;
         const int frames = 40;

@@ -55,6 +55,7 @@ class TerrainRendererTest : public ::testing::Test {
         render::RendererOptions ro;
         ro.synchronous_stats = true;
         ro.chunk_meshes = chunk_meshes;
+        ro.schemes = render::lodSchemeNames(); // every scheme, whatever it needs
         ro.max_resident_patches = 1024;
         s.renderer = std::make_unique<render::TerrainRenderer>(*s.reader, ro);
         // Full resolution: the archive's finest level as decoded (for the lossless codec the
@@ -146,15 +147,15 @@ TEST_F(TerrainRendererTest, ChunkedAndBruteForceBaselinesAreWatertightAndWithinE
         std::string name, codec;
         double max_error;
         bool chunk_meshes;
-        render::LodScheme scheme;
+        std::string scheme;
         double epsilon_px = 2.0;
     };
-    const render::LodScheme chunked = render::LodScheme::ChunkedLod;
+    const std::string chunked = "chunked";
     std::map<std::string, size_t> patches; // drawn, over all cameras
     for (const Case& c :
          {Case{"simplified chunks", "lossless", 0.0, true, chunked},
           Case{"full-grid chunks", "lossless", 0.0, false, chunked},
-          Case{"brute force", "lossless", 0.0, false, render::LodScheme::BruteForce},
+          Case{"brute force", "lossless", 0.0, false, "brute"},
           Case{"progressive simplified chunks", "progressive", 1.0, true, chunked},
           Case{"progressive full-grid chunks", "progressive", 1.0, false, chunked},
           // Coarse: big simplified triangles meet the terrain's clipped east and south border.

@@ -5,6 +5,7 @@
 #include "ridge/pipeline/build.h"
 #include "ridge/pipeline/level_decoder.h"
 #include "ridge/stream/patch_loader.h"
+#include "ridge/lod/chunk_mesh.h"
 #include "ridge/stream/patch_streamer.h"
 
 #include <gtest/gtest.h>
@@ -12,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 #include <set>
+#include <thread>
 
 using namespace ridge;
 
@@ -253,7 +255,14 @@ TEST(PatchStreamer, DecodesFromTheCompressedCacheWithoutReadingAgain)
     EXPECT_LE(second.cache_bytes, size_t(g.levelCount() + 1) * 33 * 33 * 4 + 4096);
 }
 
-TEST(PatchStreamer, BuildsUlrichsChunkOfEveryDecodedPatchOnItsWorkers)
+// A scheme's product as the streamer carries it: here Ulrich's chunk of the patch.
+struct ChunkProduct final : stream::PatchProduct {
+    lod::ChunkMesh mesh;
+    std::thread::id built_on;
+    size_t bytes() const override { return sizeof(*this) + mesh.indices.size() * sizeof(uint32_t); }
+};
+
+TEST(PatchStreamer, RunsTheSchemesPreparationsOnEveryDecodedPatchOnItsWorkers)
 {
     test::ScratchDir dir;
     for (const char* codec : {"lossless", "progressive"}) {
@@ -261,7 +270,16 @@ TEST(PatchStreamer, BuildsUlrichsChunkOfEveryDecodedPatchOnItsWorkers)
         const PyramidGeometry& g = reader.geometry();
         const int n = g.patchSize();
         stream::StreamerOptions options;
-        options.chunk_tolerance = 0.5;
+        auto chunk = [&](PatchId p, const uint16_t* codes) {
+            auto out = std::make_shared<ChunkProduct>();
+            out->mesh = lod::buildChunkMesh(codes, n,
+                                            0.5 * reader.record(p).err / reader.quantization().scale,
+                                            g.validCellsX(p), g.validCellsY(p));
+            out->built_on = std::this_thread::get_id();
+            return std::shared_ptr<const stream::PatchProduct>(out);
+        };
+        auto none = [](PatchId, const uint16_t*) { return std::shared_ptr<const stream::PatchProduct>(); };
+        options.preparations = {none, chunk};
         stream::PatchStreamer streamer(reader, options);
         streamer.beginFrame();
         for (int64_t i = 0; i < g.patchCount(); ++i)
@@ -271,15 +289,19 @@ TEST(PatchStreamer, BuildsUlrichsChunkOfEveryDecodedPatchOnItsWorkers)
         ASSERT_EQ(ready.size(), size_t(g.patchCount()));
         size_t simplified = 0;
         for (const auto& patch : ready) {
-            ASSERT_TRUE(patch->chunk) << codec;
+            ASSERT_EQ(patch->prepared.size(), 2u) << codec;
+            EXPECT_FALSE(patch->prepared[0]) << "a preparation may make nothing";
+            ASSERT_TRUE(patch->prepared[1]) << codec;
+            const auto& product = static_cast<const ChunkProduct&>(*patch->prepared[1]);
+            EXPECT_NE(product.built_on, std::this_thread::get_id()) << "on a worker";
             const lod::ChunkMesh expected = lod::buildChunkMesh(
                 patch->codes.data(), n,
                 0.5 * reader.record(patch->id).err / reader.quantization().scale,
                 g.validCellsX(patch->id), g.validCellsY(patch->id));
-            EXPECT_EQ(patch->chunk->indices, expected.indices) << codec;
-            EXPECT_EQ(patch->chunk->surface_indices, expected.surface_indices);
-            simplified += patch->chunk->surface_indices < 6u * (n - 1) * (n - 1);
-            EXPECT_GT(patch->bytes(), patch->chunk->indices.size() * sizeof(uint32_t));
+            EXPECT_EQ(product.mesh.indices, expected.indices) << codec;
+            EXPECT_EQ(product.mesh.surface_indices, expected.surface_indices);
+            simplified += product.mesh.surface_indices < 6u * (n - 1) * (n - 1);
+            EXPECT_GT(patch->bytes(), product.bytes()) << "the cache counts the product";
         }
         EXPECT_GT(simplified, ready.size() / 2) << codec;
     }

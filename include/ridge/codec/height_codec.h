@@ -40,6 +40,20 @@ struct PatchContext {
     int child_index = 0;                      // quadrant within the parent: 0..3 = (x&1)|(y&1)<<1
 };
 
+class ProgressiveCodec;
+
+// What a codec lets the stream and the renderer do with its patches, declared by the codec
+// (so that nothing finds it out by its type).
+struct CodecCapabilities {
+    // Decoding a patch below the root needs its parent's reconstruction (needsParent), so
+    // loaders decode ancestors first and keep them.
+    bool needs_ancestors = false;
+    // Patches below the root can be entropy-decoded to residuals on the CPU and reconstructed
+    // on the GPU from the resident parent (the hardware-tessellation paper's split); the
+    // codec whose residuals and level quantizers the GPU pass uses. Null: codes only.
+    const ProgressiveCodec* gpu_reconstruction = nullptr;
+};
+
 class HeightCodec {
 public:
     virtual ~HeightCodec() = default;
@@ -60,6 +74,7 @@ public:
 
     // True when a patch of `level` decodes only with ctx.parent (progressive coding).
     virtual bool needsParent(int /*level*/) const { return false; }
+    virtual CodecCapabilities capabilities() const { return {}; }
     // What decode(encode(codes)) returns, without coding: the heights a renderer will draw,
     // on which the build measures block errors and min/max. Identity for lossless codecs.
     virtual void reconstruct(const uint16_t* codes, const PatchContext& ctx, uint16_t* out) const;

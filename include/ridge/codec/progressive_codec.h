@@ -43,6 +43,7 @@ class ProgressiveCodec final : public HeightCodec {
     int decode(uint16_t* dst, const uint8_t* src, size_t src_size,
                const PatchContext& ctx) const override;
     bool needsParent(int level) const override { return level > 0; }
+    CodecCapabilities capabilities() const override { return {true, this}; }
     void reconstruct(const uint16_t* codes, const PatchContext& ctx, uint16_t* out) const override;
     void storeParameters(double param[2]) const override;
 

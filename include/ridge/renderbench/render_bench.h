@@ -11,7 +11,7 @@
 namespace ridge::renderbench {
 
 struct RenderBenchOptions {
-    render::LodScheme scheme = render::LodScheme::Tessellation;
+    std::string scheme = "tess"; // a registered LOD scheme (render::lodSchemeNames())
     lod::CameraPathSettings path;
     int frames = 600;
     lod::Viewport viewport{1920, 1080};
@@ -41,7 +41,8 @@ struct FrameRecord {
     int missing = 0; // drawn by an ancestor while streaming
     int loaded = 0;
     int reconstructed = 0; // of `loaded`, on the GPU
-    double epsilon_px = 0; // ε met: above the requested one when the view needed more slots
+    double epsilon_px = 0; // ε met
+    bool coarser = false;  // drawn above the requested ε: the view needed more slots
     int cache_hits = 0, cache_misses = 0; // decoded-patch cache
     uint64_t bytes_read = 0, bytes_decoded = 0, bytes_uploaded = 0;
     double rss_mib = 0;       // the process's resident memory after the frame (Linux)

@@ -6,15 +6,26 @@
 //
 // Not thread-safe: one loader per render thread.
 #include "ridge/archive/archive_reader.h"
-#include "ridge/lod/chunk_mesh.h"
 #include "ridge/stream/lru_cache.h"
 
 #include <cstdint>
+#include <functional>
 #include <memory>
-#include <optional>
 #include <vector>
 
 namespace ridge::stream {
+
+// What a LOD scheme derives from a patch's codes off the render thread (Ulrich's chunk mesh,
+// geomorphing's vertex arrays): the stream carries it without knowing what it is.
+struct PatchProduct {
+    virtual ~PatchProduct() = default;
+    virtual size_t bytes() const = 0; // RAM held, for the decoded-patch cache's budget
+};
+// Builds a scheme's product from patch `id`'s decoded codes (patch_size², row-major). Runs on
+// the decode workers, concurrently: it must be thread-safe. Throws ridge::Error on failure
+// (the patch then fails like a corrupt blob).
+using PatchPreparation =
+    std::function<std::shared_ptr<const PatchProduct>(PatchId id, const uint16_t* codes)>;
 
 struct DecodedPatch {
     PatchId id;
@@ -28,9 +39,10 @@ struct DecodedPatch {
     // always do: it halves what a residual patch holds in the decoded cache), else in 32.
     std::vector<int16_t> residuals16;
     std::vector<int32_t> residuals;
-    // Ulrich's chunk of the codes, built by the worker that decoded them
-    // (StreamerOptions::chunk_tolerance), so that the render thread only uploads it.
-    std::optional<lod::ChunkMesh> chunk;
+    // One product per preparation the loader or streamer was given, in their order, built by
+    // the worker that decoded the codes so that the render thread only uploads them. Empty
+    // for residual patches (no codes on the CPU).
+    std::vector<std::shared_ptr<const PatchProduct>> prepared;
 
     bool needsGpuReconstruction() const
     {
@@ -44,16 +56,20 @@ struct DecodedPatch {
     {
         return sizeof(*this) + codes.size() * sizeof(uint16_t) +
                block_errors.size() * sizeof(float) + residuals.size() * sizeof(int32_t) +
-               residuals16.size() * sizeof(int16_t) +
-               (chunk ? chunk->indices.size() * sizeof(uint32_t) : 0);
+               residuals16.size() * sizeof(int16_t) + preparedBytes();
+    }
+    size_t preparedBytes() const
+    {
+        size_t total = 0;
+        for (const auto& product : prepared)
+            total += product ? product->bytes() : 0;
+        return total;
     }
 };
 
-// Ulrich's chunk of patch `p` of `reader` from its decoded `codes`: simplified to
-// chunk_tolerance·Err(P), within the patch's valid extent. The one formula the streamer's
-// workers and the renderer's synchronous loads both build with.
-lod::ChunkMesh patchChunk(const archive::ArchiveReader& reader, PatchId p, const uint16_t* codes,
-                          double chunk_tolerance);
+// Runs `preparations` on `patch`'s codes into patch.prepared (the loader's and the streamer's
+// workers' one way of doing it).
+void prepareProducts(DecodedPatch& patch, const std::vector<PatchPreparation>& preparations);
 
 struct LoaderStats {
     uint64_t decoded = 0; // patches decoded (ancestors included)
@@ -66,7 +82,9 @@ class PatchLoader {
   public:
     // Keeps at most `cache_patches` decoded patches (>= the pyramid depth, so that an ancestor
     // chain always fits).
-    PatchLoader(const archive::ArchiveReader& reader, size_t cache_patches = 512);
+    // `preparations` run on every patch it decodes (DecodedPatch::prepared).
+    PatchLoader(const archive::ArchiveReader& reader, size_t cache_patches = 512,
+                std::vector<PatchPreparation> preparations = {});
 
     // Decoded patch `p`, decoding its ancestors first when the codec needs them. Throws
     // ridge::Error naming the archive and the patch when a blob is corrupt.
@@ -79,6 +97,7 @@ class PatchLoader {
     std::shared_ptr<const DecodedPatch> decode(PatchId p);
 
     const archive::ArchiveReader& reader_;
+    std::vector<PatchPreparation> preparations_;
     LruCache<int64_t, std::shared_ptr<const DecodedPatch>> cache_; // by patch index
     LoaderStats stats_;
 };

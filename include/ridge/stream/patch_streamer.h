@@ -39,9 +39,9 @@ struct StreamerOptions {
     // Deliver progressive patches below the root as residuals for GPU reconstruction
     // (DecodedPatch::residuals) instead of decoding them to codes on the CPU.
     bool residuals_for_gpu = false;
-    // >= 0: the decode workers also build Ulrich's chunk of every patch they decode to codes
-    // (lod::buildChunkMesh at chunk_tolerance·Err(P)), off the render thread. < 0: none.
-    double chunk_tolerance = -1.0;
+    // Run by the decode workers on every patch they decode to codes (DecodedPatch::prepared):
+    // what the renderer's LOD schemes derive from codes, built off the render thread.
+    std::vector<PatchPreparation> preparations;
 
     // One RAM budget split between the two caches: a quarter for compressed blobs (several
     // times as many patches as the same bytes decoded), the rest for decoded patches.

@@ -1,0 +1,118 @@
+#pragma once
+// One LOD scheme of the terrain renderer (internal to ridge_render): how selected patches of
+// the patch quadtree become triangles. Every scheme draws over the same shared pieces, which
+// the renderer owns and lends (SchemeResources): the archive and its patch quadtree, the
+// texture arrays of resident patches and their slots, the instance records, frame uniforms
+// and shading, sky, transform-feedback capture and the timer and primitive queries. A scheme
+// adds only what is its own: how it adjusts the coarse selection, what it derives from a
+// patch's codes on the stream workers, what it uploads per slot, its programs and its draw.
+//
+// A scheme is one file under src/render/schemes/ plus one line in scheme_registry.cpp;
+// nothing else in ridge names a scheme (CLI, bench, viewer and tests take the registry's
+// names). Schemes are CDLOD-style modules: read one alone to see the whole of its algorithm.
+#include "patch_instances.h"
+#include "patch_textures.h"
+
+#include "ridge/archive/archive_reader.h"
+#include "ridge/gpu/shader_program.h"
+#include "ridge/lod/patch_quadtree.h"
+#include "ridge/lod/patch_residency.h"
+#include "ridge/render/terrain_renderer.h"
+#include "ridge/stream/patch_loader.h"
+
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace ridge::render {
+
+// What a scheme needs decided before the renderer allocates anything, from the archive and
+// the renderer's options alone.
+struct SchemeNeeds {
+    // Codes on the CPU for every patch (no GPU reconstruction of progressive residuals):
+    // schemes that build meshes or vertex arrays from heights.
+    bool codes_on_cpu = false;
+    // Texture or buffer memory per resident slot beyond the shared texture arrays, bytes at
+    // most: the VRAM budget counts it.
+    double slot_bytes = 0.0;
+    // What the scheme derives from a patch's codes on the stream workers (null: nothing).
+    // Its product reaches upload() as DecodedPatch::prepared[SchemeResources::product].
+    stream::PatchPreparation preparation;
+};
+
+// The renderer's shared pieces, lent to a scheme for the renderer's lifetime.
+struct SchemeResources {
+    const archive::ArchiveReader& reader;
+    const lod::PatchQuadtree& quadtree;
+    const RendererOptions& options;
+    PatchTextures& textures;
+    const lod::PatchResidency& residency;
+    int slots = 0;
+    // Index of this scheme's product in DecodedPatch::prepared; −1 when it prepares none.
+    int product = -1;
+};
+
+// One frame's inputs to a scheme's draw, after selection, residency and instance records.
+struct SchemeFrame {
+    const lod::Camera& camera;     // the camera drawn from
+    const lod::Camera& lod_camera; // the camera LOD decisions are made for (usually the same)
+    const RenderSettings& settings; // with the ε actually met
+    const PatchInstances& instances;
+};
+
+class TerrainScheme {
+  public:
+    virtual ~TerrainScheme() = default;
+
+    // Coarse LOD: how this scheme walks the patch quadtree (ε, the mesh's error scale).
+    virtual void adjustSelection(const RenderSettings& /*settings*/,
+                                 lod::SelectionSettings& /*selection*/) const
+    {
+    }
+    // Makes the scheme's own per-slot data for `patch` resident in `slot` (after the shared
+    // textures: heights, normals, λ). Returns the bytes sent.
+    virtual size_t upload(const stream::DecodedPatch& /*patch*/, int /*slot*/) { return 0; }
+    // What upload() sends for `patch` at most (the per-frame upload budget plans with it).
+    virtual size_t plannedUploadBytes(const stream::DecodedPatch& /*patch*/) const { return 0; }
+    // Metres the drawn mesh of the patch in `slot` may lie beyond Err(P) from the patch's
+    // own samples (what the skirts must hang by besides Err(P)).
+    virtual double meshDeviation(int slot) const = 0;
+    // Fills what the scheme keeps in the instance records (GpuPatchInstance::morph) before
+    // they are uploaded; `lod_camera` is the camera LOD is decided for.
+    virtual void completeInstances(const lod::Camera& /*lod_camera*/,
+                                   const RenderSettings& /*settings*/,
+                                   PatchInstances& /*instances*/) const
+    {
+    }
+    // Per-frame work before the draws (vertex streams sent every frame, ...). Returns bytes
+    // sent to the GPU.
+    virtual size_t beginDraw(const SchemeFrame& /*frame*/) { return 0; }
+    // The programs for whole patches and for patches clipped at the valid extent; `capture`:
+    // the transform-feedback variants (no fragment stage). Compiled on first use.
+    virtual std::array<const gpu::ShaderProgram*, 2> programs(bool capture) = 0;
+    // Sets the scheme's own uniforms of `program` (the shared ones are set already).
+    virtual void setUniforms(const gpu::ShaderProgram& /*program*/,
+                             const SchemeFrame& /*frame*/) const
+    {
+    }
+    // Draws instances [first, first + count) of frame.instances with `program`, in use.
+    virtual void draw(const gpu::ShaderProgram& program, const SchemeFrame& frame, size_t first,
+                      size_t count) const = 0;
+    // Triangles one instance may produce at most (transform-feedback capture sizes with it).
+    virtual size_t maxTrianglesPerInstance(bool skirts) const = 0;
+};
+
+struct SchemeInfo {
+    const char* name;        // as the CLI, the benchmark and the viewer spell it
+    const char* description; // one line for --help and reports
+    SchemeNeeds (*needs)(const archive::ArchiveReader& reader, const RendererOptions& options);
+    std::unique_ptr<TerrainScheme> (*make)(const SchemeResources& resources);
+};
+
+// Every scheme, in registration order (scheme_registry.cpp).
+const std::vector<SchemeInfo>& schemeRegistry();
+// The registered scheme called `name`; throws ridge::Error listing the names otherwise.
+const SchemeInfo& schemeNamed(const std::string& name);
+
+} // namespace ridge::render
