@@ -1,0 +1,51 @@
+#pragma once
+// What a rendered frame shows, measured (plain C++, no GL): the figures every benchmark run
+// reports beside its frame times, and the conformance suite asserts.
+//
+//   * hole pixels: background showing through inside the terrain's footprint;
+//   * popping: the largest screen-space displacement of the surface that LOD changes alone
+//     cause — the same camera drawn with the previous frame's LOD state and with this one's
+//     (TerrainRenderer::capture's lod_camera) — in pixels. No peer publishes it.
+#include "ridge/lod/camera.h"
+#include "ridge/lod/terrain_frame.h"
+#include "ridge/render/terrain_renderer.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace ridge::render {
+
+struct HoleReport {
+    size_t footprint_pixels = 0; // pixels whose ray must hit the terrain
+    size_t hole_pixels = 0;      // of those, background
+    int first_x = -1, first_y = -1;
+};
+
+// `background[y·width + x]` is nonzero where the frame shows no terrain (row 0 at the top),
+// e.g. depth == 0 under the renderer's reverse-Z. A pixel counts as inside the footprint when
+// its ray crosses the whole slab of heights [min_height, max_height] (terrain frame, metres)
+// downwards inside the terrain's extent, less one sample at each border: such a ray must hit
+// the continuous surface. Rays that graze the slab or leave the extent are not judged (no
+// false holes; a hole seen only at a grazing angle is missed).
+HoleReport countHolePixels(const std::vector<uint8_t>& background, const lod::Camera& camera,
+                           const lod::TerrainFrame& frame, double min_height, double max_height);
+
+// The height of a captured surface (skirts excluded) at every finest sample it covers,
+// terrain frame metres, NaN elsewhere: width × height of the finest grid, row-major.
+std::vector<float> surfaceHeightsAtSamples(const CapturedSurface& surface,
+                                           const lod::TerrainFrame& frame);
+
+struct PoppingReport {
+    size_t samples = 0;    // finest samples in view covered by both surfaces
+    double max_px = 0.0;   // largest projected vertical displacement, pixels
+    double max_metres = 0.0;
+};
+
+// The displacement between two surfaces (surfaceHeightsAtSamples of the same frame drawn
+// with two LOD states) seen from `camera`: per sample in view, the distance in pixels
+// between the projections of its two heights.
+PoppingReport measurePopping(const std::vector<float>& before, const std::vector<float>& after,
+                             const lod::TerrainFrame& frame, const lod::Camera& camera);
+
+} // namespace ridge::render

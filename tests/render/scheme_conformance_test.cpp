@@ -1,0 +1,322 @@
+// The conformance suite every registered LOD scheme runs (parameterised over the registry, on
+// whatever GL the machine has — llvmpipe on CI). A new scheme gets every check here by
+// registering:
+//   * the captured surface is watertight: every interior edge shared by two triangles with
+//     bit-identical endpoints, every seam between patches covered by a skirt, open edges only
+//     on the terrain's border and at skirts' feet;
+//   * every finest sample in view has surface above it, and its projected vertical error is
+//     within the scheme's promise, ε (the scheme's own selection and mesh together);
+//   * looking down, no background pixel inside the terrain's footprint;
+//   * a streaming fly-over under a tiny texture budget never shows a hole.
+// Cameras of every kind the independent checker used: low (15–200 m above ground), along the
+// steepest slopes, across the east and south borders, high, and far enough to draw only the
+// coarsest levels; patches of 33, 65 and 129 samples; a low-relief terrain.
+#include "captured_surface_checks.h"
+#include "fixture_archives.h"
+
+#include "ridge/gpu/context.h"
+#include "ridge/gpu/render_target.h"
+#include "ridge/pipeline/build.h"
+#include "ridge/pipeline/level_decoder.h"
+#include "ridge/render/frame_measures.h"
+#include "ridge/render/terrain_renderer.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <memory>
+#include <random>
+
+namespace ridge {
+namespace {
+
+// ε met within float rounding of camera-relative positions (~1e-3 px at these distances).
+constexpr double kPromiseSlack = 1.001;
+constexpr double kPromiseSlackPx = 1e-3;
+
+struct Fixture {
+    std::string name;
+    std::string codec;
+    int patch_size;
+    double max_error;  // progressive: the codec's bound, metres
+    double z_scale;    // 1: Everest as it is; 0.02: a low-relief terrain (60 m of relief)
+};
+
+// What the suite draws on, built once per process.
+const std::vector<Fixture>& fixtures()
+{
+    static const std::vector<Fixture> all = {
+        {"everest lossless 33", "lossless", 33, 0.0, 1.0},
+        {"everest progressive 65", "progressive", 65, 1.0, 1.0},
+        {"low relief lossless 129", "lossless", 129, 0.0, 0.02},
+    };
+    return all;
+}
+
+struct Scene {
+    std::unique_ptr<archive::ArchiveReader> reader;
+    std::unique_ptr<render::TerrainRenderer> renderer;
+    std::vector<float> finest; // the finest level as decoded, metres
+};
+
+class SchemeConformance : public ::testing::TestWithParam<std::string> {
+  protected:
+    static void SetUpTestSuite()
+    {
+        context_ = gpu::HeadlessContext::create().release();
+        scratch_ = new test::ScratchDir();
+    }
+    static void TearDownTestSuite()
+    {
+        scenes_.clear();
+        delete scratch_;
+        delete context_;
+    }
+
+    // The synchronous renderer over fixture `f`, able to draw every registered scheme.
+    static Scene& scene(const Fixture& f)
+    {
+        auto& s = scenes_[f.name];
+        if (s.renderer)
+            return s;
+        BuildOptions options;
+        options.patch_size = f.patch_size;
+        options.codec = f.codec;
+        if (f.codec == "progressive")
+            options.max_error = f.max_error;
+        if (f.z_scale != 1.0)
+            options.ingest.z_scale = f.z_scale;
+        options.progress = {};
+        const std::string path = scratch_->path(std::to_string(scenes_.size()) + ".ridge");
+        buildArchive(test::dataPath("everest_crop.tif"), path, options);
+        s.reader = std::make_unique<archive::ArchiveReader>(path);
+        render::RendererOptions ro;
+        ro.synchronous_stats = true;
+        ro.chunk_meshes = true;
+        ro.max_resident_patches = 2048;
+        ro.schemes = render::lodSchemeNames();
+        s.renderer = std::make_unique<render::TerrainRenderer>(*s.reader, ro);
+        const int finest = s.reader->geometry().finestLevel();
+        const std::vector<uint16_t> codes = decodeLevel(*s.reader, finest).codes;
+        s.finest.resize(codes.size());
+        for (size_t i = 0; i < codes.size(); ++i)
+            s.finest[i] = float(s.reader->quantization().toMetres(codes[i]));
+        return s;
+    }
+
+    static test::ScratchDir* scratch_;
+    static gpu::HeadlessContext* context_;
+    static std::map<std::string, Scene> scenes_;
+};
+
+test::ScratchDir* SchemeConformance::scratch_ = nullptr;
+gpu::HeadlessContext* SchemeConformance::context_ = nullptr;
+std::map<std::string, Scene> SchemeConformance::scenes_;
+
+struct NamedCamera {
+    std::string kind;
+    lod::Camera camera;
+};
+
+lod::Camera cameraAt(const render::TerrainRenderer& r, glm::dvec3 pos, glm::dvec3 at,
+                     lod::Viewport vp)
+{
+    double near_m, far_m;
+    r.clipPlanesFor(pos, near_m, far_m);
+    return lod::Camera(pos, at, 60.0, vp, near_m, far_m);
+}
+
+// Every kind of camera the independent checker used, a few of each.
+std::vector<NamedCamera> conformanceCameras(const Scene& s, lod::Viewport vp)
+{
+    const render::TerrainRenderer& r = *s.renderer;
+    const lod::TerrainFrame& f = r.quadtree().frame();
+    const lod::PatchBounds& root = r.quadtree().bounds({0, 0, 0});
+    const double X = f.extentX(), Y = f.extentY(), relief = root.max_height - root.min_height;
+    const int W = f.geometry().width(), H = f.geometry().height();
+    std::vector<NamedCamera> out;
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    auto ground = [&](double x, double y) { return r.groundHeight(x, y); };
+    // Low: 15–200 m above the ground, looking 1–3 km ahead and slightly down.
+    for (int k = 0; k < 3; ++k) {
+        const double x = X * (0.2 + 0.6 * u(rng)), y = Y * (0.2 + 0.6 * u(rng));
+        const double above = 15.0 * std::pow(200.0 / 15.0, u(rng)), a = 6.283 * u(rng);
+        const double d = 1000.0 + 2000.0 * u(rng);
+        const glm::dvec3 pos(x, y, ground(x, y) + above + relief * 0.02);
+        const double tx = x + d * std::cos(a), ty = y + d * std::sin(a);
+        out.push_back({"low", cameraAt(r, pos, {tx, ty, ground(tx, ty)}, vp)});
+    }
+    // Along the steepest slope of the finest data, 100 m above it, looking downhill.
+    {
+        double best = -1.0;
+        int bi = 1, bj = 1;
+        for (int j = 1; j + 1 < H; ++j)
+            for (int i = 1; i + 1 < W; ++i) {
+                const double gx = s.finest[size_t(j) * W + i + 1] - s.finest[size_t(j) * W + i - 1];
+                const double gy = s.finest[size_t(j + 1) * W + i] - s.finest[size_t(j - 1) * W + i];
+                if (gx * gx + gy * gy > best) {
+                    best = gx * gx + gy * gy;
+                    bi = i;
+                    bj = j;
+                }
+            }
+        const double x = f.xOf(bi), y = f.yOf(bj);
+        const double gx = s.finest[size_t(bj) * W + bi + 1] - s.finest[size_t(bj) * W + bi - 1];
+        // Rows grow south: +row is −y.
+        const double gy = -(s.finest[size_t(bj + 1) * W + bi] - s.finest[size_t(bj - 1) * W + bi]);
+        const double len = std::max(std::hypot(gx, gy), 1e-9);
+        const glm::dvec3 pos(x, y, s.finest[size_t(bj) * W + bi] + 100.0);
+        for (double sign : {-1.0, 1.0}) { // downhill, then uphill
+            const double tx = x + sign * 1500.0 * gx / len, ty = y + sign * 1500.0 * gy / len;
+            out.push_back({"slope", cameraAt(r, pos, {tx, ty, ground(tx, ty)}, vp)});
+        }
+    }
+    // Across the east and south borders: from outside, low and oblique, at the last column
+    // and row (where coarse levels must still reach).
+    const double mid = 0.5 * (root.min_height + root.max_height);
+    out.push_back({"east border",
+                   cameraAt(r, {X + 2000.0, Y * 0.5, root.max_height + 500.0}, {X, Y * 0.5, mid},
+                            vp)});
+    out.push_back({"south border",
+                   cameraAt(r, {X * 0.5, -2000.0, root.max_height + 500.0}, {X * 0.5, 0.0, mid},
+                            vp)});
+    // High, oblique over the whole terrain, and far: only the coarsest levels are drawn.
+    out.push_back({"high", cameraAt(r, {X * 0.4, -Y * 0.3, root.max_height + 2.0 * std::max(X, Y)},
+                                    {X * 0.5, Y * 0.5, mid}, vp)});
+    out.push_back({"far", cameraAt(r, {X * 0.9 + 8.0 * X, Y * 0.1 - 8.0 * Y,
+                                       root.max_height + 3.0 * std::max(X, Y)},
+                                   {X * 0.9, Y * 0.1, mid}, vp)});
+    return out;
+}
+
+render::RenderSettings settingsFor(const std::string& scheme, double epsilon)
+{
+    render::RenderSettings s;
+    s.scheme = scheme;
+    s.epsilon_px = epsilon;
+    return s;
+}
+
+TEST_P(SchemeConformance, CapturedSurfaceIsWatertightCoveredAndWithinItsPromise)
+{
+    const std::string scheme = GetParam();
+    const lod::Viewport vp{320, 180};
+    for (const Fixture& fx : fixtures()) {
+        Scene& s = scene(fx);
+        const lod::TerrainFrame& frame = s.renderer->quadtree().frame();
+        double worst = 0.0; // ε-relative
+        std::string worst_at;
+        for (const double epsilon : {1.0, 4.0})
+            for (const NamedCamera& nc : conformanceCameras(s, vp)) {
+                const std::string where =
+                    fx.name + ", " + nc.kind + " camera, ε " + std::to_string(int(epsilon));
+                const render::RenderSettings settings = settingsFor(scheme, epsilon);
+                const render::CapturedSurface surface = s.renderer->capture(nc.camera, settings);
+                const test::WatertightReport w = test::checkWatertight(surface, frame);
+                EXPECT_EQ(w.open_edges, 0u) << where << ": " << w.first_problem;
+                EXPECT_EQ(w.overused_edges, 0u) << where << ": " << w.first_problem;
+                EXPECT_EQ(w.uncovered_seams, 0u) << where << ": " << w.first_problem;
+                const test::ScreenErrorReport e =
+                    test::measureScreenSpaceError(surface, frame, s.finest, nc.camera);
+                EXPECT_EQ(e.uncovered, 0u) << where << ": finest samples in view without surface";
+                EXPECT_GT(e.samples, 0u) << where;
+                EXPECT_LE(e.max_px, epsilon * kPromiseSlack + kPromiseSlackPx)
+                    << where << ": " << e.max_px / epsilon << " ε";
+                if (e.max_px / epsilon > worst) {
+                    worst = e.max_px / epsilon;
+                    worst_at = where;
+                }
+            }
+        std::printf("[%s] %s: measured screen-space error at most %.3f ε (%s)\n", scheme.c_str(),
+                    fx.name.c_str(), worst, worst_at.c_str());
+    }
+}
+
+TEST_P(SchemeConformance, LookingDownNoBackgroundShowsInsideTheFootprint)
+{
+    const std::string scheme = GetParam();
+    const lod::Viewport vp{320, 240};
+    gpu::RenderTarget target(vp.width, vp.height, 1);
+    for (const Fixture& fx : fixtures()) {
+        Scene& s = scene(fx);
+        const lod::TerrainFrame& f = s.renderer->quadtree().frame();
+        const lod::PatchBounds& root = s.renderer->quadtree().bounds({0, 0, 0});
+        std::mt19937 rng(3);
+        std::uniform_real_distribution<double> u(0.0, 1.0);
+        size_t footprint = 0;
+        for (int k = 0; k < 4; ++k) {
+            const glm::dvec3 at(f.extentX() * (0.2 + 0.6 * u(rng)),
+                                f.extentY() * (0.2 + 0.6 * u(rng)), root.min_height);
+            const double height = (0.2 + u(rng)) * std::max(f.extentX(), f.extentY());
+            const glm::dvec3 pos = at + glm::dvec3(0.3 * height * (u(rng) - 0.5),
+                                                   0.3 * height * (u(rng) - 0.5),
+                                                   height + root.max_height);
+            const lod::Camera cam = cameraAt(*s.renderer, pos, at, vp);
+            target.bind();
+            s.renderer->draw(cam, settingsFor(scheme, 2.0));
+            const std::vector<float> depth = target.readDepth();
+            std::vector<uint8_t> background(depth.size());
+            for (size_t i = 0; i < depth.size(); ++i)
+                background[i] = depth[i] == 0.f; // reverse-Z clears to 0
+            const render::HoleReport h = render::countHolePixels(background, cam, f,
+                                                                 root.min_height, root.max_height);
+            footprint += h.footprint_pixels;
+            EXPECT_EQ(h.hole_pixels, 0u) << fx.name << " camera " << k << ": first at ("
+                                         << h.first_x << ", " << h.first_y << ")";
+        }
+        EXPECT_GT(footprint, 50000u) << fx.name << ": the cameras must look at the terrain";
+    }
+}
+
+TEST_P(SchemeConformance, StreamingFlyOverUnderATinyBudgetNeverShowsAHole)
+{
+    const std::string scheme = GetParam();
+    const Fixture& fx = fixtures()[1]; // progressive: GPU reconstruction where the scheme allows
+    Scene& synchronous = scene(fx);
+    render::RendererOptions options = render::RendererOptions::streamingDefaults();
+    options.schemes = {scheme};
+    options.chunk_meshes = true;
+    options.max_resident_patches = 12; // a handful of slots: ε rises, ancestors stand in
+    options.ram_budget_mb = 1.0;
+    options.uploads_per_frame = 2;
+    render::TerrainRenderer renderer(*synchronous.reader, options);
+    const lod::TerrainFrame& f = renderer.quadtree().frame();
+    const lod::PatchBounds& root = renderer.quadtree().bounds({0, 0, 0});
+    const lod::Viewport vp{240, 160};
+    gpu::RenderTarget target(vp.width, vp.height, 1);
+    target.bind();
+    const int frames = 24;
+    size_t footprint = 0, holes = 0;
+    for (int k = 0; k < frames; ++k) {
+        const double t = double(k) / (frames - 1);
+        const glm::dvec3 at(f.extentX() * (0.2 + 0.6 * t), f.extentY() * 0.5, root.min_height);
+        const glm::dvec3 pos = at + glm::dvec3(-0.1 * f.extentX(), -0.2 * f.extentY(),
+                                               root.max_height + 0.5 * f.extentX());
+        const lod::Camera cam = cameraAt(renderer, pos, at, vp);
+        renderer.draw(cam, settingsFor(scheme, 1.0));
+        const std::vector<float> depth = target.readDepth();
+        std::vector<uint8_t> background(depth.size());
+        for (size_t i = 0; i < depth.size(); ++i)
+            background[i] = depth[i] == 0.f;
+        const render::HoleReport h =
+            render::countHolePixels(background, cam, f, root.min_height, root.max_height);
+        footprint += h.footprint_pixels;
+        holes += h.hole_pixels;
+        EXPECT_EQ(h.hole_pixels, 0u) << "frame " << k;
+    }
+    EXPECT_EQ(renderer.streamingError(), "");
+    EXPECT_GT(footprint, size_t(frames) * 1000);
+    std::printf("[%s] streaming fly-over, 12 slots: %zu hole pixels in %zu footprint pixels\n",
+                scheme.c_str(), holes, footprint);
+}
+
+INSTANTIATE_TEST_SUITE_P(EveryRegisteredScheme, SchemeConformance,
+                         ::testing::ValuesIn(render::lodSchemeNames()),
+                         [](const auto& info) { return info.param; });
+
+} // namespace
+} // namespace ridge
