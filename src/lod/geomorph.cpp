@@ -84,15 +84,20 @@ void forEachTarget(const uint16_t* parent_codes, int n, int qx, int qy, Write wr
 }
 
 // Ties up, as targetCodes documents; a + b + 1 <= 131071 cannot overflow.
-uint16_t roundedMean(uint32_t a, uint32_t b) { return uint16_t((a + b + 1) / 2); }
+uint16_t roundedMean(uint32_t a, uint32_t b)
+{
+    return uint16_t((a + b + 1) / 2);
+}
 
 // A target in codes (checked in [0, 65535] by checkPatch) rounded the way targetCodes()
 // rounds: exact targets are k or k + ½, and k + ½ goes up.
-uint16_t roundTargetCode(double target) { return uint16_t(std::min(std::floor(target + 0.5), 65535.0)); }
+uint16_t roundTargetCode(double target)
+{
+    return uint16_t(std::min(std::floor(target + 0.5), 65535.0));
+}
 
 // Calls visit(vertex, i, j, bx, by) for every vertex in vertex-buffer order.
-template <typename Visit>
-void forEachVertex(int n, Visit visit)
+template <typename Visit> void forEachVertex(int n, Visit visit)
 {
     const int b = geomorphBlockCells(n), blocks = geomorphBlocksPerSide(n);
     size_t vertex = 0;
@@ -158,7 +163,10 @@ int geomorphBlockCells(int n)
     return std::min(n - 1, kGeomorphMaxBlockCells);
 }
 
-int geomorphBlocksPerSide(int n) { return (n - 1) / geomorphBlockCells(n); }
+int geomorphBlocksPerSide(int n)
+{
+    return (n - 1) / geomorphBlockCells(n);
+}
 
 size_t geomorphVertexCount(int n)
 {

@@ -27,7 +27,10 @@ void checkMap(HemisphereMap map)
 }
 
 // Texel index → square coordinate of its centre, in (−1, 1).
-double centre(int index) { return (2.0 * index + 1.0) / kHemisphereTextureSize - 1.0; }
+double centre(int index)
+{
+    return (2.0 * index + 1.0) / kHemisphereTextureSize - 1.0;
+}
 
 // Square coordinate → the texel that contains it.
 int texelOf(double a)
@@ -96,15 +99,16 @@ NormalIndex encodeHemisphereNormal(HemisphereMap map, glm::vec3 normal)
     checkMap(map);
     const double values[3] = {normal.x, normal.y, normal.z};
     checkParameters("normal", values, 3, ValueRange::any());
-    const double length = std::sqrt(values[0] * values[0] + values[1] * values[1] +
-                                    values[2] * values[2]);
+    const double length =
+        std::sqrt(values[0] * values[0] + values[1] * values[1] + values[2] * values[2]);
     if (!(length > 0.0))
         throw Error("normal is (0, 0, 0): must have a direction");
     if (normal.z < 0.0f)
         throw Error("normal has z = " + formatNumber(normal.z) +
                     " < 0: hemisphere normals point up (z >= 0)");
     const Vec3 n{values[0] / length, values[1] / length, values[2] / length};
-    const Vec2 square = map == HemisphereMap::Orthographic ? Vec2{n.x, n.y} : diskToSquare(n.x, n.y);
+    const Vec2 square =
+        map == HemisphereMap::Orthographic ? Vec2{n.x, n.y} : diskToSquare(n.x, n.y);
     // The containing texel is the nearest centre in the square, not always in angle (near the
     // horizon one texel spans degrees of elevation, and in the concentric map cells are
     // sheared): the best of its 3×3 neighbourhood wins.

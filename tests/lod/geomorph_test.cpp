@@ -36,15 +36,14 @@ std::vector<uint16_t> randomCodes(int n, uint32_t seed, int lo = 0, int hi = 655
 // The drawn surface of an n×n grid `h` at continuous sample coordinates (x, y) ∈ [0, n−1]²:
 // cell (i, j) split along b–c into (a, b, c) and (b, d, c), linear on each triangle. With
 // dyadic x, y and integer or half-integer h every operation is exact in double.
-template <typename T>
-double surfaceAt(const T* h, int n, double x, double y)
+template <typename T> double surfaceAt(const T* h, int n, double x, double y)
 {
     const int i = std::min(int(std::floor(x)), n - 2), j = std::min(int(std::floor(y)), n - 2);
     const double fx = x - i, fy = y - j;
     auto at = [&](int di, int dj) { return double(h[size_t(j + dj) * n + size_t(i + di)]); };
     const double a = at(0, 0), b = at(1, 0), c = at(0, 1), d = at(1, 1);
     if (fx + fy <= 1.0)
-        return a + fx * (b - a) + fy * (c - a); // triangle (a, b, c)
+        return a + fx * (b - a) + fy * (c - a);             // triangle (a, b, c)
     return d + (1.0 - fx) * (c - d) + (1.0 - fy) * (b - d); // triangle (b, d, c)
 }
 
@@ -55,7 +54,10 @@ std::vector<double> targetsOf(const std::vector<uint16_t>& parent, int n, int qx
     return target;
 }
 
-GeomorphFrame testFrame() { return {0.25, -120.0, 30.0, 20.0}; }
+GeomorphFrame testFrame()
+{
+    return {0.25, -120.0, 30.0, 20.0};
+}
 
 } // namespace
 
@@ -76,11 +78,12 @@ TEST(GeomorphTargets, AFullyMorphedChildIsExactlyItsParentsSurfaceEverywhere)
                 for (int s = 0; s < 20000; ++s) {
                     const double x = k(rng) / 64.0, y = k(rng) / 64.0;
                     const double child = surfaceAt(target.data(), n, x, y);
-                    const double drawn = surfaceAt(parent.data(), n, qx * m + x / 2, qy * m + y / 2);
+                    const double drawn =
+                        surfaceAt(parent.data(), n, qx * m + x / 2, qy * m + y / 2);
                     if (child != drawn && ++mismatches <= 3)
-                        ADD_FAILURE() << "n " << n << " quadrant (" << qx << ", " << qy
-                                      << ") at (" << x << ", " << y << "): child " << child
-                                      << ", parent " << drawn;
+                        ADD_FAILURE()
+                            << "n " << n << " quadrant (" << qx << ", " << qy << ") at (" << x
+                            << ", " << y << "): child " << child << ", parent " << drawn;
                 }
                 EXPECT_EQ(mismatches, 0) << "n " << n << " quadrant (" << qx << ", " << qy << ")";
             }
@@ -96,9 +99,9 @@ TEST(GeomorphTargets, EvenSamplesAreParentSamplesAndOddOnesMeansOfAnEdgeOrTheBCD
     auto T = [&](int i, int j) { return t[size_t(j) * n + i]; };
     EXPECT_EQ(T(0, 0), P(m, 0));
     EXPECT_EQ(T(8, 8), P(2 * m, m));
-    EXPECT_EQ(T(1, 0), (P(m, 0) + P(m + 1, 0)) / 2);         // edge along x
-    EXPECT_EQ(T(2, 3), (P(m + 1, 1) + P(m + 1, 2)) / 2);     // edge along y
-    EXPECT_EQ(T(3, 5), (P(m + 2, 2) + P(m + 1, 3)) / 2);     // cell centre: b = (x+1, y), c = (x, y+1)
+    EXPECT_EQ(T(1, 0), (P(m, 0) + P(m + 1, 0)) / 2);     // edge along x
+    EXPECT_EQ(T(2, 3), (P(m + 1, 1) + P(m + 1, 2)) / 2); // edge along y
+    EXPECT_EQ(T(3, 5), (P(m + 2, 2) + P(m + 1, 3)) / 2); // cell centre: b = (x+1, y), c = (x, y+1)
 }
 
 TEST(GeomorphTargets, SixteenBitTargetsAreWithinHalfACodeAndRoundTiesUp)
@@ -260,7 +263,8 @@ TEST(GeomorphBlocks, IndicesCoverEveryCellOnceAlongTheBCDiagonalCounterClockwise
         buildGeomorphBlockIndices(b, indices.data());
         const int side = b + 1;
         std::set<uint16_t> used;
-        std::map<std::pair<int, int>, int> diagonals; // per cell: which diagonal its triangles share
+        std::map<std::pair<int, int>, int>
+            diagonals; // per cell: which diagonal its triangles share
         for (size_t k = 0; k < indices.size(); k += 3) {
             int xs[3], ys[3];
             for (int v = 0; v < 3; ++v) {
@@ -356,8 +360,8 @@ TEST(GeomorphPacking, LitVerticesAreTheStructsAndColourOnlyTheirPrefix)
         ASSERT_EQ(standard[k].z, morphHeight(floats[k].z, floats[k].target_z, float(t)));
         ASSERT_EQ(standard[k].nx, normals[3 * s]);
         ASSERT_EQ(floats[k].nz, normals[3 * s + 2]);
-        const glm::vec3 decoded = decodeHemisphereNormal(HemisphereMap::Orthographic,
-                                                         c.normal_u, c.normal_v);
+        const glm::vec3 decoded =
+            decodeHemisphereNormal(HemisphereMap::Orthographic, c.normal_u, c.normal_v);
         const double dot = decoded.x * normals[3 * s] + decoded.y * normals[3 * s + 1] +
                            decoded.z * normals[3 * s + 2];
         ASSERT_GT(dot, std::cos(1.0 * M_PI / 180)) << "within 1° on rolling terrain";
@@ -427,9 +431,11 @@ TEST(GeomorphPacking, RefusesBadMorphFactorsFramesAndMissingInputs)
     expectError([&] { packFloatMorph(patch, bad, GeomorphShading::ColourOnly, out.data()); },
                 "frame.scale is nan");
     target[7] = kNaN;
-    expectError([&] { packCompact(patch, HemisphereMap::Concentric, GeomorphShading::ColourOnly,
-                                  out.data()); },
-                "patch.target[7] is nan");
+    expectError(
+        [&] {
+            packCompact(patch, HemisphereMap::Concentric, GeomorphShading::ColourOnly, out.data());
+        },
+        "patch.target[7] is nan");
     target[7] = 70000;
     expectError([&] { packFloatMorph(patch, frame, GeomorphShading::ColourOnly, out.data()); },
                 "patch.target[7] is 70000");

@@ -56,9 +56,9 @@ glm::dvec3 textureNormal(const std::vector<uint8_t>& texture, NormalIndex index)
 }
 
 struct ErrorStats {
-    double max = 0, mean = 0, worst_zenith = 0;      // through the exact decode
-    double texture_max = 0, texture_mean = 0;        // through the RGBA8 texture
-    double band_max[4] = {0, 0, 0, 0};               // zenith 0–30°, 30–60°, 60–80°, 80–90°
+    double max = 0, mean = 0, worst_zenith = 0; // through the exact decode
+    double texture_max = 0, texture_mean = 0;   // through the RGBA8 texture
+    double band_max[4] = {0, 0, 0, 0};          // zenith 0–30°, 30–60°, 60–80°, 80–90°
 };
 
 ErrorStats measure(HemisphereMap map, const std::vector<glm::dvec3>& normals)
@@ -137,7 +137,8 @@ TEST(HemisphereNormals, NeighbouringTexelsHoldNearbyNormals)
                 for (auto [du, dv] : {std::pair{1, 0}, {0, 1}}) {
                     if (u + du > 255 || v + dv > 255)
                         continue;
-                    const glm::dvec3 m(decodeHemisphereNormal(map, uint8_t(u + du), uint8_t(v + dv)));
+                    const glm::dvec3 m(
+                        decodeHemisphereNormal(map, uint8_t(u + du), uint8_t(v + dv)));
                     if (n.z == 0 && m.z == 0)
                         continue; // both outside the orthographic disk
                     const double a = angleDegrees(n, m);
@@ -148,8 +149,8 @@ TEST(HemisphereNormals, NeighbouringTexelsHoldNearbyNormals)
             }
         std::printf("%-12s neighbouring texels: max %.3f° apart, %.3f° within 60° of vertical\n",
                     nameOf(map), worst, worst_terrain);
-        EXPECT_LT(worst, 9.0) << nameOf(map);          // measured 7.09° / 3.73°
-        EXPECT_LT(worst_terrain, 1.2) << nameOf(map);  // 0.88° / 0.94°
+        EXPECT_LT(worst, 9.0) << nameOf(map);         // measured 7.09° / 3.73°
+        EXPECT_LT(worst_terrain, 1.2) << nameOf(map); // 0.88° / 0.94°
     }
 }
 
@@ -172,11 +173,11 @@ TEST(HemisphereNormals, RoundTripErrorsOfBothMaps)
         // (π/4 of the orthographic ones) make it slightly better.
         const bool ortho = map == HemisphereMap::Orthographic;
         EXPECT_GT(all.worst_zenith, 80.0) << nameOf(map);
-        EXPECT_LT(all.max, 6.5) << nameOf(map);                   // measured 4.99° / 5.07°
-        EXPECT_LT(all.mean, ortho ? 0.45 : 0.65) << nameOf(map);  // 0.344° / 0.517°
-        EXPECT_LT(steep.max, 0.6) << nameOf(map);                 // 0.477° / 0.466°
-        EXPECT_LT(steep.mean, 0.25) << nameOf(map);               // 0.202° / 0.190°
-        EXPECT_LT(steep.texture_max, 1.0) << nameOf(map);         // 0.722° / 0.803°
+        EXPECT_LT(all.max, 6.5) << nameOf(map);                  // measured 4.99° / 5.07°
+        EXPECT_LT(all.mean, ortho ? 0.45 : 0.65) << nameOf(map); // 0.344° / 0.517°
+        EXPECT_LT(steep.max, 0.6) << nameOf(map);                // 0.477° / 0.466°
+        EXPECT_LT(steep.mean, 0.25) << nameOf(map);              // 0.202° / 0.190°
+        EXPECT_LT(steep.texture_max, 1.0) << nameOf(map);        // 0.722° / 0.803°
     }
 }
 

@@ -67,7 +67,8 @@ TEST(GeomorphTwin, CompactVerticesDecodeOnTheGpuAsTheCppPackersComputeThem)
 
     const gpu::RenderTarget render_target(1, 1); // a complete framebuffer for the draws
     render_target.bind();
-    for (lod::HemisphereMap map : {lod::HemisphereMap::Orthographic, lod::HemisphereMap::Concentric}) {
+    for (lod::HemisphereMap map :
+         {lod::HemisphereMap::Orthographic, lod::HemisphereMap::Concentric}) {
         const double t = map == lod::HemisphereMap::Orthographic ? 0.3125 : 0.7;
         std::vector<lod::CompactVertex> compact(count);
         lod::packCompact(patch, map, lod::GeomorphShading::Lit, compact.data());
@@ -77,7 +78,8 @@ TEST(GeomorphTwin, CompactVerticesDecodeOnTheGpuAsTheCppPackersComputeThem)
 
         gpu::GlTexture texture(GL_TEXTURE_2D);
         glTextureStorage2D(texture.id(), 1, GL_RGBA8, 256, 256);
-        glTextureSubImage2D(texture.id(), 0, 0, 0, 256, 256, GL_RGBA, GL_UNSIGNED_BYTE, texels.data());
+        glTextureSubImage2D(texture.id(), 0, 0, 0, 256, 256, GL_RGBA, GL_UNSIGNED_BYTE,
+                            texels.data());
         glTextureParameteri(texture.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
         glTextureParameteri(texture.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
         glTextureParameteri(texture.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
@@ -94,8 +96,10 @@ TEST(GeomorphTwin, CompactVerticesDecodeOnTheGpuAsTheCppPackersComputeThem)
             glEnableVertexArrayAttrib(vao.id(), a);
             glVertexArrayAttribBinding(vao.id(), a, 0);
         }
-        glVertexArrayAttribIFormat(vao.id(), 0, 2, GL_UNSIGNED_BYTE, offsetof(lod::CompactVertex, bx));
-        glVertexArrayAttribIFormat(vao.id(), 1, 2, GL_UNSIGNED_SHORT, offsetof(lod::CompactVertex, height));
+        glVertexArrayAttribIFormat(vao.id(), 0, 2, GL_UNSIGNED_BYTE,
+                                   offsetof(lod::CompactVertex, bx));
+        glVertexArrayAttribIFormat(vao.id(), 1, 2, GL_UNSIGNED_SHORT,
+                                   offsetof(lod::CompactVertex, height));
         glVertexArrayAttribFormat(vao.id(), 2, 2, GL_UNSIGNED_BYTE, GL_FALSE,
                                   offsetof(lod::CompactVertex, normal_u));
         glBindVertexArray(vao.id());
@@ -139,11 +143,13 @@ TEST(GeomorphTwin, CompactVerticesDecodeOnTheGpuAsTheCppPackersComputeThem)
             // ... and within ½ code·t of the CPU-morphed exact target.
             ASSERT_LE(std::abs(g.position[2] - standard[k].z), 0.5 * frame.scale * t + 1e-3) << k;
             const glm::dvec3 exact(lod::decodeHemisphereNormal(map, c.normal_u, c.normal_v));
-            const glm::dvec3 analytic(g.normal_analytic[0], g.normal_analytic[1], g.normal_analytic[2]);
+            const glm::dvec3 analytic(g.normal_analytic[0], g.normal_analytic[1],
+                                      g.normal_analytic[2]);
             const glm::dvec3 fetched(g.normal_texture[0], g.normal_texture[1], g.normal_texture[2]);
             worst_analytic = std::max(worst_analytic, glm::length(analytic - exact));
-            worst_texture = std::max(worst_texture,
-                                     glm::length(fetched - textureNormal(texels, c.normal_u, c.normal_v)));
+            worst_texture =
+                std::max(worst_texture,
+                         glm::length(fetched - textureNormal(texels, c.normal_u, c.normal_v)));
         }
         EXPECT_EQ(z_mismatches, 0) << "of " << count << " vertices";
         EXPECT_LT(worst_analytic, 1e-5);

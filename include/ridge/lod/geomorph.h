@@ -114,7 +114,8 @@ void buildGeomorphBlockIndices(int block_cells, uint16_t* out);
 
 enum class GeomorphLayout { Standard, FloatMorph, Compact };
 enum class GeomorphShading {
-    ColourOnly, // positions (and targets) only: each vertex is the struct's prefix before nx/normal_u
+    ColourOnly, // positions (and targets) only: each vertex is the struct's prefix before
+                // nx/normal_u
     Lit,        // the whole struct
 };
 
@@ -138,10 +139,10 @@ static_assert(sizeof(FloatMorphVertex) == 28 && offsetof(FloatMorphVertex, nx) =
 // the hemisphere normal texture (hemisphere_normals.h), which the fragment stage may sample
 // with linear filtering at the interpolated index.
 struct CompactVertex {
-    uint8_t bx, by;              // in-block sample coordinates, 0..b
-    uint16_t height;             // own code
-    uint16_t target;             // target code (targetCodes: <= ½ code off the exact target)
-    uint8_t normal_u, normal_v;  // hemisphere texture texel
+    uint8_t bx, by;             // in-block sample coordinates, 0..b
+    uint16_t height;            // own code
+    uint16_t target;            // target code (targetCodes: <= ½ code off the exact target)
+    uint8_t normal_u, normal_v; // hemisphere texture texel
 };
 static_assert(sizeof(CompactVertex) == 8 && offsetof(CompactVertex, normal_u) == 6);
 
