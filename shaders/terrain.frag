@@ -13,6 +13,7 @@ in Vertex {
 } v;
 
 layout(binding = 1) uniform sampler2DArray u_normals;
+#include "geomorph_common.glsl"
 
 uniform int u_mode;             // 0 shaded, 1 LOD level colours, 2 tessellation-factor heat map, 3 flat colour
 uniform vec3 u_flat_colour;     // mode 3 (wireframe overlay)
@@ -47,6 +48,16 @@ vec3 heat(float t) { // 0 blue (coarse) .. 1 red (full resolution)
     return clamp(vec3(1.5 - abs(4.0 * t - 3.0), 1.5 - abs(4.0 * t - 2.0), 1.5 - abs(4.0 * t - 1.0)), 0.0, 1.0);
 }
 
+// The normal map's, or the vertex's own normal where a scheme sends one (geomorph.vert):
+// texcoord (u, v, −1) indexes the hemisphere normal texture, (nx, ny, −2 − nz) is a normal.
+vec3 surfaceNormal() {
+    if (v.texcoord.z >= -0.5)
+        return normalize(texture(u_normals, v.texcoord).xyz);
+    if (v.texcoord.z > -1.5)
+        return normalize(hemisphereNormalLookup(v.texcoord.xy));
+    return normalize(vec3(v.texcoord.xy, -2.0 - v.texcoord.z));
+}
+
 void main() {
     if (u_mode == 3) {
         frag_colour = vec4(u_flat_colour, 1.0);
@@ -54,7 +65,7 @@ void main() {
     }
     // Skirts take the normal of the border sample above them, so that a step between two
     // levels reads as part of the slope rather than as a dark line.
-    vec3 n = normalize(texture(u_normals, v.texcoord).xyz);
+    vec3 n = surfaceNormal();
     if (v.skirt == 2) {
         // A wall is a flat vertical face: its own normal, towards the viewer.
         n = normalize(cross(dFdx(v.position), dFdy(v.position)));

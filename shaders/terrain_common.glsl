@@ -5,7 +5,7 @@
 struct PatchInstance {
     ivec2 origin;       // finest-grid column, row of patch sample (0, 0), relative to u_anchor
     int step;           // finest samples per patch cell: 2^(L − level)
-    int pad2;
+    float morph;        // geomorph: t towards the parent's surface (0 for other schemes)
     int layer;          // texture-array slot of heights, normals and block errors
     int level;          // quadtree level
     float err;          // Err(P), metres

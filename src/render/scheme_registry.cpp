@@ -9,6 +9,7 @@ namespace ridge::render {
 SchemeInfo tessellationScheme();
 SchemeInfo chunkedScheme();
 SchemeInfo bruteForceScheme();
+SchemeInfo geomorphScheme();
 
 const std::vector<SchemeInfo>& schemeRegistry()
 {
@@ -16,6 +17,7 @@ const std::vector<SchemeInfo>& schemeRegistry()
         tessellationScheme(),
         chunkedScheme(),
         bruteForceScheme(),
+        geomorphScheme(),
     };
     return registry;
 }

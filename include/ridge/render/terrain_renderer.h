@@ -11,6 +11,7 @@
 #include "ridge/archive/archive_reader.h"
 #include "ridge/core/parameter_check.h"
 #include "ridge/lod/camera.h"
+#include "ridge/lod/geomorph.h"
 #include "ridge/lod/patch_quadtree.h"
 #include "ridge/lod/patch_residency.h"
 
@@ -184,6 +185,16 @@ struct RendererOptions {
     // patch's full grid of samples.
     bool chunk_meshes = false;
     double chunk_tolerance = 0.5; // fewest triangles and draws on the Sierra fly-over
+
+    // Scheme "geomorph" (Ma, Sun & Song 2013): the vertex layout it sends, as the paper
+    // studies them — Standard (positions morphed on the CPU and sent every frame),
+    // FloatMorph (GPU morph, float position, target height and normal) or Compact (GPU morph,
+    // block coordinates in bytes, 16-bit height and target codes, a 2-byte index into a
+    // hemisphere normal texture); the hemisphere map of the compact normals; and the paper's
+    // regime (vertex data sent every frame, no resident buffers) or resident buffers.
+    lod::GeomorphLayout geomorph_layout = lod::GeomorphLayout::Compact;
+    lod::HemisphereMap geomorph_normal_map = lod::HemisphereMap::Orthographic;
+    bool geomorph_per_frame = false;
 
     // Throws ridge::Error naming the first field outside its range above (NaN and infinities
     // included, and schemes that are not registered). The TerrainRenderer constructor calls it.
