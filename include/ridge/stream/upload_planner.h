@@ -79,7 +79,7 @@ struct StreamPlan {
     std::vector<size_t> dropped;
 };
 
-// What finish() settles; valid until the next finish().
+// What finish() settles; valid until the next plan().
 struct StreamOutcome {
     lod::Selection drawn;        // the desired selection's resident cover: draw this
     std::vector<size_t> waiting; // handles of arrived patches to offer again next frame
