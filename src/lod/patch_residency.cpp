@@ -39,6 +39,7 @@ std::vector<PatchResidency::Load> PatchResidency::update(const std::vector<Patch
     if (needed.size() > slot_owner_.size())
         throw Error("patch residency: " + std::to_string(needed.size()) + " patches needed, " +
                     std::to_string(slot_owner_.size()) + " slots");
+    latest_frame_ = std::max(latest_frame_, frame);
     std::vector<PatchId> missing;
     for (PatchId p : needed) {
         auto it = slot_of_.find(geometry_.patchIndex(p));

@@ -75,3 +75,26 @@ TEST(ResidentCover, AllResidentIsTheSelectionItselfAndAMissingRootIsAnError)
     EXPECT_EQ(all.missing, 0);
     EXPECT_THROW(residentCover(sel, g, [](PatchId) { return false; }), Error);
 }
+
+TEST(ResidentCover, ReusedOutputIsSortedCoarseFirstAndMergesWhatOneAncestorStandsFor)
+{
+    const PyramidGeometry g(300, 200, 33);
+    Selection sel;
+    sel.patches.push_back({PatchId{2, 1, 0}, 3.0, Visibility::Inside});
+    sel.patches.push_back({PatchId{2, 0, 0}, 5.0, Visibility::Intersecting});
+    sel.patches.push_back({PatchId{1, 1, 0}, 1.0, Visibility::Inside});
+    // (2, 0, 0) and (2, 1, 0) fall back to (1, 0, 0); the root is resident too.
+    const std::set<int> resident_levels_0_1{0, 1};
+    ResidentCover cover;
+    cover.patches.reserve(8);
+    for (int k = 0; k < 2; ++k) { // the second time into the same output
+        residentCover(
+            sel, g, [&](PatchId p) { return resident_levels_0_1.count(p.level) > 0; }, cover);
+        ASSERT_EQ(cover.patches.size(), 2u);
+        EXPECT_EQ(cover.patches[0].id, (PatchId{1, 0, 0}));
+        EXPECT_EQ(cover.patches[0].screen_error, 5.0);
+        EXPECT_EQ(cover.patches[0].visibility, Visibility::Intersecting);
+        EXPECT_EQ(cover.patches[1].id, (PatchId{1, 1, 0}));
+        EXPECT_EQ(cover.missing, 2);
+    }
+}

@@ -29,6 +29,9 @@ class PatchResidency {
     int capacity() const { return int(slot_owner_.size()); }
     int residentCount() const { return int(slot_of_.size()); }
     uint64_t evictions() const { return evictions_; }
+    // The latest `frame` passed to update (0 before the first): users that share a residency
+    // continue from it, so that frames keep increasing and LRU order holds.
+    uint64_t latestFrame() const { return latest_frame_; }
     // Forgets `p` (e.g. its upload failed); its slot becomes free.
     void release(PatchId p);
 
@@ -39,6 +42,7 @@ class PatchResidency {
     std::vector<uint64_t> last_used_;          // slot -> frame
     std::vector<int> free_slots_;
     uint64_t evictions_ = 0;
+    uint64_t latest_frame_ = 0;
 };
 
 } // namespace ridge::lod

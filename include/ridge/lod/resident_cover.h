@@ -12,12 +12,18 @@
 namespace ridge::lod {
 
 struct ResidentCover {
-    std::vector<SelectedPatch> patches; // what to draw
-    int missing = 0;                    // selected patches drawn by an ancestor
+    // What to draw, by patch index (coarse first). An ancestor standing in for several
+    // selected patches carries the largest of their Err_Scr and the least certain visibility.
+    std::vector<SelectedPatch> patches;
+    int missing = 0; // selected patches drawn by an ancestor
 };
 
 // `resident(p)` must hold for the root (level 0).
 ResidentCover residentCover(const Selection& selection, const PyramidGeometry& geometry,
                             const std::function<bool(PatchId)>& resident);
+// The same into `out`, whose capacity is kept: once it has grown to the selection's size a
+// call allocates nothing (the streaming planner calls it every frame).
+void residentCover(const Selection& selection, const PyramidGeometry& geometry,
+                   const std::function<bool(PatchId)>& resident, ResidentCover& out);
 
 } // namespace ridge::lod

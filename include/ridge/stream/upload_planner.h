@@ -1,0 +1,163 @@
+#pragma once
+// The streaming policy of the renderer, without GL: each frame, what to ask the streamer for,
+// which arrived patches to upload into which texture-array slot within the upload budget,
+// which to keep waiting, and what to draw meanwhile (the resident cover of the selection).
+// The GL layer executes the plan:
+//
+//     const StreamPlan& plan = planner.plan(desired, arrived, budget);
+//     for (const StreamRequest& r : plan.requests) streamer.request(r.id, r.priority);
+//     size_t done = 0;
+//     for (; done < plan.uploads.size() && !outOfTime(done); ++done)
+//         upload(arrived patch plan.uploads[done].handle, into plan.uploads[done].slot);
+//     const StreamOutcome& outcome = planner.finish(done); // releases what was not written
+//     keep the arrived patches of outcome.waiting; draw outcome.drawn.
+//
+// The policy (the hardware-tessellation paper's streaming, with the fractal-rings paper's LRU
+// tile cache, lod::PatchResidency):
+//   - requests: the selection, coarse before fine, then by screen-space error; with GPU
+//     reconstruction also every ancestor up to the finest resident one, ahead of it (one
+//     request round for the whole chain); not what is resident or arrived already;
+//   - kept resident: the root, what is drawn now (the resident cover of the selection) and
+//     the resident parents of arrived patches waiting for GPU reconstruction;
+//   - uploads: arrived patches still wanted, coarse first (a parent is written before its
+//     children), within the byte and count budgets (at least one when one is ready) and the
+//     free slots; a patch reconstructed on the GPU only once its parent is resident and kept,
+//     or uploaded earlier in the same plan.
+//
+// No allocation per frame once the vectors have grown to the frame's sizes: members are
+// cleared, not rebuilt, and per-frame sets are FrameKeyMaps (generation-stamped open
+// addressing), not node-based hash sets or arrays over every patch of the archive.
+// Not thread-safe: one planner per render thread.
+#include "ridge/lod/patch_quadtree.h"
+#include "ridge/lod/patch_residency.h"
+#include "ridge/lod/resident_cover.h"
+#include "ridge/stream/frame_key_map.h"
+
+#include <cstddef>
+#include <functional>
+#include <optional>
+#include <span>
+#include <vector>
+
+namespace ridge::stream {
+
+// A decoded patch waiting on the CPU for its upload, as the planner sees it.
+struct ArrivedPatch {
+    PatchId id;
+    size_t upload_bytes = 0;               // what uploading it sends, at most
+    bool needs_gpu_reconstruction = false; // refined on the GPU from its resident parent
+    size_t handle = 0;                     // the caller's: where the patch is in its list
+};
+
+// PatchStreamer::request(id, priority): a larger priority is served first.
+struct StreamRequest {
+    PatchId id;
+    double priority = 0.0;
+};
+
+// Per frame. Time is the executor's: it may stop early (UploadPlanner::finish).
+struct UploadBudget {
+    size_t bytes = size_t(8) << 20;
+    int count = 16;
+};
+
+struct PlannedUpload {
+    PatchId id;
+    int slot = 0; // the texture-array slot to write, from lod::PatchResidency::update
+    size_t upload_bytes = 0;
+    bool needs_gpu_reconstruction = false;
+    size_t handle = 0; // ArrivedPatch::handle
+};
+
+// What plan() decides; valid until the next plan().
+struct StreamPlan {
+    std::vector<StreamRequest> requests; // for PatchStreamer::request, in any order
+    // Coarse first: execute in this order, so that a parent is written before its children.
+    std::vector<PlannedUpload> uploads;
+    // Handles of arrived patches to let go: no longer wanted, already resident or listed
+    // twice (the streamer's RAM cache still has them for a later request).
+    std::vector<size_t> dropped;
+};
+
+// What finish() settles; valid until the next plan().
+struct StreamOutcome {
+    lod::Selection drawn;        // the desired selection's resident cover: draw this
+    std::vector<size_t> waiting; // handles of arrived patches to offer again next frame
+    int missing = 0;             // desired patches drawn by an ancestor
+    int uploaded = 0;            // uploads done
+    int reconstructed = 0;       // of those, reconstructed on the GPU
+};
+
+// Coarse before fine, then by Err_Scr: 10^6 per level above the finest, Err_Scr below it.
+double requestPriority(const PyramidGeometry& geometry, PatchId p, double screen_error);
+// Below every requestPriority of the geometry: for what a later frame will need.
+double prefetchPriority(const PyramidGeometry& geometry, PatchId p, double screen_error);
+
+// `camera` moved `frames` frames ahead at `velocity` (terrain-frame metres per frame), looking
+// the same way, within kCameraCoordinateRange however far that extrapolates; nothing when
+// `frames` <= 0 or the camera stands still.
+std::optional<lod::Camera> extrapolatedCamera(const lod::Camera& camera, glm::dvec3 velocity,
+                                              int frames);
+
+class UploadPlanner {
+  public:
+    // `residency` is the caller's (it also maps patches to slots when drawing) and must
+    // outlive the planner; its root patch must be resident before the first plan().
+    // `gpu_reconstruction`: the streamer delivers residuals (StreamerOptions::
+    // residuals_for_gpu), so whole ancestor chains are requested.
+    UploadPlanner(const PyramidGeometry& geometry, lod::PatchResidency& residency,
+                  bool gpu_reconstruction);
+    // Pinned: is_resident_ captures `this`.
+    UploadPlanner(const UploadPlanner&) = delete;
+    UploadPlanner& operator=(const UploadPlanner&) = delete;
+
+    // Plans a frame: `desired` is this frame's selection (at most residency.capacity()
+    // patches), `arrived` every decoded patch not yet uploaded (last frame's waiting ones and
+    // what the streamer delivered since). Assigns the uploads their slots at once. Throws
+    // ridge::Error when the root is not resident or the last plan was not finished.
+    const StreamPlan& plan(const lod::Selection& desired, std::span<const ArrivedPatch> arrived,
+                           const UploadBudget& budget);
+    // Appends to the current plan's requests, below all of them, what `camera` will select
+    // (`settings`) `frames` frames ahead at its velocity since the previous call (none the
+    // first time), less what is resident or requested already. Between plan() and finish().
+    void prefetch(const lod::PatchQuadtree& quadtree, const lod::Camera& camera, int frames,
+                  const lod::SelectionSettings& settings);
+    // Ends the frame after the first `done` uploads of the plan were written: the slots of
+    // the others are released and their patches wait for a later frame. Call it also when an
+    // upload throws (with the index of the failed one), before rethrowing.
+    const StreamOutcome& finish(size_t done);
+
+  private:
+    bool resident(PatchId p) const { return residency_.slotOf(p) >= 0; }
+    bool want(PatchId p, double priority);
+    void collectWanted(const lod::Selection& desired);
+    void need(PatchId p);
+    void sortArrived(std::span<const ArrivedPatch> arrived);
+    bool hasArrived(PatchId p, std::span<const ArrivedPatch> arrived) const;
+    void keepParentsOfWaiting(std::span<const ArrivedPatch> arrived);
+    bool parentReady(const ArrivedPatch& a) const;
+    void chooseUploads(std::span<const ArrivedPatch> arrived, const UploadBudget& budget);
+    void assignSlots();
+
+    PyramidGeometry geometry_;
+    lod::PatchResidency& residency_;
+    bool gpu_reconstruction_ = false;
+    std::function<bool(PatchId)> is_resident_; // for lod::residentCover, built once
+
+    StreamPlan plan_;
+    StreamOutcome outcome_;
+    bool open_ = false;        // plan() done, finish() not yet
+    lod::Selection desired_;   // this frame's, for the cover drawn after the uploads
+    lod::ResidentCover cover_; // scratch
+    FrameKeyMap<char> wanted_; // patch index -> wanted this frame (requested unless resident)
+    std::vector<StreamRequest> wanted_list_;
+    FrameKeyMap<char> needed_; // patch index -> kept resident this frame
+    std::vector<PatchId> needed_list_;
+    FrameKeyMap<char> uploading_; // patch index -> in plan_.uploads
+    std::vector<size_t> order_;   // positions in `arrived`, coarse first
+
+    glm::dvec3 last_camera_{0.0}; // prefetch: the camera's velocity
+    bool has_last_camera_ = false;
+};
+
+} // namespace ridge::stream

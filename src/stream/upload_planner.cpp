@@ -1,0 +1,268 @@
+#include "ridge/stream/upload_planner.h"
+
+#include "ridge/core/error.h"
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
+
+#include <algorithm>
+
+namespace ridge::stream {
+
+namespace {
+
+// Err_Scr is capped below one level's rank, so that a huge error never outranks a coarser
+// level (coarse before fine is what makes GPU reconstruction and the fallback work).
+constexpr double kLevelRank = 1e6;
+
+const PatchId kRoot{0, 0, 0};
+
+} // namespace
+
+double requestPriority(const PyramidGeometry& geometry, PatchId p, double screen_error)
+{
+    return kLevelRank * (geometry.levelCount() - p.level) +
+           std::clamp(screen_error, 0.0, kLevelRank - 1.0);
+}
+
+double prefetchPriority(const PyramidGeometry& geometry, PatchId p, double screen_error)
+{
+    // The finest level ranks 10^6 in requestPriority, the root (levels + 1)·10^6 at most.
+    return requestPriority(geometry, p, screen_error) - kLevelRank * (geometry.levelCount() + 1);
+}
+
+std::optional<lod::Camera> extrapolatedCamera(const lod::Camera& camera, glm::dvec3 velocity,
+                                              int frames)
+{
+    if (frames <= 0 || !(glm::length(velocity) > 0.0))
+        return std::nullopt;
+    // Within the coordinates a camera may take, however far a jump extrapolates.
+    const double limit = lod::kCameraCoordinateRange.hi;
+    const glm::dvec3 ahead = glm::clamp(camera.position() + velocity * double(frames),
+                                        glm::dvec3(-limit), glm::dvec3(limit));
+    return lod::Camera(ahead, ahead + camera.forward(), glm::degrees(camera.fovY()),
+                       camera.viewport(), camera.nearPlane(), camera.farPlane());
+}
+
+UploadPlanner::UploadPlanner(const PyramidGeometry& geometry, lod::PatchResidency& residency,
+                             bool gpu_reconstruction)
+    : geometry_(geometry), residency_(residency), gpu_reconstruction_(gpu_reconstruction),
+      is_resident_([this](PatchId p) { return resident(p); })
+{
+    // What a frame keeps and uploads fits in the slots, and the selection should too: room
+    // for that from the start, so that no frame grows these (wanted chains may still).
+    const size_t slots = size_t(residency.capacity());
+    for (std::vector<lod::SelectedPatch>* v :
+         {&desired_.patches, &cover_.patches, &outcome_.drawn.patches})
+        v->reserve(slots);
+    plan_.uploads.reserve(slots);
+    needed_list_.reserve(slots);
+    needed_.reserve(slots);
+    uploading_.reserve(slots);
+    wanted_list_.reserve(2 * slots);
+    wanted_.reserve(2 * slots);
+    plan_.requests.reserve(2 * slots);
+}
+
+// Adds `p` to this frame's wanted patches; false when it is in already.
+bool UploadPlanner::want(PatchId p, double priority)
+{
+    if (!wanted_.insert(geometry_.patchIndex(p), 1))
+        return false;
+    wanted_list_.push_back({p, priority});
+    return true;
+}
+
+void UploadPlanner::collectWanted(const lod::Selection& desired)
+{
+    wanted_.clear();
+    wanted_list_.clear();
+    for (const lod::SelectedPatch& sp : desired.patches)
+        want(sp.id, requestPriority(geometry_, sp.id, sp.screen_error));
+    if (!gpu_reconstruction_)
+        return;
+    // A patch reconstructed on the GPU needs its parent resident, so every ancestor up to the
+    // finest resident one is wanted too, ahead of it (a coarser level ranks higher).
+    for (const lod::SelectedPatch& sp : desired.patches)
+        for (PatchId a = sp.id; a.level > 0 && !resident(a);) {
+            a = a.parent();
+            if (!want(a, requestPriority(geometry_, a, 0.0)))
+                break; // the rest of the chain is in already
+        }
+}
+
+void UploadPlanner::need(PatchId p)
+{
+    if (needed_.insert(geometry_.patchIndex(p), 1))
+        needed_list_.push_back(p);
+}
+
+// Coarse first (patch indices run level by level), the caller's order among duplicates.
+void UploadPlanner::sortArrived(std::span<const ArrivedPatch> arrived)
+{
+    order_.resize(arrived.size());
+    for (size_t k = 0; k < order_.size(); ++k)
+        order_[k] = k;
+    std::sort(order_.begin(), order_.end(), [&](size_t a, size_t b) {
+        const int64_t ka = geometry_.patchIndex(arrived[a].id);
+        const int64_t kb = geometry_.patchIndex(arrived[b].id);
+        return ka != kb ? ka < kb : a < b;
+    });
+}
+
+// Whether `p` is among the arrived patches (sortArrived first). Such a patch is not requested
+// again: the streamer would hand it over once more from its RAM cache, every frame it waits.
+bool UploadPlanner::hasArrived(PatchId p, std::span<const ArrivedPatch> arrived) const
+{
+    const int64_t key = geometry_.patchIndex(p);
+    auto it = std::lower_bound(order_.begin(), order_.end(), key, [&](size_t pos, int64_t k) {
+        return geometry_.patchIndex(arrived[pos].id) < k;
+    });
+    return it != order_.end() && arrived[*it].id == p;
+}
+
+// "Ancestors needed for decoding stay resident": the parent of a patch that waits for GPU
+// reconstruction is not evicted, or the patch would wait for its parent's return.
+void UploadPlanner::keepParentsOfWaiting(std::span<const ArrivedPatch> arrived)
+{
+    for (size_t pos : order_) {
+        const ArrivedPatch& a = arrived[pos];
+        if (a.needs_gpu_reconstruction && wanted_.contains(geometry_.patchIndex(a.id)) &&
+            !resident(a.id) && resident(a.id.parent()) &&
+            needed_list_.size() < size_t(residency_.capacity()))
+            need(a.id.parent());
+    }
+}
+
+// A patch reconstructed on the GPU reads its parent's slot: the parent must be resident and
+// kept this frame (not evicted by this frame's uploads), or be uploaded before it.
+bool UploadPlanner::parentReady(const ArrivedPatch& a) const
+{
+    if (!a.needs_gpu_reconstruction)
+        return true;
+    const int64_t parent = geometry_.patchIndex(a.id.parent());
+    return uploading_.contains(parent) || (needed_.contains(parent) && resident(a.id.parent()));
+}
+
+void UploadPlanner::chooseUploads(std::span<const ArrivedPatch> arrived, const UploadBudget& budget)
+{
+    uploading_.clear();
+    size_t planned_bytes = 0;
+    int64_t previous = -1;
+    for (size_t pos : order_) {
+        const ArrivedPatch& a = arrived[pos];
+        const int64_t key = geometry_.patchIndex(a.id);
+        const bool duplicate = key == previous;
+        previous = key;
+        if (duplicate || !wanted_.contains(key) || resident(a.id)) {
+            plan_.dropped.push_back(a.handle);
+            continue;
+        }
+        // At least one upload when one is ready, so that streaming always progresses.
+        const bool within_budget =
+            plan_.uploads.empty() || (int(plan_.uploads.size()) < budget.count &&
+                                      planned_bytes + a.upload_bytes <= budget.bytes);
+        if (parentReady(a) && within_budget &&
+            needed_list_.size() < size_t(residency_.capacity())) {
+            planned_bytes += a.upload_bytes;
+            need(a.id);
+            uploading_.insert(key, 1);
+            plan_.uploads.push_back(
+                {a.id, -1, a.upload_bytes, a.needs_gpu_reconstruction, a.handle});
+        } else {
+            outcome_.waiting.push_back(a.handle);
+        }
+    }
+}
+
+void UploadPlanner::assignSlots()
+{
+    const auto loads = residency_.update(needed_list_, residency_.latestFrame() + 1);
+    // Everything else needed is resident already, so the loads are exactly the uploads.
+    if (loads.size() != plan_.uploads.size())
+        throw Error("upload planner: " + std::to_string(loads.size()) + " slots assigned for " +
+                    std::to_string(plan_.uploads.size()) + " uploads");
+    for (PlannedUpload& u : plan_.uploads)
+        u.slot = residency_.slotOf(u.id);
+}
+
+const StreamPlan& UploadPlanner::plan(const lod::Selection& desired,
+                                      std::span<const ArrivedPatch> arrived,
+                                      const UploadBudget& budget)
+{
+    if (open_)
+        throw Error("upload planner: plan() before finish() of the previous plan");
+    if (!resident(kRoot))
+        throw Error("upload planner: the root patch is not resident");
+    plan_.requests.clear();
+    plan_.uploads.clear();
+    plan_.dropped.clear();
+    outcome_.waiting.clear();
+    desired_ = desired; // capacity kept
+
+    collectWanted(desired);
+    sortArrived(arrived);
+    for (const StreamRequest& r : wanted_list_)
+        if (!resident(r.id) && !hasArrived(r.id, arrived))
+            plan_.requests.push_back(r);
+    // What this frame keeps: the root, what is drawn now, the parents of waiting patches.
+    needed_.clear();
+    needed_list_.clear();
+    need(kRoot);
+    lod::residentCover(desired, geometry_, is_resident_, cover_);
+    for (const lod::SelectedPatch& d : cover_.patches)
+        need(d.id);
+    keepParentsOfWaiting(arrived);
+    chooseUploads(arrived, budget);
+    assignSlots();
+    open_ = true;
+    return plan_;
+}
+
+void UploadPlanner::prefetch(const lod::PatchQuadtree& quadtree, const lod::Camera& camera,
+                             int frames, const lod::SelectionSettings& settings)
+{
+    if (!open_)
+        throw Error("upload planner: prefetch() outside plan() ... finish()");
+    const glm::dvec3 velocity =
+        has_last_camera_ ? camera.position() - last_camera_ : glm::dvec3(0.0);
+    last_camera_ = camera.position();
+    has_last_camera_ = true;
+    const std::optional<lod::Camera> future = extrapolatedCamera(camera, velocity, frames);
+    if (!future)
+        return;
+    // Not what this frame wants: a streamer request overwrites the priority, and prefetch's
+    // lower one would put this frame's patches behind the future's.
+    for (const lod::SelectedPatch& sp : quadtree.select(*future, settings).patches)
+        if (!resident(sp.id) && !wanted_.contains(geometry_.patchIndex(sp.id)))
+            plan_.requests.push_back({sp.id, prefetchPriority(geometry_, sp.id, sp.screen_error)});
+}
+
+const StreamOutcome& UploadPlanner::finish(size_t done)
+{
+    if (!open_)
+        throw Error("upload planner: finish() without plan()");
+    if (done > plan_.uploads.size())
+        throw Error("upload planner: " + std::to_string(done) + " uploads done of " +
+                    std::to_string(plan_.uploads.size()));
+    open_ = false;
+    outcome_.uploaded = int(done);
+    outcome_.reconstructed = 0;
+    for (size_t k = 0; k < done; ++k)
+        outcome_.reconstructed += plan_.uploads[k].needs_gpu_reconstruction;
+    // Assigned but never written: free the slots, offer the patches again next frame.
+    for (size_t k = done; k < plan_.uploads.size(); ++k) {
+        residency_.release(plan_.uploads[k].id);
+        outcome_.waiting.push_back(plan_.uploads[k].handle);
+    }
+    lod::residentCover(desired_, geometry_, is_resident_, cover_);
+    outcome_.missing = cover_.missing;
+    outcome_.drawn.patches = cover_.patches; // capacity kept
+    outcome_.drawn.epsilon_px = desired_.epsilon_px;
+    outcome_.drawn.visited = desired_.visited;
+    outcome_.drawn.culled = desired_.culled;
+    return outcome_;
+}
+
+} // namespace ridge::stream
