@@ -11,10 +11,10 @@
 #include "ridge/gpu/shader_program.h"
 #include "ridge/lod/coarse_terrain.h"
 #include "ridge/lod/edge_tessellation.h"
-#include "ridge/lod/resident_cover.h"
 #include "ridge/lod/screen_space_error.h"
 #include "ridge/stream/patch_loader.h"
 #include "ridge/stream/patch_streamer.h"
+#include "ridge/stream/upload_planner.h"
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
@@ -28,7 +28,6 @@
 #include <cmath>
 #include <cstdio>
 #include <optional>
-#include <unordered_map>
 #include <unordered_set>
 
 namespace ridge::render {
@@ -155,14 +154,13 @@ struct TerrainRenderer::Impl {
     // Streaming mode: decoded patches arrive from the streamer's workers and wait here for an
     // upload slot in a later frame.
     std::unique_ptr<stream::PatchStreamer> streamer;
-    std::vector<std::shared_ptr<const stream::DecodedPatch>> arrived;
+    std::vector<std::shared_ptr<const stream::DecodedPatch>> arrived, waiting;
+    std::vector<stream::ArrivedPatch> arrived_descriptions; // capacity kept across frames
+    std::unique_ptr<stream::UploadPlanner> planner;
     // Traffic counters at the end of the previous frame (FrameStats reports the difference).
     stream::StreamerStats last_streamer_stats;
     stream::LoaderStats last_loader_stats;
     std::vector<PatchId> last_drawn;
-    // Camera-path extrapolation for prefetching (the JPEG 2000 terrain paper, §4).
-    bool has_last_camera = false;
-    glm::dvec3 last_camera{0.0};
     gpu::GlBuffer instances;
     size_t instance_capacity = 0;
     gpu::GlBuffer feedback;
@@ -194,9 +192,6 @@ struct TerrainRenderer::Impl {
     lod::Selection streamResident(const lod::Selection& desired, FrameStats& stats,
                                   const lod::Camera& camera,
                                   const lod::SelectionSettings& settings);
-    // Requests, below everything the current frame needs, what the camera will need
-    // `prefetch_frames` frames ahead if it keeps its velocity.
-    void prefetch(const lod::Camera& camera, const lod::SelectionSettings& settings);
     size_t uploadPatch(const stream::DecodedPatch& patch, int slot,
                        const std::unordered_set<int>& pending_slots = {});
     // What uploading `patch` will send, at most (the per-frame budget plans with it).
@@ -281,6 +276,8 @@ TerrainRenderer::Impl::Impl(const archive::ArchiveReader& r, const RendererOptio
             uploadPatch(*loader.load(l.id), l.slot);
         computeNormals(root, {});
         textures->finishUploads();
+        planner = std::make_unique<stream::UploadPlanner>(reader.geometry(), residency,
+                                                          so.residuals_for_gpu);
     }
     sky_program =
         gpu::ShaderProgram({{GL_VERTEX_SHADER, "sky.vert"}, {GL_FRAGMENT_SHADER, "sky.frag"}});
@@ -499,142 +496,59 @@ lod::Selection TerrainRenderer::Impl::prepare(const lod::Camera& camera,
     return selection;
 }
 
-void TerrainRenderer::Impl::prefetch(const lod::Camera& camera,
-                                     const lod::SelectionSettings& settings)
-{
-    const glm::dvec3 velocity = has_last_camera ? camera.position() - last_camera : glm::dvec3(0.0);
-    last_camera = camera.position();
-    has_last_camera = true;
-    if (options.prefetch_frames <= 0 || glm::length(velocity) <= 0.0)
-        return;
-    // Within the coordinates a camera may take, however far a jump extrapolates.
-    const double limit = lod::kCameraCoordinateRange.hi;
-    const glm::dvec3 ahead =
-        glm::clamp(camera.position() + velocity * double(options.prefetch_frames),
-                   glm::dvec3(-limit), glm::dvec3(limit));
-    const lod::Camera future(ahead, ahead + camera.forward(), glm::degrees(camera.fovY()),
-                             camera.viewport(), camera.nearPlane(), camera.farPlane());
-    const PyramidGeometry& g = reader.geometry();
-    for (const lod::SelectedPatch& sp : quadtree.select(future, settings).patches)
-        if (residency.slotOf(sp.id) < 0)
-            streamer->request(sp.id, -1e7 + 1e6 * (g.levelCount() - sp.id.level) + sp.screen_error);
-}
-
+// Streaming, executed: the GL-free stream::UploadPlanner decides what to request, what stays
+// resident, what to upload this frame and into which slot; this uploads it (stopping when the
+// time budget is spent) and tells the planner how far it got.
 lod::Selection TerrainRenderer::Impl::streamResident(const lod::Selection& desired,
                                                      FrameStats& stats, const lod::Camera& camera,
                                                      const lod::SelectionSettings& settings)
 {
-    const PyramidGeometry& g = reader.geometry();
-    const PatchId root{0, 0, 0};
-    auto resident = [&](PatchId p) { return residency.slotOf(p) >= 0; };
-    // Coarse before fine, then by screen-space error.
-    auto priority = [&](const PatchId& p, double screen_error) {
-        return 1e6 * (g.levelCount() - p.level) + screen_error;
-    };
     streamer->beginFrame();
     for (auto& patch : streamer->takeReady())
         arrived.push_back(std::move(patch));
-    std::unordered_map<int64_t, double> wanted; // patch index -> request priority
-    for (const lod::SelectedPatch& sp : desired.patches)
-        wanted[g.patchIndex(sp.id)] = priority(sp.id, sp.screen_error);
-    // A patch reconstructed on the GPU needs its parent resident, so every ancestor up to the
-    // finest resident one is wanted too, ahead of it: one request round for the whole chain.
-    if (streamer->options().residuals_for_gpu) {
-        std::vector<PatchId> chains;
-        for (const auto& [key, pri] : wanted)
-            chains.push_back(g.patchAt(key));
-        for (PatchId p : chains)
-            for (PatchId a = p; a.level > 0 && !resident(a);) {
-                a = a.parent();
-                if (!wanted.emplace(g.patchIndex(a), priority(a, 0.0)).second)
-                    break; // the rest of the chain is in already
-            }
-    }
-    for (const auto& [key, pri] : wanted)
-        if (residency.slotOf(g.patchAt(key)) < 0)
-            streamer->request(g.patchAt(key), pri);
-    prefetch(camera, settings);
-    const lod::ResidentCover before = lod::residentCover(desired, g, resident);
+    arrived_descriptions.clear();
+    for (size_t k = 0; k < arrived.size(); ++k)
+        arrived_descriptions.push_back({arrived[k]->id, plannedUploadBytes(*arrived[k]),
+                                        arrived[k]->needsGpuReconstruction(), k});
+    const stream::StreamPlan& plan =
+        planner->plan(desired, arrived_descriptions,
+                      {size_t(options.upload_budget_mb * 1024.0 * 1024.0), options.uploads_per_frame});
+    planner->prefetch(quadtree, camera, options.prefetch_frames, settings);
+    for (const stream::StreamRequest& r : plan.requests)
+        streamer->request(r.id, r.priority);
 
-    // What this frame keeps: the root, what is drawn now, and the parents of patches waiting
-    // to be reconstructed ("ancestors needed for decoding stay resident").
-    std::vector<PatchId> needed;
-    std::unordered_set<int64_t> in_needed;
-    auto need = [&](PatchId p) {
-        if (in_needed.insert(g.patchIndex(p)).second)
-            needed.push_back(p);
-    };
-    need(root);
-    for (const lod::SelectedPatch& d : before.patches)
-        need(d.id);
-    std::sort(arrived.begin(), arrived.end(), [](const auto& a, const auto& b) {
-        return a->id.level < b->id.level; // parents before their children
-    });
-    for (const auto& patch : arrived)
-        if (patch->needsGpuReconstruction() && wanted.count(g.patchIndex(patch->id)) &&
-            resident(patch->id.parent()) && needed.size() < size_t(slots))
-            need(patch->id.parent());
-
-    // Uploads: arrived patches still wanted, within the per-frame budget and the free slots.
-    const double budget_bytes = options.upload_budget_mb * 1024.0 * 1024.0;
-    size_t planned_bytes = 0;
-    std::vector<std::shared_ptr<const stream::DecodedPatch>> uploads, keep;
-    std::unordered_set<int64_t> uploading;
-    for (auto& patch : arrived) {
-        const int64_t key = g.patchIndex(patch->id);
-        if (!wanted.count(key) || resident(patch->id) || uploading.count(key))
-            continue; // no longer wanted: the RAM cache still has it for a later request
-        const bool parent_ready = !patch->needsGpuReconstruction() ||
-                                  resident(patch->id.parent()) ||
-                                  uploading.count(g.patchIndex(patch->id.parent()));
-        const size_t bytes = plannedUploadBytes(*patch);
-        const bool within_budget =
-            uploads.empty() || (int(uploads.size()) < options.uploads_per_frame &&
-                                double(planned_bytes + bytes) <= budget_bytes);
-        if (parent_ready && within_budget && needed.size() < size_t(slots)) {
-            planned_bytes += bytes;
-            need(patch->id);
-            uploads.push_back(patch);
-            uploading.insert(key);
-        } else {
-            keep.push_back(patch);
-        }
-    }
-    const auto loads = residency.update(needed, ++frame);
-    std::unordered_map<int64_t, int> slot_of_load;
     std::unordered_set<int> pending_slots;
-    for (const lod::PatchResidency::Load& l : loads) {
-        slot_of_load[g.patchIndex(l.id)] = l.slot;
-        pending_slots.insert(l.slot);
-    }
-    // Coarse first, so that a parent uploaded this frame is written before its children.
+    for (const stream::PlannedUpload& u : plan.uploads)
+        pending_slots.insert(u.slot);
+    // Coarse first (the plan's order), so that a parent uploaded this frame is written before
+    // its children.
     const auto t0 = std::chrono::steady_clock::now();
     size_t done = 0;
-    for (; done < uploads.size(); ++done) {
-        if (done > 0 && millisecondsSince(t0) > options.upload_budget_ms)
-            break; // the time budget: the rest waits for the next frame
-        const auto& patch = uploads[done];
-        const int slot = slot_of_load.at(g.patchIndex(patch->id));
-        stats.bytes_uploaded += uploadPatch(*patch, slot, pending_slots);
-        pending_slots.erase(slot);
-        computeNormals(patch->id, pending_slots); // inside the time budget too
-        stats.reconstructed += patch->needsGpuReconstruction();
+    try {
+        for (; done < plan.uploads.size(); ++done) {
+            if (done > 0 && millisecondsSince(t0) > options.upload_budget_ms)
+                break; // the time budget: the rest waits for the next frame
+            const stream::PlannedUpload& u = plan.uploads[done];
+            stats.bytes_uploaded += uploadPatch(*arrived[u.handle], u.slot, pending_slots);
+            pending_slots.erase(u.slot);
+            computeNormals(u.id, pending_slots); // inside the time budget too
+        }
+    } catch (...) {
+        planner->finish(done); // the failed upload and those after it give their slots back
+        throw;
     }
-    for (size_t k = done; k < uploads.size(); ++k) {
-        residency.release(uploads[k]->id); // assigned but never written
-        keep.push_back(uploads[k]);
-    }
-    arrived.swap(keep);
+    const stream::StreamOutcome& outcome = planner->finish(done);
+    waiting.clear();
+    for (size_t h : outcome.waiting)
+        waiting.push_back(std::move(arrived[h]));
+    arrived.swap(waiting);
     if (done > 0)
         textures->finishUploads();
-    stats.loaded = int(done);
+    stats.loaded = outcome.uploaded;
+    stats.reconstructed = outcome.reconstructed;
+    stats.missing = outcome.missing;
     stats.resident = residency.residentCount();
-
-    const lod::ResidentCover cover = lod::residentCover(desired, g, resident);
-    stats.missing = cover.missing;
-    lod::Selection drawn = desired;
-    drawn.patches = cover.patches;
-    return drawn;
+    return outcome.drawn;
 }
 
 void TerrainRenderer::Impl::countTraffic(FrameStats& stats)
