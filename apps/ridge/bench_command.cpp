@@ -37,6 +37,10 @@ void BenchCommand::registerWith(CLI::App& app)
         ->capture_default_str()
         ->check(inRange("--error", render::RenderSettings::kEpsilonPxRange));
     addStreamingOptions(*command_, renderer_options_);
+    addGeomorphOptions(*command_, renderer_options_);
+    command_->add_flag("--popping", popping_,
+                       "Measure popping per frame (the surface's displacement from LOD changes "
+                       "alone, px; two extra captures a frame, so time a run without it)");
     command_->add_flag("--no-cull", no_cull_, "Disable view-frustum culling");
     command_
         ->add_option("--chunk-tolerance", renderer_options_.chunk_tolerance,
@@ -73,6 +77,7 @@ int BenchCommand::run()
     options.epsilon_px = error_;
     options.cull = !no_cull_;
     options.grid_chunks = grid_chunks_;
+    options.measure_popping = popping_;
     if (table_) {
         std::vector<renderbench::RenderBenchReport> reports;
         for (const std::string& scheme : render::lodSchemeNames())

@@ -49,6 +49,7 @@ class BenchCommand {
     render::RendererOptions renderer_options_ = render::RendererOptions::streamingDefaults();
     bool no_cull_ = false;
     bool grid_chunks_ = false;
+    bool popping_ = false;
     bool table_ = false;
     std::string json_path_;
     std::string plot_path_;

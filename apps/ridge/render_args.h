@@ -10,6 +10,7 @@
 
 #include <charconv>
 #include <cstdio>
+#include <map>
 #include <string>
 #include <system_error>
 
@@ -75,6 +76,34 @@ inline void addStreamingOptions(CLI::App& command, render::RendererOptions& opti
     command.add_flag_callback(
         "--no-streaming", [&options] { options.streaming = false; },
         "Load every patch before drawing the frame that needs it (stalls)");
+}
+
+// Scheme "geomorph"'s options: the paper's vertex layouts and regimes.
+inline void addGeomorphOptions(CLI::App& command, render::RendererOptions& options)
+{
+    const std::map<std::string, lod::GeomorphLayout> layouts = {
+        {"standard", lod::GeomorphLayout::Standard},
+        {"float", lod::GeomorphLayout::FloatMorph},
+        {"compact", lod::GeomorphLayout::Compact}};
+    command
+        .add_option("--geomorph-layout", options.geomorph_layout,
+                    "geomorph: vertex layout — standard (CPU morph, positions sent every frame), "
+                    "float (GPU morph, float position, target and normal) or compact (block "
+                    "coordinates, 16-bit codes, 2-byte hemisphere normal index)")
+        ->transform(CLI::CheckedTransformer(layouts, CLI::ignore_case))
+        ->default_str("compact");
+    const std::map<std::string, lod::HemisphereMap> maps = {
+        {"orthographic", lod::HemisphereMap::Orthographic},
+        {"concentric", lod::HemisphereMap::Concentric}};
+    command
+        .add_option("--geomorph-normals", options.geomorph_normal_map,
+                    "geomorph compact: hemisphere normal texture — orthographic or concentric "
+                    "(Shirley and Chiu's map)")
+        ->transform(CLI::CheckedTransformer(maps, CLI::ignore_case))
+        ->default_str("orthographic");
+    command.add_flag("--geomorph-per-frame", options.geomorph_per_frame,
+                     "geomorph: send every drawn patch's vertices every frame (the paper's "
+                     "regime, no resident buffers)");
 }
 
 } // namespace ridge::cli

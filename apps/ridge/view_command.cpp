@@ -230,6 +230,13 @@ class Viewer {
             case GLFW_KEY_G:
                 settings_.fog = !settings_.fog;
                 break;
+            case GLFW_KEY_L: { // the next LOD scheme this renderer draws
+                const std::vector<std::string>& names = renderer_.schemes();
+                const auto at = std::find(names.begin(), names.end(), settings_.scheme);
+                settings_.scheme =
+                    at == names.end() || at + 1 == names.end() ? names.front() : *(at + 1);
+                break;
+            }
             case GLFW_KEY_H:
                 clamp_to_ground_ = !clamp_to_ground_;
                 break;
@@ -364,7 +371,7 @@ class Viewer {
         ImGui::TextUnformatted(
             "WASD move, Q/E down/up, Shift fast, wheel speed, right-drag or Tab look");
         ImGui::TextUnformatted(
-            "F1-F3 modes, F4/Z wireframe, C cull, K skirts, G fog, H ground, O overlay, "
+            "F1-F3 modes, F4/Z wireframe, C cull, K skirts, L scheme, G fog, H ground, O overlay, "
             "+/- epsilon, Esc quit");
         ImGui::End();
         ImGui::Render();
@@ -409,6 +416,7 @@ void ViewCommand::registerWith(CLI::App& app)
         ->capture_default_str()
         ->check(inRange("--error", ValueRange::closed(kMinEpsilonPx, kMaxEpsilonPx)));
     addStreamingOptions(*command_, renderer_options_);
+    addGeomorphOptions(*command_, renderer_options_);
     command_->add_flag("--vsync,!--no-vsync", vsync_,
                        "Wait for the display's refresh (default on)");
     command_

@@ -11,6 +11,7 @@
 #include "ridge/gpu/shader_program.h"
 #include "ridge/lod/coarse_terrain.h"
 #include "ridge/lod/edge_tessellation.h"
+#include "ridge/lod/resident_cover.h"
 #include "ridge/lod/screen_space_error.h"
 #include "ridge/stream/patch_loader.h"
 #include "ridge/stream/patch_streamer.h"
@@ -168,6 +169,7 @@ struct TerrainRenderer::Impl {
     gpu::GlVertexArray empty_vao;
     // The drawable schemes (planned.infos order), each over the shared pieces above.
     std::vector<std::unique_ptr<TerrainScheme>> schemes;
+    std::vector<std::string> scheme_names;
     gpu::ShaderProgram sky_program;
     gpu::GpuTimer timer;                              // terrain pass
     gpu::GpuTimer upload_timer;                       // uploads and normal maps of new patches
@@ -213,9 +215,9 @@ struct TerrainRenderer::Impl {
     // tessellator must use too.
     PatchInstances beginFrame(const lod::Camera& camera, const lod::Camera& lod_camera,
                               const RenderSettings& settings, FrameStats& stats,
-                              RenderSettings& used)
+                              RenderSettings& used, bool frozen = false)
     {
-        const lod::Selection selection = prepare(lod_camera, settings, stats);
+        const lod::Selection selection = prepare(lod_camera, settings, stats, frozen);
         used = settings;
         used.epsilon_px = selection.epsilon_px;
         return writeInstances(camera, lod_camera, selection, used);
@@ -233,8 +235,9 @@ struct TerrainRenderer::Impl {
         if (r.partial)
             draw(*clip, r.whole, r.partial);
     }
+    // `frozen`: draw what is resident (resident cover), changing nothing.
     lod::Selection prepare(const lod::Camera& camera, const RenderSettings& settings,
-                           FrameStats& stats);
+                           FrameStats& stats, bool frozen = false);
 };
 
 TerrainRenderer::Impl::Impl(const archive::ArchiveReader& r, const RendererOptions& o)
@@ -264,6 +267,8 @@ TerrainRenderer::Impl::Impl(const archive::ArchiveReader& r, const RendererOptio
     for (size_t k = 0; k < planned.infos.size(); ++k)
         schemes.push_back(planned.infos[k]->make(SchemeResources{
             reader, quadtree, options, *textures, residency, slots, planned.product[k]}));
+    for (const SchemeInfo* info : planned.infos)
+        scheme_names.push_back(info->name);
     if (options.streaming) {
         stream::StreamerOptions so = stream::StreamerOptions::forRamBudget(
             size_t(options.ram_budget_mb * 1024.0 * 1024.0), options.io_threads);
@@ -459,7 +464,8 @@ void TerrainRenderer::Impl::setFrameUniforms(const gpu::ShaderProgram& program,
 }
 
 lod::Selection TerrainRenderer::Impl::prepare(const lod::Camera& camera,
-                                              const RenderSettings& settings, FrameStats& stats)
+                                              const RenderSettings& settings, FrameStats& stats,
+                                              bool frozen)
 {
     textures->collect(); // λ maxima derived on the GPU in earlier frames
     auto t0 = std::chrono::steady_clock::now();
@@ -475,6 +481,13 @@ lod::Selection TerrainRenderer::Impl::prepare(const lod::Camera& camera,
     stats.epsilon_px = selection.epsilon_px;
     stats.coarser = selection.epsilon_px > ss.epsilon_px;
     t0 = std::chrono::steady_clock::now();
+    if (frozen) {
+        // What is resident now, ancestors standing in for the rest: no request, no upload.
+        selection.patches = lod::residentCover(selection, reader.geometry(), [&](PatchId p) {
+                                return residency.slotOf(p) >= 0;
+                            }).patches;
+        return selection;
+    }
     upload_timer.begin();
     try {
         if (streamer)
@@ -612,6 +625,11 @@ TerrainRenderer::~TerrainRenderer() = default;
 const lod::PatchQuadtree& TerrainRenderer::quadtree() const
 {
     return impl_->quadtree;
+}
+
+const std::vector<std::string>& TerrainRenderer::schemes() const
+{
+    return impl_->scheme_names;
 }
 
 int TerrainRenderer::residentSlots() const
@@ -810,7 +828,7 @@ FrameStats TerrainRenderer::draw(const lod::Camera& camera, const RenderSettings
 }
 
 CapturedSurface TerrainRenderer::capture(const lod::Camera& camera, const RenderSettings& settings,
-                                         const lod::Camera* lod_camera)
+                                         const lod::Camera* lod_camera, bool keep_residency)
 {
     settings.validate();
     Impl& m = *impl_;
@@ -818,7 +836,7 @@ CapturedSurface TerrainRenderer::capture(const lod::Camera& camera, const Render
     const lod::Camera& lod = lod_camera ? *lod_camera : camera;
     FrameStats stats;
     RenderSettings s;
-    const PatchInstances ranges = m.beginFrame(camera, lod, settings, stats, s);
+    const PatchInstances ranges = m.beginFrame(camera, lod, settings, stats, s, keep_residency);
     const SchemeFrame frame{camera, lod, s, ranges};
     CapturedSurface out;
     out.camera_position = camera.position();

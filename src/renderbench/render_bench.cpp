@@ -1,5 +1,7 @@
 #include "ridge/renderbench/render_bench.h"
 
+#include "ridge/render/frame_measures.h"
+
 #include "ridge/core/atomic_output.h"
 #include "ridge/core/error.h"
 #include "ridge/core/file_identity.h"
@@ -13,6 +15,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <cstdio>
 #include <unistd.h>
 
@@ -50,6 +53,8 @@ void summarise(RenderBenchReport& r)
         r.frames_missing += f.missing > 0;
         r.select_ms_max = std::max(r.select_ms_max, f.select_ms);
         r.frames_epsilon_raised += f.coarser;
+        r.hole_pixels += f.hole_pixels;
+        r.frames_with_holes += f.hole_pixels > 0;
         r.bytes_read += f.bytes_read;
         r.bytes_decoded += f.bytes_decoded;
         r.bytes_uploaded += f.bytes_uploaded;
@@ -68,6 +73,14 @@ void summarise(RenderBenchReport& r)
     r.frames_over_twice_median =
         int(std::count_if(ms.begin(), ms.end(), [&](double m) { return m > 2.0 * median; }));
     r.frame_ms_p99 = percentile(ms, 0.99);
+    std::vector<double> popping;
+    for (const FrameRecord& f : r.frames)
+        if (f.popping_px >= 0)
+            popping.push_back(f.popping_px);
+    if (!popping.empty()) {
+        r.popping_p99_px = percentile(popping, 0.99);
+        r.popping_max_px = percentile(popping, 1.0);
+    }
     r.mtri_per_s = total_ms > 0.0 ? triangles / (total_ms * 1e3) : 0.0;
     r.triangles_mean = triangles / double(r.frames.size());
 }
@@ -111,10 +124,19 @@ RenderBenchReport runRenderBench(const std::string& archive, const RenderBenchOp
     settings.scheme = o.scheme;
     settings.epsilon_px = o.epsilon_px;
     settings.cull = o.cull;
+    std::optional<lod::Camera> previous; // the popping metric's previous LOD state
     for (const lod::CameraPose& pose : path) {
         double near_m = 1.0, far_m = 1e6;
         renderer.clipPlanesFor(pose.position, near_m, far_m);
         const lod::Camera camera(pose.position, pose.look_at, 60.0, o.viewport, near_m, far_m);
+        // The popping metric's first half, before this frame changes anything: this camera
+        // drawn with the previous frame's LOD state (its LOD camera and resident patches).
+        std::vector<float> before;
+        const lod::TerrainFrame& frame = renderer.quadtree().frame();
+        if (o.measure_popping && previous)
+            before = render::surfaceHeightsAtSamples(
+                renderer.capture(camera, settings, &*previous, true), frame);
+        target.bind();
         const auto t0 = std::chrono::steady_clock::now();
         // Synchronous stats wait for the frame's timer query: the GPU has finished the frame.
         const render::FrameStats s = renderer.draw(camera, settings);
@@ -140,6 +162,21 @@ RenderBenchReport runRenderBench(const std::string& archive, const RenderBenchOp
         // After the frame's timing: a /proc read and a lock, some microseconds.
         f.rss_mib = residentMib();
         f.ram_cache_mib = double(renderer.streamingCacheBytes()) / 1048576.0;
+        const std::vector<float> depth = target.readDepth();
+        std::vector<uint8_t> background(depth.size());
+        for (size_t i = 0; i < depth.size(); ++i)
+            background[i] = depth[i] == 0.f; // reverse-Z clears to 0: nothing drawn
+        const render::HoleReport holes = render::countHolePixels(
+            background, camera, renderer.quadtree().frame(), root.min_height, root.max_height);
+        f.hole_pixels = holes.hole_pixels;
+        f.footprint_pixels = holes.footprint_pixels;
+        if (!before.empty()) { // ... and with this frame's, as drawn
+            const std::vector<float> after = render::surfaceHeightsAtSamples(
+                renderer.capture(camera, settings, nullptr, true), frame);
+            f.popping_px = render::measurePopping(before, after, frame, camera).max_px;
+            target.bind();
+        }
+        previous = camera;
         report.frames.push_back(f);
     }
     if (!renderer.streamingError().empty())
@@ -165,14 +202,20 @@ std::string formatRenderBenchSummary(const RenderBenchReport& r)
         "  RAM caches at the end    {:.1f} MiB\n"
         "  resident memory          {:.1f} MiB after {} frames, {:.1f} MiB at the end\n"
         "  read / decoded / upload  {:.1f} / {:.1f} / {:.1f} MiB ({} patches "
-        "reconstructed on the GPU)\n",
+        "reconstructed on the GPU)\n"
+        "  hole pixels              {} in {} frames\n"
+        "  popping p99 / max        {}\n",
         r.archive, r.options.scheme, r.options.path.kind, r.frames.size(),
         r.options.viewport.width, r.options.viewport.height, r.options.epsilon_px,
         r.options.cull ? "on" : "off", r.gl_renderer, r.fps_min, r.fps_median, r.fps_max,
         r.frame_ms_p99, r.frame_ms_max, r.frames_over_twice_median, r.mtri_per_s, r.select_ms_max,
         r.frames_missing, r.frames.size(), r.frames_epsilon_raised, mib(r.ram_cache_bytes),
         r.rss_early_mib, r.frames.size() / 10 + 1, r.rss_end_mib, mib(r.bytes_read),
-        mib(r.bytes_decoded), mib(r.bytes_uploaded), r.reconstructed);
+        mib(r.bytes_decoded), mib(r.bytes_uploaded), r.reconstructed, r.hole_pixels,
+        r.frames_with_holes,
+        r.popping_max_px < 0
+            ? std::string("not measured (--popping)")
+            : fmt::format("{:.3f} / {:.3f} px", r.popping_p99_px, r.popping_max_px));
 }
 
 std::string formatRenderBenchTable(const std::vector<RenderBenchReport>& reports)
@@ -212,7 +255,10 @@ void writeRenderBenchJson(const RenderBenchReport& r, const std::string& path)
                           {"bytes_decoded", f.bytes_decoded},
                           {"bytes_uploaded", f.bytes_uploaded},
                           {"rss_mib", f.rss_mib},
-                          {"ram_cache_mib", f.ram_cache_mib}});
+                          {"ram_cache_mib", f.ram_cache_mib},
+                          {"hole_pixels", f.hole_pixels},
+                          {"footprint_pixels", f.footprint_pixels},
+                          {"popping_px", f.popping_px}});
     const nlohmann::json j = {{"archive", r.archive},
                               {"gl_renderer", r.gl_renderer},
                               {"renderer", r.options.scheme},
@@ -224,6 +270,10 @@ void writeRenderBenchJson(const RenderBenchReport& r, const std::string& path)
                               {"chunks", r.options.grid_chunks ? "grid" : "simplified"},
                               {"chunk_tolerance", r.options.renderer.chunk_tolerance},
                               {"streaming", r.options.renderer.streaming},
+                              {"hole_pixels", r.hole_pixels},
+                              {"frames_with_holes", r.frames_with_holes},
+                              {"popping_p99_px", r.popping_p99_px},
+                              {"popping_max_px", r.popping_max_px},
                               {"gpu_reconstruction", r.options.renderer.gpu_reconstruction},
                               {"ram_mb", r.options.renderer.ram_budget_mb},
                               {"vram_mb", r.options.renderer.vram_budget_mb},

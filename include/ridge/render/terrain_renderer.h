@@ -225,10 +225,14 @@ class TerrainRenderer {
     FrameStats draw(const lod::Camera& camera, const RenderSettings& settings,
                     const lod::Camera* lod_camera = nullptr);
     // The triangles draw() would rasterise for this camera (rasterizer discarded).
+    // `keep_residency`: draw what is resident now (finest resident ancestors standing in),
+    // requesting and uploading nothing — the state the last draw() left, for measurements.
     CapturedSurface capture(const lod::Camera& camera, const RenderSettings& settings,
-                            const lod::Camera* lod_camera = nullptr);
+                            const lod::Camera* lod_camera = nullptr, bool keep_residency = false);
 
     const lod::PatchQuadtree& quadtree() const;
+    // The LOD schemes this renderer draws (RendererOptions::schemes, resolved), by name.
+    const std::vector<std::string>& schemes() const;
     // Texture-array slots actually allocated (see RendererOptions::max_resident_patches).
     int residentSlots() const;
     // The patches the last draw() or capture() drew (after streaming fallbacks).

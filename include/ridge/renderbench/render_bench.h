@@ -20,6 +20,10 @@ struct RenderBenchOptions {
     // Chunked: every patch's full grid instead of Ulrich's simplified chunks (simplified to
     // renderer.chunk_tolerance·Err(P)).
     bool grid_chunks = false;
+    // Per frame, after its timing: the popping metric (two captures of this frame's camera,
+    // with the previous frame's LOD state and with this one's; render/frame_measures.h).
+    // Costly, and with streaming on the extra captures stream too: time a run without it.
+    bool measure_popping = false;
     // Budgets, streaming (on by default) and decoding; the bench itself raises
     // max_resident_patches and measures with synchronous_stats.
     render::RendererOptions renderer = render::RendererOptions::streamingDefaults();
@@ -47,6 +51,10 @@ struct FrameRecord {
     uint64_t bytes_read = 0, bytes_decoded = 0, bytes_uploaded = 0;
     double rss_mib = 0;       // the process's resident memory after the frame (Linux)
     double ram_cache_mib = 0; // the streamer's RAM caches, likewise
+    // Measured on the frame itself, after its timing (render/frame_measures.h).
+    size_t hole_pixels = 0;      // background inside the terrain's footprint
+    size_t footprint_pixels = 0; // pixels whose ray must hit the terrain
+    double popping_px = -1.0;    // LOD changes alone, pixels (−1: not measured)
 };
 
 struct RenderBenchReport {
@@ -72,6 +80,9 @@ struct RenderBenchReport {
     // Resident memory after the first tenth of the frames and at the end (a soak is flat
     // when the two agree once the RAM caches are full).
     double rss_early_mib = 0, rss_end_mib = 0;
+    size_t hole_pixels = 0;     // all frames
+    int frames_with_holes = 0;
+    double popping_p99_px = -1, popping_max_px = -1; // −1: not measured
 };
 
 // Throws ridge::Error naming the archive or path file on bad input; options are validated
