@@ -47,28 +47,64 @@ HoleReport countHolePixels(const std::vector<uint8_t>& background, const lod::Ca
     return report;
 }
 
-std::vector<float> surfaceHeightsAtSamples(const CapturedSurface& s, const lod::TerrainFrame& frame)
+float SampleHeights::at(int column, int row) const
+{
+    if (column < x0 || row < y0 || column >= x0 + width || row >= y0 + height)
+        return std::numeric_limits<float>::quiet_NaN();
+    return z[size_t(row - y0) * size_t(width) + size_t(column - x0)];
+}
+
+namespace {
+
+// A triangle's vertices in finest (column, row) and terrain-frame z; vertices lie on
+// samples, and rounding undoes the float error of camera-relative x, y.
+bool sampleTriangle(const CapturedVertex* v, glm::dvec3 c, const lod::TerrainFrame& frame,
+                    glm::dvec3 q[3])
+{
+    if (v[0].skirt || v[1].skirt || v[2].skirt)
+        return false;
+    for (int k = 0; k < 3; ++k)
+        q[k] = {std::round(frame.columnOf(v[k].x + c.x)), std::round(frame.rowOf(v[k].y + c.y)),
+                double(v[k].z) + c.z};
+    return true;
+}
+
+} // namespace
+
+SampleHeights surfaceHeightsAtSamples(const CapturedSurface& s, const lod::TerrainFrame& frame)
 {
     const int W = frame.geometry().width(), H = frame.geometry().height();
-    std::vector<float> heights(size_t(W) * H, std::numeric_limits<float>::quiet_NaN());
     const glm::dvec3 c = s.camera_position;
+    // The window first: the samples the surface's triangles span, within the grid.
+    double lo_x = W, lo_y = H, hi_x = -1, hi_y = -1;
+    glm::dvec3 q[3];
+    for (size_t t = 0; t + 2 < s.vertices.size(); t += 3)
+        if (sampleTriangle(&s.vertices[t], c, frame, q))
+            for (const glm::dvec3& p : q) {
+                lo_x = std::min(lo_x, p.x);
+                lo_y = std::min(lo_y, p.y);
+                hi_x = std::max(hi_x, p.x);
+                hi_y = std::max(hi_y, p.y);
+            }
+    SampleHeights out;
+    out.x0 = std::clamp(int(lo_x), 0, W);
+    out.y0 = std::clamp(int(lo_y), 0, H);
+    out.width = std::max(0, std::min(W - 1, int(hi_x)) - out.x0 + 1);
+    out.height = std::max(0, std::min(H - 1, int(hi_y)) - out.y0 + 1);
+    out.z.assign(size_t(out.width) * size_t(out.height), std::numeric_limits<float>::quiet_NaN());
     for (size_t t = 0; t + 2 < s.vertices.size(); t += 3) {
-        const CapturedVertex* v = &s.vertices[t];
-        if (v[0].skirt || v[1].skirt || v[2].skirt)
+        if (!sampleTriangle(&s.vertices[t], c, frame, q))
             continue;
-        glm::dvec3 q[3];
-        // Vertices lie on samples; rounding undoes the float error of camera-relative x, y.
-        for (int k = 0; k < 3; ++k)
-            q[k] = {std::round(frame.columnOf(v[k].x + c.x)), std::round(frame.rowOf(v[k].y + c.y)),
-                    double(v[k].z) + c.z};
         const double det =
             (q[1].y - q[2].y) * (q[0].x - q[2].x) + (q[2].x - q[1].x) * (q[0].y - q[2].y);
         if (std::abs(det) < 1e-12)
             continue; // a wall of the clipping shader, or degenerate
-        const int c0 = std::max(0, int(std::ceil(std::min({q[0].x, q[1].x, q[2].x}) - 1e-6)));
-        const int c1 = std::min(W - 1, int(std::floor(std::max({q[0].x, q[1].x, q[2].x}) + 1e-6)));
-        const int r0 = std::max(0, int(std::ceil(std::min({q[0].y, q[1].y, q[2].y}) - 1e-6)));
-        const int r1 = std::min(H - 1, int(std::floor(std::max({q[0].y, q[1].y, q[2].y}) + 1e-6)));
+        const int c0 = std::max(out.x0, int(std::ceil(std::min({q[0].x, q[1].x, q[2].x}) - 1e-6)));
+        const int c1 = std::min(out.x0 + out.width - 1,
+                                int(std::floor(std::max({q[0].x, q[1].x, q[2].x}) + 1e-6)));
+        const int r0 = std::max(out.y0, int(std::ceil(std::min({q[0].y, q[1].y, q[2].y}) - 1e-6)));
+        const int r1 = std::min(out.y0 + out.height - 1,
+                                int(std::floor(std::max({q[0].y, q[1].y, q[2].y}) + 1e-6)));
         for (int r = r0; r <= r1; ++r)
             for (int col = c0; col <= c1; ++col) {
                 const double l0 =
@@ -79,25 +115,25 @@ std::vector<float> surfaceHeightsAtSamples(const CapturedSurface& s, const lod::
                 if (l0 < -1e-6 || l1 < -1e-6 || l2 < -1e-6)
                     continue;
                 const float z = float(l0 * q[0].z + l1 * q[1].z + l2 * q[2].z);
-                float& h = heights[size_t(r) * W + col];
+                float& h = out.z[size_t(r - out.y0) * size_t(out.width) + size_t(col - out.x0)];
                 // Seams between levels cover a sample twice: the upper surface is what shows.
                 h = std::isnan(h) ? z : std::max(h, z);
             }
     }
-    return heights;
+    return out;
 }
 
-PoppingReport measurePopping(const std::vector<float>& before, const std::vector<float>& after,
+PoppingReport measurePopping(const SampleHeights& before, const SampleHeights& after,
                              const lod::TerrainFrame& frame, const lod::Camera& camera)
 {
-    const int W = frame.geometry().width(), H = frame.geometry().height();
-    if (before.size() != size_t(W) * H || after.size() != before.size())
-        throw Error("measurePopping: the height grids are not the terrain's finest grid");
     PoppingReport report;
     const lod::Viewport vp = camera.viewport();
-    for (int r = 0; r < H; ++r)
-        for (int col = 0; col < W; ++col) {
-            const float a = before[size_t(r) * W + col], b = after[size_t(r) * W + col];
+    const int x0 = std::max(before.x0, after.x0), y0 = std::max(before.y0, after.y0);
+    const int x1 = std::min(before.x0 + before.width, after.x0 + after.width);
+    const int y1 = std::min(before.y0 + before.height, after.y0 + after.height);
+    for (int r = y0; r < y1; ++r)
+        for (int col = x0; col < x1; ++col) {
+            const float a = before.at(col, r), b = after.at(col, r);
             if (std::isnan(a) || std::isnan(b))
                 continue;
             const glm::dvec3 pa(frame.xOf(col), frame.yOf(r), a), pb(pa.x, pa.y, b);

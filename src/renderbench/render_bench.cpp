@@ -131,7 +131,7 @@ RenderBenchReport runRenderBench(const std::string& archive, const RenderBenchOp
         const lod::Camera camera(pose.position, pose.look_at, 60.0, o.viewport, near_m, far_m);
         // The popping metric's first half, before this frame changes anything: this camera
         // drawn with the previous frame's LOD state (its LOD camera and resident patches).
-        std::vector<float> before;
+        render::SampleHeights before;
         const lod::TerrainFrame& frame = renderer.quadtree().frame();
         if (o.measure_popping && previous)
             before = render::surfaceHeightsAtSamples(
@@ -170,8 +170,8 @@ RenderBenchReport runRenderBench(const std::string& archive, const RenderBenchOp
             background, camera, renderer.quadtree().frame(), root.min_height, root.max_height);
         f.hole_pixels = holes.hole_pixels;
         f.footprint_pixels = holes.footprint_pixels;
-        if (!before.empty()) { // ... and with this frame's, as drawn
-            const std::vector<float> after = render::surfaceHeightsAtSamples(
+        if (!before.z.empty()) { // ... and with this frame's, as drawn
+            const render::SampleHeights after = render::surfaceHeightsAtSamples(
                 renderer.capture(camera, settings, nullptr, true), frame);
             f.popping_px = render::measurePopping(before, after, frame, camera).max_px;
             target.bind();

@@ -32,9 +32,15 @@ HoleReport countHolePixels(const std::vector<uint8_t>& background, const lod::Ca
                            const lod::TerrainFrame& frame, double min_height, double max_height);
 
 // The height of a captured surface (skirts excluded) at every finest sample it covers,
-// terrain frame metres, NaN elsewhere: width × height of the finest grid, row-major.
-std::vector<float> surfaceHeightsAtSamples(const CapturedSurface& surface,
-                                           const lod::TerrainFrame& frame);
+// terrain frame metres, NaN elsewhere, over the window of finest samples its triangles span
+// (a view of a continent covers a fraction of the grid).
+struct SampleHeights {
+    int x0 = 0, y0 = 0, width = 0, height = 0; // finest columns x0.., rows y0..
+    std::vector<float> z;                      // width × height, row-major
+    float at(int column, int row) const;       // NaN outside the window or uncovered
+};
+SampleHeights surfaceHeightsAtSamples(const CapturedSurface& surface,
+                                      const lod::TerrainFrame& frame);
 
 struct PoppingReport {
     size_t samples = 0;    // finest samples in view covered by both surfaces
@@ -45,7 +51,7 @@ struct PoppingReport {
 // The displacement between two surfaces (surfaceHeightsAtSamples of the same frame drawn
 // with two LOD states) seen from `camera`: per sample in view, the distance in pixels
 // between the projections of its two heights.
-PoppingReport measurePopping(const std::vector<float>& before, const std::vector<float>& after,
+PoppingReport measurePopping(const SampleHeights& before, const SampleHeights& after,
                              const lod::TerrainFrame& frame, const lod::Camera& camera);
 
 } // namespace ridge::render
