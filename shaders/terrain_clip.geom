@@ -1,6 +1,8 @@
 #version 450 core
-// For patches partly outside the valid extent only (a second draw): clips each triangle to
-// the valid cells exactly (cell.x <= valid.x, cell.y <= valid.y) and hangs a wall under
+// For patches partly outside the valid extent only (a second draw): clips each triangle
+// exactly at the terrain's last finest column and row (cell.x <= valid_extent.x, cell.y <=
+// valid_extent.y, in level cells: inside a cell when the level's samples miss the border, the
+// surface there running towards the edge-extended sample beyond it) and hangs a wall under
 // every cut, skirt_depth deep. The terrain then ends on its true border with a closed side,
 // instead of fragments discarded over the padding with the skirts of inner seams showing.
 // Cut points are computed from the edge's endpoints in a fixed order, so the two triangles
@@ -111,10 +113,10 @@ void main() {
         poly[k] = corner(k);
     bool clipped[2] = bool[2](false, false);
     for (int axis = 0; axis < 2; ++axis) {
-        if (p.valid_cells[axis] >= u_patch_cells)
+        if (p.valid_extent[axis] >= float(u_patch_cells))
             continue; // the patch does not reach past the valid extent on this side
         clipped[axis] = true;
-        float limit = float(p.valid_cells[axis]);
+        float limit = p.valid_extent[axis];
         Corner next[5];
         int n = 0;
         for (int k = 0; k < count; ++k) {
@@ -162,7 +164,7 @@ void main() {
         Corner a = poly[k], b = poly[(k + 1) % count];
         bool on_line = false;
         for (int axis = 0; axis < 2; ++axis) {
-            float limit = float(p.valid_cells[axis]);
+            float limit = p.valid_extent[axis];
             on_line = on_line || (clipped[axis] && a.cell[axis] == limit && b.cell[axis] == limit);
         }
         if (!on_line)

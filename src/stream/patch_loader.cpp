@@ -24,7 +24,7 @@ lod::ChunkMesh patchChunk(const archive::ArchiveReader& reader, PatchId p, const
     const PyramidGeometry& g = reader.geometry();
     return lod::buildChunkMesh(codes, g.patchSize(),
                                chunk_tolerance * reader.record(p).err / reader.quantization().scale,
-                               g.validCellsX(p), g.validCellsY(p));
+                               g.coveredCellsX(p), g.coveredCellsY(p));
 }
 
 std::vector<int32_t> DecodedPatch::residualsWide() const

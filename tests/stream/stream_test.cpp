@@ -275,7 +275,7 @@ TEST(PatchStreamer, BuildsUlrichsChunkOfEveryDecodedPatchOnItsWorkers)
             const lod::ChunkMesh expected = lod::buildChunkMesh(
                 patch->codes.data(), n,
                 0.5 * reader.record(patch->id).err / reader.quantization().scale,
-                g.validCellsX(patch->id), g.validCellsY(patch->id));
+                g.coveredCellsX(patch->id), g.coveredCellsY(patch->id));
             EXPECT_EQ(patch->chunk->indices, expected.indices) << codec;
             EXPECT_EQ(patch->chunk->surface_indices, expected.surface_indices);
             simplified += patch->chunk->surface_indices < 6u * (n - 1) * (n - 1);
