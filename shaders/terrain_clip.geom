@@ -100,7 +100,10 @@ void emit(Corner c, int skirt) {
     vout.skirt = skirt;
     cout.tf_position = c.position;
     cout.tf_instance = cin[0].tf_instance;
-    cout.tf_skirt = c.foot;
+    // Every vertex of a skirt or wall is marked at least 1: a cut skirt triangle may start at
+    // the skirt's top, which chunk.vert marks 0 like the surface sample it is, and captures tell
+    // skirt triangles by their first vertex.
+    cout.tf_skirt = skirt != 0 ? max(c.foot, 1) : c.foot;
     gl_Position = u_view_projection * vec4(c.position, 1.0);
     EmitVertex();
 }
@@ -137,19 +140,25 @@ void main() {
         if (count < 3)
             return;
     }
-    // Nothing left but a sliver on the line (a triangle of the padding touching it): its 3-D
-    // area vanishes (skirts are vertical, so the area is not measured in the plane).
-    vec3 normal_sum = vec3(0.0);
-    float perimeter = 0.0;
-    for (int k = 0; k < count; ++k) {
-        vec3 a = poly[k].position - poly[0].position, b = poly[(k + 1) % count].position - poly[0].position;
-        normal_sum += cross(a, b);
-        perimeter += length(poly[(k + 1) % count].position - poly[k].position);
-    }
-    if (length(normal_sum) <= 1e-6 * perimeter * perimeter)
-        return;
-
     int skirt = vin[0].skirt;
+    // Nothing left of a surface triangle but a sliver on the line (a triangle of the padding
+    // touching it): its area vanishes. Skirts are exempt: a skirt wall is as thin as its
+    // depth, which over flat ground (Err and λ 0) is only the rounding margin, a centimetre
+    // under cells that may be kilometres long — far below this relative threshold, yet the
+    // wall is what closes the seam. Clipping a vertical wall by a vertical plane leaves a
+    // narrower wall or nothing (count < 3 above), never a sliver of it.
+    if (skirt == 0) {
+        vec3 normal_sum = vec3(0.0);
+        float perimeter = 0.0;
+        for (int k = 0; k < count; ++k) {
+            vec3 a = poly[k].position - poly[0].position, b = poly[(k + 1) % count].position - poly[0].position;
+            normal_sum += cross(a, b);
+            perimeter += length(poly[(k + 1) % count].position - poly[k].position);
+        }
+        if (length(normal_sum) <= 1e-6 * perimeter * perimeter)
+            return;
+    }
+
     for (int k = 1; k + 1 < count; ++k) {
         emit(poly[0], skirt);
         emit(poly[k], skirt);

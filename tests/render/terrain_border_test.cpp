@@ -1,10 +1,14 @@
 // The terrain's east and south borders, where a coarse level's samples do not land on the last
 // column or row: the surface must still reach it (no strip left without surface), and every
-// scheme's patches must stay closed there.
+// scheme's patches must stay closed there — including flat patches whose skirts hang only
+// the rounding margin.
 #include "captured_surface_checks.h"
 #include "fixture_archives.h"
 
 #include "ridge/gpu/context.h"
+#include "ridge/io/raster_source.h"
+#include "ridge/io/raster_writer.h"
+#include "ridge/pipeline/build.h"
 #include "ridge/pipeline/level_decoder.h"
 #include "ridge/render/terrain_renderer.h"
 
@@ -157,5 +161,35 @@ TEST_F(TerrainBorderTest, CoarseLevelsReachTheEastAndSouthBorder)
         const Counts n = checkBorders(s, c.scheme, c.name);
         // The cameras must draw levels that end short of the border, or nothing was tested.
         EXPECT_GE(n.short_borders, 2u) << c.name;
+    }
+}
+
+TEST_F(TerrainBorderTest, FlatSeaPatchesAreClosedWithChunkedLod)
+{
+    // Everest with its eastern 45 % replaced by a sea at height 0: those patches have Err(P) =
+    // 0 and exact chunks, so their skirts hang only the rounding margin (a centimetre), under
+    // cells of kilometres (1 km spacing, steps up to 16) — thin walls the clipping shader must
+    // keep.
+    const io::ElevationRaster everest = io::ingestRaster(test::dataPath("everest_crop.tif"));
+    const int W = everest.grid.width, H = everest.grid.height;
+    std::vector<float> metres(size_t(W) * H);
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x)
+            metres[size_t(y) * W + x] =
+                x >= W * 55 / 100 ? 0.f
+                                  : float(everest.quantization.toMetres(everest.grid.at(x, y)));
+    const std::string tif = scratch_->path("everest_sea.tif");
+    io::writeGeoTiff(tif, metres.data(), W, H, io::GeoReference{});
+    BuildOptions options;
+    options.patch_size = 33;
+    options.progress = {};
+    options.ingest.spacing = 1000.0;
+    const std::string archive = scratch_->path("everest_sea.ridge");
+    buildArchive(tif, archive, options);
+    for (bool chunk_meshes : {false, true}) {
+        Scene s = openScene(archive, chunk_meshes);
+        const Counts n = checkBorders(s, render::LodScheme::ChunkedLod,
+                                      chunk_meshes ? "sea, simplified chunks" : "sea, full-grid chunks");
+        EXPECT_GE(n.short_borders, 4u);
     }
 }
