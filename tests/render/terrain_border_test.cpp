@@ -164,7 +164,7 @@ TEST_F(TerrainBorderTest, CoarseLevelsReachTheEastAndSouthBorder)
     }
 }
 
-TEST_F(TerrainBorderTest, FlatSeaPatchesAreClosedWithChunkedLod)
+TEST_F(TerrainBorderTest, FlatSeaPatchesAreClosedInEveryScheme)
 {
     // Everest with its eastern 45 % replaced by a sea at height 0: those patches have Err(P) =
     // 0 and exact chunks, so their skirts hang only the rounding margin (a centimetre), under
@@ -186,10 +186,17 @@ TEST_F(TerrainBorderTest, FlatSeaPatchesAreClosedWithChunkedLod)
     options.ingest.spacing = 1000.0;
     const std::string archive = scratch_->path("everest_sea.ridge");
     buildArchive(tif, archive, options);
-    for (bool chunk_meshes : {false, true}) {
-        Scene s = openScene(archive, chunk_meshes);
-        const Counts n = checkBorders(s, render::LodScheme::ChunkedLod,
-                                      chunk_meshes ? "sea, simplified chunks" : "sea, full-grid chunks");
-        EXPECT_GE(n.short_borders, 4u);
+    struct Case {
+        render::LodScheme scheme;
+        bool chunk_meshes;
+        const char* name;
+    };
+    for (const Case& c : {Case{render::LodScheme::ChunkedLod, false, "sea, full-grid chunks"},
+                          Case{render::LodScheme::ChunkedLod, true, "sea, simplified chunks"},
+                          // Tessellated skirts over the sea hang λ = 0 plus the margin too.
+                          Case{render::LodScheme::Tessellation, false, "sea, tessellation"}}) {
+        Scene s = openScene(archive, c.chunk_meshes);
+        const Counts n = checkBorders(s, c.scheme, c.name);
+        EXPECT_GE(n.short_borders, 4u) << c.name;
     }
 }
