@@ -74,14 +74,25 @@ std::vector<BorderCamera> borderCameras(const render::TerrainRenderer& r)
         return lod::Camera(pos, at, 60.0, vp, near_m, far_m);
     };
     const glm::dvec3 centre(0.5 * w, 0.5 * h, root.min_height);
-    const double east_x = f.xOf(f.geometry().width() - 1), south_y = f.yOf(f.geometry().height() - 1);
+    const double east_x = f.xOf(f.geometry().width() - 1),
+                 south_y = f.yOf(f.geometry().height() - 1);
     return {
-        {"high, root only", camera(centre + glm::dvec3(0.1 * w, -0.2 * h, 2.5 * w + top), centre), 1000.0},
+        {"high, root only", camera(centre + glm::dvec3(0.1 * w, -0.2 * h, 2.5 * w + top), centre),
+         1000.0},
         {"high, coarse", camera(centre + glm::dvec3(0.3 * w, 0.2 * h, 1.5 * w + top), centre), 8.0},
-        {"outside the east border", camera({east_x + 0.4 * w, 0.4 * h, top + 0.1 * w}, {east_x - 0.1 * w, 0.5 * h, root.min_height}), 2.0},
-        {"outside the east border, far", camera({east_x + 1.5 * w, 0.6 * h, top + 0.4 * w}, {east_x, 0.5 * h, root.min_height}), 4.0},
-        {"outside the south border", camera({0.5 * w, south_y - 0.4 * h, top + 0.1 * w}, {0.4 * w, south_y + 0.1 * h, root.min_height}), 2.0},
-        {"outside the south-east corner, far", camera({east_x + w, south_y - h, top + 0.5 * w}, {east_x, south_y, root.min_height}), 4.0},
+        {"outside the east border",
+         camera({east_x + 0.4 * w, 0.4 * h, top + 0.1 * w},
+                {east_x - 0.1 * w, 0.5 * h, root.min_height}),
+         2.0},
+        {"outside the east border, far",
+         camera({east_x + 1.5 * w, 0.6 * h, top + 0.4 * w}, {east_x, 0.5 * h, root.min_height}),
+         4.0},
+        {"outside the south border",
+         camera({0.5 * w, south_y - 0.4 * h, top + 0.1 * w},
+                {0.4 * w, south_y + 0.1 * h, root.min_height}),
+         2.0},
+        {"outside the south-east corner, far",
+         camera({east_x + w, south_y - h, top + 0.5 * w}, {east_x, south_y, root.min_height}), 4.0},
     };
 }
 
@@ -112,8 +123,8 @@ Counts checkBorders(Scene& s, render::LodScheme scheme, const std::string& what)
         total.uncovered += e.uncovered;
         total.short_borders += drawsShortLevelOnBorder(surface, frame.geometry());
         std::printf("%s, %s: %zu patches, %zu open edges, %zu uncovered of %zu samples, %.3f px\n",
-                    what.c_str(), c.name.c_str(), surface.patches.size(), w.open_edges,
-                    e.uncovered, e.samples, e.max_px);
+                    what.c_str(), c.name.c_str(), surface.patches.size(), w.open_edges, e.uncovered,
+                    e.samples, e.max_px);
     }
     return total;
 }

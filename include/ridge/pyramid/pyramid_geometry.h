@@ -84,10 +84,7 @@ class PyramidGeometry {
         return std::clamp(levelHeight(p.level) - 1 - p.y * cells(), 0, cells());
     }
     // Whether `p` lies wholly inside the valid extent (nothing of it to clip).
-    bool whole(PatchId p) const
-    {
-        return validExtentX(p) >= cells() && validExtentY(p) >= cells();
-    }
+    bool whole(PatchId p) const { return validExtentX(p) >= cells() && validExtentY(p) >= cells(); }
     int patchesX(int level) const;
     int patchesY(int level) const;
     int64_t patchCount(int level) const { return int64_t{patchesX(level)} * patchesY(level); }
