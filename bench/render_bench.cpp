@@ -186,7 +186,7 @@ void BM_BuildChunkMesh(benchmark::State& state)
             const lod::ChunkMesh mesh = lod::buildChunkMesh(
                 codes.data(), reader.geometry().patchSize(),
                 0.5 * reader.record(p).err / reader.quantization().scale,
-                reader.geometry().validCellsX(p), reader.geometry().validCellsY(p));
+                reader.geometry().coveredCellsX(p), reader.geometry().coveredCellsY(p));
             triangles = mesh.surface_indices / 3;
             benchmark::DoNotOptimize(triangles);
         }

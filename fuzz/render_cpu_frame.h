@@ -70,7 +70,7 @@ struct CpuRenderer {
                     (void)lod::buildChunkMesh(
                         patch->codes.data(), reader.geometry().patchSize(),
                         0.5 * reader.record(l.id).err / reader.quantization().scale,
-                        reader.geometry().validCellsX(l.id), reader.geometry().validCellsY(l.id));
+                        reader.geometry().coveredCellsX(l.id), reader.geometry().coveredCellsY(l.id));
             } catch (const Error&) {
                 residency.release(l.id); // drawn by an ancestor, as a failed stream
             }

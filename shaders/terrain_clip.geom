@@ -1,6 +1,8 @@
 #version 450 core
-// For patches partly outside the valid extent only (a second draw): clips each triangle to
-// the valid cells exactly (cell.x <= valid.x, cell.y <= valid.y) and hangs a wall under
+// For patches partly outside the valid extent only (a second draw): clips each triangle
+// exactly at the terrain's last finest column and row (cell.x <= valid_extent.x, cell.y <=
+// valid_extent.y, in level cells: inside a cell when the level's samples miss the border, the
+// surface there running towards the edge-extended sample beyond it) and hangs a wall under
 // every cut, skirt_depth deep. The terrain then ends on its true border with a closed side,
 // instead of fragments discarded over the padding with the skirts of inner seams showing.
 // Cut points are computed from the edge's endpoints in a fixed order, so the two triangles
@@ -98,7 +100,10 @@ void emit(Corner c, int skirt) {
     vout.skirt = skirt;
     cout.tf_position = c.position;
     cout.tf_instance = cin[0].tf_instance;
-    cout.tf_skirt = c.foot;
+    // Every vertex of a skirt or wall is marked at least 1: a cut skirt triangle may start at
+    // the skirt's top, which chunk.vert marks 0 like the surface sample it is, and captures tell
+    // skirt triangles by their first vertex.
+    cout.tf_skirt = skirt != 0 ? max(c.foot, 1) : c.foot;
     gl_Position = u_view_projection * vec4(c.position, 1.0);
     EmitVertex();
 }
@@ -111,10 +116,10 @@ void main() {
         poly[k] = corner(k);
     bool clipped[2] = bool[2](false, false);
     for (int axis = 0; axis < 2; ++axis) {
-        if (p.valid_cells[axis] >= u_patch_cells)
+        if (p.valid_extent[axis] >= float(u_patch_cells))
             continue; // the patch does not reach past the valid extent on this side
         clipped[axis] = true;
-        float limit = float(p.valid_cells[axis]);
+        float limit = p.valid_extent[axis];
         Corner next[5];
         int n = 0;
         for (int k = 0; k < count; ++k) {
@@ -135,19 +140,25 @@ void main() {
         if (count < 3)
             return;
     }
-    // Nothing left but a sliver on the line (a triangle of the padding touching it): its 3-D
-    // area vanishes (skirts are vertical, so the area is not measured in the plane).
-    vec3 normal_sum = vec3(0.0);
-    float perimeter = 0.0;
-    for (int k = 0; k < count; ++k) {
-        vec3 a = poly[k].position - poly[0].position, b = poly[(k + 1) % count].position - poly[0].position;
-        normal_sum += cross(a, b);
-        perimeter += length(poly[(k + 1) % count].position - poly[k].position);
-    }
-    if (length(normal_sum) <= 1e-6 * perimeter * perimeter)
-        return;
-
     int skirt = vin[0].skirt;
+    // Nothing left of a surface triangle but a sliver on the line (a triangle of the padding
+    // touching it): its area vanishes. Skirts are exempt: a skirt wall is as thin as its
+    // depth, which over flat ground (Err and λ 0) is only the rounding margin, a centimetre
+    // under cells that may be kilometres long — far below this relative threshold, yet the
+    // wall is what closes the seam. Clipping a vertical wall by a vertical plane leaves a
+    // narrower wall or nothing (count < 3 above), never a sliver of it.
+    if (skirt == 0) {
+        vec3 normal_sum = vec3(0.0);
+        float perimeter = 0.0;
+        for (int k = 0; k < count; ++k) {
+            vec3 a = poly[k].position - poly[0].position, b = poly[(k + 1) % count].position - poly[0].position;
+            normal_sum += cross(a, b);
+            perimeter += length(poly[(k + 1) % count].position - poly[k].position);
+        }
+        if (length(normal_sum) <= 1e-6 * perimeter * perimeter)
+            return;
+    }
+
     for (int k = 1; k + 1 < count; ++k) {
         emit(poly[0], skirt);
         emit(poly[k], skirt);
@@ -162,7 +173,7 @@ void main() {
         Corner a = poly[k], b = poly[(k + 1) % count];
         bool on_line = false;
         for (int axis = 0; axis < 2; ++axis) {
-            float limit = float(p.valid_cells[axis]);
+            float limit = p.valid_extent[axis];
             on_line = on_line || (clipped[axis] && a.cell[axis] == limit && b.cell[axis] == limit);
         }
         if (!on_line)

@@ -10,7 +10,8 @@ struct PatchInstance {
     int level;          // quadtree level
     float err;          // Err(P), metres
     float skirt_depth;  // metres the skirts hang below the patch border
-    ivec2 valid_cells;  // cells of the patch inside the valid extent along i, j
+    vec2 valid_extent;  // level cells of the surface along i, j: ends on the last finest column
+                        // and row, possibly inside a cell; >= C: not clipped on that side
     float min_z;        // camera-relative bounds of the patch's heights (and descendants')
     float max_z;
 };

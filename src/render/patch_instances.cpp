@@ -32,9 +32,6 @@ PatchInstances buildPatchInstances(const lod::PatchQuadtree& tree, const lod::Se
                                    double skirt_margin)
 {
     const PyramidGeometry& g = tree.geometry();
-    auto whole = [&](PatchId p) {
-        return g.validCellsX(p) == g.cells() && g.validCellsY(p) == g.cells();
-    };
 
     // Front to back by box distance (early depth rejection does the rest), whole patches
     // first.
@@ -45,7 +42,7 @@ PatchInstances buildPatchInstances(const lod::PatchQuadtree& tree, const lod::Se
     std::sort(order.begin(), order.end(),
               [](const auto& a, const auto& b) { return a.first < b.first; });
     const auto split = std::stable_partition(order.begin(), order.end(),
-                                             [&](const auto& e) { return whole(e.second); });
+                                             [&](const auto& e) { return g.whole(e.second); });
 
     PatchInstances out;
     out.whole = size_t(split - order.begin());
@@ -72,8 +69,10 @@ PatchInstances buildPatchInstances(const lod::PatchQuadtree& tree, const lod::Se
         r.skirt_depth = float(depths[k]);
         r.min_z = float(double(b.min_height) - camera_position.z);
         r.max_z = float(double(b.max_height) - camera_position.z);
-        r.valid_cells[0] = g.validCellsX(p);
-        r.valid_cells[1] = g.validCellsY(p);
+        // Exact while a patch spans < 2^24 finest samples (the fraction is a multiple of 1/step);
+        // beyond, rounded to float like the shader's cell coordinates it is compared with.
+        r.valid_extent[0] = float(g.validExtentX(p));
+        r.valid_extent[1] = float(g.validExtentY(p));
         out.records.push_back(r);
     }
     return out;

@@ -21,7 +21,9 @@ struct GpuPatchInstance {
     int32_t level;
     float err;         // Err(P), metres
     float skirt_depth; // metres below the patch border
-    int32_t valid_cells[2];
+    // Level cells of the patch's surface along i, j (PyramidGeometry::validExtentX/Y), possibly
+    // fractional: it ends on the terrain's last column and row. >= C: nothing to clip there.
+    float valid_extent[2];
     float min_z; // camera-relative bounds of the patch's heights
     float max_z;
 };

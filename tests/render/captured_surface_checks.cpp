@@ -74,8 +74,10 @@ WatertightReport checkWatertight(const render::CapturedSurface& s, const lod::Te
                 foot_vertices[inst].insert(keyOf(v[e]));
         }
     }
-    // The terrain's own outer border (where patches are clipped to the valid extent) is open
-    // by nature: its walls end there, vertically.
+    // The terrain's own outer border x = 0, x = W − 1, y = 0, y = H − 1 (finest samples) is
+    // open by nature: skirts and the walls under clipped patches end there, vertically. Only
+    // edges lying on it are exempt, so a surface that stops short of the border (a level whose
+    // samples miss the last column) shows its open side.
     const double last_column = frame.geometry().width() - 1,
                  last_row = frame.geometry().height() - 1;
     auto onOuterBorder = [&](const VertexKey& a, const VertexKey& b) {
@@ -88,8 +90,11 @@ WatertightReport checkWatertight(const render::CapturedSurface& s, const lod::Te
                      cb = frame.columnOf(bx + s.camera_position.x);
         const double ra = frame.rowOf(ay + s.camera_position.y),
                      rb = frame.rowOf(by + s.camera_position.y);
-        return (std::abs(ca - last_column) < 1e-3 && std::abs(cb - last_column) < 1e-3) ||
-               (std::abs(ra - last_row) < 1e-3 && std::abs(rb - last_row) < 1e-3);
+        auto both = [](double u, double v, double line) {
+            return std::abs(u - line) < 1e-3 && std::abs(v - line) < 1e-3;
+        };
+        return both(ca, cb, 0.0) || both(ca, cb, last_column) || both(ra, rb, 0.0) ||
+               both(ra, rb, last_row);
     };
     for (size_t i = 0; i < instances; ++i) {
         for (const auto& [edge, count] : edges[i]) {
@@ -201,10 +206,16 @@ ScreenErrorReport measureScreenSpaceError(const render::CapturedSurface& s,
         if (v[0].skirt)
             continue;
         glm::dvec3 q[3];
-        // Every vertex lies on a sample; rounding undoes the float error of camera-relative
-        // positions (~1e-5 samples here).
+        // Vertices lie on samples, except where the clipping shader cut an edge at the
+        // border (there they may fall between samples along it): snapping to the nearest
+        // sample undoes the float error of camera-relative positions (~1e-5 samples here)
+        // and leaves cut points alone.
+        auto snap = [](double u) {
+            const double r = std::round(u);
+            return std::abs(u - r) < 1e-3 ? r : u;
+        };
         for (int k = 0; k < 3; ++k)
-            q[k] = {std::round(frame.columnOf(v[k].x + c.x)), std::round(frame.rowOf(v[k].y + c.y)),
+            q[k] = {snap(frame.columnOf(v[k].x + c.x)), snap(frame.rowOf(v[k].y + c.y)),
                     double(v[k].z) + c.z};
         const double det =
             (q[1].y - q[2].y) * (q[0].x - q[2].x) + (q[2].x - q[1].x) * (q[0].y - q[2].y);

@@ -13,7 +13,8 @@ namespace ridge::test {
 struct WatertightReport {
     size_t triangles = 0;
     size_t skirt_triangles = 0;
-    size_t open_edges = 0;      // edges used once that are not a skirt's foot
+    size_t open_edges = 0;      // edges used once that are neither a skirt's foot nor on the
+                                // terrain's outer border (x = 0, W − 1; y = 0, H − 1)
     size_t overused_edges = 0;  // edges used more than twice
     size_t seams_checked = 0;   // positions along patch seams where coverage was tested
     size_t uncovered_seams = 0; // positions where the higher side's skirt misses the lower
@@ -21,15 +22,17 @@ struct WatertightReport {
 };
 
 // Per patch: every edge is shared by exactly two triangles with bit-identical endpoints,
-// except the skirts' feet. Across patches: along each seam between adjacent patches, the
-// higher surface's skirt reaches down to the lower surface (a vertical gap is covered).
+// except the skirts' feet and edges on the terrain's outer border. Across patches: along each
+// seam between adjacent patches, the higher surface's skirt reaches down to the lower surface
+// (a vertical gap is covered).
 WatertightReport checkWatertight(const render::CapturedSurface& s, const lod::TerrainFrame& frame);
 
 struct ScreenErrorReport {
     size_t samples = 0;      // full-resolution samples in view that were compared
     double max_px = 0.0;     // largest projected vertical deviation, pixels
     double max_metres = 0.0; // largest vertical deviation, metres
-    size_t uncovered = 0;    // samples in view with no captured triangle above them
+    size_t uncovered = 0;    // finest samples in view with no captured surface triangle
+                             // above them (a strip the surface stops short of, a hole)
 };
 
 // Projected vertical deviation of every full-resolution sample in view from the captured LOD

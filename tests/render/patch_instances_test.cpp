@@ -41,15 +41,46 @@ TEST(PatchInstances, WholePatchesComeFirstEachGroupFrontToBack)
     EXPECT_EQ(r.patches[2], (PatchId{L, 5, 3}));
     for (size_t k = r.whole; k < r.total(); ++k)
         EXPECT_TRUE(r.patches[k].x == 31 || r.patches[k].y == 21);
-    // The partial ones know how many cells are valid: 999 − 992 = 7 columns, 699 − 672 = 27 rows.
+    // The partial ones know how far their surface reaches: 999 − 992 = 7 columns, 699 − 672 =
+    // 27 rows.
     for (size_t k = 0; k < r.total(); ++k) {
         const GpuPatchInstance& g = r.records[k];
-        EXPECT_EQ(g.valid_cells[0], r.patches[k].x == 31 ? 7 : 32);
-        EXPECT_EQ(g.valid_cells[1], r.patches[k].y == 21 ? 27 : 32);
+        EXPECT_EQ(g.valid_extent[0], r.patches[k].x == 31 ? 7.f : 32.f);
+        EXPECT_EQ(g.valid_extent[1], r.patches[k].y == 21 ? 27.f : 32.f);
         EXPECT_EQ(g.layer, r.patches[k].x);
         EXPECT_FLOAT_EQ(g.min_z, 100.f - 500.f);
         EXPECT_FLOAT_EQ(g.max_z, 300.f - 500.f);
     }
+}
+
+TEST(PatchInstances, CoarsePatchesReachTheLastColumnAndRowInsideACell)
+{
+    // Level L − 2 (step 4) has samples at columns ..., 996, 1000 and rows ..., 696, 700: its
+    // last patch column starts at 896 and must draw up to 999, (999 − 896) / 4 = 25.75 cells
+    // (26 of them carry its samples, the last one edge-extended); rows from 640 to 699 are
+    // 14.75 cells. Level 0 (step 32): 999 / 32 and 699 / 32 cells.
+    const lod::PatchQuadtree t = tree();
+    const PyramidGeometry& g = t.geometry();
+    const int L = g.finestLevel();
+    lod::Selection s;
+    for (PatchId p : {PatchId{L - 2, 7, 5}, PatchId{L - 2, 6, 5}, PatchId{0, 0, 0}})
+        s.patches.push_back({p, 0.0, lod::Visibility::Inside});
+    const PatchInstances r = buildPatchInstances(
+        t, s, {0, 0, 0}, [](PatchId) { return 0; }, [](PatchId) { return 0.0; }, 0.01);
+    ASSERT_EQ(r.whole, 0u);
+    for (size_t k = 0; k < r.total(); ++k) {
+        const PatchId p = r.patches[k];
+        const float x = p.level == 0 ? 999.f / 32 : p.x == 7 ? 25.75f : 32.f;
+        const float y = p.level == 0 ? 699.f / 32 : 14.75f;
+        EXPECT_EQ(r.records[k].valid_extent[0], x) << p.x;
+        EXPECT_EQ(r.records[k].valid_extent[1], y);
+    }
+    EXPECT_EQ(g.coveredCellsX({L - 2, 7, 5}), 26);
+    EXPECT_EQ(g.coveredCellsY({L - 2, 7, 5}), 15);
+    EXPECT_EQ(g.coveredCellsX({0, 0, 0}), 32);
+    EXPECT_EQ(g.coveredCellsY({0, 0, 0}), 22);
+    EXPECT_FALSE(g.whole({L - 2, 6, 5}));
+    EXPECT_TRUE(g.whole({L - 2, 6, 4}));
 }
 
 TEST(PatchInstances, OriginsAreIntegerSamplesRelativeToTheAnchorNearTheCamera)

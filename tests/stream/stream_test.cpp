@@ -274,7 +274,7 @@ TEST(PatchStreamer, RunsTheSchemesPreparationsOnEveryDecodedPatchOnItsWorkers)
             auto out = std::make_shared<ChunkProduct>();
             out->mesh = lod::buildChunkMesh(codes, n,
                                             0.5 * reader.record(p).err / reader.quantization().scale,
-                                            g.validCellsX(p), g.validCellsY(p));
+                                            g.coveredCellsX(p), g.coveredCellsY(p));
             out->built_on = std::this_thread::get_id();
             return std::shared_ptr<const stream::PatchProduct>(out);
         };
@@ -297,7 +297,7 @@ TEST(PatchStreamer, RunsTheSchemesPreparationsOnEveryDecodedPatchOnItsWorkers)
             const lod::ChunkMesh expected = lod::buildChunkMesh(
                 patch->codes.data(), n,
                 0.5 * reader.record(patch->id).err / reader.quantization().scale,
-                g.validCellsX(patch->id), g.validCellsY(patch->id));
+                g.coveredCellsX(patch->id), g.coveredCellsY(patch->id));
             EXPECT_EQ(product.mesh.indices, expected.indices) << codec;
             EXPECT_EQ(product.mesh.surface_indices, expected.surface_indices);
             simplified += product.mesh.surface_indices < 6u * (n - 1) * (n - 1);

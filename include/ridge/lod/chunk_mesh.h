@@ -28,10 +28,13 @@ struct ChunkMesh {
 // The chunk of an n×n patch of `codes` (n = 2^k + 1, row-major) simplified to `tolerance`
 // (codes, >= 0; 0 removes only samples that lie exactly on their triangle's plane).
 //
-// A patch reaching past the terrain's east or south border has valid samples only for
-// x <= valid_x, y <= valid_y (PyramidGeometry::validCellsX/Y). Only those count towards the
-// error, and no triangle crosses those lines: the renderer's clipping shader then cuts along
-// mesh edges and vertices, as it does for full grids, so clipped chunks stay watertight.
+// A patch reaching past the terrain's east or south border is drawn up to the border, which
+// may fall inside its last cells; it takes samples only for x <= valid_x, y <= valid_y
+// (PyramidGeometry::coveredCellsX/Y: up to the first sample at or beyond the border, an
+// edge-extended one when the level's samples miss it). Only those count towards the error,
+// and no triangle crosses those lines, so nothing drawn rests on unmeasured padding. The
+// renderer's clipping shader then cuts at the border itself, computing each cut point from its
+// edge's endpoints alone: the mesh has no T-junction, so clipped chunks stay watertight.
 ChunkMesh buildChunkMesh(const uint16_t* codes, int n, double tolerance);
 ChunkMesh buildChunkMesh(const uint16_t* codes, int n, double tolerance, int valid_x, int valid_y);
 

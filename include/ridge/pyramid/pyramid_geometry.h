@@ -55,16 +55,36 @@ class PyramidGeometry {
     {
         return static_cast<int>((height_ - 1) / step(level) + 1);
     }
-    // Cells of patch `p` inside the valid extent along x and y: cells() for a patch that
-    // ends inside it, fewer for one that reaches past its east or south border.
-    int validCellsX(PatchId p) const
+    // How far patch `p`'s surface reaches along x (y), in its level's cells from its west
+    // (north) border: cells() for a patch that ends inside the valid extent, less for one that
+    // reaches past the east (south) border, whose surface must end exactly on the last finest
+    // column W − 1 (row H − 1). That is a fraction of a cell when step does not divide W − 1:
+    // the level's last sample inside the extent stops short by up to step − 1 finest samples,
+    // and the surface continues towards the next (edge-extended) sample, cut at W − 1. Exact
+    // in double: step is a power of two.
+    double validExtentX(PatchId p) const
     {
-        return std::clamp(validLevelWidth(p.level) - 1 - p.x * cells(), 0, cells());
+        return std::clamp(double(width_ - 1) / double(step(p.level)) - double(p.x) * cells(), 0.0,
+                          double(cells()));
     }
-    int validCellsY(PatchId p) const
+    double validExtentY(PatchId p) const
     {
-        return std::clamp(validLevelHeight(p.level) - 1 - p.y * cells(), 0, cells());
+        return std::clamp(double(height_ - 1) / double(step(p.level)) - double(p.y) * cells(), 0.0,
+                          double(cells()));
     }
+    // Cells of `p` that surface takes samples from: ceil(validExtentX), up to the first sample
+    // at or beyond the border (levelWidth − 1). Err_Int and λ count those samples, padding
+    // included (pyramid/patch_error.h), so the bounds hold for the surface up to the border.
+    int coveredCellsX(PatchId p) const
+    {
+        return std::clamp(levelWidth(p.level) - 1 - p.x * cells(), 0, cells());
+    }
+    int coveredCellsY(PatchId p) const
+    {
+        return std::clamp(levelHeight(p.level) - 1 - p.y * cells(), 0, cells());
+    }
+    // Whether `p` lies wholly inside the valid extent (nothing of it to clip).
+    bool whole(PatchId p) const { return validExtentX(p) >= cells() && validExtentY(p) >= cells(); }
     int patchesX(int level) const;
     int patchesY(int level) const;
     int64_t patchCount(int level) const { return int64_t{patchesX(level)} * patchesY(level); }

@@ -44,7 +44,7 @@ std::shared_ptr<const stream::PatchProduct> prepareChunk(const archive::ArchiveR
     auto out = std::make_shared<PreparedChunk>();
     out->mesh = lod::buildChunkMesh(codes, g.patchSize(),
                                     tolerance * reader.record(p).err / reader.quantization().scale,
-                                    g.validCellsX(p), g.validCellsY(p));
+                                    g.coveredCellsX(p), g.coveredCellsY(p));
     return out;
 }
 
