@@ -2,6 +2,7 @@
 #include "ridge/lod/frustum.h"
 #include "ridge/lod/screen_space_error.h"
 
+#include <glm/common.hpp>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -34,6 +35,37 @@ TEST(ScreenSpaceError, EqualsTheProjectedLengthOfAnErrorSeenFaceOnAtTheScreenCen
             projectedVerticalSegment(c.viewProjection(), c.viewport(), {0.0, rho, 0.0}, err);
         EXPECT_NEAR(screen_space_error(gamma, err, rho), projected, projected * 1e-6) << rho;
     }
+}
+
+TEST(ScreenSpaceError, TheVisibleDepthBoundHoldsForVerticalErrorsAnywhereOnScreen)
+{
+    // Looking steeply down, a vertical error near the screen's corner is seen almost
+    // side-on at a depth below its distance: it projects longer than γ·e / depth. The bound
+    // must still hold for every visible point of a box.
+    const Camera cam({0, 0, 1000}, {0, 300, 0}, 60.0, {1280, 720}, 1.0, 1e5);
+    const double gamma = screenSpaceErrorFactor(cam);
+    const glm::dmat4 vp = cam.viewProjection();
+    const Frustum frustum(cam);
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    double worst = 0.0;
+    for (int k = 0; k < 2000; ++k) {
+        const glm::dvec3 lo(-1500 + 3000 * u(rng), -1500 + 3000 * u(rng), 0.0);
+        const Box box{lo, lo + glm::dvec3(200, 200, 50)};
+        const double rho = distanceToBox(cam.position(), box);
+        const double bound = screen_space_error(gamma, 1.0, visibleDepthBound(cam, box, rho));
+        for (int i = 0; i < 27; ++i) {
+            const glm::dvec3 p =
+                box.min + (box.max - box.min) * glm::dvec3(i % 3, i / 3 % 3, i / 9) * 0.5;
+            const glm::dvec4 q = vp * glm::dvec4(p - cam.position(), 1.0);
+            if (std::abs(q.x) > q.w || std::abs(q.y) > q.w || q.w < cam.nearPlane())
+                continue;
+            const double px = projectedVerticalSegment(vp, cam.viewport(), p - cam.position(), 1.0);
+            EXPECT_LE(px, bound * 1.0001) << k;
+            worst = std::max(worst, px / bound);
+        }
+    }
+    EXPECT_GT(worst, 0.5) << "the cases must come near the bound";
 }
 
 TEST(ScreenSpaceError, IsInfiniteInsideTheBoxAndZeroForExactPatches)
