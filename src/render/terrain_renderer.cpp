@@ -548,6 +548,7 @@ void TerrainRenderer::Impl::setFrameUniforms(const gpu::ShaderProgram& program,
     glProgramUniform1i(id, program.uniform("u_block_cells"), layout.block_cells);
     glProgramUniform1i(id, program.uniform("u_blocks_per_side"), blocks_per_side);
     glProgramUniform1i(id, program.uniform("u_block_levels"), block_levels);
+    glProgramUniform1i(id, program.uniform("u_tessellation_rule"), int(settings.tessellation_rule));
     // Block culling uses the camera-relative frustum: the terrain-frame planes moved by −c.
     glProgramUniform1i(id, program.uniform("u_cull_blocks"),
                        settings.cull && settings.cull_blocks ? 1 : 0);
