@@ -1,11 +1,18 @@
 // Fine-grain LOD selection (Yusov & Shevtsov 2011, §5); GPU twin of src/lod/edge_tessellation.cpp.
 // Needs terrain_common.glsl.
 
+uniform int u_tessellation_rule; // lod::TessellationRule: 0 conservative, 1 the paper's
+// LOD is decided for the LOD camera (TerrainRenderer::draw's lod_camera; usually the camera
+// drawn from): camera-relative positions → its clip space, and its position relative to
+// the drawn camera.
+uniform mat4 u_lod_view_projection;
+uniform vec3 u_lod_camera;
+
 // Projected length in pixels of the vertical segment of `len` metres centred at `c`.
 float projectedVerticalSegment(vec3 c, float len) {
     // precise: both blocks of a shared edge must get the same answer at every call site.
-    precise vec4 lo = u_view_projection * vec4(c - vec3(0.0, 0.0, 0.5 * len), 1.0);
-    precise vec4 hi = u_view_projection * vec4(c + vec3(0.0, 0.0, 0.5 * len), 1.0);
+    precise vec4 lo = u_lod_view_projection * vec4(c - vec3(0.0, 0.0, 0.5 * len), 1.0);
+    precise vec4 hi = u_lod_view_projection * vec4(c + vec3(0.0, 0.0, 0.5 * len), 1.0);
     if (lo.w <= 1e-6 || hi.w <= 1e-6)
         return 1e30;
     precise float pixels = length((hi.xy / hi.w - lo.xy / lo.w) * 0.5 * u_viewport);
@@ -20,6 +27,46 @@ int edgeSimplification(vec3 centre, vec4 edge_errors) {
     return 0;
 }
 
+// The point of segment [a, b] nearest the LOD camera (the origin when it is the camera drawn
+// from, positions being camera-relative).
+vec3 nearestPointOfSegment(vec3 a, vec3 b) {
+    precise vec3 ab = b - a;
+    precise vec3 to_camera = u_lod_camera - a;
+    precise float t = clamp(dot(to_camera, ab) / max(dot(ab, ab), 1e-30), 0.0, 1.0);
+    precise vec3 q = a + t * ab;
+    return q;
+}
+
+// d of the edge from `a` to `b` with centre sample `centre`. The paper projects Λ_e^(d) at the
+// centre only, but the edge's near end projects larger (up to 2× for an edge as long as it is
+// far), and that is where its error shows: the conservative rule takes the most demanding of
+// the endpoints, the centre sample and the edge's point nearest the camera. And it projects
+// 2Λ_e^(d): the tessellator's transition triangles between a coarse edge and a finer interior
+// are not in the T^(d) family λ^(d) bounds, but their edge vertices are T^(d) vertices and
+// their inner ones samples within λ^(d) of it, so a sample under one is within 2λ^(d) + Err(P)
+// (one Λ^(d) did 1.14 ε on the renderer test's cameras). Only the edge's own samples enter, so
+// both blocks of a shared edge (and a block and its skirt) agree.
+int edgeSimplification(vec3 a, vec3 centre, vec3 b, vec4 edge_errors) {
+    if (u_tessellation_rule == 1)
+        return edgeSimplification(centre, edge_errors);
+    vec4 e = 2.0 * edge_errors;
+    int d = min(edgeSimplification(a, e), edgeSimplification(b, e));
+    d = min(d, edgeSimplification(centre, e));
+    return min(d, edgeSimplification(nearestPointOfSegment(a, b), e));
+}
+
+// Conservative d of a block's interior with its own Λ^(d): the most demanding of its corners,
+// its centre sample and the point of its footprint box [lo, hi] nearest the camera, which is
+// nearer than any sample of the block (a vertical segment projects longer the nearer it is,
+// except seen end-on from above, where it is short anyway).
+int interiorSimplification(vec3 corners[4], vec3 centre, vec3 lo, vec3 hi, vec4 errors) {
+    int d = edgeSimplification(clamp(u_lod_camera, lo, hi), errors);
+    d = min(d, edgeSimplification(centre, errors));
+    for (int k = 0; k < 4; ++k)
+        d = min(d, edgeSimplification(corners[k], errors));
+    return d;
+}
+
 // Λ^(d) = λ^(d) + Err(P) of block (s, r) of patch `p`.
 vec4 blockErrors(PatchInstance p, ivec2 block_sr) {
     return texelFetch(u_block_errors, ivec3(block_sr, p.layer), 0) + vec4(p.err);
@@ -29,5 +76,6 @@ vec4 blockErrors(PatchInstance p, ivec2 block_sr) {
 // b − a along one axis, |b − a| = u_block_cells). `errors` is max Λ of the blocks sharing it.
 float edgeFactor(PatchInstance p, ivec2 a, ivec2 b, vec4 errors) {
     vec3 centre = samplePosition(p, (a + b) / 2);
-    return float(u_block_cells >> edgeSimplification(centre, errors));
+    return float(u_block_cells >>
+                 edgeSimplification(samplePosition(p, a), centre, samplePosition(p, b), errors));
 }

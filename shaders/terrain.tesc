@@ -74,8 +74,25 @@ void main() {
         gl_TessLevelOuter[1] = f_top;
         gl_TessLevelOuter[2] = f_right;
         gl_TessLevelOuter[3] = f_bottom;
-        // The paper: the interior takes the minimum of its edge factors.
-        float inner = min(min(f_left, f_top), min(f_right, f_bottom));
+        float inner;
+        if (u_tessellation_rule == 1) {
+            // The paper: the interior takes the minimum of its edge factors, so an interior
+            // nearer the camera than its edge centres (or an edge finer than its neighbours)
+            // is drawn coarser than ε allows.
+            inner = min(min(f_left, f_top), min(f_right, f_bottom));
+        } else {
+            // Conservative: the interior meets ε by its own test, and is at least as fine as
+            // its finest edge, so that the tessellator's transition triangles only ever step
+            // from a finer interior to a coarser edge. Only this block reads it: no crack.
+            vec2 lo = samplePosition(p, s0).xy, hi = samplePosition(p, s0 + ivec2(b)).xy;
+            vec3 corners[4] = vec3[4](samplePosition(p, s0), samplePosition(p, s0 + ivec2(b, 0)),
+                                      samplePosition(p, s0 + ivec2(0, b)),
+                                      samplePosition(p, s0 + ivec2(b)));
+            int d = interiorSimplification(corners, samplePosition(p, s0 + ivec2(b / 2)),
+                                           vec3(min(lo, hi), p.min_z), vec3(max(lo, hi), p.max_z),
+                                           own);
+            inner = max(float(b >> d), max(max(f_left, f_top), max(f_right, f_bottom)));
+        }
         gl_TessLevelInner[0] = inner;
         gl_TessLevelInner[1] = inner;
         tc_start = s0;

@@ -1,13 +1,15 @@
 #version 450 core
-// Runs edgeSimplification of shaders/edge_tessellation.glsl on a batch of cases, so that
-// tests can compare it with ridge::lod::edgeSimplification (its C++ twin).
+// Runs the edge rules of shaders/edge_tessellation.glsl on a batch of cases, so that tests can
+// compare them with ridge::lod::edgeSimplification (their C++ twin): per case, d at the centre
+// alone (the paper's test) and d of the whole edge under u_tessellation_rule.
 #include "terrain_common.glsl"
 #include "edge_tessellation.glsl"
 
 layout(local_size_x = 64) in;
 
-layout(std430, binding = 1) readonly buffer Cases { vec4 cases[]; }; // centre, then Λ^(1..4)
-layout(std430, binding = 2) writeonly buffer Results { int simplification[]; };
+// Per case: endpoint a, centre, endpoint b, then Λ^(1..4).
+layout(std430, binding = 1) readonly buffer Cases { vec4 cases[]; };
+layout(std430, binding = 2) writeonly buffer Results { ivec2 simplification[]; };
 
 uniform int u_case_count;
 
@@ -15,5 +17,8 @@ void main() {
     int i = int(gl_GlobalInvocationID.x);
     if (i >= u_case_count)
         return;
-    simplification[i] = edgeSimplification(cases[2 * i].xyz, cases[2 * i + 1]);
+    vec4 errors = cases[4 * i + 3];
+    simplification[i] = ivec2(edgeSimplification(cases[4 * i + 1].xyz, errors),
+                              edgeSimplification(cases[4 * i].xyz, cases[4 * i + 1].xyz,
+                                                 cases[4 * i + 2].xyz, errors));
 }

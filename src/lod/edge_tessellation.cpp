@@ -1,8 +1,10 @@
 #include "ridge/lod/edge_tessellation.h"
 
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
 #include <algorithm>
+#include <iterator>
 #include <limits>
 
 namespace ridge::lod {
@@ -36,6 +38,55 @@ int edgeSimplification(const glm::dmat4& view_projection, Viewport viewport, glm
             epsilon_px)
             return d;
     return 0;
+}
+
+glm::dvec3 nearestPointOfSegment(glm::dvec3 a, glm::dvec3 b)
+{
+    const glm::dvec3 ab = b - a;
+    const double t = std::clamp(-glm::dot(a, ab) / std::max(glm::dot(ab, ab), 1e-30), 0.0, 1.0);
+    return a + t * ab;
+}
+
+int edgeSimplification(const glm::dmat4& view_projection, Viewport viewport, glm::dvec3 a,
+                       glm::dvec3 centre, glm::dvec3 b, const EdgeErrors& errors, int levels,
+                       double epsilon_px, TessellationRule rule)
+{
+    if (rule == TessellationRule::Paper)
+        return edgeSimplification(view_projection, viewport, centre, errors, levels, epsilon_px);
+    // 2Λ_e^(d), in float as the shader doubles it: it bounds the transition triangles too.
+    EdgeErrors doubled;
+    for (int d = 0; d < kMaxBlockLevels; ++d)
+        doubled.lambda[d] = 2.0f * errors.lambda[d];
+    auto at = [&](glm::dvec3 p) {
+        return edgeSimplification(view_projection, viewport, p, doubled, levels, epsilon_px);
+    };
+    // Where Λ_e projects largest: the near end, or the edge's nearest point when the camera
+    // is abreast of the edge (see the header).
+    return std::min({at(a), at(centre), at(b), at(nearestPointOfSegment(a, b))});
+}
+
+int interiorSimplification(const glm::dmat4& view_projection, Viewport viewport,
+                           const glm::dvec3 (&corners)[4], glm::dvec3 centre, glm::dvec3 box_lo,
+                           glm::dvec3 box_hi, const EdgeErrors& own, int levels, double epsilon_px)
+{
+    auto at = [&](glm::dvec3 p) {
+        return edgeSimplification(view_projection, viewport, p, own, levels, epsilon_px);
+    };
+    int d = std::min(at(glm::clamp(glm::dvec3(0.0), box_lo, box_hi)), at(centre));
+    for (const glm::dvec3& c : corners)
+        d = std::min(d, at(c));
+    return d;
+}
+
+int interiorFactor(TessellationRule rule, int block_cells, const int (&edge_factors)[4],
+                   int interior_d)
+{
+    const auto [lo, hi] = std::minmax_element(std::begin(edge_factors), std::end(edge_factors));
+    if (rule == TessellationRule::Paper)
+        return *lo;
+    // At least the finest edge: the tessellator's transition triangles then only step from a
+    // finer interior to a coarser edge.
+    return std::max(tessellationFactor(block_cells, interior_d), *hi);
 }
 
 } // namespace ridge::lod

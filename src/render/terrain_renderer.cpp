@@ -427,6 +427,9 @@ void TerrainRenderer::Impl::setFrameUniforms(const gpu::ShaderProgram& program,
                                                                          frame.lod_camera.position());
     setMatrix(program, "u_lod_view_projection",
               reverseZProjection(frame.lod_camera) * frame.lod_camera.view() * to_lod_camera);
+    const glm::dvec3 lod_offset = frame.lod_camera.position() - camera.position();
+    glProgramUniform3f(id, program.uniform("u_lod_camera"), float(lod_offset.x),
+                       float(lod_offset.y), float(lod_offset.z));
     const CameraAnchor anchor = cameraAnchor(quadtree.frame(), camera.position());
     glProgramUniform2f(id, program.uniform("u_spacing"), float(quadtree.frame().spacingX()),
                        float(-quadtree.frame().spacingY()));

@@ -2,6 +2,7 @@
 #include "ridge/lod/frustum.h"
 #include "ridge/lod/screen_space_error.h"
 
+#include <glm/common.hpp>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -34,6 +35,37 @@ TEST(ScreenSpaceError, EqualsTheProjectedLengthOfAnErrorSeenFaceOnAtTheScreenCen
             projectedVerticalSegment(c.viewProjection(), c.viewport(), {0.0, rho, 0.0}, err);
         EXPECT_NEAR(screen_space_error(gamma, err, rho), projected, projected * 1e-6) << rho;
     }
+}
+
+TEST(ScreenSpaceError, TheVisibleDepthBoundHoldsForVerticalErrorsAnywhereOnScreen)
+{
+    // Looking steeply down, a vertical error near the screen's corner is seen almost
+    // side-on at a depth below its distance: it projects longer than γ·e / depth. The bound
+    // must still hold for every visible point of a box.
+    const Camera cam({0, 0, 1000}, {0, 300, 0}, 60.0, {1280, 720}, 1.0, 1e5);
+    const double gamma = screenSpaceErrorFactor(cam);
+    const glm::dmat4 vp = cam.viewProjection();
+    const Frustum frustum(cam);
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    double worst = 0.0;
+    for (int k = 0; k < 2000; ++k) {
+        const glm::dvec3 lo(-1500 + 3000 * u(rng), -1500 + 3000 * u(rng), 0.0);
+        const Box box{lo, lo + glm::dvec3(200, 200, 50)};
+        const double rho = distanceToBox(cam.position(), box);
+        const double bound = screen_space_error(gamma, 1.0, visibleDepthBound(cam, box, rho));
+        for (int i = 0; i < 27; ++i) {
+            const glm::dvec3 p =
+                box.min + (box.max - box.min) * glm::dvec3(i % 3, i / 3 % 3, i / 9) * 0.5;
+            const glm::dvec4 q = vp * glm::dvec4(p - cam.position(), 1.0);
+            if (std::abs(q.x) > q.w || std::abs(q.y) > q.w || q.w < cam.nearPlane())
+                continue;
+            const double px = projectedVerticalSegment(vp, cam.viewport(), p - cam.position(), 1.0);
+            EXPECT_LE(px, bound * 1.0001) << k;
+            worst = std::max(worst, px / bound);
+        }
+    }
+    EXPECT_GT(worst, 0.5) << "the cases must come near the bound";
 }
 
 TEST(ScreenSpaceError, IsInfiniteInsideTheBoxAndZeroForExactPatches)
@@ -147,4 +179,77 @@ TEST(EdgeTessellation, CoarsensWithDistanceAndNeverSimplifiesBehindTheCamera)
     EXPECT_TRUE(
         std::isinf(projectedVerticalSegment(c.viewProjection(), c.viewport(), {0, -50, 0}, 1.0)));
     EXPECT_EQ(edgeSimplification(c.viewProjection(), c.viewport(), {0, -50, 0}, e, 4, 2.0), 0);
+}
+
+TEST(EdgeTessellation, TheConservativeRuleMeetsEpsilonAlongTheWholeEdgeAndThePapersDoesNot)
+{
+    // Random edges of 8 cells of 30 m ahead of a low camera: the conservative d keeps Λ_e^(d)
+    // (projected once, as λ^(d) bounds the edge's own samples) below ε at every sample of the
+    // edge; the paper's, tested at the centre only, does not always.
+    const Camera c({0, 0, 50}, {0, 1000, 0}, 70.0, {1280, 720}, 1.0, 1e5);
+    const glm::dmat4 vp = c.viewProjection();
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    int paper_misses = 0;
+    for (int k = 0; k < 2000; ++k) {
+        const glm::dvec3 a(-600 + 1200 * u(rng), 30 + 2000 * u(rng), -50 + 30 * u(rng));
+        const glm::dvec3 along = u(rng) < 0.5 ? glm::dvec3(240, 0, 0) : glm::dvec3(0, 240, 0);
+        const glm::dvec3 b = a + along + glm::dvec3(0, 0, 30 * (u(rng) - 0.5));
+        const glm::dvec3 centre = 0.5 * (a + b) + glm::dvec3(0, 0, 10 * (u(rng) - 0.5));
+        const EdgeErrors e{{0.5f, 1.5f, 4.0f, 9.0f}};
+        for (const TessellationRule rule :
+             {TessellationRule::Conservative, TessellationRule::Paper}) {
+            const int d = edgeSimplification(vp, c.viewport(), a, centre, b, e, 4, 2.0, rule);
+            if (d == 0)
+                continue;
+            bool within = true;
+            for (int i = 0; i <= 8; ++i) {
+                const glm::dvec3 p =
+                    i <= 4 ? a + (centre - a) * (i / 4.0) : centre + (b - centre) * ((i - 4) / 4.0);
+                within &= projectedVerticalSegment(vp, c.viewport(), p, e.lambda[d - 1]) < 2.0;
+            }
+            if (rule == TessellationRule::Conservative) {
+                EXPECT_TRUE(within) << k;
+            } else {
+                paper_misses += !within;
+            }
+        }
+    }
+    EXPECT_GT(paper_misses, 20);
+}
+
+TEST(EdgeTessellation, TheInteriorIsTheMinimumOfTheEdgesForThePaperAndAtLeastTheirMaximumOtherwise)
+{
+    const int edges[4] = {8, 2, 4, 1};
+    EXPECT_EQ(interiorFactor(TessellationRule::Paper, 8, edges, 0), 1);
+    EXPECT_EQ(interiorFactor(TessellationRule::Conservative, 8, edges, 3), 8);
+    EXPECT_EQ(interiorFactor(TessellationRule::Conservative, 8, {1, 2, 1, 1}, 1), 4);
+    // The interior's own test: the most demanding of its corners, centre and the nearest
+    // point of its box, never coarser than any of them.
+    const Camera c({0, 0, 300}, {0, 1000, 0}, 70.0, {1280, 720}, 1.0, 1e5);
+    const glm::dmat4 vp = c.viewProjection();
+    const EdgeErrors e{{0.5f, 1.5f, 4.0f, 9.0f}};
+    std::mt19937 rng(9);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    int histogram[5] = {};
+    for (int k = 0; k < 500; ++k) {
+        const glm::dvec3 lo(-600 + 1200 * u(rng), 50 + 3000 * u(rng), -300 - 100 * u(rng));
+        const glm::dvec3 hi = lo + glm::dvec3(240, 240, 100 * u(rng));
+        const glm::dvec3 corners[4] = {{lo.x, lo.y, lo.z + 10},
+                                       {hi.x, lo.y, hi.z},
+                                       {lo.x, hi.y, lo.z},
+                                       {hi.x, hi.y, hi.z - 5}};
+        const glm::dvec3 centre = 0.5 * (lo + hi);
+        const int d = interiorSimplification(vp, c.viewport(), corners, centre, lo, hi, e, 4, 2.0);
+        int expect =
+            edgeSimplification(vp, c.viewport(), glm::clamp(glm::dvec3(0), lo, hi), e, 4, 2.0);
+        for (const glm::dvec3& p : {corners[0], corners[1], corners[2], corners[3], centre})
+            expect = std::min(expect, edgeSimplification(vp, c.viewport(), p, e, 4, 2.0));
+        EXPECT_EQ(d, expect) << k;
+        ++histogram[d];
+    }
+    int levels_seen = 0;
+    for (int d = 0; d <= 4; ++d)
+        levels_seen += histogram[d] > 5;
+    EXPECT_GE(levels_seen, 3) << "the boxes must exercise several d";
 }

@@ -27,24 +27,32 @@ TEST(EdgeTessellationTwin, ShaderAndCppPickTheSameSimplificationForRandomEdges)
     const int count = 4096;
     std::vector<glm::vec4> cases;
     std::vector<lod::EdgeErrors> errors(count);
-    std::vector<glm::dvec3> centres(count);
+    std::vector<glm::dvec3> ends_a(count), centres(count), ends_b(count);
     for (int i = 0; i < count; ++i) {
         // Ahead of the camera, 5 m to 20 km away; Λ^(d) increasing with d as real blocks do.
         const double dist = 5.0 * std::pow(4000.0, u(rng));
         centres[i] =
             glm::normalize(glm::dvec3(u(rng) - 0.5, 1.0, -0.4 + 0.6 * (u(rng) - 0.5))) * dist;
+        // An edge of 8 to 2000 m along x or y through it, with some relief.
+        const double half = 4.0 * std::pow(250.0, u(rng));
+        const glm::dvec3 along = u(rng) < 0.5 ? glm::dvec3(half, 0, 0) : glm::dvec3(0, half, 0);
+        ends_a[i] = glm::dvec3(
+            glm::vec3(centres[i] - along + glm::dvec3(0, 0, 0.3 * half * (u(rng) - 0.5))));
+        ends_b[i] = glm::dvec3(
+            glm::vec3(centres[i] + along + glm::dvec3(0, 0, 0.3 * half * (u(rng) - 0.5))));
+        centres[i] = glm::dvec3(glm::vec3(centres[i]));
         float lambda = float(0.05 * std::pow(400.0, u(rng)));
         for (int d = 0; d < lod::kMaxBlockLevels; ++d) {
             errors[i].lambda[d] = lambda;
             lambda *= float(1.0 + 3.0 * u(rng));
         }
-        cases.push_back(glm::vec4(glm::vec3(centres[i]), 0.f));
+        for (const glm::dvec3& p : {ends_a[i], centres[i], ends_b[i]})
+            cases.push_back(glm::vec4(glm::vec3(p), 0.f));
         cases.push_back(glm::vec4(errors[i].lambda[0], errors[i].lambda[1], errors[i].lambda[2],
                                   errors[i].lambda[3]));
     }
-    gpu::GlBuffer in, out;
+    gpu::GlBuffer in;
     glNamedBufferStorage(in.id(), GLsizeiptr(cases.size() * sizeof(glm::vec4)), cases.data(), 0);
-    glNamedBufferStorage(out.id(), GLsizeiptr(count * sizeof(int32_t)), nullptr, 0);
     program.use();
     const glm::mat4 m(vp_matrix);
     glUniformMatrix4fv(program.uniform("u_view_projection"), 1, GL_FALSE, glm::value_ptr(m));
@@ -53,33 +61,58 @@ TEST(EdgeTessellationTwin, ShaderAndCppPickTheSameSimplificationForRandomEdges)
     glUniform1i(program.uniform("u_block_levels"), levels);
     glUniform1i(program.uniform("u_case_count"), count);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, in.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, out.id());
-    glDispatchCompute((count + 63) / 64, 1, 1);
-    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    std::vector<int32_t> gpu_d(count);
-    glGetNamedBufferSubData(out.id(), 0, GLsizeiptr(count * sizeof(int32_t)), gpu_d.data());
-    gpu::checkGlError("edge tessellation twin");
 
-    int agree = 0, near_threshold = 0, histogram[5] = {};
-    for (int i = 0; i < count; ++i) {
-        const int cpu_d =
-            lod::edgeSimplification(vp_matrix, vp, centres[i], errors[i], levels, epsilon);
-        ++histogram[cpu_d];
-        if (gpu_d[i] == cpu_d) {
-            ++agree;
-            continue;
-        }
-        // Float (GPU) and double (CPU) may only disagree when a projected error is within a
-        // hair of ε.
+    // Float (GPU) and double (CPU) may only disagree when a projected error is within a hair
+    // of ε at one of the points the rule tests.
+    auto nearThreshold = [&](int i, double scale) {
         bool close = false;
-        for (int d = 1; d <= levels; ++d)
-            close |= std::abs(lod::projectedVerticalSegment(vp_matrix, vp, centres[i],
-                                                            errors[i].lambda[d - 1]) -
-                              epsilon) < 1e-4 * epsilon;
-        EXPECT_TRUE(close) << "case " << i << ": GPU d " << gpu_d[i] << ", C++ d " << cpu_d;
-        near_threshold += close;
+        for (const glm::dvec3& p :
+             {ends_a[i], centres[i], ends_b[i], lod::nearestPointOfSegment(ends_a[i], ends_b[i])})
+            for (int d = 1; d <= levels; ++d)
+                close |= std::abs(lod::projectedVerticalSegment(vp_matrix, vp, p,
+                                                                scale * errors[i].lambda[d - 1]) -
+                                  epsilon) < 1e-4 * epsilon;
+        return close;
+    };
+    for (const lod::TessellationRule rule :
+         {lod::TessellationRule::Conservative, lod::TessellationRule::Paper}) {
+        glUniform1i(program.uniform("u_tessellation_rule"), int(rule));
+        gpu::GlBuffer out;
+        glNamedBufferStorage(out.id(), GLsizeiptr(count * sizeof(glm::ivec2)), nullptr, 0);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, out.id());
+        glDispatchCompute((count + 63) / 64, 1, 1);
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        std::vector<glm::ivec2> gpu_d(count);
+        glGetNamedBufferSubData(out.id(), 0, GLsizeiptr(count * sizeof(glm::ivec2)), gpu_d.data());
+        gpu::checkGlError("edge tessellation twin");
+
+        const bool paper = rule == lod::TessellationRule::Paper;
+        int agree = 0, histogram[5] = {}, finer = 0;
+        for (int i = 0; i < count; ++i) {
+            const int cpu_centre =
+                lod::edgeSimplification(vp_matrix, vp, centres[i], errors[i], levels, epsilon);
+            const int cpu_edge = lod::edgeSimplification(
+                vp_matrix, vp, ends_a[i], centres[i], ends_b[i], errors[i], levels, epsilon, rule);
+            ++histogram[cpu_edge];
+            finer += cpu_edge < cpu_centre;
+            // The conservative rule never simplifies more than the paper's.
+            EXPECT_LE(cpu_edge, cpu_centre) << i;
+            if (paper) {
+                EXPECT_EQ(cpu_edge, cpu_centre) << i;
+            }
+            if (gpu_d[i].x == cpu_centre && gpu_d[i].y == cpu_edge) {
+                ++agree;
+                continue;
+            }
+            EXPECT_TRUE(nearThreshold(i, 1.0) || (!paper && nearThreshold(i, 2.0)))
+                << "case " << i << ": GPU d " << gpu_d[i].x << " / " << gpu_d[i].y << ", C++ d "
+                << cpu_centre << " / " << cpu_edge;
+        }
+        EXPECT_GE(agree, count - 8);
+        for (int d = 0; d <= levels; ++d)
+            EXPECT_GT(histogram[d], 50) << "the cases must exercise every d; d = " << d;
+        if (!paper) {
+            EXPECT_GT(finer, count / 10) << "the conservative rule must differ from the paper's";
+        }
     }
-    EXPECT_GE(agree, count - 4);
-    for (int d = 0; d <= levels; ++d)
-        EXPECT_GT(histogram[d], 50) << "the cases must exercise every d; d = " << d;
 }

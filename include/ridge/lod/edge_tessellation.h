@@ -12,8 +12,18 @@
 // minimum of its four edge factors. Edges shared by two blocks see the same inputs in both, so
 // both pick the same factor: no cracks inside a patch.
 //
-// shaders/edge_tessellation.glsl is the GPU twin of this file; tests/lod checks that both
-// pick the same d for the same inputs.
+// That rule (TessellationRule::Paper) misses ε: Λ is projected at the edge centre while the
+// edge's near end projects larger, and an interior nearer the camera than its edges gets the
+// coarsest of them. ridge's default, TessellationRule::Conservative, tests each edge with
+// 2Λ_e^(d) at its endpoints, centre sample and point nearest the camera and takes the most
+// demanding d (still from the edge's own samples and the shared Λ_e, so shared edges agree;
+// 2Λ because a sample under a transition triangle between a coarse edge and a finer interior
+// is within 2λ^(d) + Err(P), see shaders/edge_tessellation.glsl), and gives the interior its
+// own test with the block's Λ^(d) at its corners, centre sample and the nearest point of its
+// footprint box, refined to at least its finest edge.
+//
+// shaders/edge_tessellation.glsl is the GPU twin of this file; tests/render's twin test
+// checks that both pick the same d for the same inputs.
 #include "ridge/lod/camera.h"
 
 #include <glm/mat4x4.hpp>
@@ -22,6 +32,12 @@
 namespace ridge::lod {
 
 inline constexpr int kMaxBlockLevels = 4; // Λ^(d), d = 1..4, fits one vec4 per block
+
+// The fine-LOD rule; the values are the shaders' u_tessellation_rule.
+enum class TessellationRule {
+    Conservative = 0, // ε at every edge's and interior's most demanding point (the default)
+    Paper = 1,        // §5 as published: edge centres, interior = min of edge factors
+};
 
 // Edge errors Λ_e^(d) of an edge between blocks with errors `a` and `b` (d = 1..levels).
 struct EdgeErrors {
@@ -37,6 +53,28 @@ double projectedVerticalSegment(const glm::dmat4& view_projection, Viewport view
 // The paper's d for one edge, in [0, levels].
 int edgeSimplification(const glm::dmat4& view_projection, Viewport viewport, glm::dvec3 centre_rel,
                        const EdgeErrors& errors, int levels, double epsilon_px);
+
+// The point of segment [a, b] nearest the camera (the origin of camera-relative positions).
+glm::dvec3 nearestPointOfSegment(glm::dvec3 a, glm::dvec3 b);
+
+// d of the edge from `a` to `b` (camera-relative) with centre sample `centre` under `rule`:
+// Paper: edgeSimplification at the centre; Conservative: the least d, with 2Λ_e, of the
+// endpoints, the centre and nearestPointOfSegment(a, b).
+int edgeSimplification(const glm::dmat4& view_projection, Viewport viewport, glm::dvec3 a,
+                       glm::dvec3 centre, glm::dvec3 b, const EdgeErrors& errors, int levels,
+                       double epsilon_px, TessellationRule rule);
+
+// The conservative rule's d of a block's interior with the block's own Λ^(d): the least d of
+// its four corners, its centre sample and the point of its footprint box [lo, hi] nearest the
+// camera.
+int interiorSimplification(const glm::dmat4& view_projection, Viewport viewport,
+                           const glm::dvec3 (&corners)[4], glm::dvec3 centre, glm::dvec3 box_lo,
+                           glm::dvec3 box_hi, const EdgeErrors& own, int levels, double epsilon_px);
+
+// The interior tessellation factor of a block with edge factors `edge_factors` under `rule`:
+// Paper: their minimum; Conservative: b / 2^interior_d, at least their maximum.
+int interiorFactor(TessellationRule rule, int block_cells, const int (&edge_factors)[4],
+                   int interior_d);
 
 // b / 2^d.
 inline int tessellationFactor(int block_cells, int d)

@@ -11,6 +11,7 @@
 #include "ridge/archive/archive_reader.h"
 #include "ridge/core/parameter_check.h"
 #include "ridge/lod/camera.h"
+#include "ridge/lod/edge_tessellation.h"
 #include "ridge/lod/geomorph.h"
 #include "ridge/lod/patch_quadtree.h"
 #include "ridge/lod/patch_residency.h"
@@ -53,6 +54,7 @@ struct RenderSettings {
     // ... and of tessellation blocks in the control shader (with `cull`). capture() keeps
     // whatever is set: tests that check a whole patch's mesh turn it off.
     bool cull_blocks = true;
+    lod::TessellationRule tessellation_rule = lod::TessellationRule::Conservative;
     bool skirts = true;
     DebugMode mode = DebugMode::Shaded;
     bool wireframe = false; // triangle edges over the shading

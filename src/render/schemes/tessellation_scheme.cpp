@@ -24,6 +24,13 @@ class TessellationScheme final : public TerrainScheme {
         return programs_.get(capture);
     }
 
+    // Conservative (ridge's default: ε on every sample) or the paper's edge rule.
+    void setUniforms(const gpu::ShaderProgram& program, const SchemeFrame& frame) const override
+    {
+        glProgramUniform1i(program.id(), program.uniform("u_tessellation_rule"),
+                           int(frame.settings.tessellation_rule));
+    }
+
     void draw(const gpu::ShaderProgram& program, const SchemeFrame& frame, size_t first,
               size_t count) const override
     {
