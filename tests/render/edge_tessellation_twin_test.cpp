@@ -56,6 +56,9 @@ TEST(EdgeTessellationTwin, ShaderAndCppPickTheSameSimplificationForRandomEdges)
     program.use();
     const glm::mat4 m(vp_matrix);
     glUniformMatrix4fv(program.uniform("u_view_projection"), 1, GL_FALSE, glm::value_ptr(m));
+    // The LOD camera is the camera here (the renderer sets both; twins test the edge rule).
+    glUniformMatrix4fv(program.uniform("u_lod_view_projection"), 1, GL_FALSE, glm::value_ptr(m));
+    glUniform3f(program.uniform("u_lod_camera"), 0.f, 0.f, 0.f);
     glUniform2f(program.uniform("u_viewport"), float(vp.width), float(vp.height));
     glUniform1f(program.uniform("u_epsilon"), float(epsilon));
     glUniform1i(program.uniform("u_block_levels"), levels);
