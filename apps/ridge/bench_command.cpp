@@ -38,6 +38,7 @@ void BenchCommand::registerWith(CLI::App& app)
         ->check(inRange("--error", render::RenderSettings::kEpsilonPxRange));
     addStreamingOptions(*command_, renderer_options_);
     addGeomorphOptions(*command_, renderer_options_);
+    addLodRuleOptions(*command_, rules_);
     command_->add_flag("--popping", popping_,
                        "Measure popping per frame (the surface's displacement from LOD changes "
                        "alone, px; two extra captures a frame, so time a run without it)");
@@ -78,6 +79,8 @@ int BenchCommand::run()
     options.cull = !no_cull_;
     options.grid_chunks = grid_chunks_;
     options.measure_popping = popping_;
+    options.tessellation_rule = rules_.tessellation_rule;
+    options.side_on_bound = rules_.side_on_bound;
     if (table_) {
         std::vector<renderbench::RenderBenchReport> reports;
         for (const std::string& scheme : render::lodSchemeNames())

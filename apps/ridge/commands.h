@@ -50,6 +50,7 @@ class BenchCommand {
     bool no_cull_ = false;
     bool grid_chunks_ = false;
     bool popping_ = false;
+    render::RenderSettings rules_; // --tess-rule, --on-axis-bound
     bool table_ = false;
     std::string json_path_;
     std::string plot_path_;

@@ -78,6 +78,24 @@ inline void addStreamingOptions(CLI::App& command, render::RendererOptions& opti
         "Load every patch before drawing the frame that needs it (stalls)");
 }
 
+// Which LOD rules: the tessellation rule and the coarse selection's bound.
+inline void addLodRuleOptions(CLI::App& command, render::RenderSettings& settings)
+{
+    const std::map<std::string, lod::TessellationRule> rules = {
+        {"conservative", lod::TessellationRule::Conservative},
+        {"paper", lod::TessellationRule::Paper}};
+    command
+        .add_option("--tess-rule", settings.tessellation_rule,
+                    "tess: conservative (ε on every sample, the default) or paper (Λ at edge "
+                    "centres, interior the minimum of the edges)")
+        ->transform(CLI::CheckedTransformer(rules, CLI::ignore_case))
+        ->default_str("conservative");
+    command.add_flag_callback(
+        "--on-axis-bound", [&settings] { settings.side_on_bound = false; },
+        "Coarse selection without the side-on factor (earlier releases' bound; with "
+        "--tess-rule paper, their LOD)");
+}
+
 // Scheme "geomorph"'s options: the paper's vertex layouts and regimes.
 inline void addGeomorphOptions(CLI::App& command, render::RendererOptions& options)
 {

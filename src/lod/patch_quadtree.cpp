@@ -53,7 +53,7 @@ Selection PatchQuadtree::select(const Camera& camera, const SelectionSettings& s
         s.epsilon_px = epsilon;
         // Err_Scr is linear in Err(P): scaling γ scales every patch's error.
         visit(PatchId{0, 0, 0}, camera, settings.cull ? &frustum : nullptr,
-              gamma * settings.error_scale, epsilon, settings.conservative_distance, s);
+              gamma * settings.error_scale, epsilon, settings, s);
         // At ε = ∞ every visible patch with a finite Err_Scr stops at the root; should a NaN
         // bound (a corrupt index) still refine, give up raising rather than loop forever.
         if (s.patches.size() <= settings.max_patches || std::isinf(epsilon))
@@ -63,7 +63,7 @@ Selection PatchQuadtree::select(const Camera& camera, const SelectionSettings& s
 }
 
 void PatchQuadtree::visit(PatchId p, const Camera& camera, const Frustum* frustum, double gamma,
-                          double epsilon, bool conservative, Selection& out) const
+                          double epsilon, const SelectionSettings& settings, Selection& out) const
 {
     ++out.visited;
     const Box b = box(p);
@@ -77,7 +77,8 @@ void PatchQuadtree::visit(PatchId p, const Camera& camera, const Frustum* frustu
     }
     const double rho = distanceToBox(camera.position(), b);
     const double err_scr = screen_space_error(
-        gamma, bounds(p).err, conservative ? visibleDepthBound(camera, b, rho) : rho);
+        gamma, bounds(p).err,
+        settings.conservative_distance ? visibleDepthBound(camera, b, rho, settings.side_on) : rho);
     if (p.level == geometry().finestLevel() || err_scr <= epsilon) {
         out.patches.push_back({p, err_scr, visibility});
         return;
@@ -85,7 +86,7 @@ void PatchQuadtree::visit(PatchId p, const Camera& camera, const Frustum* frustu
     for (int k = 0; k < 4; ++k) {
         const PatchId child{p.level + 1, 2 * p.x + (k & 1), 2 * p.y + (k >> 1)};
         if (geometry().exists(child))
-            visit(child, camera, frustum, gamma, epsilon, conservative, out);
+            visit(child, camera, frustum, gamma, epsilon, settings, out);
     }
 }
 

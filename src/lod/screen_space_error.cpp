@@ -21,7 +21,7 @@ double distanceToBox(glm::dvec3 c, const Box& box)
     return glm::length(c - glm::clamp(c, box.min, box.max));
 }
 
-double visibleDepthBound(const Camera& camera, const Box& box, double rho)
+double visibleDepthBound(const Camera& camera, const Box& box, double rho, bool side_on)
 {
     const double tx = std::tan(camera.fovX() * 0.5), ty = std::tan(camera.fovY() * 0.5);
     const double cos_max = 1.0 / std::sqrt(1.0 + tx * tx + ty * ty);
@@ -32,7 +32,7 @@ double visibleDepthBound(const Camera& camera, const Box& box, double rho)
     const double w_min = glm::dot(n - camera.position(), f);
     // r/w² <= 1/(cos θ_max · w) for a visible point (see the header): the extra cos θ_max
     // covers errors seen side-on near the screen's corners (1.09 ε without it).
-    return cos_max * std::max(rho * cos_max, w_min);
+    return (side_on ? cos_max : 1.0) * std::max(rho * cos_max, w_min);
 }
 
 double screen_space_error(double gamma, double err_metres, double rho)

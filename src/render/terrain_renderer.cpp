@@ -476,6 +476,7 @@ lod::Selection TerrainRenderer::Impl::prepare(const lod::Camera& camera,
     ss.epsilon_px = settings.epsilon_px;
     ss.cull = settings.cull;
     ss.max_patches = size_t(slots);
+    ss.side_on = settings.side_on_bound;
     schemeFor(settings).adjustSelection(settings, ss);
     lod::Selection selection = quadtree.select(camera, ss);
     stats.cpu_select_ms = millisecondsSince(t0);

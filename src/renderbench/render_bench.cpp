@@ -124,6 +124,8 @@ RenderBenchReport runRenderBench(const std::string& archive, const RenderBenchOp
     settings.scheme = o.scheme;
     settings.epsilon_px = o.epsilon_px;
     settings.cull = o.cull;
+    settings.tessellation_rule = o.tessellation_rule;
+    settings.side_on_bound = o.side_on_bound;
     std::optional<lod::Camera> previous; // the popping metric's previous LOD state
     for (const lod::CameraPose& pose : path) {
         double near_m = 1.0, far_m = 1e6;

@@ -39,6 +39,8 @@ struct SelectionSettings {
     // ρ in Err_Scr: the box depth bound that holds off-axis (visibleDepthBound), or the
     // paper's distance to the closest box point (false; under-refines at screen corners).
     bool conservative_distance = true;
+    // With conservative_distance: visibleDepthBound's side-on factor (see there).
+    bool side_on = true;
     // At most this many patches; when the tree at ε needs more, ε is raised by 25% steps
     // until it fits, and Selection::epsilon_px says what was used.
     size_t max_patches = std::numeric_limits<size_t>::max();
@@ -79,7 +81,7 @@ class PatchQuadtree {
 
   private:
     void visit(PatchId p, const Camera& camera, const Frustum* frustum, double gamma,
-               double epsilon, bool conservative, Selection& out) const;
+               double epsilon, const SelectionSettings& settings, Selection& out) const;
 
     TerrainFrame frame_;
     std::vector<PatchBounds> bounds_;

@@ -26,7 +26,9 @@ double distanceToBox(glm::dvec3 c, const Box& box);
 // place of ρ keeps Err_Scr an upper bound anywhere on screen. It refines at most
 // 1/cos² θ_max (2.4 for 60° at 16:9) further than ρ; measured, it barely moves the triangle
 // count (the finest patches' blocks dominate it).
-double visibleDepthBound(const Camera& camera, const Box& box, double rho);
+// `side_on` false leaves out the extra cos θ_max for errors seen side-on (the bound before
+// issue 12: cheaper, measured up to 1.09 ε; kept for comparisons with earlier figures).
+double visibleDepthBound(const Camera& camera, const Box& box, double rho, bool side_on = true);
 
 // Err_Scr in pixels; +inf when the camera is inside the box and err > 0.
 double screen_space_error(double gamma, double err_metres, double rho);

@@ -55,6 +55,10 @@ struct RenderSettings {
     // whatever is set: tests that check a whole patch's mesh turn it off.
     bool cull_blocks = true;
     lod::TessellationRule tessellation_rule = lod::TessellationRule::Conservative;
+    // Coarse selection with lod::visibleDepthBound's side-on factor (ε anywhere on screen).
+    // false: the bound of earlier releases (cheaper, up to 1.09 ε off-axis), which with
+    // tessellation_rule = Paper reproduces their LOD for like-for-like comparisons.
+    bool side_on_bound = true;
     bool skirts = true;
     DebugMode mode = DebugMode::Shaded;
     bool wireframe = false; // triangle edges over the shading

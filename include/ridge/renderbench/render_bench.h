@@ -24,6 +24,9 @@ struct RenderBenchOptions {
     // with the previous frame's LOD state and with this one's; render/frame_measures.h).
     // Costly, and with streaming on the extra captures stream too: time a run without it.
     bool measure_popping = false;
+    // The LOD rules (render::RenderSettings): defaults are ridge's, ε on every sample.
+    lod::TessellationRule tessellation_rule = lod::TessellationRule::Conservative;
+    bool side_on_bound = true;
     // Budgets, streaming (on by default) and decoding; the bench itself raises
     // max_resident_patches and measures with synchronous_stats.
     render::RendererOptions renderer = render::RendererOptions::streamingDefaults();

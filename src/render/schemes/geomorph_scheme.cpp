@@ -228,7 +228,8 @@ class GeomorphScheme final : public TerrainScheme {
             }
             const lod::Box box = quadtree_.box(p);
             const double rho = lod::visibleDepthBound(
-                lod_camera, box, lod::distanceToBox(lod_camera.position(), box));
+                lod_camera, box, lod::distanceToBox(lod_camera.position(), box),
+                settings.side_on_bound); // the selection's own bound
             const double own = lod::screen_space_error(gamma, quadtree_.bounds(p).err, rho);
             // The compact layout's target codes are up to ½ code off the parent's surface.
             const double parent_err = quadtree_.bounds(p.parent()).err + target_rounding_;
