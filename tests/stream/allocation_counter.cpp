@@ -8,20 +8,59 @@ thread_local bool t_counting = false;
 thread_local size_t t_allocations = 0;
 } // namespace
 
-// The array forms and the nothrow forms call these by default.
-void* operator new(size_t n)
+// Every form is replaced, not only the two that the others call by default: a sanitizer
+// runtime interposes its own nothrow and array forms, and a block from its allocator freed
+// here (GDAL allocates with nothrow new) is an alloc-dealloc mismatch.
+namespace {
+void* counted(size_t n) noexcept
 {
     if (t_counting)
         ++t_allocations;
-    if (void* p = std::malloc(n ? n : 1))
+    return std::malloc(n ? n : 1);
+}
+} // namespace
+
+void* operator new(size_t n)
+{
+    if (void* p = counted(n))
         return p;
     throw std::bad_alloc();
+}
+void* operator new[](size_t n)
+{
+    if (void* p = counted(n))
+        return p;
+    throw std::bad_alloc();
+}
+void* operator new(size_t n, const std::nothrow_t&) noexcept
+{
+    return counted(n);
+}
+void* operator new[](size_t n, const std::nothrow_t&) noexcept
+{
+    return counted(n);
 }
 void operator delete(void* p) noexcept
 {
     std::free(p);
 }
+void operator delete[](void* p) noexcept
+{
+    std::free(p);
+}
 void operator delete(void* p, size_t) noexcept
+{
+    std::free(p);
+}
+void operator delete[](void* p, size_t) noexcept
+{
+    std::free(p);
+}
+void operator delete(void* p, const std::nothrow_t&) noexcept
+{
+    std::free(p);
+}
+void operator delete[](void* p, const std::nothrow_t&) noexcept
 {
     std::free(p);
 }
