@@ -107,6 +107,22 @@ class ViewCommand {
     render::RendererOptions renderer_options_ = render::RendererOptions::streamingDefaults();
 };
 
+// `ridge query` (query_command.cpp): heights at points, GL-free (pipeline::HeightQuery).
+class QueryCommand {
+  public:
+    void registerWith(CLI::App& app);
+    bool parsed() const { return command_ && command_->parsed(); }
+    int run();
+
+  private:
+    CLI::App* command_ = nullptr;
+    std::string archive_;
+    std::optional<double> x_, y_;
+    bool lonlat_ = false, pixel_ = false, local_ = false;
+    int level_ = -1;
+    bool json_ = false;
+};
+
 class Commands {
   public:
     void registerAll(CLI::App& app);
@@ -144,6 +160,7 @@ class Commands {
     ViewCommand view_;
     RenderCommand render_;
     BenchCommand bench_;
+    QueryCommand query_;
 };
 
 } // namespace ridge::cli
