@@ -33,8 +33,9 @@ HeightSample HeightQuery::sample(glm::dvec2 point, PointSpace space, int level)
     checkParameter("level", int64_t{level}, 0, g.finestLevel());
     HeightSample out;
     out.level = level;
-    out.local = georeference_.toLocal(point, space);
-    out.pixel = georeference_.fromLocal(out.local, PointSpace::Pixel);
+    // Through pixel/line, so that a sample centre given as pixel/line reads that sample exactly.
+    out.pixel = georeference_.toPixel(point, space);
+    out.local = space == PointSpace::Local ? point : georeference_.localOfPixel(out.pixel);
     // The raster is its pixels' area; a NaN-safe test (finite by now anyway).
     out.on_raster = out.pixel.x >= 0.0 && out.pixel.x <= double(g.width()) &&
                     out.pixel.y >= 0.0 && out.pixel.y <= double(g.height());

@@ -77,28 +77,40 @@ std::array<double, 2> TerrainGeoreference::crsToPixel(double x, double y) const
     return {v[0] + x * v[1] + y * v[2], v[3] + x * v[4] + y * v[5]};
 }
 
-glm::dvec2 TerrainGeoreference::toLocal(glm::dvec2 point, PointSpace from) const
+glm::dvec2 TerrainGeoreference::toPixel(glm::dvec2 point, PointSpace from) const
 {
     checkParameters(std::string(pointSpaceName(from)) + " point", &point.x, 2, ValueRange::any());
-    const double height = frame_.geometry().height();
-    glm::dvec2 pixel{0.0};
     switch (from) {
-    case PointSpace::Local: return point;
-    case PointSpace::Pixel: pixel = point; break;
+    case PointSpace::Local: break;
+    case PointSpace::Pixel: return point;
     case PointSpace::Crs: {
         const auto p = crsToPixel(point.x, point.y);
-        pixel = {p[0], p[1]};
-        break;
+        return {p[0], p[1]};
     }
     case PointSpace::LonLat: {
         const auto crs = geographic().fromLonLat(point.x, point.y);
         const auto p = crsToPixel(crs[0], crs[1]);
-        pixel = {p[0], p[1]};
-        break;
+        return {p[0], p[1]};
     }
     }
+    return {point.x / frame_.spacingX() + 0.5,
+            frame_.geometry().height() - 0.5 - point.y / frame_.spacingY()};
+}
+
+glm::dvec2 TerrainGeoreference::localOfPixel(glm::dvec2 pixel) const
+{
     // Pixel centre (c + 0.5, r + 0.5) is sample (c, r).
-    return {frame_.xOf(pixel.x - 0.5), (height - 0.5 - pixel.y) * frame_.spacingY()};
+    return {frame_.xOf(pixel.x - 0.5),
+            (frame_.geometry().height() - 0.5 - pixel.y) * frame_.spacingY()};
+}
+
+glm::dvec2 TerrainGeoreference::toLocal(glm::dvec2 point, PointSpace from) const
+{
+    if (from == PointSpace::Local) {
+        checkParameters("local point", &point.x, 2, ValueRange::any());
+        return point;
+    }
+    return localOfPixel(toPixel(point, from));
 }
 
 glm::dvec2 TerrainGeoreference::fromLocal(glm::dvec2 local, PointSpace to) const

@@ -48,6 +48,10 @@ class TerrainGeoreference {
     // coordinates, a longitude/latitude out of range, or a space the archive lacks.
     glm::dvec2 toLocal(glm::dvec2 point, PointSpace from) const;
     glm::dvec2 fromLocal(glm::dvec2 local, PointSpace to) const;
+    // The same through pixel/line, the geotransform's own space: a pixel/line given is used
+    // as is (sample centres stay exact), a CRS point goes through the inverse geotransform.
+    glm::dvec2 toPixel(glm::dvec2 point, PointSpace from) const;
+    glm::dvec2 localOfPixel(glm::dvec2 pixel) const;
 
     // Meridian convergence at local point `local`: the angle in degrees, clockwise, from grid
     // north (the local frame's +y) to true north. 0 for a north-up geographic archive; up to
