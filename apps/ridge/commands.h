@@ -4,6 +4,7 @@
 #include "ridge/pipeline/extract.h"
 #include "ridge/pipeline/hillshade.h"
 #include "ridge/render/terrain_renderer.h"
+#include "render_args.h"
 
 #include <CLI/CLI.hpp>
 #include <optional>
@@ -67,8 +68,7 @@ class RenderCommand {
     CLI::App* command_ = nullptr;
     std::string archive_;
     std::string output_;
-    std::vector<double> camera_;
-    std::vector<double> look_at_;
+    CameraArgs camera_args_;
     double fov_ = 60.0;
     std::string size_ = "1920x1080";
     double error_ = 2.0;
@@ -104,6 +104,7 @@ class ViewCommand {
     bool vsync_ = true;
     int frames_ = 0;         // > 0: render this many frames, then exit (smoke tests)
     std::string screenshot_; // PNG of the last frame, read back before the final swap
+    CameraArgs camera_args_; // the starting camera, as `ridge render` takes it
     render::RendererOptions renderer_options_ = render::RendererOptions::streamingDefaults();
 };
 
