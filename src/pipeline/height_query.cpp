@@ -73,9 +73,9 @@ HeightSample HeightQuery::sample(glm::dvec2 point, PointSpace space, int level)
     return out;
 }
 
-std::optional<int> HeightQuery::drawnLevel(const lod::Camera& camera,
-                                           const lod::SelectionSettings& settings,
-                                           glm::dvec2 local) const
+std::optional<lod::SelectedPatch> HeightQuery::drawnPatch(const lod::Camera& camera,
+                                                          const lod::SelectionSettings& settings,
+                                                          glm::dvec2 local) const
 {
     checkParameters("local point", &local.x, 2, ValueRange::any());
     const lod::Selection selection = quadtree_.select(camera, settings);
@@ -85,7 +85,7 @@ std::optional<int> HeightQuery::drawnLevel(const lod::Camera& camera,
         const lod::Box box = quadtree_.box(s.id);
         if (local.x >= box.min.x && local.x <= box.max.x && local.y >= box.min.y &&
             local.y <= box.max.y)
-            return s.id.level;
+            return s;
     }
     return std::nullopt;
 }

@@ -8,7 +8,7 @@
 // the exact finest surface: at every sample position the decoded height, within Err(P) =
 // δ_L (codec bound + quantization) of the source; between samples, their bilinear blend. At a
 // coarser level it is the surface a LOD scheme draws when it selects that level there, within
-// Err(P) of every finest sample it covers. `drawnLevel` says which level the LOD selection
+// Err(P) of every finest sample it covers. `drawnPatch` says which patch (so level) the LOD selection
 // (lod::PatchQuadtree) draws at a point for a given camera and ε.
 //
 // Points: any PointSpace (terrain_georeference.h). A point is on the raster when its
@@ -61,12 +61,14 @@ class HeightQuery {
     // out of range, a space the archive lacks, or a corrupt patch.
     HeightSample sample(glm::dvec2 point, PointSpace space = PointSpace::Crs, int level = -1);
 
-    // The level of the patch the LOD selection draws at local point `local` for `camera` and
-    // `settings` (lod::PatchQuadtree::select), or nullopt when no selected patch covers the
-    // point (off the raster, or culled by the view frustum). Throws ridge::Error for settings
-    // PatchQuadtree refuses.
-    std::optional<int> drawnLevel(const lod::Camera& camera, const lod::SelectionSettings& settings,
-                                  glm::dvec2 local) const;
+    // The patch the LOD selection draws at local point `local` for `camera` and `settings`
+    // (lod::PatchQuadtree::select: its id, so its level, and Err_Scr), or nullopt when no
+    // selected patch covers the point (off the raster, or culled by the view frustum).
+    // sample(local, PointSpace::Local, drawn->id.level) is then the surface drawn there.
+    // Throws ridge::Error for settings PatchQuadtree refuses.
+    std::optional<lod::SelectedPatch> drawnPatch(const lod::Camera& camera,
+                                                 const lod::SelectionSettings& settings,
+                                                 glm::dvec2 local) const;
 
   private:
     std::unique_ptr<archive::ArchiveReader> reader_;
