@@ -205,3 +205,20 @@ TEST(RenderCli, AGeographicCameraIsPlacedThroughProj)
     EXPECT_NE(both.exit_code, 0);
     EXPECT_NE(both.output.find("--camera-lonlat"), std::string::npos) << both.output;
 }
+
+TEST(QueryCli, NegativeCoordinatesArePositionalNumbersNotFlags)
+{
+    test::ScratchDir dir;
+    const test::CommandResult build = test::runRidge(
+        "build " + quoted(test::dataPath("rainier_voids.tif")) + " -o " +
+        quoted(dir.path("r.ridge")) + " -q --patch 33");
+    ASSERT_EQ(build.exit_code, 0) << build.output;
+    const test::CommandResult r =
+        runStdout("query --lonlat --json " + quoted(dir.path("r.ridge")) + " -121.5 46.7");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const nlohmann::json j = nlohmann::json::parse(r.output);
+    EXPECT_EQ(j["points"][0]["input"].get<std::string>(), "-121.5 46.7");
+    EXPECT_TRUE(j["points"][0]["on_raster"].get<bool>());
+    EXPECT_GT(j["points"][0]["height"].get<double>(), 347.0); // the crop's range: 347..1994 m
+    EXPECT_LT(j["points"][0]["height"].get<double>(), 1994.0);
+}
