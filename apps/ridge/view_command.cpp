@@ -154,9 +154,9 @@ class Viewer {
   public:
     // `start`: the camera the command line asked for (render's options), else the default.
     Viewer(gpu::WindowContext& window, render::TerrainRenderer& renderer, double fov_y_degrees,
-           double epsilon_px, const ResolvedCamera& start, std::string archive)
+           double epsilon_px, const ResolvedCamera& start, const archive::ArchiveReader& reader)
         : window_(window), renderer_(renderer), fov_y_degrees_(fov_y_degrees),
-          archive_(std::move(archive))
+          archive_(reader.path()), georeference_(reader)
     {
         settings_.epsilon_px = std::clamp(epsilon_px, kMinEpsilonPx, kMaxEpsilonPx);
         int w = 1, h = 1;
@@ -403,6 +403,14 @@ class Viewer {
         ImGui::Text("heading %.1f deg (from grid north), pitch %.1f deg, speed %.1f m/s",
                     fly_.yaw() * kDegreesPerRadian, fly_.pitch() * kDegreesPerRadian,
                     fly_.speed());
+        if (georeference_.hasCrs()) {
+            try { // PROJ refuses points outside the projection's domain: no line then
+                const glm::dvec2 ll = georeference_.fromLocal({p.x, p.y}, PointSpace::LonLat);
+                ImGui::Text("camera %.6f, %.6f (WGS 84 lon, lat); true north %+.3f deg from grid",
+                            ll.x, ll.y, georeference_.convergenceDegrees({p.x, p.y}));
+            } catch (const Error&) {
+            }
+        }
         if (!camera_line_.empty())
             ImGui::TextWrapped("copied: %s", camera_line_.c_str());
         ImGui::Text("mode: %s", modeName(settings_.mode));
@@ -423,6 +431,7 @@ class Viewer {
     double fov_y_degrees_;
     std::string archive_;
     std::string camera_line_; // the last camera P printed
+    TerrainGeoreference georeference_;
     render::RenderSettings settings_;
     render::FlyCamera fly_;
     render::FrameStats stats_;
@@ -507,7 +516,7 @@ int ViewCommand::run()
         // Streaming: the window never waits for disk or decoding; missing patches are drawn by
         // their resident ancestors until they arrive.
         render::TerrainRenderer renderer(reader, renderer_options_);
-        Viewer viewer(*window, renderer, fov_y_degrees_, epsilon_px_, start, archive_);
+        Viewer viewer(*window, renderer, fov_y_degrees_, epsilon_px_, start, reader);
         const ImGuiSession imgui(window->window());
 
         for (int frame = 0; frames_ == 0 || frame < frames_; ++frame) {
