@@ -86,6 +86,9 @@ int QueryCommand::run()
                              : local_ ? PointSpace::Local
                                       : PointSpace::Crs;
     HeightQuery query(archive_);
+    if (level_ > query.finestLevel())
+        throw Error(fmt::format("--level {}: {} has levels 0 to {}", level_, archive_,
+                                query.finestLevel()));
     if (space == PointSpace::Crs && !query.georeference().hasGeotransform())
         throw Error(archive_ + ": the archive has no geotransform: give points with --pixel or "
                                "--local");

@@ -26,11 +26,15 @@ struct GeographicTransform::State {
 
 namespace {
 
-std::string projError(PJ_CONTEXT* context)
+std::string projError(PJ_CONTEXT* context, int code)
 {
-    const int code = proj_context_errno(context);
     const char* text = code ? proj_context_errno_string(context, code) : nullptr;
     return text ? text : "unknown PROJ error";
+}
+
+std::string projError(PJ_CONTEXT* context)
+{
+    return projError(context, proj_context_errno(context));
 }
 
 } // namespace
@@ -85,7 +89,7 @@ std::array<double, 2> GeographicTransform::fromLonLat(double longitude, double l
     if (!std::isfinite(out.xy.x) || !std::isfinite(out.xy.y))
         throw Error(what_ + ": longitude " + formatNumber(longitude) + ", latitude " +
                     formatNumber(latitude) + " cannot be projected to " + name_ + " (" +
-                    projError(state_->context) + ")");
+                    projError(state_->context, proj_errno(state_->transform)) + ")");
     return {out.xy.x, out.xy.y};
 }
 
@@ -97,7 +101,8 @@ std::array<double, 2> GeographicTransform::toLonLat(double x, double y) const
     const PJ_COORD out = proj_trans(state_->transform, PJ_INV, proj_coord(x, y, 0.0, 0.0));
     if (!std::isfinite(out.lp.lam) || !std::isfinite(out.lp.phi))
         throw Error(what_ + ": " + name_ + " point " + formatNumber(x) + ", " + formatNumber(y) +
-                    " has no longitude/latitude (" + projError(state_->context) + ")");
+                    " has no longitude/latitude (" +
+                    projError(state_->context, proj_errno(state_->transform)) + ")");
     return {out.lp.lam, out.lp.phi};
 }
 
