@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Fails when a library's headers leak out of the modules that own them:
-#   GDAL only in src/io; GL, EGL and GLFW headers only in the GPU layer (src/gpu,
+#   GDAL and PROJ only in src/io; GL, EGL and GLFW headers only in the GPU layer (src/gpu,
 #   include/ridge/gpu) and the viewer's window code; the GPU layer (ridge/gpu/...) only in the
 #   renderers and the tools that drive them (renderbench), the apps, benchmarks and tests — LOD, culling, error metrics and codecs stay
 #   plain C++ that runs without a GL context.
@@ -14,6 +14,8 @@ report() {
 }
 bad=$(grep -rlE '#include *[<"](gdal|ogr|cpl_)[a-z_]*\.h' src include apps | grep -v '^src/io/' || true)
 [[ -z "$bad" ]] || report "GDAL headers outside src/io" "$bad"
+bad=$(grep -rlE '#include *[<"]proj(\.h|/)' src include apps | grep -v '^src/io/' || true)
+[[ -z "$bad" ]] || report "PROJ headers outside src/io" "$bad"
 bad=$(grep -rlE '#include *[<"](epoxy|GL|EGL|GLFW)/' src include apps |
       grep -vE '^(src/gpu/|include/ridge/gpu/|apps/ridge/view_command\.cpp$)' || true)
 [[ -z "$bad" ]] || report "GL/EGL/GLFW headers outside the GPU layer" "$bad"

@@ -6,6 +6,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config git
   libgdal-dev gdal-bin           # ingest: any raster GDAL reads; extract writes GeoTIFF
+  libproj-dev                    # longitude/latitude ↔ archive CRS (queries, cameras, info)
   libzstd-dev                    # archive payload compression (later codecs)
   libpng-dev                     # hillshade PNG output
   libfmt-dev libcli11-dev nlohmann-json3-dev

@@ -6,9 +6,12 @@
 
 #include "ridge/core/atomic_output.h"
 #include "ridge/core/file_identity.h"
+#include "ridge/pipeline/terrain_georeference.h"
 #include "ridge/renderbench/render_bench.h"
 
 #include <fmt/core.h>
+
+#include <memory>
 
 namespace ridge::cli {
 
@@ -72,6 +75,13 @@ int BenchCommand::run()
     options.renderer = renderer_options_;
     options.scheme = parseLodScheme(renderer_, "--lod");
     options.path.kind = path_;
+    // "lonlat" poses in a path file: WGS 84 through the archive's CRS (PROJ).
+    auto geo = std::make_shared<const TerrainGeoreference>(archive::ArchiveReader(archive_));
+    if (geo->hasCrs())
+        options.path.from_lon_lat = [geo](double lon, double lat, double height) {
+            const glm::dvec2 local = geo->toLocal({lon, lat}, PointSpace::LonLat);
+            return glm::dvec3(local.x, local.y, height);
+        };
     options.path.speed_mps = speed_;
     options.frames = frames_;
     options.viewport = parseSize(size_);

@@ -5,6 +5,7 @@
 
 #include "ridge/codec/height_codec.h"
 #include "ridge/core/error.h"
+#include "ridge/io/geographic.h"
 #include "ridge/pipeline/info.h"
 #include "ridge/pipeline/verify.h"
 #include "ridge/pyramid/pyramid_geometry.h"
@@ -12,6 +13,8 @@
 
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
+
+#include <cmath>
 
 namespace ridge::cli {
 
@@ -32,6 +35,43 @@ std::string humanBytes(uint64_t bytes)
         ++u;
     }
     return u == 0 ? fmt::format("{} B", bytes) : fmt::format("{:.1f} {}", v, units[u]);
+}
+
+// gdalinfo's "Corner Coordinates:" block: CRS numbers as it formats them, then DMS lon/lat.
+void printCorners(const ArchiveInfo& info)
+{
+    if (info.corners.empty())
+        return;
+    fmt::print("Corner Coordinates:\n");
+    for (const CornerInfo& c : info.corners) {
+        const bool degrees = std::abs(c.x) < 181 && std::abs(c.y) < 91;
+        std::string line = degrees ? fmt::format("{:<11} ({:12.7f},{:12.7f})", c.name, c.x, c.y)
+                                   : fmt::format("{:<11} ({:12.3f},{:12.3f})", c.name, c.x, c.y);
+        if (c.has_lon_lat)
+            line += fmt::format(" ({},{})", io::formatDms(c.longitude, true),
+                                io::formatDms(c.latitude, false));
+        fmt::print("{}\n", line);
+    }
+    if (!info.lon_lat_note.empty())
+        fmt::print("(no longitude/latitude: {})\n", info.lon_lat_note);
+}
+
+// gdalinfo -json's cornerCoordinates (CRS) and wgs84Extent, plus ridge's lon/lat per corner.
+void addCornersJson(const ArchiveInfo& info, nlohmann::json& j)
+{
+    if (info.corners.empty())
+        return;
+    const char* keys[] = {"upperLeft", "lowerLeft", "upperRight", "lowerRight", "center"};
+    nlohmann::json crs = nlohmann::json::object(), lon_lat = nlohmann::json::object();
+    for (size_t k = 0; k < info.corners.size() && k < 5; ++k) {
+        const CornerInfo& c = info.corners[k];
+        crs[keys[k]] = {c.x, c.y};
+        if (c.has_lon_lat)
+            lon_lat[keys[k]] = {c.longitude, c.latitude};
+    }
+    j["cornerCoordinates"] = crs;
+    if (lon_lat.size() == info.corners.size())
+        j["cornerLonLat"] = lon_lat;
 }
 
 // --max-memory, MB: positive, and within what a byte count holds (1 PB).
@@ -158,6 +198,7 @@ void Commands::registerAll(CLI::App& app)
     view_.registerWith(app);
     render_.registerWith(app);
     bench_.registerWith(app);
+    query_.registerWith(app);
 }
 
 int Commands::run()
@@ -178,6 +219,8 @@ int Commands::run()
         return render_.run();
     if (bench_.parsed())
         return bench_.run();
+    if (query_.parsed())
+        return query_.run();
     return runHillshade();
 }
 
@@ -247,6 +290,7 @@ int Commands::runInfo()
             {"max_height", info.max_height},
             {"metadata", nlohmann::json::parse(info.metadata_json)}, // checked by the reader
         };
+        addCornersJson(info, j);
         for (const LevelInfo& l : info.levels)
             j["levels"].push_back({{"level", l.level},
                                    {"step", l.step},
@@ -291,6 +335,7 @@ int Commands::runInfo()
         name_start == std::string::npos ? name_start : wkt.find('"', name_start + 1);
     fmt::print("CRS: {}\n",
                wkt.empty() ? "none" : wkt.substr(name_start + 1, name_end - name_start - 1));
+    printCorners(info);
     fmt::print("\n{:>5} {:>6} {:>13} {:>11} {:>11} {:>12} {:>12}\n", "level", "step", "samples",
                "patches", "bytes", "max Err(P)", "δ_l");
     for (const LevelInfo& l : info.levels)

@@ -4,6 +4,7 @@
 #include "ridge/pipeline/extract.h"
 #include "ridge/pipeline/hillshade.h"
 #include "ridge/render/terrain_renderer.h"
+#include "render_args.h"
 
 #include <CLI/CLI.hpp>
 #include <optional>
@@ -67,8 +68,7 @@ class RenderCommand {
     CLI::App* command_ = nullptr;
     std::string archive_;
     std::string output_;
-    std::vector<double> camera_;
-    std::vector<double> look_at_;
+    CameraArgs camera_args_;
     double fov_ = 60.0;
     std::string size_ = "1920x1080";
     double error_ = 2.0;
@@ -104,7 +104,24 @@ class ViewCommand {
     bool vsync_ = true;
     int frames_ = 0;         // > 0: render this many frames, then exit (smoke tests)
     std::string screenshot_; // PNG of the last frame, read back before the final swap
+    CameraArgs camera_args_; // the starting camera, as `ridge render` takes it
     render::RendererOptions renderer_options_ = render::RendererOptions::streamingDefaults();
+};
+
+// `ridge query` (query_command.cpp): heights at points, GL-free (pipeline::HeightQuery).
+class QueryCommand {
+  public:
+    void registerWith(CLI::App& app);
+    bool parsed() const { return command_ && command_->parsed(); }
+    int run();
+
+  private:
+    CLI::App* command_ = nullptr;
+    std::string archive_;
+    std::optional<double> x_, y_;
+    bool lonlat_ = false, pixel_ = false, local_ = false;
+    int level_ = -1;
+    bool json_ = false;
 };
 
 class Commands {
@@ -144,6 +161,7 @@ class Commands {
     ViewCommand view_;
     RenderCommand render_;
     BenchCommand bench_;
+    QueryCommand query_;
 };
 
 } // namespace ridge::cli

@@ -3,12 +3,17 @@
 #include "range_check.h"
 
 #include "ridge/core/error.h"
+#include "ridge/lod/camera_orientation.h"
+#include "ridge/pipeline/camera_placement.h"
 #include "ridge/render/headless_render.h"
 #include "ridge/render/terrain_renderer.h"
 
 #include <CLI/CLI.hpp>
 
 #include <charconv>
+#include <limits>
+#include <optional>
+#include <vector>
 #include <cstdio>
 #include <map>
 #include <string>
@@ -29,6 +34,90 @@ inline lod::Viewport parseSize(const std::string& text,
         throw Error("--size " + text + ": each side must be an integer in [1, " +
                     std::to_string(max_side) + "]");
     return {int(w), int(h)};
+}
+
+// The camera options `ridge render` and `ridge view` share, as given.
+struct CameraArgs {
+    std::vector<double> camera, look_at, camera_lonlat, look_at_lonlat;
+    std::optional<double> heading, pitch;
+    bool above_ground = false;
+
+    CameraPlacement placement() const
+    {
+        CameraPlacement p;
+        if (!camera.empty())
+            p.position = glm::dvec3(camera[0], camera[1], camera[2]);
+        if (!look_at.empty())
+            p.look_at = glm::dvec3(look_at[0], look_at[1], look_at[2]);
+        if (!camera_lonlat.empty())
+            p.position_lonlat = glm::dvec3(camera_lonlat[0], camera_lonlat[1], camera_lonlat[2]);
+        if (!look_at_lonlat.empty())
+            p.look_at_lonlat =
+                glm::dvec3(look_at_lonlat[0], look_at_lonlat[1],
+                           look_at_lonlat.size() > 2 ? look_at_lonlat[2]
+                                                     : std::numeric_limits<double>::quiet_NaN());
+        p.heading_deg = heading;
+        p.pitch_deg = pitch;
+        p.above_ground = above_ground;
+        return p;
+    }
+};
+
+// --camera, --look-at (local metres), --camera-lonlat, --look-at-lonlat (WGS 84), --heading,
+// --pitch, --above-ground; the combinations resolveCameraPlacement refuses are refused here
+// first where CLI11 can say so.
+inline void addCameraOptions(CLI::App& command, CameraArgs& args, const std::string& default_view)
+{
+    auto* camera =
+        command
+            .add_option("--camera", args.camera,
+                        "Camera position X,Y,Z in metres: x east of the first column, y north "
+                        "of the last row, z elevation (default: " +
+                            default_view + ")")
+            ->delimiter(',')
+            ->expected(3)
+            ->check(inRange("--camera", lod::kCameraCoordinateRange, "each coordinate"));
+    auto* camera_lonlat =
+        command
+            .add_option("--camera-lonlat", args.camera_lonlat,
+                        "Camera position LON,LAT,H: WGS 84 degrees and metres in the terrain's "
+                        "vertical datum (absolute; see --above-ground), through PROJ")
+            ->delimiter(',')
+            ->expected(3)
+            ->check(inRange("--camera-lonlat", ValueRange::any(), "each value"));
+    camera->excludes(camera_lonlat);
+    auto* look_at = command
+                        .add_option("--look-at", args.look_at,
+                                    "Point the camera looks at, X,Y,Z (default: terrain centre)")
+                        ->delimiter(',')
+                        ->expected(3)
+                        ->check(inRange("--look-at", lod::kCameraCoordinateRange,
+                                        "each coordinate"));
+    auto* look_at_lonlat =
+        command
+            .add_option("--look-at-lonlat", args.look_at_lonlat,
+                        "Point the camera looks at, LON,LAT[,H] (WGS 84; without H the ground "
+                        "there)")
+            ->delimiter(',')
+            ->expected(2, 3)
+            ->check(inRange("--look-at-lonlat", ValueRange::any(), "each value"));
+    look_at->excludes(look_at_lonlat);
+    auto* heading =
+        command
+            .add_option("--heading", args.heading,
+                        "View direction instead of a look-at point: degrees clockwise from grid "
+                        "north (the raster's up; true north for lon/lat rasters), with --pitch")
+            ->check(inRange("--heading", lod::kHeadingDegreesRange));
+    auto* pitch = command
+                      .add_option("--pitch", args.pitch,
+                                  "Degrees above the horizon (negative looks down), with --heading")
+                      ->check(inRange("--pitch", lod::kPitchDegreesRange));
+    heading->needs(pitch);
+    pitch->needs(heading);
+    heading->excludes(look_at)->excludes(look_at_lonlat);
+    pitch->excludes(look_at)->excludes(look_at_lonlat);
+    command.add_flag("--above-ground", args.above_ground,
+                     "The camera's height (Z or H) is metres above the terrain under it");
 }
 
 // A registered LOD scheme's name (render::lodSchemeNames()); `option` names the flag in the

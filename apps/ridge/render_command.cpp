@@ -35,19 +35,7 @@ void RenderCommand::registerWith(CLI::App& app)
         "Render a view of an archive to a PNG without a window (EGL; hardware tessellation)");
     command_->add_option("archive", archive_, "Archive (.ridge)")->required();
     command_->add_option("-o,--output", output_, "Output PNG")->required();
-    command_
-        ->add_option("--camera", camera_,
-                     "Camera position X,Y,Z in metres: x east of the first column, y north of the "
-                     "last row, z elevation (default: an oblique view of the whole terrain)")
-        ->delimiter(',')
-        ->expected(3)
-        ->check(inRange("--camera", lod::kCameraCoordinateRange, "each coordinate"));
-    command_
-        ->add_option("--look-at", look_at_,
-                     "Point the camera looks at, X,Y,Z (default: terrain centre)")
-        ->delimiter(',')
-        ->expected(3)
-        ->check(inRange("--look-at", lod::kCameraCoordinateRange, "each coordinate"));
+    addCameraOptions(*command_, camera_args_, "an oblique view of the whole terrain");
     using Headless = render::HeadlessRenderOptions;
     command_->add_option("--fov", fov_, "Vertical field of view, degrees")
         ->capture_default_str()
@@ -96,10 +84,13 @@ void RenderCommand::registerWith(CLI::App& app)
 int RenderCommand::run()
 {
     render::HeadlessRenderOptions options;
-    if (!camera_.empty())
-        options.camera = glm::dvec3(camera_[0], camera_[1], camera_[2]);
-    if (!look_at_.empty())
-        options.look_at = glm::dvec3(look_at_[0], look_at_[1], look_at_[2]);
+    const CameraPlacement placement = camera_args_.placement();
+    if (!placement.empty()) {
+        HeightQuery query(archive_); // GL-free: PROJ and the ground height under the camera
+        const ResolvedCamera camera = resolveCameraPlacement(query, placement);
+        options.camera = camera.position;
+        options.look_at = camera.look_at;
+    }
     options.fov_y_degrees = fov_;
     options.viewport = parseSize(size_);
     options.samples = samples_;
@@ -115,11 +106,14 @@ int RenderCommand::run()
     options.settings.sun_direction = render::sunDirection(sun_[0], sun_[1]);
     const render::HeadlessRenderResult r = render::renderToPng(archive_, options, output_);
     const glm::dvec3 p = r.camera.position(), f = r.camera.forward();
+    const lod::HeadingPitch angles = lod::headingPitchOf(f);
     if (json_) {
         nlohmann::json j = {{"output", output_},
                             {"gl_renderer", r.gl_renderer},
                             {"camera", {p.x, p.y, p.z}},
                             {"forward", {f.x, f.y, f.z}},
+                            {"heading_deg", angles.heading_deg},
+                            {"pitch_deg", angles.pitch_deg},
                             {"fov_y_degrees", fov_},
                             {"size", {options.viewport.width, options.viewport.height}},
                             {"epsilon_px", r.stats.epsilon_px},

@@ -51,8 +51,22 @@ namespace ridge::cli {
 namespace {
 
 constexpr double kMinEpsilonPx = 0.25, kMaxEpsilonPx = 16.0;
+constexpr double kDegreesPerRadian = 180.0 / 3.14159265358979323846;
 
 #if RIDGE_HAVE_VIEWER
+// `text` as one shell word: as is when it holds only safe characters, else single-quoted.
+std::string shellQuoted(const std::string& text)
+{
+    const bool safe = !text.empty() && text.find_first_not_of(
+                                           "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                           "0123456789_-+./:=@%,") == std::string::npos;
+    if (safe)
+        return text;
+    std::string out = "'";
+    for (char c : text)
+        out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return out + "'";
+}
 
 // Dear ImGui with its GLFW and OpenGL 3 backends, for one window. Must be created after the
 // window's context and destroyed before it (it owns GL objects). Installs ImGui's GLFW
@@ -138,9 +152,11 @@ const char* modeName(render::DebugMode mode)
 // The viewer's per-session state and its frame.
 class Viewer {
   public:
+    // `start`: the camera the command line asked for (render's options), else the default.
     Viewer(gpu::WindowContext& window, render::TerrainRenderer& renderer, double fov_y_degrees,
-           double epsilon_px)
-        : window_(window), renderer_(renderer), fov_y_degrees_(fov_y_degrees)
+           double epsilon_px, const ResolvedCamera& start, const archive::ArchiveReader& reader)
+        : window_(window), renderer_(renderer), fov_y_degrees_(fov_y_degrees),
+          archive_(reader.path()), georeference_(reader)
     {
         settings_.epsilon_px = std::clamp(epsilon_px, kMinEpsilonPx, kMaxEpsilonPx);
         int w = 1, h = 1;
@@ -149,7 +165,12 @@ class Viewer {
         // Crossing the terrain takes about 20 s at the starting speed, whatever its size.
         const lod::TerrainFrame& frame = renderer_.quadtree().frame();
         const double extent = std::max(frame.extentX(), frame.extentY());
-        fly_ = render::FlyCamera::from(renderer_.defaultCamera(viewport, fov_y_degrees_),
+        render::HeadlessRenderOptions options; // the same camera `ridge render` would draw
+        options.camera = start.position;
+        options.look_at = start.look_at;
+        options.fov_y_degrees = fov_y_degrees_;
+        options.viewport = viewport;
+        fly_ = render::FlyCamera::from(render::cameraFor(renderer_, options),
                                        std::max(extent / 20.0, 1.0));
         glfwSetWindowUserPointer(window_.window(), &pending_);
         glfwSetScrollCallback(window_.window(), onScroll);
@@ -201,6 +222,20 @@ class Viewer {
     int height() const { return height_; }
 
   private:
+    // P: the current camera as the `ridge render` command line that draws this view, on
+    // stdout and the clipboard, and in the overlay until the next press.
+    void printCamera()
+    {
+        camera_line_ = fmt::format(
+            "ridge render {} -o view.png {} --fov {} --size {}x{}", shellQuoted(archive_),
+            lod::renderCameraOptions(fly_.position(), fly_.yaw() * kDegreesPerRadian,
+                                     fly_.pitch() * kDegreesPerRadian),
+            formatNumber(fov_y_degrees_), width_, height_);
+        fmt::print("{}\n", camera_line_);
+        std::fflush(stdout);
+        glfwSetClipboardString(window_.window(), camera_line_.c_str());
+    }
+
     void handleKeys()
     {
         for (const int key : pending_.pressed_keys) {
@@ -226,6 +261,9 @@ class Viewer {
                 break;
             case GLFW_KEY_K:
                 settings_.skirts = !settings_.skirts;
+                break;
+            case GLFW_KEY_P:
+                printCamera();
                 break;
             case GLFW_KEY_G:
                 settings_.fog = !settings_.fog;
@@ -362,9 +400,19 @@ class Viewer {
         const glm::dvec3 p = fly_.position();
         ImGui::Text("camera %.1f E, %.1f N, %.1f m (%.1f m above ground)", p.x, p.y, p.z,
                     p.z - renderer_.groundHeight(p.x, p.y));
-        ImGui::Text("heading %.1f deg, pitch %.1f deg, speed %.1f m/s",
-                    fly_.yaw() * 180.0 / 3.14159265358979323846,
-                    fly_.pitch() * 180.0 / 3.14159265358979323846, fly_.speed());
+        ImGui::Text("heading %.1f deg (from grid north), pitch %.1f deg, speed %.1f m/s",
+                    fly_.yaw() * kDegreesPerRadian, fly_.pitch() * kDegreesPerRadian,
+                    fly_.speed());
+        if (georeference_.hasCrs()) {
+            try { // PROJ refuses points outside the projection's domain: no line then
+                const glm::dvec2 ll = georeference_.fromLocal({p.x, p.y}, PointSpace::LonLat);
+                ImGui::Text("camera %.6f, %.6f (WGS 84 lon, lat); true north %+.3f deg from grid",
+                            ll.x, ll.y, georeference_.convergenceDegrees({p.x, p.y}));
+            } catch (const Error&) {
+            }
+        }
+        if (!camera_line_.empty())
+            ImGui::TextWrapped("copied: %s", camera_line_.c_str());
         ImGui::Text("mode: %s", modeName(settings_.mode));
         ImGui::Text("GL: %s", window_.rendererName().c_str());
         ImGui::Separator();
@@ -372,7 +420,7 @@ class Viewer {
             "WASD move, Q/E down/up, Shift fast, wheel speed, right-drag or Tab look");
         ImGui::TextUnformatted(
             "F1-F3 modes, F4/Z wireframe, C cull, K skirts, L scheme, G fog, H ground, O overlay, "
-            "+/- epsilon, Esc quit");
+            "+/- epsilon, P print/copy camera, Esc quit");
         ImGui::End();
         ImGui::Render();
         ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
@@ -381,6 +429,9 @@ class Viewer {
     gpu::WindowContext& window_;
     render::TerrainRenderer& renderer_;
     double fov_y_degrees_;
+    std::string archive_;
+    std::string camera_line_; // the last camera P printed
+    TerrainGeoreference georeference_;
     render::RenderSettings settings_;
     render::FlyCamera fly_;
     render::FrameStats stats_;
@@ -415,6 +466,7 @@ void ViewCommand::registerWith(CLI::App& app)
     command_->add_option("--error", epsilon_px_, "Screen-space error threshold ε, pixels")
         ->capture_default_str()
         ->check(inRange("--error", ValueRange::closed(kMinEpsilonPx, kMaxEpsilonPx)));
+    addCameraOptions(*command_, camera_args_, "an oblique view of the whole terrain");
     addStreamingOptions(*command_, renderer_options_);
     addGeomorphOptions(*command_, renderer_options_);
     command_->add_flag("--vsync,!--no-vsync", vsync_,
@@ -444,6 +496,12 @@ int ViewCommand::run()
         throw Error("ridge view: cannot open a window: no display (DISPLAY is not set); use "
                     "`ridge render` for headless output");
     const archive::ArchiveReader reader(archive_);
+    // Before the window: a bad camera is an error, not a flash of a window.
+    ResolvedCamera start;
+    if (const CameraPlacement placement = camera_args_.placement(); !placement.empty()) {
+        HeightQuery query(archive_);
+        start = resolveCameraPlacement(query, placement);
+    }
     std::unique_ptr<gpu::WindowContext> window;
     try {
         window =
@@ -458,7 +516,7 @@ int ViewCommand::run()
         // Streaming: the window never waits for disk or decoding; missing patches are drawn by
         // their resident ancestors until they arrive.
         render::TerrainRenderer renderer(reader, renderer_options_);
-        Viewer viewer(*window, renderer, fov_y_degrees_, epsilon_px_);
+        Viewer viewer(*window, renderer, fov_y_degrees_, epsilon_px_, start, reader);
         const ImGuiSession imgui(window->window());
 
         for (int frame = 0; frames_ == 0 || frame < frames_; ++frame) {

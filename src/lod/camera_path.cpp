@@ -44,7 +44,7 @@ CameraPose orbit(const TerrainFrame& f, double min_h, double max_h, const Camera
             {c.x, c.y, 0.5 * (min_h + max_h)}};
 }
 
-std::vector<CameraPose> fromFile(const std::string& path)
+std::vector<CameraPose> fromFile(const std::string& path, const CameraPathSettings& settings)
 {
     std::ifstream in(path);
     if (!in)
@@ -58,10 +58,28 @@ std::vector<CameraPose> fromFile(const std::string& path)
             continue;
         std::istringstream fields(line);
         CameraPose p;
+        const std::string where = path + ":" + std::to_string(number);
+        const bool lon_lat = line.rfind("lonlat", 0) == 0;
+        std::string keyword, extra;
+        if (lon_lat)
+            fields >> keyword;
         if (!(fields >> p.position.x >> p.position.y >> p.position.z >> p.look_at.x >>
-              p.look_at.y >> p.look_at.z))
-            throw Error(path + ":" + std::to_string(number) +
-                        ": expected 6 numbers: x y z look-x look-y look-z");
+              p.look_at.y >> p.look_at.z) ||
+            (fields >> extra))
+            throw Error(where + (lon_lat ? ": expected lonlat and 6 numbers: lon lat height "
+                                           "look-lon look-lat look-height"
+                                         : ": expected 6 numbers: x y z look-x look-y look-z"));
+        if (lon_lat) {
+            if (!settings.from_lon_lat)
+                throw Error(where + ": a longitude/latitude pose, but this path has no "
+                                    "geographic conversion (a georeferenced archive is needed)");
+            try {
+                p.position = settings.from_lon_lat(p.position.x, p.position.y, p.position.z);
+                p.look_at = settings.from_lon_lat(p.look_at.x, p.look_at.y, p.look_at.z);
+            } catch (const Error& e) {
+                throw Error(where + ": " + e.what());
+            }
+        }
         const double coordinates[6] = {p.position.x, p.position.y, p.position.z,
                                        p.look_at.x,  p.look_at.y,  p.look_at.z};
         if (!std::all_of(std::begin(coordinates), std::end(coordinates),
@@ -99,7 +117,7 @@ std::vector<CameraPose> makeCameraPath(const TerrainFrame& frame, double min_hei
     checkParameters("terrain height range (m)", heights, 2, ValueRange::any());
     std::vector<CameraPose> out;
     if (s.kind != "flyover" && s.kind != "orbit" && s.kind != "teleport") {
-        const std::vector<CameraPose> file = fromFile(s.kind);
+        const std::vector<CameraPose> file = fromFile(s.kind, s);
         for (int k = 0; k < frames; ++k)
             out.push_back(file[size_t(k) % file.size()]);
         return out;

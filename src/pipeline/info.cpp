@@ -1,10 +1,49 @@
 #include "ridge/pipeline/info.h"
 
 #include "ridge/archive/archive_reader.h"
+#include "ridge/core/error.h"
+#include "ridge/pipeline/terrain_georeference.h"
 
 #include <algorithm>
 
 namespace ridge {
+
+namespace {
+
+// gdalinfo's five points, in its order.
+std::vector<CornerInfo> cornersOf(const archive::ArchiveReader& reader, std::string& note)
+{
+    const TerrainGeoreference geo(reader);
+    if (!geo.hasGeotransform())
+        return {};
+    const double w = reader.geometry().width(), h = reader.geometry().height();
+    std::vector<CornerInfo> corners = {{"Upper Left", 0, 0},
+                                       {"Lower Left", 0, h},
+                                       {"Upper Right", w, 0},
+                                       {"Lower Right", w, h},
+                                       {"Center", w / 2, h / 2}};
+    for (CornerInfo& c : corners) {
+        const glm::dvec2 local = geo.toLocal({c.pixel, c.line}, PointSpace::Pixel);
+        const glm::dvec2 crs = geo.fromLocal(local, PointSpace::Crs);
+        c.x = crs.x;
+        c.y = crs.y;
+        if (!geo.hasCrs()) {
+            note = "no CRS";
+            continue;
+        }
+        try {
+            const glm::dvec2 lon_lat = geo.fromLocal(local, PointSpace::LonLat);
+            c.longitude = lon_lat.x;
+            c.latitude = lon_lat.y;
+            c.has_lon_lat = true;
+        } catch (const Error& e) {
+            note = e.what(); // a corner outside the projection's domain, or no transformation
+        }
+    }
+    return corners;
+}
+
+} // namespace
 
 ArchiveInfo readArchiveInfo(const std::string& archive_path)
 {
@@ -51,6 +90,7 @@ ArchiveInfo readArchiveInfo(const std::string& archive_path)
         }
         info.levels.push_back(li);
     }
+    info.corners = cornersOf(reader, info.lon_lat_note);
     return info;
 }
 

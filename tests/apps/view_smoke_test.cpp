@@ -79,3 +79,23 @@ TEST(ViewSmoke, WithoutADisplayItFailsAndSaysWhy)
     EXPECT_NE(r.exit_code, 0);
     EXPECT_NE(r.output.find("--size 640by360"), std::string::npos) << r.output;
 }
+
+TEST(ViewSmoke, StartsAtAGeographicCameraAndRefusesABadOneBeforeOpeningAWindow)
+{
+    if (!haveXvfbRun())
+        GTEST_SKIP()
+            << "xvfb-run is not installed (apt-get install xvfb): cannot open a window here";
+    test::ScratchDir dir;
+    const std::string arc = buildArchive(dir);
+    const std::string xvfb =
+        "xvfb-run -a -s '-screen 0 1280x1024x24' " + std::string(RIDGE_CLI_PATH) + " view '" + arc;
+    const test::CommandResult ok = test::runShell(
+        xvfb + "' --frames 2 --size 320x180 --camera-lonlat 86.925,27.988,9500 --heading 200 "
+               "--pitch -20");
+    EXPECT_EQ(ok.exit_code, 0) << ok.output;
+    const test::CommandResult bad = test::runShell(
+        xvfb + "' --frames 2 --size 320x180 --camera-lonlat 86.925,95,9500 --heading 200 "
+               "--pitch -20");
+    EXPECT_EQ(bad.exit_code, 1) << bad.output;
+    EXPECT_NE(bad.output.find("latitude"), std::string::npos) << bad.output;
+}

@@ -72,3 +72,40 @@ TEST(CameraPath, ReadsPosesFromAFileAndNamesTheLineOfABadOne)
     std::remove(good.c_str());
     std::remove(bad.c_str());
 }
+
+TEST(CameraPath, LonLatPosesGoThroughTheGeographicConversion)
+{
+    const std::string file = ::testing::TempDir() + "/ridge_path_lonlat.txt";
+    std::ofstream(file) << "lonlat 86.9 27.9 9000 86.95 27.95 5000\n1 2 3 4 5 6\n";
+    CameraPathSettings s;
+    s.kind = file;
+    try {
+        makeCameraPath(kFrame, 0, 500, flatGround, s, 2);
+        FAIL() << "no conversion given";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find(file + ":1:"), std::string::npos) << e.what();
+    }
+    // Any conversion will do for the parser: a plain linear map, checked exactly.
+    s.from_lon_lat = [](double lon, double lat, double h) {
+        return glm::dvec3((lon - 86.0) * 1000.0, (lat - 27.0) * 1000.0, h);
+    };
+    const auto p = makeCameraPath(kFrame, 0, 500, flatGround, s, 2);
+    ASSERT_EQ(p.size(), 2u);
+    EXPECT_NEAR(p[0].position.x, 900.0, 1e-9);
+    EXPECT_NEAR(p[0].position.y, 900.0, 1e-9);
+    EXPECT_EQ(p[0].position.z, 9000.0);
+    EXPECT_NEAR(p[0].look_at.x, 950.0, 1e-9);
+    EXPECT_EQ(p[0].look_at.z, 5000.0);
+    EXPECT_EQ(p[1].position, glm::dvec3(1, 2, 3));
+    // A conversion's error names the line.
+    std::ofstream(file) << "lonlat 86.9 27.9 9000 86.95 27.95\n";
+    try {
+        makeCameraPath(kFrame, 0, 500, flatGround, s, 1);
+        FAIL() << "5 numbers";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find(":1: expected lonlat and 6 numbers"),
+                  std::string::npos)
+            << e.what();
+    }
+    std::remove(file.c_str());
+}

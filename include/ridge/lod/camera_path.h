@@ -27,7 +27,13 @@ struct CameraPathSettings {
         ValueRange::closed(0.0, kMaxAbsHeightMetres);
     static constexpr int kMaxFrames = 100000000;
 
-    std::string kind = "flyover"; // flyover, orbit, teleport, or a file of "x y z lx ly lz" lines
+    // flyover, orbit, teleport, or a file of poses, one a line: "x y z lx ly lz" in the
+    // terrain frame, or "lonlat LON LAT H LLON LLAT LH" (WGS 84 degrees, metres in the
+    // terrain's vertical datum, absolute), which needs from_lon_lat.
+    std::string kind = "flyover";
+    // Longitude°, latitude°, height → terrain frame (pipeline's TerrainGeoreference through
+    // PROJ; lod itself knows no CRS). Throws ridge::Error for a point it cannot convert.
+    std::function<glm::dvec3(double longitude, double latitude, double height)> from_lon_lat;
     double speed_mps = 250.0;     // along the path
     double frame_seconds = 1.0 / 60.0;
     double height_above_ground = 300.0; // flyover, teleport

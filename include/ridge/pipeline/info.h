@@ -19,6 +19,16 @@ struct LevelInfo {
     double level_bound = 0.0;   // δ_l, metres
 };
 
+// A corner (or the centre) of the raster as gdalinfo lists them: pixel/line (0, 0), (0, H),
+// (W, 0), (W, H), (W/2, H/2), in the archive CRS and in WGS 84 longitude/latitude.
+struct CornerInfo {
+    std::string name;           // "Upper Left", "Lower Left", "Upper Right", "Lower Right", "Center"
+    double pixel = 0, line = 0; // GDAL pixel/line
+    double x = 0, y = 0;        // archive CRS (geotransform)
+    bool has_lon_lat = false;   // false without a CRS or where PROJ cannot convert
+    double longitude = 0, latitude = 0; // WGS 84, degrees
+};
+
 struct ArchiveInfo {
     std::string path;
     uint32_t format_version = 0;
@@ -33,6 +43,8 @@ struct ArchiveInfo {
     std::string metadata_json;  // the archive's metadata document as stored (valid JSON)
     archive::ArchiveMetadata metadata; // its fields, checked against the header
     std::vector<LevelInfo> levels;
+    std::vector<CornerInfo> corners; // empty without a geotransform
+    std::string lon_lat_note;        // why corners have no lon/lat (no CRS, PROJ error), or empty
 };
 
 // Reads header, metadata and index (not the patches). Throws ridge::Error.

@@ -1,0 +1,48 @@
+#pragma once
+// A camera given the ways a user may give one (`render`, `view`, bench path files), resolved
+// into the terrain frame lod::Camera takes: a position in local metres or in longitude,
+// latitude and height; a look-at point in either, or a heading and pitch (lod/
+// camera_orientation.h: degrees clockwise from grid north, degrees above the horizon).
+//
+// Heights are metres in the archive's vertical datum (what its samples are), absolute by
+// default; `above_ground` makes the position's height relative to the finest surface under it
+// (HeightQuery). A look-at point given as longitude/latitude without a height looks at the
+// finest surface there. Longitude/latitude go through PROJ (TerrainGeoreference), WGS 84.
+#include "ridge/pipeline/height_query.h"
+
+#include <glm/vec3.hpp>
+
+#include <optional>
+
+namespace ridge {
+
+struct CameraPlacement {
+    // At most one of each pair; nothing at all leaves the caller's default camera.
+    std::optional<glm::dvec3> position;        // local x, y, z metres
+    std::optional<glm::dvec3> position_lonlat; // longitude°, latitude°, height m
+    bool above_ground = false;                 // the position's height is above the surface
+    std::optional<glm::dvec3> look_at;         // local x, y, z metres
+    std::optional<glm::dvec3> look_at_lonlat;  // longitude°, latitude°, height m (NaN: ground)
+    std::optional<double> heading_deg;         // with pitch_deg, instead of a look-at point
+    std::optional<double> pitch_deg;
+
+    bool empty() const
+    {
+        return !position && !position_lonlat && !look_at && !look_at_lonlat && !heading_deg &&
+               !pitch_deg;
+    }
+};
+
+struct ResolvedCamera {
+    std::optional<glm::dvec3> position; // terrain frame; unset: the caller's default
+    std::optional<glm::dvec3> look_at;  // unset: the caller's default (e.g. the centre)
+};
+
+// Throws ridge::Error naming the parameters for conflicting or incomplete placements (both
+// position forms, a look-at point and a heading, a heading without a pitch or a position,
+// above_ground without a position), for coordinates off the ranges (lod::Camera's,
+// longitude/latitude's, heading/pitch's), for a lon/lat position off the raster when its
+// height is above the ground, and for an archive without the CRS a lon/lat form needs.
+ResolvedCamera resolveCameraPlacement(HeightQuery& query, const CameraPlacement& placement);
+
+} // namespace ridge

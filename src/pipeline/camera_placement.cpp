@@ -1,0 +1,81 @@
+#include "ridge/pipeline/camera_placement.h"
+
+#include "ridge/core/error.h"
+#include "ridge/lod/camera.h"
+#include "ridge/lod/camera_orientation.h"
+
+#include <cmath>
+
+namespace ridge {
+
+namespace {
+
+// The finest surface under local (x, y); an error naming `what` off the raster.
+double groundAt(HeightQuery& query, glm::dvec2 local, const char* what)
+{
+    const HeightSample s = query.sample(local, PointSpace::Local);
+    if (!s.on_raster)
+        throw Error(std::string(what) + " is off the raster (pixel/line " +
+                    formatNumber(s.pixel.x) + ", " + formatNumber(s.pixel.y) +
+                    "): there is no ground height there");
+    return s.height;
+}
+
+} // namespace
+
+ResolvedCamera resolveCameraPlacement(HeightQuery& query, const CameraPlacement& p)
+{
+    if (p.position && p.position_lonlat)
+        throw Error("camera position given both in local metres and as longitude/latitude: "
+                    "give one");
+    if (p.look_at && p.look_at_lonlat)
+        throw Error("look-at point given both in local metres and as longitude/latitude: give "
+                    "one");
+    const bool look_at = p.look_at || p.look_at_lonlat;
+    if (look_at && (p.heading_deg || p.pitch_deg))
+        throw Error("camera direction given both as a look-at point and as heading/pitch: give "
+                    "one");
+    if (p.heading_deg.has_value() != p.pitch_deg.has_value())
+        throw Error("camera heading and pitch go together: give both");
+    const bool has_position = p.position || p.position_lonlat;
+    if (p.heading_deg && !has_position)
+        throw Error("camera heading/pitch need a camera position");
+    if (p.above_ground && !has_position)
+        throw Error("camera height above the ground needs a camera position");
+
+    const TerrainGeoreference& geo = query.georeference();
+    ResolvedCamera out;
+    if (has_position) {
+        glm::dvec3 position;
+        if (p.position) {
+            position = *p.position;
+        } else {
+            const glm::dvec3 ll = *p.position_lonlat;
+            checkParameter("camera height (m)", ll.z, lod::kCameraCoordinateRange);
+            const glm::dvec2 local = geo.toLocal({ll.x, ll.y}, PointSpace::LonLat);
+            position = {local.x, local.y, ll.z};
+        }
+        checkParameters("camera position", &position.x, 3, lod::kCameraCoordinateRange);
+        if (p.above_ground)
+            position.z += groundAt(query, {position.x, position.y}, "the camera position");
+        checkParameters("camera position", &position.x, 3, lod::kCameraCoordinateRange);
+        out.position = position;
+        if (p.heading_deg)
+            // A point one kilometre ahead: lod::Camera only needs the direction.
+            out.look_at = position + 1000.0 * lod::headingPitchDirection(*p.heading_deg,
+                                                                          *p.pitch_deg);
+    }
+    if (p.look_at) {
+        checkParameters("look-at point", &p.look_at->x, 3, lod::kCameraCoordinateRange);
+        out.look_at = *p.look_at;
+    } else if (p.look_at_lonlat) {
+        const glm::dvec3 ll = *p.look_at_lonlat;
+        const glm::dvec2 local = geo.toLocal({ll.x, ll.y}, PointSpace::LonLat);
+        const double z = std::isnan(ll.z) ? groundAt(query, local, "the look-at point") : ll.z;
+        checkParameter("look-at height (m)", z, lod::kCameraCoordinateRange);
+        out.look_at = glm::dvec3(local.x, local.y, z);
+    }
+    return out;
+}
+
+} // namespace ridge
