@@ -2,6 +2,7 @@
 #include "commands.h"
 #include "range_check.h"
 #include "render_args.h"
+#include "usage_error.h"
 
 #include "ridge/core/error.h"
 #include "ridge/render/headless_render.h"
@@ -23,7 +24,7 @@ render::DebugMode parseMode(const std::string& mode)
         return render::DebugMode::LodLevels;
     if (mode == "tess")
         return render::DebugMode::TessellationFactors;
-    throw Error("--mode " + mode + ": expected shaded, lod or tess");
+    throw UsageError("--mode " + mode + ": expected shaded, lod or tess");
 }
 
 } // namespace
@@ -42,12 +43,14 @@ void RenderCommand::registerWith(CLI::App& app)
         ->delimiter(',')
         ->expected(3)
         ->check(inRange("--camera", lod::kCameraCoordinateRange, "each coordinate"));
+    CLI::Option* camera = command_->get_option("--camera");
     command_
         ->add_option("--look-at", look_at_,
                      "Point the camera looks at, X,Y,Z (default: terrain centre)")
         ->delimiter(',')
         ->expected(3)
-        ->check(inRange("--look-at", lod::kCameraCoordinateRange, "each coordinate"));
+        ->check(inRange("--look-at", lod::kCameraCoordinateRange, "each coordinate"))
+        ->needs(camera);
     using Headless = render::HeadlessRenderOptions;
     command_->add_option("--fov", fov_, "Vertical field of view, degrees")
         ->capture_default_str()

@@ -118,7 +118,7 @@ TEST(RenderCli, BadInputsGetAClearErrorANonZeroExitAndNoPicture)
     expectRenderRejected(dir, "'" + arc + "' --size 100by50", "--size");
     expectRenderRejected(dir, "'" + arc + "' --size 0x50", "size");
     expectRenderRejected(dir, "'" + arc + "' --mode fancy", "--mode");
-    expectRenderRejected(dir, "'" + arc + "' --look-at 1,2,3", "--look-at needs --camera");
+    expectRenderRejected(dir, "'" + arc + "' --look-at 1,2,3", "--look-at requires --camera");
     expectRenderRejected(dir, "'" + arc + "' --camera 1,2", "--camera");
     expectRenderRejected(dir, "'" + arc + "' --camera 5,5,5 --look-at 5,5,5", "coincide");
     expectRenderRejected(dir, "'" + arc + "' --error 0", "--error");
