@@ -18,7 +18,7 @@ TEST(CodecBenchCli, WritesTablesJsonAndPlot)
     // Defaults: ridge's progressive codec, built with max_error = 1 m.
     const test::CommandResult r =
         test::runRidge("codec-bench '" + test::dataPath("everest_crop.tif") +
-                       "' --max-error 1 --tile 64 --json '" + json + "' --plot '" + png + "'");
+                       "' --max-error 1 --tile 64 --json-file '" + json + "' --plot '" + png + "'");
     ASSERT_EQ(r.exit_code, 0) << r.output;
     EXPECT_NE(r.output.find("100 - done."), std::string::npos) << "progress on stderr";
     EXPECT_EQ(r.output.find("VIOLATED"), std::string::npos) << r.output;
@@ -40,7 +40,7 @@ TEST(CodecBenchCli, MissingInputFailsNamingThePath)
     test::ScratchDir dir;
     const std::string missing = dir.path("missing.hgt");
     const std::string json = dir.path("bench.json");
-    const test::CommandResult r = test::runRidge("codec-bench '" + missing + "' --json '" + json +
+    const test::CommandResult r = test::runRidge("codec-bench '" + missing + "' --json-file '" + json +
                                                  "' -q --ridge-codec lossless");
     EXPECT_NE(r.exit_code, 0);
     EXPECT_NE(r.output.find(missing), std::string::npos) << r.output;
