@@ -131,20 +131,26 @@ void Commands::registerAll(CLI::App& app)
     extract_->add_option("-o,--output", output_, "Output raster")->required();
     extract_->add_option("--level", level_, "Level (default: finest)")
         ->check(inIntegerRange("--level", -1, ExtractOptions::kMaxLevel));
-    // --window: the name before the GDAL spelling (scripts and tests use it).
-    CLI::Option* srcwin =
-        extract_->add_option("--srcwin,--window", window_, "XOFF YOFF XSIZE YSIZE in level samples")
+    const auto addWindow = [this](const std::string& name) {
+        return extract_->add_option(name, window_, "XOFF YOFF XSIZE YSIZE in level samples")
             ->expected(4)
+            ->type_name("XOFF YOFF XSIZE YSIZE")
             ->check(inIntegerRange("--srcwin", 0, INT32_MAX, "XOFF").application_index(0))
             ->check(inIntegerRange("--srcwin", 0, INT32_MAX, "YOFF").application_index(1))
             ->check(inIntegerRange("--srcwin", 1, INT32_MAX, "XSIZE").application_index(2))
             ->check(inIntegerRange("--srcwin", 1, INT32_MAX, "YSIZE").application_index(3));
+    };
+    CLI::Option* srcwin = addWindow("--srcwin");
+    // --window: the name before the GDAL spelling, hidden, kept for scripts.
+    CLI::Option* window = addWindow("--window")->group("")->excludes(srcwin);
     extract_
         ->add_option("--projwin", projwin_,
                      "ULX ULY LRX LRY in the archive's CRS (as gdal_translate -projwin)")
         ->expected(4)
+        ->type_name("ULX ULY LRX LRY")
         ->check(inRange("--projwin", ValueRange::any(), "each coordinate"))
-        ->excludes(srcwin);
+        ->excludes(srcwin)
+        ->excludes(window);
     extract_
         ->add_option("--ot", extract_type_,
                      "Output data type (GDAL's -ot): Byte, UInt16, Int16, UInt32, Int32, "
@@ -191,11 +197,28 @@ void Commands::registerAll(CLI::App& app)
     hillshade_->add_option("-o,--output", output_, "Output PNG")->required();
     hillshade_->add_option("--level", level_, "Level (default: finest)")
         ->check(inIntegerRange("--level", -1, HillshadeOptions::kMaxLevel));
+    // --sun AZ,ALT as render has it; --azimuth and --altitude (gdaldem's words, the names
+    // before) stay as hidden aliases for scripts.
+    hillshade_
+        ->add_option_function<std::vector<double>>(
+            "--sun",
+            [this](const std::vector<double>& sun) {
+                hillshade_options_.azimuth = sun[0];
+                hillshade_options_.altitude = sun[1];
+            },
+            "Sun azimuth (degrees clockwise from north) and altitude (degrees), e.g. 315,45 "
+            "(default 315,45)")
+        ->delimiter(',')
+        ->expected(2)
+        ->check(inRange("--sun", HillshadeOptions::kAzimuthDegreesRange, "the azimuth")
+                    .application_index(0))
+        ->check(inRange("--sun", HillshadeOptions::kAltitudeDegreesRange, "the altitude")
+                    .application_index(1));
     hillshade_->add_option("--azimuth", hillshade_options_.azimuth, "Light azimuth, degrees")
-        ->capture_default_str()
+        ->group("")
         ->check(inRange("--azimuth", HillshadeOptions::kAzimuthDegreesRange));
     hillshade_->add_option("--altitude", hillshade_options_.altitude, "Light altitude, degrees")
-        ->capture_default_str()
+        ->group("")
         ->check(inRange("--altitude", HillshadeOptions::kAltitudeDegreesRange));
     hillshade_->add_option("-z,--z-factor", hillshade_options_.z_factor, "Vertical exaggeration")
         ->capture_default_str()

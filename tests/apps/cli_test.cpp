@@ -238,3 +238,37 @@ TEST(Cli, JsonPrintsOneDocumentOnStdoutInEveryCommand)
     EXPECT_NE(r.output.find("fps"), std::string::npos) << "the summary stays on stdout";
     EXPECT_EQ(nlohmann::json::parse(test::readFile(file))["frames"].size(), 2u);
 }
+
+// One spelling per concept: hillshade takes the sun as render does (--sun AZ,ALT); the older
+// spellings (hillshade --azimuth/--altitude, bench --renderer, extract --window) still work
+// but are hidden from --help.
+TEST(Cli, OneSpellingPerConceptWithTheOldOnesHidden)
+{
+    test::ScratchDir dir;
+    const std::string arc = test::buildEverestWithCli(dir, "e.ridge", "--patch 65");
+    const std::string a = dir.path("sun.png"), b = dir.path("az.png");
+    ASSERT_EQ(test::runRidge("hillshade '" + arc + "' -o '" + a + "' -q --sun 200,30").exit_code, 0);
+    ASSERT_EQ(test::runRidge("hillshade '" + arc + "' -o '" + b + "' -q --azimuth 200 --altitude 30")
+                  .exit_code,
+              0);
+    EXPECT_TRUE(test::readFile(a) == test::readFile(b));
+    const std::string d = dir.path("default.png");
+    ASSERT_EQ(test::runRidge("hillshade '" + arc + "' -o '" + d + "' -q").exit_code, 0);
+    EXPECT_FALSE(test::readFile(a) == test::readFile(d)) << "--sun must change the light";
+    const test::CommandResult bad =
+        test::runRidge("hillshade '" + arc + "' -o '" + dir.path("x.png") + "' --sun 315,100");
+    EXPECT_EQ(bad.exit_code, 2);
+    EXPECT_NE(bad.output.find("--sun 100: the altitude must be a number in [0, 90]"),
+              std::string::npos)
+        << bad.output;
+    struct Hidden {
+        std::string command, shown, hidden;
+    };
+    for (const Hidden& h : {Hidden{"hillshade", "--sun", "--azimuth"},
+                            Hidden{"bench", "--lod", "--renderer"},
+                            Hidden{"extract", "--srcwin", "--window"}}) {
+        const std::string help = test::runRidge(h.command + " --help").output;
+        EXPECT_NE(help.find(h.shown), std::string::npos) << help;
+        EXPECT_EQ(help.find(h.hidden), std::string::npos) << help;
+    }
+}
