@@ -31,7 +31,9 @@ void CodecBenchCommand::registerWith(CLI::App& app)
         ->add_option("--ridge-codec", ridge_codec_,
                      "ridge's codec for its row (progressive: max_error = bound; lossless)")
         ->capture_default_str();
-    command_->add_option("--json", json_path_, "Write every number as JSON");
+    command_->add_flag("--json", json_,
+                       "Print every number as JSON on stdout (the tables then go to stderr)");
+    command_->add_option("--json-file", json_path_, "Write every number as JSON to a file");
     command_->add_option("--plot", plot_path_, "Write ratio vs bound as a PNG");
     command_->add_flag("-q,--quiet", quiet_, "No progress output");
 }
@@ -49,7 +51,9 @@ int CodecBenchCommand::run()
     options.ridge_codec = ridge_codec_;
     options.progress = terminalProgress(quiet_);
     const codecbench::CodecBenchReport report = codecbench::runCodecBench(input_, options);
-    fmt::print("{}", codecbench::formatCodecBenchTable(report));
+    fmt::print(json_ ? stderr : stdout, "{}", codecbench::formatCodecBenchTable(report));
+    if (json_)
+        fmt::print("{}", codecbench::formatCodecBenchJson(report));
     if (!json_path_.empty())
         codecbench::writeCodecBenchJson(report, json_path_);
     if (!plot_path_.empty())

@@ -2,10 +2,12 @@
 
 #include "range_check.h"
 #include "terminal.h"
+#include "usage_error.h"
 
 #include "ridge/codec/height_codec.h"
 #include "ridge/core/error.h"
 #include "ridge/io/geographic.h"
+#include "ridge/io/raster_writer.h"
 #include "ridge/pipeline/info.h"
 #include "ridge/pipeline/verify.h"
 #include "ridge/pyramid/pyramid_geometry.h"
@@ -145,6 +147,7 @@ void Commands::registerAll(CLI::App& app)
             "Memory the build may use, MB (default: what the system has available); a raster "
             "whose estimated needs exceed it is refused before anything is allocated")
         ->check(inRange("--max-memory", kMaxMemoryMbRange));
+    build_->add_flag("--json", json_, "Print the build's figures as JSON on stdout");
     addCommonFlags(build_, quiet_);
 
     info_ =
@@ -161,18 +164,72 @@ void Commands::registerAll(CLI::App& app)
     verify_->add_flag("--json", json_, "Machine-readable output");
     addCommonFlags(verify_, quiet_);
 
-    extract_ =
-        app.add_subcommand("extract", "Write a level (or a window) as a georeferenced GeoTIFF");
+    extract_ = app.add_subcommand(
+        "extract", "Write a level (or a window of it) as a georeferenced raster, like "
+                   "gdal_translate (-ot, -of, -co, -a_nodata, --srcwin, --projwin)");
     extract_->add_option("archive", archive_, "Archive (.ridge)")->required();
-    extract_->add_option("-o,--output", output_, "Output GeoTIFF")->required();
+    extract_->add_option("-o,--output", output_, "Output raster")->required();
     extract_->add_option("--level", level_, "Level (default: finest)")
         ->check(inIntegerRange("--level", -1, ExtractOptions::kMaxLevel));
-    extract_->add_option("--window", window_, "X Y W H in level samples")
+    const auto addWindow = [this](const std::string& name) {
+        return extract_->add_option(name, window_, "XOFF YOFF XSIZE YSIZE in level samples")
+            ->expected(4)
+            ->type_name("XOFF YOFF XSIZE YSIZE")
+            ->check(inIntegerRange("--srcwin", 0, INT32_MAX, "XOFF").application_index(0))
+            ->check(inIntegerRange("--srcwin", 0, INT32_MAX, "YOFF").application_index(1))
+            ->check(inIntegerRange("--srcwin", 1, INT32_MAX, "XSIZE").application_index(2))
+            ->check(inIntegerRange("--srcwin", 1, INT32_MAX, "YSIZE").application_index(3));
+    };
+    CLI::Option* srcwin = addWindow("--srcwin");
+    // --window: the name before the GDAL spelling, hidden, kept for scripts.
+    CLI::Option* window = addWindow("--window")->group("")->excludes(srcwin);
+    extract_
+        ->add_option("--projwin", projwin_,
+                     "ULX ULY LRX LRY in the archive's CRS (as gdal_translate -projwin)")
         ->expected(4)
-        ->check(inIntegerRange("--window", 0, INT32_MAX, "X").application_index(0))
-        ->check(inIntegerRange("--window", 0, INT32_MAX, "Y").application_index(1))
-        ->check(inIntegerRange("--window", 1, INT32_MAX, "W").application_index(2))
-        ->check(inIntegerRange("--window", 1, INT32_MAX, "H").application_index(3));
+        ->type_name("ULX ULY LRX LRY")
+        ->check(inRange("--projwin", ValueRange::any(), "each coordinate"))
+        ->excludes(srcwin)
+        ->excludes(window);
+    extract_
+        ->add_option("--ot", extract_type_,
+                     "Output data type (GDAL's -ot): Byte, UInt16, Int16, UInt32, Int32, "
+                     "Float32, Float64 (default: the source's when it holds the heights without "
+                     "loss, else Float32, else Float64; integer types round)")
+        ->check(CLI::Validator(
+            [](std::string& name) -> std::string {
+                try {
+                    name = io::sampleType(name).name;
+                } catch (const Error& e) {
+                    const std::string what = e.what(), prefix = "output_type '" + name + "': ";
+                    throw UsageError("--ot " + name + ": " +
+                                     (what.rfind(prefix, 0) == 0 ? what.substr(prefix.size()) : what));
+                }
+                return {};
+            },
+            "TYPE"));
+    extract_->add_option("--of", extract_options_.output_format,
+                         "Output format (GDAL's -of): a GDAL driver that writes")
+        ->capture_default_str();
+    extract_->add_option("--co", extract_options_.creation_options,
+                         "NAME=VALUE creation option for the driver (GDAL's -co; repeatable)")
+        ->expected(1)
+        ->allow_extra_args(false) // one NAME=VALUE per -co, as GDAL has it
+        ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
+        ->check(CLI::Validator(
+            [](std::string& option) -> std::string {
+                const size_t eq = option.find('=');
+                if (eq == std::string::npos || eq == 0)
+                    throw UsageError("--co " + option + ": expected NAME=VALUE");
+                return {};
+            },
+            "NAME=VALUE"));
+    extract_->add_option_function<double>(
+                "--a_nodata", [this](double v) { extract_options_.nodata_value = v; },
+                "Nodata value of the output band (GDAL's -a_nodata)")
+        ->check(inRange("--a_nodata", ValueRange::any()));
+    extract_->add_flag("--json", json_,
+                       "Print what was written (type, window, geotransform) as JSON on stdout");
     addCommonFlags(extract_, quiet_);
 
     hillshade_ = app.add_subcommand("hillshade", "Write a shaded-relief PNG of a level");
@@ -180,11 +237,28 @@ void Commands::registerAll(CLI::App& app)
     hillshade_->add_option("-o,--output", output_, "Output PNG")->required();
     hillshade_->add_option("--level", level_, "Level (default: finest)")
         ->check(inIntegerRange("--level", -1, HillshadeOptions::kMaxLevel));
+    // --sun AZ,ALT as render has it; --azimuth and --altitude (gdaldem's words, the names
+    // before) stay as hidden aliases for scripts.
+    hillshade_
+        ->add_option_function<std::vector<double>>(
+            "--sun",
+            [this](const std::vector<double>& sun) {
+                hillshade_options_.azimuth = sun[0];
+                hillshade_options_.altitude = sun[1];
+            },
+            "Sun azimuth (degrees clockwise from north) and altitude (degrees), e.g. 315,45 "
+            "(default 315,45)")
+        ->delimiter(',')
+        ->expected(2)
+        ->check(inRange("--sun", HillshadeOptions::kAzimuthDegreesRange, "the azimuth")
+                    .application_index(0))
+        ->check(inRange("--sun", HillshadeOptions::kAltitudeDegreesRange, "the altitude")
+                    .application_index(1));
     hillshade_->add_option("--azimuth", hillshade_options_.azimuth, "Light azimuth, degrees")
-        ->capture_default_str()
+        ->group("")
         ->check(inRange("--azimuth", HillshadeOptions::kAzimuthDegreesRange));
     hillshade_->add_option("--altitude", hillshade_options_.altitude, "Light altitude, degrees")
-        ->capture_default_str()
+        ->group("")
         ->check(inRange("--altitude", HillshadeOptions::kAltitudeDegreesRange));
     hillshade_->add_option("-z,--z-factor", hillshade_options_.z_factor, "Vertical exaggeration")
         ->capture_default_str()
@@ -230,11 +304,11 @@ void Commands::validateBuildOptions() const
     try {
         const PyramidGeometry probe(2, 2, build_options_.patch_size);
     } catch (const Error& e) {
-        throw Error(fmt::format("--patch {}: {}", build_options_.patch_size, e.what()));
+        throw UsageError(fmt::format("--patch {}: {}", build_options_.patch_size, e.what()));
     }
     const TessellationBlockLayout layout{build_options_.patch_size, build_options_.block_cells};
     if (!layout.valid())
-        throw Error(
+        throw UsageError(
             fmt::format("--block {}: must be a power of two >= 2 dividing the patch's {} cells",
                         build_options_.block_cells, build_options_.patch_size - 1));
 }
@@ -247,9 +321,24 @@ int Commands::runBuild()
         build_options_.max_error = build_options_.ingest.max_error;
         build_options_.ingest.max_error.reset();
     }
-    build_options_.progress = terminalProgress(quiet_);
+    build_options_.progress = terminalProgress(quiet_ || json_);
     const BuildReport r = buildArchive(input_, output_, build_options_);
-    if (!quiet_)
+    if (json_) {
+        const nlohmann::json j = {{"output", output_},
+                                  {"width", r.width},
+                                  {"height", r.height},
+                                  {"level_count", r.level_count},
+                                  {"patch_count", r.patch_count},
+                                  {"archive_bytes", r.archive_bytes},
+                                  {"voids_filled", r.voids_filled},
+                                  {"quantization_error", r.quantization_error},
+                                  {"streamed", r.streamed},
+                                  {"seconds_total", r.seconds_total},
+                                  {"seconds_ingest", r.seconds_ingest},
+                                  {"seconds_errors", r.seconds_errors},
+                                  {"seconds_encode", r.seconds_encode}};
+        fmt::print("{}\n", j.dump(2));
+    } else if (!quiet_)
         fmt::print(
             "{}: {}x{} samples, {} levels, {} patches, {} ({:.2f} bits/sample), "
             "{} voids filled, quantization error {:g} m\n"
@@ -409,12 +498,35 @@ int Commands::runVerify()
 
 int Commands::runExtract()
 {
-    ExtractOptions options;
+    ExtractOptions options = extract_options_;
     options.level = level_;
     if (window_.size() == 4)
         options.window = ExtractWindow{window_[0], window_[1], window_[2], window_[3]};
-    options.progress = terminalProgress(quiet_);
-    extractLevel(archive_, output_, options);
+    if (projwin_.size() == 4)
+        options.projwin = ProjectionWindow{projwin_[0], projwin_[1], projwin_[2], projwin_[3]};
+    if (!extract_type_.empty())
+        options.output_type = extract_type_;
+    options.progress = terminalProgress(quiet_ || json_);
+    const ExtractReport r = extractLevel(archive_, output_, options);
+    if (json_) {
+        nlohmann::json j = {{"output", output_},
+                            {"format", options.output_format},
+                            {"level", r.level},
+                            {"srcwin", {r.window.x, r.window.y, r.window.width, r.window.height}},
+                            {"type", r.output_type},
+                            {"type_reason", r.type_reason},
+                            {"max_rounding_error", r.max_rounding_error},
+                            {"geotransform", r.geotransform ? nlohmann::json(*r.geotransform)
+                                                            : nlohmann::json()}};
+        fmt::print("{}\n", j.dump(2));
+    } else if (!quiet_) {
+        fmt::print("{}: {} {}x{} of level {} at {},{}, {} ({}){}\n", output_,
+                   options.output_format, r.window.width, r.window.height, r.level, r.window.x,
+                   r.window.y, r.output_type, r.type_reason,
+                   r.max_rounding_error > 0
+                       ? fmt::format(", heights rounded by up to {:g} m", r.max_rounding_error)
+                       : "");
+    }
     return 0;
 }
 

@@ -5,6 +5,7 @@
 #include "ridge/pipeline/hillshade.h"
 #include "ridge/render/terrain_renderer.h"
 #include "render_args.h"
+#include "ridge/renderbench/render_bench.h"
 
 #include <CLI/CLI.hpp>
 #include <optional>
@@ -26,7 +27,8 @@ class CodecBenchCommand {
     std::vector<double> max_errors_{0.5, 1.0, 4.0, 16.0};
     int tile_size_ = 256;
     std::string ridge_codec_ = "progressive";
-    std::string json_path_;
+    bool json_ = false;     // --json: the report on stdout
+    std::string json_path_; // --json-file
     std::string plot_path_;
     bool quiet_ = false;
 };
@@ -53,8 +55,11 @@ class BenchCommand {
     bool popping_ = false;
     render::RenderSettings rules_; // --tess-rule, --on-axis-bound
     bool table_ = false;
-    std::string json_path_;
+    bool json_ = false;     // --json: the report on stdout
+    std::string json_path_; // --json-file
     std::string plot_path_;
+
+    void writeOutputs(const renderbench::RenderBenchReport& report) const;
 };
 
 // `ridge render` (render_command.cpp): one headless frame of an archive as a PNG.
@@ -126,6 +131,10 @@ class QueryCommand {
 
 class Commands {
   public:
+    // GDAL's single-dash spellings of extract's options ("-ot" for "--ot"): CLI11 takes one
+    // letter after a single dash, so main rewrites these arguments before parsing.
+    static constexpr const char* kGdalStyleFlags[] = {"-ot", "-of", "-co", "-a_nodata"};
+
     void registerAll(CLI::App& app);
     // Runs the subcommand that was parsed; returns the process exit code.
     int run();
@@ -156,6 +165,9 @@ class Commands {
     // extract / hillshade
     int level_ = -1;
     std::vector<int> window_;
+    std::vector<double> projwin_;
+    std::string extract_type_;
+    ExtractOptions extract_options_;
     HillshadeOptions hillshade_options_;
     CodecBenchCommand codec_bench_;
     ViewCommand view_;

@@ -5,9 +5,11 @@
 // (CLI::PositiveNumber and CLI::Range print their bounds with up to 309 digits, and CLI11
 // parses "nan" and "inf" as numbers, which they let through.)
 //
-// A rejected value throws ridge::Error rather than returning CLI11's message: CLI11 wraps
-// only ValidationError into a usage error (exit status 105), while every other ridge error
-// exits with status 1 through main's handler; a bad number is a bad input like any other.
+// A rejected value throws UsageError rather than returning CLI11's message, so that the
+// message is ours (CLI11 would append its own wording) and main exits with the usage status 2
+// like every other malformed command line.
+#include "usage_error.h"
+
 #include "ridge/core/error.h"
 #include "ridge/core/parameter_check.h"
 
@@ -55,7 +57,7 @@ inline std::optional<int64_t> parseInteger(const std::string& text)
 [[noreturn]] inline void reject(const std::string& flag, const std::string& text,
                                 const std::string& what, const std::string& range)
 {
-    throw Error(flag + " " + text + ": " + (what.empty() ? "" : what + " ") + "must be " + range);
+    throw UsageError(flag + " " + text + ": " + (what.empty() ? "" : what + " ") + "must be " + range);
 }
 
 } // namespace detail

@@ -1,6 +1,7 @@
 #pragma once
 // Command-line values shared by `ridge render`, `ridge view` and `ridge bench`.
 #include "range_check.h"
+#include "usage_error.h"
 
 #include "ridge/core/error.h"
 #include "ridge/lod/camera_orientation.h"
@@ -29,9 +30,9 @@ inline lod::Viewport parseSize(const std::string& text,
     char x = 0, extra = 0;
     if (std::sscanf(text.c_str(), "%lld%c%lld%c", &w, &x, &h, &extra) != 3 ||
         (x != 'x' && x != 'X'))
-        throw Error("--size " + text + ": expected WIDTHxHEIGHT, e.g. 1920x1080");
+        throw UsageError("--size " + text + ": expected WIDTHxHEIGHT, e.g. 1920x1080");
     if (w < 1 || h < 1 || w > max_side || h > max_side)
-        throw Error("--size " + text + ": each side must be an integer in [1, " +
+        throw UsageError("--size " + text + ": each side must be an integer in [1, " +
                     std::to_string(max_side) + "]");
     return {int(w), int(h)};
 }
@@ -127,7 +128,7 @@ inline std::string parseLodScheme(const std::string& name, const std::string& op
     for (const std::string& known : render::lodSchemeNames())
         if (name == known)
             return name;
-    throw Error(option + " " + name + ": expected " + render::lodSchemeList());
+    throw UsageError(option + " " + name + ": expected " + render::lodSchemeList());
 }
 
 // --help text listing every registered scheme with its description.

@@ -2,6 +2,7 @@
 #include "commands.h"
 #include "range_check.h"
 #include "render_args.h"
+#include "usage_error.h"
 
 #include "ridge/core/error.h"
 #include "ridge/render/headless_render.h"
@@ -23,7 +24,7 @@ render::DebugMode parseMode(const std::string& mode)
         return render::DebugMode::LodLevels;
     if (mode == "tess")
         return render::DebugMode::TessellationFactors;
-    throw Error("--mode " + mode + ": expected shaded, lod or tess");
+    throw UsageError("--mode " + mode + ": expected shaded, lod or tess");
 }
 
 } // namespace

@@ -6,12 +6,7 @@
 
 namespace ridge::gpu {
 
-GpuTimer::GpuTimer() : last_ms_(std::numeric_limits<double>::quiet_NaN())
-{
-    queries_.reserve(kRingSize);
-    for (std::size_t i = 0; i < kRingSize; ++i)
-        queries_.emplace_back(GL_TIME_ELAPSED);
-}
+GpuTimer::GpuTimer() : spans_(kRingSize), last_ms_(std::numeric_limits<double>::quiet_NaN()) {}
 
 void GpuTimer::begin()
 {
@@ -20,7 +15,9 @@ void GpuTimer::begin()
     collect(false);
     if (pending_ == kRingSize)
         --pending_; // ring full: drop the oldest result (slot next_) rather than wait for it
-    glBeginQuery(GL_TIME_ELAPSED, queries_[next_].id());
+    Span& span = spans_[next_];
+    span.begun = Clock::now();
+    glQueryCounter(span.start.id(), GL_TIMESTAMP);
     active_ = true;
 }
 
@@ -28,7 +25,7 @@ void GpuTimer::end()
 {
     if (!active_)
         throw Error("GpuTimer::end called without begin");
-    glEndQuery(GL_TIME_ELAPSED);
+    glQueryCounter(spans_[next_].stop.id(), GL_TIMESTAMP);
     active_ = false;
     next_ = (next_ + 1) % kRingSize;
     ++pending_;
@@ -48,18 +45,24 @@ double GpuTimer::waitMs()
 
 void GpuTimer::collect(bool wait) const
 {
-    // Queries complete in submission order, so polling stops at the first unavailable one.
+    // Queries complete in submission order, so polling stops at the first unavailable one
+    // (a span's stop comes after its start).
     while (pending_ > 0) {
-        const GLuint query = queries_[(next_ + kRingSize - pending_) % kRingSize].id();
+        const Span& span = spans_[(next_ + kRingSize - pending_) % kRingSize];
         if (!wait) {
             GLint available = GL_FALSE;
-            glGetQueryObjectiv(query, GL_QUERY_RESULT_AVAILABLE, &available);
+            glGetQueryObjectiv(span.stop.id(), GL_QUERY_RESULT_AVAILABLE, &available);
             if (available != GL_TRUE)
                 return;
         }
-        GLuint64 nanoseconds = 0;
-        glGetQueryObjectui64v(query, GL_QUERY_RESULT, &nanoseconds);
-        last_ms_ = static_cast<double>(nanoseconds) * 1e-6;
+        GLuint64 start_ns = 0, stop_ns = 0;
+        glGetQueryObjectui64v(span.start.id(), GL_QUERY_RESULT, &start_ns);
+        glGetQueryObjectui64v(span.stop.id(), GL_QUERY_RESULT, &stop_ns);
+        const double wall_ms =
+            std::chrono::duration<double, std::milli>(Clock::now() - span.begun).count();
+        const double ms = static_cast<double>(stop_ns - start_ns) * 1e-6;
+        last_ms_ = stop_ns >= start_ns && ms <= wall_ms ? ms
+                                                        : std::numeric_limits<double>::quiet_NaN();
         --pending_;
     }
 }

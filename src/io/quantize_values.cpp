@@ -74,9 +74,9 @@ double stepFor(const SourceBand& band, double range, double magnitude, int64_t m
     const double needed = roundUpForHumans((range / double(max_code) / 2 + margin) * (1 + 1e-9));
     const double codes_needed = std::ceil(range / (2 * *max_error)) + 1;
     band.fail("height range " + formatNumber(range, 6) + " m needs " +
-              formatNumber(codes_needed, 6) + " codes at --max-error " +
+              formatNumber(codes_needed, 6) + " codes at max_error " +
               formatNumber(*max_error, 6) + " but 16 bits hold " + std::to_string(max_code + 1) +
-              "; --max-error " + formatNumber(needed, 3) + " or larger would work");
+              "; max_error " + formatNumber(needed, 3) + " or larger would work");
 }
 
 class QuantizedCodes final : public CodeSource {

@@ -69,9 +69,9 @@ double codecMaxError(const HeightQuantization& q, const BuildOptions& options)
     if (!isLossyCodec(options.codec))
         return 0;
     if (!options.max_error)
-        throw Error("codec '" + options.codec + "' needs --max-error (metres)");
+        throw Error("codec '" + options.codec + "' needs max_error (metres)");
     if (!(*options.max_error >= q.max_error)) // max_error > 0: BuildOptions::validate
-        throw Error("--max-error " + std::to_string(*options.max_error) +
+        throw Error("max_error " + std::to_string(*options.max_error) +
                     " m is below the input's own quantization error " + std::to_string(q.max_error) + " m");
     return std::min(32767.0, (*options.max_error - q.max_error) / q.scale);
 }

@@ -180,7 +180,7 @@ void checkBuildMemory(const std::string& input, const io::RasterProbe& raster,
                 std::to_string(raster.height) + " samples need about " + formatBytes(needed) +
                 " to build (" + estimate.describe() + "), but " + formatBytes(limit.bytes) +
                 " are available (" + limit.source +
-                "); use --max-memory (BuildOptions::memory_limit_bytes) to override");
+                "); raise memory_limit_bytes to override");
 }
 
 } // namespace ridge

@@ -30,7 +30,7 @@ lod::Camera cameraFor(const TerrainRenderer& renderer, const HeadlessRenderOptio
     options.validate();
     if (!options.camera) {
         if (options.look_at)
-            throw Error("render: --look-at needs --camera");
+            throw Error("look_at needs a camera position (HeadlessRenderOptions::camera)");
         return renderer.defaultCamera(options.viewport, options.fov_y_degrees);
     }
     glm::dvec3 target;

@@ -216,7 +216,7 @@ std::string formatRenderBenchSummary(const RenderBenchReport& r)
         mib(r.bytes_decoded), mib(r.bytes_uploaded), r.reconstructed, r.hole_pixels,
         r.frames_with_holes,
         r.popping_max_px < 0
-            ? std::string("not measured (--popping)")
+            ? std::string("not measured (measure_popping)")
             : fmt::format("{:.3f} / {:.3f} px", r.popping_p99_px, r.popping_max_px));
 }
 
@@ -236,9 +236,8 @@ std::string formatRenderBenchTable(const std::vector<RenderBenchReport>& reports
     return out;
 }
 
-void writeRenderBenchJson(const RenderBenchReport& r, const std::string& path)
+std::string formatRenderBenchJson(const RenderBenchReport& r)
 {
-    refuseOutputOverInput(path, {r.archive, r.options.path.kind}); // kind: maybe a pose file
     nlohmann::json frames = nlohmann::json::array();
     for (const FrameRecord& f : r.frames)
         frames.push_back({{"frame_ms", f.frame_ms},
@@ -302,7 +301,13 @@ void writeRenderBenchJson(const RenderBenchReport& r, const std::string& path)
                                 {"triangles_mean", r.triangles_mean},
                                 {"frames_epsilon_raised", r.frames_epsilon_raised}}},
                               {"frames", frames}};
-    writeFileAtomically(path, j.dump(1) + "\n");
+    return j.dump(1) + "\n";
+}
+
+void writeRenderBenchJson(const RenderBenchReport& r, const std::string& path)
+{
+    refuseOutputOverInput(path, {r.archive, r.options.path.kind}); // kind: maybe a pose file
+    writeFileAtomically(path, formatRenderBenchJson(r));
 }
 
 } // namespace ridge::renderbench

@@ -30,7 +30,7 @@ TEST(BenchCli, FliesEachRendererAlongAPathAndWritesJsonAndAPlot)
                               png = dir.path(renderer + path + ".png");
             const test::CommandResult r = test::runRidge(
                 "bench '" + arc + "' --lod " + renderer + " --path " + path +
-                " --frames 12 --size 160x90 --json '" + json + "' --plot '" + png + "'");
+                " --frames 12 --size 160x90 --json-file '" + json + "' --plot '" + png + "'");
             ASSERT_EQ(r.exit_code, 0) << r.output;
             EXPECT_NE(r.output.find("fps min / median / max"), std::string::npos) << r.output;
             std::ifstream in(json);
@@ -61,7 +61,7 @@ TEST(BenchCli, BadInputsGetAClearErrorAndANonZeroExit)
           Case{"--renderer chunked --chunk-tolerance -1", "--chunk-tolerance"},
           // Unwritable outputs are caught before the run (PLplot would exit() after it).
           Case{"--plot '" + dir.path("no/such/dir/p.png") + "'", "p.png: cannot write"},
-          Case{"--json '" + dir.path("no/such/dir/f.json") + "'", "f.json: cannot write"}}) {
+          Case{"--json-file '" + dir.path("no/such/dir/f.json") + "'", "f.json: cannot write"}}) {
         const test::CommandResult r = test::runRidge("bench '" + arc + "' --frames 3 " + c.args);
         EXPECT_NE(r.exit_code, 0) << c.args;
         EXPECT_NE(r.output.find(c.phrase), std::string::npos)
@@ -96,7 +96,7 @@ TEST(BenchCli, StreamingFramesAccountForTheirTrafficWithTheGpuOrTheCpuDecoding)
         const std::string json = dir.path("traffic.json");
         const test::CommandResult r =
             test::runRidge("bench '" + arc + "' --path teleport --frames 20 --size 160x90 " +
-                           "--upload-mb 0.05 --upload-ms 50 --json '" + json + "'" + decode);
+                           "--upload-mb 0.05 --upload-ms 50 --json-file '" + json + "'" + decode);
         ASSERT_EQ(r.exit_code, 0) << r.output;
         EXPECT_NE(r.output.find("frames over 2x median"), std::string::npos) << r.output;
         std::ifstream in(json);

@@ -98,7 +98,7 @@ TEST(Cli, BuildInfoVerifyExtractHillshadeOnRealTerrain)
 
     // A window of a coarser level: pixel size doubles, centre of pixel (0,0) stays on sample (2x, 2y).
     const std::string win = dir.path("window.tif");
-    r = test::runRidge("extract '" + arc + "' --level 0 --window 10 5 40 30 -o '" + win + "' -q");
+    r = test::runRidge("extract '" + arc + "' --level 0 --srcwin 10 5 40 30 -o '" + win + "' -q");
     ASSERT_EQ(r.exit_code, 0) << r.output;
     GDALDatasetH c = GDALOpen(win.c_str(), GA_ReadOnly);
     ASSERT_TRUE(c);
@@ -167,11 +167,108 @@ TEST(Cli, VerifyFailsWithExitCodeOneOnACorruptArchive)
     EXPECT_NE(r.output.find("checksum"), std::string::npos) << r.output;
 }
 
-TEST(Cli, UsageErrorsExitNonZero)
+// Exit statuses, as README.md documents them: 0 success, 1 failure, 2 usage.
+TEST(Cli, UsageErrorsExitWithTwo)
 {
-    EXPECT_NE(test::runRidge("").exit_code, 0);
-    EXPECT_NE(test::runRidge("build").exit_code, 0);
-    EXPECT_NE(test::runRidge("info").exit_code, 0);
-    EXPECT_NE(test::runRidge("frobnicate").exit_code, 0);
+    EXPECT_EQ(test::runRidge("").exit_code, 2);
+    EXPECT_EQ(test::runRidge("build").exit_code, 2);
+    EXPECT_EQ(test::runRidge("info").exit_code, 2);
+    EXPECT_EQ(test::runRidge("frobnicate").exit_code, 2);
+    EXPECT_EQ(test::runRidge("info a.ridge --no-such-flag").exit_code, 2);
+    EXPECT_EQ(test::runRidge("hillshade a.ridge -o x.png --level x").exit_code, 2);
     EXPECT_EQ(test::runRidge("--version").exit_code, 0);
+    EXPECT_EQ(test::runRidge("--help").exit_code, 0);
+    EXPECT_EQ(test::runRidge("build --help").exit_code, 0);
+    // A well-formed command line whose input is missing fails while running: 1.
+    test::ScratchDir dir;
+    EXPECT_EQ(test::runRidge("info '" + dir.path("missing.ridge") + "'").exit_code, 1);
+}
+
+// A mistyped command or flag is named, with the nearest valid spelling.
+TEST(Cli, AnUnknownCommandOrFlagIsNamedWithTheNearestValidOne)
+{
+    struct Case {
+        std::string args, phrase;
+    };
+    for (const Case& c :
+         {Case{"biuld x", "unknown command 'biuld'; did you mean 'build'?"},
+          Case{"rendr x -o y.png", "unknown command 'rendr'; did you mean 'render'?"},
+          Case{"frobnicate", "unknown command 'frobnicate' (ridge --help lists the commands)"},
+          Case{"bench a.ridge --frams 3", "ridge bench: unknown option '--frams'; did you mean "
+                                          "'--frames'?"},
+          Case{"info a.ridge --jsno", "ridge info: unknown option '--jsno'; did you mean '--json'?"},
+          Case{"build x -o y --z-ofset=3", "unknown option '--z-ofset'; did you mean '--z-offset'?"},
+          Case{"build x -o y --z-offset -5 --quuux", "ridge build: unknown option '--quuux' ("},
+          Case{"extract a.ridge -o x.tif --projwim 1 2 3 4",
+               "unknown option '--projwim'; did you mean '--projwin'?"}}) {
+        const test::CommandResult r = test::runRidge(c.args);
+        EXPECT_EQ(r.exit_code, 2) << c.args << ": " << r.output;
+        EXPECT_NE(r.output.find(c.phrase), std::string::npos)
+            << c.args << ": expected '" << c.phrase << "' in: " << r.output;
+    }
+}
+
+// One --json convention: the flag prints one JSON document on stdout and nothing else there
+// (human text goes to stderr or is not printed); --json-file PATH writes the document instead.
+TEST(Cli, JsonPrintsOneDocumentOnStdoutInEveryCommand)
+{
+    test::ScratchDir dir;
+    const std::string src = test::dataPath("everest_crop.tif");
+    const std::string arc = dir.path("e.ridge");
+    struct Case {
+        std::string args, key;
+    };
+    for (const Case& c :
+         {Case{"build '" + src + "' -o '" + arc + "' --patch 65 --json", "patch_count"},
+          Case{"info '" + arc + "' --json", "level_count"},
+          Case{"verify '" + arc + "' --json", "patches_checked"},
+          Case{"extract '" + arc + "' -o '" + dir.path("x.tif") + "' --json", "geotransform"},
+          Case{"bench '" + arc + "' --frames 2 --size 32x24 --json", "frames"}}) {
+        const test::CommandResult r = test::runRidgeStdout(c.args);
+        ASSERT_EQ(r.exit_code, 0) << c.args << ": " << r.output;
+        nlohmann::json j;
+        ASSERT_NO_THROW(j = nlohmann::json::parse(r.output)) << c.args << ": " << r.output;
+        EXPECT_TRUE(j.contains(c.key)) << c.args << ": " << r.output;
+    }
+    // The same document as a file, for commands whose human report is worth keeping on stdout.
+    const std::string file = dir.path("bench.json");
+    const test::CommandResult r = test::runRidgeStdout(
+        "bench '" + arc + "' --frames 2 --size 32x24 --json-file '" + file + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find("fps"), std::string::npos) << "the summary stays on stdout";
+    EXPECT_EQ(nlohmann::json::parse(test::readFile(file))["frames"].size(), 2u);
+}
+
+// One spelling per concept: hillshade takes the sun as render does (--sun AZ,ALT); the older
+// spellings (hillshade --azimuth/--altitude, bench --renderer, extract --window) still work
+// but are hidden from --help.
+TEST(Cli, OneSpellingPerConceptWithTheOldOnesHidden)
+{
+    test::ScratchDir dir;
+    const std::string arc = test::buildEverestWithCli(dir, "e.ridge", "--patch 65");
+    const std::string a = dir.path("sun.png"), b = dir.path("az.png");
+    ASSERT_EQ(test::runRidge("hillshade '" + arc + "' -o '" + a + "' -q --sun 200,30").exit_code, 0);
+    ASSERT_EQ(test::runRidge("hillshade '" + arc + "' -o '" + b + "' -q --azimuth 200 --altitude 30")
+                  .exit_code,
+              0);
+    EXPECT_TRUE(test::readFile(a) == test::readFile(b));
+    const std::string d = dir.path("default.png");
+    ASSERT_EQ(test::runRidge("hillshade '" + arc + "' -o '" + d + "' -q").exit_code, 0);
+    EXPECT_FALSE(test::readFile(a) == test::readFile(d)) << "--sun must change the light";
+    const test::CommandResult bad =
+        test::runRidge("hillshade '" + arc + "' -o '" + dir.path("x.png") + "' --sun 315,100");
+    EXPECT_EQ(bad.exit_code, 2);
+    EXPECT_NE(bad.output.find("--sun 100: the altitude must be a number in [0, 90]"),
+              std::string::npos)
+        << bad.output;
+    struct Hidden {
+        std::string command, shown, hidden;
+    };
+    for (const Hidden& h : {Hidden{"hillshade", "--sun", "--azimuth"},
+                            Hidden{"bench", "--lod", "--renderer"},
+                            Hidden{"extract", "--srcwin", "--window"}}) {
+        const std::string help = test::runRidge(h.command + " --help").output;
+        EXPECT_NE(help.find(h.shown), std::string::npos) << help;
+        EXPECT_EQ(help.find(h.hidden), std::string::npos) << help;
+    }
 }

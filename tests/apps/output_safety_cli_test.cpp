@@ -388,7 +388,7 @@ TEST(OutputSafety, BenchAndCodecBenchRefuseReportsOverTheirInputs)
     const std::string arc = everestArchive(dir);
     const std::string tif = everestCopy(dir);
     const std::string arc_before = readFile(arc), tif_before = readFile(tif);
-    for (const char* flag : {"--json", "--plot"}) {
+    for (const char* flag : {"--json-file", "--plot"}) {
         expectRefused(runCli({"bench", arc, "--frames", "2", "--size", "32x32", flag, arc}), arc,
                       arc);
         expectRefused(runCli({"codec-bench", tif, "--max-error", "4", "-q", flag, tif}), tif, tif);

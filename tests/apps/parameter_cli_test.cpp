@@ -1,6 +1,8 @@
 // Numeric flags as a user mistypes them: NaN, infinities, zero budgets, absurd z-scales and a
-// raster of 10^6 x 10^6 samples. Every one exits with status 1 (never a signal, never 0),
-// says which flag or file and what range, in a line a person can read, and leaves nothing.
+// raster of 10^6 x 10^6 samples. A value its flag cannot take exits with the usage status 2,
+// one the inputs cannot take (a z-scale that overflows this raster's heights, a raster too big
+// for the memory) with the failure status 1; never a signal, never 0. Each says which flag or
+// file and what range, in a line a person can read, and leaves nothing.
 #include "test_support.h"
 
 #include <gtest/gtest.h>
@@ -38,13 +40,14 @@ class ParameterCli : public ::testing::Test {
     }
 
     // Runs `ridge ARGS` (outputs are named out.* in the suite's directory) and checks the
-    // promises: exit status 1, every phrase in the output, no absurdly long number, and no
-    // out.* file (or its temporary) left behind.
-    static void expectRefused(const std::string& args, const std::vector<std::string>& phrases)
+    // promises: exit status `status` (2: usage, the default; 1: failure), every phrase in the
+    // output, no absurdly long number, and no out.* file (or its temporary) left behind.
+    static void expectRefused(const std::string& args, const std::vector<std::string>& phrases,
+                              int status = kUsage)
     {
         const test::CommandResult r = test::runRidge(args); // a signal reads as 128 + n
         SCOPED_TRACE("ridge " + args);
-        EXPECT_EQ(r.exit_code, 1) << r.output;
+        EXPECT_EQ(r.exit_code, status) << r.output;
         for (const std::string& p : phrases)
             EXPECT_NE(r.output.find(p), std::string::npos)
                 << "expected '" << p << "' in: " << r.output;
@@ -61,6 +64,8 @@ class ParameterCli : public ::testing::Test {
             EXPECT_EQ(entry.path().filename().string().rfind("out.", 0), std::string::npos)
                 << "left behind: " << entry.path();
     }
+
+    static constexpr int kUsage = 2, kFailure = 1;
 
     static std::string out(const std::string& name)
     {
@@ -118,7 +123,7 @@ TEST_F(ParameterCli, AZeroVramBudgetGetsAShortReadableRange)
 
 TEST_F(ParameterCli, BenchRefusesANanSpeedAndOtherBadNumbers)
 {
-    const std::string bench = "bench " + arc() + " --size 64x64 --json " + out("json") + " ";
+    const std::string bench = "bench " + arc() + " --size 64x64 --json-file " + out("json") + " ";
     expectRefused(bench + "--frames 2 --speed nan",
                   {"--speed nan: must be a number in (0, 1e+06]"});
     expectRefused(bench + "--frames 2 --speed inf", {"--speed inf:"});
@@ -132,7 +137,9 @@ TEST_F(ParameterCli, BuildRefusesAZScaleThatMakesHeightsImpossibleAndWritesNothi
 {
     const std::string src = shellQuoted(test::dataPath("everest_crop.tif"));
     expectRefused("build " + src + " -o " + out("ridge") + " -q --z-scale 1e300",
-                  {"everest_crop.tif", "z_scale 1e+300", "heights [-3.2768e+304, 3.2767e+304] m"});
+                  {"everest_crop.tif", "z_scale 1e+300", "heights [-3.2768e+304, 3.2767e+304] m",
+                   "z_scale is --z-scale"},
+                  kFailure);
     expectRefused("build " + src + " -o " + out("ridge") + " -q --z-scale 0",
                   {"--z-scale 0: its magnitude must be a finite number >= 1e-09"});
     expectRefused("build " + src + " -o " + out("ridge") + " -q --z-scale nan", {"--z-scale nan:"});
@@ -161,18 +168,23 @@ TEST_F(ParameterCli, AMillionByAMillionRasterIsRefusedWithItsSizeAndTheMemoryItN
     // A small limit, so that the test does not depend on the machine ...
     expectRefused(build + " --max-memory 64",
                   {"huge.vrt: 1000000 x 1000000 samples need about ", "GiB to build (streaming: ",
-                   "level L-1 in memory, 466 GiB", "but 64.0 MiB are available", "--max-memory"});
+                   "level L-1 in memory, 466 GiB", "but 64.0 MiB are available",
+                   "memory_limit_bytes is --max-memory"},
+                  kFailure);
     // ... and what the machine has.
-    expectRefused(build, {"huge.vrt: 1000000 x 1000000 samples need about ", "are available ("});
+    expectRefused(build, {"huge.vrt: 1000000 x 1000000 samples need about ", "are available ("},
+                  kFailure);
     expectRefused(build + " --filter neville",
-                  {"huge.vrt", "(in memory: ", "whole grid, 1.82 TiB", "Neville row pass"});
+                  {"huge.vrt", "(in memory: ", "whole grid, 1.82 TiB", "Neville row pass"},
+                  kFailure);
     expectRefused(build + " --max-memory 0", {"--max-memory 0: must be a number in (0, 1e+09]"});
     // The other commands that read a raster: verify --source compares sizes first, codec-bench
     // (which holds the raster) checks its memory like build.
     expectRefused("verify " + arc() + " --source " + shellQuoted(vrt) + " -q",
-                  {"huge.vrt: size 1000000x1000000 differs"});
+                  {"huge.vrt: size 1000000x1000000 differs"}, kFailure);
     expectRefused("codec-bench " + shellQuoted(vrt) + " -q",
-                  {"huge.vrt: 1000000 x 1000000 samples need at least ", "to benchmark"});
+                  {"huge.vrt: 1000000 x 1000000 samples need at least ", "to benchmark"},
+                  kFailure);
 }
 
 TEST_F(ParameterCli, HillshadeExtractAndCodecBenchRefuseBadNumbersByFlag)
@@ -184,8 +196,11 @@ TEST_F(ParameterCli, HillshadeExtractAndCodecBenchRefuseBadNumbersByFlag)
     expectRefused("hillshade " + arc() + " -o " + out("png") + " -z 0", {"--z-factor 0:"});
     expectRefused("hillshade " + arc() + " -o " + out("png") + " --level -5",
                   {"--level -5: must be an integer in [-1, 62]"});
+    expectRefused("extract " + arc() + " -o " + out("tif") + " --srcwin 0 0 0 10",
+                  {"--srcwin 0: XSIZE must be an integer in [1, 2147483647]"});
+    // --window: the hidden alias kept for scripts, the same option.
     expectRefused("extract " + arc() + " -o " + out("tif") + " --window 0 0 0 10",
-                  {"--window 0: W must be an integer in [1, 2147483647]"});
+                  {"--srcwin 0: XSIZE must be an integer in [1, 2147483647]"});
     expectRefused("codec-bench " + shellQuoted(test::dataPath("everest_crop.tif")) +
                       " --max-error nan -q",
                   {"--max-error nan:"});

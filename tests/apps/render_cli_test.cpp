@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 
@@ -49,12 +50,26 @@ TEST(RenderCli, RendersAPngOfTheRequestedSizeAndReportsTheFrameAsJson)
     test::ScratchDir dir;
     const std::string arc = buildEverest(dir);
     const std::string png = dir.path("view.png");
+    const auto t0 = std::chrono::steady_clock::now();
     const test::CommandResult r =
-        test::runRidge("render '" + arc + "' -o '" + png +
+        test::runRidgeStdout("render '" + arc + "' -o '" + png +
                        "' --size 400x250 --error 1.5 --camera 2000,-3000,9000 "
                        "--look-at 12000,9000,5000 --json");
+    const double wall_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     ASSERT_EQ(r.exit_code, 0) << r.output;
-    const nlohmann::json j = nlohmann::json::parse(r.output.substr(r.output.find('{')));
+    // --json: the document alone on stdout (the convention of every command).
+    const nlohmann::json j = nlohmann::json::parse(r.output);
+    // GPU times are durations inside the run, or null where not measured (never the GPU
+    // clock itself: gpu_upload_ms once read back llvmpipe's time since boot).
+    for (const char* key : {"gpu_ms", "gpu_upload_ms", "cpu_select_ms", "cpu_load_ms"}) {
+        ASSERT_TRUE(j.contains(key)) << key;
+        if (!j[key].is_null()) {
+            EXPECT_GE(j[key].get<double>(), 0.0) << key;
+            EXPECT_LE(j[key].get<double>(), wall_ms) << key;
+        }
+    }
+    EXPECT_FALSE(j["gpu_upload_ms"].is_null()) << "the first frame uploads its patches";
     EXPECT_EQ(j["size"][0], 400);
     EXPECT_EQ(j["size"][1], 250);
     EXPECT_DOUBLE_EQ(j["camera"][2].get<double>(), 9000.0);
@@ -103,7 +118,7 @@ TEST(RenderCli, BadInputsGetAClearErrorANonZeroExitAndNoPicture)
     expectRenderRejected(dir, "'" + arc + "' --size 100by50", "--size");
     expectRenderRejected(dir, "'" + arc + "' --size 0x50", "size");
     expectRenderRejected(dir, "'" + arc + "' --mode fancy", "--mode");
-    expectRenderRejected(dir, "'" + arc + "' --look-at 1,2,3", "--look-at needs --camera");
+    expectRenderRejected(dir, "'" + arc + "' --look-at 1,2,3", "--look-at requires --camera");
     expectRenderRejected(dir, "'" + arc + "' --camera 1,2", "--camera");
     expectRenderRejected(dir, "'" + arc + "' --camera 5,5,5 --look-at 5,5,5", "coincide");
     expectRenderRejected(dir, "'" + arc + "' --error 0", "--error");

@@ -18,7 +18,7 @@ TEST(CodecBenchCli, WritesTablesJsonAndPlot)
     // Defaults: ridge's progressive codec, built with max_error = 1 m.
     const test::CommandResult r =
         test::runRidge("codec-bench '" + test::dataPath("everest_crop.tif") +
-                       "' --max-error 1 --tile 64 --json '" + json + "' --plot '" + png + "'");
+                       "' --max-error 1 --tile 64 --json-file '" + json + "' --plot '" + png + "'");
     ASSERT_EQ(r.exit_code, 0) << r.output;
     EXPECT_NE(r.output.find("100 - done."), std::string::npos) << "progress on stderr";
     EXPECT_EQ(r.output.find("VIOLATED"), std::string::npos) << r.output;
@@ -35,12 +35,23 @@ TEST(CodecBenchCli, WritesTablesJsonAndPlot)
     EXPECT_EQ(test::temporariesIn(dir.dir()), std::vector<std::string>{});
 }
 
+// --json: the same document on stdout and nothing else there (the tables go to stderr).
+TEST(CodecBenchCli, JsonPrintsTheDocumentOnStdout)
+{
+    const test::CommandResult r = test::runRidgeStdout(
+        "codec-bench '" + test::dataPath("everest_crop.tif") + "' --max-error 4 --tile 64 -q --json");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const nlohmann::json j = nlohmann::json::parse(r.output);
+    EXPECT_EQ(j["bounds"].size(), 1u);
+    EXPECT_EQ(j["bounds"][0]["rows"].size(), 7u);
+}
+
 TEST(CodecBenchCli, MissingInputFailsNamingThePath)
 {
     test::ScratchDir dir;
     const std::string missing = dir.path("missing.hgt");
     const std::string json = dir.path("bench.json");
-    const test::CommandResult r = test::runRidge("codec-bench '" + missing + "' --json '" + json +
+    const test::CommandResult r = test::runRidge("codec-bench '" + missing + "' --json-file '" + json +
                                                  "' -q --ridge-codec lossless");
     EXPECT_NE(r.exit_code, 0);
     EXPECT_NE(r.output.find(missing), std::string::npos) << r.output;
@@ -51,6 +62,6 @@ TEST(CodecBenchCli, NegativeBoundIsAParseError)
 {
     const test::CommandResult r = test::runRidge(
         "codec-bench '" + test::dataPath("everest_crop.tif") + "' --max-error -1 -q");
-    EXPECT_NE(r.exit_code, 0);
+    EXPECT_EQ(r.exit_code, 2);
     EXPECT_NE(r.output.find("max-error"), std::string::npos) << r.output;
 }

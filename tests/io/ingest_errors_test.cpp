@@ -151,7 +151,8 @@ TEST(IngestErrors, SuggestsAMaxErrorThatFits16Bits)
     IngestOptions options;
     options.max_error = 0.01;
     const std::string message = ingestError(path, options);
-    expectMessage(message, path, "--max-error");
+    expectMessage(message, path, "max_error");
+    EXPECT_EQ(message.find("--max-error"), std::string::npos) << "a parameter, not a flag";
     EXPECT_NE(message.find("0.0763"), std::string::npos) << message;
 
     // ... and the suggestion does work.

@@ -7,7 +7,11 @@
 
 #include <gtest/gtest.h>
 
+#include <cpl_string.h>
+#include <cpl_vsi.h>
+
 #include <filesystem>
+#include <fstream>
 
 namespace ridge::io {
 namespace {
@@ -132,6 +136,85 @@ TEST(Writer, ReplacesAnExistingFileWhole)
     EXPECT_EQ(GDALGetRasterXSize(ds), 2);
     GDALClose(ds);
     EXPECT_EQ(filesIn(dir.dir()), 1u);
+}
+
+} // namespace
+} // namespace ridge::io
+
+namespace ridge::io {
+namespace {
+
+std::vector<double> ramp(int w, int h)
+{
+    std::vector<double> v(size_t(w) * h);
+    for (size_t i = 0; i < v.size(); ++i)
+        v[i] = double(i % 1000);
+    return v;
+}
+
+// A driver that writes two files (ENVI: the raw samples and a .hdr): both appear, whole, and
+// GDAL's memory files are gone afterwards.
+TEST(Writer, RasterOfAMultiFileDriverPublishesEveryFile)
+{
+    ScratchDir dir;
+    const int w = 40, h = 30;
+    const std::vector<double> values = ramp(w, h);
+    GeoReference geo;
+    geo.has_geotransform = true;
+    geo.geotransform = {500000, 30, 0, 4000000, 0, -30};
+    const std::string path = dir.path("out.bin");
+    writeRaster(path, values, w, h, sampleType("UInt16"), geo, {"ENVI", {}, 65535.0}, {});
+    EXPECT_TRUE(std::filesystem::exists(dir.path("out.hdr")));
+    EXPECT_EQ(std::filesystem::file_size(path), size_t(w) * h * 2);
+    const test::GdalBand band = readWithGdal(path);
+    EXPECT_EQ(band.values, values);
+    EXPECT_EQ(band.geotransform, geo.geotransform);
+    EXPECT_EQ(test::temporariesIn(dir.dir()), std::vector<std::string>{});
+    char** left = VSIReadDir("/vsimem/");
+    for (char** p = left; p && *p; ++p)
+        EXPECT_NE(std::string(*p).rfind("ridge-write-", 0), 0u) << "left in /vsimem/: " << *p;
+    CSLDestroy(left);
+}
+
+TEST(Writer, RasterRefusesBadFormatsTypesAndOptionsLeavingNothing)
+{
+    ScratchDir dir;
+    const std::vector<double> values = ramp(8, 8);
+    const std::string path = dir.path("out.tif");
+    const auto refused = [&](const RasterFormat& format, const std::string& type,
+                             const std::string& phrase) {
+        try {
+            writeRaster(path, values, 8, 8, sampleType(type), GeoReference{}, format, {});
+            ADD_FAILURE() << "accepted: " << phrase;
+        } catch (const Error& e) {
+            EXPECT_NE(std::string(e.what()).find(phrase), std::string::npos) << e.what();
+        }
+        EXPECT_EQ(filesIn(dir.dir()), 0u) << phrase;
+    };
+    refused({"NoSuchDriver", {}, {}}, "Int16", "output_format 'NoSuchDriver': no such GDAL driver");
+    refused({"GTiff", {"COMPRESS=NOPE"}, {}}, "Int16", "creation_options: GDAL's GTiff driver refuses");
+    refused({"GTiff", {"=1"}, {}}, "Int16", "creation_options '=1': expected NAME=VALUE");
+    refused({"GTiff", {}, 1e6}, "Int16", "nodata_value");
+    refused({"PNG", {}, {}}, "Float32", "PNG driver doesn't support data type Float32");
+    EXPECT_THROW(sampleType("CInt16"), Error);
+    EXPECT_TRUE(sampleType("int16").holdsExactly(-32768));
+    EXPECT_FALSE(sampleType("Int16").holdsExactly(0.5));
+    EXPECT_FALSE(sampleType("Float32").holdsExactly(0.1));
+    EXPECT_TRUE(sampleType("Float64").holdsExactly(0.1));
+}
+
+// A side-car that would land on an input is refused before anything is published.
+TEST(Writer, RasterSideCarOverAnInputIsRefused)
+{
+    ScratchDir dir;
+    const std::string input = dir.path("out.hdr");
+    { std::ofstream(input) << "precious"; }
+    const std::vector<double> values = ramp(4, 4);
+    EXPECT_THROW(writeRaster(dir.path("out.bin"), values, 4, 4, sampleType("Byte"), GeoReference{},
+                             {"ENVI", {}, {}}, {input}),
+                 Error);
+    EXPECT_EQ(test::readFile(input), "precious");
+    EXPECT_FALSE(std::filesystem::exists(dir.path("out.bin")));
 }
 
 } // namespace

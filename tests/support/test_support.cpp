@@ -58,10 +58,12 @@ std::vector<std::string> temporariesIn(const std::filesystem::path& dir)
     return names;
 }
 
-CommandResult runShell(const std::string& command)
+namespace {
+
+CommandResult runCapturing(const std::string& command_line)
 {
     CommandResult result;
-    FILE* pipe = ::popen((command + " 2>&1").c_str(), "r");
+    FILE* pipe = ::popen(command_line.c_str(), "r");
     if (!pipe)
         return result;
     std::array<char, 4096> buf;
@@ -73,10 +75,22 @@ CommandResult runShell(const std::string& command)
     return result;
 }
 
+} // namespace
+
+CommandResult runShell(const std::string& command)
+{
+    return runCapturing(command + " 2>&1");
+}
+
 #ifdef RIDGE_CLI_PATH
 CommandResult runRidge(const std::string& args)
 {
     return runShell(std::string(RIDGE_CLI_PATH) + " " + args);
+}
+
+CommandResult runRidgeStdout(const std::string& args)
+{
+    return runCapturing(std::string(RIDGE_CLI_PATH) + " " + args + " 2>/dev/null");
 }
 
 std::string buildEverestWithCli(const ScratchDir& dir, const std::string& name,

@@ -43,6 +43,10 @@ CommandResult runShell(const std::string& command);
 // Only in test binaries declared NEEDS_CLI.
 CommandResult runRidge(const std::string& args);
 
+// Runs `ridge ARGS` and captures its stdout alone (stderr is discarded): for the documents
+// `--json` prints there. Only in test binaries declared NEEDS_CLI.
+CommandResult runRidgeStdout(const std::string& args);
+
 // `ridge build` of the Everest fixture (tests/data/everest_crop.tif) into `dir`/`name` with
 // the extra build arguments `args`; returns the archive's path. Throws (failing the calling
 // test) with the command's output when the build fails. NEEDS_CLI, as runRidge.

@@ -95,6 +95,9 @@ std::string formatRenderBenchSummary(const RenderBenchReport& report);
 // The fractal-rings paper's Table 1, one row per report: approach, FPS min / max / median,
 // cache misses, mean triangles.
 std::string formatRenderBenchTable(const std::vector<RenderBenchReport>& reports);
+// Every frame's figures and the summary as a JSON document (ends with a newline).
+std::string formatRenderBenchJson(const RenderBenchReport& report);
+// Writes formatRenderBenchJson to `path` atomically. Throws ridge::Error naming the path.
 void writeRenderBenchJson(const RenderBenchReport& report, const std::string& path);
 // Frame time per frame as a PNG (PLplot, pngcairo).
 void writeRenderBenchPlot(const RenderBenchReport& report, const std::string& path);
