@@ -7,7 +7,11 @@
 #include "ridge/io/raster_writer.h"
 #include "ridge/pipeline/level_decoder.h"
 
+#include "ridge/core/error.h"
+
+#include <cmath>
 #include <cstdint>
+#include <limits>
 
 namespace ridge {
 
@@ -36,6 +40,8 @@ io::GeoReference storedGeoReference(const archive::ArchiveReader& reader)
 void ExtractOptions::validate() const
 {
     checkParameter("level", int64_t{level}, -1, kMaxLevel);
+    if (nodata && !std::isnan(*nodata))
+        checkParameter("nodata", *nodata, ValueRange::any());
     if (!window)
         return;
     checkParameter("window x", int64_t{window->x}, 0, INT32_MAX);
@@ -56,10 +62,27 @@ void extractLevel(const std::string& archive_path, const std::string& output,
     ExtractWindow w = options.window.value_or(ExtractWindow{});
     if (!options.window && level < g.levelCount())
         w = {0, 0, g.validLevelWidth(level), g.validLevelHeight(level)};
+    std::vector<uint8_t> valid;
     const CodeGrid grid = decodeLevelWindow(reader, level, w.x, w.y, w.width, w.height,
-                                            subProgress(options.progress, 0.0, 0.8));
+                                            subProgress(options.progress, 0.0, 0.8), &valid);
 
-    const std::vector<float> metres = toMetres(grid, reader.quantization());
+    std::vector<float> metres = toMetres(grid, reader.quantization());
+    std::optional<double> nodata;
+    if (!valid.empty()) {
+        nodata = options.nodata ? options.nodata : reader.metadata().source.nodata;
+        if (!nodata)
+            nodata = std::numeric_limits<double>::quiet_NaN();
+        const float value = static_cast<float>(*nodata);
+        for (size_t i = 0; i < metres.size(); ++i) {
+            if (!valid[i])
+                metres[i] = value;
+            else if (metres[i] == value) // never for NaN
+                throw Error(output + ": nodata value " + std::to_string(*nodata) +
+                            " equals the height of sample (" + std::to_string(i % grid.width) +
+                            ", " + std::to_string(i / grid.width) +
+                            "): choose another nodata value");
+        }
+    }
 
     io::GeoReference geo = storedGeoReference(reader);
     if (geo.has_geotransform) {
@@ -73,7 +96,7 @@ void extractLevel(const std::string& archive_path, const std::string& output,
         for (int k : {1, 2, 4, 5})
             gt[k] *= s;
     }
-    io::writeGeoTiff(output, metres.data(), grid.width, grid.height, geo);
+    io::writeGeoTiff(output, metres.data(), grid.width, grid.height, geo, nodata);
     reportDone(options.progress); // published: too late to cancel
 }
 
