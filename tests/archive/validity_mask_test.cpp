@@ -11,7 +11,10 @@
 #include "ridge/pipeline/verify.h"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 #include <zstd.h>
+
+#include <functional>
 
 #include <algorithm>
 #include <cstring>
@@ -211,4 +214,42 @@ TEST(ValidityMask, CorruptMasksInAnArchiveAreRefusedNamingTheFileAndPatch)
     ASSERT_FALSE(report.ok());
     EXPECT_NE(report.problems.front().find("kept as nodata where the source"), std::string::npos)
         << report.problems.front();
+}
+
+TEST(ValidityMask, TheMetadataCountsAndModeAreCheckedOnOpen)
+{
+    test::ScratchDir dir;
+    const std::string path = dir.path("utm.ridge");
+    BuildOptions o;
+    o.patch_size = 33;
+    buildArchive(test::dataPath("everest_utm44.tif"), path, o);
+    const std::string crafted = dir.path("crafted.ridge");
+    auto openWith = [&](const std::function<void(nlohmann::json&)>& change) {
+        test::ArchiveBytes bytes(path);
+        nlohmann::json j = nlohmann::json::parse(bytes.metadata());
+        change(j);
+        bytes.setMetadata(j.dump(2));
+        bytes.reseal();
+        bytes.save(crafted);
+        try {
+            const archive::ArchiveReader reader(crafted);
+            return std::string();
+        } catch (const Error& e) {
+            return std::string(e.what());
+        }
+    };
+    EXPECT_EQ(openWith([](nlohmann::json&) {}), "");
+    const int64_t samples = 285 * 222;
+    std::string m = openWith([](nlohmann::json& j) { j["source"]["fill_voids"] = "some"; });
+    EXPECT_NE(m.find("source.fill_voids is \"some\""), std::string::npos) << m;
+    m = openWith([&](nlohmann::json& j) { j["source"]["voids_kept"] = samples + 1; });
+    EXPECT_NE(m.find("source.voids_kept is " + std::to_string(samples + 1)), std::string::npos) << m;
+    m = openWith([](nlohmann::json& j) { j["source"]["fill_voids"] = "all"; });
+    EXPECT_NE(m.find("must be 0"), std::string::npos) << m;
+    m = openWith([](nlohmann::json& j) { j["source"].erase("voids_kept"); });
+    EXPECT_NE(m.find("source.voids_kept is missing"), std::string::npos) << m;
+    m = openWith([](nlohmann::json& j) { j["source"]["nodata"] = "x"; });
+    EXPECT_NE(m.find("source.nodata is"), std::string::npos) << m;
+    for (const std::string& message : {m})
+        EXPECT_EQ(message.rfind(crafted + ": metadata: ", 0), 0u) << message;
 }
