@@ -97,7 +97,7 @@ BuildMemoryEstimate inMemoryEstimate(const io::RasterProbe& raster, const Pyrami
     if (voids)
         ingest.push_back({"void filling", samples + std::min(samples, kFillInMemorySamples) * 5});
     // Voids kept as nodata: ElevationRaster::nodata (1 B/sample) through ingest and build, and
-    // the ValidityPyramid's sample and cell grids (1 B each per sample of every level, ≈ 8/3
+    // the ValidityPyramid's sample and cell grids (1 bit each per sample of every level, ≈ 1/3
     // B per finest sample) while the patches are encoded.
     const bool keeps = voids && options.ingest.fill_voids != io::VoidFill::All;
     if (keeps)
@@ -122,7 +122,7 @@ BuildMemoryEstimate inMemoryEstimate(const io::RasterProbe& raster, const Pyrami
         uint64_t level_samples = 0;
         for (int l = 0; l <= g.finestLevel(); ++l)
             level_samples += levelSamples(g, l);
-        build.push_back({"kept-nodata mask and validity grids", samples + 2 * level_samples});
+        build.push_back({"kept-nodata mask and validity grids", samples + (2 * level_samples + 7) / 8});
     }
     const bool lossy = isLossyCodec(options.codec);
     if (lossy)

@@ -49,16 +49,15 @@ ValidityPyramid::ValidityPyramid(const std::vector<uint8_t>& nodata,
         Grid& g = samples_[l];
         g.width = geometry.levelWidth(l);
         g.height = geometry.levelHeight(l);
-        g.bits.assign(static_cast<size_t>(g.width) * g.height, 0);
+        g.bits.assign(static_cast<size_t>(g.width) * g.height, false);
         const int reach = filter == PyramidFilter::Neville4 ? 4 : 0;
-#pragma omp parallel for schedule(static)
         for (int j = 0; j < g.height; ++j)
             for (int i = 0; i < g.width; ++i) {
                 uint8_t v = 1;
                 for (int b = -reach; b <= reach && v; ++b)
                     for (int a = -reach; a <= reach && v; ++a)
                         v = fine.at(2 * int64_t{i} + a, 2 * int64_t{j} + b);
-                g.bits[static_cast<size_t>(j) * g.width + i] = v;
+                g.bits[static_cast<size_t>(j) * g.width + i] = v != 0;
             }
     }
 
@@ -66,24 +65,22 @@ ValidityPyramid::ValidityPyramid(const std::vector<uint8_t>& nodata,
     finest_cells.width = W - 1;
     finest_cells.height = H - 1;
     finest_cells.bits.resize(static_cast<size_t>(W - 1) * (H - 1));
-#pragma omp parallel for schedule(static)
     for (int j = 0; j < H - 1; ++j)
         for (int i = 0; i < W - 1; ++i)
             finest_cells.bits[static_cast<size_t>(j) * (W - 1) + i] =
-                finest.at(i, j) & finest.at(i + 1, j) & finest.at(i, j + 1) & finest.at(i + 1, j + 1);
+                (finest.at(i, j) & finest.at(i + 1, j) & finest.at(i, j + 1) & finest.at(i + 1, j + 1)) != 0;
     for (int l = L - 1; l >= 0; --l) {
         const Grid& fine = cells_[l + 1];
         Grid& g = cells_[l];
         g.width = geometry.levelWidth(l) - 1;
         g.height = geometry.levelHeight(l) - 1;
         g.bits.resize(static_cast<size_t>(g.width) * g.height);
-#pragma omp parallel for schedule(static)
         for (int j = 0; j < g.height; ++j)
             for (int i = 0; i < g.width; ++i)
                 g.bits[static_cast<size_t>(j) * g.width + i] =
-                    fine.at(2 * int64_t{i}, 2 * int64_t{j}) & fine.at(2 * int64_t{i} + 1, 2 * int64_t{j}) &
-                    fine.at(2 * int64_t{i}, 2 * int64_t{j} + 1) &
-                    fine.at(2 * int64_t{i} + 1, 2 * int64_t{j} + 1);
+                    (fine.at(2 * int64_t{i}, 2 * int64_t{j}) & fine.at(2 * int64_t{i} + 1, 2 * int64_t{j}) &
+                     fine.at(2 * int64_t{i}, 2 * int64_t{j} + 1) &
+                     fine.at(2 * int64_t{i} + 1, 2 * int64_t{j} + 1)) != 0;
     }
 }
 

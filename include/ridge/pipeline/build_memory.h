@@ -25,8 +25,8 @@
 //                              (the flood fill's stack, 8 B per border-connected void, is
 //                              not counted)
 //     build                    whole grid; Neville levels (Σ coarser levels · 2 B ≈ ⅓ grid);
-//                              kept nodata: its mask and the validity grids (1 + 2·Σ levels
-//                              B ≈ 3.7 B/sample);
+//                              kept nodata: its mask and the validity grids (W·H + 2·Σ levels
+//                              bits ≈ 1.33 B/sample);
 //                              index and errors; progressive reconstructions kept for the
 //                              children (the widest two consecutive levels' patches, n² · 2 B
 //                              each); encode batches

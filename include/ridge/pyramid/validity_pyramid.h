@@ -61,14 +61,16 @@ class ValidityPyramid {
     bool cellDrawable(int level, int64_t i, int64_t j) const;
 
   private:
+    // One bit per sample or cell (1 = valid / drawable): the grids of every level together
+    // take 2 · 4/3 bits per finest sample (filled serially: threads would share words).
     struct Grid {
         int width = 0, height = 0;
-        std::vector<uint8_t> bits; // 1 = valid / drawable
+        std::vector<bool> bits;
         uint8_t at(int64_t i, int64_t j) const
         {
             i = std::clamp<int64_t>(i, 0, width - 1);
             j = std::clamp<int64_t>(j, 0, height - 1);
-            return bits[static_cast<size_t>(j) * width + static_cast<size_t>(i)];
+            return bits[static_cast<size_t>(j) * width + static_cast<size_t>(i)] ? 1 : 0;
         }
     };
     PyramidGeometry geometry_;
