@@ -5,7 +5,8 @@
 // input (header, metadata, index and blob checksums recomputed) before opening it: every
 // mutation reaches the field checks instead of dying at a checksum. A custom mutator edits
 // whole fields of real archives (header, index entries, metadata values) with the values that
-// break arithmetic: NaN, infinities, zero, negative, huge, off-by-one.
+// break arithmetic: NaN, infinities, zero, negative, huge, off-by-one; and the validity masks
+// of the blobs (kind, frame_size, frame bytes).
 //
 // Then, for archives the reader accepts: the patch quadtree, LOD selection for a handful of
 // cameras and ε, slot residency, synchronous patch loading, the streaming fallback cover,
@@ -19,6 +20,7 @@
 #include "ridge/archive/archive_reader.h"
 #include "ridge/core/error.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -103,6 +105,42 @@ void mutateMetadataValue(uint8_t* data, const ridge::fuzz::Region& metadata, std
     std::memcpy(data + start, token.data(), token.size());
 }
 
+// Edits the validity mask (format v2) of one patch, which starts after its block errors:
+// the kind byte, the frame_size word, or a byte of the zstd frame (reseal() then gets the
+// edit past the blob's CRC, so the mask's own checks must catch it).
+void mutateValidityMask(uint8_t* data, size_t size, const ridge::fuzz::ArchiveLayout& layout,
+                        std::minstd_rand& rng)
+{
+    if (layout.entries == 0)
+        return;
+    namespace e = ridge::test::entry_offset;
+    const size_t entry = layout.index_offset + (rng() % layout.entries) * e::kEntrySize;
+    if (entry + e::kEntrySize > size)
+        return;
+    const uint64_t offset = ridge::fuzz::load<uint64_t>(data + entry + e::kOffset);
+    const uint32_t blob = ridge::fuzz::load<uint32_t>(data + entry + e::kSize);
+    const uint32_t block_errors = ridge::fuzz::load<uint32_t>(data + entry + e::kBlockErrorsSize);
+    if (offset > size || blob > size - offset || block_errors >= blob)
+        return;
+    uint8_t* mask = data + offset + block_errors;
+    const size_t room = blob - block_errors;
+    switch (rng() % 3) {
+    case 0: mask[0] = pick<uint8_t>(rng, {0, 1, 2, 3, 255}); break;
+    case 1:
+        if (room >= 5) {
+            const uint32_t v = ridge::fuzz::load<uint32_t>(mask + 1);
+            ridge::fuzz::store<uint32_t>(
+                mask + 1, pick<uint32_t>(rng, {0, 1, v - 1, v + 1, uint32_t(room), 0xffffffffu}));
+        }
+        break;
+    default: {
+        const size_t at = rng() % std::min<size_t>(room, 64);
+        mask[at] ^= uint8_t(1u << (rng() % 8));
+        break;
+    }
+    }
+}
+
 } // namespace
 
 extern "C" size_t LLVMFuzzerCustomMutator(uint8_t* data, size_t size, size_t max_size,
@@ -117,6 +155,10 @@ extern "C" size_t LLVMFuzzerCustomMutator(uint8_t* data, size_t size, size_t max
         const uint32_t what = rng() % 8;
         if (what == 0 && layout.metadata.size > 0) {
             mutateMetadataValue(data, layout.metadata, rng);
+            continue;
+        }
+        if (what == 1) {
+            mutateValidityMask(data, size, layout, rng);
             continue;
         }
         const ridge::fuzz::Field f = what < 4 ? layout.headerField(rng()) : layout.indexField(rng(), rng());
@@ -143,6 +185,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
         if (reader.geometry().patchCount() > 4096 || n > 257)
             return 0; // valid but too big to be worth walking in a fuzzing loop
         ridge::fuzz::runCpuFrames(reader);
+        for (int64_t i = 0; i < reader.geometry().patchCount(); ++i) {
+            try {
+                reader.readValidity(reader.geometry().patchAt(i));
+            } catch (const ridge::Error&) {
+            }
+        }
     } catch (const ridge::Error&) {
     }
     return 0;

@@ -22,6 +22,11 @@ for patch in 17 65; do
   ./build/ridge build tests/data/everest_crop.tif -o "$seeds/archive/everest_$patch.ridge" -q --patch $patch
 done
 ./build/ridge build tests/data/rainier_voids.tif -o "$seeds/archive/rainier_33.ridge" -q --patch 33
+# Validity masks (format v2): a warped collar kept as nodata, and every void kept.
+./build/ridge build tests/data/everest_utm44.tif -o "$seeds/archive/utm44_17.ridge" -q --patch 17
+./build/ridge build tests/data/rainier_voids.tif -o "$seeds/archive/rainier_none_17.ridge" -q --patch 17 \
+  --fill-voids none
+cp tests/data/v1_everest_40x30.ridge "$seeds/archive/" # format v1
 for e in 1 4; do
   ./build/ridge build tests/data/everest_crop.tif -o "$seeds/archive/progressive_e${e}_17.ridge" -q --patch 17 \
       --codec progressive --max-error $e

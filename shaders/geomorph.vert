@@ -32,6 +32,7 @@ out Vertex {
     flat int level;
     flat float factor;
     flat int skirt;
+    flat int layer;     // texture-array slot (the cell mask of terrain.frag)
 } v;
 out Capture {
     vec3 tf_position;
@@ -76,6 +77,7 @@ void main() {
     v.position = position;
     v.cell = vec2(sample_ij);
     v.level = p.level;
+    v.layer = p.layer;
     v.factor = float(u_block_cells);
     v.skirt = foot ? 1 : 0;
     capture.tf_position = position;

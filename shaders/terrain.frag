@@ -10,9 +10,15 @@ in Vertex {
     flat int level;
     flat float factor;  // interior tessellation factor
     flat int skirt;     // 1 for skirts, 2 for the walls on the clipped border
+    flat int layer;     // texture-array slot of the patch
 } v;
 
 layout(binding = 1) uniform sampler2DArray u_normals;
+// Kept nodata (docs/FORMAT.md, "Validity mask"): per slot, whether it has a cell mask, and the
+// mask (1 = drawable) of its C × C cells. Slots without nodata never upload a mask.
+layout(binding = 4) uniform usampler2DArray u_cell_masks;
+layout(binding = 5) uniform usampler1D u_mask_flags;
+uniform int u_patch_cells; // C (terrain_common.glsl)
 #include "geomorph_common.glsl"
 
 uniform int u_mode;             // 0 shaded, 1 LOD level colours, 2 tessellation-factor heat map, 3 flat colour
@@ -58,7 +64,19 @@ vec3 surfaceNormal() {
     return normalize(vec3(v.texcoord.xy, -2.0 - v.texcoord.z));
 }
 
+// Whether the cell under this fragment may be drawn. Skirts and walls hang under a border
+// sample, whose cell coordinate is C at the far border: the clamp gives them the border cell,
+// so they vanish with it.
+bool cellDrawable() {
+    if (texelFetch(u_mask_flags, v.layer, 0).r == 0u)
+        return true;
+    ivec2 cell = clamp(ivec2(floor(v.cell)), ivec2(0), ivec2(u_patch_cells - 1));
+    return texelFetch(u_cell_masks, ivec3(cell, v.layer), 0).r != 0u;
+}
+
 void main() {
+    if (!cellDrawable())
+        discard; // nodata: the terrain ends at the last drawable cell
     if (u_mode == 3) {
         frag_colour = vec4(u_flat_colour, 1.0);
         return;

@@ -21,6 +21,7 @@ out Vertex {
     flat int level;
     flat float factor;  // interior tessellation factor
     flat int skirt;     // 1 for skirts
+    flat int layer;     // texture-array slot (the cell mask of terrain.frag)
 } v;
 // Transform-feedback capture (tests): position, patch instance, 1 for skirts (2 on a foot).
 out Capture {
@@ -51,6 +52,7 @@ void main() {
     v.texcoord = vec3((vec2(sample_ij) + 0.5) / n, float(p.layer));
     v.cell = vec2(sample_ij);
     v.level = p.level;
+    v.layer = p.layer;
     v.factor = tc_factor;
     v.skirt = skirt ? 1 : 0;
     capture.tf_position = position;

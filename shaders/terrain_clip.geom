@@ -23,6 +23,7 @@ in Vertex {
     flat int level;
     flat float factor;
     flat int skirt;
+    flat int layer;
 } vin[];
 in Capture {
     vec3 tf_position;
@@ -37,6 +38,7 @@ out Vertex {
     flat int level;
     flat float factor;
     flat int skirt;
+    flat int layer;
 } vout;
 out Capture {
     vec3 tf_position;
@@ -96,6 +98,7 @@ void emit(Corner c, int skirt) {
     vout.texcoord = c.texcoord;
     vout.cell = c.cell;
     vout.level = vin[0].level;
+    vout.layer = vin[0].layer;
     vout.factor = vin[0].factor;
     vout.skirt = skirt;
     cout.tf_position = c.position;

@@ -139,6 +139,13 @@ void Commands::registerAll(CLI::App& app)
             "--z-offset", [&ingest](double v) { ingest.z_offset = v; }, "See --z-scale")
         ->check(inRange("--z-offset", Ingest::kZOffsetRange));
     build_
+        ->add_option_function<std::string>(
+            "--fill-voids",
+            [&ingest](const std::string& mode) { ingest.fill_voids = io::parseVoidFill(mode); },
+            "Which nodata becomes terrain: interior (default: holes enclosed by data are "
+            "filled, nodata connected to the raster border stays nodata), all, none")
+        ->check(CLI::IsMember({"all", "interior", "none"}));
+    build_
         ->add_option_function<double>(
             "--max-memory",
             [this](double mb) {
@@ -341,11 +348,11 @@ int Commands::runBuild()
     } else if (!quiet_)
         fmt::print(
             "{}: {}x{} samples, {} levels, {} patches, {} ({:.2f} bits/sample), "
-            "{} voids filled, quantization error {:g} m\n"
+            "{} voids filled, {} kept as nodata, quantization error {:g} m\n"
             "time: {:.2f} s{}\n",
             output_, r.width, r.height, r.level_count, r.patch_count, humanBytes(r.archive_bytes),
             8.0 * double(r.archive_bytes) / (double(r.width) * r.height), r.voids_filled,
-            r.quantization_error, r.seconds_total,
+            r.voids_kept, r.quantization_error, r.seconds_total,
             r.streamed
                 ? " (streamed)"
                 : fmt::format(" (ingest {:.2f} s, error bounds {:.2f} s, encode+write {:.2f} s)",
@@ -398,8 +405,9 @@ int Commands::runInfo()
     const archive::GeoreferenceMetadata& geo = info.metadata.georeference;
     fmt::print("Archive: {} (ridge format v{}, {})\n", info.path, info.format_version,
                humanBytes(info.file_bytes));
-    fmt::print("Source: {} ({}, {} voids filled)\n", source.path, source.data_type,
-               source.voids_filled);
+    fmt::print("Source: {} ({}, {} voids filled, {} kept as nodata, --fill-voids {})\n",
+               source.path, source.data_type, source.voids_filled, source.voids_kept,
+               source.fill_voids);
     fmt::print("Grid: {} x {} samples, spacing {:.3f} x {:.3f} m{}\n", info.width, info.height,
                info.spacing_x, info.spacing_y,
                geo.spacing_from_user ? " (given with --spacing or default 1, no georeferencing)"
@@ -448,6 +456,7 @@ int Commands::runVerify()
                             {"patches_checked", report.patches_checked},
                             {"source_checked", report.source_checked},
                             {"source_voids", report.source_voids},
+                            {"nodata_samples", report.nodata_samples},
                             {"problems", report.problems}};
         for (const LevelVerifyReport& l : report.levels)
             j["levels"].push_back({{"level", l.level},
@@ -475,8 +484,9 @@ int Commands::runVerify()
                            l.bound_violations,
                            l.level_samples ? fmt::format("{:.4f}", l.max_level_error) : "-",
                            l.level_bound);
-            fmt::print("{} void samples of the source skipped (no measurement there)\n",
-                       report.source_voids);
+            fmt::print("{} void samples of the source skipped (no measurement there), {} of "
+                       "them kept as nodata by the archive\n",
+                       report.source_voids, report.nodata_samples);
         } else {
             fmt::print("{:>5} {:>10} {:>12} {:>10}\n", "level", "patches", "max Err(P)", "δ_l");
             for (const LevelVerifyReport& l : report.levels)

@@ -143,7 +143,21 @@ SourceMetadata parseSource(const Section& s, const Header& header)
     m.valid_samples = s.integer("valid_samples", 0, kMaxInt);
     const int64_t samples = m.width * m.height; // both < 2^32: no overflow
     m.voids_filled = s.integer("voids_filled", 0, samples);
+    // Version 2 (kept nodata): both keys, their sum within the grid. Version 1 archives
+    // filled every void and have neither.
+    if (header.version >= kFirstVersionWithValidity || s.find("voids_kept") ||
+        s.find("fill_voids")) {
+        m.voids_kept = s.integer("voids_kept", 0, samples - m.voids_filled);
+        m.fill_voids = s.string("fill_voids");
+        if (m.fill_voids != "all" && m.fill_voids != "interior" && m.fill_voids != "none")
+            reject(s.path("fill_voids") + " is \"" + m.fill_voids +
+                   "\": must be \"all\", \"interior\" or \"none\"");
+        if (m.fill_voids == "all" && m.voids_kept != 0)
+            reject(s.path("voids_kept") + " is " + std::to_string(m.voids_kept) + " but " +
+                   s.path("fill_voids") + " is \"all\": must be 0");
+    }
     m.void_fill = s.string("void_fill");
+    m.nodata = s.optionalNumber("nodata", ValueRange::any());
     m.min_metres = s.number("min_metres");
     m.max_metres = s.number("max_metres");
     if (!(m.min_metres <= m.max_metres))

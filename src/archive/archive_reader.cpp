@@ -2,6 +2,7 @@
 
 #include "index_checks.h"
 #include "ridge/archive/block_error_storage.h"
+#include "ridge/archive/validity_storage.h"
 #include "ridge/codec/progressive_codec.h"
 #include "ridge/core/crc32.h"
 #include "ridge/core/error.h"
@@ -233,17 +234,60 @@ void ArchiveReader::decodePatch(PatchId p, uint16_t* codes, const uint16_t* pare
     decodeBlob(p, readBlob(p), codes, parent, block_errors);
 }
 
-void ArchiveReader::decodeBlob(PatchId p, const std::vector<uint8_t>& blob, uint16_t* codes,
-                               const uint16_t* parent, std::vector<float>* block_errors) const
+size_t ArchiveReader::payloadOffset(PatchId p, const std::vector<uint8_t>& blob,
+                                    PatchValidity* validity) const
 {
     const PatchRecord& r = record(p);
     if (blob.size() < r.block_errors_size)
         fail(patchName(p) + ": blob shorter than its block errors");
+    if (!storesValidity()) {
+        if (validity)
+            *validity = PatchValidity{PatchValidity::Kind::AllValid, geometry_.patchSize(), {}, {}};
+        return r.block_errors_size;
+    }
+    PatchValidity local;
+    size_t consumed = 0;
+    const bool corners_rule =
+        filter() == PyramidFilter::Decimate || p.level == geometry_.finestLevel();
+    const std::string problem =
+        unpackValidity(blob.data() + r.block_errors_size, blob.size() - r.block_errors_size,
+                       geometry_.patchSize(), corners_rule, validity ? *validity : local, consumed);
+    if (!problem.empty())
+        throw Error(describe(p) + ": " + problem);
+    if (r.block_errors_size + consumed >= blob.size())
+        throw Error(describe(p) + ": validity mask of " + std::to_string(consumed) +
+                    " bytes leaves no payload in a blob of " + std::to_string(blob.size()) +
+                    " bytes");
+    return r.block_errors_size + consumed;
+}
+
+PatchValidity ArchiveReader::validityOf(PatchId p, const std::vector<uint8_t>& blob) const
+{
+    PatchValidity v;
+    payloadOffset(p, blob, &v);
+    return v;
+}
+
+PatchValidity ArchiveReader::readValidity(PatchId p) const
+{
+    if (!storesValidity()) {
+        if (!geometry_.exists(p))
+            throw Error(describe(p) + ": no such patch");
+        return PatchValidity{PatchValidity::Kind::AllValid, geometry_.patchSize(), {}, {}};
+    }
+    return validityOf(p, readBlob(p));
+}
+
+void ArchiveReader::decodeBlob(PatchId p, const std::vector<uint8_t>& blob, uint16_t* codes,
+                               const uint16_t* parent, std::vector<float>* block_errors,
+                               PatchValidity* validity) const
+{
+    const PatchRecord& r = record(p);
+    const size_t payload = payloadOffset(p, blob, validity);
     if (block_errors && r.block_errors_size > 0)
         *block_errors = unpackBlockErrorsOf(p, blob);
     PatchContext ctx{geometry_.patchSize(), p.level, parent, p.childIndex()};
-    const int status = codec_->decode(codes, blob.data() + r.block_errors_size,
-                                      blob.size() - r.block_errors_size, ctx);
+    const int status = codec_->decode(codes, blob.data() + payload, blob.size() - payload, ctx);
     if (status != kCodecOk)
         throw Error(describe(p) + ": cannot decode: " + codecStatusMessage(status));
     if (block_errors && r.block_errors_size == 0)
@@ -262,16 +306,15 @@ void ArchiveReader::decodeResiduals(PatchId p, const std::vector<uint8_t>& blob,
     if (!progressive || p.level == 0)
         throw Error(describe(p) + ": not decodable as residuals");
     const PatchRecord& r = record(p);
-    if (blob.size() < r.block_errors_size)
-        fail(patchName(p) + ": blob shorter than its block errors");
+    const size_t payload = payloadOffset(p, blob, nullptr);
     if (block_errors) {
         block_errors->clear();
         if (r.block_errors_size > 0)
             *block_errors = unpackBlockErrorsOf(p, blob);
     }
     PatchContext ctx{geometry_.patchSize(), p.level, nullptr, p.childIndex()};
-    const int status = progressive->decodeResiduals(
-        blob.data() + r.block_errors_size, blob.size() - r.block_errors_size, ctx, residuals);
+    const int status = progressive->decodeResiduals(blob.data() + payload, blob.size() - payload,
+                                                    ctx, residuals);
     if (status != kCodecOk)
         throw Error(describe(p) + ": cannot decode: " + codecStatusMessage(status));
 }

@@ -61,6 +61,11 @@ std::string checkBlobExtent(const IndexContext& ctx, const std::string& name, co
     if (r.block_errors_size >= r.size)
         return name + ": block_errors_size " + std::to_string(r.block_errors_size) +
                " leaves no payload in a blob of " + std::to_string(r.size) + " bytes";
+    // Version 2 blobs carry a validity mask (at least its kind byte) before the payload.
+    if (ctx.header.version >= 2 && r.size - r.block_errors_size < 2)
+        return name + ": block_errors_size " + std::to_string(r.block_errors_size) +
+               " leaves no room for the validity mask and a payload in a blob of " +
+               std::to_string(r.size) + " bytes";
     return {};
 }
 

@@ -152,6 +152,7 @@ IngestStats CodeRowReader::stats() const
     out.data_type = impl_->band.dataTypeName();
     out.valid_samples = s.valid;
     out.voids_filled = 0;
+    out.nodata = impl_->band.nodata();
     out.min_metres = s.valid > 0 ? s.min_metres : 0.0;
     out.max_metres = s.valid > 0 ? s.max_metres : 0.0;
     out.exact = impl_->exact;

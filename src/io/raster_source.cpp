@@ -2,6 +2,7 @@
 // georeferencing. ReferenceRaster: the same source as exact metres with NaN voids.
 #include "ridge/io/raster_source.h"
 
+#include "border_voids.h"
 #include "code_source.h"
 #include "georeference.h"
 #include "source_band.h"
@@ -87,6 +88,19 @@ ElevationRaster ingestRaster(const std::string& path, const IngestOptions& optio
     if (stats.valid == 0)
         band.fail("all samples are nodata");
 
+    // Which voids stay nodata is decided before filling (fillVoids consumes the mask). Their
+    // codes are filled all the same, so that the pyramid, codecs and bounds run unchanged.
+    int64_t kept = 0;
+    if (voids.count() > 0 && options.fill_voids == VoidFill::Interior) {
+        raster.nodata = detail::borderConnectedVoids(voids.mask(), width, height, kept);
+    } else if (voids.count() > 0 && options.fill_voids == VoidFill::None) {
+        raster.nodata.resize(voids.mask().size());
+        for (size_t i = 0; i < raster.nodata.size(); ++i)
+            raster.nodata[i] = voids.mask()[i] == 0;
+        kept = voids.count();
+    }
+    if (kept == 0)
+        raster.nodata = {};
     if (voids.count() > 0) {
         detail::fillVoids(path, grid, voids.mask(), stats.min_code, stats.max_code,
                           subProgress(options.progress, kReadShare, 1.0));
@@ -99,7 +113,10 @@ ElevationRaster ingestRaster(const std::string& path, const IngestOptions& optio
     IngestStats& out = raster.stats;
     out.data_type = band.dataTypeName();
     out.valid_samples = stats.valid;
-    out.voids_filled = voids.count();
+    out.voids_filled = voids.count() - kept;
+    out.voids_kept = kept;
+    out.fill_voids = options.fill_voids;
+    out.nodata = band.nodata();
     out.min_metres = stats.min_metres;
     out.max_metres = stats.max_metres;
     out.exact = source->exact() || stats.max_error == 0.0;

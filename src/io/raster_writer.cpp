@@ -325,7 +325,7 @@ void writeRaster(const std::string& path, const std::vector<double>& values, int
 }
 
 void writeGeoTiff(const std::string& path, const float* metres, int width, int height,
-                  const GeoReference& geo)
+                  const GeoReference& geo, std::optional<double> nodata)
 {
     checkSize(path, width, height);
     GDALDriverH gtiff = driver(path, "GTiff");
@@ -353,6 +353,8 @@ void writeGeoTiff(const std::string& path, const float* metres, int width, int h
         fail(path, "cannot set the coordinate reference system", capture);
     GDALRasterBandH band = GDALGetRasterBand(ds.get(), 1);
     GDALSetRasterUnitType(band, "m");
+    if (nodata && GDALSetRasterNoDataValue(band, *nodata) != CE_None)
+        fail(path, "cannot set the nodata value", capture);
     if (GDALRasterIO(band, GF_Write, 0, 0, width, height, const_cast<float*>(metres), width,
                      height, GDT_Float32, 0, 0) != CE_None)
         fail(path, "cannot write samples", capture);

@@ -282,6 +282,31 @@ void IngestOptions::validate() const
         checkParameter("z_offset", *z_offset, kZOffsetRange);
     if (max_error)
         checkParameter("max_error", *max_error, kMaxErrorRange);
+    if (fill_voids != VoidFill::All && fill_voids != VoidFill::Interior &&
+        fill_voids != VoidFill::None)
+        throw Error("fill_voids is " + std::to_string(static_cast<int>(fill_voids)) +
+                    ": must be all, interior or none");
+}
+
+const char* voidFillName(VoidFill mode)
+{
+    switch (mode) {
+    case VoidFill::All:
+        return "all";
+    case VoidFill::Interior:
+        return "interior";
+    case VoidFill::None:
+        return "none";
+    }
+    return "invalid";
+}
+
+VoidFill parseVoidFill(const std::string& name)
+{
+    for (VoidFill mode : {VoidFill::All, VoidFill::Interior, VoidFill::None})
+        if (name == voidFillName(mode))
+            return mode;
+    throw Error("fill_voids is '" + name + "': must be all, interior or none");
 }
 
 } // namespace ridge::io

@@ -2,6 +2,7 @@
 
 #include "ridge/archive/archive_writer.h"
 #include "ridge/archive/block_error_storage.h"
+#include "ridge/archive/validity_storage.h"
 #include "ridge/codec/height_codec.h"
 #include "ridge/codec/progressive_codec.h"
 #include "ridge/core/atomic_output.h"
@@ -11,6 +12,7 @@
 #include "ridge/pipeline/build_memory.h"
 #include "ridge/pyramid/patch_error.h"
 #include "ridge/pyramid/tessellation_block_errors.h"
+#include "ridge/pyramid/validity_pyramid.h"
 
 #include <algorithm>
 #include <cmath>
@@ -42,6 +44,7 @@ struct PatchSummary {
 struct EncodedPatch {
     archive::PatchRecord record;
     std::vector<uint8_t> block_errors;
+    std::vector<uint8_t> validity = archive::allValidMask();
     std::vector<uint8_t> payload;
     std::vector<uint16_t> reconstruction; // kept only when children predict from it
     uint16_t own_min = 0;
@@ -55,6 +58,8 @@ struct BuildContext {
     std::unique_ptr<HeightCodec> codec;
     archive::Header header;
     bool store_block_errors = false;
+    // Kept nodata (io::VoidFill): the per-patch masks; null when every sample is data.
+    std::unique_ptr<ValidityPyramid> validity;
 
     double levelBound(int level) const
     {
@@ -80,7 +85,7 @@ BuildContext makeContext(int width, int height, const HeightQuantization& q,
                          const io::GeoReference& geo, const BuildOptions& options)
 {
     BuildContext ctx{PyramidGeometry(width, height, options.patch_size),
-                     TessellationBlockLayout{options.patch_size, options.block_cells}, nullptr, {}};
+                     TessellationBlockLayout{options.patch_size, options.block_cells}, nullptr, {}, false, nullptr};
     if (!ctx.layout.valid())
         throw Error("block size " + std::to_string(options.block_cells) +
                     " cells must be a power of two >= 2 dividing the patch's " +
@@ -117,6 +122,8 @@ std::string metadataJson(const std::string& source_path, const io::IngestStats& 
                     {"height", ctx.geometry.height()},
                     {"valid_samples", stats.valid_samples},
                     {"voids_filled", stats.voids_filled},
+                    {"voids_kept", stats.voids_kept},
+                    {"fill_voids", io::voidFillName(options.ingest.fill_voids)},
                     {"void_fill", "GDALFillNodata (inverse distance weighting, 2 smoothing passes)"},
                     {"min_metres", stats.min_metres},
                     {"max_metres", stats.max_metres},
@@ -135,6 +142,10 @@ std::string metadataJson(const std::string& source_path, const io::IngestStats& 
     };
     if (geo.has_geotransform)
         meta["georeference"]["geotransform"] = geo.geotransform;
+    // JSON has no NaN: a NaN nodata (float rasters) is recorded as absent, and extract then
+    // writes NaN anyway.
+    if (stats.nodata && std::isfinite(*stats.nodata))
+        meta["source"]["nodata"] = *stats.nodata;
     if (options.ingest.max_error)
         meta["build"]["max_error"] = *options.ingest.max_error;
     if (options.max_error)
@@ -191,6 +202,12 @@ EncodedPatch encodePatch(const BuildContext& ctx, const LevelView& level, PatchI
             throw Error("internal error: cannot pack block errors");
     }
 
+    if (ctx.validity) {
+        out.validity = archive::packValidity(ctx.validity->patch(id), n);
+        if (out.validity.empty())
+            throw Error("internal error: cannot pack a validity mask");
+    }
+
     out.payload.resize(ctx.codec->encodeBound(pctx));
     const size_t size = ctx.codec->encode(out.payload.data(), out.payload.size(), codes.data(), pctx);
     if (size == 0)
@@ -222,8 +239,8 @@ void encodeAndWrite(int64_t count, const std::function<EncodedPatch(int64_t)>& m
         if (failure)
             std::rethrow_exception(failure);
         for (int64_t k = 0; k < n; ++k) {
-            writer.writePatch(batch[k].record, batch[k].block_errors, batch[k].payload.data(),
-                              batch[k].payload.size());
+            writer.writePatch(batch[k].record, batch[k].block_errors, batch[k].validity,
+                              batch[k].payload.data(), batch[k].payload.size());
             if (done)
                 done(first + k, batch[k]);
         }
@@ -360,9 +377,11 @@ BuildReport buildFromRaster(const io::ElevationRaster& raster, const std::string
 {
     const auto start = Clock::now();
     // 1. Geometry and codec: validates patch and block sizes before any work is done.
-    const BuildContext ctx = makeContext(raster.grid.width, raster.grid.height,
-                                         raster.quantization, raster.geo, options);
+    BuildContext ctx = makeContext(raster.grid.width, raster.grid.height, raster.quantization,
+                                   raster.geo, options);
     const LevelPyramid pyramid(raster.grid, ctx.geometry, options.filter);
+    if (!raster.nodata.empty())
+        ctx.validity = std::make_unique<ValidityPyramid>(raster.nodata, ctx.geometry, options.filter);
     reportProgress(options.progress, 0.05);
 
     // 2. Err_Int for every patch, then Err_Appr bottom-up (needs all levels, so before writing).
@@ -387,6 +406,7 @@ BuildReport buildFromRaster(const io::ElevationRaster& raster, const std::string
     report.patch_count = ctx.geometry.patchCount();
     report.archive_bytes = writer.bytesWritten();
     report.voids_filled = raster.stats.voids_filled;
+    report.voids_kept = raster.stats.voids_kept;
     report.quantization_error = raster.quantization.max_error;
     return report;
 }

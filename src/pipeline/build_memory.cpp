@@ -96,6 +96,12 @@ BuildMemoryEstimate inMemoryEstimate(const io::RasterProbe& raster, const Pyrami
          kIngestStripBytes * (raster.direct_codes ? 1 : 2) + uint64_t(raster.block_cache_bytes)});
     if (voids)
         ingest.push_back({"void filling", samples + std::min(samples, kFillInMemorySamples) * 5});
+    // Voids kept as nodata: ElevationRaster::nodata (1 B/sample) through ingest and build, and
+    // the ValidityPyramid's sample and cell grids (1 bit each per sample of every level, ≈ 1/3
+    // B per finest sample) while the patches are encoded.
+    const bool keeps = voids && options.ingest.fill_voids != io::VoidFill::All;
+    if (keeps)
+        ingest.push_back({"kept-nodata mask", samples});
 
     // Neville's first coarsening filters the grid's rows into floats (height x level L-1's
     // width, 4 B each: as much as the grid itself) before its columns make level L-1.
@@ -112,6 +118,12 @@ BuildMemoryEstimate inMemoryEstimate(const io::RasterProbe& raster, const Pyrami
         build.push_back({"Neville levels", coarser * 2});
     }
     build.push_back({"index and errors", indexAndErrorBytes(g)});
+    if (keeps) {
+        uint64_t level_samples = 0;
+        for (int l = 0; l <= g.finestLevel(); ++l)
+            level_samples += levelSamples(g, l);
+        build.push_back({"kept-nodata mask and validity grids", samples + (2 * level_samples + 7) / 8});
+    }
     const bool lossy = isLossyCodec(options.codec);
     if (lossy)
         build.push_back({"progressive reconstructions", reconstructionBytes(g)});

@@ -148,7 +148,7 @@ void ExtractOptions::validate() const
         if (projwin->ulx == projwin->lrx || projwin->uly == projwin->lry)
             throw Error(describe(*projwin) + ": the window is empty");
     }
-    if (nodata_value)
+    if (nodata_value && !std::isnan(*nodata_value)) // NaN: floating-point types' nodata
         checkParameter("nodata_value", *nodata_value, ValueRange::any());
     if (output_format.empty())
         throw Error("output_format is empty: name a GDAL driver (GTiff, PNG, COG, ...)");
@@ -190,27 +190,60 @@ ExtractReport extractLevel(const std::string& archive_path, const std::string& o
                     std::to_string(level_w) + " x " + std::to_string(level_h) + " samples");
     report.window = w;
 
+    std::vector<uint8_t> valid; // empty: every sample is data (validity masks, io::VoidFill)
     const CodeGrid grid = decodeLevelWindow(reader, level, w.x, w.y, w.width, w.height,
-                                            subProgress(options.progress, 0.0, 0.8));
+                                            subProgress(options.progress, 0.0, 0.8), &valid);
     const HeightQuantization q = reader.quantization();
     std::vector<double> metres(grid.codes.size());
     for (size_t i = 0; i < metres.size(); ++i)
         metres[i] = q.toMetres(grid.codes[i]);
+    const auto isData = [&valid](size_t i) { return valid.empty() || valid[i] != 0; };
+    // The type must hold the heights, not the filled codes under kept nodata.
+    std::vector<double> heights;
+    if (valid.empty()) {
+        heights = metres;
+    } else {
+        for (size_t i = 0; i < metres.size(); ++i)
+            if (isData(i))
+                heights.push_back(metres[i]);
+    }
+    const bool has_nodata = heights.size() < metres.size();
+    if (heights.empty())
+        heights.push_back(0.0); // all nodata: any type holds the (absent) heights
 
     const io::SampleType type =
-        chooseType(options, reader.metadata().source.data_type, q, metres, report);
+        chooseType(options, reader.metadata().source.data_type, q, heights, report);
     report.output_type = type.name;
-    for (double& v : metres) {
+    for (size_t i = 0; i < metres.size(); ++i) {
+        double& v = metres[i];
         const double stored = type.integer ? std::round(v)
                               : type.name == "Float32" ? double(float(v))
                                                        : v;
-        report.max_rounding_error = std::max(report.max_rounding_error, std::abs(stored - v));
+        if (isData(i))
+            report.max_rounding_error = std::max(report.max_rounding_error, std::abs(stored - v));
         v = stored;
     }
-    if (options.nodata_value) {
-        const size_t clashes = size_t(std::count(metres.begin(), metres.end(), *options.nodata_value));
+    // Where the archive keeps nodata: the value asked for, else the source's declared one,
+    // else NaN (floating-point types) or the type's lowest value (integer types).
+    std::optional<double> nodata = options.nodata_value;
+    if (!nodata && has_nodata) {
+        nodata = reader.metadata().source.nodata;
+        if (nodata && !(type.integer ? type.holdsExactly(*nodata)
+                                     : (*nodata >= type.lo && *nodata <= type.hi)))
+            nodata.reset(); // the source's value does not fit this type
+        if (!nodata)
+            nodata = type.integer ? type.lo : std::numeric_limits<double>::quiet_NaN();
+    }
+    if (nodata) {
+        size_t clashes = 0;
+        for (size_t i = 0; i < metres.size(); ++i) {
+            if (!isData(i))
+                metres[i] = *nodata;
+            else
+                clashes += metres[i] == *nodata; // never for NaN
+        }
         if (clashes)
-            throw Error("nodata_value " + formatNumber(*options.nodata_value) + " is the height of " +
+            throw Error("nodata_value " + formatNumber(*nodata) + " is the height of " +
                         std::to_string(clashes) + " extracted samples; choose a value no height has");
     }
     if (level_gt) {
@@ -218,7 +251,7 @@ ExtractReport extractLevel(const std::string& archive_path, const std::string& o
         report.geotransform = geo.geotransform;
     }
     io::writeRaster(output, metres, grid.width, grid.height, type, geo,
-                    {options.output_format, options.creation_options, options.nodata_value},
+                    {options.output_format, options.creation_options, nodata},
                     {archive_path});
     reportDone(options.progress); // published: too late to cancel
     return report;

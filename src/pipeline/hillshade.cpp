@@ -2,6 +2,7 @@
 
 #include "ridge/archive/archive_reader.h"
 #include "ridge/core/atomic_output.h"
+#include "ridge/core/error.h"
 #include "ridge/core/file_identity.h"
 #include "ridge/io/raster_writer.h"
 #include "ridge/pipeline/level_decoder.h"
@@ -9,6 +10,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 namespace ridge {
@@ -51,7 +53,8 @@ void HillshadeOptions::validate() const
 }
 
 std::vector<uint8_t> shadeRelief(const std::vector<float>& metres, int width, int height,
-                                 double spacing_x, double spacing_y, const HillshadeOptions& options)
+                                 double spacing_x, double spacing_y, const HillshadeOptions& options,
+                                 const std::vector<uint8_t>& valid)
 {
     options.validate();
     const double spacing[2] = {spacing_x, spacing_y};
@@ -60,16 +63,34 @@ std::vector<uint8_t> shadeRelief(const std::vector<float>& metres, int width, in
     const double zenith = (90.0 - options.altitude) * deg;
     // Azimuth in the math convention (counter-clockwise from east), as gdaldem does.
     const double azimuth = (360.0 - options.azimuth + 90.0) * deg;
-    const auto [lo, hi] = std::minmax_element(metres.begin(), metres.end());
-    const double range = std::max(1e-9, double(*hi - *lo));
-    const int channels = options.colour ? 3 : 1;
-    std::vector<uint8_t> pixels(static_cast<size_t>(width) * height * channels);
+    const size_t count = static_cast<size_t>(width) * height;
+    const bool masked = !valid.empty();
+    if (masked && valid.size() != count)
+        throw Error("hillshade validity mask has " + std::to_string(valid.size()) +
+                    " entries: must be width * height = " + std::to_string(count));
+    float lo_value = std::numeric_limits<float>::infinity(), hi_value = -lo_value;
+    for (size_t i = 0; i < count; ++i)
+        if (!masked || valid[i]) {
+            lo_value = std::min(lo_value, metres[i]);
+            hi_value = std::max(hi_value, metres[i]);
+        }
+    const float* lo = &lo_value;
+    const double range = std::max(1e-9, double(hi_value - lo_value));
+    const int channels = masked ? 4 : options.colour ? 3 : 1;
+    std::vector<uint8_t> pixels(count * channels, 0);
+    int cx = 0, cy = 0; // the pixel being shaded
     auto h = [&](int x, int y) {
-        return double(metres[static_cast<size_t>(std::clamp(y, 0, height - 1)) * width +
-                             std::clamp(x, 0, width - 1)]);
+        size_t i = static_cast<size_t>(std::clamp(y, 0, height - 1)) * width + std::clamp(x, 0, width - 1);
+        if (masked && !valid[i])
+            i = static_cast<size_t>(cy) * width + cx;
+        return double(metres[i]);
     };
     for (int y = 0; y < height; ++y) {
         for (int x = 0; x < width; ++x) {
+            if (masked && !valid[static_cast<size_t>(y) * width + x])
+                continue; // transparent background
+            cx = x;
+            cy = y;
             // Horn: 3x3 weighted differences; y grows southwards in the raster.
             const double dzdx = ((h(x + 1, y - 1) + 2 * h(x + 1, y) + h(x + 1, y + 1)) -
                                  (h(x - 1, y - 1) + 2 * h(x - 1, y) + h(x - 1, y + 1))) /
@@ -83,8 +104,12 @@ std::vector<uint8_t> shadeRelief(const std::vector<float>& metres, int width, in
                                                    std::sin(zenith) * std::sin(slope) *
                                                        std::cos(azimuth - aspect));
             uint8_t* out = pixels.data() + (static_cast<size_t>(y) * width + x) * channels;
+            if (masked)
+                out[3] = 255;
             if (!options.colour) {
                 out[0] = toByte(shade);
+                if (masked)
+                    out[1] = out[2] = out[0];
                 continue;
             }
             // Tint modulated by the shade, with an ambient floor so shadows keep their colour.
@@ -107,13 +132,19 @@ void writeHillshade(const std::string& archive_path, const std::string& output,
     const archive::ArchiveReader reader(archive_path);
     const PyramidGeometry& g = reader.geometry();
     const int level = resolveLevel(reader, options.level);
-    const CodeGrid grid = decodeLevel(reader, level, subProgress(options.progress, 0.0, 0.7));
+    if (level < 0 || level >= g.levelCount())
+        decodeLevel(reader, level); // throws the message naming the levels
+    std::vector<uint8_t> valid;
+    const CodeGrid grid =
+        decodeLevelWindow(reader, level, 0, 0, g.validLevelWidth(level), g.validLevelHeight(level),
+                          subProgress(options.progress, 0.0, 0.7), &valid);
     const std::vector<float> metres = toMetres(grid, reader.quantization());
     const double s = double(g.step(level));
     const std::vector<uint8_t> pixels = shadeRelief(metres, grid.width, grid.height,
                                                     reader.header().spacing_x * s,
-                                                    reader.header().spacing_y * s, options);
-    io::writePng(output, pixels.data(), grid.width, grid.height, options.colour ? 3 : 1);
+                                                    reader.header().spacing_y * s, options, valid);
+    io::writePng(output, pixels.data(), grid.width, grid.height,
+                 !valid.empty() ? 4 : options.colour ? 3 : 1);
     reportDone(options.progress); // published: too late to cancel
 }
 

@@ -9,7 +9,8 @@
 namespace ridge {
 
 CodeGrid decodeLevelWindow(const archive::ArchiveReader& reader, int level, int x0, int y0,
-                           int width, int height, const Progress& progress)
+                           int width, int height, const Progress& progress,
+                           std::vector<uint8_t>* valid)
 {
     const PyramidGeometry& g = reader.geometry();
     if (level < 0 || level >= g.levelCount())
@@ -26,7 +27,7 @@ CodeGrid decodeLevelWindow(const archive::ArchiveReader& reader, int level, int 
     const int cells = g.cells();
     const DecodedPatches patches =
         decodePatches(reader, level, x0 / cells, y0 / cells, (x0 + width - 1) / cells,
-                      (y0 + height - 1) / cells, progress);
+                      (y0 + height - 1) / cells, progress, valid != nullptr);
     CodeGrid grid;
     grid.width = width;
     grid.height = height;
@@ -35,6 +36,17 @@ CodeGrid decodeLevelWindow(const archive::ArchiveReader& reader, int level, int 
     for (int j = 0; j < height; ++j)
         std::copy_n(patches.grid.codes.data() + static_cast<size_t>(gy + j) * patches.grid.width + gx,
                     width, &grid.at(0, j));
+    if (valid) {
+        valid->clear();
+        if (!patches.valid.empty()) {
+            valid->resize(grid.codes.size());
+            for (int j = 0; j < height; ++j)
+                std::copy_n(patches.valid.data() + static_cast<size_t>(gy + j) * patches.grid.width + gx,
+                            width, valid->data() + static_cast<size_t>(j) * width);
+            if (std::all_of(valid->begin(), valid->end(), [](uint8_t v) { return v != 0; }))
+                valid->clear();
+        }
+    }
     return grid;
 }
 
@@ -52,7 +64,7 @@ void DecodedPatches::copyPatch(PatchId p, int n, uint16_t* out) const
 }
 
 DecodedPatches decodePatches(const archive::ArchiveReader& reader, int level, int px0, int py0,
-                             int px1, int py1, const Progress& progress)
+                             int px1, int py1, const Progress& progress, bool with_validity)
 {
     const PyramidGeometry& g = reader.geometry();
     const int n = g.patchSize(), cells = g.cells();
@@ -74,6 +86,10 @@ DecodedPatches decodePatches(const archive::ArchiveReader& reader, int level, in
     out.grid.width = nx * cells + 1;
     out.grid.height = ny * cells + 1;
     out.grid.codes.resize(static_cast<size_t>(out.grid.width) * out.grid.height);
+    // Version 1 archives have no masks: every sample is data.
+    if (with_validity && reader.storesValidity())
+        out.valid.assign(out.grid.codes.size(), 1);
+    bool any_invalid = false;
     std::exception_ptr failure;
 #pragma omp parallel
     {
@@ -83,10 +99,13 @@ DecodedPatches decodePatches(const archive::ArchiveReader& reader, int level, in
 #pragma omp for schedule(dynamic, 1)
         for (int64_t k = 0; k < int64_t{nx} * ny; ++k) {
             const PatchId p{level, out.px0 + static_cast<int>(k % nx), out.py0 + static_cast<int>(k / nx)};
+            PatchValidity validity;
             try {
                 if (needs_parent)
                     parents.copyPatch(p.parent(), n, parent.data());
-                reader.decodePatch(p, patch.data(), needs_parent ? parent.data() : nullptr);
+                const std::vector<uint8_t> blob = reader.readBlob(p);
+                reader.decodeBlob(p, blob, patch.data(), needs_parent ? parent.data() : nullptr,
+                                  nullptr, out.valid.empty() ? nullptr : &validity);
             } catch (...) {
 #pragma omp critical
                 failure = std::current_exception();
@@ -98,10 +117,22 @@ DecodedPatches decodePatches(const archive::ArchiveReader& reader, int level, in
             const int w = p.x == out.px1 ? n : cells, h = p.y == out.py1 ? n : cells;
             for (int j = 0; j < h; ++j)
                 std::copy_n(patch.data() + static_cast<size_t>(j) * n, w, &out.grid.at(gx, gy + j));
+            if (!out.valid.empty() && validity.kind != PatchValidity::Kind::AllValid) {
+                // Shared borders: a patch's masks agree with its neighbours' on them (both
+                // come from the level's one validity grid).
+                for (int j = 0; j < h; ++j)
+                    for (int i = 0; i < w; ++i)
+                        out.valid[static_cast<size_t>(gy + j) * out.grid.width + gx + i] =
+                            validity.sampleValid(i, j);
+#pragma omp atomic write
+                any_invalid = true;
+            }
         }
     }
     if (failure)
         std::rethrow_exception(failure);
+    if (!any_invalid)
+        out.valid.clear();
     reportProgress(progress, 1.0);
     return out;
 }

@@ -76,8 +76,10 @@ void checkPatchMetadata(const ArchiveReader& reader, PatchId p, const uint16_t* 
 // Decodes all patches of a level into `grid`, checking each; returns the level's largest Err.
 // The grid covers whole patches (padding included) so the next level can take its parents
 // from it; `parents` is the previous level's grid (progressive codecs), else null.
+// `valid`, when given, receives the patches' sample validity in the grid's layout (1 = data).
 double decodeAndCheckLevel(const ArchiveReader& reader, int level, CodeGrid& grid,
-                           const CodeGrid* parents, ProblemList& problems)
+                           const CodeGrid* parents, ProblemList& problems,
+                           std::vector<uint8_t>* valid = nullptr)
 {
     const PyramidGeometry& g = reader.geometry();
     const int n = g.patchSize(), cells = g.cells();
@@ -85,6 +87,8 @@ double decodeAndCheckLevel(const ArchiveReader& reader, int level, CodeGrid& gri
     grid.width = nx * cells + 1;
     grid.height = ny * cells + 1;
     grid.codes.assign(static_cast<size_t>(grid.width) * grid.height, 0);
+    if (valid)
+        valid->assign(grid.codes.size(), 1);
     std::vector<PatchBorders> borders(static_cast<size_t>(nx) * ny);
 
 #pragma omp parallel for schedule(dynamic, 1)
@@ -92,12 +96,14 @@ double decodeAndCheckLevel(const ArchiveReader& reader, int level, CodeGrid& gri
         const PatchId p{level, static_cast<int>(k % nx), static_cast<int>(k / nx)};
         std::vector<uint16_t> codes(static_cast<size_t>(n) * n), parent;
         std::vector<float> block_errors;
+        PatchValidity validity; // decodeBlob checks the mask on the way
         if (parents) {
             parent.resize(codes.size());
             copyPatchFromGrid(*parents, p.x / 2 * cells, p.y / 2 * cells, n, parent.data());
         }
         try {
-            reader.decodePatch(p, codes.data(), parents ? parent.data() : nullptr, &block_errors);
+            reader.decodeBlob(p, reader.readBlob(p), codes.data(),
+                              parents ? parent.data() : nullptr, &block_errors, &validity);
             checkPatchMetadata(reader, p, codes.data(), block_errors, problems);
         } catch (const Error& e) {
             problems.add(e.what());
@@ -108,8 +114,11 @@ double decodeAndCheckLevel(const ArchiveReader& reader, int level, CodeGrid& gri
         const int ie = std::min(grid.width, i0 + (p.x == nx - 1 ? cells + 1 : cells));
         const int je = std::min(grid.height, j0 + (p.y == ny - 1 ? cells + 1 : cells));
         for (int j = j0; j < je; ++j)
-            for (int i = i0; i < ie; ++i)
+            for (int i = i0; i < ie; ++i) {
                 grid.at(i, j) = codes[static_cast<size_t>(j - j0) * n + (i - i0)];
+                if (valid)
+                    (*valid)[static_cast<size_t>(j) * grid.width + i] = validity.sampleValid(i - i0, j - j0);
+            }
         PatchBorders& b = borders[k];
         b.decoded = true;
         for (int t = 0; t < n; ++t) {
@@ -222,9 +231,10 @@ void compareRow(const ArchiveReader& reader, int level, const CodeGrid& grid, bo
     }
 }
 
+// `finest_valid`: the finest level's validity (decodeAndCheckLevel's layout).
 void compareWithSource(const ArchiveReader& reader, const std::vector<CodeGrid>& levels,
-                       const std::string& source_path, VerifyReport& report, ProblemList& problems,
-                       const Progress& progress)
+                       const std::vector<uint8_t>& finest_valid, const std::string& source_path,
+                       VerifyReport& report, ProblemList& problems, const Progress& progress)
 {
     // The source's values map to metres as they did when the archive was built.
     io::IngestOptions options;
@@ -246,8 +256,23 @@ void compareWithSource(const ArchiveReader& reader, const std::vector<CodeGrid>&
     for (int y0 = 0; y0 < g.height(); y0 += kStrip) {
         const int rows = std::min(kStrip, g.height() - y0);
         source.readRows(y0, rows, strip.data());
-        for (size_t k = 0; k < static_cast<size_t>(rows) * g.width(); ++k)
-            report.source_voids += std::isnan(strip[k]);
+        // Kept nodata must be exactly source voids: a sample the archive calls data where the
+        // source has none would be drawn and exported as an invented height.
+        const int finest_width = levels.back().width;
+        int64_t invented = 0;
+        for (size_t k = 0; k < static_cast<size_t>(rows) * g.width(); ++k) {
+            const bool source_void = std::isnan(strip[k]);
+            const size_t x = k % g.width(), y = y0 + k / g.width();
+            const bool kept = !finest_valid[y * finest_width + x];
+            report.source_voids += source_void;
+            report.nodata_samples += kept;
+            invented += kept && !source_void;
+        }
+        if (invented)
+            problems.add(reader.path() + ": " + std::to_string(invented) +
+                         " finest samples are kept as nodata where the source (rows " +
+                         std::to_string(y0) + ".." + std::to_string(y0 + rows - 1) +
+                         ") has data");
 #pragma omp parallel
         {
             std::vector<LevelAccumulator> local(level_count);
@@ -298,12 +323,14 @@ VerifyReport verifyArchive(const std::string& archive_path, const VerifyOptions&
         // 2. Every patch: checksum, decode, min/max, λ, shared borders.
         const double decode_share = options.source ? 0.3 : 1.0;
         std::vector<CodeGrid> levels(g.levelCount());
+        std::vector<uint8_t> finest_valid;
         for (int l = 0; l < g.levelCount(); ++l) {
             LevelVerifyReport lr;
             lr.level = l;
             lr.patches = g.patchCount(l);
             const CodeGrid* parents = reader.codec().needsParent(l) ? &levels[l - 1] : nullptr;
-            lr.max_err_bound = decodeAndCheckLevel(reader, l, levels[l], parents, problems);
+            lr.max_err_bound = decodeAndCheckLevel(reader, l, levels[l], parents, problems,
+                                                   l == g.finestLevel() ? &finest_valid : nullptr);
             lr.level_bound = reader.levelErrorBound(l);
             report.levels.push_back(lr);
             report.patches_checked += lr.patches;
@@ -312,7 +339,7 @@ VerifyReport verifyArchive(const std::string& archive_path, const VerifyOptions&
 
         // 3. The end-to-end bound against the source, on every valid sample of every level.
         if (options.source)
-            compareWithSource(reader, levels, *options.source, report, problems,
+            compareWithSource(reader, levels, finest_valid, *options.source, report, problems,
                               subProgress(options.progress, decode_share, 1.0));
     } catch (const Cancelled&) {
         throw;

@@ -10,7 +10,7 @@ PatchTextures::PatchTextures(int patch_size, const TessellationBlockLayout& layo
                              const ProgressiveCodec* progressive)
     : n_(patch_size), layout_(layout), levels_(levels), quantization_(quantization),
       progressive_(progressive), lambda_max_(size_t(slots), 0.f), lambda_cap_(size_t(slots), 0.f),
-      generation_(size_t(slots), 0)
+      generation_(size_t(slots), 0), masked_(size_t(slots), 0)
 {
     const int B = layout_.blocksPerSide();
     glTextureStorage3D(heights_.id(), 1, GL_R16UI, n_, n_, slots);
@@ -24,6 +24,18 @@ PatchTextures::PatchTextures(int patch_size, const TessellationBlockLayout& layo
     glTextureStorage3D(block_errors_.id(), 1, GL_RGBA32F, B, B, slots);
     glTextureParameteri(block_errors_.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTextureParameteri(block_errors_.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    const int C = n_ - 1;
+    glTextureStorage3D(cell_masks_.id(), 1, GL_R8UI, C, C, slots);
+    glTextureStorage1D(mask_flags_.id(), 1, GL_R8UI, slots);
+    for (GLuint t : {cell_masks_.id(), mask_flags_.id()}) {
+        glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    }
+    const std::vector<uint8_t> no_masks(size_t(slots), 0);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTextureSubImage1D(mask_flags_.id(), 0, 0, slots, GL_RED_INTEGER, GL_UNSIGNED_BYTE,
+                        no_masks.data());
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
     glNamedBufferStorage(lambda_max_bits_.id(), GLsizeiptr(slots) * GLsizeiptr(sizeof(uint32_t)),
                          nullptr, GL_DYNAMIC_STORAGE_BIT);
     gpu::checkGlError("patch textures: texture arrays");
@@ -56,6 +68,21 @@ void PatchTextures::uploadBlockErrors(const stream::DecodedPatch& patch, int slo
     lambda_max_[size_t(slot)] = std::min(lambda_max, lambda_cap);
 }
 
+void PatchTextures::uploadCellMask(const stream::DecodedPatch& patch, int slot)
+{
+    const uint8_t flag = patch.drawable_cells.empty() ? 0 : 1;
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1); // rows of C bytes, C >= 4: aligned anyway
+    if (flag) {
+        const int C = n_ - 1;
+        glTextureSubImage3D(cell_masks_.id(), 0, 0, 0, slot, C, C, 1, GL_RED_INTEGER,
+                            GL_UNSIGNED_BYTE, patch.drawable_cells.data());
+    }
+    if (masked_[size_t(slot)] != flag)
+        glTextureSubImage1D(mask_flags_.id(), 0, slot, 1, GL_RED_INTEGER, GL_UNSIGNED_BYTE, &flag);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    masked_[size_t(slot)] = flag;
+}
+
 void PatchTextures::computeNormals(int slot, const std::array<int, 4>& neighbours,
                                    double cell_metres_i, double cell_metres_j)
 {
@@ -81,12 +108,14 @@ void PatchTextures::upload(const stream::DecodedPatch& patch, int slot, float la
                         patch.codes.data());
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
     uploadBlockErrors(patch, slot, lambda_cap);
+    uploadCellMask(patch, slot);
 }
 
 void PatchTextures::reconstruct(const stream::DecodedPatch& patch, int parent_slot, int slot,
                                 float lambda_cap)
 {
     ++generation_[size_t(slot)];
+    uploadCellMask(patch, slot);
     const PatchId p = patch.id;
     if (patch.residuals.empty())
         decoder_->reconstruct(patch.residuals16.data(), heights_.id(), parent_slot, slot,
@@ -128,10 +157,13 @@ size_t PatchTextures::uploadBytes(const stream::DecodedPatch& patch) const
 {
     const size_t B = size_t(layout_.blocksPerSide());
     const size_t lambda = patch.block_errors.empty() ? 0 : B * B * 4 * sizeof(float);
+    // Kept nodata: the C x C mask and the slot's flag; patches without nodata send nothing
+    // (at most a one-byte flag reset when their slot held a masked patch, not counted).
+    const size_t mask = patch.drawable_cells.empty() ? 0 : patch.drawable_cells.size() + 1;
     if (patch.needsGpuReconstruction())
         return patch.residuals.size() * sizeof(int32_t) +
-               patch.residuals16.size() * sizeof(int16_t) + lambda;
-    return patch.codes.size() * sizeof(uint16_t) + lambda;
+               patch.residuals16.size() * sizeof(int16_t) + lambda + mask;
+    return patch.codes.size() * sizeof(uint16_t) + lambda + mask;
 }
 
 void PatchTextures::finishUploads()
@@ -177,6 +209,8 @@ void PatchTextures::bind() const
     glBindTextureUnit(0, heights_.id());
     glBindTextureUnit(1, normals_.id());
     glBindTextureUnit(2, block_errors_.id());
+    glBindTextureUnit(4, cell_masks_.id());
+    glBindTextureUnit(5, mask_flags_.id());
 }
 
 } // namespace ridge::render

@@ -57,7 +57,8 @@ class PatchTextures {
     // Takes the λ maxima whose fence has passed (never waits).
     void collect();
 
-    // Binds heights, normals and block errors to texture units 0, 1 and 2.
+    // Binds heights, normals and block errors to texture units 0, 1 and 2, the cell masks
+    // and their per-slot flags to 4 and 5 (terrain.frag; 3 is geomorph's).
     void bind() const;
     GLuint heights() const { return heights_.id(); }
     GLuint blockErrors() const { return block_errors_.id(); }
@@ -67,6 +68,9 @@ class PatchTextures {
 
   private:
     void uploadBlockErrors(const stream::DecodedPatch& patch, int slot, float lambda_cap);
+    // The patch's drawable cells into its mask layer, or just the slot's flag cleared (one
+    // byte, only when the slot last held a masked patch) for a patch without nodata.
+    void uploadCellMask(const stream::DecodedPatch& patch, int slot);
 
     int n_;
     TessellationBlockLayout layout_;
@@ -76,9 +80,12 @@ class PatchTextures {
     std::vector<float> lambda_max_;
     std::vector<float> lambda_cap_;
     std::vector<uint32_t> generation_; // per slot: bumps on every upload
+    std::vector<uint8_t> masked_;      // per slot: its patch has a cell mask (mask_flags_)
     gpu::GlTexture heights_{GL_TEXTURE_2D_ARRAY};
     gpu::GlTexture normals_{GL_TEXTURE_2D_ARRAY};
     gpu::GlTexture block_errors_{GL_TEXTURE_2D_ARRAY};
+    gpu::GlTexture cell_masks_{GL_TEXTURE_2D_ARRAY}; // R8UI, C x C per slot
+    gpu::GlTexture mask_flags_{GL_TEXTURE_1D};       // R8UI, one texel per slot
     gpu::GlBuffer lambda_max_bits_; // per slot, written by block_errors.comp
     gpu::ShaderProgram normal_program_;
     gpu::ShaderProgram block_error_program_;

@@ -1,9 +1,27 @@
 #include "ridge/stream/patch_loader.h"
 
+#include "ridge/core/error.h"
+
 #include <algorithm>
 #include <limits>
 
 namespace ridge::stream {
+
+void DecodedPatch::setDrawableCells(const PatchValidity& validity)
+{
+    const size_t cells = size_t(validity.patch_size - 1) * size_t(validity.patch_size - 1);
+    switch (validity.kind) {
+    case PatchValidity::Kind::AllValid:
+        drawable_cells.clear();
+        break;
+    case PatchValidity::Kind::NoneValid:
+        drawable_cells.assign(cells, 0);
+        break;
+    case PatchValidity::Kind::Mixed:
+        drawable_cells = validity.cells;
+        break;
+    }
+}
 
 void DecodedPatch::setResiduals(std::vector<int32_t> values)
 {
@@ -60,8 +78,12 @@ std::shared_ptr<const DecodedPatch> PatchLoader::decode(PatchId p)
     out->id = p;
     const int n = reader_.geometry().patchSize();
     out->codes.resize(size_t(n) * n);
-    reader_.decodePatch(p, out->codes.data(), parent ? parent->codes.data() : nullptr,
-                        &out->block_errors);
+    if (!parent && reader_.codec().needsParent(p.level))
+        throw Error(reader_.describe(p) + ": internal error: no parent to decode from");
+    PatchValidity validity;
+    reader_.decodeBlob(p, reader_.readBlob(p), out->codes.data(),
+                       parent ? parent->codes.data() : nullptr, &out->block_errors, &validity);
+    out->setDrawableCells(validity);
     prepareProducts(*out, preparations_);
     ++stats_.decoded;
     stats_.bytes_read += reader_.record(p).size;

@@ -196,10 +196,13 @@ std::shared_ptr<const DecodedPatch> PatchStreamer::decodeLocked(PatchId p,
             std::vector<int32_t> wide(samples);
             reader_.decodeResiduals(p, *blob, wide.data(), &out->block_errors);
             out->setResiduals(std::move(wide));
+            out->setDrawableCells(reader_.validityOf(p, *blob));
         } else {
             out->codes.resize(samples);
+            PatchValidity validity;
             reader_.decodeBlob(p, *blob, out->codes.data(), parent ? parent->codes.data() : nullptr,
-                               &out->block_errors);
+                               &out->block_errors, &validity);
+            out->setDrawableCells(validity);
             prepareProducts(*out, options_.preparations);
         }
     } catch (...) {

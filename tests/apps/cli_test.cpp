@@ -272,3 +272,32 @@ TEST(Cli, OneSpellingPerConceptWithTheOldOnesHidden)
         EXPECT_EQ(help.find(h.hidden), std::string::npos) << help;
     }
 }
+
+TEST(Cli, FillVoidsKeepsTheWarpedCollarAndSaysHowManySamplesItKeptOrFilled)
+{
+    test::ScratchDir dir;
+    const std::string src = test::dataPath("everest_utm44.tif");
+    const std::string kept = dir.path("kept.ridge"), all = dir.path("all.ridge");
+    test::CommandResult r = test::runRidge("build '" + src + "' -o '" + kept + "' --patch 33");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find("0 voids filled, 5679 kept as nodata"), std::string::npos) << r.output;
+    r = test::runRidge("build '" + src + "' -o '" + all + "' --patch 33 --fill-voids all");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find("5679 voids filled, 0 kept as nodata"), std::string::npos) << r.output;
+    r = test::runRidge("info '" + kept + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find("ridge format v2"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("0 voids filled, 5679 kept as nodata, --fill-voids interior"),
+              std::string::npos)
+        << r.output;
+    r = test::runRidge("verify '" + kept + "' --source '" + src + "' -q");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find("5679 void samples of the source skipped (no measurement there), "
+                            "5679 of them kept as nodata"),
+              std::string::npos)
+        << r.output;
+    r = test::runRidge("build '" + src + "' -o '" + dir.path("x.ridge") + "' --fill-voids some");
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_NE(r.output.find("--fill-voids"), std::string::npos) << r.output;
+    EXPECT_FALSE(std::filesystem::exists(dir.path("x.ridge")));
+}

@@ -50,15 +50,16 @@ TEST(Crc32, MatchesTheStandardCheckValue)
     EXPECT_EQ(crc32("", 0), 0u);
 }
 
-// Pins the v1 header layout: a change here is a format change and needs a version bump.
-TEST(ArchiveFormat, HeaderV1BytesArePinned)
+// Pins the header layout: a change here is a format change and needs a version bump. (Version
+// 2 added the blobs' validity masks; the header bytes are those of version 1.)
+TEST(ArchiveFormat, HeaderBytesArePinned)
 {
     uint8_t bytes[kHeaderSize];
     serializeHeader(sampleHeader(), bytes);
     EXPECT_EQ(std::memcmp(bytes, "RIDGEARC", 8), 0);
     auto u32 = [&](size_t o) { uint32_t v; std::memcpy(&v, bytes + o, 4); return v; };
     auto f64 = [&](size_t o) { double v; std::memcpy(&v, bytes + o, 8); return v; };
-    EXPECT_EQ(u32(8), 1u);     // version
+    EXPECT_EQ(u32(8), 2u);     // version
     EXPECT_EQ(u32(12), 160u);  // header size
     EXPECT_EQ(u32(16), 301u);  // width
     EXPECT_EQ(u32(20), 203u);  // height
@@ -98,8 +99,16 @@ TEST(ArchiveFormat, ParseRejectsBadMagicNewerVersionsAndCorruptHeaders)
     bad[0] = 'X';
     EXPECT_NE(parseHeader(bad, h).find("magic"), std::string::npos);
     std::memcpy(bad, bytes, kHeaderSize);
-    bad[8] = 2;
+    bad[8] = 3;
     EXPECT_NE(parseHeader(bad, h).find("not supported"), std::string::npos);
+    for (const uint8_t known : {1, 2}) { // every version this reader knows
+        std::memcpy(bad, bytes, kHeaderSize);
+        bad[8] = known;
+        const uint32_t crc = crc32(bad, 156);
+        std::memcpy(bad + 156, &crc, 4);
+        EXPECT_EQ(parseHeader(bad, h), "") << "version " << int(known);
+        EXPECT_EQ(h.version, known);
+    }
     for (size_t i = 12; i < kHeaderSize; ++i) {
         std::memcpy(bad, bytes, kHeaderSize);
         bad[i] ^= 0x10;

@@ -3,6 +3,7 @@
 #include "io_test_support.h"
 #include "test_support.h"
 
+#include "ridge/core/error.h"
 #include "ridge/io/raster_source.h"
 
 #include <gtest/gtest.h>
@@ -329,8 +330,21 @@ TEST(Ingest, FillsVoidsFartherFromDataThanOneSearchReaches)
     RasterSetup setup;
     setup.nodata = -32768;
     writeTestRaster(path, "GTiff", GDT_Int16, src.width, src.height, values, setup);
-    const ElevationRaster r = ingestRaster(path);
+    IngestOptions fill_all;
+    fill_all.fill_voids = VoidFill::All; // the collar touches the border: filled only on request
+    const ElevationRaster r = ingestRaster(path, fill_all);
     EXPECT_EQ(r.stats.voids_filled, 220 * src.height);
+    EXPECT_EQ(r.stats.voids_kept, 0);
+    EXPECT_TRUE(r.nodata.empty());
+    // By default (interior) the same collar stays nodata, its codes filled all the same.
+    const ElevationRaster kept = ingestRaster(path);
+    EXPECT_EQ(kept.stats.voids_filled, 0);
+    EXPECT_EQ(kept.stats.voids_kept, 220 * src.height);
+    EXPECT_EQ(kept.stats.fill_voids, VoidFill::Interior);
+    ASSERT_EQ(kept.nodata.size(), values.size());
+    for (size_t i = 0; i < values.size(); ++i)
+        ASSERT_EQ(kept.nodata[i] != 0, values[i] == -32768) << i;
+    EXPECT_EQ(kept.grid.codes, r.grid.codes);
     for (size_t i = 0; i < values.size(); ++i) {
         const double m = r.quantization.toMetres(r.grid.codes[i]);
         if (values[i] == -32768) {
@@ -365,7 +379,9 @@ TEST(Ingest, FillsVoidsWhenValidCodesUseAll16Bits)
                   CE_None);
     };
     writeTestRaster(path, "GTiff", GDT_UInt16, w, h, values, setup);
-    const ElevationRaster r = ingestRaster(path);
+    IngestOptions fill_all;
+    fill_all.fill_voids = VoidFill::All; // the voids touch the west border
+    const ElevationRaster r = ingestRaster(path, fill_all);
     EXPECT_EQ(r.stats.voids_filled, 400);
     EXPECT_EQ(r.stats.min_metres, 0.0);
     EXPECT_EQ(r.stats.max_metres, 65535.0);
@@ -410,6 +426,27 @@ TEST(Ingest, AsciiGridAndNetcdfGiveTheSameTerrainAsGeoTiff)
         EXPECT_NEAR(other.geo.spacing_x, tiff.geo.spacing_x, 1e-6 * tiff.geo.spacing_x) << driver;
         EXPECT_NEAR(other.geo.spacing_y, tiff.geo.spacing_y, 1e-6 * tiff.geo.spacing_y) << driver;
     }
+}
+
+} // namespace ridge::io
+
+namespace ridge::io {
+
+TEST(Ingest, FillVoidsModesAreNamedAndValidated)
+{
+    EXPECT_EQ(parseVoidFill("all"), VoidFill::All);
+    EXPECT_EQ(parseVoidFill("interior"), VoidFill::Interior);
+    EXPECT_EQ(parseVoidFill("none"), VoidFill::None);
+    EXPECT_STREQ(voidFillName(VoidFill::None), "none");
+    try {
+        parseVoidFill("some");
+        FAIL();
+    } catch (const ridge::Error& e) {
+        EXPECT_STREQ(e.what(), "fill_voids is 'some': must be all, interior or none");
+    }
+    IngestOptions o;
+    o.fill_voids = static_cast<VoidFill>(7);
+    EXPECT_THROW(o.validate(), ridge::Error);
 }
 
 } // namespace ridge::io

@@ -74,8 +74,20 @@ TEST(BuildMemory, StreamingNeedsAQuarterOfTheGridNotTheGrid)
     const BuildMemoryEstimate m = estimateBuildMemory(p, o, false, true);
     EXPECT_FALSE(m.streaming);
     EXPECT_GE(m.total(), uint64_t(1000000) * 1000000 * 3) << "grid and void mask at least";
-    EXPECT_NE(m.describe().find("in memory: whole grid, 1.82 TiB"), std::string::npos)
+    EXPECT_NE(m.describe().find("whole grid, 1.82 TiB"), std::string::npos) << m.describe();
+    // Voids kept as nodata (the default, fill_voids interior) hold their 1 B/sample mask
+    // beside the fill's (and, while encoding, the validity grids: 2 · 4/3 bits per sample).
+    EXPECT_NE(m.describe().find("in memory: whole grid, 1.82 TiB; void filling, 931 GiB; "
+                                "kept-nodata mask, 931 GiB"),
+              std::string::npos)
         << m.describe();
+    BuildOptions fill_all = o;
+    fill_all.ingest.fill_voids = io::VoidFill::All;
+    const BuildMemoryEstimate a = estimateBuildMemory(p, fill_all, false, true);
+    EXPECT_NE(a.describe().find("in memory: whole grid, 1.82 TiB"), std::string::npos)
+        << a.describe();
+    EXPECT_EQ(a.describe().find("kept-nodata"), std::string::npos) << a.describe();
+    EXPECT_LT(a.total(), m.total());
 }
 
 TEST(BuildMemory, NevilleAndProgressiveCostWhatTheyHold)

@@ -46,7 +46,7 @@ void expectGpuEqualsCpu(const std::string& path)
         glTextureSubImage3D(heights.id(), 0, 0, 0, 0, n, n, 1, GL_RED_INTEGER, GL_UNSIGNED_SHORT,
                             parent_codes->codes.data());
         const std::vector<uint8_t> blob = reader.readBlob(p);
-        const uint32_t skip = reader.record(p).block_errors_size;
+        const size_t skip = reader.payloadOffset(p, blob); // block errors and validity mask
         PatchContext ctx;
         ctx.patch_size = n;
         ctx.level = p.level;

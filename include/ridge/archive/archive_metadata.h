@@ -24,7 +24,10 @@ struct SourceMetadata {
     int64_t height = 0;        // == header height
     int64_t valid_samples = 0; // >= 0 (streamed builds over-count: see docs/FORMAT.md)
     int64_t voids_filled = 0;  // in [0, width·height]
+    int64_t voids_kept = 0;    // kept as nodata; in [0, width·height − voids_filled]
+    std::string fill_voids = "all"; // "all", "interior", "none" (version 1: "all", implied)
     std::string void_fill;     // how voids were filled (free text)
+    std::optional<double> nodata; // the source band's declared nodata value (finite), if any
     double min_metres = 0.0;   // over the valid samples; finite, <= max_metres
     double max_metres = 0.0;
     bool exact = false; // every valid sample is its code's height (quantization_error 0)

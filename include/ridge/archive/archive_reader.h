@@ -28,6 +28,7 @@
 #include "ridge/core/height_grid.h"
 #include "ridge/pyramid/level_pyramid.h"
 #include "ridge/pyramid/tessellation_block_errors.h"
+#include "ridge/pyramid/validity_pyramid.h"
 
 #include <memory>
 #include <string>
@@ -69,8 +70,24 @@ class ArchiveReader {
                      std::vector<float>* block_errors = nullptr) const;
     // decodePatch from a blob readBlob(p) returned (a cached one, say); `parent` is required
     // when codec().needsParent(p.level).
+    // `validity`, when given, receives the patch's validity mask from the same blob.
     void decodeBlob(PatchId p, const std::vector<uint8_t>& blob, uint16_t* codes,
-                    const uint16_t* parent, std::vector<float>* block_errors = nullptr) const;
+                    const uint16_t* parent, std::vector<float>* block_errors = nullptr,
+                    PatchValidity* validity = nullptr) const;
+
+    // Which samples of `p` are data and which of its cells may be drawn
+    // (pyramid/validity_pyramid.h): the mask stored after the block errors (version 2), or
+    // all valid (version 1). Validated as it is read: kind, sizes, the zstd frame, padding
+    // bits, canonical kind, drawable cells' corners; throws ridge::Error naming the patch and
+    // the field.
+    PatchValidity readValidity(PatchId p) const;
+    PatchValidity validityOf(PatchId p, const std::vector<uint8_t>& blob) const;
+    // Where the codec payload of `blob` starts (after block errors and validity mask);
+    // decodes the mask into `validity` when given. Throws for a corrupt mask.
+    size_t payloadOffset(PatchId p, const std::vector<uint8_t>& blob,
+                         PatchValidity* validity = nullptr) const;
+    // Whether the archive's blobs carry validity masks (format version >= 2).
+    bool storesValidity() const { return header_.version >= kFirstVersionWithValidity; }
 
     // The paper's CPU/GPU split of decoding: true when patches of `level` can be decoded as
     // residuals (CPU, no parent needed) that a reconstruction on the GPU turns into codes
@@ -101,6 +118,7 @@ class ArchiveReader {
     void loadIndex();
     void readAt(uint64_t offset, void* dst, size_t size, const std::string& what) const;
     std::vector<float> unpackBlockErrorsOf(PatchId p, const std::vector<uint8_t>& blob) const;
+
     [[noreturn]] void fail(const std::string& problem) const;
 
     // Owns the descriptor as a member so that it is closed when the constructor throws (a

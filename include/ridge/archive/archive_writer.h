@@ -21,8 +21,13 @@ public:
 
     // Appends a patch blob (block_errors ++ payload), in any order; each patch exactly once.
     // `record` carries level/x/y and the bounds; offset, size and crc32 are set here.
+    // This form stores the all-valid mask (archive/validity_storage.h); the other stores
+    // `validity` (packValidity's bytes) between the block errors and the payload.
     void writePatch(PatchRecord record, const std::vector<uint8_t>& block_errors,
                     const uint8_t* payload, size_t payload_size);
+    void writePatch(PatchRecord record, const std::vector<uint8_t>& block_errors,
+                    const std::vector<uint8_t>& validity, const uint8_t* payload,
+                    size_t payload_size);
 
     // Writes the metadata, the index and the final header, then publishes the file
     // atomically. Throws ridge::Error when a patch is missing.

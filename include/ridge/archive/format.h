@@ -1,5 +1,5 @@
 #pragma once
-// The .ridge archive, format version 1. docs/FORMAT.md is the normative description; this
+// The .ridge archive, format version 2 (version 1: the same without patch validity masks). docs/FORMAT.md is the normative description; this
 // header mirrors it. All integers and floats are little-endian, IEEE-754.
 //
 //   [header: 160 bytes][patch blobs][metadata: UTF-8 JSON][index: 48 B/patch]
@@ -15,7 +15,9 @@
 namespace ridge::archive {
 
 inline constexpr char kMagic[8] = {'R', 'I', 'D', 'G', 'E', 'A', 'R', 'C'};
-inline constexpr uint32_t kFormatVersion = 1;
+inline constexpr uint32_t kFormatVersion = 2;
+// The first version whose blobs hold a validity mask after the block errors.
+inline constexpr uint32_t kFirstVersionWithValidity = 2;
 inline constexpr size_t kHeaderSize = 160;
 inline constexpr size_t kIndexEntrySize = 48;
 // λ stored as this value means "larger than representable: never simplify".
@@ -53,6 +55,7 @@ struct PatchRecord {
     uint32_t x = 0;
     uint32_t y = 0;
     uint32_t block_errors_size = 0; // bytes at the start of the blob: zstd frame of λ values
+                                    // (then, version 2, the validity mask, then the payload)
     uint64_t offset = 0;            // blob position in the file
     uint32_t size = 0;              // blob size: block errors + codec payload
     uint32_t crc32 = 0;             // CRC-32 of the whole blob

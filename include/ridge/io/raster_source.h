@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace ridge::io {
 
@@ -28,6 +29,19 @@ struct GeoReference {
     double spacing_y = 1.0;
     bool spacing_from_user = false;
 };
+
+// Which nodata samples become terrain (`ridge build --fill-voids`).
+//  All:      every void is filled from its valid neighbours (ridge before December 2026).
+//  Interior: voids enclosed by data (SRTM holes) are filled; nodata 8-connected to the
+//            raster border (the empty collar of a reprojected DEM, sea, a clipping mask)
+//            stays nodata: it is not terrain, only outside the survey.
+//  None:     every void stays nodata.
+// Kept nodata still gets filled codes (so the pyramid, codecs and bounds run unchanged) and
+// is recorded in ElevationRaster::nodata, and per patch in the archive.
+enum class VoidFill { All, Interior, None };
+const char* voidFillName(VoidFill mode); // "all", "interior", "none"
+// Throws ridge::Error("fill_voids is 'X': must be all, interior or none").
+VoidFill parseVoidFill(const std::string& name);
 
 struct IngestOptions {
     // The ranges validate() enforces. Spacings and max_error are positive and no larger than
@@ -52,10 +66,12 @@ struct IngestOptions {
     // Largest allowed quantization error (metres) for input that is not exactly
     // representable in 16 bits. Unset: the finest step that fits 16 bits.
     std::optional<double> max_error;
+    VoidFill fill_voids = VoidFill::Interior;
     Progress progress;
 
     // Throws ridge::Error("NAME is VALUE: must be RANGE") for the first set option outside
-    // its range above (NaN and infinities included).
+    // its range above (NaN and infinities included), and for a fill_voids that is not one
+    // of the enumerators.
     void validate() const;
 };
 
@@ -63,6 +79,9 @@ struct IngestStats {
     std::string data_type;        // GDAL data type name of band 1, e.g. "Int16"
     int64_t valid_samples = 0;    // samples that were not nodata
     int64_t voids_filled = 0;     // nodata samples filled from valid neighbours
+    int64_t voids_kept = 0;       // nodata samples kept as nodata (IngestOptions::fill_voids)
+    VoidFill fill_voids = VoidFill::Interior; // the mode that decided between the two
+    std::optional<double> nodata; // the band's declared nodata value (source units), if any
     double min_metres = 0.0;      // over valid samples, after z_scale/z_offset
     double max_metres = 0.0;
     bool exact = false;           // every valid sample is represented exactly by its code
@@ -77,6 +96,9 @@ struct ElevationRaster {
     HeightQuantization quantization;
     GeoReference geo;
     IngestStats stats;
+    // 1 where a finest sample is kept as nodata (its code is filled all the same), 0 where it
+    // is data; empty when every sample is data (stats.voids_kept == 0).
+    std::vector<uint8_t> nodata;
 };
 
 // Reads band 1 of `path` into 16-bit codes, fills voids, records georeferencing.
@@ -87,7 +109,8 @@ struct ElevationRaster {
 // quantization.max_error is the measured worst error.
 // Voids (declared nodata, NaN when nodata is NaN, or GDAL's mask band where the dataset
 // has a real mask) are filled by GDALFillNodata (inverse-distance weighting from the void's
-// valid border, then smoothing passes) and rounded to codes.
+// valid border, then smoothing passes) and rounded to codes; those options.fill_voids keeps
+// as nodata are filled too and marked in ElevationRaster::nodata.
 //
 // Throws ridge::Error naming `path` and the problem for: unreadable / unrecognised file,
 // no raster band, grid smaller than 2x2, all samples nodata, non-finite values that are not

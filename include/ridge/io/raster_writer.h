@@ -11,9 +11,10 @@
 namespace ridge::io {
 
 // Writes a single-band Float32 GeoTIFF (DEFLATE, tiled) of `metres` (row-major width x
-// height). `geotransform`/`crs_wkt` are written when has_geotransform / non-empty.
+// height). `geotransform`/`crs_wkt` are written when has_geotransform / non-empty, and the
+// band's nodata value when `nodata` is set (NaN allowed).
 void writeGeoTiff(const std::string& path, const float* metres, int width, int height,
-                  const GeoReference& geo);
+                  const GeoReference& geo, std::optional<double> nodata = std::nullopt);
 
 // A GDAL sample type an output can be written in ("Byte", "Int16", "UInt16", "Int32",
 // "UInt32", "Float32", "Float64"; names as GDAL spells them, any case), with the values it

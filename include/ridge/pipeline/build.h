@@ -43,6 +43,7 @@ struct BuildReport {
     int64_t patch_count = 0;
     uint64_t archive_bytes = 0;
     int64_t voids_filled = 0;
+    int64_t voids_kept = 0;         // nodata kept as nodata (BuildOptions::ingest.fill_voids)
     double quantization_error = 0.0;
     bool streamed = false;          // built strip by strip (decimation, no voids)
     double seconds_total = 0.0;

@@ -21,7 +21,12 @@
 //                              source values and GDAL's block cache
 //     Neville coarsening       whole grid; the row pass into floats (H · levelWidth(L-1) · 4 B,
 //                              as much as the grid) and level L-1 being made
+//                              voids kept as nodata (fill_voids interior/none): + 1 B/sample
+//                              (the flood fill's stack, 8 B per border-connected void, is
+//                              not counted)
 //     build                    whole grid; Neville levels (Σ coarser levels · 2 B ≈ ⅓ grid);
+//                              kept nodata: its mask and the validity grids (W·H + 2·Σ levels
+//                              bits ≈ 1.33 B/sample);
 //                              index and errors; progressive reconstructions kept for the
 //                              children (the widest two consecutive levels' patches, n² · 2 B
 //                              each); encode batches

@@ -38,6 +38,9 @@ struct ExtractOptions {
     std::string output_format = "GTiff";       // any GDAL driver that can Create or CreateCopy
     std::vector<std::string> creation_options; // "NAME=VALUE", passed to the driver
     // The band's nodata value; must be held by the output type and be no extracted height.
+    // Samples the archive keeps as nodata (validity masks, io::VoidFill) are written as it.
+    // Unset: declared only when the window holds kept nodata, as the source's declared
+    // nodata if the type holds it, else NaN (floating-point types) or the type's lowest value.
     std::optional<double> nodata_value;
     Progress progress;
 
@@ -58,7 +61,7 @@ struct ExtractReport {
     std::optional<std::array<double, 6>> geotransform; // of the output
 };
 
-// Writes the window of the level in metres. The geotransform is the source's, scaled by the
+// Writes the window of the level in metres, kept nodata as `nodata_value`. The geotransform is the source's, scaled by the
 // level's step and shifted so that every output pixel centre sits on its finest-grid sample's
 // centre (at the finest level: exactly gdal_translate's for the same window).
 // Throws ridge::Error (options are validated first, the format and the window before any

@@ -32,10 +32,16 @@ struct HillshadeOptions {
 
 // Horn's (1981) slope/aspect on metres with the level's ground spacing, the same formula as
 // gdaldem hillshade. Returns width*height*(colour ? 3 : 1) bytes, row-major.
+// With `valid` (1 = data, width*height entries, non-empty) the result is RGBA (4 bytes per
+// pixel): nodata pixels are transparent background (0, 0, 0, 0), the others opaque; Horn's
+// window reads the centre height in place of a nodata neighbour (no slope towards heights
+// that are not there) and the tint's range covers the valid samples only.
 std::vector<uint8_t> shadeRelief(const std::vector<float>& metres, int width, int height,
-                                 double spacing_x, double spacing_y, const HillshadeOptions& options);
+                                 double spacing_x, double spacing_y, const HillshadeOptions& options,
+                                 const std::vector<uint8_t>& valid = {});
 
-// Decodes the level and writes the picture as PNG. Throws ridge::Error (options are
+// Decodes the level and writes the picture as PNG (RGBA with transparent nodata when the
+// archive keeps nodata in that level, else RGB or grey). Throws ridge::Error (options are
 // validated first; shadeRelief validates them too).
 void writeHillshade(const std::string& archive_path, const std::string& output,
                     const HillshadeOptions& options);

@@ -43,6 +43,8 @@ struct VerifyReport {
     std::vector<LevelVerifyReport> levels;
     int64_t patches_checked = 0;
     int64_t source_voids = 0;          // source samples skipped because they are voids
+    int64_t nodata_samples = 0;        // finest samples the archive keeps as nodata (with a
+                                       // source; each must be a source void, else a problem)
     bool source_checked = false;
     bool ok() const { return problems.empty(); }
 };

@@ -31,6 +31,9 @@ struct DecodedPatch {
     PatchId id;
     std::vector<uint16_t> codes;     // patch_size^2, row-major
     std::vector<float> block_errors; // λ(d), metres, TessellationBlockLayout order
+    // Kept nodata: the patch's drawable cells ((n−1)², row-major, 1 = drawable; archive
+    // validity mask); empty when every cell may be drawn (no cost for such patches).
+    std::vector<uint8_t> drawable_cells;
     // The paper's CPU/GPU split (PatchStreamer with residuals_for_gpu): instead of codes, the
     // entropy-decoded residuals[patch_size^2] that the GPU turns into codes from the parent's
     // resident codes. block_errors is then empty when the archive derives λ (the GPU derives
@@ -44,6 +47,9 @@ struct DecodedPatch {
     // for residual patches (no codes on the CPU).
     std::vector<std::shared_ptr<const PatchProduct>> prepared;
 
+    // Sets drawable_cells from a decoded validity mask.
+    void setDrawableCells(const PatchValidity& validity);
+
     bool needsGpuReconstruction() const
     {
         return codes.empty() && (!residuals.empty() || !residuals16.empty());
@@ -55,7 +61,8 @@ struct DecodedPatch {
     size_t bytes() const
     {
         return sizeof(*this) + codes.size() * sizeof(uint16_t) +
-               block_errors.size() * sizeof(float) + residuals.size() * sizeof(int32_t) +
+               block_errors.size() * sizeof(float) + drawable_cells.size() +
+               residuals.size() * sizeof(int32_t) +
                residuals16.size() * sizeof(int16_t) + preparedBytes();
     }
     size_t preparedBytes() const
