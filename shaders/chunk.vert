@@ -14,6 +14,7 @@ out Vertex {
     vec3 texcoord;
     vec2 cell;
     flat int level;
+    flat int layer;     // texture-array slot of the drawn patch (heights, normals)
     flat float factor;
     flat int skirt;
 } v;
@@ -45,6 +46,7 @@ void main() {
     v.texcoord = vec3((vec2(sample_ij) + 0.5) / float(n), float(p.layer));
     v.cell = vec2(sample_ij);
     v.level = p.level;
+    v.layer = p.layer;
     v.factor = float(u_block_cells); // full resolution everywhere
     v.skirt = foot ? 1 : 0;
     capture.tf_position = position;

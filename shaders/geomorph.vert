@@ -30,6 +30,7 @@ out Vertex {
     vec3 texcoord; // here: the vertex's own normal (see terrain.frag, vertexNormal)
     vec2 cell;
     flat int level;
+    flat int layer;     // texture-array slot of the drawn patch (heights, normals)
     flat float factor;
     flat int skirt;
 } v;
@@ -76,6 +77,7 @@ void main() {
     v.position = position;
     v.cell = vec2(sample_ij);
     v.level = p.level;
+    v.layer = p.layer;
     v.factor = float(u_block_cells);
     v.skirt = foot ? 1 : 0;
     capture.tf_position = position;

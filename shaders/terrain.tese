@@ -19,6 +19,7 @@ out Vertex {
     vec3 texcoord;      // normal-map uv and layer
     vec2 cell;          // patch cell coordinates (clipping to the valid extent)
     flat int level;
+    flat int layer;     // texture-array slot of the drawn patch (heights, normals)
     flat float factor;  // interior tessellation factor
     flat int skirt;     // 1 for skirts
 } v;
@@ -51,6 +52,7 @@ void main() {
     v.texcoord = vec3((vec2(sample_ij) + 0.5) / n, float(p.layer));
     v.cell = vec2(sample_ij);
     v.level = p.level;
+    v.layer = p.layer;
     v.factor = tc_factor;
     v.skirt = skirt ? 1 : 0;
     capture.tf_position = position;

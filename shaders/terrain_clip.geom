@@ -21,6 +21,7 @@ in Vertex {
     vec3 texcoord;
     vec2 cell;
     flat int level;
+    flat int layer;     // texture-array slot of the drawn patch (heights, normals)
     flat float factor;
     flat int skirt;
 } vin[];
@@ -35,6 +36,7 @@ out Vertex {
     vec3 texcoord;
     vec2 cell;
     flat int level;
+    flat int layer;     // texture-array slot of the drawn patch (heights, normals)
     flat float factor;
     flat int skirt;
 } vout;
@@ -96,6 +98,7 @@ void emit(Corner c, int skirt) {
     vout.texcoord = c.texcoord;
     vout.cell = c.cell;
     vout.level = vin[0].level;
+    vout.layer = vin[0].layer;
     vout.factor = vin[0].factor;
     vout.skirt = skirt;
     cout.tf_position = c.position;

@@ -1,5 +1,6 @@
 #include "ridge/render/terrain_renderer.h"
 
+#include "palette_uniforms.h"
 #include "patch_instances.h"
 #include "patch_textures.h"
 #include "terrain_scheme.h"
@@ -474,6 +475,7 @@ lod::Selection TerrainRenderer::Impl::prepare(const lod::Camera& camera,
     auto t0 = std::chrono::steady_clock::now();
     lod::SelectionSettings ss;
     ss.epsilon_px = settings.epsilon_px;
+    ss.texel_px = settings.texel_px;
     ss.cull = settings.cull;
     ss.max_patches = size_t(slots);
     ss.side_on = settings.side_on_bound;
@@ -483,6 +485,7 @@ lod::Selection TerrainRenderer::Impl::prepare(const lod::Camera& camera,
     stats.patches = int(selection.patches.size());
     stats.culled = selection.culled;
     stats.epsilon_px = selection.epsilon_px;
+    stats.texel_px = selection.texel_px;
     stats.coarser = selection.epsilon_px > ss.epsilon_px;
     t0 = std::chrono::steady_clock::now();
     if (frozen) {
@@ -631,6 +634,8 @@ const lod::PatchQuadtree& TerrainRenderer::quadtree() const
     return impl_->quadtree;
 }
 
+int TerrainRenderer::blockCells() const { return impl_->layout.block_cells; }
+
 const std::vector<std::string>& TerrainRenderer::schemes() const
 {
     return impl_->scheme_names;
@@ -777,6 +782,7 @@ FrameStats TerrainRenderer::draw(const lod::Camera& camera, const RenderSettings
                            s.fog ? float(0.105 / std::max(extent, 1.0)) : 0.f);
         glProgramUniform1i(id, p->uniform("u_block_cells_f"), m.layout.block_cells);
         glProgramUniform3f(id, p->uniform("u_flat_colour"), 0.05f, 0.05f, 0.08f);
+        setPaletteUniforms(*p);
     }
     // Both instance groups with `mode` (3: the wireframe's flat colour).
     auto drawTerrain = [&](int mode) {
