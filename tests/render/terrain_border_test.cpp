@@ -110,6 +110,9 @@ Counts checkBorders(Scene& s, std::string scheme, const std::string& what)
         render::RenderSettings settings;
         settings.scheme = scheme;
         settings.epsilon_px = c.epsilon_px;
+        // The levels ε selects at these cameras (root only, coarse) are what the border checks
+        // are about; the texture-detail criterion would refine them away.
+        settings.texel_px = 0.0;
         settings.cull_blocks = false; // whole patches: culled blocks would open edges
         const render::CapturedSurface surface = s.renderer->capture(c.camera, settings);
         const test::WatertightReport w = test::checkWatertight(surface, frame);
