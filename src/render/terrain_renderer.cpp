@@ -398,9 +398,16 @@ PatchInstances TerrainRenderer::Impl::writeInstances(const lod::Camera& camera,
     // Skirts hang by what the scheme's mesh drops beyond Err(P) (the tessellator's λ, a
     // chunk's simplification error, ...).
     const TerrainScheme& scheme = schemeFor(settings);
+    // Camera-relative heights are floats: a skirt must also hang a few ulps of the largest
+    // |z − camera z| (2^−22 ≈ 2.4e−7 of it, times 4), or over flat ground (Err and λ 0), seen
+    // from far above, its foot rounds onto its top and the seam it closes opens (found when
+    // the texture-detail criterion split flat sea into levels seen from 760 km).
+    const double z_rel = std::max(std::abs(camera.position().z - double(min_height)),
+                                  std::abs(camera.position().z - double(max_height)));
     PatchInstances built = buildPatchInstances(
         quadtree, selection, camera.position(), [&](PatchId p) { return residency.slotOf(p); },
-        [&](PatchId p) { return scheme.meshDeviation(residency.slotOf(p)); }, skirt_margin);
+        [&](PatchId p) { return scheme.meshDeviation(residency.slotOf(p)); },
+        skirt_margin + 1e-6 * z_rel);
     scheme.completeInstances(lod_camera, settings, built);
     const std::vector<GpuPatchInstance>& data = built.records;
     const size_t bytes = std::max<size_t>(data.size(), 1) * sizeof(GpuPatchInstance);
