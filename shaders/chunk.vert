@@ -14,9 +14,9 @@ out Vertex {
     vec3 texcoord;
     vec2 cell;
     flat int level;
+    flat int layer;     // texture-array slot of the drawn patch (heights, normals)
     flat float factor;
     flat int skirt;
-    flat int layer;     // texture-array slot (the cell mask of terrain.frag)
 } v;
 out Capture {
     vec3 tf_position;

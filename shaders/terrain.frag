@@ -1,30 +1,35 @@
 #version 450 core
-// Terrain shading: sun light on the GPU-computed normal map, a hypsometric colour ramp with
-// slope shading, distance fog; debug modes for LOD levels and tessellation factors.
+// Terrain shading at texture resolution: colour, water and (except geomorph, below) normals
+// come from the drawn patch's own height and normal maps at the fragment's patch coordinates,
+// not from the mesh, so a coarse mesh still shows every sample of its level (a continent on
+// one patch of 184 triangles keeps its coastline). Sun light, the hypsometric palette of
+// ridge/core/terrain_palette.h (shaders/palette.glsl, shared with `ridge hillshade`), slope
+// shading, distance fog; debug modes for LOD levels and tessellation factors.
 // From the evaluation shader, or from terrain_clip.geom for patches partly outside the
 // valid extent (clipped there exactly, with a wall under the cut).
 in Vertex {
     vec3 position;      // camera-relative
     vec3 texcoord;      // normal-map uv and layer
-    vec2 cell;          // patch cell coordinates
+    vec2 cell;          // patch sample coordinates: the same at a skirt and the border above it
     flat int level;
+    flat int layer;     // texture-array slot of the drawn patch
     flat float factor;  // interior tessellation factor
     flat int skirt;     // 1 for skirts, 2 for the walls on the clipped border
-    flat int layer;     // texture-array slot of the patch
 } v;
 
+#include "terrain_common.glsl"
 layout(binding = 1) uniform sampler2DArray u_normals;
 // Kept nodata (docs/FORMAT.md, "Validity mask"): per slot, whether it has a cell mask, and the
 // mask (1 = drawable) of its C × C cells. Slots without nodata never upload a mask.
 layout(binding = 4) uniform usampler2DArray u_cell_masks;
 layout(binding = 5) uniform usampler1D u_mask_flags;
-uniform int u_patch_cells; // C (terrain_common.glsl)
 #include "geomorph_common.glsl"
+#include "palette.glsl"
 
 uniform int u_mode;             // 0 shaded, 1 LOD level colours, 2 tessellation-factor heat map, 3 flat colour
 uniform vec3 u_flat_colour;     // mode 3 (wireframe overlay)
 uniform vec3 u_sun_direction;   // unit, towards the sun, terrain frame
-uniform vec2 u_height_range;    // metres: colour ramp from min to max (camera-relative)
+uniform vec2 u_height_range;    // camera-relative z of the terrain's min and max
 uniform float u_sea_level;      // camera-relative z of 0 m
 uniform vec3 u_fog_colour;
 uniform float u_fog_density;    // per metre; 0 disables fog
@@ -32,30 +37,23 @@ uniform int u_block_cells_f;    // b, for the heat map
 
 out vec4 frag_colour;
 
-vec3 hypsometric(float t) {
-    // Lowland green, upland ochre, brown, grey rock, snow.
-    const vec3 c0 = vec3(0.20, 0.42, 0.22), c1 = vec3(0.55, 0.58, 0.32), c2 = vec3(0.62, 0.50, 0.34),
-               c3 = vec3(0.52, 0.47, 0.44), c4 = vec3(0.95, 0.96, 0.98);
-    t = clamp(t, 0.0, 1.0) * 4.0;
-    if (t < 1.0) return mix(c0, c1, t);
-    if (t < 2.0) return mix(c1, c2, t - 1.0);
-    if (t < 3.0) return mix(c2, c3, t - 2.0);
-    return mix(c3, c4, smoothstep(0.0, 1.0, t - 3.0));
-}
-
-vec3 levelColour(int level) {
-    const vec3 palette[8] = vec3[8](vec3(0.90, 0.10, 0.10), vec3(0.95, 0.55, 0.10), vec3(0.95, 0.90, 0.15),
-                                    vec3(0.30, 0.80, 0.20), vec3(0.10, 0.70, 0.80), vec3(0.20, 0.35, 0.90),
-                                    vec3(0.60, 0.25, 0.85), vec3(0.85, 0.85, 0.85));
-    return palette[level % 8];
-}
-
-vec3 heat(float t) { // 0 blue (coarse) .. 1 red (full resolution)
-    return clamp(vec3(1.5 - abs(4.0 * t - 3.0), 1.5 - abs(4.0 * t - 2.0), 1.5 - abs(4.0 * t - 1.0)), 0.0, 1.0);
+// Metres above sea level of the patch's height map at patch coordinates `cell`, bilinear
+// between its four samples (the codes are integers: no hardware filtering). At a sample this
+// is the sample, as `ridge hillshade` sees it.
+float textureMetres(vec2 cell) {
+    int C = u_patch_cells;
+    vec2 c = clamp(cell, vec2(0.0), vec2(float(C)));
+    ivec2 i0 = min(ivec2(floor(c)), ivec2(C - 1));
+    vec2 f = c - vec2(i0);
+    float h00 = sampleHeight(v.layer, i0), h10 = sampleHeight(v.layer, i0 + ivec2(1, 0));
+    float h01 = sampleHeight(v.layer, i0 + ivec2(0, 1)), h11 = sampleHeight(v.layer, i0 + ivec2(1, 1));
+    return mix(mix(h00, h10, f.x), mix(h01, h11, f.x), f.y) - u_sea_level;
 }
 
 // The normal map's, or the vertex's own normal where a scheme sends one (geomorph.vert):
 // texcoord (u, v, −1) indexes the hemisphere normal texture, (nx, ny, −2 − nz) is a normal.
+// geomorph keeps its vertex normals: it draws every sample of the patch as a vertex, so they
+// are at texel resolution already, and they are what its vertex layouts are measured with.
 vec3 surfaceNormal() {
     if (v.texcoord.z >= -0.5)
         return normalize(texture(u_normals, v.texcoord).xyz);
@@ -81,8 +79,9 @@ void main() {
         frag_colour = vec4(u_flat_colour, 1.0);
         return;
     }
-    // Skirts take the normal of the border sample above them, so that a step between two
-    // levels reads as part of the slope rather than as a dark line.
+    // Skirts take the normal and height of the border sample above them (their cell and
+    // texcoord are the border's), so that a step between two levels reads as part of the
+    // slope, and a skirt hanging through 0 m is not painted as sea.
     vec3 n = surfaceNormal();
     if (v.skirt == 2) {
         // A wall is a flat vertical face: its own normal, towards the viewer.
@@ -93,18 +92,21 @@ void main() {
     float slope = 1.0 - n.z; // 0 flat .. 1 vertical
     vec3 albedo;
     if (u_mode == 1)
-        albedo = levelColour(v.level);
+        albedo = paletteLevel(v.level);
     else if (u_mode == 2)
-        albedo = heat(log2(max(v.factor, 1.0)) / max(log2(float(u_block_cells_f)), 1.0));
+        albedo = paletteHeat(log2(max(v.factor, 1.0)) / max(log2(float(u_block_cells_f)), 1.0));
     else {
-        float t = (v.position.z - u_height_range.x) / max(u_height_range.y - u_height_range.x, 1e-3);
-        albedo = hypsometric(t);
-        if (v.skirt == 2)
-            albedo = mix(albedo, vec3(0.36, 0.29, 0.22), 0.6); // walls: earth
-        albedo = mix(albedo, vec3(0.42, 0.39, 0.36), smoothstep(0.25, 0.55, slope) * (1.0 - step(0.9, t)));
-        // DEMs store the sea as flat 0 m: shade it as water (land below sea level keeps its slope).
-        if (abs(v.position.z - u_sea_level) < 0.25 && slope < 1e-4)
-            albedo = vec3(0.16, 0.30, 0.48);
+        float metres = textureMetres(v.cell);
+        float min_m = u_height_range.x - u_sea_level, max_m = u_height_range.y - u_sea_level;
+        albedo = paletteTerrain(metres, min_m, max_m);
+        if (!paletteIsWater(metres)) {
+            float low = max(min_m, 0.0);
+            float t = (metres - low) / max(max_m - low, 1e-3);
+            if (v.skirt == 2)
+                albedo = mix(albedo, vec3(0.36, 0.29, 0.22), 0.6); // walls: earth
+            // Steep rock shows through below the snow line.
+            albedo = mix(albedo, vec3(0.42, 0.39, 0.36), smoothstep(0.25, 0.55, slope) * (1.0 - step(0.9, t)));
+        }
     }
     float sun = max(dot(n, u_sun_direction), 0.0);
     float sky = 0.5 + 0.5 * n.z;

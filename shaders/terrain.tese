@@ -19,9 +19,9 @@ out Vertex {
     vec3 texcoord;      // normal-map uv and layer
     vec2 cell;          // patch cell coordinates (clipping to the valid extent)
     flat int level;
+    flat int layer;     // texture-array slot of the drawn patch (heights, normals)
     flat float factor;  // interior tessellation factor
     flat int skirt;     // 1 for skirts
-    flat int layer;     // texture-array slot (the cell mask of terrain.frag)
 } v;
 // Transform-feedback capture (tests): position, patch instance, 1 for skirts (2 on a foot).
 out Capture {

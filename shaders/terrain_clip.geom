@@ -21,9 +21,9 @@ in Vertex {
     vec3 texcoord;
     vec2 cell;
     flat int level;
+    flat int layer;     // texture-array slot of the drawn patch (heights, normals)
     flat float factor;
     flat int skirt;
-    flat int layer;
 } vin[];
 in Capture {
     vec3 tf_position;
@@ -36,9 +36,9 @@ out Vertex {
     vec3 texcoord;
     vec2 cell;
     flat int level;
+    flat int layer;     // texture-array slot of the drawn patch (heights, normals)
     flat float factor;
     flat int skirt;
-    flat int layer;
 } vout;
 out Capture {
     vec3 tf_position;

@@ -41,6 +41,7 @@ void BenchCommand::registerWith(CLI::App& app)
     command_->add_option("--error", error_, "Screen-space error threshold ε, pixels")
         ->capture_default_str()
         ->check(inRange("--error", render::RenderSettings::kEpsilonPxRange));
+    addTexelSizeOption(*command_, texel_px_);
     addStreamingOptions(*command_, renderer_options_);
     addGeomorphOptions(*command_, renderer_options_);
     addLodRuleOptions(*command_, rules_);
@@ -93,6 +94,7 @@ int BenchCommand::run()
     options.frames = frames_;
     options.viewport = parseSize(size_);
     options.epsilon_px = error_;
+    options.texel_px = texel_px_;
     options.cull = !no_cull_;
     options.grid_chunks = grid_chunks_;
     options.measure_popping = popping_;

@@ -49,6 +49,7 @@ class BenchCommand {
     int frames_ = 600;
     std::string size_ = "1920x1080";
     double error_ = 2.0;
+    double texel_px_ = render::RenderSettings{}.texel_px;
     render::RendererOptions renderer_options_ = render::RendererOptions::streamingDefaults();
     bool no_cull_ = false;
     bool grid_chunks_ = false;
@@ -77,6 +78,7 @@ class RenderCommand {
     double fov_ = 60.0;
     std::string size_ = "1920x1080";
     double error_ = 2.0;
+    double texel_px_ = render::RenderSettings{}.texel_px;
     std::string mode_ = "shaded";
     std::string lod_ = "tess";
     bool wireframe_ = false;
@@ -106,6 +108,7 @@ class ViewCommand {
     std::string size_ = "1600x900"; // window, screen coordinates
     double fov_y_degrees_ = 60.0;
     double epsilon_px_ = 2.0;
+    double texel_px_ = render::RenderSettings{}.texel_px;
     bool vsync_ = true;
     int frames_ = 0;         // > 0: render this many frames, then exit (smoke tests)
     std::string screenshot_; // PNG of the last frame, read back before the final swap

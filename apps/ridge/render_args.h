@@ -168,6 +168,18 @@ inline void addStreamingOptions(CLI::App& command, render::RendererOptions& opti
         "Load every patch before drawing the frame that needs it (stalls)");
 }
 
+// --texel-size: the texture-detail criterion beside ε (render::RenderSettings::texel_px).
+inline void addTexelSizeOption(CLI::App& command, double& texel_px)
+{
+    command
+        .add_option("--texel-size", texel_px,
+                    "Texture detail: refine patches until their samples are at most PX pixels "
+                    "apart on screen (colour and normals at about one texel per pixel); 0 "
+                    "disables it")
+        ->capture_default_str()
+        ->check(inRange("--texel-size", render::RenderSettings::kTexelPxRange));
+}
+
 // Which LOD rules: the tessellation rule and the coarse selection's bound.
 inline void addLodRuleOptions(CLI::App& command, render::RenderSettings& settings)
 {

@@ -45,6 +45,7 @@ void RenderCommand::registerWith(CLI::App& app)
     command_->add_option("--error", error_, "Screen-space error threshold ε, pixels")
         ->capture_default_str()
         ->check(inRange("--error", render::RenderSettings::kEpsilonPxRange));
+    addTexelSizeOption(*command_, texel_px_);
     command_
         ->add_option("--mode", mode_,
                      "shaded, lod (level colours) or tess (tessellation-factor heat map)")
@@ -97,6 +98,7 @@ int RenderCommand::run()
     options.samples = samples_;
     options.vram_budget_mb = vram_mb_;
     options.settings.epsilon_px = error_;
+    options.settings.texel_px = texel_px_;
     options.settings.mode = parseMode(mode_);
     options.settings.scheme = parseLodScheme(lod_, "--lod");
     options.settings.wireframe = wireframe_;
@@ -118,6 +120,7 @@ int RenderCommand::run()
                             {"fov_y_degrees", fov_},
                             {"size", {options.viewport.width, options.viewport.height}},
                             {"epsilon_px", r.stats.epsilon_px},
+                            {"texel_px", r.stats.texel_px},
                             {"patches", r.stats.patches},
                             {"culled_subtrees", r.stats.culled},
                             {"triangles", r.stats.triangles},

@@ -20,6 +20,7 @@
 #include "ridge/gpu/context.h"
 #include "ridge/io/raster_writer.h"
 #include "ridge/render/fly_camera.h"
+#include "ridge/render/legend.h"
 #include "ridge/render/terrain_renderer.h"
 
 #include <epoxy/gl.h>
@@ -154,11 +155,14 @@ class Viewer {
   public:
     // `start`: the camera the command line asked for (render's options), else the default.
     Viewer(gpu::WindowContext& window, render::TerrainRenderer& renderer, double fov_y_degrees,
-           double epsilon_px, const ResolvedCamera& start, const archive::ArchiveReader& reader)
+           double epsilon_px, double texel_px, const ResolvedCamera& start,
+           const archive::ArchiveReader& reader)
         : window_(window), renderer_(renderer), fov_y_degrees_(fov_y_degrees),
           archive_(reader.path()), georeference_(reader)
     {
         settings_.epsilon_px = std::clamp(epsilon_px, kMinEpsilonPx, kMaxEpsilonPx);
+        settings_.texel_px = texel_px; // range-checked by the option
+
         int w = 1, h = 1;
         window_.framebufferSize(w, h);
         const lod::Viewport viewport{std::max(w, 1), std::max(h, 1)};
@@ -385,9 +389,13 @@ class Viewer {
         if (ImGui::SliderFloat("epsilon (px)", &epsilon, float(kMinEpsilonPx), float(kMaxEpsilonPx),
                                "%.2f", ImGuiSliderFlags_Logarithmic))
             settings_.epsilon_px = std::clamp(double(epsilon), kMinEpsilonPx, kMaxEpsilonPx);
+        float texel = float(settings_.texel_px);
+        if (ImGui::SliderFloat("texel size (px, 0 off)", &texel, 0.f, 16.f, "%.2f"))
+            settings_.texel_px = std::clamp(double(texel), 0.0, 16.0);
         int mode = int(settings_.mode);
         if (ImGui::Combo("mode", &mode, "shaded\0LOD levels\0tessellation factors\0"))
             settings_.mode = render::DebugMode(mode);
+        drawLegend();
         ImGui::Checkbox("wireframe", &settings_.wireframe);
         ImGui::SameLine();
         ImGui::Checkbox("cull", &settings_.cull);
@@ -424,6 +432,29 @@ class Viewer {
         ImGui::End();
         ImGui::Render();
         ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+    }
+
+    // The debug modes' colour keys, from the palette the shader is given
+    // (render::legendEntries).
+    void drawLegend() const
+    {
+        const std::vector<render::LegendEntry> entries =
+            render::legendEntries(settings_.mode, renderer_.quadtree().geometry().finestLevel(),
+                                  renderer_.blockCells());
+        if (entries.empty())
+            return;
+        ImGui::TextUnformatted(settings_.mode == render::DebugMode::LodLevels
+                                   ? "legend: quadtree level"
+                                   : "legend: tessellation factor (segments per block edge)");
+        for (size_t k = 0; k < entries.size(); ++k) {
+            const render::LegendEntry& e = entries[k];
+            if (k % 8 != 0)
+                ImGui::SameLine();
+            ImGui::ColorButton(e.label.c_str(), ImVec4(e.colour.r, e.colour.g, e.colour.b, 1.f),
+                               ImGuiColorEditFlags_NoTooltip, ImVec2(14.f, 14.f));
+            ImGui::SameLine();
+            ImGui::Text("%s", e.label.c_str());
+        }
     }
 
     gpu::WindowContext& window_;
@@ -467,6 +498,7 @@ void ViewCommand::registerWith(CLI::App& app)
         ->capture_default_str()
         ->check(inRange("--error", ValueRange::closed(kMinEpsilonPx, kMaxEpsilonPx)));
     addCameraOptions(*command_, camera_args_, "an oblique view of the whole terrain");
+    addTexelSizeOption(*command_, texel_px_);
     addStreamingOptions(*command_, renderer_options_);
     addGeomorphOptions(*command_, renderer_options_);
     command_->add_flag("--vsync,!--no-vsync", vsync_,
@@ -516,7 +548,7 @@ int ViewCommand::run()
         // Streaming: the window never waits for disk or decoding; missing patches are drawn by
         // their resident ancestors until they arrive.
         render::TerrainRenderer renderer(reader, renderer_options_);
-        Viewer viewer(*window, renderer, fov_y_degrees_, epsilon_px_, start, reader);
+        Viewer viewer(*window, renderer, fov_y_degrees_, epsilon_px_, texel_px_, start, reader);
         const ImGuiSession imgui(window->window());
 
         for (int frame = 0; frames_ == 0 || frame < frames_; ++frame) {

@@ -38,6 +38,7 @@ void SelectionSettings::validate() const
 {
     checkParameter("epsilon_px", epsilon_px, kEpsilonPxRange);
     checkParameter("error_scale", error_scale, kErrorScaleRange);
+    checkParameter("texel_px", texel_px, kTexelPxRange);
     if (max_patches < 1)
         throw Error("max_patches is 0: must be at least 1 (the root alone always fits)");
 }
@@ -47,23 +48,26 @@ Selection PatchQuadtree::select(const Camera& camera, const SelectionSettings& s
     settings.validate();
     const Frustum frustum(camera);
     const double gamma = screenSpaceErrorFactor(camera);
-    double epsilon = settings.epsilon_px;
+    double epsilon = settings.epsilon_px, texel = settings.texel_px;
     for (;;) {
         Selection s;
         s.epsilon_px = epsilon;
+        s.texel_px = texel;
         // Err_Scr is linear in Err(P): scaling γ scales every patch's error.
         visit(PatchId{0, 0, 0}, camera, settings.cull ? &frustum : nullptr,
-              gamma * settings.error_scale, epsilon, settings, s);
+              {gamma, gamma * settings.error_scale, epsilon, texel}, settings, s);
         // At ε = ∞ every visible patch with a finite Err_Scr stops at the root; should a NaN
         // bound (a corrupt index) still refine, give up raising rather than loop forever.
         if (s.patches.size() <= settings.max_patches || std::isinf(epsilon))
             return s;
         epsilon = std::max(epsilon * 1.25, 1e-3); // from ε = 0 (brute force) too
+        texel *= 1.25;                            // stays 0 when off
     }
 }
 
-void PatchQuadtree::visit(PatchId p, const Camera& camera, const Frustum* frustum, double gamma,
-                          double epsilon, const SelectionSettings& settings, Selection& out) const
+void PatchQuadtree::visit(PatchId p, const Camera& camera, const Frustum* frustum,
+                          const Thresholds& t, const SelectionSettings& settings,
+                          Selection& out) const
 {
     ++out.visited;
     const Box b = box(p);
@@ -76,17 +80,22 @@ void PatchQuadtree::visit(PatchId p, const Camera& camera, const Frustum* frustu
         }
     }
     const double rho = distanceToBox(camera.position(), b);
-    const double err_scr = screen_space_error(
-        gamma, bounds(p).err,
-        settings.conservative_distance ? visibleDepthBound(camera, b, rho, settings.side_on) : rho);
-    if (p.level == geometry().finestLevel() || err_scr <= epsilon) {
-        out.patches.push_back({p, err_scr, visibility});
+    const double depth =
+        settings.conservative_distance ? visibleDepthBound(camera, b, rho, settings.side_on) : rho;
+    const double err_scr = screen_space_error(t.error_gamma, bounds(p).err, depth);
+    // The level's sample spacing, the coarser of the two axes.
+    const double spacing = double(geometry().step(p.level)) *
+                           std::max(frame_.spacingX(), frame_.spacingY());
+    const double texel_scr = projectedSampleSpacing(t.gamma, spacing, depth);
+    const bool texels_fine = t.texel <= 0.0 || texel_scr <= t.texel;
+    if (p.level == geometry().finestLevel() || (err_scr <= t.epsilon && texels_fine)) {
+        out.patches.push_back({p, err_scr, visibility, texel_scr});
         return;
     }
     for (int k = 0; k < 4; ++k) {
         const PatchId child{p.level + 1, 2 * p.x + (k & 1), 2 * p.y + (k >> 1)};
         if (geometry().exists(child))
-            visit(child, camera, frustum, gamma, epsilon, settings, out);
+            visit(child, camera, frustum, t, settings, out);
     }
 }
 

@@ -44,4 +44,9 @@ double screen_space_error(double gamma, double err_metres, double rho)
     return gamma * err_metres / rho;
 }
 
+double projectedSampleSpacing(double gamma, double spacing_metres, double rho)
+{
+    return screen_space_error(gamma, spacing_metres, rho);
+}
+
 } // namespace ridge::lod

@@ -4,6 +4,7 @@
 #include "ridge/core/atomic_output.h"
 #include "ridge/core/error.h"
 #include "ridge/core/file_identity.h"
+#include "ridge/core/terrain_palette.h"
 #include "ridge/io/raster_writer.h"
 #include "ridge/pipeline/level_decoder.h"
 
@@ -16,29 +17,6 @@
 namespace ridge {
 
 namespace {
-
-struct Rgb {
-    double r, g, b;
-};
-
-// Hypsometric tint over the normalised height t in [0, 1]: lowland green to rock and snow.
-Rgb hypsometricTint(double t)
-{
-    static constexpr std::array<std::pair<double, Rgb>, 6> kStops = {{
-        {0.00, {0.27, 0.47, 0.29}}, {0.25, {0.55, 0.65, 0.38}}, {0.50, {0.82, 0.76, 0.55}},
-        {0.70, {0.66, 0.52, 0.40}}, {0.85, {0.60, 0.58, 0.56}}, {1.00, {0.97, 0.97, 0.98}},
-    }};
-    t = std::clamp(t, 0.0, 1.0);
-    for (size_t k = 1; k < kStops.size(); ++k) {
-        if (t <= kStops[k].first) {
-            const auto& [t0, c0] = kStops[k - 1];
-            const auto& [t1, c1] = kStops[k];
-            const double f = (t - t0) / (t1 - t0);
-            return {c0.r + (c1.r - c0.r) * f, c0.g + (c1.g - c0.g) * f, c0.b + (c1.b - c0.b) * f};
-        }
-    }
-    return kStops.back().second;
-}
 
 uint8_t toByte(double v) { return static_cast<uint8_t>(std::clamp(std::lround(v * 255.0), 0L, 255L)); }
 
@@ -74,8 +52,8 @@ std::vector<uint8_t> shadeRelief(const std::vector<float>& metres, int width, in
             lo_value = std::min(lo_value, metres[i]);
             hi_value = std::max(hi_value, metres[i]);
         }
-    const float* lo = &lo_value;
-    const double range = std::max(1e-9, double(hi_value - lo_value));
+    const float* lo = &lo_value; // the palette's range: the valid heights'
+    const float* hi = &hi_value;
     const int channels = masked ? 4 : options.colour ? 3 : 1;
     std::vector<uint8_t> pixels(count * channels, 0);
     int cx = 0, cy = 0; // the pixel being shaded
@@ -112,8 +90,9 @@ std::vector<uint8_t> shadeRelief(const std::vector<float>& metres, int width, in
                     out[1] = out[2] = out[0];
                 continue;
             }
-            // Tint modulated by the shade, with an ambient floor so shadows keep their colour.
-            const Rgb c = hypsometricTint((h(x, y) - *lo) / range);
+            // The renderer's palette (water at or below 0 m, the land ramp above), modulated
+            // by the shade with an ambient floor so shadows keep their colour.
+            const palette::Rgb c = palette::terrainColour(float(h(x, y)), *lo, *hi);
             const double light = 0.35 + 0.65 * shade;
             out[0] = toByte(c.r * light);
             out[1] = toByte(c.g * light);

@@ -6,6 +6,7 @@
 #include "ridge/gpu/context.h"
 #include "ridge/gpu/render_target.h"
 #include "ridge/io/raster_writer.h"
+#include "ridge/render/legend.h"
 
 #include <glm/geometric.hpp>
 
@@ -73,6 +74,10 @@ HeadlessRenderResult renderToPng(const std::string& archive_path,
     for (size_t i = 0, n = rgb.size() / 3; i < n; ++i)
         for (int c = 0; c < 3; ++c)
             rgb[i * 3 + c] = rgba[i * 4 + c];
+    // The debug colour modes carry their key in the picture.
+    drawLegend(rgb.data(), options.viewport.width, options.viewport.height, 3,
+               legendEntries(options.settings.mode, renderer.quadtree().geometry().finestLevel(),
+                             renderer.blockCells()));
     io::writePng(png_path, rgb.data(), options.viewport.width, options.viewport.height, 3);
     return result;
 }

@@ -1,5 +1,6 @@
 #include "ridge/render/terrain_renderer.h"
 
+#include "palette_uniforms.h"
 #include "patch_instances.h"
 #include "patch_textures.h"
 #include "terrain_scheme.h"
@@ -397,9 +398,16 @@ PatchInstances TerrainRenderer::Impl::writeInstances(const lod::Camera& camera,
     // Skirts hang by what the scheme's mesh drops beyond Err(P) (the tessellator's λ, a
     // chunk's simplification error, ...).
     const TerrainScheme& scheme = schemeFor(settings);
+    // Camera-relative heights are floats: a skirt must also hang a few ulps of the largest
+    // |z − camera z| (2^−22 ≈ 2.4e−7 of it, times 4), or over flat ground (Err and λ 0), seen
+    // from far above, its foot rounds onto its top and the seam it closes opens (found when
+    // the texture-detail criterion split flat sea into levels seen from 760 km).
+    const double z_rel = std::max(std::abs(camera.position().z - double(min_height)),
+                                  std::abs(camera.position().z - double(max_height)));
     PatchInstances built = buildPatchInstances(
         quadtree, selection, camera.position(), [&](PatchId p) { return residency.slotOf(p); },
-        [&](PatchId p) { return scheme.meshDeviation(residency.slotOf(p)); }, skirt_margin);
+        [&](PatchId p) { return scheme.meshDeviation(residency.slotOf(p)); },
+        skirt_margin + 1e-6 * z_rel);
     scheme.completeInstances(lod_camera, settings, built);
     const std::vector<GpuPatchInstance>& data = built.records;
     const size_t bytes = std::max<size_t>(data.size(), 1) * sizeof(GpuPatchInstance);
@@ -474,6 +482,7 @@ lod::Selection TerrainRenderer::Impl::prepare(const lod::Camera& camera,
     auto t0 = std::chrono::steady_clock::now();
     lod::SelectionSettings ss;
     ss.epsilon_px = settings.epsilon_px;
+    ss.texel_px = settings.texel_px;
     ss.cull = settings.cull;
     ss.max_patches = size_t(slots);
     ss.side_on = settings.side_on_bound;
@@ -483,6 +492,7 @@ lod::Selection TerrainRenderer::Impl::prepare(const lod::Camera& camera,
     stats.patches = int(selection.patches.size());
     stats.culled = selection.culled;
     stats.epsilon_px = selection.epsilon_px;
+    stats.texel_px = selection.texel_px;
     stats.coarser = selection.epsilon_px > ss.epsilon_px;
     t0 = std::chrono::steady_clock::now();
     if (frozen) {
@@ -631,6 +641,8 @@ const lod::PatchQuadtree& TerrainRenderer::quadtree() const
     return impl_->quadtree;
 }
 
+int TerrainRenderer::blockCells() const { return impl_->layout.block_cells; }
+
 const std::vector<std::string>& TerrainRenderer::schemes() const
 {
     return impl_->scheme_names;
@@ -777,6 +789,7 @@ FrameStats TerrainRenderer::draw(const lod::Camera& camera, const RenderSettings
                            s.fog ? float(0.105 / std::max(extent, 1.0)) : 0.f);
         glProgramUniform1i(id, p->uniform("u_block_cells_f"), m.layout.block_cells);
         glProgramUniform3f(id, p->uniform("u_flat_colour"), 0.05f, 0.05f, 0.08f);
+        setPaletteUniforms(*p);
     }
     // Both instance groups with `mode` (3: the wireframe's flat colour).
     auto drawTerrain = [&](int mode) {

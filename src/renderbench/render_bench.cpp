@@ -95,6 +95,7 @@ void RenderBenchOptions::validate() const
     checkParameter("frame height", int64_t{viewport.height}, 1,
                    HeadlessRenderOptions::kMaxImageSide);
     checkParameter("epsilon_px", epsilon_px, render::RenderSettings::kEpsilonPxRange);
+    checkParameter("texel_px", texel_px, render::RenderSettings::kTexelPxRange);
     path.validate();
     renderer.validate();
 }
@@ -123,6 +124,7 @@ RenderBenchReport runRenderBench(const std::string& archive, const RenderBenchOp
     render::RenderSettings settings;
     settings.scheme = o.scheme;
     settings.epsilon_px = o.epsilon_px;
+    settings.texel_px = o.texel_px;
     settings.cull = o.cull;
     settings.tessellation_rule = o.tessellation_rule;
     settings.side_on_bound = o.side_on_bound;
@@ -267,6 +269,7 @@ std::string formatRenderBenchJson(const RenderBenchReport& r)
                               {"speed_mps", r.options.path.speed_mps},
                               {"size", {r.options.viewport.width, r.options.viewport.height}},
                               {"epsilon_px", r.options.epsilon_px},
+                              {"texel_px", r.options.texel_px},
                               {"cull", r.options.cull},
                               {"chunks", r.options.grid_chunks ? "grid" : "simplified"},
                               {"chunk_tolerance", r.options.renderer.chunk_tolerance},

@@ -97,6 +97,8 @@ TEST_F(ParameterCli, RenderRefusesNanEpsilonSunFovAndSamples)
 {
     const std::string render = "render " + arc() + " -o " + out("png") + " --size 64x64 ";
     expectRefused(render + "--error nan", {"--error nan: must be a number in [0.05, 1000]"});
+    expectRefused(render + "--texel-size nan", {"--texel-size nan: must be a number in [0, 1000]"});
+    expectRefused(render + "--texel-size -1", {"--texel-size -1:"});
     expectRefused(render + "--sun nan,45",
                   {"--sun nan: the azimuth must be a number in [-360, 360]"});
     expectRefused(render + "--sun 315,nan",
@@ -128,6 +130,7 @@ TEST_F(ParameterCli, BenchRefusesANanSpeedAndOtherBadNumbers)
                   {"--speed nan: must be a number in (0, 1e+06]"});
     expectRefused(bench + "--frames 2 --speed inf", {"--speed inf:"});
     expectRefused(bench + "--frames 2 --error nan", {"--error nan:"});
+    expectRefused(bench + "--frames 2 --texel-size inf", {"--texel-size inf:"});
     expectRefused(bench + "--frames 0", {"--frames 0: must be an integer in [1, 100000000]"});
     expectRefused(bench + "--frames 2 --chunk-tolerance nan",
                   {"--chunk-tolerance nan: must be a number in [0, 100]"});

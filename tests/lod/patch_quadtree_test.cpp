@@ -234,3 +234,63 @@ TEST(PatchQuadtree, EpsilonZeroSelectsTheFinestLevelAndStillFitsABudget)
     EXPECT_LE(limited.patches.size(), 5u);
     EXPECT_GT(limited.epsilon_px, 0.0);
 }
+
+// The texture-detail criterion: with texel_px set, every selected patch that is not at the
+// finest level shows its samples at most texel_px apart on screen, whatever Err(P) says —
+// here Err is 0 everywhere (a flat terrain), so ε alone would keep the root.
+TEST(PatchQuadtree, TexelCriterionRefinesUntilSamplesAreAtMostTheTargetApart)
+{
+    const PyramidGeometry g(1000, 700, 33);
+    std::vector<PatchBounds> flat(size_t(g.patchCount()), PatchBounds{0.f, 10.f, 0.f});
+    const PatchQuadtree tree(TerrainFrame(g, 10.0, 10.0), std::move(flat));
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> x(-2000, 12000), y(-2000, 9000), z(200, 20000);
+    for (int k = 0; k < 20; ++k) {
+        const Camera cam = overTerrain({x(rng), y(rng), z(rng)}, {5000, 3500, 0});
+        SelectionSettings s;
+        const Selection geometric = tree.select(cam, s);
+        for (const SelectedPatch& sp : geometric.patches)
+            EXPECT_EQ(sp.id.level, 0) << "flat: Err 0 keeps the root";
+        for (const double texel : {0.5, 1.0, 4.0}) {
+            s.texel_px = texel;
+            const Selection sel = tree.select(cam, s);
+            EXPECT_EQ(sel.texel_px, texel);
+            size_t refined = 0;
+            for (const SelectedPatch& sp : sel.patches) {
+                refined += sp.id.level > 0;
+                if (sp.id.level < g.finestLevel()) {
+                    EXPECT_LE(sp.texel_spacing, texel) << "camera " << k;
+                }
+                // The bound is the same γ·s/ρ' as Err_Scr's: recompute it from the box.
+                const Box b = tree.box(sp.id);
+                const double depth = visibleDepthBound(cam, b, distanceToBox(cam.position(), b));
+                EXPECT_DOUBLE_EQ(sp.texel_spacing,
+                                 projectedSampleSpacing(screenSpaceErrorFactor(cam),
+                                                        10.0 * double(g.step(sp.id.level)), depth));
+            }
+            EXPECT_GT(refined, 0u) << "camera " << k << " texel " << texel;
+            // Without culling, the selection still tiles the extent exactly once.
+            SelectionSettings all = s;
+            all.cull = false;
+            for (int c : coverage(tree, tree.select(cam, all)))
+                ASSERT_EQ(c, 1) << "camera " << k << " texel " << texel;
+        }
+    }
+}
+
+TEST(PatchQuadtree, TexelTargetIsRaisedWithEpsilonWhenTheSlotsAreShort)
+{
+    const PyramidGeometry g(1000, 700, 33);
+    std::vector<PatchBounds> flat(size_t(g.patchCount()), PatchBounds{0.f, 10.f, 0.f});
+    const PatchQuadtree tree(TerrainFrame(g, 10.0, 10.0), std::move(flat));
+    SelectionSettings s;
+    s.texel_px = 0.25;
+    s.max_patches = 6;
+    const Selection sel = tree.select(overTerrain({5000, -500, 800}, {5000, 3500, 0}), s);
+    EXPECT_LE(sel.patches.size(), 6u);
+    EXPECT_GT(sel.texel_px, 0.25);
+    s.texel_px = -1.0;
+    EXPECT_THROW(tree.select(overTerrain({5000, -500, 800}, {5000, 3500, 0}), s), Error);
+    s.texel_px = std::nan("");
+    EXPECT_THROW(tree.select(overTerrain({5000, -500, 800}, {5000, 3500, 0}), s), Error);
+}

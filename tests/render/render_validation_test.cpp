@@ -13,6 +13,9 @@
 
 #include "error_expectations.h"
 
+#include "ridge/core/terrain_palette.h"
+#include "ridge/render/legend.h"
+
 #include <gtest/gtest.h>
 
 #include <cfloat>
@@ -48,6 +51,53 @@ TEST(RenderValidation, RenderSettingsRefuseNanEpsilonAndSunAndSayTheRange)
     s = {};
     s.clear_colour.g = float(kInf);
     expectError([&] { s.validate(); }, "clear_colour");
+}
+
+TEST(RenderValidation, TexelSizeMustBeFiniteAndInRange)
+{
+    render::RenderSettings s;
+    s.texel_px = 0.0; // off
+    EXPECT_NO_THROW(s.validate());
+    s.texel_px = kNan;
+    expectError([&] { s.validate(); }, "texel_px is nan: must be a number in [0, 1000]");
+    s.texel_px = -0.5;
+    expectError([&] { s.validate(); }, "texel_px is -0.5");
+    s.texel_px = kInf;
+    expectError([&] { s.validate(); }, "texel_px is inf");
+}
+
+TEST(RenderValidation, LegendsKeyEveryLevelAndFactorInThePaletteColours)
+{
+    EXPECT_TRUE(render::legendEntries(render::DebugMode::Shaded, 6, 8).empty());
+    const auto levels = render::legendEntries(render::DebugMode::LodLevels, 9, 8);
+    ASSERT_EQ(levels.size(), 10u);
+    EXPECT_EQ(levels[9].label, "9");
+    EXPECT_EQ(levels[9].colour.r, palette::levelColour(9).r);
+    const auto factors = render::legendEntries(render::DebugMode::TessellationFactors, 6, 8);
+    ASSERT_EQ(factors.size(), 4u); // 1, 2, 4, 8
+    EXPECT_EQ(factors.back().label, "8");
+    EXPECT_EQ(factors.back().colour.r, palette::heat(1.f).r);
+    // Drawn into the lower-left corner: the swatch of level 0 is there, the top row untouched.
+    const int w = 200, h = 60;
+    std::vector<uint8_t> rgb(size_t(w) * h * 3, 77);
+    render::drawLegend(rgb.data(), w, h, 3, levels);
+    size_t level0 = 0, changed_top = 0;
+    const palette::Rgb c0 = palette::levelColour(0);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const uint8_t* p = &rgb[(size_t(y) * w + x) * 3];
+            level0 += y >= 10 && x < w / 3 && p[0] == uint8_t(std::lround(c0.r * 255.f)) &&
+                      p[1] == uint8_t(std::lround(c0.g * 255.f)) &&
+                      p[2] == uint8_t(std::lround(c0.b * 255.f));
+            changed_top += y < 10 && p[0] != 77;
+        }
+    EXPECT_GE(level0, 100u) << "a 12 x 12 swatch of level 0";
+    EXPECT_EQ(changed_top, 0u);
+    // Too small for one entry: left alone; bad channel counts refused.
+    std::vector<uint8_t> tiny(size_t(8) * 8 * 3, 5);
+    render::drawLegend(tiny.data(), 8, 8, 3, levels);
+    EXPECT_EQ(std::count(tiny.begin(), tiny.end(), uint8_t(5)), 8 * 8 * 3);
+    expectError([&] { render::drawLegend(tiny.data(), 8, 8, 2, levels); }, "channels is 2");
 }
 
 TEST(RenderValidation, SunDirectionFromAzimuthAndAltitude)

@@ -171,14 +171,16 @@ TEST(Streaming, ATeleportReachesFullDetailWithinBoundedFramesOnceTheWorkersAreDo
     target.bind();
     const lod::Camera far_view = renderer.defaultCamera({320, 180});
     const lod::Camera close_view = flyover(renderer, 30, 60);
+    render::RenderSettings settings;
+    settings.texel_px = 0.0; // the LOD of ε alone, which the bounds below were measured with
     for (const lod::Camera& cam : {far_view, close_view}) {
-        render::FrameStats stats = renderer.draw(cam, {});
+        render::FrameStats stats = renderer.draw(cam, settings);
         EXPECT_GT(stats.missing, 0) << "right after the jump the new detail is not there yet";
         const int desired = stats.missing; // a lower bound of what has to arrive
         int frames = 1;
         while (stats.missing > 0 && frames < 100) {
             renderer.waitForStreaming(); // I/O done ...
-            stats = renderer.draw(cam, {});
+            stats = renderer.draw(cam, settings);
             ++frames;
         }
         EXPECT_EQ(stats.missing, 0);

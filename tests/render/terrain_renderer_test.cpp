@@ -239,6 +239,7 @@ TEST_F(TerrainRendererTest, ChunkedAndBruteForceBaselinesAreWatertightAndWithinE
             render::RenderSettings settings;
             settings.scheme = c.scheme;
             settings.epsilon_px = c.epsilon_px;
+            settings.texel_px = 0.0; // measures how close to ε the chunks come: ε alone decides
             settings.cull_blocks = false;
             const render::CapturedSurface surface = s.renderer->capture(cameras[k], settings);
             patches[c.name] += surface.patches.size();

@@ -35,14 +35,19 @@ struct SelectionSettings {
     static constexpr ValueRange kErrorScaleRange = ValueRange::closed(1.0, 1000.0);
 
     double epsilon_px = 2.0; // ε, pixels
+    // Texture detail: a patch is also refined while its level's projected sample spacing
+    // (lod::projectedSampleSpacing) exceeds this many pixels, so that its height and normal
+    // maps give about one texel per pixel; 0 disables (geometry alone decides).
+    static constexpr ValueRange kTexelPxRange = ValueRange::closed(0.0, 1e9);
+    double texel_px = 0.0;
     bool cull = true;        // view-frustum culling of patch boxes
     // ρ in Err_Scr: the box depth bound that holds off-axis (visibleDepthBound), or the
     // paper's distance to the closest box point (false; under-refines at screen corners).
     bool conservative_distance = true;
     // With conservative_distance: visibleDepthBound's side-on factor (see there).
     bool side_on = true;
-    // At most this many patches; when the tree at ε needs more, ε is raised by 25% steps
-    // until it fits, and Selection::epsilon_px says what was used.
+    // At most this many patches; when the tree at ε needs more, ε (and the texel target) is
+    // raised by 25% steps until it fits, and Selection::epsilon_px says what was used.
     size_t max_patches = std::numeric_limits<size_t>::max();
     // The drawn mesh's vertical error as a multiple of Err(P): 1 for meshes of the patch's
     // own samples; 1 + k for Ulrich's chunks simplified to k·Err(P) (lod/chunk_mesh.h).
@@ -56,11 +61,13 @@ struct SelectedPatch {
     PatchId id;
     double screen_error = 0.0; // Err_Scr(P), pixels
     Visibility visibility = Visibility::Inside;
+    double texel_spacing = 0.0; // projected sample spacing of the patch's level, pixels
 };
 
 struct Selection {
     std::vector<SelectedPatch> patches;
     double epsilon_px = 0.0; // ε actually met (>= the requested one)
+    double texel_px = 0.0;   // texel target actually met (raised with ε; 0: off)
     int visited = 0;         // patches tested
     int culled = 0;          // subtrees dropped by the frustum test
 };
@@ -80,8 +87,14 @@ class PatchQuadtree {
     Selection select(const Camera& camera, const SelectionSettings& settings) const;
 
   private:
-    void visit(PatchId p, const Camera& camera, const Frustum* frustum, double gamma,
-               double epsilon, const SelectionSettings& settings, Selection& out) const;
+    struct Thresholds {
+        double gamma;       // γ (texture detail)
+        double error_gamma; // γ · error_scale (Err_Scr)
+        double epsilon;     // pixels
+        double texel;       // pixels; 0 off
+    };
+    void visit(PatchId p, const Camera& camera, const Frustum* frustum, const Thresholds& t,
+               const SelectionSettings& settings, Selection& out) const;
 
     TerrainFrame frame_;
     std::vector<PatchBounds> bounds_;

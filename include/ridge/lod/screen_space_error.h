@@ -32,5 +32,11 @@ double visibleDepthBound(const Camera& camera, const Box& box, double rho, bool 
 
 // Err_Scr in pixels; +inf when the camera is inside the box and err > 0.
 double screen_space_error(double gamma, double err_metres, double rho);
+// The texture-detail criterion beside Err_Scr: the projected sample spacing of a patch's level,
+// γ · spacing / ρ pixels, with the same conservative ρ (a horizontal length seen face-on
+// projects at most as a vertical one does). A patch whose samples are further apart than a
+// pixel target on screen shows its height and normal maps magnified — a blur however small
+// Err_Scr is (a whole globe is one patch at ε = 2 px). +inf inside the box.
+double projectedSampleSpacing(double gamma, double spacing_metres, double rho);
 
 } // namespace ridge::lod

@@ -16,6 +16,7 @@ struct RenderBenchOptions {
     int frames = 600;
     lod::Viewport viewport{1920, 1080};
     double epsilon_px = 2.0;
+    double texel_px = 1.0; // render::RenderSettings::texel_px (0: off)
     bool cull = true;
     // Chunked: every patch's full grid instead of Ulrich's simplified chunks (simplified to
     // renderer.chunk_tolerance·Err(P)).

@@ -1,0 +1,211 @@
+// A continent-scale view shows its continents (issue 13): the coarse ETOPO5 fixture
+// (tests/data/etopo5_540x270.tif, the whole globe) rendered headless at the default ε from
+// above, its pixels classified into land and sea by colour, against the heights under them
+// and against `ridge hillshade` of the same archive. Before colour came from the patches'
+// height maps (and before the texture-detail criterion), the default view was one patch of
+// 184 triangles coloured by its vertices: the continents were gone.
+#include "test_support.h"
+
+#include "ridge/archive/archive_reader.h"
+#include "ridge/lod/terrain_frame.h"
+#include "ridge/pipeline/build.h"
+#include "ridge/pipeline/hillshade.h"
+#include "ridge/pipeline/level_decoder.h"
+#include "ridge/render/headless_render.h"
+
+#include <gdal_priv.h>
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+using namespace ridge;
+
+namespace {
+
+std::vector<uint8_t> readRgb(const std::string& path, int& width, int& height)
+{
+    GDALAllRegister();
+    std::unique_ptr<GDALDataset> ds(
+        GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
+    if (!ds || ds->GetRasterCount() < 3)
+        return {};
+    width = ds->GetRasterXSize();
+    height = ds->GetRasterYSize();
+    std::vector<uint8_t> rgb(size_t(width) * height * 3);
+    int bands[3] = {1, 2, 3};
+    if (ds->RasterIO(GF_Read, 0, 0, width, height, rgb.data(), width, height, GDT_Byte, 3, bands, 3,
+                     3 * width, 1, nullptr) != CE_None)
+        return {};
+    return rgb;
+}
+
+// Water in the shared palette is blue over green and red at any light; no land colour is
+// (greens, ochres, browns, greys and snow, even under fog's bluish haze).
+bool looksLikeWater(const uint8_t* p) { return p[2] > p[0] + 24 && p[2] > p[1] + 8; }
+
+struct Heights {
+    int width = 0, height = 0;
+    std::vector<float> metres;
+    float at(int i, int j) const { return metres[size_t(j) * size_t(width) + size_t(i)]; }
+    // Land and sea alike within `r` samples: away from the coastline.
+    bool awayFromCoast(int i, int j, int r) const
+    {
+        const bool land = at(i, j) > 0.f;
+        for (int dj = -r; dj <= r; ++dj)
+            for (int di = -r; di <= r; ++di) {
+                const int x = std::clamp(i + di, 0, width - 1), y = std::clamp(j + dj, 0, height - 1);
+                if ((at(x, y) > 0.f) != land)
+                    return false;
+            }
+        return true;
+    }
+};
+
+struct Agreement {
+    size_t compared = 0, agree = 0;
+    size_t water_over_land = 0; // water-coloured pixels over land away from the coast
+    double percent() const { return compared ? 100.0 * double(agree) / double(compared) : 0.0; }
+};
+
+class LandSea : public ::testing::Test {
+  protected:
+    static void SetUpTestSuite()
+    {
+        scratch_ = new test::ScratchDir();
+        archive_ = scratch_->path("etopo5.ridge");
+        BuildOptions options; // the CLI's defaults: patches of 129, lossless
+        options.progress = {};
+        buildArchive(test::dataPath("etopo5_540x270.tif"), archive_, options);
+        const archive::ArchiveReader reader(archive_);
+        const int finest = reader.geometry().finestLevel();
+        const CodeGrid grid = decodeLevel(reader, finest);
+        heights_.width = grid.width;
+        heights_.height = grid.height;
+        heights_.metres = toMetres(grid, reader.quantization());
+    }
+    static void TearDownTestSuite()
+    {
+        delete scratch_;
+        scratch_ = nullptr;
+    }
+
+    // Renders from above the centre, looking down; `settings` as given (the defaults unless
+    // a test changes them). Compares the pixel under every finest sample away from the coast.
+    // `coast` is how far (finest samples) from the coastline a sample must be to count.
+    static Agreement renderAgreement(const render::RenderSettings& settings, const char* name,
+                                     render::HeadlessRenderResult* result_out = nullptr,
+                                     int coast = 2)
+    {
+        const archive::ArchiveReader reader(archive_);
+        const lod::TerrainFrame frame(reader.geometry(), reader.header().spacing_x,
+                                      reader.header().spacing_y);
+        render::HeadlessRenderOptions options;
+        options.viewport = {640, 360};
+        options.fov_y_degrees = 30.0;
+        options.settings = settings;
+        const double cx = 0.5 * frame.extentX(), cy = 0.5 * frame.extentY();
+        // High enough for the whole globe to fit the frame (half-width over tan of half the
+        // horizontal field of view); a hair north of straight down keeps "up" defined.
+        const double h = 0.56 * frame.extentX() / std::tan(std::atan(std::tan(15.0 * M_PI / 180.0) * 640.0 / 360.0));
+        options.camera = glm::dvec3(cx, cy, h);
+        options.look_at = glm::dvec3(cx, cy + 1e-3 * h, 0.0);
+        const std::string png = scratch_->path(std::string(name) + ".png");
+        const render::HeadlessRenderResult result = render::renderToPng(archive_, options, png);
+        if (result_out)
+            *result_out = result;
+        int w = 0, hgt = 0;
+        const std::vector<uint8_t> rgb = readRgb(png, w, hgt);
+        EXPECT_EQ(w, 640);
+        Agreement a;
+        for (int j = 0; j < heights_.height; ++j)
+            for (int i = 0; i < heights_.width; ++i) {
+                if (!heights_.awayFromCoast(i, j, coast))
+                    continue;
+                glm::dvec2 pixel;
+                if (!result.camera.project({frame.xOf(i), frame.yOf(j), heights_.at(i, j)}, pixel))
+                    continue;
+                const int px = int(pixel.x), py = int(pixel.y);
+                if (px < 0 || py < 0 || px >= w || py >= hgt)
+                    continue;
+                const bool water = looksLikeWater(&rgb[(size_t(py) * size_t(w) + size_t(px)) * 3]);
+                const bool land = heights_.at(i, j) > 0.f;
+                ++a.compared;
+                a.agree += water != land;
+                a.water_over_land += water && land;
+            }
+        return a;
+    }
+
+    static test::ScratchDir* scratch_;
+    static std::string archive_;
+    static Heights heights_;
+};
+
+test::ScratchDir* LandSea::scratch_ = nullptr;
+std::string LandSea::archive_;
+Heights LandSea::heights_;
+
+} // namespace
+
+TEST_F(LandSea, HillshadeColoursWaterExactlyWhereTheHeightIsAtOrBelowSeaLevel)
+{
+    const std::string png = scratch_->path("hillshade.png");
+    writeHillshade(archive_, png, {});
+    int w = 0, h = 0;
+    const std::vector<uint8_t> rgb = readRgb(png, w, h);
+    ASSERT_EQ(w, heights_.width);
+    ASSERT_EQ(h, heights_.height);
+    size_t agree = 0, land = 0;
+    for (int j = 0; j < h; ++j)
+        for (int i = 0; i < w; ++i) {
+            const bool water = looksLikeWater(&rgb[(size_t(j) * size_t(w) + size_t(i)) * 3]);
+            agree += water == (heights_.at(i, j) <= 0.f);
+            land += heights_.at(i, j) > 0.f;
+        }
+    EXPECT_EQ(agree, size_t(w) * size_t(h)) << "the hillshade's water is the palette's: h <= 0 m";
+    EXPECT_GT(land, size_t(w) * size_t(h) / 5) << "ETOPO5 is about 29 % land";
+    EXPECT_LT(land, size_t(w) * size_t(h) / 2);
+}
+
+TEST_F(LandSea, DefaultRenderShowsTheContinentsTheHillshadeShows)
+{
+    render::HeadlessRenderResult result;
+    const Agreement a = renderAgreement({}, "default", &result);
+    std::printf("default settings (eps %.2g px, texel %.2g px): %zu patches, %llu triangles; "
+                "land/sea agreement %.2f %% of %zu samples away from coasts, %zu water pixels "
+                "over land\n",
+                result.stats.epsilon_px, result.stats.texel_px, size_t(result.stats.patches),
+                static_cast<unsigned long long>(result.stats.triangles), a.percent(), a.compared,
+                a.water_over_land);
+    EXPECT_GT(a.compared, 50000u) << "the globe must fill the frame";
+    EXPECT_GE(a.percent(), 95.0);
+    EXPECT_EQ(a.water_over_land, 0u) << "no water where the height under it is > 0";
+}
+
+TEST_F(LandSea, GeometryAloneStillColoursByTheDrawnPatchesMaps)
+{
+    // Without the texture-detail criterion the view is the root patch alone: colour still
+    // comes from its height map (every 8th sample here), so the coastline is there, if
+    // coarser; and with a fine ε no skirt hanging through 0 m shows as water (the ε 0.25 dots
+    // over Asia). A sample more than one root cell (8 samples) from the coast has only land
+    // (or only sea) at the corners of whichever level's cell it lies in: no water over land.
+    const int root_step = 8;
+    render::RenderSettings coarse;
+    coarse.texel_px = 0.0;
+    render::HeadlessRenderResult result;
+    const Agreement a = renderAgreement(coarse, "geometry_only", &result, root_step);
+    std::printf("texel criterion off: %d patches, land/sea agreement %.2f %%, %zu water pixels "
+                "over land\n",
+                result.stats.patches, a.percent(), a.water_over_land);
+    EXPECT_EQ(a.water_over_land, 0u);
+    EXPECT_GE(a.percent(), 99.0);
+    render::RenderSettings fine;
+    fine.texel_px = 0.0;
+    fine.epsilon_px = 0.25;
+    const Agreement f = renderAgreement(fine, "eps_025", &result, root_step);
+    std::printf("eps 0.25, texel off: %d patches, land/sea agreement %.2f %%, %zu water pixels "
+                "over land\n",
+                result.stats.patches, f.percent(), f.water_over_land);
+    EXPECT_GE(f.percent(), 95.0);
+    EXPECT_EQ(f.water_over_land, 0u);
+}
