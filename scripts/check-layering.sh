@@ -3,7 +3,7 @@
 #   GDAL and PROJ only in src/io; GL, EGL and GLFW headers only in the GPU layer (src/gpu,
 #   include/ridge/gpu) and the viewer's window code; the GPU layer (ridge/gpu/...) only in the
 #   renderers and the tools that drive them (renderbench), the apps, benchmarks and tests — LOD, culling, error metrics and codecs stay
-#   plain C++ that runs without a GL context.
+#   plain C++ that runs without a GL context; the public headers use only the standard library.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 status=0
@@ -32,5 +32,12 @@ bad=$(grep -rlE '#include *[<"]ridge/lod/chunk_mesh\.h' src/stream include/ridge
 bad=$(grep -rlE '#include *"(\.\./)?terrain_scheme\.h"' src apps bench |
       grep -vE '^src/render/(schemes/[a-z_]+\.cpp|scheme_registry\.cpp|terrain_renderer\.cpp|terrain_scheme\.h)$' || true)
 [[ -z "$bad" ]] || report "the scheme interface used outside the renderer and the schemes" "$bad"
+# The installed API (<ridge/ridge.h>, <ridge/error.h>) stands alone: standard headers only, so
+# an embedding application needs no internal header and none of ridge's dependencies.
+bad=$(grep -HE '^#include' include/ridge/ridge.h include/ridge/error.h |
+      grep -vE ':#include (<[a-z_]+>|"ridge/error\.h")$' || true)
+[[ -z "$bad" ]] || report "the public headers include more than the standard library" "$bad"
+bad=$(grep -rhE '^#include *[<"]ridge/' examples | grep -vE '^#include <ridge/ridge\.h>$' || true)
+[[ -z "$bad" ]] || report "the examples use more than <ridge/ridge.h>" "$bad"
 ((status == 0)) && echo "layering: ok"
 exit $status

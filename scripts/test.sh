@@ -1,12 +1,14 @@
 #!/usr/bin/env bash
 # Installs dependencies, builds ridge, and runs the whole test suite:
-#   1. layering check, 2. Release build + ctest, 3. Debug build with ASan/UBSan + ctest,
-#   4. a short libFuzzer run of the archive reader and the patch decoder (clang).
+#   1. layering check, and a library-only configure without the tools' dependencies,
+#   2. Release build + ctest (the install test among them), 3. Debug build with ASan/UBSan +
+#   ctest, 4. a short libFuzzer run of the archive reader and the patch decoder (clang).
 # Usage: bash scripts/test.sh   (RIDGE_SKIP_SANITIZE=1 skips 3, RIDGE_SKIP_FUZZ=1 skips 4)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
 bash scripts/check-layering.sh
+bash scripts/check-library-only.sh
 
 jobs=$(nproc)
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DRIDGE_WERROR=ON

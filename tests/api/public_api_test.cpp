@@ -1,0 +1,163 @@
+// The public API (<ridge/ridge.h>) through the shared library, as an embedding application
+// sees it: only ridge.h is included and only libridge is linked (tests/CMakeLists.txt), so
+// these tests also prove that the API is complete on its own and that ridge::Error crosses
+// the library boundary.
+#include <ridge/ridge.h>
+
+#include "test_support.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace {
+
+using ridge::test::dataPath;
+using ridge::test::ScratchDir;
+
+std::string everestArchive(const ScratchDir& dir, const std::string& codec = "lossless")
+{
+    ridge::BuildParameters p;
+    p.codec = codec;
+    p.patch_size = 33;
+    if (codec == "progressive")
+        p.max_error = 1.0;
+    const std::string path = dir.path("everest-" + codec + ".ridge");
+    ridge::build(dataPath("everest_crop.tif"), path, p);
+    return path;
+}
+
+TEST(PublicApi, VersionMatchesTheHeader)
+{
+    const std::string expected = std::to_string(RIDGE_VERSION_MAJOR) + "." +
+                                 std::to_string(RIDGE_VERSION_MINOR) + "." +
+                                 std::to_string(RIDGE_VERSION_PATCH);
+    EXPECT_EQ(ridge::versionString(), expected);
+}
+
+TEST(PublicApi, BuildOpenAndDescribe)
+{
+    ScratchDir dir;
+    ridge::BuildParameters p;
+    p.patch_size = 33;
+    const std::string path = dir.path("everest.ridge");
+    const ridge::BuildSummary built = ridge::build(dataPath("everest_crop.tif"), path, p);
+    EXPECT_EQ(built.width, 301);
+    EXPECT_EQ(built.height, 203);
+    EXPECT_GT(built.patches, 1);
+    EXPECT_EQ(built.archive_bytes, std::filesystem::file_size(path));
+
+    const ridge::Terrain terrain(path);
+    const ridge::TerrainInfo& info = terrain.info();
+    EXPECT_EQ(info.width, 301);
+    EXPECT_EQ(info.height, 203);
+    EXPECT_EQ(info.levels, built.levels);
+    EXPECT_EQ(info.patches, built.patches);
+    EXPECT_EQ(info.patch_size, 33);
+    EXPECT_EQ(info.codec, "lossless");
+    EXPECT_EQ(info.max_error, 0.0); // Int16 source, lossless codec: exact
+    // The fixture's summit (8840 m) and lowest sample (3369 m) lie within the root's bounds.
+    EXPECT_LE(info.min_height, 3369.0);
+    EXPECT_GE(info.max_height, 8840.0);
+    EXPECT_TRUE(info.geographic);
+    ASSERT_TRUE(info.geotransform.has_value());
+    EXPECT_NEAR((*info.geotransform)[1], 1.0 / 1200.0, 1e-12);
+    // Spacing in metres from the 3" geographic grid at 28° N.
+    EXPECT_NEAR(info.spacing_y, 92.6, 0.5);
+    EXPECT_NEAR(info.spacing_x, 81.8, 0.5);
+}
+
+TEST(PublicApi, ErrorsCrossTheLibraryBoundaryAndNameTheProblem)
+{
+    ScratchDir dir;
+    try {
+        const ridge::Terrain terrain(dir.path("missing.ridge"));
+        FAIL() << "opened a missing archive";
+    } catch (const ridge::Error& e) {
+        EXPECT_NE(std::string(e.what()).find("missing.ridge"), std::string::npos) << e.what();
+    }
+    ridge::BuildParameters p;
+    p.patch_size = 100; // not 2^n + 1
+    try {
+        ridge::build(dataPath("everest_crop.tif"), dir.path("a.ridge"), p);
+        FAIL() << "built with patch_size 100";
+    } catch (const ridge::Error& e) {
+        EXPECT_NE(std::string(e.what()).find("100"), std::string::npos) << e.what();
+        EXPECT_TRUE(std::string(e.what()).find("patch_size") != std::string::npos ||
+                    std::string(e.what()).find("patch size") != std::string::npos)
+            << e.what();
+    }
+    EXPECT_FALSE(std::filesystem::exists(dir.path("a.ridge")));
+    // Never over the input.
+    std::filesystem::copy_file(dataPath("everest_crop.tif"), dir.path("source.tif"));
+    EXPECT_THROW(ridge::build(dir.path("source.tif"), dir.path("source.tif")), ridge::Error);
+    EXPECT_EQ(std::filesystem::file_size(dir.path("source.tif")),
+              std::filesystem::file_size(dataPath("everest_crop.tif")));
+}
+
+TEST(PublicApi, CancelledBuildLeavesNothing)
+{
+    ScratchDir dir;
+    ridge::BuildParameters p;
+    p.patch_size = 33;
+    p.progress = [](double fraction) { return fraction < 0.3; };
+    EXPECT_THROW(ridge::build(dataPath("everest_crop.tif"), dir.path("c.ridge"), p),
+                 ridge::Cancelled);
+    EXPECT_TRUE(ridge::test::namesIn(dir.dir()).empty());
+}
+
+TEST(PublicApi, VerifyHoldsTheBoundAndReportsCorruption)
+{
+    ScratchDir dir;
+    const std::string path = everestArchive(dir, "progressive");
+    const ridge::VerifySummary ok = ridge::verify(path, dataPath("everest_crop.tif"));
+    EXPECT_TRUE(ok.ok);
+    EXPECT_TRUE(ok.source_checked);
+    EXPECT_GE(ok.samples_checked, 301 * 203);
+    EXPECT_EQ(ok.bound_violations, 0);
+    EXPECT_GT(ok.max_error, 0.0);
+
+    // Flip one byte in the middle of the blobs: the CRC names the patch.
+    {
+        std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+        f.seekg(400);
+        char c = 0;
+        f.read(&c, 1);
+        c = char(c ^ 0x5a);
+        f.seekp(400);
+        f.write(&c, 1);
+    }
+    const ridge::VerifySummary bad = ridge::verify(path);
+    EXPECT_FALSE(bad.ok);
+    ASSERT_FALSE(bad.problems.empty());
+    EXPECT_NE(bad.problems.front().find(path), std::string::npos) << bad.problems.front();
+}
+
+TEST(PublicApi, RendersAPngHeadless)
+{
+    ScratchDir dir;
+    const std::string path = everestArchive(dir);
+    ridge::RenderParameters p;
+    p.width = 160;
+    p.height = 90;
+    p.samples = 1;
+    const ridge::FrameSummary frame = ridge::renderPng(path, dir.path("e.png"), p);
+    EXPECT_GE(frame.patches, 1);
+    EXPECT_GT(frame.triangles, 0u);
+    EXPECT_GT(std::filesystem::file_size(dir.path("e.png")), 1000u);
+
+    p.width = 0;
+    EXPECT_THROW(ridge::renderPng(path, dir.path("f.png"), p), ridge::Error);
+    p.width = 160;
+    p.draw.scheme = "no-such-scheme";
+    EXPECT_THROW(ridge::renderPng(path, dir.path("f.png"), p), ridge::Error);
+    p.draw.scheme = "tess";
+    p.draw.max_screen_error_px = std::nan("");
+    EXPECT_THROW(ridge::renderPng(path, dir.path("f.png"), p), ridge::Error);
+    EXPECT_FALSE(std::filesystem::exists(dir.path("f.png")));
+}
+
+} // namespace
