@@ -18,7 +18,6 @@ in Vertex {
 } v;
 
 #include "terrain_common.glsl"
-layout(binding = 1) uniform sampler2DArray u_normals;
 // Kept nodata (docs/FORMAT.md, "Validity mask"): per slot, whether it has a cell mask, and the
 // mask (1 = drawable) of its C × C cells. Slots without nodata never upload a mask.
 layout(binding = 4) uniform usampler2DArray u_cell_masks;

@@ -38,9 +38,10 @@ std::optional<glm::dvec2> parsePoint(const std::string& line)
 nlohmann::json sampleJson(const HeightSample& s)
 {
     nlohmann::json j = {{"on_raster", s.on_raster},
+                        {"nodata", s.nodata},
                         {"local", {s.local.x, s.local.y}},
                         {"pixel", {s.pixel.x, s.pixel.y}}};
-    if (s.on_raster) {
+    if (s.on_raster && !s.nodata) {
         j["height"] = s.height;
         j["level"] = s.level;
         j["patch"] = {s.patch.level, s.patch.x, s.patch.y};
@@ -106,9 +107,14 @@ int QueryCommand::run()
             try {
                 const HeightSample s = query.sample(*point, space, level_);
                 entry.update(sampleJson(s));
-                if (s.on_raster) {
+                if (s.on_raster && !s.nodata) {
                     text = fmt::format("{:.3f} m (level {}, within {:g} m of the source)",
                                        s.height, s.level, s.error_bound);
+                } else if (s.nodata) {
+                    ++failures;
+                    text = fmt::format("nodata (the archive keeps no height here; pixel/line "
+                                       "{:.2f}, {:.2f})",
+                                       s.pixel.x, s.pixel.y);
                 } else {
                     ++failures;
                     text = fmt::format("off the raster (pixel/line {:.2f}, {:.2f})", s.pixel.x,

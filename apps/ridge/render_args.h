@@ -43,8 +43,17 @@ struct CameraArgs {
     std::optional<double> heading, pitch;
     bool above_ground = false;
 
+    // Throws UsageError for a view direction without a camera position (CLI11's needs()
+    // cannot say "one of --camera, --camera-lonlat").
     CameraPlacement placement() const
     {
+        const bool positioned = !camera.empty() || !camera_lonlat.empty();
+        if (!positioned && !look_at.empty())
+            throw UsageError("--look-at requires --camera or --camera-lonlat");
+        if (!positioned && !look_at_lonlat.empty())
+            throw UsageError("--look-at-lonlat requires --camera or --camera-lonlat");
+        if (!positioned && heading)
+            throw UsageError("--heading and --pitch require --camera or --camera-lonlat");
         CameraPlacement p;
         if (!camera.empty())
             p.position = glm::dvec3(camera[0], camera[1], camera[2]);

@@ -48,6 +48,10 @@ struct BuildParameters {
     std::optional<double> max_error;
     int patch_size = 129;             // samples per patch side, 2^n + 1 (33 .. 4097)
     std::string filter = "decimate";  // level filter: "decimate" or "neville"
+    // Nodata in the source: "interior" fills voids enclosed by data and keeps nodata that
+    // reaches the raster's border (a warped DEM's collar, sea) as nodata, which no renderer
+    // draws and queries report as off the terrain; "all" fills every void, "none" none.
+    std::string fill_voids = "interior";
     ProgressCallback progress;        // optional
 };
 
@@ -58,6 +62,7 @@ struct BuildSummary {
     int64_t patches = 0;
     uint64_t archive_bytes = 0;
     int64_t voids_filled = 0;
+    int64_t voids_kept = 0;    // nodata kept as nodata (BuildParameters::fill_voids)
     double seconds = 0.0;
 };
 
@@ -116,7 +121,7 @@ class RIDGE_API Terrain {
     // Opens and validates `archive_path` (header, index, every field; blobs are checked as
     // they are read). `cache_patches` decoded patches are kept for queries (LRU; at least
     // the pyramid's depth whatever is asked).
-    explicit Terrain(const std::string& archive_path, size_t cache_patches = 64);
+    explicit Terrain(const std::string& archive_path, size_t cache_patches = 256);
     ~Terrain();
     Terrain(Terrain&&) noexcept;
     Terrain& operator=(Terrain&&) noexcept;
@@ -126,7 +131,8 @@ class RIDGE_API Terrain {
     const TerrainInfo& info() const;
 
     // The finest level's surface at local (x, y): bilinear between the decoded finest samples.
-    // std::nullopt off the terrain. Throws ridge::Error for NaN or infinite coordinates.
+    // std::nullopt off the terrain and where it keeps nodata (the cells no renderer draws).
+    // Throws ridge::Error for NaN or infinite coordinates.
     std::optional<double> height(double x, double y) const;
     // The surface of level `level` (0 = coarsest, levels − 1 = finest) at (x, y): what a LOD
     // scheme draws where it selects that level (bilinear over the covering patch's samples).
@@ -159,6 +165,10 @@ struct CameraPose {
 struct DrawParameters {
     std::string scheme = "tess"; // LOD scheme: "tess", "chunked", "brute", "geomorph"
     double max_screen_error_px = 2.0; // ε, pixels
+    // Texture detail beside ε: patches are also refined until their level's samples are at
+    // most this many pixels apart on screen (colour and normals come from the patch's maps);
+    // 0 disables.
+    double texel_size_px = 1.0;
     bool skirts = true;
     bool sky = true;
     bool fog = true;
@@ -193,7 +203,7 @@ struct RendererParameters {
 // Draws a terrain into the caller's OpenGL 4.5 core context, which must be current on the
 // calling thread from construction to destruction (ridge loads GL through libepoxy, which
 // follows whatever context is current). draw() renders into the framebuffer the caller has
-// bound, clears it, and restores the GL state it changes.
+// bound and clears it; docs/EMBEDDING.md says which GL state it leaves changed.
 class RIDGE_API Renderer {
   public:
     Renderer(const std::string& archive_path, const RendererParameters& parameters = {});

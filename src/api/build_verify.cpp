@@ -25,6 +25,7 @@ BuildSummary build(const std::string& source_path, const std::string& archive_pa
     options.max_error = parameters.max_error;
     options.patch_size = parameters.patch_size;
     options.filter = parseFilter(parameters.filter.c_str());
+    options.ingest.fill_voids = io::parseVoidFill(parameters.fill_voids);
     options.progress = parameters.progress;
     const BuildReport report = buildArchive(source_path, archive_path, options);
     BuildSummary summary;
@@ -34,6 +35,7 @@ BuildSummary build(const std::string& source_path, const std::string& archive_pa
     summary.patches = report.patch_count;
     summary.archive_bytes = report.archive_bytes;
     summary.voids_filled = report.voids_filled;
+    summary.voids_kept = report.voids_kept;
     summary.seconds = report.seconds_total;
     return summary;
 }

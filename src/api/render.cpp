@@ -19,6 +19,7 @@ render::RenderSettings settingsFrom(const DrawParameters& p)
     render::RenderSettings s;
     s.scheme = p.scheme;
     s.epsilon_px = p.max_screen_error_px;
+    s.texel_px = p.texel_size_px;
     s.skirts = p.skirts;
     s.sky = p.sky;
     s.fog = p.fog;

@@ -50,7 +50,7 @@ struct Terrain::Impl {
     std::optional<double> heightAt(double x, double y, int level) const
     {
         const HeightSample s = query.sample({x, y}, PointSpace::Local, level);
-        return s.on_raster ? std::optional<double>(s.height) : std::nullopt;
+        return s.on_raster && !s.nodata ? std::optional<double>(s.height) : std::nullopt;
     }
 };
 

@@ -244,7 +244,9 @@ void checkRasterFormat(const RasterFormat& format, const SampleType& type)
             throw Error("creation_options: GDAL's " + format.output_format +
                         " driver refuses them: " + capture.joined());
     }
-    if (format.nodata_value && !type.holdsExactly(*format.nodata_value))
+    // NaN is the nodata of floating-point types (GDAL's "-a_nodata nan").
+    const bool nan_for_float = format.nodata_value && std::isnan(*format.nodata_value) && !type.integer;
+    if (format.nodata_value && !nan_for_float && !type.holdsExactly(*format.nodata_value))
         throw Error("nodata_value " + std::to_string(*format.nodata_value) + ": " + type.name +
                     " cannot hold it (" + (type.integer ? "an integer in [" : "a number in [") +
                     std::to_string(type.lo) + ", " + std::to_string(type.hi) + "])");

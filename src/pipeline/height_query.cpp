@@ -60,6 +60,13 @@ HeightSample HeightQuery::sample(glm::dvec2 point, PointSpace space, int level)
     const double fu = u - u0, fv = v - v0;
 
     const std::shared_ptr<const stream::DecodedPatch> patch = loader_.load(out.patch);
+    out.error_bound = reader_->record(out.patch).err;
+    // Kept nodata: the cell the point lies in is not drawn, so the terrain has no height here.
+    if (!patch->drawable_cells.empty() &&
+        patch->drawable_cells[size_t(v0) * size_t(cells) + size_t(u0)] == 0) {
+        out.nodata = true;
+        return out;
+    }
     const int n = g.patchSize();
     auto code = [&](int a, int b) {
         return double(patch->codes[size_t(b) * size_t(n) + size_t(a)]);
@@ -69,7 +76,6 @@ HeightSample HeightQuery::sample(glm::dvec2 point, PointSpace space, int level)
     const double c = (code(u0, v0) * (1 - fu) + code(u0 + 1, v0) * fu) * (1 - fv) +
                      (code(u0, v0 + 1) * (1 - fu) + code(u0 + 1, v0 + 1) * fu) * fv;
     out.height = reader_->quantization().toMetres(c);
-    out.error_bound = reader_->record(out.patch).err;
     return out;
 }
 

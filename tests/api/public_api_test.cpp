@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -158,6 +159,83 @@ TEST(PublicApi, RendersAPngHeadless)
     p.draw.max_screen_error_px = std::nan("");
     EXPECT_THROW(ridge::renderPng(path, dir.path("f.png"), p), ridge::Error);
     EXPECT_FALSE(std::filesystem::exists(dir.path("f.png")));
+}
+
+TEST(PublicApi, HeightsWithoutGl)
+{
+    ScratchDir dir;
+    const std::string path = everestArchive(dir);
+    const ridge::Terrain terrain(path);
+    const ridge::TerrainInfo& info = terrain.info();
+    const int finest = info.levels - 1;
+    // A sample centre (pixel/line + 0.5) reads that sample; the finest level is the default.
+    const ridge::LocalPoint p = terrain.localFromPixel(120.5, 80.5);
+    EXPECT_DOUBLE_EQ(p.x, 120 * info.spacing_x);
+    EXPECT_DOUBLE_EQ(p.y, (info.height - 1 - 80) * info.spacing_y);
+    const std::optional<double> h = terrain.height(p.x, p.y);
+    ASSERT_TRUE(h.has_value());
+    EXPECT_EQ(*h, terrain.heightAtLevel(p.x, p.y, finest).value());
+    EXPECT_GE(*h, info.min_height);
+    EXPECT_LE(*h, info.max_height);
+    // Between samples: inside the range of the four around it (bilinear).
+    const ridge::LocalPoint q = terrain.localFromPixel(120.75, 80.25);
+    const double hq = terrain.height(q.x, q.y).value();
+    double lo = 1e9, hi = -1e9;
+    for (double dx : {0.0, 1.0})
+        for (double dy : {0.0, 1.0}) {
+            const ridge::LocalPoint c = terrain.localFromPixel(120.5 + dx, 80.5 + dy);
+            lo = std::min(lo, *terrain.height(c.x, c.y));
+            hi = std::max(hi, *terrain.height(c.x, c.y));
+        }
+    EXPECT_GE(hq, lo);
+    EXPECT_LE(hq, hi);
+    // Coarser levels draw a different surface, within the root's bounds.
+    const double h0 = terrain.heightAtLevel(p.x, p.y, 0).value();
+    EXPECT_GE(h0, info.min_height);
+    EXPECT_LE(h0, info.max_height);
+    // Longitude/latitude round trip through PROJ, and the CRS (here lon/lat itself).
+    const auto [lon, lat] = terrain.lonLatFromLocal(p.x, p.y);
+    const auto& gt = *info.geotransform;
+    EXPECT_NEAR(lon, gt[0] + 120.5 * gt[1], 1e-9);
+    EXPECT_NEAR(lat, gt[3] + 80.5 * gt[5], 1e-9);
+    const ridge::LocalPoint back = terrain.localFromLonLat(lon, lat);
+    EXPECT_NEAR(back.x, p.x, 1e-6);
+    EXPECT_NEAR(back.y, p.y, 1e-6);
+    const ridge::LocalPoint crs = terrain.localFromCrs(lon, lat);
+    EXPECT_NEAR(crs.x, p.x, 1e-6);
+    // Off the terrain: no height; bad numbers and levels: errors naming them.
+    EXPECT_FALSE(terrain.height(-1000.0, p.y).has_value());
+    EXPECT_FALSE(terrain.height(p.x, 1e7).has_value());
+    EXPECT_THROW(terrain.height(std::nan(""), 0.0), ridge::Error);
+    EXPECT_THROW(terrain.heightAtLevel(p.x, p.y, info.levels), ridge::Error);
+    EXPECT_THROW(terrain.heightAtLevel(p.x, p.y, -1), ridge::Error);
+    EXPECT_THROW(terrain.localFromLonLat(0.0, 95.0), ridge::Error);
+}
+
+TEST(PublicApi, KeptNodataHasNoHeight)
+{
+    // The UTM-warped fixture's collar is border-connected nodata: kept by default.
+    ScratchDir dir;
+    const std::string path = dir.path("utm.ridge");
+    ridge::BuildParameters p;
+    p.patch_size = 33;
+    const ridge::BuildSummary built = ridge::build(dataPath("everest_utm44.tif"), path, p);
+    EXPECT_GT(built.voids_kept, 5000);
+    EXPECT_EQ(built.voids_filled, 0);
+    const ridge::Terrain terrain(path);
+    const ridge::LocalPoint corner = terrain.localFromPixel(0.5, 0.5); // in the collar
+    EXPECT_FALSE(terrain.height(corner.x, corner.y).has_value());
+    const ridge::LocalPoint centre =
+        terrain.localFromPixel(0.5 * terrain.info().width, 0.5 * terrain.info().height);
+    EXPECT_TRUE(terrain.height(centre.x, centre.y).has_value());
+
+    p.fill_voids = "all"; // the collar invented: every point has a height
+    const std::string filled = dir.path("filled.ridge");
+    EXPECT_EQ(ridge::build(dataPath("everest_utm44.tif"), filled, p).voids_kept, 0);
+    EXPECT_TRUE(ridge::Terrain(filled).height(corner.x, corner.y).has_value());
+    p.fill_voids = "some";
+    EXPECT_THROW(ridge::build(dataPath("everest_utm44.tif"), dir.path("x.ridge"), p),
+                 ridge::Error);
 }
 
 } // namespace

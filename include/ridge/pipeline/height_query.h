@@ -31,6 +31,9 @@ namespace ridge {
 
 struct HeightSample {
     bool on_raster = false;
+    // On the raster, but in a cell the archive keeps as nodata (docs/FORMAT.md, "Validity
+    // mask"): no renderer draws it and it has no height (NaN), like a point off the raster.
+    bool nodata = false;
     double height = std::numeric_limits<double>::quiet_NaN(); // metres, NaN off the raster
     glm::dvec2 local{0.0};    // the point in the terrain frame, metres
     glm::dvec2 pixel{0.0};    // and as GDAL pixel/line (sample (c, r) at (c + 0.5, r + 0.5))
