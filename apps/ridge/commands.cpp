@@ -338,6 +338,8 @@ int Commands::runBuild()
                                   {"patch_count", r.patch_count},
                                   {"archive_bytes", r.archive_bytes},
                                   {"voids_filled", r.voids_filled},
+                                  {"voids_kept", r.voids_kept},
+                                  {"fill_voids", io::voidFillName(build_options_.ingest.fill_voids)},
                                   {"quantization_error", r.quantization_error},
                                   {"streamed", r.streamed},
                                   {"seconds_total", r.seconds_total},

@@ -284,6 +284,13 @@ TEST(Cli, FillVoidsKeepsTheWarpedCollarAndSaysHowManySamplesItKeptOrFilled)
     r = test::runRidge("build '" + src + "' -o '" + all + "' --patch 33 --fill-voids all");
     ASSERT_EQ(r.exit_code, 0) << r.output;
     EXPECT_NE(r.output.find("5679 voids filled, 0 kept as nodata"), std::string::npos) << r.output;
+    // --json says the same (stdout alone is the document).
+    r = test::runRidgeStdout("build '" + src + "' -o '" + dir.path("j.ridge") + "' --patch 33 --json");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const nlohmann::json j = nlohmann::json::parse(r.output);
+    EXPECT_EQ(j.at("voids_kept"), 5679);
+    EXPECT_EQ(j.at("voids_filled"), 0);
+    EXPECT_EQ(j.at("fill_voids"), "interior");
     r = test::runRidge("info '" + kept + "'");
     ASSERT_EQ(r.exit_code, 0) << r.output;
     EXPECT_NE(r.output.find("ridge format v2"), std::string::npos) << r.output;
