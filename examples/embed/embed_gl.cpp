@@ -18,8 +18,11 @@ bool makeHeadlessContext()
 {
     EGLDisplay display = EGL_NO_DISPLAY;
     bool pbuffer = false;
-    if (epoxy_has_egl_extension(EGL_NO_DISPLAY, "EGL_MESA_platform_surfaceless"))
-        display = eglGetPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+    // The EXT entry point: EGL 1.5's eglGetPlatformDisplay needs a display to ask for the
+    // version, which there is not yet.
+    if (epoxy_has_egl_extension(EGL_NO_DISPLAY, "EGL_EXT_platform_base") &&
+        epoxy_has_egl_extension(EGL_NO_DISPLAY, "EGL_MESA_platform_surfaceless"))
+        display = eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
     if (display == EGL_NO_DISPLAY || !eglInitialize(display, nullptr, nullptr)) {
         display = eglGetDisplay(EGL_DEFAULT_DISPLAY);
         pbuffer = true;
@@ -82,6 +85,7 @@ int main(int argc, char** argv)
     try {
         ridge::RendererParameters parameters;
         parameters.streaming = false; // every patch loaded before the frame that needs it
+        parameters.schemes = {"tess", "chunked", "geomorph"};
         ridge::Renderer renderer(argv[1], parameters);
         const ridge::CameraPose camera = renderer.defaultCamera(width, height);
         ridge::FrameSummary frame{};
@@ -92,15 +96,15 @@ int main(int argc, char** argv)
             std::printf("%s: %d patches, %llu triangles, ε %.2f px\n", scheme, frame.patches,
                         (unsigned long long)frame.triangles, frame.screen_error_px);
         }
-        // The default camera frames the whole terrain: most pixels must be terrain, whose
-        // reverse-Z depth is above the cleared 0.
+        // The default camera frames the whole terrain (about a fifth of this picture for the
+        // Everest crop): terrain pixels have a reverse-Z depth above the cleared 0.
         std::vector<float> z(size_t(width) * height);
         glReadPixels(0, 0, width, height, GL_DEPTH_COMPONENT, GL_FLOAT, z.data());
         size_t terrain = 0;
         for (float d : z)
             terrain += d > 0.f;
         std::printf("terrain covers %.1f %% of the picture\n", 100.0 * terrain / z.size());
-        if (frame.patches < 1 || terrain < z.size() / 4) {
+        if (frame.patches < 1 || terrain < z.size() / 10) {
             std::fprintf(stderr, "ridge_embed_gl: the terrain was not drawn\n");
             return 1;
         }

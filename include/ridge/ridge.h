@@ -176,7 +176,7 @@ struct DrawParameters {
 
 struct FrameSummary {
     int patches = 0;       // drawn
-    uint64_t triangles = 0;
+    uint64_t triangles = 0; // GPU query results arrive a frame or two late: 0 until then
     double screen_error_px = 0.0; // ε met (raised when the view needed more patches than fit)
     int missing = 0;       // streaming: selected patches drawn by a resident ancestor
 };
@@ -198,6 +198,9 @@ struct RendererParameters {
     double vram_budget_mb = 256.0; // texture arrays of resident patches
     double ram_budget_mb = 256.0;  // caches of compressed and decoded patches
     bool streaming = true;         // never wait for disk: draw resident ancestors meanwhile
+    // The LOD schemes draw() may be asked for. Empty: those that need no heights on the CPU
+    // ("tess", "chunked", "brute"); naming "geomorph" decodes patches on the CPU for all.
+    std::vector<std::string> schemes;
 };
 
 // Draws a terrain into the caller's OpenGL 4.5 core context, which must be current on the

@@ -69,6 +69,7 @@ Renderer::Renderer(const std::string& archive_path, const RendererParameters& pa
     options.vram_budget_mb = parameters.vram_budget_mb;
     options.ram_budget_mb = parameters.ram_budget_mb;
     options.streaming = parameters.streaming;
+    options.schemes = parameters.schemes;
     options.validate();
     impl_ = std::make_unique<Impl>(archive_path, options);
 }
