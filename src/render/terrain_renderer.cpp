@@ -74,8 +74,10 @@ int slotCount(const archive::ArchiveReader& reader, const RendererOptions& optio
 {
     const double n = reader.geometry().patchSize();
     const double blocks = double(reader.blockLayout().blocksPerSide());
-    const double bytes_per_slot = n * n * (2.0 + 4.0) + blocks * blocks * 16.0 + // R16UI, RGBA8,
-                                  scheme_slot_bytes;                              // RGBA32F
+    // Heights R16UI and normals RGBA8 (n²), block errors RGBA32F, the kept-nodata cell mask
+    // R8UI ((n−1)², allocated for every slot) and its flag, and what the scheme adds.
+    const double bytes_per_slot = n * n * (2.0 + 4.0) + blocks * blocks * 16.0 +
+                                  (n - 1) * (n - 1) + 1.0 + scheme_slot_bytes;
     GLint max_layers = 256;
     glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &max_layers);
     const double by_budget = std::floor(options.vram_budget_mb * 1024.0 * 1024.0 / bytes_per_slot);

@@ -73,7 +73,7 @@ TEST(Streaming, AFastFlyOverUnderATinyBudgetNeverShowsAHoleAndStaysWithinBudget)
             render::RendererOptions options;
             options.prefetch_frames = prefetch;
             options.streaming = true;
-            options.vram_budget_mb = 24 * 6790.0 / (1024 * 1024); // 24 slots of 33² patches
+            options.vram_budget_mb = 24 * 7815.0 / (1024 * 1024); // 24 slots of 33² patches
             options.ram_budget_mb = 0.25;
             options.uploads_per_frame = 3;
             render::TerrainRenderer renderer(*scene.reader, options);
@@ -120,7 +120,7 @@ TEST(Streaming, UlrichsChunksStreamWithoutHolesAndConvergeToAWatertightSurface)
         options.schemes = {"chunked"};
         options.synchronous_stats = true; // this frame's triangles
         // 24 slots of 33² patches: textures plus a 16-bit index buffer of the full grid.
-        options.vram_budget_mb = 24 * (6790.0 + (6 * 32 * 32 + 24 * 32) * 2) / (1024 * 1024);
+        options.vram_budget_mb = 24 * (7815.0 + (6 * 32 * 32 + 24 * 32) * 2) / (1024 * 1024);
         options.ram_budget_mb = 0.5;
         options.uploads_per_frame = 3;
         render::TerrainRenderer renderer(*scene.reader, options);

@@ -274,8 +274,9 @@ TEST_F(TerrainRendererTest, ASmallTextureBudgetRaisesEpsilonInsteadOfFailing)
 {
     const Scene s = scene("lossless");
     render::RendererOptions tight;
-    // Slots of 33² heights + normals + 4×4 block errors: 6790 bytes; 10 of them.
-    tight.vram_budget_mb = 10 * 6790.0 / (1024 * 1024);
+    // Slots of 33² heights + normals, 4×4 block errors and the 32² cell mask + flag: 7815
+    // bytes; 10 of them.
+    tight.vram_budget_mb = 10 * 7815.0 / (1024 * 1024);
     render::TerrainRenderer renderer(*s.reader, tight);
     EXPECT_EQ(renderer.residentSlots(), 10);
     const lod::Camera cam = renderer.defaultCamera({320, 180});
