@@ -1,5 +1,5 @@
-# `cmake --install`: the ridge CLI (when built), libridge, its two public headers and a CMake
-# package (find_package(ridge) → target ridge::ridge). Nothing else is installed: the stage
+# `cmake --install`: the ridge CLI (when built), libridge, its two public headers, a CMake
+# package (find_package(ridge) → target ridge::ridge) and a pkg-config file (ridge.pc). Nothing else is installed: the stage
 # libraries are linked into libridge, and their headers are internal.
 include(CMakePackageConfigHelpers)
 
@@ -22,6 +22,19 @@ write_basic_package_version_file(${PROJECT_BINARY_DIR}/ridgeConfigVersion.cmake
                                  VERSION ${PROJECT_VERSION} COMPATIBILITY SameMinorVersion)
 install(FILES ${PROJECT_BINARY_DIR}/ridgeConfig.cmake ${PROJECT_BINARY_DIR}/ridgeConfigVersion.cmake
         DESTINATION ${RIDGE_INSTALL_CMAKEDIR} COMPONENT development)
+
+# pkg-config, for builds that are not CMake: `pkg-config --cflags --libs ridge`. The prefix
+# is the one given at install time (cmake --install --prefix), not the configure-time one.
+file(READ ${PROJECT_SOURCE_DIR}/cmake/ridge.pc.in ridge_pc_template)
+string(CONFIGURE "${ridge_pc_template}" ridge_pc_template @ONLY)
+string(REPLACE "prefix=${CMAKE_INSTALL_PREFIX}" "prefix=@RIDGE_PC_PREFIX@" ridge_pc_template
+       "${ridge_pc_template}")
+file(WRITE ${PROJECT_BINARY_DIR}/ridge.pc.in "${ridge_pc_template}")
+install(CODE "set(RIDGE_PC_PREFIX \"\${CMAKE_INSTALL_PREFIX}\")
+  set(pc \"\$ENV{DESTDIR}\${CMAKE_INSTALL_PREFIX}/${CMAKE_INSTALL_LIBDIR}/pkgconfig/ridge.pc\")
+  message(STATUS \"Installing: \${pc}\")
+  configure_file(${PROJECT_BINARY_DIR}/ridge.pc.in \${pc} @ONLY)"
+  COMPONENT development)
 
 if(RIDGE_BUILD_CLI)
   install(TARGETS ridge_cli RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT tools)

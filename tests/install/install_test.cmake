@@ -26,7 +26,7 @@ file(MAKE_DIRECTORY ${WORK_DIR}/out)
 
 run(${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix})
 
-foreach(path bin/ridge include/ridge/ridge.h include/ridge/error.h
+foreach(path bin/ridge include/ridge/ridge.h include/ridge/error.h ${LIBDIR}/pkgconfig/ridge.pc
              ${LIBDIR}/cmake/ridge/ridgeConfig.cmake
              ${LIBDIR}/cmake/ridge/ridgeConfigVersion.cmake
              ${LIBDIR}/cmake/ridge/ridgeTargets.cmake)
@@ -90,6 +90,21 @@ endforeach()
 if(NOT EXISTS ${WORK_DIR}/out/terrain.png)
   message(FATAL_ERROR "ridge_embed wrote no PNG")
 endif()
+# pkg-config, as a non-CMake build would use it: compile and link embed.cpp by hand, then run
+# it without arguments (it prints its usage and exits 2, having loaded libridge).
+find_program(PKG_CONFIG pkg-config REQUIRED)
+set(ENV{PKG_CONFIG_PATH} ${prefix}/${LIBDIR}/pkgconfig)
+run(${PKG_CONFIG} --cflags --libs ridge)
+string(STRIP "${run_output}" pc_flags)
+separate_arguments(pc_flags UNIX_COMMAND "${pc_flags}")
+separate_arguments(example_flags UNIX_COMMAND "${EXAMPLE_FLAGS}")
+run(${CXX} -std=c++20 ${example_flags} ${SOURCE_DIR}/examples/embed/embed.cpp ${pc_flags}
+    -Wl,-rpath,${prefix}/${LIBDIR} -o ${WORK_DIR}/embed_pkgconfig)
+execute_process(COMMAND ${WORK_DIR}/embed_pkgconfig RESULT_VARIABLE rc ERROR_VARIABLE err)
+if(NOT rc EQUAL 2 OR NOT err MATCHES "usage:")
+  message(FATAL_ERROR "embed.cpp built with pkg-config: exit ${rc}, ${err}")
+endif()
+
 if(EXISTS ${WORK_DIR}/example/ridge_embed_gl)
   run(${WORK_DIR}/example/ridge_embed_gl ${WORK_DIR}/out/terrain.ridge)
 else()
