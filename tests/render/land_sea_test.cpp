@@ -5,6 +5,7 @@
 // height maps (and before the texture-detail criterion), the default view was one patch of
 // 184 triangles coloured by its vertices: the continents were gone.
 #include "test_support.h"
+#include "read_rgb.h"
 
 #include "ridge/archive/archive_reader.h"
 #include "ridge/lod/terrain_frame.h"
@@ -22,22 +23,7 @@ using namespace ridge;
 
 namespace {
 
-std::vector<uint8_t> readRgb(const std::string& path, int& width, int& height)
-{
-    GDALAllRegister();
-    std::unique_ptr<GDALDataset> ds(
-        GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
-    if (!ds || ds->GetRasterCount() < 3)
-        return {};
-    width = ds->GetRasterXSize();
-    height = ds->GetRasterYSize();
-    std::vector<uint8_t> rgb(size_t(width) * height * 3);
-    int bands[3] = {1, 2, 3};
-    if (ds->RasterIO(GF_Read, 0, 0, width, height, rgb.data(), width, height, GDT_Byte, 3, bands, 3,
-                     3 * width, 1, nullptr) != CE_None)
-        return {};
-    return rgb;
-}
+using test::readRgb;
 
 // Water in the shared palette is blue over green and red at any light; no land colour is
 // (greens, ochres, browns, greys and snow, even under fog's bluish haze).

@@ -2,6 +2,7 @@
 // (tests/data/render_reference_everest.png). Regenerate it deliberately, after looking at the
 // new picture, with RIDGE_UPDATE_REFERENCE=1.
 #include "fixture_archives.h"
+#include "read_rgb.h"
 
 #include "ridge/gpu/context.h"
 #include "ridge/gpu/render_target.h"
@@ -18,22 +19,7 @@ using namespace ridge;
 
 namespace {
 
-std::vector<uint8_t> readRgb(const std::string& path, int& width, int& height)
-{
-    GDALAllRegister();
-    std::unique_ptr<GDALDataset> ds(
-        GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
-    if (!ds || ds->GetRasterCount() < 3)
-        return {};
-    width = ds->GetRasterXSize();
-    height = ds->GetRasterYSize();
-    std::vector<uint8_t> rgb(size_t(width) * height * 3);
-    int bands[3] = {1, 2, 3};
-    if (ds->RasterIO(GF_Read, 0, 0, width, height, rgb.data(), width, height, GDT_Byte, 3, bands, 3,
-                     3 * width, 1, nullptr) != CE_None)
-        return {};
-    return rgb;
-}
+using test::readRgb;
 
 } // namespace
 
