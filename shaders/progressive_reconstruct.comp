@@ -10,7 +10,9 @@
 //   1 A (odd x,  even y): q = P(row of R) − r
 //   2 B (even x, odd y):  q = P(column of R) − r
 //   3 C (odd x,  odd y):  q = P(A, B) − r
-//   4 store:              code = clamp(step · q, 0, 65535)
+//   4 store:              code = clamp(step · q, 0, 65535), beyond the coded region the
+//                         nearest sample inside it (payload v2 codes only the region that
+//                         covers the valid extent; v1's region is the whole patch)
 layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(binding = 0) uniform usampler2DArray u_heights; // the parent's codes
@@ -32,15 +34,17 @@ uniform int u_child_layer;
 uniform int u_step;        // the child level's quantizer: s_k = 2·e_k + 1
 uniform int u_bound;       // e_k
 uniform int u_cubic;       // OddPredictor::Cubic (else Bilinear)
+uniform ivec2 u_region;    // the coded region [0, w) × [0, h) (CodedRegion), odd sides
 
 int at(int x, int y) { return q[y * u_n + x]; }
 
 // 16 × the value halfway between samples pos − 1 and pos + 1 of a line (see midpoint16 in
 // progressive_reconstruction.cpp): cubic inside, quadratic at the ends, linear when short.
-int midpoint16(ivec2 origin, ivec2 dir, int pos) {
+// The line ends where the coded region does (len).
+int midpoint16(ivec2 origin, ivec2 dir, int pos, int len) {
     int a = at(origin.x + dir.x * (pos - 1), origin.y + dir.y * (pos - 1));
     int b = at(origin.x + dir.x * (pos + 1), origin.y + dir.y * (pos + 1));
-    bool has_before = pos - 3 >= 0, has_after = pos + 3 < u_n;
+    bool has_before = pos - 3 >= 0, has_after = pos + 3 < len;
     if (has_before && has_after)
         return 9 * (a + b) - at(origin.x + dir.x * (pos - 3), origin.y + dir.y * (pos - 3)) -
                at(origin.x + dir.x * (pos + 3), origin.y + dir.y * (pos + 3));
@@ -56,17 +60,18 @@ int predictOdd(int x, int y) {
     if (cls == 1) { // A
         if (u_cubic == 0)
             return (at(x - 1, y) + at(x + 1, y) + 1) >> 1;
-        return (midpoint16(ivec2(0, y), ivec2(1, 0), x) + 8) >> 4;
+        return (midpoint16(ivec2(0, y), ivec2(1, 0), x, u_region.x) + 8) >> 4;
     }
     if (cls == 2) { // B
         if (u_cubic == 0)
             return (at(x, y - 1) + at(x, y + 1) + 1) >> 1;
-        return (midpoint16(ivec2(x, 0), ivec2(0, 1), y) + 8) >> 4;
+        return (midpoint16(ivec2(x, 0), ivec2(0, 1), y, u_region.y) + 8) >> 4;
     }
     // C
     if (u_cubic == 0)
         return (at(x - 1, y - 1) + at(x + 1, y - 1) + at(x - 1, y + 1) + at(x + 1, y + 1) + 2) >> 2;
-    return (midpoint16(ivec2(0, y), ivec2(1, 0), x) + midpoint16(ivec2(x, 0), ivec2(0, 1), y) + 16) >> 5;
+    return (midpoint16(ivec2(0, y), ivec2(1, 0), x, u_region.x) +
+            midpoint16(ivec2(x, 0), ivec2(0, 1), y, u_region.y) + 16) >> 5;
 }
 
 void main() {
@@ -76,13 +81,14 @@ void main() {
         if (id.x >= u_n || id.y >= u_n)
             return;
         // clamp(q) first: step · q then fits in 32 bits and clamps like the CPU's 64-bit product.
-        int bins = clamp(q[id.y * u_n + id.x], -1, 65535 / u_step + 1);
+        ivec2 from = min(id, u_region - 1);
+        int bins = clamp(q[from.y * u_n + from.x], -1, 65535 / u_step + 1);
         imageStore(u_child_heights, ivec3(id, u_child_layer), uvec4(uint(clamp(u_step * bins, 0, 65535))));
         return;
     }
     ivec2 offset = ivec2(u_pass & 1, u_pass >> 1);
     ivec2 xy = 2 * id + offset;
-    if (xy.x >= u_n || xy.y >= u_n)
+    if (xy.x >= u_region.x || xy.y >= u_region.y)
         return;
     int i = xy.y * u_n + xy.x;
     if (u_pass == 0) {

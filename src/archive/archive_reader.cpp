@@ -6,6 +6,7 @@
 #include "ridge/codec/progressive_codec.h"
 #include "ridge/core/crc32.h"
 #include "ridge/core/error.h"
+#include "ridge/pyramid/patch_context.h"
 
 #include <cerrno>
 #include <cstring>
@@ -65,10 +66,35 @@ void ArchiveReader::loadHeader()
     settings.level_count = static_cast<int>(header_.level_count);
     settings.param[0] = header_.codec_param[0];
     settings.param[1] = header_.codec_param[1];
+    settings.tables = loadCodecTables();
     std::string problem;
     codec_ = makeCodec(static_cast<CodecId>(header_.codec_id), settings, &problem);
     if (!codec_)
         fail("header field " + problem);
+}
+
+std::vector<uint8_t> ArchiveReader::loadCodecTables()
+{
+    // Version 3: between the blobs and the metadata, its own checksummed region.
+    if (header_.version < kFirstVersionWithCodecTables)
+        return {};
+    const Header& h = header_;
+    if (h.codec_tables_offset < kHeaderSize || h.codec_tables_offset > file_size_ ||
+        h.codec_tables_size > file_size_ - h.codec_tables_offset)
+        fail("header fields codec_tables_offset " + std::to_string(h.codec_tables_offset) +
+             " and codec_tables_size " + std::to_string(h.codec_tables_size) +
+             " lie outside the file (truncated?)");
+    if (h.codec_tables_offset + h.codec_tables_size != h.metadata_offset)
+        fail("header fields codec_tables_offset + codec_tables_size (" +
+             std::to_string(h.codec_tables_offset + h.codec_tables_size) +
+             ") must equal metadata_offset (" + std::to_string(h.metadata_offset) +
+             "): the metadata follows the codec tables");
+    std::vector<uint8_t> tables(h.codec_tables_size);
+    readAt(h.codec_tables_offset, tables.data(), tables.size(), "codec tables");
+    if (crc32(tables.data(), tables.size()) != h.codec_tables_crc32)
+        fail("codec tables checksum mismatch (stored " + hex32(h.codec_tables_crc32) +
+             ", computed " + hex32(crc32(tables.data(), tables.size())) + ")");
+    return tables;
 }
 
 void ArchiveReader::checkGeometryFields()
@@ -286,7 +312,7 @@ void ArchiveReader::decodeBlob(PatchId p, const std::vector<uint8_t>& blob, uint
     const size_t payload = payloadOffset(p, blob, validity);
     if (block_errors && r.block_errors_size > 0)
         *block_errors = unpackBlockErrorsOf(p, blob);
-    PatchContext ctx{geometry_.patchSize(), p.level, parent, p.childIndex()};
+    const PatchContext ctx = patchContext(geometry_, p, parent);
     const int status = codec_->decode(codes, blob.data() + payload, blob.size() - payload, ctx);
     if (status != kCodecOk)
         throw Error(describe(p) + ": cannot decode: " + codecStatusMessage(status));
@@ -299,7 +325,7 @@ bool ArchiveReader::decodesResiduals(int level) const
     return level > 0 && codec_->capabilities().gpu_reconstruction != nullptr;
 }
 
-void ArchiveReader::decodeResiduals(PatchId p, const std::vector<uint8_t>& blob, int32_t* residuals,
+CodedRegion ArchiveReader::decodeResiduals(PatchId p, const std::vector<uint8_t>& blob, int32_t* residuals,
                                     std::vector<float>* block_errors) const
 {
     const ProgressiveCodec* progressive = codec_->capabilities().gpu_reconstruction;
@@ -312,11 +338,12 @@ void ArchiveReader::decodeResiduals(PatchId p, const std::vector<uint8_t>& blob,
         if (r.block_errors_size > 0)
             *block_errors = unpackBlockErrorsOf(p, blob);
     }
-    PatchContext ctx{geometry_.patchSize(), p.level, nullptr, p.childIndex()};
+    const PatchContext ctx = patchContext(geometry_, p, nullptr);
     const int status = progressive->decodeResiduals(blob.data() + payload, blob.size() - payload,
                                                     ctx, residuals);
     if (status != kCodecOk)
         throw Error(describe(p) + ": cannot decode: " + codecStatusMessage(status));
+    return progressive->codedRegion(ctx);
 }
 
 std::vector<float> ArchiveReader::deriveBlockErrors(const uint16_t* codes) const

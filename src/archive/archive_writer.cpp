@@ -93,6 +93,10 @@ void ArchiveWriter::finish(const std::string& metadata_json)
     if (written_count_ != geometry_.patchCount())
         throw Error(output_.finalPath() + ": internal error: " + std::to_string(written_count_) +
                     " of " + std::to_string(geometry_.patchCount()) + " patches written");
+    header_.codec_tables_offset = position_;
+    header_.codec_tables_size = static_cast<uint32_t>(codec_tables_.size());
+    header_.codec_tables_crc32 = crc32(codec_tables_.data(), codec_tables_.size());
+    write(codec_tables_.data(), codec_tables_.size());
     header_.metadata_offset = position_;
     header_.metadata_size = static_cast<uint32_t>(metadata_json.size());
     header_.metadata_crc32 = crc32(metadata_json.data(), metadata_json.size());

@@ -44,7 +44,8 @@ enum HeaderOffset : size_t {
     kOffCodec = 40, kOffFilter = 44, kOffScale = 48, kOffOffset = 56, kOffSpacingX = 64,
     kOffSpacingY = 72, kOffQuantError = 80, kOffReserved0 = 88, kOffCodecParam = 96,
     kOffMetaOffset = 112, kOffMetaSize = 120, kOffMetaCrc = 124, kOffIndexOffset = 128,
-    kOffIndexCrc = 136, kOffReserved = 140, kOffHeaderCrc = 156,
+    kOffIndexCrc = 136, kOffReserved = 140, kOffTablesOffset = 140, kOffTablesSize = 148,
+    kOffTablesCrc = 152, kOffHeaderCrc = 156,
 };
 
 // "" when the reserved bytes [begin, end) are zero, else which byte is not.
@@ -131,6 +132,9 @@ void serializeHeader(const Header& h, uint8_t out[kHeaderSize])
     put<uint32_t>(out + kOffMetaCrc, h.metadata_crc32);
     put<uint64_t>(out + kOffIndexOffset, h.index_offset);
     put<uint32_t>(out + kOffIndexCrc, h.index_crc32);
+    put<uint64_t>(out + kOffTablesOffset, h.codec_tables_offset);
+    put<uint32_t>(out + kOffTablesSize, h.codec_tables_size);
+    put<uint32_t>(out + kOffTablesCrc, h.codec_tables_crc32);
     put<uint32_t>(out + kOffHeaderCrc, crc32(out, kOffHeaderCrc));
 }
 
@@ -149,8 +153,9 @@ std::string parseHeader(const uint8_t in[kHeaderSize], Header& h)
                ": must be " + std::to_string(kHeaderSize);
     if (std::string p = checkReserved(in, kOffReserved0, kOffCodecParam); !p.empty())
         return p;
-    if (std::string p = checkReserved(in, kOffReserved, kOffHeaderCrc); !p.empty())
-        return p;
+    if (h.version < kFirstVersionWithCodecTables)
+        if (std::string p = checkReserved(in, kOffReserved, kOffHeaderCrc); !p.empty())
+            return p;
     h.width = get<uint32_t>(in + kOffWidth);
     h.height = get<uint32_t>(in + kOffHeight);
     h.patch_size = get<uint32_t>(in + kOffPatchSize);
@@ -171,6 +176,9 @@ std::string parseHeader(const uint8_t in[kHeaderSize], Header& h)
     h.metadata_crc32 = get<uint32_t>(in + kOffMetaCrc);
     h.index_offset = get<uint64_t>(in + kOffIndexOffset);
     h.index_crc32 = get<uint32_t>(in + kOffIndexCrc);
+    h.codec_tables_offset = get<uint64_t>(in + kOffTablesOffset);
+    h.codec_tables_size = get<uint32_t>(in + kOffTablesSize);
+    h.codec_tables_crc32 = get<uint32_t>(in + kOffTablesCrc);
     return checkHeaderValues(h);
 }
 

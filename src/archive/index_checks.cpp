@@ -49,7 +49,7 @@ std::string range(double lo, double hi)
 // Where the blob is and how it splits into block errors and payload.
 std::string checkBlobExtent(const IndexContext& ctx, const std::string& name, const PatchRecord& r)
 {
-    const uint64_t begin = kHeaderSize, end = ctx.header.metadata_offset;
+    const uint64_t begin = kHeaderSize, end = ctx.header.patchAreaEnd();
     if (r.offset < begin || r.offset > end || r.size > end - r.offset)
         return name + ": blob at offset " + std::to_string(r.offset) + ", size " +
                std::to_string(r.size) + " lies outside the patch area [" + std::to_string(begin) +
@@ -190,9 +190,9 @@ std::string checkBlobTiling(const IndexContext& ctx, const std::vector<PatchReco
         covered = r.offset + r.size;
         previous = k;
     }
-    if (covered != ctx.header.metadata_offset)
+    if (covered != ctx.header.patchAreaEnd())
         return "index: bytes [" + std::to_string(covered) + ", " +
-               std::to_string(ctx.header.metadata_offset) +
+               std::to_string(ctx.header.patchAreaEnd()) +
                ") after the last blob belong to no patch (blobs tile the patch area)";
     return {};
 }

@@ -28,9 +28,38 @@ void HeightCodec::reconstruct(const uint16_t* codes, const PatchContext& ctx, ui
     std::memcpy(out, codes, sizeof(uint16_t) * static_cast<size_t>(ctx.patch_size) * ctx.patch_size);
 }
 
+namespace {
+
+constexpr const char* kCodecList = "lossless, raw, progressive, progressive-v1, progressive-paper";
+
+// A progressive variant by name: "progressive" (v2), "progressive-v1", "progressive-paper",
+// and v2 with options for measurement, "progressive,nested=K". Null for anything else.
+std::optional<ProgressiveVariant> progressiveVariantOf(const std::string& name)
+{
+    if (name == "progressive")
+        return ProgressiveVariant{};
+    if (name == "progressive-v1")
+        return ProgressiveVariant::v1();
+    if (name == "progressive-paper")
+        return ProgressiveVariant::paper();
+    const std::string prefix = "progressive,nested=";
+    if (name.rfind(prefix, 0) != 0)
+        return std::nullopt;
+    const std::string k = name.substr(prefix.size());
+    if (k.empty() || k.size() > 2 || k.find_first_not_of("0123456789") != std::string::npos)
+        return std::nullopt;
+    ProgressiveVariant v;
+    v.nested_levels = std::stoi(k);
+    if (v.nested_levels < 1 || v.nested_levels > 32)
+        return std::nullopt;
+    return v;
+}
+
+} // namespace
+
 bool isLossyCodec(const std::string& name)
 {
-    return name == "progressive" || name == "progressive-paper";
+    return progressiveVariantOf(name).has_value();
 }
 
 std::optional<CodecId> codecIdOf(const std::string& name)
@@ -39,7 +68,7 @@ std::optional<CodecId> codecIdOf(const std::string& name)
         return CodecId::Raw16;
     if (name == "lossless")
         return CodecId::Lossless;
-    if (name == "progressive" || name == "progressive-paper")
+    if (progressiveVariantOf(name))
         return CodecId::Progressive;
     return std::nullopt;
 }
@@ -50,11 +79,10 @@ std::unique_ptr<HeightCodec> makeCodec(const std::string& name, double max_error
         return std::make_unique<LosslessCodec>();
     if (name == "raw")
         return std::make_unique<Raw16Codec>();
-    if (name == "progressive")
-        return std::make_unique<ProgressiveCodec>(max_error, level_count);
-    if (name == "progressive-paper")
-        return std::make_unique<ProgressiveCodec>(max_error, level_count, ProgressiveVariant::paper());
-    throw Error("unknown codec '" + name + "' (available: lossless, raw, progressive, progressive-paper)");
+    if (const std::optional<ProgressiveVariant> v = progressiveVariantOf(name))
+        return std::make_unique<ProgressiveCodec>(max_error, level_count, *v);
+    throw Error("unknown codec '" + name + "' (available: " + kCodecList +
+                "; progressive,nested=K for v2 with K levels at the finest bound)");
 }
 
 namespace {
@@ -78,9 +106,9 @@ std::string checkNoParameters(const char* codec, const CodecSettings& s)
     return {};
 }
 
-// The progressive codec: param[0] = δ_l0 in codes (real), param[1] = variant bits (bit 1
-// cubic prediction, bit 2 activity contexts, nothing else), at most 32 levels
-// (LevelQuantizer shifts by up to 30).
+// The progressive codec: param[0] = δ_l0 in codes (real), param[1] = variant bits
+// (ProgressiveVariant::fromBits: v1 0, 2, 4, 6; v2 8 | those | nested_levels << 4), at most 32
+// levels (LevelQuantizer shifts by up to 30).
 std::string checkProgressiveParameters(const CodecSettings& s)
 {
     constexpr ValueRange kMaxErrorCodes = ValueRange::closed(0, 32767);
@@ -89,10 +117,12 @@ std::string checkProgressiveParameters(const CodecSettings& s)
                ": the progressive codec's finest-level bound δ_l0 (codes) must be " +
                kMaxErrorCodes.describe();
     const double bits = s.param[1];
-    if (!(bits == 0 || bits == 2 || bits == 4 || bits == 6))
+    if (!(bits >= 0 && bits < 1024 && bits == std::floor(bits) &&
+          ProgressiveVariant::fromBits(static_cast<int>(bits))))
         return "codec_param[1] is " + formatNumber(bits) +
-               ": the progressive codec's variant must be 0, 2, 4 or 6 (bit 1 cubic prediction, "
-               "bit 2 activity contexts)";
+               ": the progressive codec's variant must be 0, 2, 4 or 6 (v1: bit 1 cubic "
+               "prediction, bit 2 activity contexts) or v2's 8 + those + 16 × nested levels "
+               "(1..32)";
     if (s.level_count < 1 || s.level_count > 32)
         return "level_count is " + std::to_string(s.level_count) +
                ": the progressive codec codes 1 to 32 levels";
@@ -116,9 +146,22 @@ std::unique_ptr<HeightCodec> makeCodec(CodecId id, const CodecSettings& settings
     case CodecId::Progressive: {
         if (std::string p = checkProgressiveParameters(settings); !p.empty())
             return rejected(problem, std::move(p));
-        return std::make_unique<ProgressiveCodec>(
+        auto codec = std::make_unique<ProgressiveCodec>(
             settings.param[0], settings.level_count,
-            ProgressiveVariant::fromBits(static_cast<int>(settings.param[1])));
+            *ProgressiveVariant::fromBits(static_cast<int>(settings.param[1])));
+        if (codec->variant().format == 1) {
+            if (!settings.tables.empty())
+                return rejected(problem, "codec tables are present: the progressive codec's "
+                                         "payload v1 has none");
+            return codec;
+        }
+        std::string table_problem;
+        auto tables = ProgressiveTables::parse(settings.tables.data(), settings.tables.size(),
+                                               settings.level_count, &table_problem);
+        if (!tables)
+            return rejected(problem, "codec tables: " + table_problem);
+        codec->setTables(std::move(tables));
+        return codec;
     }
     }
     return rejected(problem, "codec_id is " + std::to_string(static_cast<uint32_t>(id)) +

@@ -1,9 +1,13 @@
 #include "ridge/codec/progressive_codec.h"
 
 #include "progressive_entropy.h"
+#include "progressive_entropy_v2.h"
 #include "ridge/core/error.h"
 
+#include <algorithm>
 #include <cstring>
+#include <functional>
+#include <mutex>
 #include <vector>
 
 namespace ridge {
@@ -11,8 +15,9 @@ namespace ridge {
 namespace {
 
 constexpr uint8_t kMagic = 'P';
-constexpr uint8_t kVersion = 1;
-constexpr size_t kHeaderSize = 2;
+constexpr size_t kHeaderSize = 2;      // magic, payload version
+constexpr size_t kV2HeaderSize = 3;    // + flags
+constexpr uint8_t kV2RefinementsCoded = 1;
 
 // Per-thread scratch: patches are coded concurrently by the build and the streamer.
 struct Scratch {
@@ -52,18 +57,34 @@ bool validPatchSize(int n)
 
 int ProgressiveVariant::bits() const
 {
-    return (predictor == OddPredictor::Cubic ? 2 : 0) | (contexts ? 4 : 0);
+    const int common = (predictor == OddPredictor::Cubic ? 2 : 0) | (contexts ? 4 : 0);
+    return format == 1 ? common : common | 8 | (nested_levels << 4);
 }
 
-ProgressiveVariant ProgressiveVariant::fromBits(int bits)
+std::optional<ProgressiveVariant> ProgressiveVariant::fromBits(int bits)
 {
-    return {(bits & 2) ? OddPredictor::Cubic : OddPredictor::Bilinear, (bits & 4) != 0};
+    if (bits < 0 || (bits & 1) || bits >= (1 << 10))
+        return std::nullopt;
+    ProgressiveVariant v{(bits & 2) ? OddPredictor::Cubic : OddPredictor::Bilinear,
+                         (bits & 4) != 0, (bits & 8) ? 2 : 1, bits >> 4};
+    if (v.format == 1) {
+        if (v.nested_levels != 0)
+            return std::nullopt;
+        v.nested_levels = 1;
+    } else if (v.nested_levels < 1 || v.nested_levels > 32) {
+        return std::nullopt;
+    }
+    return v;
 }
 
 std::string ProgressiveVariant::describe() const
 {
-    return std::string(predictor == OddPredictor::Cubic ? "cubic" : "bilinear") + " prediction, " +
-           (contexts ? "activity contexts" : "no contexts");
+    std::string text = std::string(predictor == OddPredictor::Cubic ? "cubic" : "bilinear") +
+                       " prediction, " + (contexts ? "activity contexts" : "no contexts");
+    if (format == 1)
+        return text + ", payload v1 (adaptive range coding, bounds doubling per level)";
+    return text + ", payload v2 (static tables, rANS, " + std::to_string(nested_levels) +
+           " nested levels at the finest bound)";
 }
 
 ProgressiveCodec::ProgressiveCodec(double max_error, int level_count, ProgressiveVariant variant)
@@ -74,11 +95,36 @@ ProgressiveCodec::ProgressiveCodec(double max_error, int level_count, Progressiv
                     " codes is outside 0..32767");
     if (level_count < 1 || level_count > 32)
         throw Error("progressive codec: bad level count " + std::to_string(level_count));
+    if (!ProgressiveVariant::fromBits(variant.bits()))
+        throw Error("progressive codec: invalid variant (nested_levels " +
+                    std::to_string(variant.nested_levels) + ")");
+    tables_ = ProgressiveTables::defaults(level_count);
+}
+
+void ProgressiveCodec::setTables(std::shared_ptr<const ProgressiveTables> tables)
+{
+    if (!tables || tables->levelCount() != finest_level_ + 1)
+        throw Error("progressive codec: tables for another level count");
+    tables_ = std::move(tables);
+}
+
+std::vector<uint8_t> ProgressiveCodec::storeTables() const
+{
+    return variant_.format == 2 ? tables_->serialize() : std::vector<uint8_t>{};
 }
 
 LevelQuantizer ProgressiveCodec::quantizer(int level) const
 {
-    return LevelQuantizer::make(max_error_, finest_level_ - level);
+    // v2: the nested_levels finest levels share the finest bound, coarser ones double from it.
+    const int k = finest_level_ - level;
+    return LevelQuantizer::make(max_error_, std::max(0, k - (variant_.nested_levels - 1)));
+}
+
+CodedRegion ProgressiveCodec::codedRegion(const PatchContext& ctx) const
+{
+    if (variant_.format == 1)
+        return CodedRegion::whole(ctx.patch_size);
+    return CodedRegion::covering(ctx.patch_size, ctx.samples_x, ctx.samples_y);
 }
 
 double ProgressiveCodec::levelErrorBound(int level) const
@@ -103,36 +149,75 @@ void ProgressiveCodec::reconstruct(const uint16_t* codes, const PatchContext& ct
                                    uint16_t* out) const
 {
     const LevelQuantizer quant = quantizer(ctx.level);
-    const size_t samples = static_cast<size_t>(ctx.patch_size) * ctx.patch_size;
-    for (size_t i = 0; i < samples; ++i)
-        out[i] = quant.reconstruct(quant.quantize(codes[i]));
+    const int n = ctx.patch_size;
+    const CodedRegion region = codedRegion(ctx);
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) {
+            // Padding beyond the coded region repeats its last column and row (replicateBeyond).
+            const size_t from = static_cast<size_t>(std::min(y, region.height - 1)) * n +
+                                std::min(x, region.width - 1);
+            out[static_cast<size_t>(y) * n + x] = quant.reconstruct(quant.quantize(codes[from]));
+        }
 }
 
-size_t ProgressiveCodec::encode(uint8_t* dst, size_t dst_capacity, const uint16_t* codes,
-                                const PatchContext& ctx) const
+bool ProgressiveCodec::residualsOf(const uint16_t* codes, const PatchContext& ctx,
+                                   int32_t* residuals) const
 {
     const int n = ctx.patch_size;
-    if (!validPatchSize(n) || ctx.level < 0 || ctx.level > finest_level_ ||
-        (ctx.level > 0 && !ctx.parent))
-        return 0;
+    if (!validContext(ctx) || (ctx.level > 0 && !ctx.parent))
+        return false;
     Scratch& s = scratch(n);
     const size_t samples = static_cast<size_t>(n) * n;
     const LevelQuantizer quant = quantizer(ctx.level);
     for (size_t i = 0; i < samples; ++i)
         s.q[i] = quant.quantize(codes[i]);
-
-    const ResidualCoding coding{ctx.level == 0, variant_.contexts};
-    if (coding.root) {
-        rootResiduals(s.q.data(), n, s.residuals.data());
+    const CodedRegion region = codedRegion(ctx);
+    if (ctx.level == 0) {
+        rootResiduals(s.q.data(), n, region, residuals);
     } else {
         requantizeParent(quant, ctx.parent, samples, s.parent_q.data());
-        childResiduals(s.q.data(), s.parent_q.data(), ctx.child_index, n, variant_.predictor,
-                       s.residuals.data());
+        childResiduals(s.q.data(), s.parent_q.data(), ctx.child_index, n, region,
+                       variant_.predictor, residuals);
     }
+    return true;
+}
+
+namespace {
+
+// v2: are any of a child's refinements non-zero? (Inside the nested zone they never are.)
+bool hasRefinements(const int32_t* residuals, int n, const CodedRegion& region)
+{
+    for (int y = 0; y < region.height; y += 2)
+        for (int x = 0; x < region.width; x += 2)
+            if (residuals[static_cast<size_t>(y) * n + x] != 0)
+                return true;
+    return false;
+}
+
+} // namespace
+
+size_t ProgressiveCodec::encode(uint8_t* dst, size_t dst_capacity, const uint16_t* codes,
+                                const PatchContext& ctx) const
+{
+    const int n = ctx.patch_size;
+    if (!validPatchSize(n))
+        return 0;
+    Scratch& s = scratch(n);
+    if (!residualsOf(codes, ctx, s.residuals.data()))
+        return 0;
     s.bytes.clear();
     s.bytes.push_back(kMagic);
-    s.bytes.push_back(kVersion);
-    encodeResiduals(s.residuals.data(), n, coding, s.bytes);
+    s.bytes.push_back(static_cast<uint8_t>(variant_.format));
+    if (variant_.format == 1) {
+        const ResidualCoding coding{ctx.level == 0, variant_.contexts};
+        encodeResiduals(s.residuals.data(), n, coding, s.bytes);
+    } else {
+        ResidualCodingV2 coding{ctx.level, ctx.level == 0, codedRegion(ctx), true};
+        coding.refinements = !coding.root && hasRefinements(s.residuals.data(), n, coding.region);
+        s.bytes.push_back(coding.refinements ? kV2RefinementsCoded : 0);
+        if (!encodeResidualsV2(s.residuals.data(), n, coding, *tables_, s.bytes))
+            return 0;
+    }
     if (s.bytes.size() > dst_capacity)
         return 0;
     std::memcpy(dst, s.bytes.data(), s.bytes.size());
@@ -150,11 +235,22 @@ int ProgressiveCodec::entropyDecode(const uint8_t* src, size_t src_size, const P
 {
     if (src_size < kHeaderSize)
         return kCodecTruncated;
-    if (src[0] != kMagic || src[1] != kVersion)
+    if (src[0] != kMagic || src[1] != variant_.format)
         return kCodecBadHeader;
-    const ResidualCoding coding{ctx.level == 0, variant_.contexts};
-    return ::ridge::decodeResiduals(src + kHeaderSize, src_size - kHeaderSize, ctx.patch_size,
-                                    coding, residuals);
+    if (variant_.format == 1) {
+        const ResidualCoding coding{ctx.level == 0, variant_.contexts};
+        return ::ridge::decodeResiduals(src + kHeaderSize, src_size - kHeaderSize, ctx.patch_size,
+                                        coding, residuals);
+    }
+    if (src_size < kV2HeaderSize)
+        return kCodecTruncated;
+    const uint8_t flags = src[2];
+    if ((flags & ~kV2RefinementsCoded) || (ctx.level == 0 && flags != 0))
+        return kCodecBadHeader;
+    const ResidualCodingV2 coding{ctx.level, ctx.level == 0, codedRegion(ctx),
+                                  (flags & kV2RefinementsCoded) != 0};
+    return decodeResidualsV2(src + kV2HeaderSize, src_size - kV2HeaderSize, ctx.patch_size, coding,
+                             *tables_, residuals);
 }
 
 int ProgressiveCodec::decodeResiduals(const uint8_t* src, size_t src_size, const PatchContext& ctx,
@@ -183,16 +279,70 @@ int ProgressiveCodec::decode(uint16_t* dst, const uint8_t* src, size_t src_size,
     // 2. Reconstruction (GPU-able): refine + predict + add, then bins to heights.
     const size_t samples = static_cast<size_t>(n) * n;
     const LevelQuantizer quant = quantizer(ctx.level);
+    const CodedRegion region = codedRegion(ctx);
     if (ctx.level == 0) {
-        reconstructRoot(s.residuals.data(), n, s.q.data());
+        reconstructRoot(s.residuals.data(), n, region, s.q.data());
     } else {
         requantizeParent(quant, ctx.parent, samples, s.parent_q.data());
-        reconstructChild(s.residuals.data(), s.parent_q.data(), ctx.child_index, n,
+        reconstructChild(s.residuals.data(), s.parent_q.data(), ctx.child_index, n, region,
                          variant_.predictor, s.q.data());
     }
+    replicateBeyond(s.q.data(), n, region);
     for (size_t i = 0; i < samples; ++i)
         dst[i] = quant.reconstruct(s.q[i]);
     return kCodecOk;
+}
+
+namespace {
+
+// Counts the symbols of every observed patch; fits the tables when done.
+class ProgressiveTrainer final : public CodecTrainer {
+public:
+    explicit ProgressiveTrainer(const ProgressiveCodec& codec, int level_count,
+                                std::function<bool(const uint16_t*, const PatchContext&, int32_t*)> residuals)
+        : codec_(codec), counts_(level_count), residuals_(std::move(residuals))
+    {
+    }
+
+    void observe(const uint16_t* codes, const PatchContext& ctx) override
+    {
+        thread_local std::vector<int32_t> residuals;
+        residuals.resize(static_cast<size_t>(ctx.patch_size) * ctx.patch_size);
+        if (!residuals_(codes, ctx, residuals.data()))
+            throw Error("progressive codec: cannot train on a patch it cannot encode");
+        ResidualCodingV2 coding{ctx.level, ctx.level == 0, codec_.codedRegion(ctx), true};
+        coding.refinements = !coding.root &&
+                             hasRefinements(residuals.data(), ctx.patch_size, coding.region);
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (!countResidualsV2(residuals.data(), ctx.patch_size, coding, counts_))
+            throw Error("progressive codec: a residual is beyond the codable range");
+    }
+
+    std::unique_ptr<HeightCodec> finish() override
+    {
+        auto trained = std::make_unique<ProgressiveCodec>(codec_);
+        trained->setTables(ProgressiveTables::fit(counts_));
+        return trained;
+    }
+
+private:
+    const ProgressiveCodec& codec_;
+    std::mutex mutex_;
+    SymbolCounts counts_;
+    std::function<bool(const uint16_t*, const PatchContext&, int32_t*)> residuals_;
+};
+
+} // namespace
+
+std::unique_ptr<CodecTrainer> ProgressiveCodec::trainer() const
+{
+    if (variant_.format == 1)
+        return nullptr;
+    return std::make_unique<ProgressiveTrainer>(
+        *this, finest_level_ + 1,
+        [this](const uint16_t* codes, const PatchContext& ctx, int32_t* residuals) {
+            return residualsOf(codes, ctx, residuals);
+        });
 }
 
 } // namespace ridge

@@ -38,24 +38,26 @@ inline int32_t parentBin(const int32_t* parent_q, int child_index, int n, int x,
 
 } // namespace
 
-int32_t predictOdd(const int32_t* q, int n, int x, int y, OddPredictor predictor)
+int32_t predictOdd(const int32_t* q, int n, const CodedRegion& region, int x, int y,
+                   OddPredictor predictor)
 {
+    const int w = region.width, h = region.height;
     const int32_t* at = q + static_cast<size_t>(y) * n + x;
     const ptrdiff_t row = n;
     switch (sampleClass(x, y)) {
     case SampleClass::A: // odd x on an even row: between R samples of the row
         if (predictor == OddPredictor::Bilinear)
             return (at[-1] + at[1] + 1) >> 1;
-        return (midpoint16(at - x, 1, x, n) + 8) >> 4;
+        return (midpoint16(at - x, 1, x, w) + 8) >> 4;
     case SampleClass::B: // odd row, even x: between R samples of the column
         if (predictor == OddPredictor::Bilinear)
             return (at[-row] + at[row] + 1) >> 1;
-        return (midpoint16(at - y * row, row, y, n) + 8) >> 4;
+        return (midpoint16(at - y * row, row, y, h) + 8) >> 4;
     case SampleClass::C: // odd x, odd y
         if (predictor == OddPredictor::Bilinear)
             return (at[-row - 1] + at[-row + 1] + at[row - 1] + at[row + 1] + 2) >> 2;
         // Row through the B samples and column through the A samples, averaged.
-        return (midpoint16(at - x, 1, x, n) + midpoint16(at - y * row, row, y, n) + 16) >> 5;
+        return (midpoint16(at - x, 1, x, w) + midpoint16(at - y * row, row, y, h) + 16) >> 5;
     case SampleClass::R: break;
     }
     return 0; // R samples are refined, not predicted
@@ -69,56 +71,73 @@ int32_t predictRoot(const int32_t* q, int n, int x, int y)
 // The passes run in the order R, A, B, C; within a pass no sample depends on another, so the
 // loops below are what a GPU runs as one dispatch per pass (A and B may even share one).
 void childResiduals(const int32_t* q, const int32_t* parent_q, int child_index, int n,
-                    OddPredictor predictor, int32_t* residuals)
+                    const CodedRegion& region, OddPredictor predictor, int32_t* residuals)
 {
-    for (int y = 0; y < n; y += 2)
-        for (int x = 0; x < n; x += 2) {
+    if (!region.isWhole(n))
+        std::fill(residuals, residuals + static_cast<size_t>(n) * n, 0);
+    for (int y = 0; y < region.height; y += 2)
+        for (int x = 0; x < region.width; x += 2) {
             const size_t i = static_cast<size_t>(y) * n + x;
             residuals[i] = q[i] - parentBin(parent_q, child_index, n, x, y);
         }
-    for (int y = 0; y < n; ++y)
-        for (int x = (y & 1) ? 0 : 1; x < n; x += (y & 1) ? 1 : 2) {
+    for (int y = 0; y < region.height; ++y)
+        for (int x = (y & 1) ? 0 : 1; x < region.width; x += (y & 1) ? 1 : 2) {
             const size_t i = static_cast<size_t>(y) * n + x;
-            residuals[i] = predictOdd(q, n, x, y, predictor) - q[i];
+            residuals[i] = predictOdd(q, n, region, x, y, predictor) - q[i];
         }
 }
 
 void reconstructChild(const int32_t* residuals, const int32_t* parent_q, int child_index, int n,
-                      OddPredictor predictor, int32_t* q)
+                      const CodedRegion& region, OddPredictor predictor, int32_t* q)
 {
-    for (int y = 0; y < n; y += 2)
-        for (int x = 0; x < n; x += 2) {
+    for (int y = 0; y < region.height; y += 2)
+        for (int x = 0; x < region.width; x += 2) {
             const size_t i = static_cast<size_t>(y) * n + x;
             q[i] = parentBin(parent_q, child_index, n, x, y) + residuals[i];
         }
     for (const SampleClass pass : {SampleClass::A, SampleClass::B, SampleClass::C}) {
         const int x0 = static_cast<int>(pass) & 1, y0 = static_cast<int>(pass) >> 1;
-        for (int y = y0; y < n; y += 2)
-            for (int x = x0; x < n; x += 2) {
+        for (int y = y0; y < region.height; y += 2)
+            for (int x = x0; x < region.width; x += 2) {
                 const size_t i = static_cast<size_t>(y) * n + x;
-                q[i] = predictOdd(q, n, x, y, predictor) - residuals[i];
+                q[i] = predictOdd(q, n, region, x, y, predictor) - residuals[i];
             }
     }
 }
 
-void rootResiduals(const int32_t* q, int n, int32_t* residuals)
+void rootResiduals(const int32_t* q, int n, const CodedRegion& region, int32_t* residuals)
 {
-    for (int y = 0; y < n; ++y)
-        for (int x = 0; x < n; ++x) {
+    if (!region.isWhole(n))
+        std::fill(residuals, residuals + static_cast<size_t>(n) * n, 0);
+    for (int y = 0; y < region.height; ++y)
+        for (int x = 0; x < region.width; ++x) {
             const size_t i = static_cast<size_t>(y) * n + x;
             residuals[i] = predictRoot(q, n, x, y) - q[i];
         }
 }
 
-void reconstructRoot(const int32_t* residuals, int n, int32_t* q)
+void reconstructRoot(const int32_t* residuals, int n, const CodedRegion& region, int32_t* q)
 {
-    for (int y = 0; y < n; ++y)
-        for (int x = 0; x < n; ++x) {
+    for (int y = 0; y < region.height; ++y)
+        for (int x = 0; x < region.width; ++x) {
             const size_t i = static_cast<size_t>(y) * n + x;
             // Valid bins are <= 65535; the clamp only stops a corrupt stream from letting the
             // raster-order chain overflow int32 on large patches.
             q[i] = std::clamp(predictRoot(q, n, x, y) - residuals[i], -(1 << 24), 1 << 24);
         }
+}
+
+void replicateBeyond(int32_t* q, int n, const CodedRegion& region)
+{
+    if (region.isWhole(n))
+        return;
+    for (int y = 0; y < region.height; ++y) {
+        int32_t* row = q + static_cast<size_t>(y) * n;
+        std::fill(row + region.width, row + n, row[region.width - 1]);
+    }
+    const int32_t* last = q + static_cast<size_t>(region.height - 1) * n;
+    for (int y = region.height; y < n; ++y)
+        std::copy(last, last + n, q + static_cast<size_t>(y) * n);
 }
 
 } // namespace ridge

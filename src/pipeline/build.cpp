@@ -10,6 +10,7 @@
 #include "ridge/core/file_identity.h"
 #include "ridge/io/dataset_files.h"
 #include "ridge/pipeline/build_memory.h"
+#include "ridge/pyramid/patch_context.h"
 #include "ridge/pyramid/patch_error.h"
 #include "ridge/pyramid/tessellation_block_errors.h"
 #include "ridge/pyramid/validity_pyramid.h"
@@ -155,6 +156,45 @@ std::string metadataJson(const std::string& source_path, const io::IngestStats& 
     return meta.dump(2);
 }
 
+// Replaces ctx.codec by the codec trained on every patch of `pyramid`, for codecs with
+// per-archive tables (HeightCodec::trainer); each patch is shown exactly what encodePatch
+// will code, the parent's reconstruction included.
+void trainCodec(BuildContext& ctx, const LevelPyramid& pyramid)
+{
+    const std::unique_ptr<CodecTrainer> trainer = ctx.codec->trainer();
+    if (!trainer)
+        return;
+    const PyramidGeometry& g = ctx.geometry;
+    const int n = g.patchSize();
+    const int64_t count = g.patchCount();
+    std::exception_ptr failure;
+#pragma omp parallel for schedule(dynamic, 4)
+    for (int64_t index = 0; index < count; ++index) {
+        try {
+            thread_local std::vector<uint16_t> codes, parent_codes, parent;
+            codes.resize(static_cast<size_t>(n) * n);
+            const PatchId p = g.patchAt(index);
+            extractPatch(pyramid.level(p.level), n, p, codes.data());
+            const uint16_t* parent_ptr = nullptr;
+            if (ctx.codec->needsParent(p.level)) {
+                const PatchId up = p.parent();
+                parent_codes.resize(codes.size());
+                parent.resize(codes.size());
+                extractPatch(pyramid.level(up.level), n, up, parent_codes.data());
+                ctx.codec->reconstruct(parent_codes.data(), patchContext(g, up, nullptr), parent.data());
+                parent_ptr = parent.data();
+            }
+            trainer->observe(codes.data(), patchContext(g, p, parent_ptr));
+        } catch (...) {
+#pragma omp critical
+            failure = std::current_exception();
+        }
+    }
+    if (failure)
+        std::rethrow_exception(failure);
+    ctx.codec = trainer->finish();
+}
+
 // Extracts patch `at` of `level` (the patch's own position, or its position inside a strip
 // view), measures it and encodes it as patch `id`.
 // `parent` is the parent's reconstruction when the codec predicts from it, else null.
@@ -167,7 +207,7 @@ EncodedPatch encodePatch(const BuildContext& ctx, const LevelView& level, PatchI
     codes.resize(static_cast<size_t>(n) * n);
     lambda.resize(ctx.layout.valuesPerPatch());
     extractPatch(level, n, at, codes.data());
-    const PatchContext pctx{n, id.level, parent, (id.x & 1) | ((id.y & 1) << 1)};
+    const PatchContext pctx = patchContext(ctx.geometry, id, parent);
 
     EncodedPatch out;
     const auto [lo, hi] = std::minmax_element(codes.begin(), codes.end());
@@ -390,9 +430,13 @@ BuildReport buildFromRaster(const io::ElevationRaster& raster, const std::string
     report.seconds_errors = secondsSince(start);
     reportProgress(options.progress, 0.25);
 
-    // 3. Encode in parallel batches, write sequentially.
+    // 3. A codec with per-archive tables learns them from every patch first.
     const auto t = Clock::now();
+    trainCodec(ctx, pyramid);
+
+    // 4. Encode in parallel batches, write sequentially.
     archive::ArchiveWriter writer(output, ctx.header);
+    writer.setCodecTables(ctx.codec->storeTables());
     writeLevels(ctx, pyramid, ctx.geometry.finestLevel(), errors, writer,
                 subProgress(options.progress, 0.25, 1.0));
     writer.finish(metadataJson(raster.source_path, raster.stats, raster.geo, ctx, options));

@@ -12,27 +12,27 @@ GpuProgressiveDecoder::GpuProgressiveDecoder(int patch_size)
 }
 
 void GpuProgressiveDecoder::reconstruct(const int32_t* residuals, GLuint heights, int parent_layer,
-                                        int child_layer, int child_index,
-                                        const LevelQuantizer& quantizer, OddPredictor predictor)
+                                        int child_layer, const Child& child)
 {
     glNamedBufferSubData(residuals_.id(), 0, GLsizeiptr(n_) * n_ * GLsizeiptr(sizeof(int32_t)),
                          residuals);
-    run(32, heights, parent_layer, child_layer, child_index, quantizer, predictor);
+    run(32, heights, parent_layer, child_layer, child);
 }
 
 void GpuProgressiveDecoder::reconstruct(const int16_t* residuals, GLuint heights, int parent_layer,
-                                        int child_layer, int child_index,
-                                        const LevelQuantizer& quantizer, OddPredictor predictor)
+                                        int child_layer, const Child& child)
 {
     glNamedBufferSubData(residuals_.id(), 0, GLsizeiptr(n_) * n_ * GLsizeiptr(sizeof(int16_t)),
                          residuals);
-    run(16, heights, parent_layer, child_layer, child_index, quantizer, predictor);
+    run(16, heights, parent_layer, child_layer, child);
 }
 
 void GpuProgressiveDecoder::run(int residual_bits, GLuint heights, int parent_layer,
-                                int child_layer, int child_index, const LevelQuantizer& quantizer,
-                                OddPredictor predictor)
+                                int child_layer, const Child& child)
 {
+    const int child_index = child.child_index;
+    const LevelQuantizer& quantizer = child.quantizer;
+    const OddPredictor predictor = child.predictor;
     program_.use();
     glUniform1i(program_.uniform("u_residual_bits"), residual_bits);
     glUniform1i(program_.uniform("u_n"), n_);
@@ -42,6 +42,7 @@ void GpuProgressiveDecoder::run(int residual_bits, GLuint heights, int parent_la
     glUniform1i(program_.uniform("u_step"), GLint(quantizer.step));
     glUniform1i(program_.uniform("u_bound"), quantizer.bound);
     glUniform1i(program_.uniform("u_cubic"), predictor == OddPredictor::Cubic ? 1 : 0);
+    glUniform2i(program_.uniform("u_region"), child.region.width, child.region.height);
     glBindTextureUnit(0, heights);
     glBindImageTexture(1, heights, 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_R16UI);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, residuals_.id());

@@ -21,16 +21,22 @@ class GpuProgressiveDecoder {
     // `heights`: a complete GL_TEXTURE_2D_ARRAY of R16UI codes, patch_size² per layer (one
     // level, GL_NEAREST: an incomplete texture reads as zeros). The child's
     // codes land in `child_layer`; call glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT) before
-    // sampling them. `quantizer` is the child level's.
+    // sampling them.
+    struct Child {
+        int child_index = 0;       // quadrant in the parent
+        LevelQuantizer quantizer;  // the child level's
+        OddPredictor predictor = OddPredictor::Cubic;
+        CodedRegion region;        // the samples the residuals cover (v1: the whole patch)
+    };
     void reconstruct(const int32_t* residuals, GLuint heights, int parent_layer, int child_layer,
-                     int child_index, const LevelQuantizer& quantizer, OddPredictor predictor);
+                     const Child& child);
     // The same from residuals stored in 16 bits (uploaded as they are, half the bytes).
     void reconstruct(const int16_t* residuals, GLuint heights, int parent_layer, int child_layer,
-                     int child_index, const LevelQuantizer& quantizer, OddPredictor predictor);
+                     const Child& child);
 
   private:
-    void run(int residual_bits, GLuint heights, int parent_layer, int child_layer, int child_index,
-             const LevelQuantizer& quantizer, OddPredictor predictor);
+    void run(int residual_bits, GLuint heights, int parent_layer, int child_layer,
+             const Child& child);
 
     int n_;
     gpu::GlBuffer residuals_;

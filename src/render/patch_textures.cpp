@@ -117,14 +117,13 @@ void PatchTextures::reconstruct(const stream::DecodedPatch& patch, int parent_sl
     ++generation_[size_t(slot)];
     uploadCellMask(patch, slot);
     const PatchId p = patch.id;
+    const GpuProgressiveDecoder::Child child{p.childIndex(), progressive_->quantizer(p.level),
+                                             progressive_->variant().predictor,
+                                             patch.residual_region};
     if (patch.residuals.empty())
-        decoder_->reconstruct(patch.residuals16.data(), heights_.id(), parent_slot, slot,
-                              p.childIndex(), progressive_->quantizer(p.level),
-                              progressive_->variant().predictor);
+        decoder_->reconstruct(patch.residuals16.data(), heights_.id(), parent_slot, slot, child);
     else
-        decoder_->reconstruct(patch.residuals.data(), heights_.id(), parent_slot, slot,
-                              p.childIndex(), progressive_->quantizer(p.level),
-                              progressive_->variant().predictor);
+        decoder_->reconstruct(patch.residuals.data(), heights_.id(), parent_slot, slot, child);
     // The passes below (and children reconstructed later in this batch) read the codes.
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     if (!patch.block_errors.empty()) {

@@ -194,7 +194,8 @@ std::shared_ptr<const DecodedPatch> PatchStreamer::decodeLocked(PatchId p,
     try {
         if (residuals) {
             std::vector<int32_t> wide(samples);
-            reader_.decodeResiduals(p, *blob, wide.data(), &out->block_errors);
+            out->residual_region =
+                reader_.decodeResiduals(p, *blob, wide.data(), &out->block_errors);
             out->setResiduals(std::move(wide));
             out->setDrawableCells(reader_.validityOf(p, *blob));
         } else {

@@ -225,10 +225,33 @@ TEST(FieldValidation, ReservedHeaderBytesMustBeZero)
         EXPECT_TRUE(refusedNaming(
             openCrafted(fixtures().lossless, [=](ArchiveBytes& a) { a.bytes()[byte] = 1; }),
             "header reserved bytes 88..95 are not zero (byte " + std::to_string(byte)));
+    // Version 3 keeps its codec tables there (below); before, they are reserved.
     for (size_t byte = 140; byte < 156; ++byte)
+        EXPECT_TRUE(refusedNaming(openCrafted(fixtures().lossless,
+                                              [=](ArchiveBytes& a) {
+                                                  a.bytes()[8] = 2; // version 2
+                                                  std::fill(a.bytes().begin() + 140,
+                                                            a.bytes().begin() + 156, 0);
+                                                  a.bytes()[byte] = 0x80;
+                                              }),
+                                  "header reserved bytes 140..155 are not zero (byte " +
+                                      std::to_string(byte)));
+}
+
+TEST(FieldValidation, CodecTablesMustLieBetweenTheBlobsAndTheMetadataAndMatchTheirChecksum)
+{
+    // Offset and size (bytes 140..151) must put the region right before the metadata; the
+    // checksum (152..155) must match, even for an empty region (crc 0).
+    for (size_t byte = 140; byte < 152; ++byte)
         EXPECT_TRUE(refusedNaming(
-            openCrafted(fixtures().lossless, [=](ArchiveBytes& a) { a.bytes()[byte] = 0x80; }),
-            "header reserved bytes 140..155 are not zero (byte " + std::to_string(byte)));
+            openCrafted(fixtures().lossless, [=](ArchiveBytes& a) { a.bytes()[byte] ^= 0x80; }),
+            "header fields codec_tables_offset"))
+            << byte;
+    for (size_t byte = 152; byte < 156; ++byte)
+        EXPECT_NE(openCrafted(fixtures().progressive, [=](ArchiveBytes& a) { a.bytes()[byte] ^= 1; })
+                      .find("codec tables checksum mismatch"),
+                  std::string::npos)
+            << byte;
 }
 
 TEST(FieldValidation, HeightScaleAndOffsetMustBeFiniteAndKeepEveryCodeWithinTheHeightLimit)

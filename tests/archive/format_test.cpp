@@ -39,6 +39,9 @@ Header sampleHeader()
     h.metadata_crc32 = 0x12345678;
     h.index_offset = 1000;
     h.index_crc32 = 0x9abcdef0;
+    h.codec_tables_offset = 900;
+    h.codec_tables_size = 64;
+    h.codec_tables_crc32 = 0xcafef00d;
     return h;
 }
 
@@ -51,7 +54,8 @@ TEST(Crc32, MatchesTheStandardCheckValue)
 }
 
 // Pins the header layout: a change here is a format change and needs a version bump. (Version
-// 2 added the blobs' validity masks; the header bytes are those of version 1.)
+// 2 added the blobs' validity masks; version 3 the codec tables fields at 140..155, reserved
+// zero before.)
 TEST(ArchiveFormat, HeaderBytesArePinned)
 {
     uint8_t bytes[kHeaderSize];
@@ -59,7 +63,7 @@ TEST(ArchiveFormat, HeaderBytesArePinned)
     EXPECT_EQ(std::memcmp(bytes, "RIDGEARC", 8), 0);
     auto u32 = [&](size_t o) { uint32_t v; std::memcpy(&v, bytes + o, 4); return v; };
     auto f64 = [&](size_t o) { double v; std::memcpy(&v, bytes + o, 8); return v; };
-    EXPECT_EQ(u32(8), 2u);     // version
+    EXPECT_EQ(u32(8), 3u);     // version
     EXPECT_EQ(u32(12), 160u);  // header size
     EXPECT_EQ(u32(16), 301u);  // width
     EXPECT_EQ(u32(20), 203u);  // height
@@ -75,6 +79,11 @@ TEST(ArchiveFormat, HeaderBytesArePinned)
     EXPECT_EQ(u32(120), 2u);   // metadata size
     EXPECT_EQ(u32(124), 0x12345678u);
     EXPECT_EQ(u32(136), 0x9abcdef0u);
+    uint64_t tables_offset;
+    std::memcpy(&tables_offset, bytes + 140, 8);
+    EXPECT_EQ(tables_offset, 900u); // codec tables offset
+    EXPECT_EQ(u32(148), 64u);       // codec tables size
+    EXPECT_EQ(u32(152), 0xcafef00du);
     EXPECT_EQ(u32(156), crc32(bytes, 156));
 }
 
@@ -99,9 +108,15 @@ TEST(ArchiveFormat, ParseRejectsBadMagicNewerVersionsAndCorruptHeaders)
     bad[0] = 'X';
     EXPECT_NE(parseHeader(bad, h).find("magic"), std::string::npos);
     std::memcpy(bad, bytes, kHeaderSize);
-    bad[8] = 3;
+    bad[8] = 4;
     EXPECT_NE(parseHeader(bad, h).find("not supported"), std::string::npos);
-    for (const uint8_t known : {1, 2}) { // every version this reader knows
+    for (const uint8_t known : {1, 2, 3}) { // every version this reader knows
+        if (known < 3) // their bytes 140..155 are reserved: zero
+            serializeHeader([] { Header z = sampleHeader(); z.codec_tables_offset = 0;
+                                 z.codec_tables_size = 0; z.codec_tables_crc32 = 0; return z; }(),
+                            bytes);
+        else
+            serializeHeader(sampleHeader(), bytes);
         std::memcpy(bad, bytes, kHeaderSize);
         bad[8] = known;
         const uint32_t crc = crc32(bad, 156);

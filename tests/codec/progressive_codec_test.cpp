@@ -63,6 +63,19 @@ template <int N> void roundTripSymbols(uint32_t seed, double skew)
     EXPECT_EQ(dec.remaining(), 0u); // the decoder reads exactly what the encoder wrote
 }
 
+// Every payload format's variants: v1's four (the paper's and ridge's first among them) and
+// v2 with each bound schedule (v1's, the hybrid, all nested) and both predictors.
+std::vector<ProgressiveVariant> allVariants()
+{
+    std::vector<ProgressiveVariant> v;
+    for (int bits = 0; bits < 8; bits += 2)
+        v.push_back(*ProgressiveVariant::fromBits(bits));
+    for (const int nested : {1, 2, 32})
+        for (const OddPredictor p : {OddPredictor::Bilinear, OddPredictor::Cubic})
+            v.push_back({p, true, 2, nested});
+    return v;
+}
+
 } // namespace
 
 TEST(RangeCoder, RoundTripsRandomSymbolStreamsExactly)
@@ -134,8 +147,7 @@ TEST(LevelQuantizer, EveryCodeWithinThePapersLevelBoundAndRefinementsStaySmall)
 
 TEST(ProgressiveCodec, DecodesWhatReconstructPredictsForEveryVariantAndQuadrant)
 {
-    for (int bits = 0; bits < 8; bits += 2) {
-        const ProgressiveVariant variant = ProgressiveVariant::fromBits(bits);
+    for (const ProgressiveVariant& variant : allVariants()) {
         for (const int e : {0, 1, 3, 20}) {
             const ProgressiveCodec codec(e, 4, variant);
             for (const int n : {5, 17, 65}) {
@@ -227,16 +239,28 @@ TEST(ProgressiveCodec, RejectsTruncatedCorruptAndParentlessPayloads)
 
 TEST(ProgressiveCodec, SettingsRoundTripThroughTheArchiveHeaderParameters)
 {
-    const ProgressiveCodec codec(5, 7, ProgressiveVariant::paper());
+    for (const ProgressiveVariant& variant : allVariants()) {
+        const ProgressiveCodec codec(5, 7, variant);
+        CodecSettings settings;
+        settings.level_count = 7;
+        codec.storeParameters(settings.param);
+        const std::unique_ptr<HeightCodec> back = makeCodec(CodecId::Progressive, settings);
+        ASSERT_NE(back, nullptr) << variant.describe();
+        for (int level = 0; level < 7; ++level)
+            EXPECT_EQ(back->levelErrorBound(level), codec.levelErrorBound(level));
+        EXPECT_EQ(static_cast<const ProgressiveCodec&>(*back).variant().bits(), variant.bits());
+    }
     CodecSettings settings;
     settings.level_count = 7;
-    codec.storeParameters(settings.param);
-    const std::unique_ptr<HeightCodec> back = makeCodec(CodecId::Progressive, settings);
-    ASSERT_NE(back, nullptr);
-    for (int level = 0; level < 7; ++level)
-        EXPECT_EQ(back->levelErrorBound(level), codec.levelErrorBound(level));
-    EXPECT_EQ(static_cast<const ProgressiveCodec&>(*back).variant().bits(),
-              ProgressiveVariant::paper().bits());
+    settings.param[0] = 5;
+    for (const double bits : {1.0, 16.0 + 2, 8.0, 8.0 + 33 * 16, 2.5, -8.0}) {
+        settings.param[1] = bits; // reserved bit, v1 with nested levels, v2 with 0 or 33
+        EXPECT_EQ(makeCodec(CodecId::Progressive, settings), nullptr) << bits;
+    }
+    // The nested schedule: the finest K levels at δ_l0, doubling above.
+    const ProgressiveCodec hybrid(3, 6, {OddPredictor::Cubic, true, 2, 2});
+    for (int level = 0; level < 6; ++level)
+        EXPECT_EQ(hybrid.levelErrorBound(level), level >= 4 ? 3 : 3 << (4 - level)) << level;
     settings.param[1] = 1; // reserved variant bit
     EXPECT_EQ(makeCodec(CodecId::Progressive, settings), nullptr);
     settings.param[1] = 6;
@@ -249,8 +273,7 @@ TEST(ProgressiveCodec, DecodeResidualsIsTheCpuHalfOfDecodeAndRejectsBadPayloads)
     // decodeResiduals + reconstructChild over the requantized parent == decode: the split the
     // GPU decoder (render/gpu_progressive_decoder) relies on.
     const int n = 33;
-    for (int bits : {0, 6}) {
-        const ProgressiveVariant variant = ProgressiveVariant::fromBits(bits);
+    for (const ProgressiveVariant& variant : allVariants()) {
         const ProgressiveCodec codec(2, 3, variant);
         const std::vector<uint16_t> parent = terrainPatch(n, 5, 30), codes = terrainPatch(n, 6, 20);
         std::vector<uint16_t> parent_drawn(parent.size()), decoded(codes.size());
@@ -266,7 +289,8 @@ TEST(ProgressiveCodec, DecodeResidualsIsTheCpuHalfOfDecodeAndRejectsBadPayloads)
         const LevelQuantizer quant = codec.quantizer(2);
         for (size_t i = 0; i < base.size(); ++i)
             base[i] = quant.quantize(parent_drawn[i]);
-        reconstructChild(residuals.data(), base.data(), 1, n, variant.predictor, q.data());
+        reconstructChild(residuals.data(), base.data(), 1, n, CodedRegion::whole(n),
+                         variant.predictor, q.data());
         for (size_t i = 0; i < q.size(); ++i)
             ASSERT_EQ(quant.reconstruct(q[i]), decoded[i]) << variant.describe() << " sample " << i;
 

@@ -3,6 +3,7 @@
 #include "fixture_archives.h"
 #include "gpu_progressive_decoder.h"
 
+#include "ridge/pyramid/patch_context.h"
 #include "ridge/archive/archive_reader.h"
 #include "ridge/codec/progressive_codec.h"
 #include "ridge/gpu/context.h"
@@ -47,10 +48,7 @@ void expectGpuEqualsCpu(const std::string& path)
                             parent_codes->codes.data());
         const std::vector<uint8_t> blob = reader.readBlob(p);
         const size_t skip = reader.payloadOffset(p, blob); // block errors and validity mask
-        PatchContext ctx;
-        ctx.patch_size = n;
-        ctx.level = p.level;
-        ctx.child_index = p.childIndex();
+        const PatchContext ctx = patchContext(g, p, nullptr);
         ASSERT_EQ(
             codec->decodeResiduals(blob.data() + skip, blob.size() - skip, ctx, residuals.data()),
             kCodecOk);
@@ -61,12 +59,13 @@ void expectGpuEqualsCpu(const std::string& path)
         for (const int bits : {32, 16}) {
             if (bits == 16 && !narrow)
                 continue;
+            const render::GpuProgressiveDecoder::Child child{
+                ctx.child_index, codec->quantizer(p.level), codec->variant().predictor,
+                codec->codedRegion(ctx)};
             if (bits == 32)
-                decoder.reconstruct(residuals.data(), heights.id(), 0, 1, ctx.child_index,
-                                    codec->quantizer(p.level), codec->variant().predictor);
+                decoder.reconstruct(residuals.data(), heights.id(), 0, 1, child);
             else
-                decoder.reconstruct(residuals16.data(), heights.id(), 0, 1, ctx.child_index,
-                                    codec->quantizer(p.level), codec->variant().predictor);
+                decoder.reconstruct(residuals16.data(), heights.id(), 0, 1, child);
             glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
             glGetTextureSubImage(heights.id(), 0, 0, 0, 1, n, n, 1, GL_RED_INTEGER,
                                  GL_UNSIGNED_SHORT, GLsizei(gpu_codes.size() * 2),
@@ -93,7 +92,10 @@ TEST(GpuProgressiveDecoder, ReconstructsEveryPatchBitForBitLikeTheCpuDecoder)
         const char* codec;
         double error;
     };
+    // v2 (whole and clipped regions: the fixture's extent ends inside its last patches), the
+    // hybrid schedule (refinements coded), v1 and the paper's variant.
     for (const Case c : {Case{33, "progressive", 1.0}, Case{65, "progressive", 4.0},
+                         Case{33, "progressive,nested=2", 1.0}, Case{33, "progressive-v1", 1.0},
                          Case{33, "progressive-paper", 2.0}}) {
         expectGpuEqualsCpu(test::buildEverestArchive(dir, c.codec, c.patch, c.error));
     }

@@ -25,6 +25,7 @@
 #include "ridge/archive/archive_metadata.h"
 #include "ridge/archive/format.h"
 #include "ridge/codec/height_codec.h"
+#include "ridge/codec/progressive_reconstruction.h"
 #include "ridge/core/height_grid.h"
 #include "ridge/pyramid/level_pyramid.h"
 #include "ridge/pyramid/tessellation_block_errors.h"
@@ -96,7 +97,8 @@ class ArchiveReader {
     // The CPU half for such a patch: residuals[patch_size²] from its blob (ProgressiveCodec::
     // decodeResiduals). `block_errors` receives the stored λ(d) in metres, or is cleared when
     // the archive derives them (the reconstruction must then derive them from the codes).
-    void decodeResiduals(PatchId p, const std::vector<uint8_t>& blob, int32_t* residuals,
+    // Returns the samples the residuals cover (ProgressiveCodec::codedRegion).
+    CodedRegion decodeResiduals(PatchId p, const std::vector<uint8_t>& blob, int32_t* residuals,
                          std::vector<float>* block_errors) const;
     // Reads λ(d) of every block of `p` in metres (see TessellationBlockLayout for the order).
     // Archives built without stored block errors derive them from the decoded heights
@@ -113,6 +115,7 @@ class ArchiveReader {
   private:
     // The steps of opening; each fails with a message naming the field.
     void loadHeader();
+    std::vector<uint8_t> loadCodecTables();
     void checkGeometryFields();
     void loadMetadata();
     void loadIndex();

@@ -29,7 +29,11 @@ public:
                     const std::vector<uint8_t>& validity, const uint8_t* payload,
                     size_t payload_size);
 
-    // Writes the metadata, the index and the final header, then publishes the file
+    // The codec tables region (HeightCodec::storeTables), written by finish() after the
+    // blobs; empty = none.
+    void setCodecTables(std::vector<uint8_t> tables) { codec_tables_ = std::move(tables); }
+
+    // Writes the codec tables, the metadata, the index and the final header, then publishes the file
     // atomically. Throws ridge::Error when a patch is missing.
     void finish(const std::string& metadata_json);
 
@@ -43,6 +47,7 @@ private:
     Header header_;
     PyramidGeometry geometry_;
     std::vector<PatchRecord> records_;
+    std::vector<uint8_t> codec_tables_;
     std::vector<bool> written_;
     int64_t written_count_ = 0;
     uint64_t position_ = 0;

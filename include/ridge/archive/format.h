@@ -1,8 +1,9 @@
 #pragma once
-// The .ridge archive, format version 2 (version 1: the same without patch validity masks). docs/FORMAT.md is the normative description; this
-// header mirrors it. All integers and floats are little-endian, IEEE-754.
+// The .ridge archive, format version 3 (version 2: the same without the codec tables region;
+// version 1: also without patch validity masks). docs/FORMAT.md is the normative description;
+// this header mirrors it. All integers and floats are little-endian, IEEE-754.
 //
-//   [header: 160 bytes][patch blobs][metadata: UTF-8 JSON][index: 48 B/patch]
+//   [header: 160 bytes][patch blobs][codec tables][metadata: UTF-8 JSON][index: 48 B/patch]
 //
 // Compatibility: readers accept every version <= kFormatVersion and reject newer ones;
 // writers always write kFormatVersion.
@@ -15,9 +16,11 @@
 namespace ridge::archive {
 
 inline constexpr char kMagic[8] = {'R', 'I', 'D', 'G', 'E', 'A', 'R', 'C'};
-inline constexpr uint32_t kFormatVersion = 2;
+inline constexpr uint32_t kFormatVersion = 3;
 // The first version whose blobs hold a validity mask after the block errors.
 inline constexpr uint32_t kFirstVersionWithValidity = 2;
+// The first version with a codec tables region (header bytes 140..155, zero before).
+inline constexpr uint32_t kFirstVersionWithCodecTables = 3;
 inline constexpr size_t kHeaderSize = 160;
 inline constexpr size_t kIndexEntrySize = 48;
 // λ stored as this value means "larger than representable: never simplify".
@@ -47,6 +50,18 @@ struct Header {
     uint32_t metadata_crc32 = 0;
     uint64_t index_offset = 0;
     uint32_t index_crc32 = 0;
+    // Version 3: the codec's per-archive tables (e.g. progressive v2's entropy tables), after
+    // the blobs and before the metadata: codec_tables_offset + codec_tables_size =
+    // metadata_offset. Size 0: none (the offset then equals metadata_offset).
+    uint64_t codec_tables_offset = 0;
+    uint32_t codec_tables_size = 0;
+    uint32_t codec_tables_crc32 = 0;
+
+    // Where the patch blobs end: the codec tables (version 3) or the metadata.
+    uint64_t patchAreaEnd() const
+    {
+        return version >= kFirstVersionWithCodecTables ? codec_tables_offset : metadata_offset;
+    }
 };
 
 // One index entry: where patch (level, x, y) is and what the renderer needs before reading it.

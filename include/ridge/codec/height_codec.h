@@ -13,6 +13,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace ridge {
 
@@ -38,9 +39,24 @@ struct PatchContext {
     int level = 0;                            // quadtree level of the patch
     const uint16_t* parent = nullptr;         // parent reconstruction (may be null)
     int child_index = 0;                      // quadrant within the parent: 0..3 = (x&1)|(y&1)<<1
+    // Samples of the patch that cover the level's valid extent (PyramidGeometry::
+    // patchSamplesX/Y); 0 = all. A codec may skip the rest (padding): progressive v2 does.
+    int samples_x = 0;
+    int samples_y = 0;
 };
 
 class ProgressiveCodec;
+class HeightCodec;
+
+// Learns a codec's per-archive statistics (entropy tables) from the patches it is about to
+// code. observe() may be called from several threads at once, with exactly the codes and
+// contexts encode() will see; finish() returns the codec to encode with.
+class CodecTrainer {
+public:
+    virtual ~CodecTrainer() = default;
+    virtual void observe(const uint16_t* codes, const PatchContext& ctx) = 0;
+    virtual std::unique_ptr<HeightCodec> finish() = 0;
+};
 
 // What a codec lets the stream and the renderer do with its patches, declared by the codec
 // (so that nothing finds it out by its type).
@@ -80,17 +96,25 @@ public:
     virtual void reconstruct(const uint16_t* codes, const PatchContext& ctx, uint16_t* out) const;
     // Codec settings stored in the archive header (codec_param), read back by makeCodec.
     virtual void storeParameters(double param[2]) const { param[0] = param[1] = 0.0; }
+    // A codec with per-archive tables: a trainer to learn them before encoding (null: the
+    // codec has nothing to learn), and their stored form (the archive's codec tables region,
+    // read back through CodecSettings::tables; empty: none).
+    virtual std::unique_ptr<CodecTrainer> trainer() const { return nullptr; }
+    virtual std::vector<uint8_t> storeTables() const { return {}; }
 };
 
 // What a codec needs beyond its id: the pyramid depth and the header's codec parameters.
 struct CodecSettings {
     int level_count = 1;            // the finest level is level_count - 1
     double param[2] = {0.0, 0.0};   // codec specific (archive header codec_param)
+    std::vector<uint8_t> tables;    // the archive's codec tables region (may be empty)
 };
 
-// Codec by name ("lossless", "raw", "progressive", "progressive-paper"); `max_error` is the
-// finest-level bound δ_l0 in codes for lossy codecs (ignored by lossless ones). Throws
-// ridge::Error for an unknown name or invalid settings.
+// Codec by name ("lossless", "raw", "progressive" = progressive v2, "progressive-v1",
+// "progressive-paper"); `max_error` is the finest-level bound δ_l0 in codes for lossy
+// codecs (ignored by lossless ones). Variants of v2 for measurement take options after a
+// comma: "progressive,nested=K" (K finest levels share the finest bound; codecNames()
+// lists the names). Throws ridge::Error for an unknown name or invalid settings.
 std::unique_ptr<HeightCodec> makeCodec(const std::string& name, double max_error = 0,
                                        int level_count = 1);
 // Codec by stored id and settings; returns null for an unknown id or invalid settings, and

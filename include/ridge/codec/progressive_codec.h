@@ -8,23 +8,51 @@
 // (progressive_reconstruction.h), all symbols with the adaptive range coder
 // (progressive_entropy.h). Decoding = entropy decode (CPU) + reconstruct (GPU-able).
 //
-// Payload: u8 'P', u8 version 1, then the range-coded residual stream to the end.
-// Variant (archive header codec_param[1]): bit 1 cubic prediction, bit 2 activity contexts
-// (bit 0 reserved, 0). codec_param[0] = δ_l0, the finest-level bound in codes (real).
+// Two payload formats, chosen by the variant stored in the archive header:
+//
+// v1 (the paper's codec as ridge first built it): level k levels above the finest has bound
+//   e_k = floor(δ_l0 · 2^k); every sample of every patch is coded, R samples as refinements
+//   {−1, 0, +1}; adaptive range coding (progressive_entropy.h). Payload: u8 'P', u8 1, then
+//   the range-coded residual stream to the end.
+// v2 (default): the `nested_levels` finest levels share the finest bound (e_k = δ_l0), the
+//   coarser ones grow from there (e_k = floor(δ_l0 · 2^(k − nested + 1))). With decimation a
+//   coarse sample *is* a finest sample, so inside the nested zone an R sample's refinement
+//   is 0: each patch codes only the samples its parent lacks. Only the coded region
+//   (CodedRegion) is coded; static per-archive tables + interleaved rANS
+//   (progressive_entropy_v2.h, progressive_tables.h). Payload: u8 'P', u8 2, u8 flags (bit 0:
+//   the refinements are coded; other bits 0), then the v2 residual stream to the end.
+//
+// Variant (archive header codec_param[1]): bit 1 cubic prediction, bit 2 activity contexts,
+// bit 3 payload v2, bits 4..9 nested_levels (v2 only, 1..32; v1: 0); bit 0 reserved, 0.
+// codec_param[0] = δ_l0, the finest-level bound in codes (real).
 #include "ridge/codec/height_codec.h"
 #include "ridge/codec/level_quantizer.h"
 #include "ridge/codec/progressive_reconstruction.h"
+#include "ridge/codec/progressive_tables.h"
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
 
 namespace ridge {
 
 struct ProgressiveVariant {
+    // v2's default number of levels sharing the finest bound (docs/PERF.md, "nested").
+    static constexpr int kDefaultNestedLevels = 32;
+
     OddPredictor predictor = OddPredictor::Cubic;
     bool contexts = true;
+    int format = 2;                           // payload version, 1 or 2
+    int nested_levels = kDefaultNestedLevels; // v2: 1..32; v1: 1 (its bounds double per level)
 
     // The paper as written: bilinear prediction, one adaptive model per symbol kind.
-    static ProgressiveVariant paper() { return {OddPredictor::Bilinear, false}; }
+    static ProgressiveVariant paper() { return {OddPredictor::Bilinear, false, 1, 1}; }
+    // ridge's first codec: cubic prediction, adaptive activity contexts, payload v1.
+    static ProgressiveVariant v1() { return {OddPredictor::Cubic, true, 1, 1}; }
     int bits() const;
-    static ProgressiveVariant fromBits(int bits);
+    // Null for bits that name no variant.
+    static std::optional<ProgressiveVariant> fromBits(int bits);
     std::string describe() const;
 };
 
@@ -46,6 +74,15 @@ class ProgressiveCodec final : public HeightCodec {
     CodecCapabilities capabilities() const override { return {true, this}; }
     void reconstruct(const uint16_t* codes, const PatchContext& ctx, uint16_t* out) const override;
     void storeParameters(double param[2]) const override;
+    std::unique_ptr<CodecTrainer> trainer() const override;
+    std::vector<uint8_t> storeTables() const override;
+
+    // v2 with these tables (from the archive, or fitted by trainer()); v1 ignores them.
+    // Defaults when never given.
+    void setTables(std::shared_ptr<const ProgressiveTables> tables);
+    const ProgressiveTables& tables() const { return *tables_; }
+    // The samples a patch codes (v1: all of them).
+    CodedRegion codedRegion(const PatchContext& ctx) const;
 
     // The CPU half of decode() (the paper's split: entropy decoding on the CPU, refine +
     // predict + add on the GPU): the residual grid of a child patch, residuals[n·n], which
@@ -64,10 +101,14 @@ class ProgressiveCodec final : public HeightCodec {
     // Header checks and the entropy decoding shared by decode() and decodeResiduals().
     int entropyDecode(const uint8_t* src, size_t src_size, const PatchContext& ctx,
                       int32_t* residuals) const;
+    // Bins and residuals of a patch as encode() computes them (the trainer's input too).
+    // Returns false for a context encode() rejects.
+    bool residualsOf(const uint16_t* codes, const PatchContext& ctx, int32_t* residuals) const;
 
     double max_error_;
     int finest_level_;
     ProgressiveVariant variant_;
+    std::shared_ptr<const ProgressiveTables> tables_;
 };
 
 } // namespace ridge

@@ -16,6 +16,7 @@
 // Prediction errors follow the paper's sign: d = P − q, so q = P − d.
 // The coarsest patch has no parent; it is predicted in raster order by the median edge
 // detector of LOCO-I (the paper codes it "directly"; MED makes that cheap).
+#include <algorithm>
 #include <cstdint>
 
 namespace ridge {
@@ -33,21 +34,48 @@ inline SampleClass sampleClass(int x, int y)
     return static_cast<SampleClass>((x & 1) | ((y & 1) << 1));
 }
 
+// The samples a patch codes: [0, width) × [0, height). Both odd, so the region ends on R
+// samples that its parent holds, and >= 3. v1 codes whole patches; v2 codes what covers the
+// level's valid extent (PatchContext::samples_x/y rounded up to odd) and reconstructs the
+// padding beyond by repeating the last coded column and row (replicateBeyond), which is the
+// edge extension the pyramid itself pads with. Predictions read only coded samples: the
+// cubic's line ends where the region does.
+struct CodedRegion {
+    int width = 0;
+    int height = 0;
+
+    static CodedRegion whole(int n) { return {n, n}; }
+    // The region of a patch of side n that must hold `samples_x` × `samples_y` samples
+    // (0 = all n).
+    static CodedRegion covering(int n, int samples_x, int samples_y)
+    {
+        auto side = [n](int s) { return s <= 0 || s >= n ? n : std::max(3, s | 1); };
+        return {side(samples_x), side(samples_y)};
+    }
+    bool isWhole(int n) const { return width == n && height == n; }
+};
+
 // P at (x, y) of class A, B or C, from the samples of q that earlier passes completed.
-int32_t predictOdd(const int32_t* q, int n, int x, int y, OddPredictor predictor);
+int32_t predictOdd(const int32_t* q, int n, const CodedRegion& region, int x, int y,
+                   OddPredictor predictor);
 // MED prediction of the coarsest patch at (x, y) from its west, north, north-west samples.
 int32_t predictRoot(const int32_t* q, int n, int x, int y);
 
 // Encoder side: residuals[n·n] of a child patch from its bins q and `parent_base`, the
 // parent's reconstruction requantized at the child's step (n·n, the whole parent patch;
-// quadrant `child_index` = (x & 1) | (y & 1) << 1 of the child's position).
+// quadrant `child_index` = (x & 1) | (y & 1) << 1 of the child's position). Zero outside
+// the region.
 void childResiduals(const int32_t* q, const int32_t* parent_base, int child_index, int n,
-                    OddPredictor predictor, int32_t* residuals);
-void rootResiduals(const int32_t* q, int n, int32_t* residuals);
+                    const CodedRegion& region, OddPredictor predictor, int32_t* residuals);
+void rootResiduals(const int32_t* q, int n, const CodedRegion& region, int32_t* residuals);
 
-// Decoder side: the exact inverses. Write q[n·n].
+// Decoder side: the exact inverses. Write q[n·n] inside the region (replicateBeyond fills
+// the rest).
 void reconstructChild(const int32_t* residuals, const int32_t* parent_base, int child_index, int n,
-                      OddPredictor predictor, int32_t* q);
-void reconstructRoot(const int32_t* residuals, int n, int32_t* q);
+                      const CodedRegion& region, OddPredictor predictor, int32_t* q);
+void reconstructRoot(const int32_t* residuals, int n, const CodedRegion& region, int32_t* q);
+// Samples beyond the region repeat the nearest one inside: q(x, y) = q(min(x, w−1),
+// min(y, h−1)). Nothing to do for a whole region.
+void replicateBeyond(int32_t* q, int n, const CodedRegion& region);
 
 } // namespace ridge

@@ -5,6 +5,7 @@
 // back into view is not decoded twice. The asynchronous streaming pipeline builds on this.
 //
 // Not thread-safe: one loader per render thread.
+#include "ridge/codec/progressive_reconstruction.h"
 #include "ridge/archive/archive_reader.h"
 #include "ridge/stream/lru_cache.h"
 
@@ -42,6 +43,8 @@ struct DecodedPatch {
     // always do: it halves what a residual patch holds in the decoded cache), else in 32.
     std::vector<int16_t> residuals16;
     std::vector<int32_t> residuals;
+    // The samples the residuals cover (ProgressiveCodec::codedRegion); the rest repeats them.
+    CodedRegion residual_region;
     // One product per preparation the loader or streamer was given, in their order, built by
     // the worker that decoded the codes so that the render thread only uploads them. Empty
     // for residual patches (no codes on the CPU).

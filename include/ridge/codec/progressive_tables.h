@@ -1,0 +1,96 @@
+#pragma once
+// The static entropy tables of progressive codec v2, one per (level, sample class, context),
+// learned from the whole pyramid at build time and stored once per archive (the "codec
+// tables" region of docs/FORMAT.md).
+//
+// Symbols are signed residual tokens (progressive_tokens.h, 71 of them). Sample classes:
+// 0 = the R refinements of a child patch (one context) or, at level 0, the MED residuals
+// of the root patch; 1, 2, 3 = the A, B, C prediction errors. Contexts are the activity
+// classes of the residuals already decoded around a sample (kContexts of them).
+//
+// A table that is not stored is the codec's default for its context: a two-sided geometric
+// distribution whose spread follows the activity class, generated with integer and exactly
+// rounded arithmetic only, so every platform builds the same tables. The trainer stores a
+// table only when the bits it saves on the archive's own symbols exceed its own bytes, so a
+// tiny archive stores almost nothing and pays almost nothing.
+#include "ridge/codec/rans_coder.h"
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace ridge {
+
+namespace progressive_tables {
+inline constexpr int kClasses = 4;
+inline constexpr int kContexts = 16;
+inline constexpr int kSymbols = 71;
+inline constexpr int kMaxLevels = 32;
+} // namespace progressive_tables
+
+// Symbol counts [level][class][context][symbol], what the trainer accumulates.
+class SymbolCounts {
+public:
+    explicit SymbolCounts(int level_count = 0);
+    int levelCount() const { return level_count_; }
+    uint64_t& at(int level, int cls, int context, int symbol)
+    {
+        return counts_[index(level, cls, context) * progressive_tables::kSymbols + symbol];
+    }
+    uint64_t at(int level, int cls, int context, int symbol) const
+    {
+        return counts_[index(level, cls, context) * progressive_tables::kSymbols + symbol];
+    }
+    const uint64_t* histogram(int level, int cls, int context) const
+    {
+        return &counts_[index(level, cls, context) * progressive_tables::kSymbols];
+    }
+    void merge(const SymbolCounts& other);
+
+private:
+    static size_t index(int level, int cls, int context)
+    {
+        return (static_cast<size_t>(level) * progressive_tables::kClasses + cls) *
+                   progressive_tables::kContexts + context;
+    }
+    int level_count_;
+    std::vector<uint64_t> counts_;
+};
+
+class ProgressiveTables {
+public:
+    // Every table the default.
+    static std::shared_ptr<const ProgressiveTables> defaults(int level_count);
+    // Tables fitted to `counts`, each stored only where it pays (see above).
+    static std::shared_ptr<const ProgressiveTables> fit(const SymbolCounts& counts);
+    // Parses serialize()'s bytes for an archive of `level_count` levels; null, with
+    // *problem saying what is wrong, for anything but exactly such bytes (sizes, symbol
+    // counts, frequency sums, trailing bytes).
+    static std::shared_ptr<const ProgressiveTables> parse(const uint8_t* data, size_t size,
+                                                          int level_count, std::string* problem);
+
+    // The stored form (docs/FORMAT.md, "Codec tables"); empty when every table is a default.
+    std::vector<uint8_t> serialize() const;
+
+    const rans::Table& table(int level, int cls, int context) const
+    {
+        return *index_[(static_cast<size_t>(level) * progressive_tables::kClasses + cls) *
+                           progressive_tables::kContexts + context];
+    }
+    int levelCount() const { return level_count_; }
+    int storedCount() const { return static_cast<int>(owned_.size()); }
+
+    // Bits `counts` cost under `table` (from its quantised frequencies), +inf when a counted
+    // symbol has frequency 0.
+    static double cost(const uint64_t* counts, const rans::Table& table);
+
+private:
+    explicit ProgressiveTables(int level_count);
+    int level_count_;
+    std::vector<std::unique_ptr<rans::Table>> owned_; // stored tables, in index order
+    std::vector<const rans::Table*> index_;           // [level][class][context]
+    std::vector<int> stored_symbols_;                 // per index entry: 0 = default
+};
+
+} // namespace ridge

@@ -1,0 +1,306 @@
+#include "ridge/codec/progressive_tables.h"
+
+#include "progressive_tokens.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+namespace ridge {
+
+using namespace progressive_tables;
+
+namespace {
+
+constexpr uint8_t kMagic = 'T';
+constexpr uint8_t kVersion = 1;
+
+// Lower activity bound of each context (progressive_entropy_v2.cpp maps activities through
+// the same list), used for the defaults' spread.
+constexpr int kActivityFirst[kContexts + 1] = {0,  1,  2,  3,  4,  5,  6,  8, 10,
+                                               13, 16, 20, 26, 34, 46, 64, 96};
+
+// Frequencies summing to kProbScale, non-zero exactly where the count is. False for an
+// all-zero histogram.
+bool normalize(const uint64_t* counts, uint16_t* freq)
+{
+    uint64_t total = 0;
+    for (int s = 0; s < kSymbols; ++s)
+        total += counts[s];
+    if (total == 0)
+        return false;
+    int64_t sum = 0;
+    int largest = 0;
+    for (int s = 0; s < kSymbols; ++s) {
+        freq[s] = 0;
+        if (counts[s] == 0)
+            continue;
+        // Integer rounding (128-bit products): the defaults are normalised by every reader
+        // and must come out the same everywhere.
+        const unsigned __int128 share =
+            (static_cast<unsigned __int128>(counts[s]) * rans::kProbScale + total / 2) / total;
+        freq[s] = static_cast<uint16_t>(std::max<unsigned __int128>(1, share));
+        sum += freq[s];
+        if (counts[s] > counts[largest])
+            largest = s;
+    }
+    // Rounding leaves the sum a few units off: the difference goes to, or comes from, the
+    // most frequent symbols, where it costs least.
+    while (sum < int64_t(rans::kProbScale)) {
+        ++freq[largest];
+        ++sum;
+    }
+    while (sum > int64_t(rans::kProbScale)) {
+        int s_max = -1;
+        for (int s = 0; s < kSymbols; ++s)
+            if (freq[s] > 1 && (s_max < 0 || freq[s] > freq[s_max]))
+                s_max = s;
+        --freq[s_max];
+        --sum;
+    }
+    return true;
+}
+
+// x^k with multiplications only: exactly rounded IEEE steps, the same on every platform
+// (std::pow need not be).
+double powi(double x, uint64_t k)
+{
+    double r = 1.0;
+    while (k) {
+        if (k & 1)
+            r *= x;
+        x *= x;
+        k >>= 1;
+    }
+    return r;
+}
+
+// The default model: |d| geometric with mean μ (θ = μ / (1 + μ)), signs equally likely,
+// every token given a count of at least 1 so that any residual stays codable.
+rans::Table geometricTable(int mean16)
+{
+    const double theta = double(mean16) / double(16 + mean16);
+    uint64_t counts[kSymbols];
+    const double scale = 1099511627776.0; // 2^40
+    for (int s = 0; s < kSymbols; ++s) {
+        double p;
+        if (s < 15) {
+            const int32_t d = progressive_tokens::residual(s, 0);
+            p = powi(theta, static_cast<uint64_t>(d < 0 ? -d : d)) * (d == 0 ? 1.0 : 0.5);
+        } else {
+            const int t = s - 15, b = (t >> 2) + 3;
+            const uint64_t lo = (uint64_t(1) << b) | (uint64_t((t >> 1) & 1) << (b - 1));
+            const uint64_t len = uint64_t(1) << (b - 1);
+            p = 0.5 * powi(theta, lo) * (1.0 - powi(theta, len)) / (1.0 - theta);
+        }
+        counts[s] = std::max<uint64_t>(1, static_cast<uint64_t>(p * scale));
+    }
+    uint16_t freq[kSymbols];
+    normalize(counts, freq);
+    rans::Table table;
+    table.assign(freq, kSymbols);
+    return table;
+}
+
+struct DefaultTables {
+    rans::Table activity[kContexts];
+    rans::Table refinement;
+    DefaultTables()
+    {
+        for (int c = 0; c < kContexts; ++c)
+            activity[c] = geometricTable(4 * (kActivityFirst[c] + kActivityFirst[c + 1]) + 6);
+        refinement = geometricTable(4);
+    }
+};
+
+const DefaultTables& defaultTables()
+{
+    static const DefaultTables tables;
+    return tables;
+}
+
+const rans::Table& defaultTable(int level, int cls, int context)
+{
+    const DefaultTables& d = defaultTables();
+    return (cls == 0 && level > 0) ? d.refinement : d.activity[context];
+}
+
+int tablesPerLevel() { return kClasses * kContexts; }
+
+void putVarint(std::vector<uint8_t>& out, uint32_t v)
+{
+    while (v >= 0x80) {
+        out.push_back(static_cast<uint8_t>(v | 0x80));
+        v >>= 7;
+    }
+    out.push_back(static_cast<uint8_t>(v));
+}
+
+bool getVarint(const uint8_t*& p, const uint8_t* end, uint32_t& v)
+{
+    v = 0;
+    for (int shift = 0; shift < 28; shift += 7) {
+        if (p == end)
+            return false;
+        const uint8_t b = *p++;
+        v |= uint32_t(b & 0x7f) << shift;
+        if (!(b & 0x80))
+            return true;
+    }
+    return false;
+}
+
+// Bytes one stored table takes: its symbol count, then its frequencies.
+size_t storedBytes(const rans::Table& t)
+{
+    std::vector<uint8_t> bytes;
+    putVarint(bytes, static_cast<uint32_t>(t.symbols));
+    for (int s = 0; s < t.symbols; ++s)
+        putVarint(bytes, t.freq[s]);
+    return bytes.size();
+}
+
+} // namespace
+
+SymbolCounts::SymbolCounts(int level_count)
+    : level_count_(level_count),
+      counts_(static_cast<size_t>(level_count) * kClasses * kContexts * kSymbols, 0)
+{
+}
+
+void SymbolCounts::merge(const SymbolCounts& other)
+{
+    for (size_t i = 0; i < counts_.size() && i < other.counts_.size(); ++i)
+        counts_[i] += other.counts_[i];
+}
+
+ProgressiveTables::ProgressiveTables(int level_count)
+    : level_count_(level_count),
+      index_(static_cast<size_t>(level_count) * tablesPerLevel(), nullptr),
+      stored_symbols_(index_.size(), 0)
+{
+    for (int l = 0; l < level_count; ++l)
+        for (int c = 0; c < kClasses; ++c)
+            for (int x = 0; x < kContexts; ++x)
+                index_[(size_t(l) * kClasses + c) * kContexts + x] = &defaultTable(l, c, x);
+}
+
+std::shared_ptr<const ProgressiveTables> ProgressiveTables::defaults(int level_count)
+{
+    return std::shared_ptr<const ProgressiveTables>(new ProgressiveTables(level_count));
+}
+
+double ProgressiveTables::cost(const uint64_t* counts, const rans::Table& table)
+{
+    double bits = 0;
+    for (int s = 0; s < kSymbols; ++s) {
+        if (counts[s] == 0)
+            continue;
+        if (s >= table.symbols || table.freq[s] == 0)
+            return std::numeric_limits<double>::infinity();
+        bits += double(counts[s]) * (rans::kProbBits - std::log2(double(table.freq[s])));
+    }
+    return bits;
+}
+
+std::shared_ptr<const ProgressiveTables> ProgressiveTables::fit(const SymbolCounts& counts)
+{
+    std::shared_ptr<ProgressiveTables> t(new ProgressiveTables(counts.levelCount()));
+    for (int l = 0; l < counts.levelCount(); ++l)
+        for (int c = 0; c < kClasses; ++c)
+            for (int x = 0; x < kContexts; ++x) {
+                const uint64_t* h = counts.histogram(l, c, x);
+                uint16_t freq[kSymbols];
+                if (!normalize(h, freq))
+                    continue;
+                int symbols = kSymbols;
+                while (freq[symbols - 1] == 0)
+                    --symbols;
+                auto fitted = std::make_unique<rans::Table>();
+                fitted->assign(freq, symbols);
+                const size_t i = (size_t(l) * kClasses + c) * kContexts + x;
+                const double stored = cost(h, *fitted) + 8.0 * double(storedBytes(*fitted));
+                if (!(stored < cost(h, *t->index_[i])))
+                    continue;
+                t->index_[i] = fitted.get();
+                t->stored_symbols_[i] = symbols;
+                t->owned_.push_back(std::move(fitted));
+            }
+    return t;
+}
+
+std::vector<uint8_t> ProgressiveTables::serialize() const
+{
+    if (owned_.empty())
+        return {};
+    std::vector<uint8_t> out{kMagic, kVersion, static_cast<uint8_t>(level_count_)};
+    for (size_t i = 0; i < index_.size(); ++i) {
+        putVarint(out, static_cast<uint32_t>(stored_symbols_[i]));
+        for (int s = 0; s < stored_symbols_[i]; ++s)
+            putVarint(out, index_[i]->freq[s]);
+    }
+    return out;
+}
+
+std::shared_ptr<const ProgressiveTables> ProgressiveTables::parse(const uint8_t* data, size_t size,
+                                                                  int level_count,
+                                                                  std::string* problem)
+{
+    auto fail = [&](const std::string& what) -> std::shared_ptr<const ProgressiveTables> {
+        if (problem)
+            *problem = what;
+        return nullptr;
+    };
+    if (level_count < 1 || level_count > kMaxLevels)
+        return fail("level count " + std::to_string(level_count) + " is outside 1..32");
+    if (size == 0)
+        return defaults(level_count);
+    if (size < 3 || data[0] != kMagic)
+        return fail("codec tables do not start with 'T'");
+    if (data[1] != kVersion)
+        return fail("codec tables version is " + std::to_string(data[1]) + ": must be 1");
+    if (data[2] != level_count)
+        return fail("codec tables are for " + std::to_string(data[2]) + " levels: the archive has " +
+                    std::to_string(level_count));
+    std::shared_ptr<ProgressiveTables> t(new ProgressiveTables(level_count));
+    const uint8_t* p = data + 3;
+    const uint8_t* end = data + size;
+    for (size_t i = 0; i < t->index_.size(); ++i) {
+        const std::string where = "codec table " + std::to_string(i);
+        uint32_t symbols;
+        if (!getVarint(p, end, symbols))
+            return fail(where + ": truncated");
+        if (symbols > uint32_t(kSymbols))
+            return fail(where + " has " + std::to_string(symbols) + " symbols: at most 71");
+        if (symbols == 0)
+            continue;
+        uint16_t freq[kSymbols] = {};
+        uint32_t sum = 0;
+        for (uint32_t s = 0; s < symbols; ++s) {
+            uint32_t f;
+            if (!getVarint(p, end, f))
+                return fail(where + ": truncated");
+            if (f > rans::kProbScale)
+                return fail(where + ": frequency " + std::to_string(f) + " above 4096");
+            freq[s] = static_cast<uint16_t>(f);
+            sum += f;
+        }
+        if (sum != rans::kProbScale)
+            return fail(where + ": frequencies sum to " + std::to_string(sum) + ": must be 4096");
+        if (freq[symbols - 1] == 0)
+            return fail(where + ": its last symbol has frequency 0 (not canonical)");
+        auto table = std::make_unique<rans::Table>();
+        table->assign(freq, static_cast<int>(symbols));
+        t->index_[i] = table.get();
+        t->stored_symbols_[i] = static_cast<int>(symbols);
+        t->owned_.push_back(std::move(table));
+    }
+    if (p != end)
+        return fail("codec tables have " + std::to_string(end - p) + " trailing bytes");
+    if (t->owned_.empty())
+        return fail("codec tables store no table (an archive without tables has none)");
+    return t;
+}
+
+} // namespace ridge
