@@ -42,8 +42,8 @@ lod::SelectionSettings rendererSelectionSettings(double epsilon_px, double texel
 // sizes of the selected patches and — when reader.codec().capabilities().needs_ancestors —
 // of all their ancestors, each patch once. `quadtree` must be
 // lod::PatchQuadtree::fromArchive(reader) (built once, reused across views).
-// Throws ridge::Error for settings select refuses. Cost: the selection plus O(selected ·
-// levels); one byte of scratch per patch of the archive.
+// Throws ridge::Error for settings select refuses. Cost: the selection, O(selected · levels)
+// for the ancestors and one pass over a byte per patch of the archive (patchesToFetch).
 ViewBytes viewBytes(const archive::ArchiveReader& reader, const lod::PatchQuadtree& quadtree,
                     const lod::Camera& camera, const lod::SelectionSettings& settings);
 // Same, building the quadtree from the reader's index (O(patches); use the overload above
