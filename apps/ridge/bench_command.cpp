@@ -62,10 +62,17 @@ void BenchCommand::registerWith(CLI::App& app)
         "Run tess, chunked and brute, with and without frustum culling, and print the "
         "fractal-rings paper's Table 1, each frame loaded in full first (--lod, "
         "--no-cull and streaming are then ignored)");
+    command_->add_flag(
+        "--bytes-per-view", bytes_per_view_,
+        "Render nothing (no GL): for each frame of the path, the bytes a cold cache reads to "
+        "draw it (the tessellation scheme's selection at --error and --texel-size; with a "
+        "progressive archive every ancestor too); near/mid/far = first/middle/last frame, "
+        "min/median/max, and the whole path's patches together (--plot is not written)");
     command_->add_flag("--json", json_,
                        "Print every frame's figures as JSON on stdout (the summary then goes to "
                        "stderr)");
-    command_->add_option("--json-file", json_path_, "Write every frame's figures as JSON to a file");
+    command_->add_option("--json-file", json_path_,
+                         "Write every frame's figures as JSON to a file");
     command_->add_option("--plot", plot_path_, "Write the frame times as a PNG");
 }
 
@@ -100,6 +107,8 @@ int BenchCommand::run()
     options.measure_popping = popping_;
     options.tessellation_rule = rules_.tessellation_rule;
     options.side_on_bound = rules_.side_on_bound;
+    if (bytes_per_view_)
+        return runBytesPerView(options);
     if (table_) {
         std::vector<renderbench::RenderBenchReport> reports;
         for (const std::string& scheme : render::lodSchemeNames())
@@ -112,8 +121,8 @@ int BenchCommand::run()
                 o.renderer.streaming = false;
                 reports.push_back(renderbench::runRenderBench(archive_, o));
             }
-        fmt::print(human, "{}: path {}, {} frames at {}x{}, ε {} px, {}\n{}", archive_, path_, frames_,
-                   options.viewport.width, options.viewport.height, error_,
+        fmt::print(human, "{}: path {}, {} frames at {}x{}, ε {} px, {}\n{}", archive_, path_,
+                   frames_, options.viewport.width, options.viewport.height, error_,
                    reports.front().gl_renderer, renderbench::formatRenderBenchTable(reports));
         writeOutputs(reports.front());
         return 0;
@@ -121,6 +130,18 @@ int BenchCommand::run()
     const renderbench::RenderBenchReport report = renderbench::runRenderBench(archive_, options);
     fmt::print(human, "{}", renderbench::formatRenderBenchSummary(report));
     writeOutputs(report);
+    return 0;
+}
+
+int BenchCommand::runBytesPerView(const renderbench::RenderBenchOptions& options) const
+{
+    const renderbench::ViewBytesBenchReport report =
+        renderbench::runViewBytesBench(archive_, options);
+    fmt::print(json_ ? stderr : stdout, "{}", renderbench::formatViewBytesSummary(report));
+    if (json_)
+        fmt::print("{}", renderbench::formatViewBytesJson(report));
+    if (!json_path_.empty())
+        renderbench::writeViewBytesJson(report, json_path_);
     return 0;
 }
 

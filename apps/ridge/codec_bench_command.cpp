@@ -16,8 +16,10 @@ namespace ridge::cli {
 void CodecBenchCommand::registerWith(CLI::App& app)
 {
     command_ = app.add_subcommand(
-        "codec-bench", "Compare ridge's codec with error-bounded anchor codecs (LERC, JPEG-LS, "
-                       "JPEG 2000, JPEG XL, MED+zstd, ZFP) on one raster");
+        "codec-bench",
+        "Compare ridge's codec with error-bounded anchor codecs (LERC, JPEG-LS, JPEG 2000, "
+        "JPEG XL at efforts 7 and 9, MED+zstd, ZFP) on one raster; for ridge also the bytes a "
+        "cold cache fetches for a near, mid and far view at 1920x1080, ε = 2 px");
     command_->add_option("input", input_, "Input raster (anything GDAL reads)")->required();
     command_
         ->add_option("--max-error", max_errors_,

@@ -1,11 +1,12 @@
 #pragma once
 // The subcommands of `ridge` and their options.
+#include "render_args.h"
 #include "ridge/pipeline/build.h"
 #include "ridge/pipeline/extract.h"
 #include "ridge/pipeline/hillshade.h"
 #include "ridge/render/terrain_renderer.h"
-#include "render_args.h"
 #include "ridge/renderbench/render_bench.h"
+#include "ridge/renderbench/view_bytes_bench.h"
 
 #include <CLI/CLI.hpp>
 #include <optional>
@@ -56,11 +57,13 @@ class BenchCommand {
     bool popping_ = false;
     render::RenderSettings rules_; // --tess-rule, --on-axis-bound
     bool table_ = false;
-    bool json_ = false;     // --json: the report on stdout
-    std::string json_path_; // --json-file
+    bool bytes_per_view_ = false; // GL-free: cold-cache bytes per frame, no rendering
+    bool json_ = false;           // --json: the report on stdout
+    std::string json_path_;       // --json-file
     std::string plot_path_;
 
     void writeOutputs(const renderbench::RenderBenchReport& report) const;
+    int runBytesPerView(const renderbench::RenderBenchOptions& options) const;
 };
 
 // `ridge render` (render_command.cpp): one headless frame of an archive as a PNG.

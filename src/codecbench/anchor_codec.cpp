@@ -8,7 +8,10 @@ std::vector<std::unique_ptr<AnchorCodec>> makeAnchorCodecs()
     anchors.push_back(makeLercAnchor());
     anchors.push_back(makeJpegLsAnchor());
     anchors.push_back(makeJpeg2000Anchor());
-    anchors.push_back(makeJpegXlAnchor());
+    // Both efforts: 7 is what cjxl users get, 9 the strongest lossless JPEG XL there is here
+    // (the target ratio is measured against the best anchor).
+    anchors.push_back(makeJpegXlAnchor(7));
+    anchors.push_back(makeJpegXlAnchor(9));
     anchors.push_back(makeMedZstdAnchor());
     anchors.push_back(makeZfpAnchor());
     return anchors;

@@ -6,6 +6,7 @@
 #include "ridge/pipeline/build.h"
 #include "ridge/pipeline/build_memory.h"
 #include "ridge/pipeline/level_decoder.h"
+#include "ridge/stream/view_bytes.h"
 
 #include <fmt/core.h>
 
@@ -128,6 +129,25 @@ bool ridgeCodecIsLossy(const std::string& codec)
     return codec != "lossless" && codec != "raw";
 }
 
+// The cold-cache bytes of the typical views, on the renderer's own selection (untimed: it
+// reads the index only).
+std::vector<ViewBytesFigure> typicalViewBytes(const archive::ArchiveReader& reader,
+                                              const CodecBenchOptions& options)
+{
+    const lod::PatchQuadtree quadtree = lod::PatchQuadtree::fromArchive(reader);
+    const lod::SelectionSettings settings =
+        stream::rendererSelectionSettings(options.view_epsilon_px, options.view_texel_px);
+    std::vector<ViewBytesFigure> out;
+    for (const stream::TypicalView view : stream::kTypicalViews) {
+        const lod::Camera camera = stream::typicalViewCamera(
+            quadtree, view, lod::Viewport{options.view_width, options.view_height});
+        const stream::ViewBytes b = stream::viewBytes(reader, quadtree, camera, settings);
+        out.push_back(
+            {stream::typicalViewName(view), b.bytes, b.patches, b.selected, b.counts_ancestors});
+    }
+    return out;
+}
+
 // ridge's row: the whole pyramid built and decoded on one thread.
 CodecRow runRidge(const io::ElevationRaster& raster, double bound_metres,
                   const CodecBenchOptions& options, const CodecBenchReport& report,
@@ -163,6 +183,7 @@ CodecRow runRidge(const io::ElevationRaster& raster, double bound_metres,
     }
     row.decode_seconds = secondsSince(decode_start);
     row.bytes = reader.fileSize();
+    row.view_bytes = typicalViewBytes(reader, options);
     reportProgress(progress, 0.9);
 
     // 3. Check the finest level against the source: ridge's bound is E in metres.
@@ -262,6 +283,12 @@ void validate(const CodecBenchOptions& options)
         checkParameter("max_errors[" + std::to_string(k) + "] (metres)", options.max_errors[k],
                        CodecBenchOptions::kMaxErrorRange);
     checkParameter("tile_size", int64_t{options.tile_size}, 0, CodecBenchOptions::kMaxTileSize);
+    checkParameter("view_width", int64_t{options.view_width}, 1, CodecBenchOptions::kMaxViewPixels);
+    checkParameter("view_height", int64_t{options.view_height}, 1,
+                   CodecBenchOptions::kMaxViewPixels);
+    checkParameter("view_epsilon_px", options.view_epsilon_px,
+                   lod::SelectionSettings::kEpsilonPxRange);
+    checkParameter("view_texel_px", options.view_texel_px, lod::SelectionSettings::kTexelPxRange);
 }
 
 // The bench ingests the whole raster, copies it into tiles and builds ridge's archive of it in
@@ -319,6 +346,10 @@ CodecBenchReport runCodecBench(const io::ElevationRaster& raster, const CodecBen
     report.ridge_codec = options.ridge_codec;
     report.cpu_model = cpuModel();
     report.threads = 1;
+    report.view_width = options.view_width;
+    report.view_height = options.view_height;
+    report.view_epsilon_px = options.view_epsilon_px;
+    report.view_texel_px = options.view_texel_px;
     const auto anchors = makeAnchorCodecs();
     report.codecs.push_back(
         {"ridge " + options.ridge_codec,

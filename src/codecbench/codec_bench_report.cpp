@@ -29,6 +29,38 @@ std::string formatBound(const CodecRow& row)
     return row.bound_ok ? "ok" : fmt::format("VIOLATED ({} samples)", row.violations);
 }
 
+// "1 234 567": byte counts as docs/PERF.md writes them.
+std::string groupedDigits(uint64_t v)
+{
+    std::string digits = std::to_string(v), out;
+    for (size_t i = 0; i < digits.size(); ++i) {
+        if (i > 0 && (digits.size() - i) % 3 == 0)
+            out += ' ';
+        out += digits[i];
+    }
+    return out;
+}
+
+// "ridge bytes fetched per view at 1920×1080, ε = 2 px: near …, mid …, far …" under a bound's
+// table, for ridge's row.
+std::string formatViewBytes(const CodecBenchReport& r, const CodecRow& row)
+{
+    if (row.view_bytes.empty())
+        return {};
+    std::string out = fmt::format("ridge bytes fetched per view at {}×{}, ε = {:g} px",
+                                  r.view_width, r.view_height, r.view_epsilon_px);
+    for (size_t k = 0; k < row.view_bytes.size(); ++k) {
+        const ViewBytesFigure& v = row.view_bytes[k];
+        out += fmt::format("{} {} {} ({} patches)", k == 0 ? ":" : ",", v.view,
+                           groupedDigits(v.bytes), v.patches);
+    }
+    const bool ancestors = row.view_bytes.front().counts_ancestors;
+    out += fmt::format("\n  (cold cache; texel target {:g} px; {})\n", r.view_texel_px,
+                       ancestors ? "selected patches and every ancestor, each once"
+                                 : "selected patches only: the codec needs no ancestors");
+    return out;
+}
+
 nlohmann::json finiteOrNull(double v)
 {
     return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
@@ -68,6 +100,8 @@ std::string formatCodecBenchTable(const CodecBenchReport& r)
                             row.bytes, row.ratio, row.bits_per_sample, row.max_error_metres,
                             row.rmse_metres, formatPsnr(row.psnr_db), row.encode_mb_per_s,
                             row.decode_mb_per_s, formatBound(row));
+        for (const CodecRow& row : b.rows)
+            out += formatViewBytes(r, row);
     }
 
     out += "\n* ridge's bytes are the whole .ridge archive: the finest level AND every coarser "
@@ -86,6 +120,10 @@ std::string formatCodecBenchTable(const CodecBenchReport& r)
         "level "
         "in,\n  decode the samples out (ridge: every level of the pyramid; its encode is the whole "
         "build, its decode\n  opens the archive and decodes every level).\n";
+    out += "Views (ridge/stream/view_bytes.h): near 300 m over the top of the terrain's centre "
+           "looking north 5° down;\n  mid and far look at the centre from the south, 30° and 60° "
+           "above the horizon, from R and 2R\n  (R: the terrain box's half diagonal); the "
+           "renderer's own LOD selection.\n";
     out += "Codecs:\n";
     for (const CodecInfo& c : r.codecs)
         out += fmt::format("  {:<{}}  {}: {}{}\n", c.codec, name_width, c.library, c.configuration,
@@ -107,6 +145,13 @@ std::string formatCodecBenchJson(const CodecBenchReport& r)
     j["tile_size"] = r.tile_size;
     j["ridge_codec"] = r.ridge_codec;
     j["machine"] = {{"cpu_model", r.cpu_model}, {"threads", r.threads}};
+    j["views"] = {{"width", r.view_width},
+                  {"height", r.view_height},
+                  {"epsilon_px", r.view_epsilon_px},
+                  {"texel_px", r.view_texel_px},
+                  {"definition",
+                   "ridge/stream/view_bytes.h: near, mid, far from the archive's "
+                   "extents; cold cache, ancestors counted when the codec needs them"}};
     j["notes"] = {
         {"ridge_scope", "whole archive: every level of the pyramid, index, block errors, metadata"},
         {"anchor_scope", "finest level only, independent tiles"},
@@ -125,7 +170,7 @@ std::string formatCodecBenchJson(const CodecBenchReport& r)
     nlohmann::json bounds = nlohmann::json::array();
     for (const BoundResult& b : r.bounds) {
         nlohmann::json rows = nlohmann::json::array();
-        for (const CodecRow& row : b.rows)
+        for (const CodecRow& row : b.rows) {
             rows.push_back({{"codec", row.codec},
                             {"scope", row.scope},
                             {"bytes", row.bytes},
@@ -143,6 +188,16 @@ std::string formatCodecBenchJson(const CodecBenchReport& r)
                             {"decode_mb_per_s", row.decode_mb_per_s},
                             {"violations", row.violations},
                             {"bound_ok", row.bound_ok}});
+            if (!row.view_bytes.empty()) {
+                nlohmann::json views = nlohmann::json::object();
+                for (const ViewBytesFigure& v : row.view_bytes)
+                    views[v.view] = {{"bytes", v.bytes},
+                                     {"patches", v.patches},
+                                     {"selected", v.selected},
+                                     {"counts_ancestors", v.counts_ancestors}};
+                rows.back()["view_bytes"] = views;
+            }
+        }
         bounds.push_back({{"max_error_metres", b.max_error_metres},
                           {"max_error_codes", b.max_error_codes},
                           {"rows", rows}});

@@ -121,3 +121,39 @@ TEST(BenchCli, StreamingFramesAccountForTheirTrafficWithTheGpuOrTheCpuDecoding)
         EXPECT_EQ(j["gpu_reconstruction"].get<bool>(), decode.empty());
     }
 }
+
+// --bytes-per-view: selection only, no GL; every frame's cold-cache bytes, the progressive
+// archive's ancestors counted, the lossless one's not.
+TEST(BenchCli, BytesPerViewReportsEveryFramesColdCacheBytesWithoutRendering)
+{
+    test::ScratchDir dir;
+    const std::string progressive = test::buildEverestWithCli(
+        dir, "progressive.ridge", "--patch 33 --codec progressive --max-error 2");
+    const std::string lossless = buildArchive(dir);
+    for (const std::string& arc : {progressive, lossless}) {
+        const bool is_progressive = arc == progressive;
+        const test::CommandResult r = test::runRidgeStdout(
+            "bench '" + arc + "' --bytes-per-view --path orbit --frames 9 --json");
+        ASSERT_EQ(r.exit_code, 0) << r.output;
+        const nlohmann::json j = nlohmann::json::parse(r.output);
+        ASSERT_EQ(j["frames"].size(), 9u);
+        EXPECT_EQ(j["counts_ancestors"].get<bool>(), is_progressive);
+        uint64_t largest = 0;
+        for (const auto& f : j["frames"]) {
+            const uint64_t bytes = f["bytes"], patches = f["patches"], selected = f["selected"];
+            EXPECT_GT(bytes, 0u);
+            if (is_progressive) {
+                EXPECT_GT(patches, selected) << "ancestors are fetched too";
+            } else {
+                EXPECT_EQ(patches, selected);
+            }
+            largest = std::max(largest, bytes);
+        }
+        const auto& s = j["summary"];
+        EXPECT_EQ(s["bytes_max"].get<uint64_t>(), largest);
+        EXPECT_EQ(s["near_bytes"], j["frames"][0]["bytes"]);
+        EXPECT_EQ(s["far_bytes"], j["frames"][8]["bytes"]);
+        EXPECT_GE(s["path_bytes"].get<uint64_t>(), largest);
+        EXPECT_LE(s["path_bytes"].get<uint64_t>(), j["archive_blob_bytes"].get<uint64_t>());
+    }
+}

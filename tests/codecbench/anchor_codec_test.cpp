@@ -177,13 +177,21 @@ TEST_P(AnchorTest, DescribesItselfAndItsLibrary)
         << a->libraryVersion();
 }
 
-INSTANTIATE_TEST_SUITE_P(Anchors, AnchorTest, testing::Range(0, 6), anchorName);
+INSTANTIATE_TEST_SUITE_P(Anchors, AnchorTest, testing::Range(0, 7), anchorName);
 
-TEST(Anchors, AllSixInTableOrder)
+TEST(Anchors, AllSevenInTableOrder)
 {
     std::vector<std::string> names;
     for (const auto& a : makeAnchorCodecs())
         names.push_back(a->name());
-    EXPECT_EQ(names, (std::vector<std::string>{"LERC", "JPEG-LS", "JPEG 2000", "JPEG XL",
-                                               "MED+zstd", "ZFP"}));
+    EXPECT_EQ(names, (std::vector<std::string>{"LERC", "JPEG-LS", "JPEG 2000", "JPEG XL e7",
+                                               "JPEG XL e9", "MED+zstd", "ZFP"}));
+}
+
+TEST(Anchors, JpegXlStatesItsEffortAndRefusesOnesLibjxlHasNot)
+{
+    EXPECT_NE(makeJpegXlAnchor(9)->description().find("effort 9"), std::string::npos);
+    EXPECT_NE(makeJpegXlAnchor(7)->description().find("effort 7"), std::string::npos);
+    EXPECT_THROW(makeJpegXlAnchor(0), Error);
+    EXPECT_THROW(makeJpegXlAnchor(10), Error);
 }

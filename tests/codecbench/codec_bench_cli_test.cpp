@@ -23,27 +23,30 @@ TEST(CodecBenchCli, WritesTablesJsonAndPlot)
     EXPECT_NE(r.output.find("100 - done."), std::string::npos) << "progress on stderr";
     EXPECT_EQ(r.output.find("VIOLATED"), std::string::npos) << r.output;
     for (const char* name :
-         {"ridge progressive", "LERC", "JPEG-LS", "JPEG 2000", "JPEG XL", "MED+zstd", "ZFP"})
+         {"ridge progressive", "LERC", "JPEG-LS", "JPEG 2000", "JPEG XL e7", "JPEG XL e9",
+          "MED+zstd", "ZFP", "ridge bytes fetched per view at 1920×1080, ε = 2 px: near "})
         EXPECT_NE(r.output.find(name), std::string::npos) << name;
     ASSERT_TRUE(fs::exists(json));
     ASSERT_TRUE(fs::exists(png));
     std::ifstream in(json);
     const nlohmann::json j = nlohmann::json::parse(in);
     EXPECT_EQ(j["bounds"].size(), 1u);
-    EXPECT_EQ(j["bounds"][0]["rows"].size(), 7u);
+    EXPECT_EQ(j["bounds"][0]["rows"].size(), 8u);
     EXPECT_TRUE(j["bounds"][0]["rows"][0]["bound_ok"].get<bool>());
+    EXPECT_GT(j["bounds"][0]["rows"][0]["view_bytes"]["far"]["bytes"].get<uint64_t>(), 0u);
     EXPECT_EQ(test::temporariesIn(dir.dir()), std::vector<std::string>{});
 }
 
 // --json: the same document on stdout and nothing else there (the tables go to stderr).
 TEST(CodecBenchCli, JsonPrintsTheDocumentOnStdout)
 {
-    const test::CommandResult r = test::runRidgeStdout(
-        "codec-bench '" + test::dataPath("everest_crop.tif") + "' --max-error 4 --tile 64 -q --json");
+    const test::CommandResult r =
+        test::runRidgeStdout("codec-bench '" + test::dataPath("everest_crop.tif") +
+                             "' --max-error 4 --tile 64 -q --json");
     ASSERT_EQ(r.exit_code, 0) << r.output;
     const nlohmann::json j = nlohmann::json::parse(r.output);
     EXPECT_EQ(j["bounds"].size(), 1u);
-    EXPECT_EQ(j["bounds"][0]["rows"].size(), 7u);
+    EXPECT_EQ(j["bounds"][0]["rows"].size(), 8u);
 }
 
 TEST(CodecBenchCli, MissingInputFailsNamingThePath)
@@ -51,8 +54,8 @@ TEST(CodecBenchCli, MissingInputFailsNamingThePath)
     test::ScratchDir dir;
     const std::string missing = dir.path("missing.hgt");
     const std::string json = dir.path("bench.json");
-    const test::CommandResult r = test::runRidge("codec-bench '" + missing + "' --json-file '" + json +
-                                                 "' -q --ridge-codec lossless");
+    const test::CommandResult r = test::runRidge("codec-bench '" + missing + "' --json-file '" +
+                                                 json + "' -q --ridge-codec lossless");
     EXPECT_NE(r.exit_code, 0);
     EXPECT_NE(r.output.find(missing), std::string::npos) << r.output;
     EXPECT_FALSE(fs::exists(json));

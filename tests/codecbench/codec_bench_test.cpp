@@ -19,8 +19,8 @@ using namespace ridge::codecbench;
 
 namespace {
 
-const std::vector<std::string> kAnchors{"LERC",    "JPEG-LS",  "JPEG 2000",
-                                        "JPEG XL", "MED+zstd", "ZFP"};
+const std::vector<std::string> kAnchors{"LERC",       "JPEG-LS",  "JPEG 2000", "JPEG XL e7",
+                                        "JPEG XL e9", "MED+zstd", "ZFP"};
 
 const io::ElevationRaster& everest()
 {
@@ -57,6 +57,16 @@ TEST(CodecBench, LosslessRidgeRowKeepsItsBoundAndEveryAnchorIsReported)
     EXPECT_GT(ridge_row.bytes, 0u);
     // Every level is decoded, so ridge's decoder produces more samples than the finest level.
     EXPECT_GT(ridge_row.decode_bytes, uint64_t(r.width) * r.height * 2);
+    EXPECT_GT(ridge_row.decode_seconds, 0.0);
+    EXPECT_GT(ridge_row.decode_mb_per_s, 0.0);
+    // Lossless: a view reads its selected patches alone.
+    ASSERT_EQ(ridge_row.view_bytes.size(), 3u);
+    for (const ViewBytesFigure& v : ridge_row.view_bytes) {
+        EXPECT_FALSE(v.counts_ancestors) << v.view;
+        EXPECT_EQ(v.patches, v.selected) << v.view;
+        EXPECT_GT(v.bytes, 0u) << v.view;
+        EXPECT_LE(v.bytes, ridge_row.bytes) << v.view;
+    }
 
     for (size_t i = 0; i < kAnchors.size(); ++i) {
         const CodecRow& row = b.rows[1 + i];
@@ -69,6 +79,8 @@ TEST(CodecBench, LosslessRidgeRowKeepsItsBoundAndEveryAnchorIsReported)
         EXPECT_GT(row.encode_mb_per_s, 0.0);
         EXPECT_GT(row.decode_mb_per_s, 0.0);
         EXPECT_EQ(row.encode_bytes, uint64_t(r.width) * r.height * 2);
+        EXPECT_EQ(row.decode_bytes, uint64_t(r.width) * r.height * 2) << row.codec;
+        EXPECT_TRUE(row.view_bytes.empty()) << row.codec << ": anchors have no pyramid";
     }
     EXPECT_TRUE(std::filesystem::is_empty(dir.dir())) << "ridge's scratch archive must be removed";
 }
@@ -85,6 +97,13 @@ TEST(CodecBench, ProgressiveRidgeRowKeepsItsEndToEndBound)
         EXPECT_TRUE(ridge_row.bound_ok)
             << b.max_error_metres << " m: " << ridge_row.max_error_metres;
         EXPECT_LE(ridge_row.max_error_metres, b.max_error_metres + 1e-9);
+        // Progressive: every view reads its selected patches' ancestors too.
+        ASSERT_EQ(ridge_row.view_bytes.size(), 3u);
+        for (const ViewBytesFigure& v : ridge_row.view_bytes) {
+            EXPECT_TRUE(v.counts_ancestors) << v.view;
+            EXPECT_GT(v.patches, v.selected) << v.view;
+            EXPECT_LE(v.bytes, ridge_row.bytes) << v.view;
+        }
     }
     // A looser bound must not cost more bytes.
     EXPECT_LE(r.bounds[1].rows.front().bytes, r.bounds[0].rows.front().bytes);
@@ -100,10 +119,15 @@ TEST(CodecBench, TableAndJsonNameEveryCodecAndSayWhatRidgeCounts)
     EXPECT_NE(table.find("ridge lossless"), std::string::npos);
     EXPECT_NE(table.find("every coarser level"), std::string::npos) << "footnote on ridge's scope";
     EXPECT_EQ(table.find("VIOLATED"), std::string::npos) << table;
+    EXPECT_NE(table.find("ridge bytes fetched per view at 1920×1080, ε = 2 px: near "),
+              std::string::npos)
+        << table;
 
     const nlohmann::json j = nlohmann::json::parse(formatCodecBenchJson(r));
     EXPECT_EQ(j["machine"]["threads"], 1);
     EXPECT_EQ(j["tile_size"], 64);
+    EXPECT_EQ(j["views"]["width"], 1920);
+    EXPECT_EQ(j["views"]["epsilon_px"], 2.0);
     EXPECT_FALSE(j["machine"]["cpu_model"].get<std::string>().empty());
     ASSERT_EQ(j["bounds"].size(), 2u);
     EXPECT_EQ(j["bounds"][0]["max_error_codes"], 0); // 0.5 m < 1 m per code: lossless
@@ -113,7 +137,12 @@ TEST(CodecBench, TableAndJsonNameEveryCodecAndSayWhatRidgeCounts)
         for (const auto& row : bound["rows"]) {
             codecs.push_back(row["codec"]);
             EXPECT_TRUE(row["bound_ok"].get<bool>()) << row.dump();
+            EXPECT_GT(row["decode_mb_per_s"].get<double>(), 0.0) << row["codec"];
         }
+        const auto& views = bound["rows"][0]["view_bytes"];
+        for (const char* view : {"near", "mid", "far"})
+            EXPECT_GT(views[view]["bytes"].get<uint64_t>(), 0u) << view;
+        EXPECT_FALSE(bound["rows"][1].contains("view_bytes"));
         EXPECT_EQ(codecs.front(), "ridge lossless");
         for (const std::string& name : kAnchors)
             EXPECT_NE(std::find(codecs.begin(), codecs.end(), name), codecs.end()) << name;
@@ -156,6 +185,9 @@ TEST(CodecBench, InvalidOptionsAreRejectedByName)
     CodecBenchOptions options = losslessOptions(dir, {1.0});
     options.tile_size = -5;
     EXPECT_EQ(messageOf(options), "tile_size is -5: must be an integer in [0, 65536]");
+    options = losslessOptions(dir, {1.0});
+    options.view_width = 0;
+    EXPECT_EQ(messageOf(options), "view_width is 0: must be an integer in [1, 65536]");
 }
 
 TEST(CodecBench, MissingInputIsAnErrorNamingTheFile)

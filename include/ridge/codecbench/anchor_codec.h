@@ -53,8 +53,10 @@ std::unique_ptr<AnchorCodec> makeLercAnchor();
 std::unique_ptr<AnchorCodec> makeJpegLsAnchor();
 // Uniform quantization to step 2e+1, then lossless JPEG 2000 (OpenJPEG, reversible 5/3).
 std::unique_ptr<AnchorCodec> makeJpeg2000Anchor();
-// Uniform quantization to step 2e+1, then lossless JPEG XL (libjxl, modular, effort 7).
-std::unique_ptr<AnchorCodec> makeJpegXlAnchor();
+// Uniform quantization to step 2e+1, then lossless JPEG XL (libjxl, modular) at `effort`
+// (libjxl's 1..9; 7 is cjxl's default, 9 the strongest in libjxl 0.7), named "JPEG XL e<effort>".
+// Throws ridge::Error for an effort outside 1..9.
+std::unique_ptr<AnchorCodec> makeJpegXlAnchor(int effort);
 // Uniform quantization to step 2e+1, LOCO-I median edge prediction, zstd level 19.
 std::unique_ptr<AnchorCodec> makeMedZstdAnchor();
 // ZFP fixed-accuracy mode, tolerance = e, on the tile as float (reversible mode for e = 0).

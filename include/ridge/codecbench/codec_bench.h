@@ -41,10 +41,26 @@ struct CodecBenchOptions {
     std::string ridge_codec = "progressive";
     // Directory for ridge's temporary archive; empty = the system temporary directory.
     std::string scratch_dir;
+    // Bytes fetched per view (ridge/stream/view_bytes.h) for ridge's row: the typical near,
+    // mid and far views at this viewport, ε and texel target (the renderer's defaults).
+    static constexpr int kMaxViewPixels = 65536;
+    int view_width = 1920; // pixels, [1, kMaxViewPixels]
+    int view_height = 1080;
+    double view_epsilon_px = 2.0; // lod::SelectionSettings::kEpsilonPxRange
+    double view_texel_px = 1.0;   // lod::SelectionSettings::kTexelPxRange (0: off)
     // Ingest settings for runCodecBench(path, ...) (z-scale, spacing, quantization).
     io::IngestOptions ingest;
     // Completed fraction of the whole bench; returning false cancels (ridge::Cancelled).
     Progress progress;
+};
+
+// What a cold cache reads to draw one typical view of ridge's archive (stream::viewBytes).
+struct ViewBytesFigure {
+    std::string view;      // "near", "mid", "far" (stream::typicalViewName)
+    uint64_t bytes = 0;    // blob bytes, selected patches and (progressive) their ancestors
+    uint64_t patches = 0;  // distinct patches read
+    uint64_t selected = 0; // patches the renderer's selection draws
+    bool counts_ancestors = false;
 };
 
 // One codec at one bound.
@@ -66,6 +82,9 @@ struct CodecRow {
     double decode_mb_per_s = 0.0;
     int64_t violations = 0; // finest-level samples outside the bound
     bool bound_ok = true;
+    // ridge's row only (empty for anchors, which have no pyramid to select from): near, mid,
+    // far at CodecBenchReport::view_*.
+    std::vector<ViewBytesFigure> view_bytes;
 };
 
 struct BoundResult {
@@ -93,6 +112,10 @@ struct CodecBenchReport {
     std::string ridge_codec;
     std::string cpu_model; // /proc/cpuinfo "model name", "unknown" when absent
     int threads = 1;       // threads every codec ran on
+    int view_width = 0;    // CodecBenchOptions::view_* as run
+    int view_height = 0;
+    double view_epsilon_px = 0.0;
+    double view_texel_px = 0.0;
     std::vector<CodecInfo> codecs;
     std::vector<BoundResult> bounds;
 
