@@ -40,12 +40,18 @@ Scratch& scratch(int n)
 }
 
 // The parent's decoded codes at the child's step: the base its R samples refine. Encoder and
-// decoder both derive it from the reconstruction, so they always agree.
-void requantizeParent(const LevelQuantizer& quant, const uint16_t* parent, size_t samples,
+// decoder both derive it from the reconstruction, so they always agree. Only the child's
+// quadrant of the parent is read (parentBin), so only it is requantized.
+void requantizeParent(const LevelQuantizer& quant, const uint16_t* parent, int n, int child_index,
                       int32_t* base)
 {
-    for (size_t i = 0; i < samples; ++i)
-        base[i] = quant.quantize(parent[i]);
+    const int half = (n - 1) / 2;
+    const int x0 = (child_index & 1) * half, y0 = (child_index >> 1) * half;
+    for (int y = y0; y <= y0 + half; ++y)
+        for (int x = x0; x <= x0 + half; ++x) {
+            const size_t i = static_cast<size_t>(y) * n + x;
+            base[i] = quant.quantize(parent[i]);
+        }
 }
 
 bool validPatchSize(int n)
@@ -175,7 +181,7 @@ bool ProgressiveCodec::residualsOf(const uint16_t* codes, const PatchContext& ct
     if (ctx.level == 0) {
         rootResiduals(s.q.data(), n, region, residuals);
     } else {
-        requantizeParent(quant, ctx.parent, samples, s.parent_q.data());
+        requantizeParent(quant, ctx.parent, n, ctx.child_index, s.parent_q.data());
         childResiduals(s.q.data(), s.parent_q.data(), ctx.child_index, n, region,
                        variant_.predictor, residuals);
     }
@@ -283,7 +289,7 @@ int ProgressiveCodec::decode(uint16_t* dst, const uint8_t* src, size_t src_size,
     if (ctx.level == 0) {
         reconstructRoot(s.residuals.data(), n, region, s.q.data());
     } else {
-        requantizeParent(quant, ctx.parent, samples, s.parent_q.data());
+        requantizeParent(quant, ctx.parent, n, ctx.child_index, s.parent_q.data());
         reconstructChild(s.residuals.data(), s.parent_q.data(), ctx.child_index, n, region,
                          variant_.predictor, s.q.data());
     }

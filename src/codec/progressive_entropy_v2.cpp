@@ -1,6 +1,6 @@
 #include "progressive_entropy_v2.h"
 
-#include "progressive_tokens.h"
+#include "ridge/codec/progressive_tokens.h"
 #include "ridge/codec/height_codec.h"
 #include "ridge/codec/rans_coder.h"
 

@@ -87,6 +87,54 @@ void childResiduals(const int32_t* q, const int32_t* parent_q, int child_index, 
         }
 }
 
+namespace {
+
+// The cubic A, B, C passes with the line-interior case inlined: what predictOdd computes,
+// without its per-sample class switch (the decoder's hot loop; the encoder and the tests
+// keep predictOdd, and the round-trip tests hold the two equal).
+void cubicPasses(const int32_t* residuals, int n, const CodedRegion& region, int32_t* q)
+{
+    const int w = region.width, h = region.height;
+    const ptrdiff_t s = n;
+    for (int y = 0; y < h; y += 2) { // A: along the row through R
+        int32_t* row = q + y * s;
+        const int32_t* res = residuals + y * s;
+        for (int x = 1; x < w; x += 2) {
+            const int32_t m = (x >= 3 && x + 3 < w)
+                                  ? 9 * (row[x - 1] + row[x + 1]) - row[x - 3] - row[x + 3]
+                                  : midpoint16(row, 1, x, w);
+            row[x] = ((m + 8) >> 4) - res[x];
+        }
+    }
+    for (int y = 1; y < h; y += 2) { // B: along the column through R
+        int32_t* row = q + y * s;
+        const int32_t* res = residuals + y * s;
+        const bool inner = y >= 3 && y + 3 < h;
+        for (int x = 0; x < w; x += 2) {
+            const int32_t* at = row + x;
+            const int32_t m = inner ? 9 * (at[-s] + at[s]) - at[-3 * s] - at[3 * s]
+                                    : midpoint16(at - y * s, s, y, h);
+            row[x] = ((m + 8) >> 4) - res[x];
+        }
+    }
+    for (int y = 1; y < h; y += 2) { // C: the row through B and the column through A
+        int32_t* row = q + y * s;
+        const int32_t* res = residuals + y * s;
+        const bool inner = y >= 3 && y + 3 < h;
+        for (int x = 1; x < w; x += 2) {
+            const int32_t* at = row + x;
+            const int32_t mr = (x >= 3 && x + 3 < w)
+                                   ? 9 * (at[-1] + at[1]) - at[-3] - at[3]
+                                   : midpoint16(row, 1, x, w);
+            const int32_t mc = inner ? 9 * (at[-s] + at[s]) - at[-3 * s] - at[3 * s]
+                                     : midpoint16(at - y * s, s, y, h);
+            row[x] = ((mr + mc + 16) >> 5) - res[x];
+        }
+    }
+}
+
+} // namespace
+
 void reconstructChild(const int32_t* residuals, const int32_t* parent_q, int child_index, int n,
                       const CodedRegion& region, OddPredictor predictor, int32_t* q)
 {
@@ -95,6 +143,10 @@ void reconstructChild(const int32_t* residuals, const int32_t* parent_q, int chi
             const size_t i = static_cast<size_t>(y) * n + x;
             q[i] = parentBin(parent_q, child_index, n, x, y) + residuals[i];
         }
+    if (predictor == OddPredictor::Cubic) {
+        cubicPasses(residuals, n, region, q);
+        return;
+    }
     for (const SampleClass pass : {SampleClass::A, SampleClass::B, SampleClass::C}) {
         const int x0 = static_cast<int>(pass) & 1, y0 = static_cast<int>(pass) >> 1;
         for (int y = y0; y < region.height; y += 2)

@@ -1,6 +1,6 @@
 #include "ridge/codec/progressive_tables.h"
 
-#include "progressive_tokens.h"
+#include "ridge/codec/progressive_tokens.h"
 
 #include <algorithm>
 #include <cmath>

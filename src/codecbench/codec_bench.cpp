@@ -1,3 +1,4 @@
+#include "ridge/pyramid/patch_context.h"
 #include "ridge/codecbench/codec_bench.h"
 
 #include "ridge/archive/archive_reader.h"
@@ -148,6 +149,52 @@ std::vector<ViewBytesFigure> typicalViewBytes(const archive::ArchiveReader& read
     return out;
 }
 
+// The codec alone on every payload of `reader`, level by level with the parents' codes
+// (CodecRow::codec_decode_*).
+void timeCodecDecode(const archive::ArchiveReader& reader, CodecRow& row)
+{
+    const PyramidGeometry& g = reader.geometry();
+    const HeightCodec& codec = reader.codec();
+    const int n = g.patchSize();
+    const size_t samples = size_t(n) * n;
+    std::vector<std::vector<uint16_t>> parents, current;
+    std::vector<std::vector<uint8_t>> blobs;
+    std::vector<size_t> offsets;
+    for (int level = 0; level <= g.finestLevel(); ++level) {
+        const int64_t first = g.firstPatchIndex(level), count = g.patchCount(level);
+        blobs.assign(size_t(count), {});
+        offsets.assign(size_t(count), 0);
+        for (int64_t k = 0; k < count; ++k) {
+            blobs[k] = reader.readBlob(g.patchAt(first + k));
+            offsets[k] = reader.payloadOffset(g.patchAt(first + k), blobs[k]);
+        }
+        current.assign(size_t(count), std::vector<uint16_t>(samples));
+        const Clock::time_point start = Clock::now();
+        for (int64_t k = 0; k < count; ++k) {
+            const PatchId p = g.patchAt(first + k);
+            const uint16_t* parent =
+                codec.needsParent(level)
+                    ? parents[size_t(g.patchIndex(p.parent()) - g.firstPatchIndex(level - 1))].data()
+                    : nullptr;
+            const int status = codec.decode(current[k].data(), blobs[k].data() + offsets[k],
+                                            blobs[k].size() - offsets[k],
+                                            patchContext(g, p, parent));
+            if (status != kCodecOk)
+                throw Error("ridge: " + reader.describe(p) + ": " + codecStatusMessage(status));
+        }
+        row.codec_decode_seconds += secondsSince(start);
+        for (int64_t k = 0; k < count; ++k) {
+            const PatchId p = g.patchAt(first + k);
+            row.codec_decode_bytes +=
+                uint64_t(g.coveredCellsX(p) + 1) * uint64_t(g.coveredCellsY(p) + 1) * 2;
+        }
+        parents.swap(current);
+    }
+    row.codec_decode_mb_per_s = row.codec_decode_seconds > 0
+                                    ? double(row.codec_decode_bytes) / row.codec_decode_seconds / 1e6
+                                    : 0.0;
+}
+
 // ridge's row: the whole pyramid built and decoded on one thread.
 CodecRow runRidge(const io::ElevationRaster& raster, double bound_metres,
                   const CodecBenchOptions& options, const CodecBenchReport& report,
@@ -182,6 +229,7 @@ CodecRow runRidge(const io::ElevationRaster& raster, double bound_metres,
             finest_grid = std::move(grid);
     }
     row.decode_seconds = secondsSince(decode_start);
+    timeCodecDecode(reader, row);
     row.bytes = reader.fileSize();
     row.view_bytes = typicalViewBytes(reader, options);
     reportProgress(progress, 0.9);

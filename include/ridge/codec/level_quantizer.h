@@ -21,6 +21,10 @@ namespace ridge {
 struct LevelQuantizer {
     int64_t step = 1; // s_k = 2·e_k + 1
     int bound = 0;    // e_k: max |ĥ − h| in codes
+    // ceil(2^40 / step): floor(x / step) = (x · reciprocal) >> 40 exactly for every
+    // x = code + bound < 2^17 (the rounding error x·(reciprocal − 2^40/step)/2^40 stays below
+    // 1/step because x · step < 2^34 < 2^40), so the hot loops never divide.
+    uint64_t reciprocal = uint64_t(1) << 40;
 
     // `max_error`: δ_l0 in codes (>= 0, may be fractional); `k`: levels above the finest.
     static LevelQuantizer make(double max_error, int k)
@@ -29,12 +33,13 @@ struct LevelQuantizer {
         const double e = std::floor(std::ldexp(max_error, std::min(k, 30)) * (1 + 1e-12) + 1e-9);
         q.bound = static_cast<int>(std::clamp(e, 0.0, 65535.0));
         q.step = 2 * int64_t(q.bound) + 1;
+        q.reciprocal = ((uint64_t(1) << 40) + uint64_t(q.step) - 1) / uint64_t(q.step);
         return q;
     }
 
     int32_t quantize(uint16_t code) const
     {
-        return static_cast<int32_t>((int64_t(code) + bound) / step);
+        return static_cast<int32_t>(((uint64_t(code) + uint64_t(bound)) * reciprocal) >> 40);
     }
     uint16_t reconstruct(int32_t q) const
     {

@@ -80,6 +80,13 @@ struct CodecRow {
     uint64_t decode_bytes = 0;    // 16-bit samples produced (ridge: all levels)
     double encode_mb_per_s = 0.0; // 10^6 bytes per second, one core
     double decode_mb_per_s = 0.0;
+    // ridge's row only: the codec alone (HeightCodec::decode of every payload, top-down with
+    // each parent's reconstruction, blobs already in memory; no archive I/O, checksums, λ or
+    // masks). Bytes: the 16-bit samples each patch covers (PyramidGeometry::coveredCells + 1
+    // per axis), padding not counted. 0 for the anchors, whose dec MB/s is already that.
+    double codec_decode_seconds = 0.0;
+    uint64_t codec_decode_bytes = 0;
+    double codec_decode_mb_per_s = 0.0;
     int64_t violations = 0; // finest-level samples outside the bound
     bool bound_ok = true;
     // ridge's row only (empty for anchors, which have no pyramid to select from): near, mid,

@@ -1,0 +1,309 @@
+// Progressive codec v2's parts: rANS, tokens, per-archive tables, coded regions, training,
+// and the payload bytes of both formats pinned.
+#include "ridge/codec/level_quantizer.h"
+#include "ridge/codec/progressive_codec.h"
+#include "ridge/codec/progressive_tables.h"
+#include "ridge/codec/progressive_tokens.h"
+#include "ridge/codec/rans_coder.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <vector>
+
+using namespace ridge;
+
+namespace {
+
+std::vector<uint16_t> terrainPatch(int n, uint32_t seed, int noise)
+{
+    std::mt19937 rng(seed);
+    std::uniform_int_distribution<int> jitter(-noise, noise);
+    std::vector<uint16_t> v(static_cast<size_t>(n) * n);
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x)
+            v[y * n + x] = static_cast<uint16_t>(std::clamp(
+                30000 + int(900 * std::sin(x * 0.07 + seed) + 600 * std::cos(y * 0.05)) + jitter(rng),
+                0, 65535));
+    return v;
+}
+
+std::vector<uint8_t> encode(const ProgressiveCodec& codec, const std::vector<uint16_t>& codes,
+                            const PatchContext& ctx)
+{
+    std::vector<uint8_t> payload(codec.encodeBound(ctx));
+    payload.resize(codec.encode(payload.data(), payload.size(), codes.data(), ctx));
+    return payload;
+}
+
+rans::Table tableOf(std::vector<uint16_t> freq)
+{
+    rans::Table t;
+    t.assign(freq.data(), static_cast<int>(freq.size()));
+    return t;
+}
+
+} // namespace
+
+TEST(Rans, InterleavedLanesRoundTripSymbolsOfSeveralTablesExactly)
+{
+    const rans::Table skewed = tableOf({4000, 60, 30, 6});
+    const rans::Table flat = tableOf(std::vector<uint16_t>(64, 64));
+    const rans::Table certain = tableOf({4096});
+    std::mt19937 rng(5);
+    struct Coded {
+        const rans::Table* table;
+        int symbol;
+    };
+    std::vector<Coded> symbols;
+    for (int i = 0; i < 30001; ++i) {
+        const int pick = int(rng() % 3);
+        const rans::Table& t = pick == 0 ? skewed : pick == 1 ? flat : certain;
+        int s = int(rng() % uint32_t(t.symbols));
+        if (&t == &skewed)
+            s = (rng() % 100) < 97 ? 0 : s;
+        symbols.push_back({&t, s});
+    }
+    rans::Encoder enc;
+    for (const Coded& c : symbols)
+        enc.put(*c.table, c.symbol);
+    std::vector<uint8_t> stream;
+    enc.finish(stream);
+    rans::Decoder dec(stream.data(), stream.size());
+    for (size_t i = 0; i < symbols.size(); ++i)
+        ASSERT_EQ(dec.decode(*symbols[i].table, int(i % rans::kLanes)), symbols[i].symbol) << i;
+    EXPECT_TRUE(dec.finishedExactly());
+
+    // Truncated or corrupted: never finishes exactly.
+    rans::Decoder cut(stream.data(), stream.size() - 2);
+    for (size_t i = 0; i < symbols.size(); ++i)
+        cut.decode(*symbols[i].table, int(i % rans::kLanes));
+    EXPECT_FALSE(cut.finishedExactly());
+    EXPECT_TRUE(cut.overrun());
+    std::vector<uint8_t> bad = stream;
+    bad[bad.size() / 2] ^= 0x10;
+    rans::Decoder flipped(bad.data(), bad.size());
+    for (size_t i = 0; i < symbols.size(); ++i)
+        flipped.decode(*symbols[i].table, int(i % rans::kLanes));
+    EXPECT_FALSE(flipped.finishedExactly());
+}
+
+TEST(ProgressiveTokens, EveryResidualRoundTripsThroughTokenAndRawBits)
+{
+    for (int32_t d = -progressive_tokens::kMaxMagnitude; d <= progressive_tokens::kMaxMagnitude; ++d) {
+        const progressive_tokens::Token t = progressive_tokens::tokenize(d);
+        ASSERT_GE(t.symbol, 0);
+        ASSERT_LT(t.symbol, progressive_tables::kSymbols);
+        ASSERT_EQ(t.raw_count, progressive_tokens::rawCount(t.symbol)) << d;
+        ASSERT_LT(uint64_t(t.raw), uint64_t(1) << t.raw_count) << d;
+        ASSERT_EQ(progressive_tokens::residual(t.symbol, t.raw), d);
+    }
+}
+
+TEST(LevelQuantizer, ReciprocalQuantizationEqualsDivisionForEveryCode)
+{
+    for (const double e : {0.0, 1.0, 2.0, 7.5, 100.0, 4095.0, 32767.0, 65535.0})
+        for (int k = 0; k <= 2; ++k) {
+            const LevelQuantizer q = LevelQuantizer::make(e, k);
+            for (int h = 0; h <= 65535; ++h)
+                ASSERT_EQ(q.quantize(uint16_t(h)), int32_t((h + q.bound) / q.step))
+                    << "bound " << q.bound << " code " << h;
+        }
+}
+
+TEST(ProgressiveTables, FittedTablesRoundTripTheirBytesAndBadBytesAreRejected)
+{
+    SymbolCounts counts(3);
+    std::mt19937 rng(9);
+    for (int l = 0; l < 3; ++l)
+        for (int c = 0; c < progressive_tables::kClasses; ++c)
+            for (int x = 0; x < progressive_tables::kContexts; x += 3)
+                for (int i = 0; i < 20000; ++i)
+                    ++counts.at(l, c, x, std::min(int(std::abs(std::normal_distribution<>(0, 1 + x)(rng))) * 2, 70));
+    const auto fitted = ProgressiveTables::fit(counts);
+    ASSERT_GT(fitted->storedCount(), 0);
+    const std::vector<uint8_t> bytes = fitted->serialize();
+    std::string problem;
+    const auto back = ProgressiveTables::parse(bytes.data(), bytes.size(), 3, &problem);
+    ASSERT_NE(back, nullptr) << problem;
+    EXPECT_EQ(back->serialize(), bytes);
+    for (int l = 0; l < 3; ++l)
+        for (int c = 0; c < progressive_tables::kClasses; ++c)
+            for (int x = 0; x < progressive_tables::kContexts; ++x)
+                ASSERT_EQ(back->table(l, c, x).freq, fitted->table(l, c, x).freq);
+    // A stored table must pay for itself: the fitted one costs no more bits than the default.
+    for (int c = 0; c < progressive_tables::kClasses; ++c)
+        EXPECT_LE(ProgressiveTables::cost(counts.histogram(0, c, 3), fitted->table(0, c, 3)),
+                  ProgressiveTables::cost(counts.histogram(0, c, 3),
+                                          ProgressiveTables::defaults(3)->table(0, c, 3)));
+
+    auto rejects = [&](std::vector<uint8_t> b, int levels, const std::string& phrase) {
+        std::string why;
+        EXPECT_EQ(ProgressiveTables::parse(b.data(), b.size(), levels, &why), nullptr) << phrase;
+        EXPECT_NE(why.find(phrase), std::string::npos) << why;
+    };
+    rejects(bytes, 4, "are for 3 levels");
+    std::vector<uint8_t> b = bytes;
+    b[0] = 'X';
+    rejects(b, 3, "'T'");
+    b = bytes;
+    b[1] = 2;
+    rejects(b, 3, "version");
+    b = bytes;
+    b.push_back(0);
+    rejects(b, 3, "trailing");
+    rejects(std::vector<uint8_t>(bytes.begin(), bytes.end() - 1), 3, "truncated");
+    b = bytes;
+    b[3] = 72; // the first table's symbol count
+    rejects(b, 3, "at most 71");
+    // A frequency changed: the sum is off.
+    b = bytes;
+    size_t first_stored = 3;
+    while (b[first_stored] == 0)
+        ++first_stored;
+    ASSERT_LT(b[first_stored], 0x80);
+    b[first_stored + 1] ^= 1;
+    rejects(b, 3, "sum to");
+    // No tables at all is an empty region, not a region of default entries.
+    std::vector<uint8_t> empty{'T', 1, 1};
+    empty.resize(3 + progressive_tables::kClasses * progressive_tables::kContexts, 0);
+    rejects(empty, 1, "store no table");
+}
+
+TEST(ProgressiveTables, DefaultsArePinned)
+{
+    // Every reader rebuilds the defaults: they are part of the format (docs/FORMAT.md). A change
+    // of their generator changes these sums and breaks every archive that relies on them.
+    const auto d = ProgressiveTables::defaults(2);
+    uint64_t digest = 1469598103934665603ull;
+    for (int c = 0; c < progressive_tables::kClasses; ++c)
+        for (int x = 0; x < progressive_tables::kContexts; ++x)
+            for (int s = 0; s < progressive_tables::kSymbols; ++s)
+                digest = (digest ^ d->table(1, c, x).freq[s]) * 1099511628211ull;
+    EXPECT_EQ(d->table(0, 0, 0).freq[0], 2464);
+    EXPECT_EQ(d->table(1, 0, 0).freq[0], 3214);
+    EXPECT_EQ(digest, 1228109806224266157ull);
+}
+
+TEST(ProgressiveCodecV2, CodesOnlyTheRegionAndRepeatsItsEdgeBeyond)
+{
+    const int n = 33;
+    const ProgressiveCodec codec(1, 3);
+    const std::vector<uint16_t> root = terrainPatch(n, 3, 20), codes = terrainPatch(n, 4, 20);
+    for (const auto& [sx, sy] : {std::pair{33, 33}, std::pair{10, 33}, std::pair{33, 2},
+                                std::pair{5, 7}, std::pair{2, 2}}) {
+        const PatchContext root_ctx{n, 0, nullptr, 0, sx, sy};
+        std::vector<uint16_t> root_drawn(root.size()), decoded(root.size());
+        codec.reconstruct(root.data(), root_ctx, root_drawn.data());
+        const std::vector<uint8_t> root_payload = encode(codec, root, root_ctx);
+        ASSERT_EQ(codec.decode(decoded.data(), root_payload.data(), root_payload.size(), root_ctx),
+                  kCodecOk);
+        EXPECT_EQ(decoded, root_drawn);
+        const CodedRegion r = codec.codedRegion(root_ctx);
+        EXPECT_EQ(r.width % 2, 1);
+        EXPECT_GE(r.width, std::max(3, std::min(sx, n)));
+        for (int y = 0; y < n; ++y)
+            for (int x = 0; x < n; ++x) {
+                const int iy = std::min(y, r.height - 1), ix = std::min(x, r.width - 1);
+                ASSERT_EQ(decoded[y * n + x], decoded[iy * n + ix]) << x << "," << y;
+                if (x < r.width && y < r.height) {
+                    ASSERT_LE(std::abs(int(decoded[y * n + x]) - int(root[y * n + x])), 1);
+                }
+            }
+        for (int child = 0; child < 4; ++child) {
+            const PatchContext ctx{n, 1, root_drawn.data(), child, sx, sy};
+            std::vector<uint16_t> expected(codes.size());
+            codec.reconstruct(codes.data(), ctx, expected.data());
+            const std::vector<uint8_t> payload = encode(codec, codes, ctx);
+            ASSERT_EQ(codec.decode(decoded.data(), payload.data(), payload.size(), ctx), kCodecOk);
+            ASSERT_EQ(decoded, expected) << sx << "x" << sy << " child " << child;
+        }
+        if (sx < n) { // fewer samples, fewer bytes
+            const PatchContext whole{n, 0, nullptr, 0};
+            EXPECT_LT(root_payload.size(), encode(codec, root, whole).size());
+        }
+    }
+}
+
+TEST(ProgressiveCodecV2, TrainedTablesCodeTheirOwnPatchesSmallerAndExactly)
+{
+    const int n = 65;
+    const ProgressiveCodec codec(1, 2);
+    const std::vector<uint16_t> root = terrainPatch(n, 1, 3);
+    std::vector<uint16_t> root_drawn(root.size());
+    codec.reconstruct(root.data(), {n, 0, nullptr, 0}, root_drawn.data());
+    std::vector<std::vector<uint16_t>> children;
+    for (int c = 0; c < 4; ++c)
+        children.push_back(terrainPatch(n, 10 + c, 3));
+    const std::unique_ptr<CodecTrainer> trainer = codec.trainer();
+    ASSERT_NE(trainer, nullptr);
+    trainer->observe(root.data(), {n, 0, nullptr, 0});
+    for (int c = 0; c < 4; ++c)
+        trainer->observe(children[c].data(), {n, 1, root_drawn.data(), c});
+    const std::unique_ptr<HeightCodec> trained_codec = trainer->finish();
+    const auto& trained = static_cast<const ProgressiveCodec&>(*trained_codec);
+    EXPECT_FALSE(trained.storeTables().empty());
+    size_t with_defaults = 0, with_trained = 0;
+    for (int c = 0; c < 4; ++c) {
+        const PatchContext ctx{n, 1, root_drawn.data(), c};
+        const std::vector<uint8_t> payload = encode(trained, children[c], ctx);
+        ASSERT_FALSE(payload.empty());
+        std::vector<uint16_t> decoded(children[c].size()), expected(children[c].size());
+        ASSERT_EQ(trained.decode(decoded.data(), payload.data(), payload.size(), ctx), kCodecOk);
+        trained.reconstruct(children[c].data(), ctx, expected.data());
+        EXPECT_EQ(decoded, expected);
+        with_trained += payload.size();
+        with_defaults += encode(codec, children[c], ctx).size();
+        // The same payload under other tables does not decode to the same patch.
+        std::vector<uint16_t> other(decoded.size());
+        EXPECT_FALSE(codec.decode(other.data(), payload.data(), payload.size(), ctx) == kCodecOk &&
+                     other == decoded);
+    }
+    EXPECT_LT(with_trained, with_defaults);
+    // Stored tables come back through the archive's settings.
+    CodecSettings settings;
+    settings.level_count = 2;
+    trained.storeParameters(settings.param);
+    settings.tables = trained.storeTables();
+    const std::unique_ptr<HeightCodec> back = makeCodec(CodecId::Progressive, settings);
+    ASSERT_NE(back, nullptr);
+    EXPECT_EQ(back->storeTables(), settings.tables);
+    settings.tables.push_back(0);
+    std::string problem;
+    EXPECT_EQ(makeCodec(CodecId::Progressive, settings, &problem), nullptr);
+    EXPECT_NE(problem.find("codec tables"), std::string::npos) << problem;
+}
+
+TEST(ProgressiveCodecV2, PayloadBytesOfBothFormatsArePinned)
+{
+    // A 5×5 root and one child, bound 1, default tables: a change of these bytes is a format
+    // change (payload v1 or v2) and needs a new version.
+    const int n = 5;
+    std::vector<uint16_t> root(25), child(25);
+    for (int i = 0; i < 25; ++i) {
+        root[i] = static_cast<uint16_t>(1000 + 7 * (i % 5) + 3 * (i / 5) + (i * i) % 5);
+        child[i] = static_cast<uint16_t>(1000 + 4 * (i % 5) + 5 * (i / 5) + (i * 7) % 3);
+    }
+    auto hex = [](const std::vector<uint8_t>& b) {
+        std::string s;
+        for (uint8_t v : b)
+            s += "0123456789abcdef"[v >> 4], s += "0123456789abcdef"[v & 15];
+        return s;
+    };
+    for (const ProgressiveVariant& v : {ProgressiveVariant::v1(), ProgressiveVariant{}}) {
+        const ProgressiveCodec codec(1, 2, v);
+        std::vector<uint16_t> drawn(25);
+        codec.reconstruct(root.data(), {n, 0, nullptr, 0}, drawn.data());
+        const std::string r = hex(encode(codec, root, {n, 0, nullptr, 0}));
+        const std::string c = hex(encode(codec, child, {n, 1, drawn.data(), 2, 4, 5}));
+        if (v.format == 1) {
+            EXPECT_EQ(r, "500100c912285019dab361ce16f4601c19b200");
+            EXPECT_EQ(c, "500100e219bbc965049eaf37927df98d78ea03c26b00");
+        } else { // 'P', 2, flags (1: refinements coded), varint rANS size, rANS, raw bits
+            EXPECT_EQ(r, "50020018dd3f795b32a15302c2edab00cb0d1600d2a381f463168fd84d");
+            EXPECT_EQ(c, "50020118234f0600f36c02003fff1e16ff2d4a000c2b5c4e7c9c38da");
+        }
+    }
+}
