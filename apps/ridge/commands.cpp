@@ -104,7 +104,8 @@ void Commands::registerAll(CLI::App& app)
     build_
         ->add_option(
             "--codec", build_options_.codec,
-            "Patch codec: lossless, raw, progressive (lossy, needs --max-error), progressive-paper")
+            "Patch codec: lossless, raw, progressive (lossy v2, needs --max-error), progressive-v1, "
+            "progressive-paper, progressive,nested=K")
         ->capture_default_str();
     build_
         ->add_option_function<std::string>(
