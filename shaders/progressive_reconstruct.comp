@@ -35,6 +35,20 @@ uniform int u_step;        // the child level's quantizer: s_k = 2·e_k + 1
 uniform int u_bound;       // e_k
 uniform int u_cubic;       // OddPredictor::Cubic (else Bilinear)
 uniform ivec2 u_region;    // the coded region [0, w) × [0, h) (CodedRegion), odd sides
+// v2's least-squares corrections of this pass's class (PredictorWeights), when u_correct:
+// P = P0 + (Σ w_i · clamp(s_i − P0, ±32767) + 2048) >> 12 where all 12 taps lie inside the
+// region (the taps and margins of kCorrectionTaps in progressive_reconstruction.h).
+uniform int u_correct;
+uniform int u_weights[12];
+
+const ivec2 kTaps[36] = ivec2[36](
+    ivec2(-1, 0), ivec2(1, 0), ivec2(-3, 0), ivec2(3, 0), ivec2(-1, -2), ivec2(1, -2),
+    ivec2(-1, 2), ivec2(1, 2), ivec2(-3, -2), ivec2(3, -2), ivec2(-3, 2), ivec2(3, 2),
+    ivec2(0, -1), ivec2(0, 1), ivec2(0, -3), ivec2(0, 3), ivec2(-2, -1), ivec2(2, -1),
+    ivec2(-2, 1), ivec2(2, 1), ivec2(-1, -1), ivec2(1, -1), ivec2(-1, 1), ivec2(1, 1),
+    ivec2(0, -1), ivec2(0, 1), ivec2(-1, 0), ivec2(1, 0), ivec2(-1, -1), ivec2(1, -1),
+    ivec2(-1, 1), ivec2(1, 1), ivec2(0, -3), ivec2(0, 3), ivec2(-3, 0), ivec2(3, 0));
+const ivec2 kMargin[3] = ivec2[3](ivec2(3, 2), ivec2(2, 3), ivec2(3, 3));
 
 int at(int x, int y) { return q[y * u_n + x]; }
 
@@ -74,6 +88,18 @@ int predictOdd(int x, int y) {
             midpoint16(ivec2(x, 0), ivec2(0, 1), y, u_region.y) + 16) >> 5;
 }
 
+int correction(int x, int y, int cls, int p0) {
+    ivec2 m = kMargin[cls - 1];
+    if (u_correct == 0 || x < m.x || x >= u_region.x - m.x || y < m.y || y >= u_region.y - m.y)
+        return 0;
+    int sum = 0;
+    for (int i = 0; i < 12; ++i) {
+        ivec2 t = kTaps[(cls - 1) * 12 + i];
+        sum += u_weights[i] * clamp(at(x + t.x, y + t.y) - p0, -32767, 32767);
+    }
+    return (sum + 2048) >> 12;
+}
+
 void main() {
     // Thread (i, j) handles sample (2i + x0, 2j + y0) of its pass, or (i, j) when storing.
     ivec2 id = ivec2(gl_GlobalInvocationID.xy);
@@ -97,6 +123,7 @@ void main() {
         int code = int(texelFetch(u_heights, ivec3(parent, u_parent_layer), 0).r);
         q[i] = (code + u_bound) / u_step + residual(i);
     } else {
-        q[i] = predictOdd(xy.x, xy.y) - residual(i);
+        int p0 = predictOdd(xy.x, xy.y);
+        q[i] = p0 + correction(xy.x, xy.y, u_pass, p0) - residual(i);
     }
 }

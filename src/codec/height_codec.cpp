@@ -42,16 +42,31 @@ std::optional<ProgressiveVariant> progressiveVariantOf(const std::string& name)
         return ProgressiveVariant::v1();
     if (name == "progressive-paper")
         return ProgressiveVariant::paper();
-    const std::string prefix = "progressive,nested=";
+    // "progressive,OPTION,..." with nested=K (1..32) and corrections=0|1.
+    const std::string prefix = "progressive,";
     if (name.rfind(prefix, 0) != 0)
         return std::nullopt;
-    const std::string k = name.substr(prefix.size());
-    if (k.empty() || k.size() > 2 || k.find_first_not_of("0123456789") != std::string::npos)
-        return std::nullopt;
     ProgressiveVariant v;
-    v.nested_levels = std::stoi(k);
-    if (v.nested_levels < 1 || v.nested_levels > 32)
-        return std::nullopt;
+    size_t at = prefix.size();
+    while (at <= name.size()) {
+        const size_t comma = std::min(name.find(',', at), name.size());
+        const std::string option = name.substr(at, comma - at);
+        const size_t eq = option.find('=');
+        if (eq == std::string::npos)
+            return std::nullopt;
+        const std::string key = option.substr(0, eq), value = option.substr(eq + 1);
+        if (value.empty() || value.size() > 2 ||
+            value.find_first_not_of("0123456789") != std::string::npos)
+            return std::nullopt;
+        const int number = std::stoi(value);
+        if (key == "nested" && number >= 1 && number <= 32)
+            v.nested_levels = number;
+        else if (key == "corrections" && number <= 1)
+            v.corrections = number == 1;
+        else
+            return std::nullopt;
+        at = comma + 1;
+    }
     return v;
 }
 
@@ -160,7 +175,7 @@ std::unique_ptr<HeightCodec> makeCodec(CodecId id, const CodecSettings& settings
                                                settings.level_count, &table_problem);
         if (!tables)
             return rejected(problem, "codec tables: " + table_problem);
-        codec->setTables(std::move(tables));
+        codec->setTables(std::move(tables)); // an archive's codec: fully trained
         return codec;
     }
     }

@@ -1,6 +1,7 @@
 #include "ridge/codec/progressive_codec.h"
 
 #include "progressive_entropy.h"
+#include "predictor_fit.h"
 #include "progressive_entropy_v2.h"
 #include "ridge/core/error.h"
 
@@ -107,11 +108,20 @@ ProgressiveCodec::ProgressiveCodec(double max_error, int level_count, Progressiv
     tables_ = ProgressiveTables::defaults(level_count);
 }
 
-void ProgressiveCodec::setTables(std::shared_ptr<const ProgressiveTables> tables)
+void ProgressiveCodec::setTables(std::shared_ptr<const ProgressiveTables> tables, bool complete)
 {
     if (!tables || tables->levelCount() != finest_level_ + 1)
         throw Error("progressive codec: tables for another level count");
     tables_ = std::move(tables);
+    training_stage_ = complete ? 2 : 1;
+}
+
+void ProgressiveCodec::bins(const uint16_t* codes, const PatchContext& ctx, int32_t* q) const
+{
+    const LevelQuantizer quant = quantizer(ctx.level);
+    const size_t samples = static_cast<size_t>(ctx.patch_size) * ctx.patch_size;
+    for (size_t i = 0; i < samples; ++i)
+        q[i] = quant.quantize(codes[i]);
 }
 
 std::vector<uint8_t> ProgressiveCodec::storeTables() const
@@ -183,7 +193,7 @@ bool ProgressiveCodec::residualsOf(const uint16_t* codes, const PatchContext& ct
     } else {
         requantizeParent(quant, ctx.parent, n, ctx.child_index, s.parent_q.data());
         childResiduals(s.q.data(), s.parent_q.data(), ctx.child_index, n, region,
-                       variant_.predictor, residuals);
+                       variant_.predictor, residuals, weights(ctx.level));
     }
     return true;
 }
@@ -291,7 +301,7 @@ int ProgressiveCodec::decode(uint16_t* dst, const uint8_t* src, size_t src_size,
     } else {
         requantizeParent(quant, ctx.parent, n, ctx.child_index, s.parent_q.data());
         reconstructChild(s.residuals.data(), s.parent_q.data(), ctx.child_index, n, region,
-                         variant_.predictor, s.q.data());
+                         variant_.predictor, s.q.data(), weights(ctx.level));
     }
     replicateBeyond(s.q.data(), n, region);
     for (size_t i = 0; i < samples; ++i)
@@ -327,7 +337,7 @@ public:
     std::unique_ptr<HeightCodec> finish() override
     {
         auto trained = std::make_unique<ProgressiveCodec>(codec_);
-        trained->setTables(ProgressiveTables::fit(counts_));
+        trained->setTables(ProgressiveTables::fit(counts_, &codec_.tables()));
         return trained;
     }
 
@@ -338,12 +348,50 @@ private:
     std::function<bool(const uint16_t*, const PatchContext&, int32_t*)> residuals_;
 };
 
+// Stage 1: fits the least-squares predictor corrections on the patches' exact bins.
+class CorrectionTrainer final : public CodecTrainer {
+public:
+    explicit CorrectionTrainer(const ProgressiveCodec& codec, int level_count)
+        : codec_(codec), fit_(level_count), level_count_(level_count)
+    {
+    }
+
+    void observe(const uint16_t* codes, const PatchContext& ctx) override
+    {
+        if (ctx.level == 0)
+            return;
+        thread_local std::vector<int32_t> q;
+        q.resize(static_cast<size_t>(ctx.patch_size) * ctx.patch_size);
+        codec_.bins(codes, ctx, q.data());
+        CorrectionFit local(level_count_);
+        local.add(q.data(), ctx.patch_size, codec_.codedRegion(ctx), ctx.level,
+                  codec_.variant().predictor);
+        std::lock_guard<std::mutex> lock(mutex_);
+        fit_.merge(local);
+    }
+
+    std::unique_ptr<HeightCodec> finish() override
+    {
+        auto trained = std::make_unique<ProgressiveCodec>(codec_);
+        trained->setTables(ProgressiveTables::withWeights(fit_.solve()), false);
+        return trained;
+    }
+
+private:
+    const ProgressiveCodec& codec_;
+    std::mutex mutex_;
+    CorrectionFit fit_;
+    int level_count_;
+};
+
 } // namespace
 
 std::unique_ptr<CodecTrainer> ProgressiveCodec::trainer() const
 {
-    if (variant_.format == 1)
+    if (variant_.format == 1 || training_stage_ == 2)
         return nullptr;
+    if (training_stage_ == 0 && variant_.corrections)
+        return std::make_unique<CorrectionTrainer>(*this, finest_level_ + 1);
     return std::make_unique<ProgressiveTrainer>(
         *this, finest_level_ + 1,
         [this](const uint16_t* codes, const PatchContext& ctx, int32_t* residuals) {

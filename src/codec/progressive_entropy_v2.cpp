@@ -112,22 +112,6 @@ struct CountSide {
     }
 };
 
-struct DecodeSide {
-    const ProgressiveTables& tables;
-    int level;
-    rans::Decoder& rans;
-    tokens::BitReader& raw;
-    unsigned lane = 0;
-
-    int32_t code(int cls, int ctx, int32_t* slot)
-    {
-        const int symbol = rans.decode(tables.table(level, cls, ctx), lane++ & (rans::kLanes - 1));
-        const int32_t d = tokens::residual(symbol, raw.get(tokens::rawCount(symbol)));
-        *slot = d;
-        return d;
-    }
-};
-
 // One pass of class kClass over samples (x0 + 2i, y0 + 2j) of the coded region.
 template <int kClass, class Side>
 void pass(int32_t* residuals, int n, const CodedRegion& r, MagnitudeGrid& mags, Side& side,
@@ -162,6 +146,97 @@ void traverse(int32_t* residuals, int n, const ResidualCodingV2& coding, Side& s
     pass<2>(residuals, n, r, mags, side, 2);
     pass<3>(residuals, n, r, mags, side, 3);
 }
+
+// The decoder's hot loop, written out instead of going through DecodeSide: the rANS states,
+// the word pointer and the tables of the pass live in locals, and `__restrict` tells the
+// compiler that storing a residual or a magnitude cannot change them, so nothing is reloaded
+// per symbol. Visits exactly traverse()'s samples in traverse()'s order.
+class FastDecoder {
+public:
+    FastDecoder(const uint8_t* data, size_t size, tokens::BitReader& raw) : raw_(raw)
+    {
+        p_ = data;
+        end_ = data + size;
+        if (size < 4 * rans::kLanes) {
+            overrun_ = true;
+            p_ = end_;
+            return;
+        }
+        for (int lane = 0; lane < rans::kLanes; ++lane, p_ += 4) {
+            x_[lane] = uint32_t(p_[0]) | uint32_t(p_[1]) << 8 | uint32_t(p_[2]) << 16 |
+                       uint32_t(p_[3]) << 24;
+            if (x_[lane] < rans::kLow) {
+                x_[lane] = rans::kLow;
+                corrupt_ = true;
+            }
+        }
+    }
+
+    template <int kClass>
+    void pass(int32_t* __restrict residuals, int n, const CodedRegion& r,
+              uint16_t* __restrict mags, ptrdiff_t ms, const rans::Table* const* tables)
+    {
+        const int x0 = kClass == 0 ? 0 : (kClass & 1), y0 = kClass == 0 ? 0 : (kClass >> 1);
+        const int step = kClass == 0 ? 1 : 2;
+        for (int y = y0; y < r.height; y += step) {
+            int32_t* __restrict row = residuals + static_cast<size_t>(y) * n;
+            uint16_t* __restrict mrow = mags + y * ms;
+            for (int x = x0; x < r.width; x += step) {
+                const int32_t d = next(*tables[context<kClass>(mrow + x, ms)]);
+                row[x] = d;
+                mrow[x] = clampMagnitude(d);
+            }
+        }
+    }
+
+    void refinements(int32_t* __restrict residuals, int n, const CodedRegion& r,
+                     const rans::Table& table)
+    {
+        for (int y = 0; y < r.height; y += 2)
+            for (int x = 0; x < r.width; x += 2)
+                residuals[static_cast<size_t>(y) * n + x] = next(table);
+    }
+
+    bool overrun() const { return overrun_; }
+    bool finishedExactly() const
+    {
+        if (corrupt_ || overrun_ || p_ != end_)
+            return false;
+        for (uint32_t x : x_)
+            if (x != rans::kLow)
+                return false;
+        return true;
+    }
+
+private:
+    int32_t next(const rans::Table& t)
+    {
+        uint32_t& x = x_[lane_++ & (rans::kLanes - 1)];
+        const uint32_t slot = x & (rans::kProbScale - 1);
+        const int s = t.lookup[slot];
+        x = t.freq[s] * (x >> rans::kProbBits) + slot - t.cum[s];
+        if (x < rans::kLow) {
+            if (end_ - p_ >= 2) {
+                x = (x << 16) | uint32_t(p_[0]) | uint32_t(p_[1]) << 8;
+                p_ += 2;
+            } else {
+                overrun_ = true;
+                x = (x << 16) | rans::kLow;
+            }
+        }
+        if (s < 15) // zigzag, no raw bits: the common case
+            return (s & 1) ? -((s + 1) >> 1) : s >> 1;
+        return tokens::residual(s, raw_.get(tokens::rawCount(s)));
+    }
+
+    uint32_t x_[rans::kLanes] = {};
+    unsigned lane_ = 0;
+    const uint8_t* p_;
+    const uint8_t* end_;
+    tokens::BitReader& raw_;
+    bool overrun_ = false;
+    bool corrupt_ = false;
+};
 
 void putVarint(std::vector<uint8_t>& out, uint32_t v)
 {
@@ -218,13 +293,28 @@ int decodeResidualsV2(const uint8_t* data, size_t size, int n, const ResidualCod
     if (rans_size > size - used)
         return kCodecTruncated;
     std::fill(residuals, residuals + static_cast<size_t>(n) * n, 0);
-    rans::Decoder rans(data + used, rans_size);
     tokens::BitReader raw(data + used + rans_size, size - used - rans_size);
-    DecodeSide side{tables, coding.level, rans, raw};
-    traverse(residuals, n, coding, side);
-    if (rans.overrun())
+    FastDecoder dec(data + used, rans_size, raw);
+    MagnitudeGrid mags(n);
+    uint16_t* origin = mags.row(0);
+    const ptrdiff_t ms = mags.stride();
+    const CodedRegion& r = coding.region;
+    const rans::Table* by_context[4][kContexts];
+    for (int c = 0; c < 4; ++c)
+        for (int x = 0; x < kContexts; ++x)
+            by_context[c][x] = &tables.table(coding.level, c, x);
+    if (coding.root) {
+        dec.pass<0>(residuals, n, r, origin, ms, by_context[0]);
+    } else {
+        if (coding.refinements)
+            dec.refinements(residuals, n, r, *by_context[0][0]);
+        dec.pass<1>(residuals, n, r, origin, ms, by_context[1]);
+        dec.pass<2>(residuals, n, r, origin, ms, by_context[2]);
+        dec.pass<3>(residuals, n, r, origin, ms, by_context[3]);
+    }
+    if (dec.overrun())
         return kCodecTruncated;
-    if (!rans.finishedExactly())
+    if (!dec.finishedExactly())
         return kCodecCorrupt;
     if (raw.overrun())
         return kCodecTruncated;

@@ -1,9 +1,11 @@
 #include "ridge/codec/progressive_reconstruction.h"
 
 #include "ridge/codec/med_predictor.h"
+#include "ridge/core/target_clones.h"
 
 #include <algorithm>
 #include <cstddef>
+#include <vector>
 
 namespace ridge {
 
@@ -38,8 +40,43 @@ inline int32_t parentBin(const int32_t* parent_q, int child_index, int n, int x,
 
 } // namespace
 
+namespace {
+int32_t basePrediction(const int32_t* q, int n, const CodedRegion& region, int x, int y,
+                       OddPredictor predictor);
+} // namespace
+
+int32_t predictionCorrection(const int32_t* q, int n, const CodedRegion& region, int x, int y,
+                             int cls, int32_t p0, const PredictorWeights& weights)
+{
+    const int c = cls - 1;
+    if (x < kCorrectionMarginX[c] || x >= region.width - kCorrectionMarginX[c] ||
+        y < kCorrectionMarginY[c] || y >= region.height - kCorrectionMarginY[c])
+        return 0;
+    const int32_t* at = q + static_cast<size_t>(y) * n + x;
+    int32_t sum = 0;
+    for (int i = 0; i < kCorrectionTapCount; ++i) {
+        const CorrectionTap t = kCorrectionTaps[c][i];
+        const int32_t d = at[t.dy * static_cast<ptrdiff_t>(n) + t.dx] - p0;
+        sum += weights.w[c][i] * std::clamp(d, -32767, 32767);
+    }
+    return (sum + 2048) >> 12;
+}
+
 int32_t predictOdd(const int32_t* q, int n, const CodedRegion& region, int x, int y,
-                   OddPredictor predictor)
+                   OddPredictor predictor, const PredictorWeights* weights)
+{
+    const int32_t p0 = basePrediction(q, n, region, x, y, predictor);
+    if (!weights)
+        return p0;
+    const int cls = static_cast<int>(sampleClass(x, y));
+    return p0 + predictionCorrection(q, n, region, x, y, cls, p0, *weights);
+}
+
+namespace {
+
+// P0: the cubic or bilinear prediction, before any correction.
+int32_t basePrediction(const int32_t* q, int n, const CodedRegion& region, int x, int y,
+                       OddPredictor predictor)
 {
     const int w = region.width, h = region.height;
     const int32_t* at = q + static_cast<size_t>(y) * n + x;
@@ -63,6 +100,8 @@ int32_t predictOdd(const int32_t* q, int n, const CodedRegion& region, int x, in
     return 0; // R samples are refined, not predicted
 }
 
+} // namespace
+
 int32_t predictRoot(const int32_t* q, int n, int x, int y)
 {
     return medPredictAt(q, n, x, y);
@@ -71,8 +110,11 @@ int32_t predictRoot(const int32_t* q, int n, int x, int y)
 // The passes run in the order R, A, B, C; within a pass no sample depends on another, so the
 // loops below are what a GPU runs as one dispatch per pass (A and B may even share one).
 void childResiduals(const int32_t* q, const int32_t* parent_q, int child_index, int n,
-                    const CodedRegion& region, OddPredictor predictor, int32_t* residuals)
+                    const CodedRegion& region, OddPredictor predictor, int32_t* residuals,
+                    const PredictorWeights* weights)
 {
+    if (weights && !weights->any())
+        weights = nullptr;
     if (!region.isWhole(n))
         std::fill(residuals, residuals + static_cast<size_t>(n) * n, 0);
     for (int y = 0; y < region.height; y += 2)
@@ -83,19 +125,140 @@ void childResiduals(const int32_t* q, const int32_t* parent_q, int child_index, 
     for (int y = 0; y < region.height; ++y)
         for (int x = (y & 1) ? 0 : 1; x < region.width; x += (y & 1) ? 1 : 2) {
             const size_t i = static_cast<size_t>(y) * n + x;
-            residuals[i] = predictOdd(q, n, region, x, y, predictor) - q[i];
+            residuals[i] = predictOdd(q, n, region, x, y, predictor, weights) - q[i];
         }
 }
 
 namespace {
 
+// The corrections of `count` samples of one row, 2 apart (one class), all inside their
+// class's margins: out[k] = (Σ_i w_i · clamp(at[offset_i + 2k] − p0[k], ±32767) + 2048) >> 12,
+// predictionCorrection's sum, taps outer and samples inner. GCC keeps the stride-2 loads
+// scalar even in the AVX2 clone (which still gains packed min/max); a contiguous variant
+// that computes the odd samples too was vectorised but slower (docs/PERF.md).
+RIDGE_TARGET_CLONES
+void correctRow(const int32_t* __restrict at, const ptrdiff_t* offsets, const int32_t* weights,
+                const int32_t* __restrict p0, int count, int32_t* __restrict out)
+{
+    for (int k = 0; k < count; ++k)
+        out[k] = 2048;
+    for (int i = 0; i < kCorrectionTapCount; ++i) {
+        const int32_t* __restrict t = at + offsets[i];
+        const int32_t w = weights[i];
+        for (int k = 0; k < count; ++k)
+            out[k] += w * std::min(std::max(t[2 * k] - p0[k], -32767), 32767);
+    }
+    for (int k = 0; k < count; ++k)
+        out[k] >>= 12;
+}
+
+// One class's taps as offsets for patches of side n, and its interior.
+struct Correction {
+    ptrdiff_t offset[kCorrectionTapCount];
+    int32_t weight[kCorrectionTapCount];
+    int x0, x1, y0, y1; // the interior: [x0, x1) × [y0, y1)
+
+    Correction(const PredictorWeights& w, int c, int n, const CodedRegion& r)
+        : x0(kCorrectionMarginX[c]), x1(r.width - kCorrectionMarginX[c]),
+          y0(kCorrectionMarginY[c]), y1(r.height - kCorrectionMarginY[c])
+    {
+        for (int i = 0; i < kCorrectionTapCount; ++i) {
+            offset[i] = kCorrectionTaps[c][i].dy * static_cast<ptrdiff_t>(n) + kCorrectionTaps[c][i].dx;
+            weight[i] = w.w[c][i];
+        }
+    }
+    bool rowInside(int y) const { return y >= y0 && y < y1; }
+
+    // Row y's predictions p0[k] of samples x = first + 2k (k < count) plus their corrections,
+    // in place.
+    void apply(const int32_t* row, int first, int count, int32_t* p0) const
+    {
+        thread_local std::vector<int32_t> corr;
+        // Interior samples: x in [x0, x1) with x's parity.
+        int k0 = 0;
+        while (k0 < count && first + 2 * k0 < x0)
+            ++k0;
+        int k1 = k0;
+        while (k1 < count && first + 2 * k1 < x1)
+            ++k1;
+        if (k1 <= k0)
+            return;
+        corr.resize(size_t(k1 - k0));
+        correctRow(row + first + 2 * k0, offset, weight, p0 + k0, k1 - k0, corr.data());
+        for (int k = k0; k < k1; ++k)
+            p0[k] += corr[size_t(k - k0)];
+    }
+};
+
 // The cubic A, B, C passes with the line-interior case inlined: what predictOdd computes,
 // without its per-sample class switch (the decoder's hot loop; the encoder and the tests
-// keep predictOdd, and the round-trip tests hold the two equal).
-void cubicPasses(const int32_t* residuals, int n, const CodedRegion& region, int32_t* q)
+// keep predictOdd, and the round-trip tests hold the two equal). `weights`: the
+// least-squares corrections, or null.
+void cubicPasses(const int32_t* residuals, int n, const CodedRegion& region, int32_t* q,
+                 const PredictorWeights* weights)
 {
     const int w = region.width, h = region.height;
     const ptrdiff_t s = n;
+    if (weights) {
+        const Correction ca(*weights, 0, n, region), cb(*weights, 1, n, region),
+            cc(*weights, 2, n, region);
+        thread_local std::vector<int32_t> p;
+        p.resize(size_t(n));
+        for (int y = 0; y < h; y += 2) { // A
+            int32_t* row = q + y * s;
+            const int32_t* res = residuals + y * s;
+            int k = 0;
+            for (int x = 1; x < w; x += 2, ++k) {
+                const int32_t m = (x >= 3 && x + 3 < w)
+                                      ? 9 * (row[x - 1] + row[x + 1]) - row[x - 3] - row[x + 3]
+                                      : midpoint16(row, 1, x, w);
+                p[k] = (m + 8) >> 4;
+            }
+            if (ca.rowInside(y))
+                ca.apply(row, 1, k, p.data());
+            k = 0;
+            for (int x = 1; x < w; x += 2, ++k)
+                row[x] = p[k] - res[x];
+        }
+        for (int y = 1; y < h; y += 2) { // B
+            int32_t* row = q + y * s;
+            const int32_t* res = residuals + y * s;
+            const bool inner = y >= 3 && y + 3 < h;
+            int k = 0;
+            for (int x = 0; x < w; x += 2, ++k) {
+                const int32_t* at = row + x;
+                const int32_t m = inner ? 9 * (at[-s] + at[s]) - at[-3 * s] - at[3 * s]
+                                        : midpoint16(at - y * s, s, y, h);
+                p[k] = (m + 8) >> 4;
+            }
+            if (cb.rowInside(y))
+                cb.apply(row, 0, k, p.data());
+            k = 0;
+            for (int x = 0; x < w; x += 2, ++k)
+                row[x] = p[k] - res[x];
+        }
+        for (int y = 1; y < h; y += 2) { // C
+            int32_t* row = q + y * s;
+            const int32_t* res = residuals + y * s;
+            const bool inner = y >= 3 && y + 3 < h;
+            int k = 0;
+            for (int x = 1; x < w; x += 2, ++k) {
+                const int32_t* at = row + x;
+                const int32_t mr = (x >= 3 && x + 3 < w)
+                                       ? 9 * (at[-1] + at[1]) - at[-3] - at[3]
+                                       : midpoint16(row, 1, x, w);
+                const int32_t mc = inner ? 9 * (at[-s] + at[s]) - at[-3 * s] - at[3 * s]
+                                         : midpoint16(at - y * s, s, y, h);
+                p[k] = (mr + mc + 16) >> 5;
+            }
+            if (cc.rowInside(y))
+                cc.apply(row, 1, k, p.data());
+            k = 0;
+            for (int x = 1; x < w; x += 2, ++k)
+                row[x] = p[k] - res[x];
+        }
+        return;
+    }
     for (int y = 0; y < h; y += 2) { // A: along the row through R
         int32_t* row = q + y * s;
         const int32_t* res = residuals + y * s;
@@ -136,15 +299,18 @@ void cubicPasses(const int32_t* residuals, int n, const CodedRegion& region, int
 } // namespace
 
 void reconstructChild(const int32_t* residuals, const int32_t* parent_q, int child_index, int n,
-                      const CodedRegion& region, OddPredictor predictor, int32_t* q)
+                      const CodedRegion& region, OddPredictor predictor, int32_t* q,
+                      const PredictorWeights* weights)
 {
+    if (weights && !weights->any())
+        weights = nullptr;
     for (int y = 0; y < region.height; y += 2)
         for (int x = 0; x < region.width; x += 2) {
             const size_t i = static_cast<size_t>(y) * n + x;
             q[i] = parentBin(parent_q, child_index, n, x, y) + residuals[i];
         }
     if (predictor == OddPredictor::Cubic) {
-        cubicPasses(residuals, n, region, q);
+        cubicPasses(residuals, n, region, q, weights);
         return;
     }
     for (const SampleClass pass : {SampleClass::A, SampleClass::B, SampleClass::C}) {
@@ -152,7 +318,7 @@ void reconstructChild(const int32_t* residuals, const int32_t* parent_q, int chi
         for (int y = y0; y < region.height; y += 2)
             for (int x = x0; x < region.width; x += 2) {
                 const size_t i = static_cast<size_t>(y) * n + x;
-                q[i] = predictOdd(q, n, region, x, y, predictor) - residuals[i];
+                q[i] = predictOdd(q, n, region, x, y, predictor, weights) - residuals[i];
             }
     }
 }

@@ -204,9 +204,29 @@ double ProgressiveTables::cost(const uint64_t* counts, const rans::Table& table)
     return bits;
 }
 
-std::shared_ptr<const ProgressiveTables> ProgressiveTables::fit(const SymbolCounts& counts)
+bool ProgressiveTables::hasWeights() const
+{
+    for (const PredictorWeights& w : weights_)
+        if (w.any())
+            return true;
+    return false;
+}
+
+std::shared_ptr<const ProgressiveTables> ProgressiveTables::withWeights(std::vector<PredictorWeights> weights)
+{
+    std::shared_ptr<ProgressiveTables> t(new ProgressiveTables(static_cast<int>(weights.size())));
+    t->weights_ = std::move(weights);
+    if (!t->hasWeights())
+        t->weights_.clear();
+    return t;
+}
+
+std::shared_ptr<const ProgressiveTables> ProgressiveTables::fit(const SymbolCounts& counts,
+                                                                const ProgressiveTables* base)
 {
     std::shared_ptr<ProgressiveTables> t(new ProgressiveTables(counts.levelCount()));
+    if (base)
+        t->weights_ = base->weights_;
     for (int l = 0; l < counts.levelCount(); ++l)
         for (int c = 0; c < kClasses; ++c)
             for (int x = 0; x < kContexts; ++x) {
@@ -232,9 +252,18 @@ std::shared_ptr<const ProgressiveTables> ProgressiveTables::fit(const SymbolCoun
 
 std::vector<uint8_t> ProgressiveTables::serialize() const
 {
-    if (owned_.empty())
+    if (owned_.empty() && !hasWeights())
         return {};
     std::vector<uint8_t> out{kMagic, kVersion, static_cast<uint8_t>(level_count_)};
+    // Predictor corrections: a flag, then levels 1.. × classes A, B, C × 12 taps as i16.
+    out.push_back(hasWeights() ? 1 : 0);
+    if (hasWeights())
+        for (int l = 1; l < level_count_; ++l)
+            for (const auto& cls : weights_[l].w)
+                for (const int16_t v : cls) {
+                    out.push_back(static_cast<uint8_t>(uint16_t(v)));
+                    out.push_back(static_cast<uint8_t>(uint16_t(v) >> 8));
+                }
     for (size_t i = 0; i < index_.size(); ++i) {
         putVarint(out, static_cast<uint32_t>(stored_symbols_[i]));
         for (int s = 0; s < stored_symbols_[i]; ++s)
@@ -266,6 +295,30 @@ std::shared_ptr<const ProgressiveTables> ProgressiveTables::parse(const uint8_t*
     std::shared_ptr<ProgressiveTables> t(new ProgressiveTables(level_count));
     const uint8_t* p = data + 3;
     const uint8_t* end = data + size;
+    if (p == end)
+        return fail("codec tables truncated before the predictor weights flag");
+    const uint8_t has_weights = *p++;
+    if (has_weights > 1)
+        return fail("codec tables predictor weights flag is " + std::to_string(has_weights) +
+                    ": must be 0 or 1");
+    if (has_weights) {
+        const size_t bytes = size_t(level_count - 1) * 3 * kCorrectionTapCount * 2;
+        if (size_t(end - p) < bytes)
+            return fail("codec tables truncated in the predictor weights");
+        t->weights_.assign(size_t(level_count), PredictorWeights{});
+        for (int l = 1; l < level_count; ++l)
+            for (auto& cls : t->weights_[l].w)
+                for (int16_t& v : cls) {
+                    v = static_cast<int16_t>(uint16_t(p[0]) | uint16_t(p[1]) << 8);
+                    p += 2;
+                    if (v > kMaxCorrectionWeight || v < -kMaxCorrectionWeight)
+                        return fail("codec tables: level " + std::to_string(l) +
+                                    " has a predictor weight of " + std::to_string(v) +
+                                    ": must be within ±4095");
+                }
+        if (!t->hasWeights())
+            return fail("codec tables: predictor weights flagged but all 0 (not canonical)");
+    }
     for (size_t i = 0; i < t->index_.size(); ++i) {
         const std::string where = "codec table " + std::to_string(i);
         uint32_t symbols;
@@ -298,7 +351,7 @@ std::shared_ptr<const ProgressiveTables> ProgressiveTables::parse(const uint8_t*
     }
     if (p != end)
         return fail("codec tables have " + std::to_string(end - p) + " trailing bytes");
-    if (t->owned_.empty())
+    if (t->owned_.empty() && !t->hasWeights())
         return fail("codec tables store no table (an archive without tables has none)");
     return t;
 }

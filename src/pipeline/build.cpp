@@ -156,14 +156,21 @@ std::string metadataJson(const std::string& source_path, const io::IngestStats& 
     return meta.dump(2);
 }
 
+void trainStage(BuildContext& ctx, const LevelPyramid& pyramid, CodecTrainer& trainer);
+
 // Replaces ctx.codec by the codec trained on every patch of `pyramid`, for codecs with
 // per-archive tables (HeightCodec::trainer); each patch is shown exactly what encodePatch
 // will code, the parent's reconstruction included.
 void trainCodec(BuildContext& ctx, const LevelPyramid& pyramid)
 {
-    const std::unique_ptr<CodecTrainer> trainer = ctx.codec->trainer();
-    if (!trainer)
-        return;
+    // A codec may learn in stages (progressive v2: predictor corrections, then the tables
+    // coded with them); each stage sees every patch.
+    while (std::unique_ptr<CodecTrainer> trainer = ctx.codec->trainer())
+        trainStage(ctx, pyramid, *trainer);
+}
+
+void trainStage(BuildContext& ctx, const LevelPyramid& pyramid, CodecTrainer& trainer)
+{
     const PyramidGeometry& g = ctx.geometry;
     const int n = g.patchSize();
     const int64_t count = g.patchCount();
@@ -184,7 +191,7 @@ void trainCodec(BuildContext& ctx, const LevelPyramid& pyramid)
                 ctx.codec->reconstruct(parent_codes.data(), patchContext(g, up, nullptr), parent.data());
                 parent_ptr = parent.data();
             }
-            trainer->observe(codes.data(), patchContext(g, p, parent_ptr));
+            trainer.observe(codes.data(), patchContext(g, p, parent_ptr));
         } catch (...) {
 #pragma omp critical
             failure = std::current_exception();
@@ -192,7 +199,7 @@ void trainCodec(BuildContext& ctx, const LevelPyramid& pyramid)
     }
     if (failure)
         std::rethrow_exception(failure);
-    ctx.codec = trainer->finish();
+    ctx.codec = trainer.finish();
 }
 
 // Extracts patch `at` of `level` (the patch's own position, or its position inside a strip

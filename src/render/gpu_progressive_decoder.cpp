@@ -51,6 +51,14 @@ void GpuProgressiveDecoder::run(int residual_bits, GLuint heights, int parent_la
     const GLuint half = GLuint(n_ / 2 + 1), all = GLuint(n_);
     for (int pass = 0; pass <= 4; ++pass) {
         glUniform1i(program_.uniform("u_pass"), pass);
+        const bool correct = child.weights && pass >= 1 && pass <= 3;
+        glUniform1i(program_.uniform("u_correct"), correct ? 1 : 0);
+        if (correct) {
+            GLint w[kCorrectionTapCount];
+            for (int i = 0; i < kCorrectionTapCount; ++i)
+                w[i] = child.weights->w[pass - 1][i];
+            glUniform1iv(program_.uniform("u_weights[0]"), kCorrectionTapCount, w);
+        }
         const GLuint samples = pass == 4 ? all : half;
         glDispatchCompute((samples + 7) / 8, (samples + 7) / 8, 1);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);

@@ -27,6 +27,7 @@ class GpuProgressiveDecoder {
         LevelQuantizer quantizer;  // the child level's
         OddPredictor predictor = OddPredictor::Cubic;
         CodedRegion region;        // the samples the residuals cover (v1: the whole patch)
+        const PredictorWeights* weights = nullptr; // v2's corrections of the level, or none
     };
     void reconstruct(const int32_t* residuals, GLuint heights, int parent_layer, int child_layer,
                      const Child& child);

@@ -119,7 +119,7 @@ void PatchTextures::reconstruct(const stream::DecodedPatch& patch, int parent_sl
     const PatchId p = patch.id;
     const GpuProgressiveDecoder::Child child{p.childIndex(), progressive_->quantizer(p.level),
                                              progressive_->variant().predictor,
-                                             patch.residual_region};
+                                             patch.residual_region, progressive_->weights(p.level)};
     if (patch.residuals.empty())
         decoder_->reconstruct(patch.residuals16.data(), heights_.id(), parent_slot, slot, child);
     else

@@ -156,20 +156,44 @@ TEST(ProgressiveTables, FittedTablesRoundTripTheirBytesAndBadBytesAreRejected)
     rejects(b, 3, "trailing");
     rejects(std::vector<uint8_t>(bytes.begin(), bytes.end() - 1), 3, "truncated");
     b = bytes;
-    b[3] = 72; // the first table's symbol count
+    b[3] = 2; // the predictor weights flag
+    rejects(b, 3, "must be 0 or 1");
+    b = bytes;
+    b[4] = 72; // the first table's symbol count
     rejects(b, 3, "at most 71");
     // A frequency changed: the sum is off.
     b = bytes;
-    size_t first_stored = 3;
+    size_t first_stored = 4;
     while (b[first_stored] == 0)
         ++first_stored;
     ASSERT_LT(b[first_stored], 0x80);
     b[first_stored + 1] ^= 1;
     rejects(b, 3, "sum to");
     // No tables at all is an empty region, not a region of default entries.
-    std::vector<uint8_t> empty{'T', 1, 1};
-    empty.resize(3 + progressive_tables::kClasses * progressive_tables::kContexts, 0);
+    std::vector<uint8_t> empty{'T', 1, 1, 0};
+    empty.resize(4 + progressive_tables::kClasses * progressive_tables::kContexts, 0);
     rejects(empty, 1, "store no table");
+
+    // Predictor weights: stored for levels 1.., each within ±4095, not all zero when flagged.
+    std::vector<PredictorWeights> w(3);
+    w[2].w[1][4] = -1234;
+    const auto weighted = ProgressiveTables::withWeights(w);
+    const std::vector<uint8_t> wb = weighted->serialize();
+    ASSERT_EQ(wb.size(), 4 + 2 * 36 * 2 + size_t(3 * 64));
+    const auto wback = ProgressiveTables::parse(wb.data(), wb.size(), 3, &problem);
+    ASSERT_NE(wback, nullptr) << problem;
+    EXPECT_EQ(wback->weights(1), nullptr);
+    ASSERT_NE(wback->weights(2), nullptr);
+    EXPECT_EQ(wback->weights(2)->w[1][4], -1234);
+    b = wb;
+    const size_t at = 4 + (36 + 12 + 4) * 2; // level 2, class B, tap 4
+    b[at] = 0x00;
+    b[at + 1] = 0x10; // 4096
+    rejects(b, 3, "within ±4095");
+    b = wb;
+    b[at] = 0;
+    b[at + 1] = 0;
+    rejects(b, 3, "all 0");
 }
 
 TEST(ProgressiveTables, DefaultsArePinned)
@@ -237,13 +261,20 @@ TEST(ProgressiveCodecV2, TrainedTablesCodeTheirOwnPatchesSmallerAndExactly)
     std::vector<std::vector<uint16_t>> children;
     for (int c = 0; c < 4; ++c)
         children.push_back(terrainPatch(n, 10 + c, 3));
-    const std::unique_ptr<CodecTrainer> trainer = codec.trainer();
-    ASSERT_NE(trainer, nullptr);
-    trainer->observe(root.data(), {n, 0, nullptr, 0});
-    for (int c = 0; c < 4; ++c)
-        trainer->observe(children[c].data(), {n, 1, root_drawn.data(), c});
-    const std::unique_ptr<HeightCodec> trained_codec = trainer->finish();
+    // The build's loop: every stage (corrections, then tables) sees every patch.
+    std::unique_ptr<HeightCodec> trained_codec = std::make_unique<ProgressiveCodec>(codec);
+    int stages = 0;
+    while (const std::unique_ptr<CodecTrainer> trainer = trained_codec->trainer()) {
+        trainer->observe(root.data(), {n, 0, nullptr, 0});
+        for (int c = 0; c < 4; ++c)
+            trainer->observe(children[c].data(), {n, 1, root_drawn.data(), c});
+        trained_codec = trainer->finish();
+        ++stages;
+    }
+    EXPECT_EQ(stages, 2);
     const auto& trained = static_cast<const ProgressiveCodec&>(*trained_codec);
+    EXPECT_EQ(trained.trainingStage(), 2);
+    EXPECT_NE(trained.weights(1), nullptr) << "4 patches of 65² fit corrections";
     EXPECT_FALSE(trained.storeTables().empty());
     size_t with_defaults = 0, with_trained = 0;
     for (int c = 0; c < 4; ++c) {

@@ -36,7 +36,7 @@ void expectGpuEqualsCpu(const std::string& path)
     stream::PatchLoader cpu(reader, 4096);
     std::vector<int32_t> residuals(size_t(n) * n);
     std::vector<uint16_t> gpu_codes(size_t(n) * n);
-    size_t patches = 0, narrow_patches = 0, samples_differing = 0;
+    size_t patches = 0, narrow_patches = 0, samples_differing = 0, corrected = 0;
     for (int64_t i = 0; i < g.patchCount(); ++i) {
         const PatchId p = g.patchAt(i);
         if (p.level == 0)
@@ -61,7 +61,7 @@ void expectGpuEqualsCpu(const std::string& path)
                 continue;
             const render::GpuProgressiveDecoder::Child child{
                 ctx.child_index, codec->quantizer(p.level), codec->variant().predictor,
-                codec->codedRegion(ctx)};
+                codec->codedRegion(ctx), codec->weights(p.level)};
             if (bits == 32)
                 decoder.reconstruct(residuals.data(), heights.id(), 0, 1, child);
             else
@@ -75,6 +75,11 @@ void expectGpuEqualsCpu(const std::string& path)
             narrow_patches += bits == 16;
         }
         ++patches;
+        corrected += codec->weights(p.level) != nullptr;
+    }
+    // v2 archives of the fixture learn corrections at their finer levels: the GPU applies them.
+    if (reader.metadata().build.codec == "progressive") {
+        EXPECT_GT(corrected, 0u) << path;
     }
     EXPECT_EQ(samples_differing, 0u) << path;
     EXPECT_GT(patches, 4u);
@@ -95,6 +100,7 @@ TEST(GpuProgressiveDecoder, ReconstructsEveryPatchBitForBitLikeTheCpuDecoder)
     // v2 (whole and clipped regions: the fixture's extent ends inside its last patches), the
     // hybrid schedule (refinements coded), v1 and the paper's variant.
     for (const Case c : {Case{33, "progressive", 1.0}, Case{65, "progressive", 4.0},
+                         Case{33, "progressive,corrections=0", 1.0},
                          Case{33, "progressive,nested=2", 1.0}, Case{33, "progressive-v1", 1.0},
                          Case{33, "progressive-paper", 2.0}}) {
         expectGpuEqualsCpu(test::buildEverestArchive(dir, c.codec, c.patch, c.error));

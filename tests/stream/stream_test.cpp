@@ -211,7 +211,8 @@ TEST(PatchStreamer, DeliversResidualsForTheGpuThatReconstructToTheCpuDecoding)
         EXPECT_NE(patch->residuals.empty(), patch->residuals16.empty()) << "one storage";
         narrow += !patch->residuals16.empty();
         reconstructChild(patch->residualsWide().data(), parent_q.data(), p.childIndex(), n,
-                         patch->residual_region, codec->variant().predictor, q.data());
+                         patch->residual_region, codec->variant().predictor, q.data(),
+                         codec->weights(p.level));
         replicateBeyond(q.data(), n, patch->residual_region);
         size_t differing = 0;
         for (size_t k = 0; k < q.size(); ++k)

@@ -45,11 +45,15 @@ struct ProgressiveVariant {
     bool contexts = true;
     int format = 2;                           // payload version, 1 or 2
     int nested_levels = kDefaultNestedLevels; // v2: 1..32; v1: 1 (its bounds double per level)
+    // v2, at build time only: learn least-squares prediction corrections (stored with the
+    // tables; an archive without them predicts with P0 alone). Not a stored bit: readers
+    // learn it from the tables.
+    bool corrections = true;
 
     // The paper as written: bilinear prediction, one adaptive model per symbol kind.
-    static ProgressiveVariant paper() { return {OddPredictor::Bilinear, false, 1, 1}; }
+    static ProgressiveVariant paper() { return {OddPredictor::Bilinear, false, 1, 1, false}; }
     // ridge's first codec: cubic prediction, adaptive activity contexts, payload v1.
-    static ProgressiveVariant v1() { return {OddPredictor::Cubic, true, 1, 1}; }
+    static ProgressiveVariant v1() { return {OddPredictor::Cubic, true, 1, 1, false}; }
     int bits() const;
     // Null for bits that name no variant.
     static std::optional<ProgressiveVariant> fromBits(int bits);
@@ -77,12 +81,20 @@ class ProgressiveCodec final : public HeightCodec {
     std::unique_ptr<CodecTrainer> trainer() const override;
     std::vector<uint8_t> storeTables() const override;
 
-    // v2 with these tables (from the archive, or fitted by trainer()); v1 ignores them.
-    // Defaults when never given.
-    void setTables(std::shared_ptr<const ProgressiveTables> tables);
+    // v2 with these tables and predictor corrections (from the archive, or fitted by
+    // trainer()); v1 ignores them. Defaults when never given. `complete`: nothing is left to
+    // train (false after the first training stage, the corrections).
+    void setTables(std::shared_ptr<const ProgressiveTables> tables, bool complete = true);
     const ProgressiveTables& tables() const { return *tables_; }
     // The samples a patch codes (v1: all of them).
     CodedRegion codedRegion(const PatchContext& ctx) const;
+    // The predictor corrections of `level` (v2), null when it has none.
+    const PredictorWeights* weights(int level) const { return tables_->weights(level); }
+    // The bins of a patch at its level's quantizer, q[n·n].
+    void bins(const uint16_t* codes, const PatchContext& ctx, int32_t* q) const;
+    // Training stage (v2): 0 nothing learned, 1 predictor corrections, 2 corrections and
+    // tables (what an archive's codec always is).
+    int trainingStage() const { return training_stage_; }
 
     // The CPU half of decode() (the paper's split: entropy decoding on the CPU, refine +
     // predict + add on the GPU): the residual grid of a child patch, residuals[n·n], which
@@ -109,6 +121,7 @@ class ProgressiveCodec final : public HeightCodec {
     int finest_level_;
     ProgressiveVariant variant_;
     std::shared_ptr<const ProgressiveTables> tables_;
+    int training_stage_ = 0;
 };
 
 } // namespace ridge

@@ -55,9 +55,48 @@ struct CodedRegion {
     bool isWhole(int n) const { return width == n && height == n; }
 };
 
+// Least-squares corrections of the A, B and C predictions (v2; learned per archive and
+// level, stored with the codec tables). Where all 12 taps of a class lie inside the coded
+// region, P = P0 + (Σ w_i · clamp(s_i − P0, ±32767) + 2048) >> 12, with P0 the predictor's
+// (cubic or bilinear) value and s_i the known samples at kCorrectionTaps[class]; elsewhere,
+// or with all weights 0 (v1), P = P0. |w_i| <= 4095 keeps the sum inside int32, so a GPU
+// computes it in 32-bit integers exactly as the CPU does.
+inline constexpr int kCorrectionTapCount = 12;
+inline constexpr int kMaxCorrectionWeight = 4095;
+struct CorrectionTap {
+    int dx, dy;
+};
+// [class − 1][tap]: A from the R samples of its row and the rows 2 above and below; B from
+// the R samples of its column and the columns 2 aside, and the 4 diagonal A samples; C from
+// its 2 A and 2 B neighbours, the 4 diagonal R samples and the A, B samples 3 away.
+inline constexpr CorrectionTap kCorrectionTaps[3][kCorrectionTapCount] = {
+    {{-1, 0}, {1, 0}, {-3, 0}, {3, 0}, {-1, -2}, {1, -2}, {-1, 2}, {1, 2}, {-3, -2}, {3, -2}, {-3, 2}, {3, 2}},
+    {{0, -1}, {0, 1}, {0, -3}, {0, 3}, {-2, -1}, {2, -1}, {-2, 1}, {2, 1}, {-1, -1}, {1, -1}, {-1, 1}, {1, 1}},
+    {{0, -1}, {0, 1}, {-1, 0}, {1, 0}, {-1, -1}, {1, -1}, {-1, 1}, {1, 1}, {0, -3}, {0, 3}, {-3, 0}, {3, 0}},
+};
+// The margin each class's taps need inside the region: x in [mx, w − mx), y in [my, h − my).
+inline constexpr int kCorrectionMarginX[3] = {3, 2, 3};
+inline constexpr int kCorrectionMarginY[3] = {2, 3, 3};
+
+struct PredictorWeights {
+    int16_t w[3][kCorrectionTapCount] = {}; // [class − 1]; all 0 = no correction
+    bool any() const
+    {
+        for (const auto& c : w)
+            for (int16_t v : c)
+                if (v)
+                    return true;
+        return false;
+    }
+};
+
+// The correction at (x, y) of class `cls` (1..3) given P0; 0 outside the interior.
+int32_t predictionCorrection(const int32_t* q, int n, const CodedRegion& region, int x, int y,
+                             int cls, int32_t p0, const PredictorWeights& weights);
+
 // P at (x, y) of class A, B or C, from the samples of q that earlier passes completed.
 int32_t predictOdd(const int32_t* q, int n, const CodedRegion& region, int x, int y,
-                   OddPredictor predictor);
+                   OddPredictor predictor, const PredictorWeights* weights = nullptr);
 // MED prediction of the coarsest patch at (x, y) from its west, north, north-west samples.
 int32_t predictRoot(const int32_t* q, int n, int x, int y);
 
@@ -66,13 +105,15 @@ int32_t predictRoot(const int32_t* q, int n, int x, int y);
 // quadrant `child_index` = (x & 1) | (y & 1) << 1 of the child's position). Zero outside
 // the region.
 void childResiduals(const int32_t* q, const int32_t* parent_base, int child_index, int n,
-                    const CodedRegion& region, OddPredictor predictor, int32_t* residuals);
+                    const CodedRegion& region, OddPredictor predictor, int32_t* residuals,
+                    const PredictorWeights* weights = nullptr);
 void rootResiduals(const int32_t* q, int n, const CodedRegion& region, int32_t* residuals);
 
 // Decoder side: the exact inverses. Write q[n·n] inside the region (replicateBeyond fills
 // the rest).
 void reconstructChild(const int32_t* residuals, const int32_t* parent_base, int child_index, int n,
-                      const CodedRegion& region, OddPredictor predictor, int32_t* q);
+                      const CodedRegion& region, OddPredictor predictor, int32_t* q,
+                      const PredictorWeights* weights = nullptr);
 void reconstructRoot(const int32_t* residuals, int n, const CodedRegion& region, int32_t* q);
 // Samples beyond the region repeat the nearest one inside: q(x, y) = q(min(x, w−1),
 // min(y, h−1)). Nothing to do for a whole region.

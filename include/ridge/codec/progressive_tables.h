@@ -13,6 +13,7 @@
 // rounded arithmetic only, so every platform builds the same tables. The trainer stores a
 // table only when the bits it saves on the archive's own symbols exceed its own bytes, so a
 // tiny archive stores almost nothing and pays almost nothing.
+#include "ridge/codec/progressive_reconstruction.h"
 #include "ridge/codec/rans_coder.h"
 
 #include <cstdint>
@@ -62,8 +63,13 @@ class ProgressiveTables {
 public:
     // Every table the default.
     static std::shared_ptr<const ProgressiveTables> defaults(int level_count);
-    // Tables fitted to `counts`, each stored only where it pays (see above).
-    static std::shared_ptr<const ProgressiveTables> fit(const SymbolCounts& counts);
+    // Default tables with these predictor corrections ([level], level 0 unused; all-zero
+    // weights are none).
+    static std::shared_ptr<const ProgressiveTables> withWeights(std::vector<PredictorWeights> weights);
+    // Tables fitted to `counts`, each stored only where it pays (see above), keeping `base`'s
+    // predictor corrections (the counts were taken with them).
+    static std::shared_ptr<const ProgressiveTables> fit(const SymbolCounts& counts,
+                                                        const ProgressiveTables* base = nullptr);
     // Parses serialize()'s bytes for an archive of `level_count` levels; null, with
     // *problem saying what is wrong, for anything but exactly such bytes (sizes, symbol
     // counts, frequency sums, trailing bytes).
@@ -80,6 +86,13 @@ public:
     }
     int levelCount() const { return level_count_; }
     int storedCount() const { return static_cast<int>(owned_.size()); }
+    // The predictor corrections of `level`, null when it has none.
+    const PredictorWeights* weights(int level) const
+    {
+        return level < static_cast<int>(weights_.size()) && weights_[level].any() ? &weights_[level]
+                                                                                  : nullptr;
+    }
+    bool hasWeights() const;
 
     // Bits `counts` cost under `table` (from its quantised frequencies), +inf when a counted
     // symbol has frequency 0.
@@ -91,6 +104,7 @@ private:
     std::vector<std::unique_ptr<rans::Table>> owned_; // stored tables, in index order
     std::vector<const rans::Table*> index_;           // [level][class][context]
     std::vector<int> stored_symbols_;                 // per index entry: 0 = default
+    std::vector<PredictorWeights> weights_;           // [level]; empty = none
 };
 
 } // namespace ridge

@@ -1,0 +1,118 @@
+// Benchmark of progressive-codec decoding, the codec alone: every patch of an archive of the
+// SRTM Everest tile (N27E086.hgt, 1201², 139 patches of 129²) decoded with HeightCodec::decode,
+// top-down with each parent's codes, payloads already in memory. Throughput counts the 16-bit
+// samples each patch covers (PyramidGeometry::coveredCells + 1 per axis). Variants, each run
+// in the same process so that their ratios hold on a noisy machine:
+//   v1            progressive-v1 (adaptive range coder)
+//   v2            progressive (default: nested bound, rANS, least-squares corrections)
+//   v2-no-correct progressive,corrections=0
+// and the entropy half alone (decodeResiduals) for v2, so the reconstruction's share shows.
+// Target (issue 14): >= 150 MB/s per core for v2. Data directory: $RIDGE_DATA_DIR or
+// ../shared/data; skips without the file.
+#include "ridge/archive/archive_reader.h"
+#include "ridge/codec/progressive_codec.h"
+#include "ridge/io/raster_source.h"
+#include "ridge/pipeline/build.h"
+#include "ridge/pyramid/patch_context.h"
+
+#include <benchmark/benchmark.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <unistd.h>
+
+namespace {
+
+std::string dataFile()
+{
+    const char* dir = std::getenv("RIDGE_DATA_DIR");
+    return std::string(dir ? dir : RIDGE_SHARED_DATA_DIR) + "/N27E086.hgt";
+}
+
+// One archive's payloads and the decoded parents each patch needs.
+struct Decodable {
+    std::unique_ptr<ridge::archive::ArchiveReader> reader;
+    std::vector<std::vector<uint8_t>> payloads;     // [patch index]
+    std::vector<std::vector<uint16_t>> codes;       // [patch index], decoded once
+    uint64_t covered_bytes = 0;
+};
+
+const Decodable* archiveFor(const std::string& codec, double max_error)
+{
+    static std::map<std::string, std::unique_ptr<Decodable>> cache;
+    const std::string key = codec + "@" + std::to_string(max_error);
+    if (auto found = cache.find(key); found != cache.end())
+        return found->second.get();
+    if (!std::filesystem::exists(dataFile()))
+        return nullptr;
+    const std::string path = (std::filesystem::temp_directory_path() /
+                              ("ridge_codec_bench_" + std::to_string(getpid()) + "_" +
+                               std::to_string(cache.size()) + ".ridge"))
+                                 .string();
+    ridge::BuildOptions options;
+    options.codec = codec;
+    options.max_error = max_error;
+    ridge::buildArchive(dataFile(), path, options);
+    auto d = std::make_unique<Decodable>();
+    d->reader = std::make_unique<ridge::archive::ArchiveReader>(path);
+    std::filesystem::remove(path); // the reader keeps its descriptor
+    const ridge::PyramidGeometry& g = d->reader->geometry();
+    const size_t samples = size_t(g.patchSize()) * g.patchSize();
+    for (int64_t i = 0; i < g.patchCount(); ++i) {
+        const ridge::PatchId p = g.patchAt(i);
+        const std::vector<uint8_t> blob = d->reader->readBlob(p);
+        d->payloads.emplace_back(blob.begin() + long(d->reader->payloadOffset(p, blob)), blob.end());
+        d->codes.emplace_back(samples);
+        const uint16_t* parent = p.level > 0 ? d->codes[size_t(g.patchIndex(p.parent()))].data() : nullptr;
+        if (d->reader->codec().decode(d->codes.back().data(), d->payloads.back().data(),
+                                      d->payloads.back().size(), ridge::patchContext(g, p, parent)) != 0)
+            return nullptr;
+        d->covered_bytes += uint64_t(g.coveredCellsX(p) + 1) * uint64_t(g.coveredCellsY(p) + 1) * 2;
+    }
+    return cache.emplace(key, std::move(d)).first->second.get();
+}
+
+void decodeAll(benchmark::State& state, const std::string& codec, bool residuals_only)
+{
+    const Decodable* d = archiveFor(codec, double(state.range(0)));
+    if (!d) {
+        state.SkipWithError(("needs " + dataFile()).c_str());
+        return;
+    }
+    const ridge::PyramidGeometry& g = d->reader->geometry();
+    const auto* progressive = dynamic_cast<const ridge::ProgressiveCodec*>(&d->reader->codec());
+    std::vector<uint16_t> out(size_t(g.patchSize()) * g.patchSize());
+    std::vector<int32_t> residuals(out.size());
+    for (auto _ : state) {
+        for (int64_t i = 0; i < g.patchCount(); ++i) {
+            const ridge::PatchId p = g.patchAt(i);
+            const uint16_t* parent = p.level > 0 ? d->codes[size_t(g.patchIndex(p.parent()))].data() : nullptr;
+            const auto ctx = ridge::patchContext(g, p, parent);
+            const auto& payload = d->payloads[size_t(i)];
+            const int status = residuals_only && p.level > 0
+                                   ? progressive->decodeResiduals(payload.data(), payload.size(), ctx,
+                                                                  residuals.data())
+                                   : d->reader->codec().decode(out.data(), payload.data(), payload.size(), ctx);
+            benchmark::DoNotOptimize(status);
+        }
+        benchmark::ClobberMemory();
+    }
+    state.SetBytesProcessed(int64_t(state.iterations()) * int64_t(d->covered_bytes));
+    state.counters["archive_bytes"] = double(d->reader->fileSize());
+}
+
+void BM_DecodeV1(benchmark::State& s) { decodeAll(s, "progressive-v1", false); }
+void BM_DecodeV2(benchmark::State& s) { decodeAll(s, "progressive", false); }
+void BM_DecodeV2NoCorrections(benchmark::State& s) { decodeAll(s, "progressive,corrections=0", false); }
+void BM_EntropyOnlyV2(benchmark::State& s) { decodeAll(s, "progressive", true); }
+
+} // namespace
+
+// Argument: the bound in metres.
+BENCHMARK(BM_DecodeV1)->Arg(1)->Arg(4)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_DecodeV2)->Arg(1)->Arg(4)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_DecodeV2NoCorrections)->Arg(1)->Arg(4)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_EntropyOnlyV2)->Arg(1)->Arg(4)->Unit(benchmark::kMillisecond);
+BENCHMARK_MAIN();
