@@ -153,23 +153,8 @@ void traverse(int32_t* residuals, int n, const ResidualCodingV2& coding, Side& s
 // per symbol. Visits exactly traverse()'s samples in traverse()'s order.
 class FastDecoder {
 public:
-    FastDecoder(const uint8_t* data, size_t size, tokens::BitReader& raw) : raw_(raw)
+    FastDecoder(const uint8_t* data, size_t size, tokens::BitReader& raw) : rans_(data, size), raw_(raw)
     {
-        p_ = data;
-        end_ = data + size;
-        if (size < 4 * rans::kLanes) {
-            overrun_ = true;
-            p_ = end_;
-            return;
-        }
-        for (int lane = 0; lane < rans::kLanes; ++lane, p_ += 4) {
-            x_[lane] = uint32_t(p_[0]) | uint32_t(p_[1]) << 8 | uint32_t(p_[2]) << 16 |
-                       uint32_t(p_[3]) << 24;
-            if (x_[lane] < rans::kLow) {
-                x_[lane] = rans::kLow;
-                corrupt_ = true;
-            }
-        }
     }
 
     template <int kClass>
@@ -197,55 +182,21 @@ public:
                 residuals[static_cast<size_t>(y) * n + x] = next(table);
     }
 
-    bool overrun() const { return overrun_; }
-    bool finishedExactly() const
-    {
-        if (corrupt_ || overrun_ || p_ != end_)
-            return false;
-        for (uint32_t x : x_)
-            if (x != rans::kLow)
-                return false;
-        return true;
-    }
+    const rans::Decoder& rans() const { return rans_; }
 
 private:
     int32_t next(const rans::Table& t)
     {
-        uint32_t& x = x_[lane_++ & (rans::kLanes - 1)];
-        const uint32_t slot = x & (rans::kProbScale - 1);
-        const int s = t.lookup[slot];
-        x = t.freq[s] * (x >> rans::kProbBits) + slot - t.cum[s];
-        if (x < rans::kLow) {
-            if (end_ - p_ >= 2) {
-                x = (x << 16) | uint32_t(p_[0]) | uint32_t(p_[1]) << 8;
-                p_ += 2;
-            } else {
-                overrun_ = true;
-                x = (x << 16) | rans::kLow;
-            }
-        }
+        const int s = rans_.decode(t, int(lane_++ & (rans::kLanes - 1)));
         if (s < 15) // zigzag, no raw bits: the common case
             return (s & 1) ? -((s + 1) >> 1) : s >> 1;
         return tokens::residual(s, raw_.get(tokens::rawCount(s)));
     }
 
-    uint32_t x_[rans::kLanes] = {};
+    rans::Decoder rans_;
     unsigned lane_ = 0;
-    const uint8_t* p_;
-    const uint8_t* end_;
     tokens::BitReader& raw_;
-    bool overrun_ = false;
-    bool corrupt_ = false;
 };
-
-void putVarint(std::vector<uint8_t>& out, uint32_t v)
-{
-    while (v >= 0x80) {
-        out.push_back(static_cast<uint8_t>(v | 0x80));
-        v >>= 7;
-    }
-    out.push_back(static_cast<uint8_t>(v));
-}
 
 } // namespace
 
@@ -260,7 +211,7 @@ bool encodeResidualsV2(const int32_t* residuals, int n, const ResidualCodingV2& 
     rans.finish(words);
     if (!side.ok)
         return false;
-    putVarint(out, static_cast<uint32_t>(words.size()));
+    tokens::putVarint(out, static_cast<uint32_t>(words.size()));
     out.insert(out.end(), words.begin(), words.end());
     raw.finish(out);
     return true;
@@ -279,17 +230,10 @@ int decodeResidualsV2(const uint8_t* data, size_t size, int n, const ResidualCod
 {
     // The rANS stream's length.
     uint32_t rans_size = 0;
-    size_t used = 0;
-    for (int shift = 0;; shift += 7) {
-        if (used == size)
-            return kCodecTruncated;
-        if (shift > 21)
-            return kCodecCorrupt;
-        const uint8_t b = data[used++];
-        rans_size |= uint32_t(b & 0x7f) << shift;
-        if (!(b & 0x80))
-            break;
-    }
+    const uint8_t* p = data;
+    if (!tokens::getVarint(p, data + size, rans_size))
+        return p == data + size ? kCodecTruncated : kCodecCorrupt;
+    const size_t used = static_cast<size_t>(p - data);
     if (rans_size > size - used)
         return kCodecTruncated;
     std::fill(residuals, residuals + static_cast<size_t>(n) * n, 0);
@@ -312,9 +256,9 @@ int decodeResidualsV2(const uint8_t* data, size_t size, int n, const ResidualCod
         dec.pass<2>(residuals, n, r, origin, ms, by_context[2]);
         dec.pass<3>(residuals, n, r, origin, ms, by_context[3]);
     }
-    if (dec.overrun())
+    if (dec.rans().overrun())
         return kCodecTruncated;
-    if (!dec.finishedExactly())
+    if (!dec.rans().finishedExactly())
         return kCodecCorrupt;
     if (raw.overrun())
         return kCodecTruncated;

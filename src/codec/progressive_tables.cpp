@@ -128,28 +128,8 @@ const rans::Table& defaultTable(int level, int cls, int context)
 
 int tablesPerLevel() { return kClasses * kContexts; }
 
-void putVarint(std::vector<uint8_t>& out, uint32_t v)
-{
-    while (v >= 0x80) {
-        out.push_back(static_cast<uint8_t>(v | 0x80));
-        v >>= 7;
-    }
-    out.push_back(static_cast<uint8_t>(v));
-}
-
-bool getVarint(const uint8_t*& p, const uint8_t* end, uint32_t& v)
-{
-    v = 0;
-    for (int shift = 0; shift < 28; shift += 7) {
-        if (p == end)
-            return false;
-        const uint8_t b = *p++;
-        v |= uint32_t(b & 0x7f) << shift;
-        if (!(b & 0x80))
-            return true;
-    }
-    return false;
-}
+using progressive_tokens::getVarint;
+using progressive_tokens::putVarint;
 
 // Bytes one stored table takes: its symbol count, then its frequencies.
 size_t storedBytes(const rans::Table& t)

@@ -54,6 +54,31 @@ inline int32_t residual(int symbol, uint32_t raw)
     return (t & 1) ? -m : m;
 }
 
+// LEB128 varints (the v2 stream's rANS size, the codec tables' counts and frequencies).
+inline void putVarint(std::vector<uint8_t>& out, uint32_t v)
+{
+    while (v >= 0x80) {
+        out.push_back(static_cast<uint8_t>(v | 0x80));
+        v >>= 7;
+    }
+    out.push_back(static_cast<uint8_t>(v));
+}
+
+// Reads at most 4 bytes (values below 2^28); false when the bytes end first or run longer.
+inline bool getVarint(const uint8_t*& p, const uint8_t* end, uint32_t& v)
+{
+    v = 0;
+    for (int shift = 0; shift < 28; shift += 7) {
+        if (p == end)
+            return false;
+        const uint8_t b = *p++;
+        v |= uint32_t(b & 0x7f) << shift;
+        if (!(b & 0x80))
+            return true;
+    }
+    return false;
+}
+
 // Bits written LSB first into little-endian 64-bit words, read back the same way.
 class BitWriter {
 public:
