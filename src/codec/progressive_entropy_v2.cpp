@@ -69,6 +69,12 @@ inline int context(const uint16_t* at, ptrdiff_t s)
         return contextOf((at[-s] + at[s] + at[-1] + at[1] + at[-2] + at[-2 * s]) / 3);
 }
 
+// Residuals the tokens carry (progressive_tokens.h); the encoder rejects any other.
+inline bool codable(int32_t d)
+{
+    return d <= tokens::kMaxMagnitude && d >= -tokens::kMaxMagnitude;
+}
+
 struct EncodeSide {
     const ProgressiveTables& tables;
     int level;
@@ -79,7 +85,7 @@ struct EncodeSide {
     int32_t code(int cls, int ctx, int32_t* slot)
     {
         const int32_t d = *slot;
-        if (d > tokens::kMaxMagnitude || d < -tokens::kMaxMagnitude) {
+        if (!codable(d)) {
             ok = false;
             return 0;
         }
@@ -103,7 +109,7 @@ struct CountSide {
     int32_t code(int cls, int ctx, int32_t* slot)
     {
         const int32_t d = *slot;
-        if (d > tokens::kMaxMagnitude || d < -tokens::kMaxMagnitude) {
+        if (!codable(d)) {
             ok = false;
             return 0;
         }

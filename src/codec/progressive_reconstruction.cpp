@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <optional>
 #include <vector>
 
 namespace ridge {
@@ -199,100 +200,59 @@ void cubicPasses(const int32_t* residuals, int n, const CodedRegion& region, int
 {
     const int w = region.width, h = region.height;
     const ptrdiff_t s = n;
-    if (weights) {
-        const Correction ca(*weights, 0, n, region), cb(*weights, 1, n, region),
-            cc(*weights, 2, n, region);
-        thread_local std::vector<int32_t> p;
-        p.resize(size_t(n));
-        for (int y = 0; y < h; y += 2) { // A
-            int32_t* row = q + y * s;
-            const int32_t* res = residuals + y * s;
-            int k = 0;
-            for (int x = 1; x < w; x += 2, ++k) {
-                const int32_t m = (x >= 3 && x + 3 < w)
-                                      ? 9 * (row[x - 1] + row[x + 1]) - row[x - 3] - row[x + 3]
-                                      : midpoint16(row, 1, x, w);
-                p[k] = (m + 8) >> 4;
-            }
-            if (ca.rowInside(y))
-                ca.apply(row, 1, k, p.data());
-            k = 0;
-            for (int x = 1; x < w; x += 2, ++k)
-                row[x] = p[k] - res[x];
-        }
-        for (int y = 1; y < h; y += 2) { // B
-            int32_t* row = q + y * s;
-            const int32_t* res = residuals + y * s;
-            const bool inner = y >= 3 && y + 3 < h;
-            int k = 0;
-            for (int x = 0; x < w; x += 2, ++k) {
-                const int32_t* at = row + x;
-                const int32_t m = inner ? 9 * (at[-s] + at[s]) - at[-3 * s] - at[3 * s]
-                                        : midpoint16(at - y * s, s, y, h);
-                p[k] = (m + 8) >> 4;
-            }
-            if (cb.rowInside(y))
-                cb.apply(row, 0, k, p.data());
-            k = 0;
-            for (int x = 0; x < w; x += 2, ++k)
-                row[x] = p[k] - res[x];
-        }
-        for (int y = 1; y < h; y += 2) { // C
-            int32_t* row = q + y * s;
-            const int32_t* res = residuals + y * s;
-            const bool inner = y >= 3 && y + 3 < h;
-            int k = 0;
-            for (int x = 1; x < w; x += 2, ++k) {
-                const int32_t* at = row + x;
-                const int32_t mr = (x >= 3 && x + 3 < w)
-                                       ? 9 * (at[-1] + at[1]) - at[-3] - at[3]
-                                       : midpoint16(row, 1, x, w);
-                const int32_t mc = inner ? 9 * (at[-s] + at[s]) - at[-3 * s] - at[3 * s]
-                                         : midpoint16(at - y * s, s, y, h);
-                p[k] = (mr + mc + 16) >> 5;
-            }
-            if (cc.rowInside(y))
-                cc.apply(row, 1, k, p.data());
-            k = 0;
-            for (int x = 1; x < w; x += 2, ++k)
-                row[x] = p[k] - res[x];
-        }
-        return;
-    }
-    for (int y = 0; y < h; y += 2) { // A: along the row through R
+    // Each row: P0 of its samples into p, the corrections where the class has them, then the
+    // samples. The three classes differ only in P0 and in where their samples start.
+    thread_local std::vector<int32_t> p;
+    p.resize(size_t(n));
+    auto finishRow = [&](int y, int first, const Correction* correction) {
         int32_t* row = q + y * s;
         const int32_t* res = residuals + y * s;
-        for (int x = 1; x < w; x += 2) {
+        const int count = (w - first + 1) / 2;
+        if (correction && correction->rowInside(y))
+            correction->apply(row, first, count, p.data());
+        for (int k = 0, x = first; k < count; ++k, x += 2)
+            row[x] = p[k] - res[x];
+    };
+    std::optional<Correction> ca, cb, cc;
+    if (weights) {
+        ca.emplace(*weights, 0, n, region);
+        cb.emplace(*weights, 1, n, region);
+        cc.emplace(*weights, 2, n, region);
+    }
+    for (int y = 0; y < h; y += 2) { // A: along the row through R
+        const int32_t* row = q + y * s;
+        for (int x = 1, k = 0; x < w; x += 2, ++k) {
             const int32_t m = (x >= 3 && x + 3 < w)
                                   ? 9 * (row[x - 1] + row[x + 1]) - row[x - 3] - row[x + 3]
                                   : midpoint16(row, 1, x, w);
-            row[x] = ((m + 8) >> 4) - res[x];
+            p[k] = (m + 8) >> 4;
         }
+        finishRow(y, 1, ca ? &*ca : nullptr);
     }
     for (int y = 1; y < h; y += 2) { // B: along the column through R
-        int32_t* row = q + y * s;
-        const int32_t* res = residuals + y * s;
+        const int32_t* row = q + y * s;
         const bool inner = y >= 3 && y + 3 < h;
-        for (int x = 0; x < w; x += 2) {
+        for (int x = 0, k = 0; x < w; x += 2, ++k) {
             const int32_t* at = row + x;
             const int32_t m = inner ? 9 * (at[-s] + at[s]) - at[-3 * s] - at[3 * s]
                                     : midpoint16(at - y * s, s, y, h);
-            row[x] = ((m + 8) >> 4) - res[x];
+            p[k] = (m + 8) >> 4;
         }
+        finishRow(y, 0, cb ? &*cb : nullptr);
     }
     for (int y = 1; y < h; y += 2) { // C: the row through B and the column through A
-        int32_t* row = q + y * s;
-        const int32_t* res = residuals + y * s;
+        const int32_t* row = q + y * s;
         const bool inner = y >= 3 && y + 3 < h;
-        for (int x = 1; x < w; x += 2) {
+        for (int x = 1, k = 0; x < w; x += 2, ++k) {
             const int32_t* at = row + x;
             const int32_t mr = (x >= 3 && x + 3 < w)
                                    ? 9 * (at[-1] + at[1]) - at[-3] - at[3]
                                    : midpoint16(row, 1, x, w);
             const int32_t mc = inner ? 9 * (at[-s] + at[s]) - at[-3 * s] - at[3 * s]
                                      : midpoint16(at - y * s, s, y, h);
-            row[x] = ((mr + mc + 16) >> 5) - res[x];
+            p[k] = (mr + mc + 16) >> 5;
         }
+        finishRow(y, 1, cc ? &*cc : nullptr);
     }
 }
 
