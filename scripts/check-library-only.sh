@@ -11,7 +11,7 @@ work=$(mktemp -d "${TMPDIR:-/tmp}/ridge-libonly.XXXXXX")
 trap 'rm -rf "$work"' EXIT
 build=${1:-$work/build}
 
-hidden='^(Lerc|charls|libopenjp2|libjxl.*|plplot.*|imgui)\.pc$'
+hidden='^(Lerc|charls|libjxl.*|plplot.*|imgui)\.pc$'
 mkdir -p "$work/pkgconfig"
 IFS=: read -r -a dirs <<< "$(pkg-config --variable pc_path pkg-config)"
 for dir in "${dirs[@]}"; do
@@ -23,7 +23,7 @@ for dir in "${dirs[@]}"; do
     [[ -e $work/pkgconfig/$name ]] || ln -s "$pc" "$work/pkgconfig/$name"
   done
 done
-for module in Lerc charls libopenjp2 libjxl plplot imgui; do
+for module in Lerc charls libjxl plplot imgui; do
   if PKG_CONFIG_LIBDIR=$work/pkgconfig pkg-config --exists "$module"; then
     echo "check-library-only: could not hide $module from pkg-config" >&2
     exit 1

@@ -8,13 +8,14 @@ packages=(
   libgdal-dev gdal-bin           # ingest: any raster GDAL reads; extract writes GeoTIFF
   libproj-dev                    # longitude/latitude ↔ archive CRS (queries, cameras, info)
   libzstd-dev                    # archive payload compression (later codecs)
+  libopenjp2-7-dev libopenjph-dev  # the jpeg2000 codec: JPEG 2000 (OpenJPEG) and HTJ2K (OpenJPH)
   libpng-dev                     # hillshade PNG output
   libfmt-dev libcli11-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3                        # bench and fuzz helper scripts
   clang libclang-rt-14-dev       # libFuzzer targets (scripts/fuzz.sh)
   # ridge codec-bench: anchor codecs (LERC, JPEG-LS, JPEG 2000, JPEG XL, ZFP) and its PNG plot
-  liblerc-dev libcharls-dev libopenjp2-7-dev libjxl-dev libzfp-dev
+  liblerc-dev libcharls-dev libjxl-dev libzfp-dev
   libplplot-dev plplot-driver-cairo
   # GPU layer and renderer: OpenGL 4.5 core through libepoxy, headless EGL (Mesa llvmpipe on CI),
   # windows through GLFW, GLM maths, Dear ImGui overlay; xvfb + xauth for the windowed smoke test

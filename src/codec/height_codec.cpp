@@ -1,5 +1,6 @@
 #include "ridge/codec/height_codec.h"
 
+#include "ridge/codec/jpeg2000_codec.h"
 #include "ridge/codec/lossless_codec.h"
 #include "ridge/codec/progressive_codec.h"
 #include "ridge/core/error.h"
@@ -30,7 +31,8 @@ void HeightCodec::reconstruct(const uint16_t* codes, const PatchContext& ctx, ui
 
 namespace {
 
-constexpr const char* kCodecList = "lossless, raw, progressive, progressive-v1, progressive-paper";
+constexpr const char* kCodecList =
+    "lossless, raw, progressive, progressive-v1, progressive-paper, jpeg2000";
 
 // A progressive variant by name: "progressive" (v2), "progressive-v1", "progressive-paper",
 // and v2 with options for measurement, "progressive,nested=K". Null for anything else.
@@ -74,7 +76,7 @@ std::optional<ProgressiveVariant> progressiveVariantOf(const std::string& name)
 
 bool isLossyCodec(const std::string& name)
 {
-    return progressiveVariantOf(name).has_value();
+    return progressiveVariantOf(name).has_value() || Jpeg2000Variant::fromName(name).has_value();
 }
 
 std::optional<CodecId> codecIdOf(const std::string& name)
@@ -85,6 +87,8 @@ std::optional<CodecId> codecIdOf(const std::string& name)
         return CodecId::Lossless;
     if (progressiveVariantOf(name))
         return CodecId::Progressive;
+    if (Jpeg2000Variant::fromName(name))
+        return CodecId::Jpeg2000;
     return std::nullopt;
 }
 
@@ -96,8 +100,12 @@ std::unique_ptr<HeightCodec> makeCodec(const std::string& name, double max_error
         return std::make_unique<Raw16Codec>();
     if (const std::optional<ProgressiveVariant> v = progressiveVariantOf(name))
         return std::make_unique<ProgressiveCodec>(max_error, level_count, *v);
+    if (const std::optional<Jpeg2000Variant> v = Jpeg2000Variant::fromName(name))
+        return std::make_unique<Jpeg2000Codec>(max_error, level_count, *v);
     throw Error("unknown codec '" + name + "' (available: " + kCodecList +
-                "; progressive,nested=K for v2 with K levels at the finest bound)");
+                "; progressive,nested=K for v2 with K levels at the finest bound; "
+                "jpeg2000,encoding=progressive|direct,criterion=max|rms|lossless,"
+                "library=openjpeg|htj2k)");
 }
 
 namespace {
@@ -144,6 +152,31 @@ std::string checkProgressiveParameters(const CodecSettings& s)
     return {};
 }
 
+// The jpeg2000 codec: param[0] = the criterion's E in codes, param[1] = variant bits
+// (Jpeg2000Variant::fromBits); no codec tables.
+std::string checkJpeg2000Parameters(const CodecSettings& s)
+{
+    const double bits = s.param[1];
+    const bool known = bits >= 0 && bits < 16 && bits == std::floor(bits) &&
+                       Jpeg2000Variant::fromBits(static_cast<int>(bits));
+    if (!known)
+        return "codec_param[1] is " + formatNumber(bits) +
+               ": the jpeg2000 codec's variant must be an integer 0..15 whose bits 1..2 are not 3 "
+               "(bit 0 direct, bits 1..2 criterion max/rms/lossless, bit 3 HTJ2K)";
+    const bool lossless = Jpeg2000Variant::fromBits(static_cast<int>(bits))->criterion ==
+                          CompressionCriterion::Lossless;
+    const ValueRange range = lossless ? ValueRange::closed(0, 32767) : ValueRange::openClosed(0, 32767);
+    if (!range.contains(s.param[0]))
+        return "codec_param[0] is " + formatNumber(s.param[0]) +
+               ": the jpeg2000 codec's criterion E (codes) must be " + range.describe();
+    if (s.level_count < 1 || s.level_count > 32)
+        return "level_count is " + std::to_string(s.level_count) +
+               ": the jpeg2000 codec codes 1 to 32 levels";
+    if (!s.tables.empty())
+        return "codec tables are present: the jpeg2000 codec has none";
+    return {};
+}
+
 } // namespace
 
 std::unique_ptr<HeightCodec> makeCodec(CodecId id, const CodecSettings& settings,
@@ -178,9 +211,15 @@ std::unique_ptr<HeightCodec> makeCodec(CodecId id, const CodecSettings& settings
         codec->setTables(std::move(tables)); // an archive's codec: fully trained
         return codec;
     }
+    case CodecId::Jpeg2000:
+        if (std::string p = checkJpeg2000Parameters(settings); !p.empty())
+            return rejected(problem, std::move(p));
+        return std::make_unique<Jpeg2000Codec>(
+            settings.param[0], settings.level_count,
+            *Jpeg2000Variant::fromBits(static_cast<int>(settings.param[1])));
     }
     return rejected(problem, "codec_id is " + std::to_string(static_cast<uint32_t>(id)) +
-                                 ": must be 0 (raw), 1 (lossless) or 2 (progressive)");
+                                 ": must be 0 (raw), 1 (lossless), 2 (progressive) or 3 (jpeg2000)");
 }
 
 } // namespace ridge

@@ -235,11 +235,23 @@ EncodedPatch encodePatch(const BuildContext& ctx, const LevelView& level, PatchI
     out.record.err_appr = archive::floatUp(err_appr);
     out.record.err = archive::floatUp(err_appr + ctx.levelBound(id.level));
 
-    // λ is measured on what the renderer will draw: the codec's reconstruction.
+    out.payload.resize(ctx.codec->encodeBound(pctx));
+    const size_t size = ctx.codec->encode(out.payload.data(), out.payload.size(), codes.data(), pctx);
+    if (size == 0)
+        throw Error("internal error: cannot encode patch");
+    out.payload.resize(size);
+
+    // λ is measured on what the renderer will draw: the codec's reconstruction, decoded from
+    // the payload just written (a codec whose encoder searches, like jpeg2000's rate
+    // control, would otherwise search twice; and the payload is proven to decode).
     const uint16_t* drawn = codes.data();
     if (!ctx.codec->lossless()) {
         out.reconstruction.resize(codes.size());
-        ctx.codec->reconstruct(codes.data(), pctx, out.reconstruction.data());
+        const int status = ctx.codec->decode(out.reconstruction.data(), out.payload.data(),
+                                             out.payload.size(), pctx);
+        if (status != kCodecOk)
+            throw Error(std::string("internal error: a patch just encoded does not decode: ") +
+                        codecStatusMessage(status));
         drawn = out.reconstruction.data();
     }
     if (ctx.store_block_errors) {
@@ -255,11 +267,6 @@ EncodedPatch encodePatch(const BuildContext& ctx, const LevelView& level, PatchI
             throw Error("internal error: cannot pack a validity mask");
     }
 
-    out.payload.resize(ctx.codec->encodeBound(pctx));
-    const size_t size = ctx.codec->encode(out.payload.data(), out.payload.size(), codes.data(), pctx);
-    if (size == 0)
-        throw Error("internal error: cannot encode patch");
-    out.payload.resize(size);
     return out;
 }
 

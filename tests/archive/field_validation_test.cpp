@@ -319,7 +319,7 @@ TEST(FieldValidation, CodecParametersAreCheckedByTheCodecAndNamed)
                                   "header field codec_param[1] is " + formatNumber(v) +
                                       ": the progressive codec's variant must be 0, 2, 4 or 6"));
     EXPECT_TRUE(refusedNaming(openCrafted(f.lossless, setHeaderU32(ho::kCodecId, 7)),
-                              "header field codec_id is 7: must be 0 (raw), 1 (lossless) or 2"));
+                              "header field codec_id is 7: must be 0 (raw), 1 (lossless), 2"));
 }
 
 TEST(FieldValidation, GeometryLayoutAndFilterFieldsAreNamed)

@@ -21,6 +21,7 @@ enum class CodecId : uint32_t {
     Raw16 = 0,    // uncompressed little-endian codes (debugging, speed baseline)
     Lossless = 1, // MED prediction + zstd (default)
     Progressive = 2, // the paper's progressive L-inf codec, adaptive range coding (lossy)
+    Jpeg2000 = 3,    // the JPEG2000 paper's model: D predicted from the parent, JPEG 2000 coded
 };
 
 enum CodecStatus : int {
@@ -119,7 +120,7 @@ std::unique_ptr<HeightCodec> makeCodec(const std::string& name, double max_error
                                        int level_count = 1);
 // Codec by stored id and settings; returns null for an unknown id or invalid settings, and
 // then sets *problem (when given) to what is wrong, naming the archive header field:
-//   "codec_id is 7: must be 0 (raw), 1 (lossless) or 2 (progressive)"
+//   "codec_id is 7: must be 0 (raw), 1 (lossless), 2 (progressive) or 3 (jpeg2000)"
 //   "codec_param[1] is 3: the progressive codec's variant must be 0, 2, 4 or 6"
 // Each codec validates its own parameters: raw and lossless take none (both exactly 0).
 std::unique_ptr<HeightCodec> makeCodec(CodecId id, const CodecSettings& settings = {},

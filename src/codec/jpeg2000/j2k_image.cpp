@@ -1,0 +1,73 @@
+#include "j2k_image.h"
+
+#include <algorithm>
+
+namespace ridge::j2k {
+
+// Defined by the two library files.
+bool encodeOpenJpeg(const int32_t* samples, int width, int height, int bits, Rate rate,
+                    std::vector<uint8_t>* out, std::string* error);
+bool decodeOpenJpeg(const uint8_t* bytes, size_t size, int width, int height, int bits,
+                    int32_t* samples, std::string* error);
+std::string openJpegVersion();
+bool encodeHtj2k(const int32_t* samples, int width, int height, int bits, Rate rate,
+                 std::vector<uint8_t>* out, std::string* error);
+bool decodeHtj2k(const uint8_t* bytes, size_t size, int width, int height, int bits,
+                 int32_t* samples, std::string* error);
+std::string htj2kVersion();
+
+const char* libraryName(Library library)
+{
+    return library == Library::Htj2k ? "HTJ2K (OpenJPH)" : "JPEG 2000 (OpenJPEG)";
+}
+
+std::string libraryVersion(Library library)
+{
+    return library == Library::Htj2k ? htj2kVersion() : openJpegVersion();
+}
+
+int decompositionsFor(int width, int height)
+{
+    const int smaller = std::min(width, height);
+    int levels = 0;
+    while (levels < 6 && (smaller >> (levels + 1)) > 0)
+        ++levels;
+    return levels;
+}
+
+bool encode(Library library, const int32_t* samples, int width, int height, int bits, Rate rate,
+            std::vector<uint8_t>* out, std::string* error)
+{
+    if (width < 1 || height < 1 || bits < 1 || bits > 16 ||
+        (!rate.reversible && !(rate.value > 0))) {
+        *error = "invalid image or rate";
+        return false;
+    }
+    return library == Library::Htj2k ? encodeHtj2k(samples, width, height, bits, rate, out, error)
+                                     : encodeOpenJpeg(samples, width, height, bits, rate, out, error);
+}
+
+bool decode(Library library, const uint8_t* bytes, size_t size, int width, int height, int bits,
+            int32_t* samples, std::string* error)
+{
+    if (width < 1 || height < 1 || bits < 1 || bits > 16) {
+        *error = "invalid image";
+        return false;
+    }
+    if (size == 0) {
+        *error = "empty codestream";
+        return false;
+    }
+    const bool ok = library == Library::Htj2k
+                        ? decodeHtj2k(bytes, size, width, height, bits, samples, error)
+                        : decodeOpenJpeg(bytes, size, width, height, bits, samples, error);
+    if (!ok)
+        return false;
+    const int32_t top = (int32_t(1) << bits) - 1;
+    const size_t count = size_t(width) * size_t(height);
+    for (size_t i = 0; i < count; ++i)
+        samples[i] = std::clamp(samples[i], int32_t(0), top);
+    return true;
+}
+
+} // namespace ridge::j2k
