@@ -12,12 +12,12 @@ seconds=${RIDGE_FUZZ_SECONDS:-30}
 cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
       -DCMAKE_C_COMPILER=clang -DRIDGE_BUILD_FUZZERS=ON -DRIDGE_USE_OPENMP=OFF \
       -DRIDGE_BUILD_TESTS=OFF -DRIDGE_BUILD_BENCH=OFF >/dev/null
-cmake --build build-fuzz -j "$(nproc)" --target fuzz_lossless_decode fuzz_progressive_decode fuzz_archive_reader \
+cmake --build build-fuzz -j "$(nproc)" --target fuzz_lossless_decode fuzz_progressive_decode fuzz_jpeg2000_decode fuzz_archive_reader \
       fuzz_archive_fields fuzz_render_params
 
 # Seeds: small real archives, and their patch payloads prefixed with the patch-size byte.
 seeds=build-fuzz/seeds
-rm -rf "$seeds" && mkdir -p "$seeds/archive" "$seeds/payload" "$seeds/params"
+rm -rf "$seeds" && mkdir -p "$seeds/archive" "$seeds/payload" "$seeds/params" "$seeds/jpeg2000"
 for patch in 17 65; do
   ./build/ridge build tests/data/everest_crop.tif -o "$seeds/archive/everest_$patch.ridge" -q --patch $patch
 done
@@ -31,6 +31,9 @@ for e in 1 4; do
   ./build/ridge build tests/data/everest_crop.tif -o "$seeds/archive/progressive_e${e}_17.ridge" -q --patch 17 \
       --codec progressive --max-error $e
 done
+# jpeg2000 (OpenJPEG; HTJ2K is not decoded from untrusted bytes): archives for the field fuzzers, payloads for its decoder.
+./build/ridge build tests/data/everest_crop.tif -o "$seeds/archive/jpeg2000_17.ridge" -q --patch 17 \
+    --codec jpeg2000 --max-error 2
 python3 - "$seeds" <<'PY'
 import struct, sys, glob, os
 seeds = sys.argv[1]
@@ -44,7 +47,13 @@ for path in glob.glob(seeds + "/archive/*.ridge"):
         _, _, _, be, off, size, _ = struct.unpack_from("<IIIIQII", b, index + 48 * k)
         lvl = struct.unpack_from("<I", b, index + 48 * k)[0]
         payload = b[off + be: off + size]
-        if payload[:1] == b"P":  # progressive: size, level|quadrant, bound|variant, parent seed
+        if payload[:1] == b"\0":  # format v2+: the validity mask of a patch without nodata
+            payload = payload[1:]
+        if payload[:1] == b"J":  # jpeg2000: size, level | quadrant << 1 | HTJ2K << 3
+            name = "%s/jpeg2000/%s_%d" % (seeds, os.path.basename(path), k)
+            control = min(lvl, 1) | ((lvl and k % 4) << 1) | (8 if "htj2k" in path else 0)
+            open(name, "wb").write(bytes([size_byte, control]) + payload)
+        elif payload[:1] == b"P":  # progressive: size, level|quadrant, bound|variant, parent seed
             name = "%s/progressive/%s_%d" % (seeds, os.path.basename(path), k)
             open(name, "wb").write(bytes([size_byte, min(lvl, 3), (6 << 4) | 1, 0]) + payload)
         else:
@@ -59,11 +68,12 @@ PY
 
 status=0
 export RIDGE_FUZZ_ARCHIVES=$PWD/$seeds/archive # the archives fuzz_render_params renders
-for target in fuzz_lossless_decode fuzz_progressive_decode fuzz_archive_reader fuzz_archive_fields \
-              fuzz_render_params; do
+for target in fuzz_lossless_decode fuzz_progressive_decode fuzz_jpeg2000_decode fuzz_archive_reader \
+              fuzz_archive_fields fuzz_render_params; do
   seed_dir=$seeds/payload
   [[ $target == fuzz_archive_reader || $target == fuzz_archive_fields ]] && seed_dir=$seeds/archive
   [[ $target == fuzz_progressive_decode ]] && seed_dir=$seeds/progressive
+  [[ $target == fuzz_jpeg2000_decode ]] && seed_dir=$seeds/jpeg2000
   [[ $target == fuzz_render_params ]] && seed_dir=$seeds/params
   corpus=build-fuzz/corpus-$target # new inputs go here; the seeds stay as built
   mkdir -p "$corpus"

@@ -105,8 +105,15 @@ void Commands::registerAll(CLI::App& app)
         ->add_option(
             "--codec", build_options_.codec,
             "Patch codec: lossless, raw, progressive (lossy v2, needs --max-error), progressive-v1, "
-            "progressive-paper, progressive,nested=K")
+            "progressive-paper, progressive,nested=K, jpeg2000 (the JPEG2000 paper's model, needs "
+            "--max-error; jpeg2000,encoding=direct, jpeg2000,library=htj2k)")
         ->capture_default_str();
+    build_
+        ->add_option("--criterion", criterion_,
+                     "jpeg2000 only: the compression criterion every patch's rate search meets "
+                     "with E = --max-error: max (max-abs error, default), rms (RMS error, with "
+                     "every sample also within 32 E), lossless (D quantized, reversible wavelet)")
+        ->check(CLI::IsMember({"max", "rms", "lossless"}));
     build_
         ->add_option_function<std::string>(
             "--filter",
@@ -323,6 +330,12 @@ void Commands::validateBuildOptions() const
 
 int Commands::runBuild()
 {
+    if (!criterion_.empty()) {
+        if (build_options_.codec.rfind("jpeg2000", 0) != 0)
+            throw UsageError("--criterion applies to --codec jpeg2000 only (the codec is " +
+                             build_options_.codec + ")");
+        build_options_.codec += ",criterion=" + criterion_;
+    }
     validateBuildOptions();
     if (isLossyCodec(build_options_.codec)) {
         // One budget: the codec gets what the ingest quantization leaves of --max-error.

@@ -161,6 +161,7 @@ class Commands {
 
     bool quiet_ = false;
     bool json_ = false;
+    std::string criterion_; // build --criterion (jpeg2000)
     std::string input_;
     std::string output_;
     std::string archive_;

@@ -1,6 +1,7 @@
 #include "j2k_image.h"
 
 #include <algorithm>
+#include <cstdlib>
 
 namespace ridge::j2k {
 
@@ -47,9 +48,21 @@ bool encode(Library library, const int32_t* samples, int width, int height, int 
                                      : encodeOpenJpeg(samples, width, height, bits, rate, out, error);
 }
 
-bool decode(Library library, const uint8_t* bytes, size_t size, int width, int height, int bits,
-            int32_t* samples, std::string* error)
+bool htj2kDecodingAllowed()
 {
+    const char* v = std::getenv("RIDGE_ALLOW_HTJ2K");
+    return v && std::string(v) == "1";
+}
+
+bool decode(Library library, const uint8_t* bytes, size_t size, int width, int height, int bits,
+            int32_t* samples, std::string* error, bool trusted)
+{
+    if (library == Library::Htj2k && !trusted && !htj2kDecodingAllowed()) {
+        *error = "HTJ2K decoding is off: OpenJPH 0.9 aborts the process on some malformed "
+                 "codestreams (found by fuzzing); set RIDGE_ALLOW_HTJ2K=1 to build or read "
+                 "HTJ2K archives you trust";
+        return false;
+    }
     if (width < 1 || height < 1 || bits < 1 || bits > 16) {
         *error = "invalid image";
         return false;

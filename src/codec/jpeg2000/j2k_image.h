@@ -37,8 +37,11 @@ bool encode(Library library, const int32_t* samples, int width, int height, int 
 // Decodes a codestream that must hold exactly one unsigned width x height component of `bits`
 // precision into `samples`, clamped to [0, 2^bits - 1] (a lossy decode may overshoot).
 // Returns false and sets *error for anything else, truncated or corrupt bytes included.
+// HTJ2K: OpenJPH 0.9 asserts (aborts) on some malformed codestreams, so untrusted HTJ2K is
+// decoded only when RIDGE_ALLOW_HTJ2K=1; `trusted` is for a codestream just encoded here.
 bool decode(Library library, const uint8_t* bytes, size_t size, int width, int height, int bits,
-            int32_t* samples, std::string* error);
+            int32_t* samples, std::string* error, bool trusted = false);
+bool htj2kDecodingAllowed();
 
 // Decompositions used for a width x height image: each halves the smaller side, and the
 // lowest resolution keeps at least one sample (at most 6, OpenJPEG's default).

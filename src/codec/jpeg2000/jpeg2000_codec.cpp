@@ -190,7 +190,7 @@ bool tryRate(const PatchProblem& p, const Quantizer& q, Jpeg2000Encoding kind, j
         throw Error("jpeg2000 codec: " + error);
     std::vector<int32_t> decoded(r.count());
     if (!j2k::decode(lib, c.codestream.data(), c.codestream.size(), r.width, r.height, q.bits,
-                     decoded.data(), &error))
+                     decoded.data(), &error, /*trusted=*/true))
         throw Error("jpeg2000 codec: cannot decode its own codestream: " + error);
     std::vector<int32_t> deltas;
     c.region_values.resize(r.count());

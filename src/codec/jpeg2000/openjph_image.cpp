@@ -57,6 +57,71 @@ void installHandlers()
     });
 }
 
+uint32_t be(const uint8_t* p, int bytes)
+{
+    uint32_t v = 0;
+    for (int k = 0; k < bytes; ++k)
+        v = v << 8 | p[k];
+    return v;
+}
+
+// OpenJPH 0.9 asserts (aborts the process) on some inconsistent main headers — fuzzing found
+// a QCD with fewer subbands than COD's decompositions — so nothing reaches it that is not
+// exactly the main header ridge writes: SIZ of one unsigned width x height component of
+// `bits` in one tile, COD with the expected decompositions, 64x64 blocks, one layer, no
+// precincts, no colour transform, and a QCD whose size matches its subbands; CAP and COM
+// may appear, nothing else before the first SOT. Returns the problem, or empty.
+std::string checkMainHeader(const uint8_t* b, size_t size, int width, int height, int bits)
+{
+    if (size < 4 || be(b, 2) != 0xFF4F)
+        return "no SOC marker";
+    size_t at = 2;
+    int siz = 0, cod = 0, qcd = 0, decompositions = -1, reversible = -1;
+    while (true) {
+        if (at + 4 > size)
+            return "main header truncated";
+        const uint32_t marker = be(b + at, 2);
+        if (marker == 0xFF90)
+            break; // SOT: the tile-parts follow
+        const uint32_t length = be(b + at + 2, 2);
+        if (length < 2 || at + 2 + length > size)
+            return "marker segment runs past the codestream";
+        const uint8_t* m = b + at + 4;
+        const size_t n = length - 2;
+        if (marker == 0xFF51) {
+            ++siz;
+            if (n != 39 || be(m + 2, 4) != uint32_t(width) || be(m + 6, 4) != uint32_t(height) ||
+                be(m + 10, 4) != 0 || be(m + 14, 4) != 0 || be(m + 18, 4) < uint32_t(width) ||
+                be(m + 22, 4) < uint32_t(height) || be(m + 26, 4) != 0 || be(m + 30, 4) != 0 ||
+                be(m + 34, 2) != 1 || m[36] != uint8_t(bits - 1) || m[37] != 1 || m[38] != 1)
+                return "SIZ is not one unsigned " + std::to_string(width) + "x" +
+                       std::to_string(height) + " component of " + std::to_string(bits) + " bits";
+        } else if (marker == 0xFF52) {
+            ++cod;
+            if (n != 10 || m[0] != 0 || be(m + 2, 2) != 1 || m[4] != 0 ||
+                m[5] != decompositionsFor(width, height) || m[6] != 4 || m[7] != 4 || m[9] > 1)
+                return "COD is not the coding style ridge writes";
+            decompositions = m[5];
+            reversible = m[9];
+        } else if (marker == 0xFF5C) {
+            ++qcd;
+            if (decompositions < 0)
+                return "QCD before COD";
+            const size_t subbands = 3 * size_t(decompositions) + 1;
+            const int style = m[0] & 0x1f;
+            const size_t expected = reversible ? 1 + subbands : 1 + 2 * subbands;
+            if ((reversible && style != 0) || (!reversible && style != 2) || n != expected)
+                return "QCD does not match COD's subbands";
+        } else if (marker != 0xFF50 && marker != 0xFF64) {
+            return "unexpected marker in the main header";
+        }
+        at += 2 + length;
+    }
+    if (siz != 1 || cod != 1 || qcd != 1)
+        return "main header lacks SIZ, COD or QCD, or repeats one";
+    return {};
+}
+
 } // namespace
 
 std::string htj2kVersion()
@@ -108,6 +173,10 @@ bool decodeHtj2k(const uint8_t* bytes, size_t size, int width, int height, int b
                  int32_t* samples, std::string* error)
 {
     installHandlers();
+    if (std::string problem = checkMainHeader(bytes, size, width, height, bits); !problem.empty()) {
+        *error = "HTJ2K codestream refused: " + problem;
+        return false;
+    }
     try {
         ojph::mem_infile file;
         file.open(bytes, size);
