@@ -14,6 +14,7 @@
 #include "captured_surface_checks.h"
 #include "fixture_archives.h"
 
+#include "ridge/codec/height_codec.h"
 #include "ridge/gpu/context.h"
 #include "ridge/gpu/render_target.h"
 #include "ridge/pipeline/build.h"
@@ -41,7 +42,7 @@ struct Fixture {
     std::string name;
     std::string codec;
     int patch_size;
-    double max_error;  // progressive: the codec's bound, metres
+    double max_error;  // lossy codecs: the codec's bound, metres
     double z_scale;    // 1: Everest as it is; 0.02: a low-relief terrain (60 m of relief)
 };
 
@@ -52,6 +53,8 @@ const std::vector<Fixture>& fixtures()
         {"everest lossless 33", "lossless", 33, 0.0, 1.0},
         {"everest progressive 65", "progressive", 65, 1.0, 1.0},
         {"low relief lossless 129", "lossless", 129, 0.0, 0.02},
+        // The JPEG2000 paper's model: lossy, decoded on the CPU, edges coded to agree.
+        {"everest jpeg2000 33", "jpeg2000", 33, 1.0, 1.0},
     };
     return all;
 }
@@ -76,6 +79,10 @@ class SchemeConformance : public ::testing::TestWithParam<std::string> {
         delete context_;
     }
 
+  public:
+    static Scene& sceneOf(const Fixture& f) { return scene(f); }
+
+  protected:
     // The synchronous renderer over fixture `f`, able to draw every registered scheme.
     static Scene& scene(const Fixture& f)
     {
@@ -85,7 +92,7 @@ class SchemeConformance : public ::testing::TestWithParam<std::string> {
         BuildOptions options;
         options.patch_size = f.patch_size;
         options.codec = f.codec;
-        if (f.codec == "progressive")
+        if (isLossyCodec(f.codec))
             options.max_error = f.max_error;
         if (f.z_scale != 1.0)
             options.ingest.z_scale = f.z_scale;
@@ -283,11 +290,20 @@ TEST_P(SchemeConformance, LookingDownNoBackgroundShowsInsideTheFootprint)
     }
 }
 
+void streamingFlyOver(const std::string& scheme, const Fixture& fx);
+
 TEST_P(SchemeConformance, StreamingFlyOverUnderATinyBudgetNeverShowsAHole)
 {
     const std::string scheme = GetParam();
-    const Fixture& fx = fixtures()[1]; // progressive: GPU reconstruction where the scheme allows
-    Scene& synchronous = scene(fx);
+    // Progressive (GPU reconstruction where the scheme allows) and jpeg2000 (slow decodes).
+    for (const int fixture : {1, 3})
+        streamingFlyOver(scheme, fixtures()[fixture]);
+}
+
+void streamingFlyOver(const std::string& scheme, const Fixture& fx)
+{
+    SCOPED_TRACE(fx.name);
+    Scene& synchronous = SchemeConformance::sceneOf(fx);
     render::RendererOptions options = render::RendererOptions::streamingDefaults();
     options.schemes = {scheme};
     options.chunk_meshes = true;
@@ -321,8 +337,8 @@ TEST_P(SchemeConformance, StreamingFlyOverUnderATinyBudgetNeverShowsAHole)
     }
     EXPECT_EQ(renderer.streamingError(), "");
     EXPECT_GT(footprint, size_t(frames) * 1000);
-    std::printf("[%s] streaming fly-over, 12 slots: %zu hole pixels in %zu footprint pixels\n",
-                scheme.c_str(), holes, footprint);
+    std::printf("[%s] %s streaming fly-over, 12 slots: %zu hole pixels in %zu footprint pixels\n",
+                scheme.c_str(), fx.name.c_str(), holes, footprint);
 }
 
 INSTANTIATE_TEST_SUITE_P(EveryRegisteredScheme, SchemeConformance,
