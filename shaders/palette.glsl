@@ -20,11 +20,13 @@ vec3 paletteWater(float t) {
                (t - u_water_stops[0].x) / (u_water_stops[1].x - u_water_stops[0].x));
 }
 
+// The water rule of archives without sample flags (palette::isWater).
 bool paletteIsWater(float metres) { return metres <= 0.0; }
 
-// Albedo at `metres` on a terrain spanning [min_metres, max_metres] (palette::terrainColour).
-vec3 paletteTerrain(float metres, float min_metres, float max_metres) {
-    if (paletteIsWater(metres))
+// Albedo at `metres` on a terrain spanning [min_metres, max_metres], water or land
+// (palette::terrainColour).
+vec3 paletteTerrain(float metres, bool water, float min_metres, float max_metres) {
+    if (water)
         return paletteWater(min_metres < 0.0 ? metres / min_metres : 0.0);
     float low = max(min_metres, 0.0);
     return paletteRamp6((metres - low) / max(max_metres - low, 1e-3));

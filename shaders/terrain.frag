@@ -18,10 +18,16 @@ in Vertex {
 } v;
 
 #include "terrain_common.glsl"
-// Kept nodata (docs/FORMAT.md, "Validity mask"): per slot, whether it has a cell mask, and the
-// mask (1 = drawable) of its C × C cells. Slots without nodata never upload a mask.
+// Kept nodata (docs/FORMAT.md, "Validity mask"): per slot, flags (bit 0: it has a cell mask;
+// bit 1: a water bitmap; bit 2: all water), and the mask (1 = drawable) of its C × C cells.
+// Slots without nodata never upload a mask.
 layout(binding = 4) uniform usampler2DArray u_cell_masks;
 layout(binding = 5) uniform usampler1D u_mask_flags;
+// Water (docs/FORMAT.md, "Sample flags"): the n × n sample flags of slots with bit 1, water in
+// bit 0 of each. Archives before format 4 have none: u_water_from_height applies the old
+// rule, a height at or below 0 m.
+layout(binding = 6) uniform usampler2DArray u_water_maps;
+uniform int u_water_from_height;
 #include "geomorph_common.glsl"
 #include "palette.glsl"
 
@@ -65,10 +71,32 @@ vec3 surfaceNormal() {
 // sample, whose cell coordinate is C at the far border: the clamp gives them the border cell,
 // so they vanish with it.
 bool cellDrawable() {
-    if (texelFetch(u_mask_flags, v.layer, 0).r == 0u)
+    if ((texelFetch(u_mask_flags, v.layer, 0).r & 1u) == 0u)
         return true;
     ivec2 cell = clamp(ivec2(floor(v.cell)), ivec2(0), ivec2(u_patch_cells - 1));
     return texelFetch(u_cell_masks, ivec3(cell, v.layer), 0).r != 0u;
+}
+
+// Whether the surface at patch coordinates `cell` is water: the bilinear blend of its four
+// samples' water flags is at least 1/2, so that a coastline is as smooth as the heights'
+// surface and lies halfway between a water and a land sample, whatever the decoded heights.
+bool waterAt(vec2 cell, float metres) {
+    if (u_water_from_height != 0)
+        return paletteIsWater(metres);
+    uint flags = texelFetch(u_mask_flags, v.layer, 0).r;
+    if ((flags & 4u) != 0u)
+        return true;
+    if ((flags & 2u) == 0u)
+        return false;
+    int C = u_patch_cells;
+    vec2 c = clamp(cell, vec2(0.0), vec2(float(C)));
+    ivec2 i0 = min(ivec2(floor(c)), ivec2(C - 1));
+    vec2 f = c - vec2(i0);
+    float w00 = float(texelFetch(u_water_maps, ivec3(i0, v.layer), 0).r & 1u);
+    float w10 = float(texelFetch(u_water_maps, ivec3(i0 + ivec2(1, 0), v.layer), 0).r & 1u);
+    float w01 = float(texelFetch(u_water_maps, ivec3(i0 + ivec2(0, 1), v.layer), 0).r & 1u);
+    float w11 = float(texelFetch(u_water_maps, ivec3(i0 + ivec2(1, 1), v.layer), 0).r & 1u);
+    return mix(mix(w00, w10, f.x), mix(w01, w11, f.x), f.y) >= 0.5;
 }
 
 void main() {
@@ -97,8 +125,9 @@ void main() {
     else {
         float metres = textureMetres(v.cell);
         float min_m = u_height_range.x - u_sea_level, max_m = u_height_range.y - u_sea_level;
-        albedo = paletteTerrain(metres, min_m, max_m);
-        if (!paletteIsWater(metres)) {
+        bool water = waterAt(v.cell, metres);
+        albedo = paletteTerrain(metres, water, min_m, max_m);
+        if (!water) {
             float low = max(min_m, 0.0);
             float t = (metres - low) / max(max_m - low, 1e-3);
             if (v.skirt == 2)

@@ -154,6 +154,30 @@ void Commands::registerAll(CLI::App& app)
             "filled, nodata connected to the raster border stays nodata), all, none")
         ->check(CLI::IsMember({"all", "interior", "none"}));
     build_
+        ->add_option_function<std::string>(
+            "--sea-level",
+            [&ingest](const std::string& text) {
+                ingest.sea_level.reset();
+                if (text != "none")
+                    ingest.sea_level = *cli::detail::parseNumber(text); // checked below
+            },
+            "Water: valid samples at or below this height (metres, default 0) are water, decided "
+            "on the source's exact values and stored per sample; 'none' for land below sea "
+            "level (Death Valley, the Dead Sea) or a DEM whose 0 m is not the sea")
+        ->check(CLI::Validator(
+            [](std::string& text) -> std::string {
+                if (text != "none")
+                    (void)inRange("--sea-level", Ingest::kSeaLevelRange, "the height or 'none'")(text);
+                return {};
+            },
+            "METRES|none"));
+    build_
+        ->add_option("--water", ingest.water_layer,
+                     "Water layer: any raster GDAL reads (samples other than 0 are water) or any "
+                     "vector OGR reads (its features are water: lakes, reservoirs, rivers), "
+                     "placed on the grid and added to --sea-level's water")
+        ->type_name("FILE");
+    build_
         ->add_option_function<double>(
             "--max-memory",
             [this](double mb) {

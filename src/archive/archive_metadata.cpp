@@ -225,6 +225,20 @@ BuildMetadata parseBuild(const Section& s, const Header& header)
     return m;
 }
 
+WaterMetadata parseWater(const Section& s, const Header& header)
+{
+    WaterMetadata m;
+    const json& level = s.require("sea_level");
+    if (level.is_null())
+        m.sea_level.reset();
+    else
+        m.sea_level = Section::numberValue(s.path("sea_level"), level,
+                                           ValueRange::closed(-kMaxAbsHeightMetres, kMaxAbsHeightMetres));
+    m.layer = s.optionalString("layer");
+    m.samples = s.integer("samples", 0, int64_t{header.width} * int64_t{header.height});
+    return m;
+}
+
 // "an array", "a string" ...: what a document that is not an object is.
 const char* kindOf(const json& value)
 {
@@ -264,6 +278,10 @@ ArchiveMetadata parseArchiveMetadata(std::string_view text, const Header& header
     m.source = parseSource(root.section("source"), header);
     m.georeference = parseGeoreference(root.section("georeference"));
     m.build = parseBuild(root.section("build"), header);
+    if (header.version >= kFirstVersionWithSampleFlags)
+        m.water = parseWater(root.section("water"), header);
+    else
+        m.water.sea_level = 0.0;
     m.generator = root.string("generator");
     return m;
 }

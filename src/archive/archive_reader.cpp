@@ -2,6 +2,7 @@
 
 #include "index_checks.h"
 #include "ridge/archive/block_error_storage.h"
+#include "ridge/archive/sample_flags_storage.h"
 #include "ridge/archive/validity_storage.h"
 #include "ridge/codec/progressive_codec.h"
 #include "ridge/core/crc32.h"
@@ -261,30 +262,61 @@ void ArchiveReader::decodePatch(PatchId p, uint16_t* codes, const uint16_t* pare
 }
 
 size_t ArchiveReader::payloadOffset(PatchId p, const std::vector<uint8_t>& blob,
-                                    PatchValidity* validity) const
+                                    PatchValidity* validity, PatchSampleFlags* sample_flags) const
 {
     const PatchRecord& r = record(p);
+    const int n = geometry_.patchSize();
     if (blob.size() < r.block_errors_size)
         fail(patchName(p) + ": blob shorter than its block errors");
+    if (sample_flags)
+        *sample_flags = PatchSampleFlags{PatchSampleFlags::Kind::None, n, {}};
     if (!storesValidity()) {
         if (validity)
-            *validity = PatchValidity{PatchValidity::Kind::AllValid, geometry_.patchSize(), {}, {}};
+            *validity = PatchValidity{PatchValidity::Kind::AllValid, n, {}, {}};
         return r.block_errors_size;
     }
-    PatchValidity local;
-    size_t consumed = 0;
+    PatchValidity local_validity;
+    PatchValidity& v = validity ? *validity : local_validity;
+    size_t offset = r.block_errors_size, consumed = 0;
+    // The rules that tie a mask's bits to its samples hold at the finest level of either
+    // filter and at every level of decimation (Neville's coarse validity is conservative).
     const bool corners_rule =
         filter() == PyramidFilter::Decimate || p.level == geometry_.finestLevel();
-    const std::string problem =
-        unpackValidity(blob.data() + r.block_errors_size, blob.size() - r.block_errors_size,
-                       geometry_.patchSize(), corners_rule, validity ? *validity : local, consumed);
+    std::string problem =
+        unpackValidity(blob.data() + offset, blob.size() - offset, n, corners_rule, v, consumed);
     if (!problem.empty())
         throw Error(describe(p) + ": " + problem);
-    if (r.block_errors_size + consumed >= blob.size())
-        throw Error(describe(p) + ": validity mask of " + std::to_string(consumed) +
-                    " bytes leaves no payload in a blob of " + std::to_string(blob.size()) +
+    offset += consumed;
+    if (storesSampleFlags()) {
+        PatchSampleFlags local_flags;
+        problem = unpackSampleFlags(blob.data() + offset, blob.size() - offset, n,
+                                    corners_rule ? &v : nullptr,
+                                    sample_flags ? *sample_flags : local_flags, consumed);
+        if (!problem.empty())
+            throw Error(describe(p) + ": " + problem);
+        offset += consumed;
+    }
+    if (offset >= blob.size())
+        throw Error(describe(p) + ": masks of " + std::to_string(offset - r.block_errors_size) +
+                    " bytes leave no payload in a blob of " + std::to_string(blob.size()) +
                     " bytes");
-    return r.block_errors_size + consumed;
+    return offset;
+}
+
+PatchSampleFlags ArchiveReader::sampleFlagsOf(PatchId p, const std::vector<uint8_t>& blob) const
+{
+    PatchSampleFlags f;
+    payloadOffset(p, blob, nullptr, &f);
+    return f;
+}
+
+PatchSampleFlags ArchiveReader::readSampleFlags(PatchId p) const
+{
+    if (!geometry_.exists(p))
+        throw Error(describe(p) + ": no such patch");
+    if (!storesSampleFlags())
+        return PatchSampleFlags{PatchSampleFlags::Kind::None, geometry_.patchSize(), {}};
+    return sampleFlagsOf(p, readBlob(p));
 }
 
 PatchValidity ArchiveReader::validityOf(PatchId p, const std::vector<uint8_t>& blob) const
@@ -306,10 +338,10 @@ PatchValidity ArchiveReader::readValidity(PatchId p) const
 
 void ArchiveReader::decodeBlob(PatchId p, const std::vector<uint8_t>& blob, uint16_t* codes,
                                const uint16_t* parent, std::vector<float>* block_errors,
-                               PatchValidity* validity) const
+                               PatchValidity* validity, PatchSampleFlags* sample_flags) const
 {
     const PatchRecord& r = record(p);
-    const size_t payload = payloadOffset(p, blob, validity);
+    const size_t payload = payloadOffset(p, blob, validity, sample_flags);
     if (block_errors && r.block_errors_size > 0)
         *block_errors = unpackBlockErrorsOf(p, blob);
     const PatchContext ctx = patchContext(geometry_, p, parent);

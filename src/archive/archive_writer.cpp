@@ -1,5 +1,6 @@
 #include "ridge/archive/archive_writer.h"
 
+#include "ridge/archive/sample_flags_storage.h"
 #include "ridge/archive/validity_storage.h"
 #include "ridge/core/crc32.h"
 #include "ridge/core/error.h"
@@ -62,26 +63,30 @@ void ArchiveWriter::write(const void* data, size_t size)
 void ArchiveWriter::writePatch(PatchRecord record, const std::vector<uint8_t>& block_errors,
                                const uint8_t* payload, size_t payload_size)
 {
-    writePatch(record, block_errors, allValidMask(), payload, payload_size);
+    writePatch(record, block_errors, allValidMask(), noSampleFlags(), payload, payload_size);
 }
 
 void ArchiveWriter::writePatch(PatchRecord record, const std::vector<uint8_t>& block_errors,
-                               const std::vector<uint8_t>& validity, const uint8_t* payload,
+                               const std::vector<uint8_t>& validity,
+                               const std::vector<uint8_t>& sample_flags, const uint8_t* payload,
                                size_t payload_size)
 {
-    if (validity.empty())
-        throw Error(output_.finalPath() + ": internal error: empty validity mask");
+    if (validity.empty() || sample_flags.empty())
+        throw Error(output_.finalPath() + ": internal error: empty validity mask or sample flags");
     const PatchId p{static_cast<int>(record.level), static_cast<int>(record.x), static_cast<int>(record.y)};
     if (!geometry_.exists(p) || written_[geometry_.patchIndex(p)])
         throw Error(output_.finalPath() + ": internal error: patch written twice or out of range");
     record.offset = position_;
     record.block_errors_size = static_cast<uint32_t>(block_errors.size());
-    record.size = static_cast<uint32_t>(block_errors.size() + validity.size() + payload_size);
+    record.size = static_cast<uint32_t>(block_errors.size() + validity.size() +
+                                        sample_flags.size() + payload_size);
     record.crc32 = crc32(payload, payload_size,
-                         crc32(validity.data(), validity.size(),
-                               crc32(block_errors.data(), block_errors.size())));
+                         crc32(sample_flags.data(), sample_flags.size(),
+                               crc32(validity.data(), validity.size(),
+                                     crc32(block_errors.data(), block_errors.size()))));
     write(block_errors.data(), block_errors.size());
     write(validity.data(), validity.size());
+    write(sample_flags.data(), sample_flags.size());
     write(payload, payload_size);
     records_[geometry_.patchIndex(p)] = record;
     written_[geometry_.patchIndex(p)] = true;

@@ -61,11 +61,14 @@ std::string checkBlobExtent(const IndexContext& ctx, const std::string& name, co
     if (r.block_errors_size >= r.size)
         return name + ": block_errors_size " + std::to_string(r.block_errors_size) +
                " leaves no payload in a blob of " + std::to_string(r.size) + " bytes";
-    // Version 2 blobs carry a validity mask (at least its kind byte) before the payload.
-    if (ctx.header.version >= 2 && r.size - r.block_errors_size < 2)
+    // Version 2 blobs carry a validity mask (at least its kind byte) before the payload,
+    // version 4 blobs also the sample flags (likewise).
+    const uint32_t masks = (ctx.header.version >= kFirstVersionWithValidity ? 1u : 0u) +
+                           (ctx.header.version >= kFirstVersionWithSampleFlags ? 1u : 0u);
+    if (r.size - r.block_errors_size < masks + 1)
         return name + ": block_errors_size " + std::to_string(r.block_errors_size) +
-               " leaves no room for the validity mask and a payload in a blob of " +
-               std::to_string(r.size) + " bytes";
+               " leaves no room for the masks (" + std::to_string(masks) +
+               " bytes at least) and a payload in a blob of " + std::to_string(r.size) + " bytes";
     return {};
 }
 

@@ -31,9 +31,9 @@ template Rgb ramp(const std::array<Stop, kWaterStops.size()>&, float);
 
 bool isWater(float metres) { return metres <= 0.f; }
 
-Rgb terrainColour(float metres, float min_metres, float max_metres)
+Rgb terrainColour(float metres, bool water, float min_metres, float max_metres)
 {
-    if (isWater(metres))
+    if (water)
         return ramp(kWaterStops, min_metres < 0.f ? metres / min_metres : 0.f);
     const float low = std::max(min_metres, 0.f);
     return ramp(kLandStops, (metres - low) / std::max(max_metres - low, 1e-3f));

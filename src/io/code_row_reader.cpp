@@ -4,11 +4,14 @@
 #include "code_source.h"
 #include "georeference.h"
 #include "source_band.h"
+#include "water_layer.h"
 
 #include "ridge/core/error.h"
+#include "ridge/core/sample_flag_bits.h"
 
 #include <algorithm>
 #include <memory>
+#include <optional>
 
 namespace ridge::io {
 
@@ -29,6 +32,10 @@ struct CodeRowReader::Impl {
     detail::CodeStats stats; // rows read through readRows, each row once
     std::vector<bool> counted; // rows whose samples `stats` holds
     std::vector<int64_t> void_scratch;
+    std::optional<double> sea_level;
+    std::optional<detail::WaterLayer> layer; // IngestOptions::water_layer
+    std::vector<uint8_t> layer_rows;
+    int64_t water_samples = 0; // over the rows `stats` holds
 
     Impl(const std::string& path, const IngestOptions& options) : band(path, options)
     {
@@ -77,6 +84,10 @@ CodeRowReader::CodeRowReader(const std::string& path, const IngestOptions& optio
     }
     impl->quantization = impl->source->quantization();
     impl->exact = impl->source->exact();
+    impl->sea_level = options.sea_level;
+    impl->source->setSeaLevel(options.sea_level);
+    if (!options.water_layer.empty())
+        impl->layer.emplace(options.water_layer, impl->geo, band.width(), band.height());
     if (!impl->exact) {
         impl->quantization.max_error =
             impl->measureError(subProgress(options.progress, kSurveyShare, 1.0));
@@ -112,7 +123,12 @@ const GeoReference& CodeRowReader::geo() const
     return impl_->geo;
 }
 
-int64_t CodeRowReader::readRows(int y0, int rows, uint16_t* out)
+bool CodeRowReader::flagsWater() const
+{
+    return impl_->sea_level.has_value() || impl_->layer.has_value();
+}
+
+int64_t CodeRowReader::readRows(int y0, int rows, uint16_t* out, uint8_t* flags)
 {
     const int height = impl_->band.height();
     if (y0 < 0 || rows < 0 || rows > height - y0)
@@ -135,8 +151,21 @@ int64_t CodeRowReader::readRows(int y0, int rows, uint16_t* out)
         while (last < end && counted[static_cast<size_t>(last)] == seen)
             ++last;
         detail::CodeStats again;
-        impl_->source->readRows(first, last - first, out + static_cast<size_t>(first - y0) * width,
-                                impl_->void_scratch, seen ? again : impl_->stats);
+        const size_t offset = static_cast<size_t>(first - y0) * width;
+        const size_t count = static_cast<size_t>(last - first) * width;
+        uint8_t* run_flags = flags ? flags + offset : nullptr;
+        impl_->source->readRows(first, last - first, out + offset, impl_->void_scratch,
+                                seen ? again : impl_->stats, run_flags);
+        if (run_flags && impl_->layer) {
+            impl_->layer_rows.resize(count);
+            impl_->layer->readRows(first, last - first, impl_->layer_rows.data());
+            for (size_t k = 0; k < count; ++k)
+                run_flags[k] |= impl_->layer_rows[k];
+            for (int64_t v : impl_->void_scratch) // voids are not terrain: no flag
+                run_flags[v] = 0;
+        }
+        if (run_flags && !seen)
+            impl_->water_samples += std::count(run_flags, run_flags + count, kSampleWater);
         voids += static_cast<int64_t>(impl_->void_scratch.size());
         impl_->void_scratch.clear();
         std::fill(counted.begin() + first, counted.begin() + last, true);
@@ -158,6 +187,7 @@ IngestStats CodeRowReader::stats() const
     out.exact = impl_->exact;
     out.z_scale = impl_->band.z().scale;
     out.z_offset = impl_->band.z().offset;
+    out.water_samples = impl_->water_samples;
     return out;
 }
 

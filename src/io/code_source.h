@@ -6,6 +6,7 @@
 #include "ridge/core/height_grid.h"
 #include "ridge/core/progress.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <memory>
@@ -51,13 +52,22 @@ public:
 
     // Reads rows [y0, y0 + rows) as codes into out[rows * width]. Appends the indices (into
     // `out`) of void samples to `voids`, leaving their codes unspecified, and adds the valid
-    // samples to `stats`.
+    // samples to `stats`. `water`, when given (rows * width bytes), receives 1 where a valid
+    // sample's source height is at or below the sea level (setSeaLevel), decided on the
+    // source's exact value, else 0.
     virtual void readRows(int y0, int rows, uint16_t* out, std::vector<int64_t>& voids,
-                          CodeStats& stats) = 0;
+                          CodeStats& stats, uint8_t* water = nullptr) = 0;
+
+    // The height rule of the water flags (IngestOptions::sea_level): metres, or none.
+    void setSeaLevel(std::optional<double> metres) { sea_level_ = metres; }
+    // The largest code whose height is at or below the sea level (−1: none is): the rule on
+    // codes, exact for exact sources, and what void-filled samples are judged by.
+    int32_t seaLevelCode() const;
 
 protected:
     HeightQuantization quantization_;
     bool exact_ = false;
+    std::optional<double> sea_level_;
 };
 
 // 8- and 16-bit integer bands: exact, no pre-pass (code = stored value - type minimum).

@@ -67,7 +67,7 @@ public:
     int stripSampleBytes() const override { return sizeof(uint16_t); }
 
     void readRows(int y0, int rows, uint16_t* out, std::vector<int64_t>& voids,
-                  CodeStats& stats) override
+                  CodeStats& stats, uint8_t* water) override
     {
         const int64_t count = int64_t{rows} * band_.width();
         band_.readRows(y0, rows, layout_.buffer_type, out);
@@ -91,6 +91,13 @@ public:
             out[i] = code;
             lo = std::min(lo, code);
             hi = std::max(hi, code);
+        }
+        if (water) { // exact codes: the rule on codes is the rule on the source's values
+            const int32_t sea = seaLevelCode();
+            for (int64_t i = 0; i < count; ++i)
+                water[i] = int32_t{out[i]} <= sea;
+            for (size_t k = voids_before; k < voids.size(); ++k)
+                water[voids[k]] = 0;
         }
         const int64_t valid = count - int64_t(voids.size() - voids_before);
         if (valid == 0)

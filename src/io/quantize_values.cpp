@@ -114,7 +114,7 @@ public:
     int stripSampleBytes() const override { return sizeof(double); }
 
     void readRows(int y0, int rows, uint16_t* out, std::vector<int64_t>& voids,
-                  CodeStats& stats) override
+                  CodeStats& stats, uint8_t* water) override
     {
         const size_t count = static_cast<size_t>(rows) * band_.width();
         values_.resize(count);
@@ -127,9 +127,13 @@ public:
             const double v = values_[i];
             if (std::isnan(v)) {
                 voids.push_back(static_cast<int64_t>(i));
+                if (water)
+                    water[i] = 0;
                 continue;
             }
             const double m = z.toMetres(v);
+            if (water) // the source's value, not its code: a 0 m sea quantized to +1 mm is sea
+                water[i] = sea_level_ && m <= *sea_level_;
             uint16_t code;
             if (exact_) {
                 code = static_cast<uint16_t>(std::abs(v - integer_origin_));

@@ -7,11 +7,14 @@
 #include "georeference.h"
 #include "source_band.h"
 #include "void_fill.h"
+#include "water_layer.h"
 
 #include "ridge/core/error.h"
+#include "ridge/core/sample_flag_bits.h"
 
 #include <algorithm>
 #include <memory>
+#include <optional>
 
 namespace ridge::io {
 
@@ -43,6 +46,38 @@ private:
     std::vector<uint8_t> mask_;
 };
 
+// Flags the voids that filling turns into terrain (not `kept`, 1 = kept as nodata; empty:
+// none kept) as kSampleFilled; before fillVoids, which consumes the void mask (0 = void).
+void flagFilledVoids(const std::vector<uint8_t>& void_mask, const std::vector<uint8_t>& kept,
+                     std::vector<uint8_t>& flags)
+{
+    for (size_t k = 0; k < void_mask.size(); ++k)
+        if (void_mask[k] == 0 && (kept.empty() || !kept[k]))
+            flags[k] |= kSampleFilled; // keeps the layer's water
+}
+
+// Completes the flags once voids are filled: a filled sample is judged water by its filled
+// code (the sea level's rule on codes, `sea_code`: CodeSource::seaLevelCode) unless the
+// layer said so already; kept nodata has no flag at all (it is not terrain). Returns the
+// water samples; drops the flags when none is set.
+int64_t finishFlags(std::vector<uint8_t>& flags, const CodeGrid& grid,
+                    const std::vector<uint8_t>& kept, int32_t sea_code)
+{
+    int64_t water = 0;
+    bool any = false;
+    for (size_t k = 0; k < flags.size(); ++k) {
+        if (!kept.empty() && kept[k])
+            flags[k] = 0;
+        else if ((flags[k] & kSampleFilled) && int32_t{grid.codes[k]} <= sea_code)
+            flags[k] |= kSampleWater;
+        water += (flags[k] & kSampleWater) != 0;
+        any = any || flags[k] != 0;
+    }
+    if (!any)
+        flags = {};
+    return water;
+}
+
 } // namespace
 
 ElevationRaster ingestRaster(const std::string& path, const IngestOptions& options)
@@ -64,6 +99,10 @@ ElevationRaster ingestRaster(const std::string& path, const IngestOptions& optio
         direct ? detail::makeDirectCodes(band)
                : detail::makeQuantizedCodes(band, options.max_error,
                                             subProgress(options.progress, 0.0, survey_end));
+    source->setSeaLevel(options.sea_level);
+    std::optional<detail::WaterLayer> layer;
+    if (!options.water_layer.empty())
+        layer.emplace(options.water_layer, raster.geo, band.width(), band.height());
 
     const int width = band.width();
     const int height = band.height();
@@ -74,12 +113,24 @@ ElevationRaster ingestRaster(const std::string& path, const IngestOptions& optio
     detail::CodeStats stats;
     VoidMask voids(int64_t{width} * height);
     std::vector<int64_t> strip_voids;
+    // Water, decided on the source's values as they are read (one byte per sample; dropped
+    // below when no sample is water).
+    std::vector<uint8_t>& flags = raster.flags;
+    flags.assign(static_cast<size_t>(width) * height, 0);
+    std::vector<uint8_t> layer_rows;
     const int strip_rows = band.stripRows(detail::kStripBytes, source->stripSampleBytes());
     for (int y0 = 0; y0 < height; y0 += strip_rows) {
         const int rows = std::min(strip_rows, height - y0);
         const int64_t first = int64_t{y0} * width;
         strip_voids.clear();
-        source->readRows(y0, rows, grid.codes.data() + first, strip_voids, stats);
+        uint8_t* strip_flags = flags.data() + first;
+        source->readRows(y0, rows, grid.codes.data() + first, strip_voids, stats, strip_flags);
+        if (layer) {
+            layer_rows.resize(static_cast<size_t>(rows) * width);
+            layer->readRows(y0, rows, layer_rows.data());
+            for (size_t k = 0; k < layer_rows.size(); ++k)
+                strip_flags[k] |= layer_rows[k];
+        }
         for (int64_t i : strip_voids)
             voids.mark(first + i);
         reportProgress(options.progress,
@@ -102,10 +153,12 @@ ElevationRaster ingestRaster(const std::string& path, const IngestOptions& optio
     if (kept == 0)
         raster.nodata = {};
     if (voids.count() > 0) {
+        flagFilledVoids(voids.mask(), raster.nodata, flags);
         detail::fillVoids(path, grid, voids.mask(), stats.min_code, stats.max_code,
                           subProgress(options.progress, kReadShare, 1.0));
         voids.mask() = {};
     }
+    const int64_t water_samples = finishFlags(flags, grid, raster.nodata, source->seaLevelCode());
     reportProgress(options.progress, 1.0);
 
     raster.quantization = source->quantization();
@@ -122,6 +175,7 @@ ElevationRaster ingestRaster(const std::string& path, const IngestOptions& optio
     out.exact = source->exact() || stats.max_error == 0.0;
     out.z_scale = band.z().scale;
     out.z_offset = band.z().offset;
+    out.water_samples = water_samples;
     return raster;
 }
 

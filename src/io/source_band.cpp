@@ -282,6 +282,8 @@ void IngestOptions::validate() const
         checkParameter("z_offset", *z_offset, kZOffsetRange);
     if (max_error)
         checkParameter("max_error", *max_error, kMaxErrorRange);
+    if (sea_level)
+        checkParameter("sea_level", *sea_level, kSeaLevelRange);
     if (fill_voids != VoidFill::All && fill_voids != VoidFill::Interior &&
         fill_voids != VoidFill::None)
         throw Error("fill_voids is " + std::to_string(static_cast<int>(fill_voids)) +

@@ -2,6 +2,7 @@
 
 #include "ridge/archive/archive_writer.h"
 #include "ridge/archive/block_error_storage.h"
+#include "ridge/archive/sample_flags_storage.h"
 #include "ridge/archive/validity_storage.h"
 #include "ridge/codec/height_codec.h"
 #include "ridge/codec/progressive_codec.h"
@@ -13,6 +14,7 @@
 #include "ridge/pyramid/patch_context.h"
 #include "ridge/pyramid/patch_error.h"
 #include "ridge/pyramid/tessellation_block_errors.h"
+#include "ridge/pyramid/sample_flags.h"
 #include "ridge/pyramid/validity_pyramid.h"
 
 #include <algorithm>
@@ -46,6 +48,7 @@ struct EncodedPatch {
     archive::PatchRecord record;
     std::vector<uint8_t> block_errors;
     std::vector<uint8_t> validity = archive::allValidMask();
+    std::vector<uint8_t> sample_flags = archive::noSampleFlags();
     std::vector<uint8_t> payload;
     std::vector<uint16_t> reconstruction; // kept only when children predict from it
     uint16_t own_min = 0;
@@ -61,6 +64,8 @@ struct BuildContext {
     bool store_block_errors = false;
     // Kept nodata (io::VoidFill): the per-patch masks; null when every sample is data.
     std::unique_ptr<ValidityPyramid> validity;
+    // Water and filled samples (pyramid/sample_flags.h); null when no sample has a flag.
+    std::unique_ptr<SampleFlagsPyramid> flags;
 
     double levelBound(int level) const
     {
@@ -86,7 +91,8 @@ BuildContext makeContext(int width, int height, const HeightQuantization& q,
                          const io::GeoReference& geo, const BuildOptions& options)
 {
     BuildContext ctx{PyramidGeometry(width, height, options.patch_size),
-                     TessellationBlockLayout{options.patch_size, options.block_cells}, nullptr, {}, false, nullptr};
+                     TessellationBlockLayout{options.patch_size, options.block_cells}, nullptr, {}, false,
+                     nullptr, nullptr};
     if (!ctx.layout.valid())
         throw Error("block size " + std::to_string(options.block_cells) +
                     " cells must be a power of two >= 2 dividing the patch's " +
@@ -151,12 +157,34 @@ std::string metadataJson(const std::string& source_path, const io::IngestStats& 
         meta["build"]["max_error"] = *options.ingest.max_error;
     if (options.max_error)
         meta["build"]["codec_max_error"] = *options.max_error;
+    nlohmann::json water = {{"sea_level", nullptr}, {"samples", stats.water_samples}};
+    if (options.ingest.sea_level)
+        water["sea_level"] = *options.ingest.sea_level;
+    if (!options.ingest.water_layer.empty())
+        water["layer"] = options.ingest.water_layer;
+    meta["water"] = water;
     if (const auto* progressive = dynamic_cast<const ProgressiveCodec*>(ctx.codec.get()))
         meta["build"]["codec_variant"] = progressive->variant().describe();
     return meta.dump(2);
 }
 
 void trainStage(BuildContext& ctx, const LevelPyramid& pyramid, CodecTrainer& trainer);
+
+// The flags of finest patch (x, half) of a streamed strip: `flags` holds the strip's `rows`
+// finest rows of `width` samples; positions clamp to the extent as the pyramid's padding
+// does (a strip's last row is the raster's last only in the last strip, where it is needed).
+PatchSampleFlags stripPatchFlags(const uint8_t* flags, int width, int rows, int n, int x, int half)
+{
+    PatchSampleFlags out{PatchSampleFlags::Kind::Mixed, n, std::vector<uint8_t>(size_t(n) * n)};
+    const int c = n - 1;
+    for (int j = 0; j < n; ++j) {
+        const uint8_t* row = flags + static_cast<size_t>(std::min(half * c + j, rows - 1)) * width;
+        for (int i = 0; i < n; ++i)
+            out.flags[static_cast<size_t>(j) * n + i] = row[std::min(x * c + i, width - 1)];
+    }
+    out.canonicalize();
+    return out;
+}
 
 // Replaces ctx.codec by the codec trained on every patch of `pyramid`, for codecs with
 // per-archive tables (HeightCodec::trainer); each patch is shown exactly what encodePatch
@@ -205,8 +233,11 @@ void trainStage(BuildContext& ctx, const LevelPyramid& pyramid, CodecTrainer& tr
 // Extracts patch `at` of `level` (the patch's own position, or its position inside a strip
 // view), measures it and encodes it as patch `id`.
 // `parent` is the parent's reconstruction when the codec predicts from it, else null.
+// `flags`: the patch's sample flags when ctx.flags does not hold its level (a streamed
+// build's finest strip), else null.
 EncodedPatch encodePatch(const BuildContext& ctx, const LevelView& level, PatchId at, PatchId id,
-                         const PatchSummary& summary, const uint16_t* parent = nullptr)
+                         const PatchSummary& summary, const uint16_t* parent = nullptr,
+                         const PatchSampleFlags* flags = nullptr)
 {
     const int n = ctx.geometry.patchSize();
     thread_local std::vector<uint16_t> codes;
@@ -266,6 +297,11 @@ EncodedPatch encodePatch(const BuildContext& ctx, const LevelView& level, PatchI
         if (out.validity.empty())
             throw Error("internal error: cannot pack a validity mask");
     }
+    if (flags || ctx.flags) {
+        out.sample_flags = archive::packSampleFlags(flags ? *flags : ctx.flags->patch(id), n);
+        if (out.sample_flags.empty())
+            throw Error("internal error: cannot pack sample flags");
+    }
 
     return out;
 }
@@ -294,7 +330,8 @@ void encodeAndWrite(int64_t count, const std::function<EncodedPatch(int64_t)>& m
             std::rethrow_exception(failure);
         for (int64_t k = 0; k < n; ++k) {
             writer.writePatch(batch[k].record, batch[k].block_errors, batch[k].validity,
-                              batch[k].payload.data(), batch[k].payload.size());
+                              batch[k].sample_flags, batch[k].payload.data(),
+                              batch[k].payload.size());
             if (done)
                 done(first + k, batch[k]);
         }
@@ -344,8 +381,8 @@ std::optional<BuildReport> buildStreaming(const std::string& input, const std::s
 {
     const auto start = Clock::now();
     io::CodeRowReader source(input, options.ingest);
-    const BuildContext ctx = makeContext(source.width(), source.height(), source.quantization(),
-                                         source.geo(), options);
+    BuildContext ctx = makeContext(source.width(), source.height(), source.quantization(),
+                                   source.geo(), options);
     const PyramidGeometry& g = ctx.geometry;
     const int finest = g.finestLevel();
     if (finest == 0)
@@ -359,13 +396,18 @@ std::optional<BuildReport> buildStreaming(const std::string& input, const std::s
     coarse.height = g.levelHeight(finest - 1);
     coarse.codes.resize(static_cast<size_t>(coarse.width) * coarse.height);
     std::vector<uint16_t> strip(static_cast<size_t>(2 * cells + 1) * width);
+    // Water (a sea level or a water layer): the strip's flags, and level L−1's, whose samples
+    // are the finest at even positions, from which every coarser level's flags follow.
+    const bool water = source.flagsWater();
+    std::vector<uint8_t> strip_flags(water ? strip.size() : 0);
+    SampleFlagsGrid coarse_flags = water ? SampleFlagsGrid(coarse.width, coarse.height) : SampleFlagsGrid();
 
     const int strips = g.patchesY(finest - 1);
     for (int k = 0; k < strips; ++k) {
         // 1. Read finest rows [2kC, 2kC + 2C] (the overlap row is read twice: 1/2C extra).
         const int y0 = 2 * k * cells;
         const int rows = std::min(2 * cells + 1, height - y0);
-        if (source.readRows(y0, rows, strip.data()) > 0)
+        if (source.readRows(y0, rows, strip.data(), water ? strip_flags.data() : nullptr) > 0)
             return std::nullopt;
         const LevelView strip_view{strip.data(), width, rows, 1, width, rows};
 
@@ -373,7 +415,11 @@ std::optional<BuildReport> buildStreaming(const std::string& input, const std::s
         for (int half = 0; half < 2 && 2 * k + half < g.patchesY(finest); ++half) {
             const int py = 2 * k + half;
             encodeAndWrite(g.patchesX(finest), [&](int64_t x) {
-                return encodePatch(ctx, strip_view, {finest, int(x), half}, {finest, int(x), py}, {});
+                PatchSampleFlags flags{PatchSampleFlags::Kind::None, n, {}};
+                if (water)
+                    flags = stripPatchFlags(strip_flags.data(), width, rows, n, int(x), half);
+                return encodePatch(ctx, strip_view, {finest, int(x), half}, {finest, int(x), py},
+                                   {}, nullptr, &flags);
             }, writer, [&](int64_t x, EncodedPatch& e) {
                 const int64_t index = g.patchIndex({finest, int(x), py});
                 errors.min_code[index] = e.own_min;
@@ -388,6 +434,11 @@ std::optional<BuildReport> buildStreaming(const std::string& input, const std::s
             uint16_t* dst = coarse.codes.data() + static_cast<size_t>(j) * coarse.width;
             for (int i = 0; i < coarse.width; ++i)
                 dst[i] = src[std::min(2 * i, width - 1)];
+            if (water) {
+                const uint8_t* fsrc = strip_flags.data() + (src - strip.data());
+                for (int i = 0; i < coarse.width; ++i)
+                    coarse_flags.set(i, j, fsrc[std::min(2 * i, width - 1)]);
+            }
         }
 
         // 4. Err_Int of level L-1's patch row k, against the strip.
@@ -408,6 +459,8 @@ std::optional<BuildReport> buildStreaming(const std::string& input, const std::s
         throw Error("internal error: level L-1 geometry mismatch");
     measurePatches(pyramid, 0, finest - 1, errors);
     accumulatePatchErrors(g, finest, errors);
+    if (water)
+        ctx.flags = std::make_unique<SampleFlagsPyramid>(std::move(coarse_flags), finest - 1, g);
     writeLevels(ctx, pyramid, finest - 1, errors, writer, subProgress(options.progress, 0.8, 1.0));
     writer.finish(metadataJson(input, source.stats(), source.geo(), ctx, options));
     reportDone(options.progress); // published: too late to cancel
@@ -436,6 +489,10 @@ BuildReport buildFromRaster(const io::ElevationRaster& raster, const std::string
     const LevelPyramid pyramid(raster.grid, ctx.geometry, options.filter);
     if (!raster.nodata.empty())
         ctx.validity = std::make_unique<ValidityPyramid>(raster.nodata, ctx.geometry, options.filter);
+    if (!raster.flags.empty())
+        ctx.flags = std::make_unique<SampleFlagsPyramid>(
+            SampleFlagsGrid(raster.flags, raster.grid.width, raster.grid.height),
+            ctx.geometry.finestLevel(), ctx.geometry);
     reportProgress(options.progress, 0.05);
 
     // 2. Err_Int for every patch, then Err_Appr bottom-up (needs all levels, so before writing).
@@ -487,7 +544,12 @@ BuildReport buildArchive(const std::string& input, const std::string& output,
                          const BuildOptions& options)
 {
     options.validate();
-    refuseOutputOverInput(output, io::datasetFiles(input)); // every file GDAL reads for it
+    // Every file GDAL reads for the source and for the water layer.
+    std::vector<std::string> inputs = io::datasetFiles(input);
+    if (!options.ingest.water_layer.empty())
+        for (std::string& file : io::datasetFiles(options.ingest.water_layer))
+            inputs.push_back(std::move(file));
+    refuseOutputOverInput(output, inputs);
     checkOutputWritable(output);
     // The raster's size and type, read without a sample: the memory check comes before any
     // allocation and before CodeRowReader's pre-pass over non-integer data.

@@ -77,6 +77,8 @@ BuildMemoryEstimate streamingEstimate(const io::RasterProbe& raster, const Pyram
         {"source strip and GDAL cache",
          strip_rows * width * (2 + uint64_t(raster.strip_extra_bytes_per_sample)) +
              uint64_t(raster.block_cache_bytes)},
+        // Water (the default sea level, or a layer): the strip's flags and level L−1's.
+        {"sample flags", strip_rows * width * 2 + levelSamples(g, coarse) / 4},
         {"encode batches", encodeBatchBytes(g, lossy)},
         {"program and libraries", kBaselineBytes},
     };
@@ -90,7 +92,10 @@ BuildMemoryEstimate inMemoryEstimate(const io::RasterProbe& raster, const Pyrami
     const MemoryTerm grid{"whole grid", samples * 2};
     const MemoryTerm baseline{"program and libraries", kBaselineBytes};
 
-    std::vector<MemoryTerm> ingest = {grid, baseline};
+    // The sample flags (water, filled: 1 B/sample) from ingest through the build, and their
+    // 2-bit grid while patches are encoded.
+    const MemoryTerm flags{"sample flags", samples + samples / 4};
+    std::vector<MemoryTerm> ingest = {grid, baseline, flags};
     ingest.push_back(
         {"source strip and GDAL cache",
          kIngestStripBytes * (raster.direct_codes ? 1 : 2) + uint64_t(raster.block_cache_bytes)});
@@ -106,7 +111,7 @@ BuildMemoryEstimate inMemoryEstimate(const io::RasterProbe& raster, const Pyrami
     // Neville's first coarsening filters the grid's rows into floats (height x level L-1's
     // width, 4 B each: as much as the grid itself) before its columns make level L-1.
     std::vector<MemoryTerm> coarsening = {grid, baseline};
-    std::vector<MemoryTerm> build = {grid, baseline};
+    std::vector<MemoryTerm> build = {grid, baseline, flags};
     if (options.filter == PyramidFilter::Neville4 && g.finestLevel() > 0) {
         const int coarse = g.finestLevel() - 1;
         coarsening.push_back(

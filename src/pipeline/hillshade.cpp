@@ -4,6 +4,7 @@
 #include "ridge/core/atomic_output.h"
 #include "ridge/core/error.h"
 #include "ridge/core/file_identity.h"
+#include "ridge/core/sample_flag_bits.h"
 #include "ridge/core/terrain_palette.h"
 #include "ridge/io/raster_writer.h"
 #include "ridge/pipeline/level_decoder.h"
@@ -32,7 +33,7 @@ void HillshadeOptions::validate() const
 
 std::vector<uint8_t> shadeRelief(const std::vector<float>& metres, int width, int height,
                                  double spacing_x, double spacing_y, const HillshadeOptions& options,
-                                 const std::vector<uint8_t>& valid)
+                                 const std::vector<uint8_t>& valid, const std::vector<uint8_t>* water)
 {
     options.validate();
     const double spacing[2] = {spacing_x, spacing_y};
@@ -46,6 +47,14 @@ std::vector<uint8_t> shadeRelief(const std::vector<float>& metres, int width, in
     if (masked && valid.size() != count)
         throw Error("hillshade validity mask has " + std::to_string(valid.size()) +
                     " entries: must be width * height = " + std::to_string(count));
+    if (water && !water->empty() && water->size() != count)
+        throw Error("hillshade water flags have " + std::to_string(water->size()) +
+                    " entries: must be width * height = " + std::to_string(count));
+    auto isWater = [&](size_t i) {
+        if (!water)
+            return palette::isWater(metres[i]);
+        return !water->empty() && ((*water)[i] & kSampleWater) != 0;
+    };
     float lo_value = std::numeric_limits<float>::infinity(), hi_value = -lo_value;
     for (size_t i = 0; i < count; ++i)
         if (!masked || valid[i]) {
@@ -90,9 +99,10 @@ std::vector<uint8_t> shadeRelief(const std::vector<float>& metres, int width, in
                     out[1] = out[2] = out[0];
                 continue;
             }
-            // The renderer's palette (water at or below 0 m, the land ramp above), modulated
+            // The renderer's palette (water where flagged, the land ramp elsewhere), modulated
             // by the shade with an ambient floor so shadows keep their colour.
-            const palette::Rgb c = palette::terrainColour(float(h(x, y)), *lo, *hi);
+            const size_t i = static_cast<size_t>(y) * width + x;
+            const palette::Rgb c = palette::terrainColour(metres[i], isWater(i), *lo, *hi);
             const double light = 0.35 + 0.65 * shade;
             out[0] = toByte(c.r * light);
             out[1] = toByte(c.g * light);
@@ -113,15 +123,16 @@ void writeHillshade(const std::string& archive_path, const std::string& output,
     const int level = resolveLevel(reader, options.level);
     if (level < 0 || level >= g.levelCount())
         decodeLevel(reader, level); // throws the message naming the levels
-    std::vector<uint8_t> valid;
+    std::vector<uint8_t> valid, flags;
     const CodeGrid grid =
         decodeLevelWindow(reader, level, 0, 0, g.validLevelWidth(level), g.validLevelHeight(level),
-                          subProgress(options.progress, 0.0, 0.7), &valid);
+                          subProgress(options.progress, 0.0, 0.7), &valid, &flags);
     const std::vector<float> metres = toMetres(grid, reader.quantization());
     const double s = double(g.step(level));
-    const std::vector<uint8_t> pixels = shadeRelief(metres, grid.width, grid.height,
-                                                    reader.header().spacing_x * s,
-                                                    reader.header().spacing_y * s, options, valid);
+    // Archives of format 4 say where water is; older ones are painted by the height rule.
+    const std::vector<uint8_t> pixels = shadeRelief(
+        metres, grid.width, grid.height, reader.header().spacing_x * s,
+        reader.header().spacing_y * s, options, valid, reader.storesSampleFlags() ? &flags : nullptr);
     io::writePng(output, pixels.data(), grid.width, grid.height,
                  !valid.empty() ? 4 : options.colour ? 3 : 1);
     reportDone(options.progress); // published: too late to cancel

@@ -10,7 +10,7 @@ namespace ridge {
 
 CodeGrid decodeLevelWindow(const archive::ArchiveReader& reader, int level, int x0, int y0,
                            int width, int height, const Progress& progress,
-                           std::vector<uint8_t>* valid)
+                           std::vector<uint8_t>* valid, std::vector<uint8_t>* flags)
 {
     const PyramidGeometry& g = reader.geometry();
     if (level < 0 || level >= g.levelCount())
@@ -27,7 +27,7 @@ CodeGrid decodeLevelWindow(const archive::ArchiveReader& reader, int level, int 
     const int cells = g.cells();
     const DecodedPatches patches =
         decodePatches(reader, level, x0 / cells, y0 / cells, (x0 + width - 1) / cells,
-                      (y0 + height - 1) / cells, progress, valid != nullptr);
+                      (y0 + height - 1) / cells, progress, valid != nullptr, flags != nullptr);
     CodeGrid grid;
     grid.width = width;
     grid.height = height;
@@ -36,17 +36,22 @@ CodeGrid decodeLevelWindow(const archive::ArchiveReader& reader, int level, int 
     for (int j = 0; j < height; ++j)
         std::copy_n(patches.grid.codes.data() + static_cast<size_t>(gy + j) * patches.grid.width + gx,
                     width, &grid.at(0, j));
-    if (valid) {
-        valid->clear();
-        if (!patches.valid.empty()) {
-            valid->resize(grid.codes.size());
-            for (int j = 0; j < height; ++j)
-                std::copy_n(patches.valid.data() + static_cast<size_t>(gy + j) * patches.grid.width + gx,
-                            width, valid->data() + static_cast<size_t>(j) * width);
-            if (std::all_of(valid->begin(), valid->end(), [](uint8_t v) { return v != 0; }))
-                valid->clear();
-        }
-    }
+    // The window of a per-sample byte plane of `patches`; empty when it is all `uniform`.
+    auto window = [&](const std::vector<uint8_t>& plane, uint8_t uniform, std::vector<uint8_t>& out) {
+        out.clear();
+        if (plane.empty())
+            return;
+        out.resize(grid.codes.size());
+        for (int j = 0; j < height; ++j)
+            std::copy_n(plane.data() + static_cast<size_t>(gy + j) * patches.grid.width + gx, width,
+                        out.data() + static_cast<size_t>(j) * width);
+        if (std::all_of(out.begin(), out.end(), [&](uint8_t v) { return v == uniform; }))
+            out.clear();
+    };
+    if (valid)
+        window(patches.valid, 1, *valid);
+    if (flags)
+        window(patches.flags, 0, *flags);
     return grid;
 }
 
@@ -64,7 +69,8 @@ void DecodedPatches::copyPatch(PatchId p, int n, uint16_t* out) const
 }
 
 DecodedPatches decodePatches(const archive::ArchiveReader& reader, int level, int px0, int py0,
-                             int px1, int py1, const Progress& progress, bool with_validity)
+                             int px1, int py1, const Progress& progress, bool with_validity,
+                             bool with_flags)
 {
     const PyramidGeometry& g = reader.geometry();
     const int n = g.patchSize(), cells = g.cells();
@@ -89,7 +95,9 @@ DecodedPatches decodePatches(const archive::ArchiveReader& reader, int level, in
     // Version 1 archives have no masks: every sample is data.
     if (with_validity && reader.storesValidity())
         out.valid.assign(out.grid.codes.size(), 1);
-    bool any_invalid = false;
+    if (with_flags && reader.storesSampleFlags())
+        out.flags.assign(out.grid.codes.size(), 0);
+    bool any_invalid = false, any_flag = false;
     std::exception_ptr failure;
 #pragma omp parallel
     {
@@ -100,12 +108,14 @@ DecodedPatches decodePatches(const archive::ArchiveReader& reader, int level, in
         for (int64_t k = 0; k < int64_t{nx} * ny; ++k) {
             const PatchId p{level, out.px0 + static_cast<int>(k % nx), out.py0 + static_cast<int>(k / nx)};
             PatchValidity validity;
+            PatchSampleFlags flags;
             try {
                 if (needs_parent)
                     parents.copyPatch(p.parent(), n, parent.data());
                 const std::vector<uint8_t> blob = reader.readBlob(p);
                 reader.decodeBlob(p, blob, patch.data(), needs_parent ? parent.data() : nullptr,
-                                  nullptr, out.valid.empty() ? nullptr : &validity);
+                                  nullptr, out.valid.empty() ? nullptr : &validity,
+                                  out.flags.empty() ? nullptr : &flags);
             } catch (...) {
 #pragma omp critical
                 failure = std::current_exception();
@@ -127,12 +137,22 @@ DecodedPatches decodePatches(const archive::ArchiveReader& reader, int level, in
 #pragma omp atomic write
                 any_invalid = true;
             }
+            if (!out.flags.empty() && flags.kind != PatchSampleFlags::Kind::None) {
+                for (int j = 0; j < h; ++j)
+                    for (int i = 0; i < w; ++i)
+                        out.flags[static_cast<size_t>(gy + j) * out.grid.width + gx + i] =
+                            flags.at(i, j);
+#pragma omp atomic write
+                any_flag = true;
+            }
         }
     }
     if (failure)
         std::rethrow_exception(failure);
     if (!any_invalid)
         out.valid.clear();
+    if (!any_flag)
+        out.flags.clear();
     reportProgress(progress, 1.0);
     return out;
 }

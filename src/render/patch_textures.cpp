@@ -1,5 +1,7 @@
 #include "patch_textures.h"
 
+#include "ridge/core/error.h"
+
 #include <algorithm>
 #include <cstring>
 
@@ -7,7 +9,7 @@ namespace ridge::render {
 
 PatchTextures::PatchTextures(int patch_size, const TessellationBlockLayout& layout, int levels,
                              int slots, const HeightQuantization& quantization,
-                             const ProgressiveCodec* progressive)
+                             const ProgressiveCodec* progressive, bool water_maps)
     : n_(patch_size), layout_(layout), levels_(levels), quantization_(quantization),
       progressive_(progressive), lambda_max_(size_t(slots), 0.f), lambda_cap_(size_t(slots), 0.f),
       generation_(size_t(slots), 0), masked_(size_t(slots), 0)
@@ -27,7 +29,9 @@ PatchTextures::PatchTextures(int patch_size, const TessellationBlockLayout& layo
     const int C = n_ - 1;
     glTextureStorage3D(cell_masks_.id(), 1, GL_R8UI, C, C, slots);
     glTextureStorage1D(mask_flags_.id(), 1, GL_R8UI, slots);
-    for (GLuint t : {cell_masks_.id(), mask_flags_.id()}) {
+    water_maps_allocated_ = water_maps;
+    glTextureStorage3D(water_maps_.id(), 1, GL_R8UI, n_, n_, water_maps ? slots : 1);
+    for (GLuint t : {cell_masks_.id(), mask_flags_.id(), water_maps_.id()}) {
         glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
         glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     }
@@ -68,15 +72,23 @@ void PatchTextures::uploadBlockErrors(const stream::DecodedPatch& patch, int slo
     lambda_max_[size_t(slot)] = std::min(lambda_max, lambda_cap);
 }
 
-void PatchTextures::uploadCellMask(const stream::DecodedPatch& patch, int slot)
+void PatchTextures::uploadMasks(const stream::DecodedPatch& patch, int slot)
 {
-    const uint8_t flag = patch.drawable_cells.empty() ? 0 : 1;
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 1); // rows of C bytes, C >= 4: aligned anyway
-    if (flag) {
+    const PatchSampleFlags& water = patch.sample_flags;
+    const bool water_map = water.kind == PatchSampleFlags::Kind::Mixed;
+    if (water_map && !water_maps_allocated_)
+        throw Error("internal error: a patch with water arrived at a renderer without water maps");
+    const uint8_t flag = uint8_t((patch.drawable_cells.empty() ? 0 : 1) | (water_map ? 2 : 0) |
+                                 (water.kind == PatchSampleFlags::Kind::AllWater ? 4 : 0));
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1); // rows of C or n bytes
+    if (flag & 1) {
         const int C = n_ - 1;
         glTextureSubImage3D(cell_masks_.id(), 0, 0, 0, slot, C, C, 1, GL_RED_INTEGER,
                             GL_UNSIGNED_BYTE, patch.drawable_cells.data());
     }
+    if (water_map)
+        glTextureSubImage3D(water_maps_.id(), 0, 0, 0, slot, n_, n_, 1, GL_RED_INTEGER,
+                            GL_UNSIGNED_BYTE, water.flags.data());
     if (masked_[size_t(slot)] != flag)
         glTextureSubImage1D(mask_flags_.id(), 0, slot, 1, GL_RED_INTEGER, GL_UNSIGNED_BYTE, &flag);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
@@ -108,14 +120,14 @@ void PatchTextures::upload(const stream::DecodedPatch& patch, int slot, float la
                         patch.codes.data());
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
     uploadBlockErrors(patch, slot, lambda_cap);
-    uploadCellMask(patch, slot);
+    uploadMasks(patch, slot);
 }
 
 void PatchTextures::reconstruct(const stream::DecodedPatch& patch, int parent_slot, int slot,
                                 float lambda_cap)
 {
     ++generation_[size_t(slot)];
-    uploadCellMask(patch, slot);
+    uploadMasks(patch, slot);
     const PatchId p = patch.id;
     const GpuProgressiveDecoder::Child child{p.childIndex(), progressive_->quantizer(p.level),
                                              progressive_->variant().predictor,
@@ -156,9 +168,12 @@ size_t PatchTextures::uploadBytes(const stream::DecodedPatch& patch) const
 {
     const size_t B = size_t(layout_.blocksPerSide());
     const size_t lambda = patch.block_errors.empty() ? 0 : B * B * 4 * sizeof(float);
-    // Kept nodata: the C x C mask and the slot's flag; patches without nodata send nothing
-    // (at most a one-byte flag reset when their slot held a masked patch, not counted).
-    const size_t mask = patch.drawable_cells.empty() ? 0 : patch.drawable_cells.size() + 1;
+    // Kept nodata: the C x C mask and the slot's flag; water: the n x n bitmap and the flag;
+    // other patches send nothing (at most a one-byte flag reset when their slot held a masked
+    // patch, not counted).
+    const size_t mask = (patch.drawable_cells.empty() ? 0 : patch.drawable_cells.size() + 1) +
+                        patch.sample_flags.flags.size() +
+                        (patch.sample_flags.kind == PatchSampleFlags::Kind::AllWater ? 1 : 0);
     if (patch.needsGpuReconstruction())
         return patch.residuals.size() * sizeof(int32_t) +
                patch.residuals16.size() * sizeof(int16_t) + lambda + mask;
@@ -210,6 +225,7 @@ void PatchTextures::bind() const
     glBindTextureUnit(2, block_errors_.id());
     glBindTextureUnit(4, cell_masks_.id());
     glBindTextureUnit(5, mask_flags_.id());
+    glBindTextureUnit(6, water_maps_.id());
 }
 
 } // namespace ridge::render

@@ -27,9 +27,11 @@ class PatchTextures {
   public:
     // Needs a current GL 4.5 context. `levels` is D as the shaders use it (<= 4).
     // `progressive`: the archive's codec when patches may arrive as residuals, else null.
+    // `water_maps`: patches may carry water bitmaps (archive sample flags), which then take
+    // n² bytes per slot; else a single layer is allocated and never written.
     PatchTextures(int patch_size, const TessellationBlockLayout& layout, int levels, int slots,
                   const HeightQuantization& quantization,
-                  const ProgressiveCodec* progressive = nullptr);
+                  const ProgressiveCodec* progressive = nullptr, bool water_maps = false);
     ~PatchTextures();
     PatchTextures(const PatchTextures&) = delete;
     PatchTextures& operator=(const PatchTextures&) = delete;
@@ -58,7 +60,8 @@ class PatchTextures {
     void collect();
 
     // Binds heights, normals and block errors to texture units 0, 1 and 2, the cell masks
-    // and their per-slot flags to 4 and 5 (terrain.frag; 3 is geomorph's).
+    // and their per-slot flags to 4 and 5, the water maps to 6 (terrain.frag; 3 is
+    // geomorph's).
     void bind() const;
     GLuint heights() const { return heights_.id(); }
     GLuint blockErrors() const { return block_errors_.id(); }
@@ -68,9 +71,10 @@ class PatchTextures {
 
   private:
     void uploadBlockErrors(const stream::DecodedPatch& patch, int slot, float lambda_cap);
-    // The patch's drawable cells into its mask layer, or just the slot's flag cleared (one
-    // byte, only when the slot last held a masked patch) for a patch without nodata.
-    void uploadCellMask(const stream::DecodedPatch& patch, int slot);
+    // The patch's drawable cells and water bitmap into their layers, and the slot's flags
+    // (1: cell mask, 2: water bitmap, 4: all water; terrain.frag): a patch without nodata or
+    // water sends nothing but a one-byte flag reset when its slot held such a patch.
+    void uploadMasks(const stream::DecodedPatch& patch, int slot);
 
     int n_;
     TessellationBlockLayout layout_;
@@ -80,12 +84,14 @@ class PatchTextures {
     std::vector<float> lambda_max_;
     std::vector<float> lambda_cap_;
     std::vector<uint32_t> generation_; // per slot: bumps on every upload
-    std::vector<uint8_t> masked_;      // per slot: its patch has a cell mask (mask_flags_)
+    std::vector<uint8_t> masked_;      // per slot: its mask_flags_ byte
     gpu::GlTexture heights_{GL_TEXTURE_2D_ARRAY};
     gpu::GlTexture normals_{GL_TEXTURE_2D_ARRAY};
     gpu::GlTexture block_errors_{GL_TEXTURE_2D_ARRAY};
     gpu::GlTexture cell_masks_{GL_TEXTURE_2D_ARRAY}; // R8UI, C x C per slot
     gpu::GlTexture mask_flags_{GL_TEXTURE_1D};       // R8UI, one texel per slot
+    gpu::GlTexture water_maps_{GL_TEXTURE_2D_ARRAY}; // R8UI sample flags, n x n per slot
+    bool water_maps_allocated_ = false;
     gpu::GlBuffer lambda_max_bits_; // per slot, written by block_errors.comp
     gpu::ShaderProgram normal_program_;
     gpu::ShaderProgram block_error_program_;

@@ -67,6 +67,13 @@ void setMatrix(const gpu::ShaderProgram& program, const char* name, const glm::d
 
 namespace {
 
+// Whether patches may carry water bitmaps (archive sample flags with any water sample): only
+// then does each slot hold an n² water map.
+bool hasWaterMaps(const archive::ArchiveReader& reader)
+{
+    return reader.storesSampleFlags() && reader.metadata().water.samples > 0;
+}
+
 // Slots for resident patches: the requested count within the VRAM budget and the GL limit on
 // array layers; at least 4, so that raising ε always finds a selection that fits.
 int slotCount(const archive::ArchiveReader& reader, const RendererOptions& options,
@@ -75,9 +82,11 @@ int slotCount(const archive::ArchiveReader& reader, const RendererOptions& optio
     const double n = reader.geometry().patchSize();
     const double blocks = double(reader.blockLayout().blocksPerSide());
     // Heights R16UI and normals RGBA8 (n²), block errors RGBA32F, the kept-nodata cell mask
-    // R8UI ((n−1)², allocated for every slot) and its flag, and what the scheme adds.
-    const double bytes_per_slot = n * n * (2.0 + 4.0) + blocks * blocks * 16.0 +
-                                  (n - 1) * (n - 1) + 1.0 + scheme_slot_bytes;
+    // R8UI ((n−1)², allocated for every slot) and its flag, the water map R8UI (n², only for
+    // archives with water), and what the scheme adds.
+    const double bytes_per_slot = n * n * (2.0 + 4.0 + (hasWaterMaps(reader) ? 1.0 : 0.0)) +
+                                  blocks * blocks * 16.0 + (n - 1) * (n - 1) + 1.0 +
+                                  scheme_slot_bytes;
     GLint max_layers = 256;
     glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &max_layers);
     const double by_budget = std::floor(options.vram_budget_mb * 1024.0 * 1024.0 / bytes_per_slot);
@@ -266,7 +275,7 @@ TerrainRenderer::Impl::Impl(const archive::ArchiveReader& r, const RendererOptio
             ? reader.codec().capabilities().gpu_reconstruction
             : nullptr;
     textures = std::make_unique<PatchTextures>(n, layout, block_levels, slots, quantization,
-                                               gpu_codec);
+                                               gpu_codec, hasWaterMaps(reader));
     for (size_t k = 0; k < planned.infos.size(); ++k)
         schemes.push_back(planned.infos[k]->make(SchemeResources{
             reader, quadtree, options, *textures, residency, slots, planned.product[k]}));
@@ -786,6 +795,9 @@ FrameStats TerrainRenderer::draw(const lod::Camera& camera, const RenderSettings
                            float(m.min_height - camera.position().z),
                            float(m.max_height - camera.position().z));
         glProgramUniform1f(id, p->uniform("u_sea_level"), float(-camera.position().z));
+        // Archives before format v4 store no water: the palette's old rule, heights <= 0 m.
+        glProgramUniform1i(id, p->uniform("u_water_from_height"),
+                           m.reader.storesSampleFlags() ? 0 : 1);
         glProgramUniform3f(id, p->uniform("u_fog_colour"), horizon.r, horizon.g, horizon.b);
         glProgramUniform1f(id, p->uniform("u_fog_density"),
                            s.fog ? float(0.105 / std::max(extent, 1.0)) : 0.f);

@@ -82,7 +82,8 @@ std::shared_ptr<const DecodedPatch> PatchLoader::decode(PatchId p)
         throw Error(reader_.describe(p) + ": internal error: no parent to decode from");
     PatchValidity validity;
     reader_.decodeBlob(p, reader_.readBlob(p), out->codes.data(),
-                       parent ? parent->codes.data() : nullptr, &out->block_errors, &validity);
+                       parent ? parent->codes.data() : nullptr, &out->block_errors, &validity,
+                       &out->sample_flags);
     out->setDrawableCells(validity);
     prepareProducts(*out, preparations_);
     ++stats_.decoded;

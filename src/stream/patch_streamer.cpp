@@ -197,12 +197,14 @@ std::shared_ptr<const DecodedPatch> PatchStreamer::decodeLocked(PatchId p,
             out->residual_region =
                 reader_.decodeResiduals(p, *blob, wide.data(), &out->block_errors);
             out->setResiduals(std::move(wide));
-            out->setDrawableCells(reader_.validityOf(p, *blob));
+            PatchValidity validity;
+            reader_.payloadOffset(p, *blob, &validity, &out->sample_flags);
+            out->setDrawableCells(validity);
         } else {
             out->codes.resize(samples);
             PatchValidity validity;
             reader_.decodeBlob(p, *blob, out->codes.data(), parent ? parent->codes.data() : nullptr,
-                               &out->block_errors, &validity);
+                               &out->block_errors, &validity, &out->sample_flags);
             out->setDrawableCells(validity);
             prepareProducts(*out, options_.preparations);
         }

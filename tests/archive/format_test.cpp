@@ -55,7 +55,7 @@ TEST(Crc32, MatchesTheStandardCheckValue)
 
 // Pins the header layout: a change here is a format change and needs a version bump. (Version
 // 2 added the blobs' validity masks; version 3 the codec tables fields at 140..155, reserved
-// zero before.)
+// zero before; version 4 the blobs' sample flags, the header unchanged.)
 TEST(ArchiveFormat, HeaderBytesArePinned)
 {
     uint8_t bytes[kHeaderSize];
@@ -63,7 +63,7 @@ TEST(ArchiveFormat, HeaderBytesArePinned)
     EXPECT_EQ(std::memcmp(bytes, "RIDGEARC", 8), 0);
     auto u32 = [&](size_t o) { uint32_t v; std::memcpy(&v, bytes + o, 4); return v; };
     auto f64 = [&](size_t o) { double v; std::memcpy(&v, bytes + o, 8); return v; };
-    EXPECT_EQ(u32(8), 3u);     // version
+    EXPECT_EQ(u32(8), 4u);     // version
     EXPECT_EQ(u32(12), 160u);  // header size
     EXPECT_EQ(u32(16), 301u);  // width
     EXPECT_EQ(u32(20), 203u);  // height
@@ -108,9 +108,9 @@ TEST(ArchiveFormat, ParseRejectsBadMagicNewerVersionsAndCorruptHeaders)
     bad[0] = 'X';
     EXPECT_NE(parseHeader(bad, h).find("magic"), std::string::npos);
     std::memcpy(bad, bytes, kHeaderSize);
-    bad[8] = 4;
+    bad[8] = 5;
     EXPECT_NE(parseHeader(bad, h).find("not supported"), std::string::npos);
-    for (const uint8_t known : {1, 2, 3}) { // every version this reader knows
+    for (const uint8_t known : {1, 2, 3, 4}) { // every version this reader knows
         if (known < 3) // their bytes 140..155 are reserved: zero
             serializeHeader([] { Header z = sampleHeader(); z.codec_tables_offset = 0;
                                  z.codec_tables_size = 0; z.codec_tables_crc32 = 0; return z; }(),

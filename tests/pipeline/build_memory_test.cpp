@@ -67,7 +67,9 @@ TEST(BuildMemory, StreamingNeedsAQuarterOfTheGridNotTheGrid)
     EXPECT_EQ(s.terms.front().what, "level L-1 in memory") << "largest first";
     EXPECT_LT(s.total(), uint64_t(600) << 30);
     EXPECT_GT(s.total(), uint64_t(470) << 30);
-    EXPECT_NE(s.describe().find("streaming: level L-1 in memory, 466 GiB; index and errors, "),
+    // Level L−1's water flags at 2 bits a sample beside it.
+    EXPECT_NE(s.describe().find("streaming: level L-1 in memory, 466 GiB; sample flags, 58.7 GiB; "
+                                "index and errors, "),
               std::string::npos)
         << s.describe();
 
@@ -76,9 +78,10 @@ TEST(BuildMemory, StreamingNeedsAQuarterOfTheGridNotTheGrid)
     EXPECT_GE(m.total(), uint64_t(1000000) * 1000000 * 3) << "grid and void mask at least";
     EXPECT_NE(m.describe().find("whole grid, 1.82 TiB"), std::string::npos) << m.describe();
     // Voids kept as nodata (the default, fill_voids interior) hold their 1 B/sample mask
-    // beside the fill's (and, while encoding, the validity grids: 2 · 4/3 bits per sample).
-    EXPECT_NE(m.describe().find("in memory: whole grid, 1.82 TiB; void filling, 931 GiB; "
-                                "kept-nodata mask, 931 GiB"),
+    // beside the fill's (and, while encoding, the validity grids: 2 · 4/3 bits per sample);
+    // the sample flags take 1 B/sample and their 2-bit grid.
+    EXPECT_NE(m.describe().find("in memory: whole grid, 1.82 TiB; sample flags, 1.14 TiB; "
+                                "void filling, 931 GiB; kept-nodata mask, 931 GiB"),
               std::string::npos)
         << m.describe();
     BuildOptions fill_all = o;

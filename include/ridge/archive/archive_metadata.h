@@ -56,10 +56,23 @@ struct BuildMetadata {
     std::optional<std::string> block_errors;  // free text: stored or derived
 };
 
+// "water" (version 4): how the build decided the water flags (pyramid/sample_flags.h).
+struct WaterMetadata {
+    // Valid samples at or below this height (metres, finite) are water; none: the height
+    // rule was off (`build --sea-level none`).
+    std::optional<double> sea_level = 0.0;
+    // The water layer given to `build --water`, as given (a file name, never read back).
+    std::optional<std::string> layer;
+    int64_t samples = 0; // finest samples flagged water, in [0, width·height]
+};
+
 struct ArchiveMetadata {
     SourceMetadata source;
     GeoreferenceMetadata georeference;
     BuildMetadata build;
+    // Version 4. Before: absent (sea_level 0, no layer, samples 0 — water was decided from
+    // the decoded heights, ArchiveReader::storesSampleFlags).
+    WaterMetadata water;
     std::string generator;
 };
 

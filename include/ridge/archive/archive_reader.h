@@ -28,6 +28,7 @@
 #include "ridge/codec/progressive_reconstruction.h"
 #include "ridge/core/height_grid.h"
 #include "ridge/pyramid/level_pyramid.h"
+#include "ridge/pyramid/sample_flags.h"
 #include "ridge/pyramid/tessellation_block_errors.h"
 #include "ridge/pyramid/validity_pyramid.h"
 
@@ -71,10 +72,12 @@ class ArchiveReader {
                      std::vector<float>* block_errors = nullptr) const;
     // decodePatch from a blob readBlob(p) returned (a cached one, say); `parent` is required
     // when codec().needsParent(p.level).
-    // `validity`, when given, receives the patch's validity mask from the same blob.
+    // `validity` and `sample_flags`, when given, receive the patch's validity mask and sample
+    // flags from the same blob.
     void decodeBlob(PatchId p, const std::vector<uint8_t>& blob, uint16_t* codes,
                     const uint16_t* parent, std::vector<float>* block_errors = nullptr,
-                    PatchValidity* validity = nullptr) const;
+                    PatchValidity* validity = nullptr,
+                    PatchSampleFlags* sample_flags = nullptr) const;
 
     // Which samples of `p` are data and which of its cells may be drawn
     // (pyramid/validity_pyramid.h): the mask stored after the block errors (version 2), or
@@ -83,12 +86,25 @@ class ArchiveReader {
     // the field.
     PatchValidity readValidity(PatchId p) const;
     PatchValidity validityOf(PatchId p, const std::vector<uint8_t>& blob) const;
-    // Where the codec payload of `blob` starts (after block errors and validity mask);
-    // decodes the mask into `validity` when given. Throws for a corrupt mask.
+    // Which samples of `p` are water and which were filled (pyramid/sample_flags.h): the
+    // flags stored after the validity mask (version 4). Older archives have none stored:
+    // no sample was filled that a reader can tell, and water is what the palette called it
+    // then, a height <= 0 m, which only decoded heights can tell (storesSampleFlags()
+    // false: renderers and queries apply that rule themselves). Validated as read: kind,
+    // sizes, the zstd frame, padding bits, canonical kind, no flag on an invalid sample
+    // (finest level, and every level with decimation).
+    PatchSampleFlags readSampleFlags(PatchId p) const;
+    PatchSampleFlags sampleFlagsOf(PatchId p, const std::vector<uint8_t>& blob) const;
+    // Where the codec payload of `blob` starts (after block errors, validity mask and sample
+    // flags); decodes the mask into `validity` and the flags into `sample_flags` when given.
+    // Throws for a corrupt mask or flags.
     size_t payloadOffset(PatchId p, const std::vector<uint8_t>& blob,
-                         PatchValidity* validity = nullptr) const;
+                         PatchValidity* validity = nullptr,
+                         PatchSampleFlags* sample_flags = nullptr) const;
     // Whether the archive's blobs carry validity masks (format version >= 2).
     bool storesValidity() const { return header_.version >= kFirstVersionWithValidity; }
+    // Whether they carry sample flags (format version >= 4).
+    bool storesSampleFlags() const { return header_.version >= kFirstVersionWithSampleFlags; }
 
     // The paper's CPU/GPU split of decoding: true when patches of `level` can be decoded as
     // residuals (CPU, no parent needed) that a reconstruction on the GPU turns into codes

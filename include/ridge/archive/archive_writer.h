@@ -19,15 +19,16 @@ public:
     ArchiveWriter(const ArchiveWriter&) = delete;
     ArchiveWriter& operator=(const ArchiveWriter&) = delete;
 
-    // Appends a patch blob (block_errors ++ payload), in any order; each patch exactly once.
-    // `record` carries level/x/y and the bounds; offset, size and crc32 are set here.
-    // This form stores the all-valid mask (archive/validity_storage.h); the other stores
-    // `validity` (packValidity's bytes) between the block errors and the payload.
+    // Appends a patch blob (block_errors ++ validity ++ sample flags ++ payload), in any
+    // order; each patch exactly once. `record` carries level/x/y and the bounds; offset, size
+    // and crc32 are set here. This form stores the all-valid mask and no sample flags
+    // (archive/validity_storage.h, sample_flags_storage.h); the other stores `validity`
+    // (packValidity's bytes) and `sample_flags` (packSampleFlags') before the payload.
     void writePatch(PatchRecord record, const std::vector<uint8_t>& block_errors,
                     const uint8_t* payload, size_t payload_size);
     void writePatch(PatchRecord record, const std::vector<uint8_t>& block_errors,
-                    const std::vector<uint8_t>& validity, const uint8_t* payload,
-                    size_t payload_size);
+                    const std::vector<uint8_t>& validity, const std::vector<uint8_t>& sample_flags,
+                    const uint8_t* payload, size_t payload_size);
 
     // The codec tables region (HeightCodec::storeTables), written by finish() after the
     // blobs; empty = none.

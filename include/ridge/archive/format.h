@@ -1,6 +1,6 @@
 #pragma once
-// The .ridge archive, format version 3 (version 2: the same without the codec tables region;
-// version 1: also without patch validity masks). docs/FORMAT.md is the normative description;
+// The .ridge archive, format version 4 (version 3: the same without per-patch sample flags;
+// version 2: also without the codec tables region; version 1: also without validity masks). docs/FORMAT.md is the normative description;
 // this header mirrors it. All integers and floats are little-endian, IEEE-754.
 //
 //   [header: 160 bytes][patch blobs][codec tables][metadata: UTF-8 JSON][index: 48 B/patch]
@@ -16,11 +16,13 @@
 namespace ridge::archive {
 
 inline constexpr char kMagic[8] = {'R', 'I', 'D', 'G', 'E', 'A', 'R', 'C'};
-inline constexpr uint32_t kFormatVersion = 3;
+inline constexpr uint32_t kFormatVersion = 4;
 // The first version whose blobs hold a validity mask after the block errors.
 inline constexpr uint32_t kFirstVersionWithValidity = 2;
 // The first version with a codec tables region (header bytes 140..155, zero before).
 inline constexpr uint32_t kFirstVersionWithCodecTables = 3;
+// The first version whose blobs hold sample flags (water, filled) after the validity mask.
+inline constexpr uint32_t kFirstVersionWithSampleFlags = 4;
 inline constexpr size_t kHeaderSize = 160;
 inline constexpr size_t kIndexEntrySize = 48;
 // λ stored as this value means "larger than representable: never simplify".
@@ -70,7 +72,8 @@ struct PatchRecord {
     uint32_t x = 0;
     uint32_t y = 0;
     uint32_t block_errors_size = 0; // bytes at the start of the blob: zstd frame of λ values
-                                    // (then, version 2, the validity mask, then the payload)
+                                    // (then, version 2, the validity mask, version 4 the
+                                    // sample flags, then the payload)
     uint64_t offset = 0;            // blob position in the file
     uint32_t size = 0;              // blob size: block errors + codec payload
     uint32_t crc32 = 0;             // CRC-32 of the whole blob

@@ -6,9 +6,11 @@
 // colour of its own, only the same piecewise-linear lookup (checked against this one at many
 // heights by tests/render/palette_twin_test.cpp).
 //
-// Water: a height <= 0 m is sea. DEMs store the sea as 0 m and bathymetric grids (ETOPO,
-// GEBCO) as depths below 0; land below sea level (the Dead Sea shore, Death Valley) is
-// painted as water too — a height map cannot tell them apart.
+// Water is not a height: archives of format 4 flag it per sample (pyramid/sample_flags.h,
+// decided at build from the source's exact heights and any water layer), and the palette
+// takes the flag. Archives before format 4 have no flags: isWater (a height <= 0 m is sea)
+// is the rule they are painted by, which a lossy height (a 0 m sea decoded as +1 m) and any
+// lake or land below sea level break.
 #include <array>
 #include <cstddef>
 
@@ -55,8 +57,11 @@ template <std::size_t N>
 Rgb ramp(const std::array<Stop, N>& stops, float t);
 
 // The shaded mode's albedo (before light) at `metres` on a terrain whose heights span
-// [min_metres, max_metres]: water at or below 0 m, the land ramp above. Both ends finite.
-Rgb terrainColour(float metres, float min_metres, float max_metres);
+// [min_metres, max_metres]: the water ramp where `water` (deeper below 0 m towards the
+// terrain's minimum; a lake above sea level is shallow), the land ramp elsewhere. Both ends
+// finite.
+Rgb terrainColour(float metres, bool water, float min_metres, float max_metres);
+// The water rule of archives without sample flags (format < 4): at or below 0 m.
 bool isWater(float metres);
 
 // Debug mode "tess": the heat map of t = log2(factor) / log2(block cells), 0 blue (coarse)

@@ -67,11 +67,20 @@ struct IngestOptions {
     // representable in 16 bits. Unset: the finest step that fits 16 bits.
     std::optional<double> max_error;
     VoidFill fill_voids = VoidFill::Interior;
+    // Water (pyramid/sample_flags.h): valid samples whose source height is at or below
+    // `sea_level` metres (after z_scale/z_offset) are water; nullopt turns the rule off (land
+    // below sea level: Death Valley, the Dead Sea shore, polders). `water_layer`, when not
+    // empty, is a raster or vector file of water (any GDAL raster: data other than 0; any
+    // OGR vector: its features) added to the rule: lakes, reservoirs, rivers.
+    static constexpr ValueRange kSeaLevelRange =
+        ValueRange::closed(-kMaxAbsHeightMetres, kMaxAbsHeightMetres);
+    std::optional<double> sea_level = 0.0;
+    std::string water_layer;
     Progress progress;
 
     // Throws ridge::Error("NAME is VALUE: must be RANGE") for the first set option outside
-    // its range above (NaN and infinities included), and for a fill_voids that is not one
-    // of the enumerators.
+    // its range above (NaN and infinities included, sea_level too), and for a fill_voids that
+    // is not one of the enumerators.
     void validate() const;
 };
 
@@ -87,6 +96,7 @@ struct IngestStats {
     bool exact = false;           // every valid sample is represented exactly by its code
     double z_scale = 1.0;         // effective metres = value * z_scale + z_offset
     double z_offset = 0.0;
+    int64_t water_samples = 0;    // valid samples flagged water (IngestOptions::sea_level, water_layer)
 };
 
 // The finest grid of the pyramid: codes + their metric meaning + where it came from.
@@ -99,6 +109,9 @@ struct ElevationRaster {
     // 1 where a finest sample is kept as nodata (its code is filled all the same), 0 where it
     // is data; empty when every sample is data (stats.voids_kept == 0).
     std::vector<uint8_t> nodata;
+    // The sample flags of each finest sample (pyramid/sample_flags.h: kSampleWater,
+    // kSampleFilled); 0 on kept nodata. Empty when no sample has a flag.
+    std::vector<uint8_t> flags;
 };
 
 // Reads band 1 of `path` into 16-bit codes, fills voids, records georeferencing.
@@ -110,7 +123,9 @@ struct ElevationRaster {
 // Voids (declared nodata, NaN when nodata is NaN, or GDAL's mask band where the dataset
 // has a real mask) are filled by GDALFillNodata (inverse-distance weighting from the void's
 // valid border, then smoothing passes) and rounded to codes; those options.fill_voids keeps
-// as nodata are filled too and marked in ElevationRaster::nodata.
+// as nodata are filled too and marked in ElevationRaster::nodata, the others flagged
+// kSampleFilled. Water is flagged from the source's values (options.sea_level; a filled
+// sample by its filled code) and options.water_layer.
 //
 // Throws ridge::Error naming `path` and the problem for: unreadable / unrecognised file,
 // no raster band, grid smaller than 2x2, all samples nodata, non-finite values that are not
@@ -162,11 +177,16 @@ public:
     const GeoReference& geo() const;
 
     // Reads rows [y0, y0 + rows) into out[rows * width()] as codes and returns the number of
-    // void samples among them (their codes are unspecified).
-    int64_t readRows(int y0, int rows, uint16_t* out);
+    // void samples among them (their codes are unspecified). `flags`, when given
+    // (rows * width() bytes), receives each sample's flags (kSampleWater by the options'
+    // sea level and water layer; 0 on voids; nothing is filled here).
+    int64_t readRows(int y0, int rows, uint16_t* out, uint8_t* flags = nullptr);
+    // Whether any flag can be set (a sea level or a water layer was given).
+    bool flagsWater() const;
 
     // data_type, valid_samples, min/max metres (over the valid samples read so far), exact,
-    // z_scale/z_offset; voids_filled is always 0 (this reader fills nothing).
+    // z_scale/z_offset, water_samples (rows read with flags, each once); voids_filled is
+    // always 0 (this reader fills nothing).
     IngestStats stats() const;
 
 private:

@@ -36,9 +36,12 @@ struct HillshadeOptions {
 // pixel): nodata pixels are transparent background (0, 0, 0, 0), the others opaque; Horn's
 // window reads the centre height in place of a nodata neighbour (no slope towards heights
 // that are not there) and the tint's range covers the valid samples only.
+// `water`: null paints water by the height rule of archives without sample flags
+// (palette::isWater); else the pixels where it holds kSampleWater are water (empty: none).
 std::vector<uint8_t> shadeRelief(const std::vector<float>& metres, int width, int height,
                                  double spacing_x, double spacing_y, const HillshadeOptions& options,
-                                 const std::vector<uint8_t>& valid = {});
+                                 const std::vector<uint8_t>& valid = {},
+                                 const std::vector<uint8_t>* water = nullptr);
 
 // Decodes the level and writes the picture as PNG (RGBA with transparent nodata when the
 // archive keeps nodata in that level, else RGB or grey). Throws ridge::Error (options are

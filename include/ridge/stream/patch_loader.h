@@ -35,6 +35,9 @@ struct DecodedPatch {
     // Kept nodata: the patch's drawable cells ((n−1)², row-major, 1 = drawable; archive
     // validity mask); empty when every cell may be drawn (no cost for such patches).
     std::vector<uint8_t> drawable_cells;
+    // Water and filled samples (archive sample flags, format version 4): kind None costs
+    // nothing, AllWater nothing either, Mixed patch_size² bytes.
+    PatchSampleFlags sample_flags;
     // The paper's CPU/GPU split (PatchStreamer with residuals_for_gpu): instead of codes, the
     // entropy-decoded residuals[patch_size^2] that the GPU turns into codes from the parent's
     // resident codes. block_errors is then empty when the archive derives λ (the GPU derives
@@ -65,6 +68,7 @@ struct DecodedPatch {
     {
         return sizeof(*this) + codes.size() * sizeof(uint16_t) +
                block_errors.size() * sizeof(float) + drawable_cells.size() +
+               sample_flags.flags.size() +
                residuals.size() * sizeof(int32_t) +
                residuals16.size() * sizeof(int16_t) + preparedBytes();
     }

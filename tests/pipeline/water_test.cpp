@@ -1,0 +1,262 @@
+// Water that does not depend on lossy heights (issue 22): the build flags water per sample
+// from the source's exact heights (`--sea-level`) and a water layer (`--water`), every level
+// takes the finest flags at its positions, and `hillshade` paints by the flags. On the coastal
+// fixture (tests/data/sfbay_coast.tif: the Pacific and the Bay at exactly 0 m) a progressive
+// archive within 1 m decodes the sea as up to +1 m; before the flags, hillshade painted it as
+// land.
+#include "test_support.h"
+
+#include "ridge/archive/archive_reader.h"
+#include "ridge/core/error.h"
+#include "ridge/io/raster_source.h"
+#include "ridge/pipeline/build.h"
+#include "ridge/pipeline/hillshade.h"
+#include "ridge/pipeline/level_decoder.h"
+
+#include <gdal.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+using namespace ridge;
+
+namespace {
+
+struct Source {
+    int width = 0, height = 0;
+    std::vector<double> metres; // NaN at voids
+    double at(int x, int y) const { return metres[size_t(y) * width + x]; }
+};
+
+Source readSource(const std::string& path)
+{
+    io::ReferenceRaster r(path, io::IngestOptions{});
+    Source s{r.width(), r.height(), std::vector<double>(size_t(r.width()) * r.height())};
+    r.readRows(0, s.height, s.metres.data());
+    return s;
+}
+
+std::string build(const test::ScratchDir& dir, const std::string& name, BuildOptions options,
+                  const std::string& source = test::dataPath("sfbay_coast.tif"))
+{
+    const std::string path = dir.path(name);
+    buildArchive(source, path, options);
+    return path;
+}
+
+BuildOptions lossy()
+{
+    BuildOptions o;
+    o.codec = "progressive";
+    o.max_error = 1.0;
+    o.patch_size = 65;
+    return o;
+}
+
+// The finest level's flags of an archive, one byte a sample (0 when it stores none).
+std::vector<uint8_t> finestFlags(const std::string& archive)
+{
+    const archive::ArchiveReader reader(archive);
+    const PyramidGeometry& g = reader.geometry();
+    std::vector<uint8_t> valid, flags;
+    decodeLevelWindow(reader, g.finestLevel(), 0, 0, g.width(), g.height(), {}, &valid, &flags);
+    if (flags.empty())
+        flags.assign(size_t(g.width()) * g.height(), 0);
+    return flags;
+}
+
+// Water in the shared palette is blue over green and red; no land colour is.
+bool looksLikeWater(const uint8_t* p) { return p[2] > p[0] + 24 && p[2] > p[1] + 8; }
+
+} // namespace
+
+TEST(Water, TheSeaIsFlaggedFromTheSourcesExactHeightsNotTheDecodedOnes)
+{
+    test::ScratchDir dir;
+    const std::string archive = build(dir, "lossy.ridge", lossy());
+    const Source source = readSource(test::dataPath("sfbay_coast.tif"));
+    const std::vector<uint8_t> flags = finestFlags(archive);
+    const archive::ArchiveReader reader(archive);
+    const CodeGrid decoded = decodeLevel(reader, reader.geometry().finestLevel());
+    int64_t sea = 0, sea_decoded_above_zero = 0;
+    for (int y = 0; y < source.height; ++y)
+        for (int x = 0; x < source.width; ++x) {
+            const bool water = (flags[size_t(y) * source.width + x] & kSampleWater) != 0;
+            ASSERT_EQ(water, source.at(x, y) <= 0.0) << "sample " << x << ", " << y;
+            sea += water;
+            sea_decoded_above_zero +=
+                water && reader.quantization().toMetres(decoded.at(x, y)) > 0.0;
+        }
+    EXPECT_EQ(sea, 37024); // every 0 m sample of the fixture
+    EXPECT_EQ(reader.metadata().water.samples, sea);
+    // The premise: the lossy heights alone would have called much of the sea land.
+    EXPECT_GT(sea_decoded_above_zero, sea / 10);
+}
+
+TEST(Water, EveryLevelTakesTheFinestFlagsAtItsPositionsInBothBuildPaths)
+{
+    test::ScratchDir dir;
+    BuildOptions streamed; // lossless decimation without voids: the streaming build
+    streamed.patch_size = 65;
+    const std::string a = build(dir, "streamed.ridge", streamed);
+    const std::string b = build(dir, "in_memory.ridge", lossy());
+    const std::vector<uint8_t> finest = finestFlags(a);
+    ASSERT_EQ(finest, finestFlags(b));
+    for (const std::string& path : {a, b}) {
+        const archive::ArchiveReader reader(path);
+        const PyramidGeometry& g = reader.geometry();
+        for (int l = 0; l < g.finestLevel(); ++l) {
+            std::vector<uint8_t> valid, flags;
+            decodeLevelWindow(reader, l, 0, 0, g.validLevelWidth(l), g.validLevelHeight(l), {},
+                              &valid, &flags);
+            ASSERT_FALSE(flags.empty()) << path << " level " << l;
+            const int64_t s = g.step(l);
+            for (int j = 0; j < g.validLevelHeight(l); ++j)
+                for (int i = 0; i < g.validLevelWidth(l); ++i)
+                    ASSERT_EQ(flags[size_t(j) * g.validLevelWidth(l) + i],
+                              finest[size_t(j * s) * g.width() + size_t(i * s)])
+                        << path << " level " << l << " sample " << i << ", " << j;
+        }
+    }
+}
+
+TEST(Water, SeaLevelMovesOrTurnsOffTheHeightRule)
+{
+    test::ScratchDir dir;
+    const Source source = readSource(test::dataPath("sfbay_coast.tif"));
+    BuildOptions o = lossy();
+    o.ingest.sea_level = 50.0;
+    const std::vector<uint8_t> at50 = finestFlags(build(dir, "at50.ridge", o));
+    for (size_t k = 0; k < at50.size(); ++k)
+        ASSERT_EQ((at50[k] & kSampleWater) != 0, source.metres[k] <= 50.0) << k;
+    o.ingest.sea_level.reset();
+    const std::string none = build(dir, "none.ridge", o);
+    for (uint8_t f : finestFlags(none))
+        ASSERT_EQ(f, 0);
+    EXPECT_EQ(archive::ArchiveReader(none).metadata().water.samples, 0);
+    EXPECT_FALSE(archive::ArchiveReader(none).metadata().water.sea_level.has_value());
+}
+
+TEST(Water, AVectorLayerInAnotherCrsAddsALakeAboveSeaLevel)
+{
+    test::ScratchDir dir;
+    const Source source = readSource(test::dataPath("sfbay_coast.tif"));
+    BuildOptions o = lossy();
+    o.ingest.water_layer = test::dataPath("crystal_springs_utm10.geojson");
+    const std::string archive = build(dir, "lake.ridge", o);
+    const std::vector<uint8_t> flags = finestFlags(archive);
+    // The polygon is the outline of the reservoir's flat 87 m surface (tests/data/README.md):
+    // every water sample above sea level is on it, and nearly all of its 269 samples are water
+    // (pixel centres inside the reprojected polygon).
+    int64_t lake = 0;
+    for (size_t k = 0; k < flags.size(); ++k)
+        if ((flags[k] & kSampleWater) && source.metres[k] > 0.0) {
+            ASSERT_EQ(source.metres[k], 87.0) << "sample " << k % source.width << ", " << k / source.width;
+            ++lake;
+        }
+    EXPECT_GE(lake, 250);
+    EXPECT_LE(lake, 269);
+    const archive::ArchiveReader reader(archive);
+    EXPECT_EQ(reader.metadata().water.samples, 37024 + lake);
+    EXPECT_EQ(reader.metadata().water.layer, test::dataPath("crystal_springs_utm10.geojson"));
+}
+
+TEST(Water, ARasterLayerOnAnotherGridIsResampledOntoTheArchives)
+{
+    test::ScratchDir dir;
+    // The lake burnt into a 30 m UTM raster (0 land, 1 water, 255 nodata outside the lake's
+    // neighbourhood) by gdal_rasterize: another CRS, another spacing, a smaller extent.
+    const std::string lake = dir.path("lake_utm.tif");
+    const test::CommandResult made = test::runShell(
+        "gdal_rasterize -q -burn 1 -init 0 -a_nodata 255 -tr 30 30 -ot Byte " +
+        test::dataPath("crystal_springs_utm10.geojson") + " " + lake);
+    ASSERT_EQ(made.exit_code, 0) << made.output;
+    const Source source = readSource(test::dataPath("sfbay_coast.tif"));
+    BuildOptions o = lossy();
+    o.ingest.sea_level.reset();
+    o.ingest.water_layer = lake;
+    const std::vector<uint8_t> flags = finestFlags(build(dir, "lake.ridge", o));
+    int64_t lake_samples = 0;
+    for (size_t k = 0; k < flags.size(); ++k)
+        if (flags[k] & kSampleWater) {
+            // Nearest resampling of 30 m cells onto ~80 m samples: the lake give or take its
+            // rim, never the sea or the hills.
+            ASSERT_NEAR(source.metres[k], 87.0, 12.0) << k;
+            ++lake_samples;
+        }
+    EXPECT_GE(lake_samples, 230);
+    EXPECT_LE(lake_samples, 300);
+}
+
+TEST(Water, AWaterLayerThatIsNotGeodataIsRefusedNamingIt)
+{
+    test::ScratchDir dir;
+    const std::string junk = dir.path("lakes.txt");
+    FILE* f = std::fopen(junk.c_str(), "w");
+    std::fputs("not a raster nor a vector\n", f);
+    std::fclose(f);
+    BuildOptions o = lossy();
+    o.ingest.water_layer = junk;
+    try {
+        build(dir, "x.ridge", o);
+        FAIL() << "built with a water layer that is not one";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find(junk), std::string::npos) << e.what();
+    }
+    EXPECT_FALSE(std::filesystem::exists(dir.path("x.ridge")));
+}
+
+TEST(Water, HillshadeOfALossyArchivePaintsTheSeaAsWater)
+{
+    test::ScratchDir dir;
+    const std::string archive = build(dir, "lossy.ridge", lossy());
+    const std::string png = dir.path("shade.png");
+    HillshadeOptions options;
+    writeHillshade(archive, png, options);
+    GDALDatasetH ds = GDALOpen(png.c_str(), GA_ReadOnly);
+    ASSERT_NE(ds, nullptr);
+    const int w = GDALGetRasterXSize(ds), h = GDALGetRasterYSize(ds);
+    std::vector<uint8_t> rgb(size_t(w) * h * 3);
+    ASSERT_EQ(GDALDatasetRasterIO(ds, GF_Read, 0, 0, w, h, rgb.data(), w, h, GDT_Byte, 3, nullptr,
+                                  3, 3 * w, 1),
+              CE_None);
+    GDALClose(ds);
+    const Source source = readSource(test::dataPath("sfbay_coast.tif"));
+    int64_t sea = 0, sea_as_water = 0, land_as_water = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const bool water = looksLikeWater(&rgb[(size_t(y) * w + x) * 3]);
+            if (source.at(x, y) <= 0.0) {
+                ++sea;
+                sea_as_water += water;
+            } else {
+                land_as_water += water;
+            }
+        }
+    EXPECT_EQ(sea_as_water, sea);
+    EXPECT_EQ(land_as_water, 0);
+}
+
+TEST(Water, FilledVoidsAreFlaggedAndKeptNodataHasNoFlag)
+{
+    test::ScratchDir dir;
+    BuildOptions o;
+    o.patch_size = 65;
+    o.ingest.fill_voids = io::VoidFill::All;
+    const std::string filled = build(dir, "filled.ridge", o, test::dataPath("rainier_voids.tif"));
+    const Source source = readSource(test::dataPath("rainier_voids.tif"));
+    const std::vector<uint8_t> flags = finestFlags(filled);
+    int64_t voids = 0;
+    for (size_t k = 0; k < flags.size(); ++k) {
+        const bool is_void = std::isnan(source.metres[k]);
+        voids += is_void;
+        ASSERT_EQ((flags[k] & kSampleFilled) != 0, is_void) << k;
+        ASSERT_EQ(flags[k] & kSampleWater, 0) << k; // Rainier is 347..1994 m
+    }
+    EXPECT_EQ(voids, 368);
+    o.ingest.fill_voids = io::VoidFill::None;
+    for (uint8_t f : finestFlags(build(dir, "kept.ridge", o, test::dataPath("rainier_voids.tif"))))
+        ASSERT_EQ(f, 0);
+}
