@@ -67,9 +67,10 @@ int interiorSimplification(vec3 corners[4], vec3 centre, vec3 lo, vec3 hi, vec4 
     return d;
 }
 
-// Λ^(d) = λ^(d) + Err(P) of block (s, r) of patch `p`.
+// Λ^(d) = λ^(d) + Err(P) of block (s, r) of patch `p`, in the drawn (exaggerated) space: λ is
+// stored in metres, p.err is exaggerated already.
 vec4 blockErrors(PatchInstance p, ivec2 block_sr) {
-    return texelFetch(u_block_errors, ivec3(block_sr, p.layer), 0) + vec4(p.err);
+    return texelFetch(u_block_errors, ivec3(block_sr, p.layer), 0) * u_exaggeration + vec4(p.err);
 }
 
 // Tessellation factor b / 2^d of the block edge from sample a to sample b (both integer,

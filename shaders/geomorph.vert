@@ -69,7 +69,8 @@ void main() {
         position.xy = origin + a_position.xy;
         precise float z = u_layout == 1 ? geomorphMix(a_position.z, a_target, p.morph)
                                         : a_position.z;
-        position.z = z + u_height_offset;
+        // The CPU's vertices are in metres above code 0; the drawn space is k times that.
+        position.z = z * u_exaggeration + u_height_offset;
         v.texcoord = vec3(a_normal.xy, -2.0 - a_normal.z);
     }
     if (foot)

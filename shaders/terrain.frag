@@ -44,7 +44,8 @@ out vec4 frag_colour;
 
 // Metres above sea level of the patch's height map at patch coordinates `cell`, bilinear
 // between its four samples (the codes are integers: no hardware filtering). At a sample this
-// is the sample, as `ridge hillshade` sees it.
+// is the sample, as `ridge hillshade` sees it. True metres: the drawn heights divided by the
+// exaggeration, so that colours do not change with it.
 float textureMetres(vec2 cell) {
     int C = u_patch_cells;
     vec2 c = clamp(cell, vec2(0.0), vec2(float(C)));
@@ -52,19 +53,22 @@ float textureMetres(vec2 cell) {
     vec2 f = c - vec2(i0);
     float h00 = sampleHeight(v.layer, i0), h10 = sampleHeight(v.layer, i0 + ivec2(1, 0));
     float h01 = sampleHeight(v.layer, i0 + ivec2(0, 1)), h11 = sampleHeight(v.layer, i0 + ivec2(1, 1));
-    return mix(mix(h00, h10, f.x), mix(h01, h11, f.x), f.y) - u_sea_level;
+    return (mix(mix(h00, h10, f.x), mix(h01, h11, f.x), f.y) - u_sea_level) / u_exaggeration;
 }
 
 // The normal map's, or the vertex's own normal where a scheme sends one (geomorph.vert):
 // texcoord (u, v, −1) indexes the hemisphere normal texture, (nx, ny, −2 − nz) is a normal.
 // geomorph keeps its vertex normals: it draws every sample of the patch as a vertex, so they
 // are at texel resolution already, and they are what its vertex layouts are measured with.
+// Normals are of the true surface; the drawn one, z' = k·z, has the normal
+// (−k ∂z/∂x, −k ∂z/∂y, 1) ∝ (k·n.x, k·n.y, n.z).
+vec3 exaggerated(vec3 n) { return normalize(vec3(n.xy * u_exaggeration, n.z)); }
 vec3 surfaceNormal() {
     if (v.texcoord.z >= -0.5)
-        return normalize(texture(u_normals, v.texcoord).xyz);
+        return exaggerated(normalize(texture(u_normals, v.texcoord).xyz));
     if (v.texcoord.z > -1.5)
-        return normalize(hemisphereNormalLookup(v.texcoord.xy));
-    return normalize(vec3(v.texcoord.xy, -2.0 - v.texcoord.z));
+        return exaggerated(normalize(hemisphereNormalLookup(v.texcoord.xy)));
+    return exaggerated(normalize(vec3(v.texcoord.xy, -2.0 - v.texcoord.z)));
 }
 
 // Whether the cell under this fragment may be drawn. Skirts and walls hang under a border
@@ -124,7 +128,8 @@ void main() {
         albedo = paletteHeat(log2(max(v.factor, 1.0)) / max(log2(float(u_block_cells_f)), 1.0));
     else {
         float metres = textureMetres(v.cell);
-        float min_m = u_height_range.x - u_sea_level, max_m = u_height_range.y - u_sea_level;
+        float min_m = (u_height_range.x - u_sea_level) / u_exaggeration;
+        float max_m = (u_height_range.y - u_sea_level) / u_exaggeration;
         bool water = waterAt(v.cell, metres);
         albedo = paletteTerrain(metres, water, min_m, max_m);
         if (!water) {

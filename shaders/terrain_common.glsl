@@ -23,8 +23,10 @@ uniform vec2 u_spacing;         // metres per finest sample: (spacing_x, −spac
 uniform vec2 u_anchor_offset;   // camera-relative x, y of the anchor sample (the one nearest the camera)
 uniform vec2 u_viewport;        // pixels
 uniform float u_epsilon;        // ε, pixels
-uniform float u_height_scale;   // metres per code
-uniform float u_height_offset;  // offset − camera z: camera-relative metres of code 0
+uniform float u_height_scale;   // drawn metres per code: the archive's times u_exaggeration
+uniform float u_height_offset;  // k·offset − camera z: camera-relative drawn metres of code 0
+uniform float u_exaggeration;   // k: vertical exaggeration (1: true heights); the camera,
+                                // instance bounds, Err(P) and skirts are in the k-scaled space
 uniform int u_patch_cells;      // C = 2^n
 uniform int u_block_cells;      // b
 uniform int u_blocks_per_side;  // C / b

@@ -92,6 +92,7 @@ class RenderCommand {
     int samples_ = 4;
     std::vector<double> sun_{315.0, 45.0};
     double vram_mb_ = 256.0;
+    double exaggeration_ = 1.0; // --exaggeration
     bool json_ = false;
     bool quiet_ = false;
 };

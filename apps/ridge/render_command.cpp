@@ -79,6 +79,12 @@ void RenderCommand::registerWith(CLI::App& app)
                      "Texture memory for resident patches, MB (ε is raised when a view needs more)")
         ->capture_default_str()
         ->check(inRange("--vram", render::RendererOptions::kVramBudgetMbRange));
+    command_
+        ->add_option("--exaggeration", exaggeration_,
+                     "Vertical exaggeration: heights drawn this many times as tall (camera heights "
+                     "are in the drawn space; ε holds on the exaggerated surface)")
+        ->capture_default_str()
+        ->check(inRange("--exaggeration", render::RenderSettings::kExaggerationRange));
     command_->add_flag("--json", json_, "Print the camera and frame statistics as JSON");
     command_->add_flag("-q,--quiet", quiet_, "Print nothing on success");
 }
@@ -86,7 +92,8 @@ void RenderCommand::registerWith(CLI::App& app)
 int RenderCommand::run()
 {
     render::HeadlessRenderOptions options;
-    const CameraPlacement placement = camera_args_.placement();
+    CameraPlacement placement = camera_args_.placement();
+    placement.exaggeration = exaggeration_;
     if (!placement.empty()) {
         HeightQuery query(archive_); // GL-free: PROJ and the ground height under the camera
         const ResolvedCamera camera = resolveCameraPlacement(query, placement);
@@ -107,6 +114,7 @@ int RenderCommand::run()
     options.settings.fog = !no_fog_;
     options.settings.sky = !no_sky_;
     options.settings.sun_direction = render::sunDirection(sun_[0], sun_[1]);
+    options.settings.exaggeration = exaggeration_;
     const render::HeadlessRenderResult r = render::renderToPng(archive_, options, output_);
     const glm::dvec3 p = r.camera.position(), f = r.camera.forward();
     const lod::HeadingPitch angles = lod::headingPitchOf(f);

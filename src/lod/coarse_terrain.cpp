@@ -1,6 +1,8 @@
 #include "ridge/lod/coarse_terrain.h"
 
 #include "ridge/core/error.h"
+#include "ridge/core/parameter_check.h"
+#include "ridge/lod/patch_quadtree.h"
 #include "ridge/lod/screen_space_error.h"
 
 #include <glm/geometric.hpp>
@@ -33,6 +35,18 @@ CoarseTerrain::CoarseTerrain(TerrainFrame frame, Box root_box, std::vector<uint1
                     " codes, expected " + std::to_string(n_) + "x" + std::to_string(n_));
     checkParameter("terrain spacing x (m)", frame_.spacingX(), ValueRange::positive());
     checkParameter("terrain spacing y (m)", frame_.spacingY(), ValueRange::positive());
+}
+
+CoarseTerrain CoarseTerrain::exaggerated(double exaggeration) const
+{
+    checkParameter("exaggeration", exaggeration, SelectionSettings::kExaggerationRange);
+    CoarseTerrain out = *this;
+    out.box_.min.z = exaggeration * box_.min.z;
+    out.box_.max.z = exaggeration * box_.max.z;
+    // k · (offset + scale · code): the ground scales with the heights, exactly.
+    out.quantization_.offset = exaggeration * quantization_.offset;
+    out.quantization_.scale = exaggeration * quantization_.scale;
+    return out;
 }
 
 double CoarseTerrain::groundHeight(double x, double y) const

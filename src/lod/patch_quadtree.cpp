@@ -28,10 +28,12 @@ PatchQuadtree PatchQuadtree::fromArchive(const archive::ArchiveReader& reader)
                          std::move(bounds));
 }
 
-Box PatchQuadtree::box(PatchId p) const
+Box PatchQuadtree::box(PatchId p, double exaggeration) const
 {
     const PatchBounds& b = bounds(p);
-    return frame_.patchBox(p, b.min_height, b.max_height);
+    if (exaggeration == 1.0)
+        return frame_.patchBox(p, b.min_height, b.max_height);
+    return frame_.patchBox(p, exaggeration * b.min_height, exaggeration * b.max_height);
 }
 
 void SelectionSettings::validate() const
@@ -39,6 +41,7 @@ void SelectionSettings::validate() const
     checkParameter("epsilon_px", epsilon_px, kEpsilonPxRange);
     checkParameter("error_scale", error_scale, kErrorScaleRange);
     checkParameter("texel_px", texel_px, kTexelPxRange);
+    checkParameter("exaggeration", exaggeration, kExaggerationRange);
     if (max_patches < 1)
         throw Error("max_patches is 0: must be at least 1 (the root alone always fits)");
 }
@@ -53,9 +56,12 @@ Selection PatchQuadtree::select(const Camera& camera, const SelectionSettings& s
         Selection s;
         s.epsilon_px = epsilon;
         s.texel_px = texel;
-        // Err_Scr is linear in Err(P): scaling γ scales every patch's error.
+        // Err_Scr is linear in Err(P): scaling γ scales every patch's error (the chunks'
+        // simplification, the exaggerated heights).
         visit(PatchId{0, 0, 0}, camera, settings.cull ? &frustum : nullptr,
-              {gamma, gamma * settings.error_scale, epsilon, texel}, settings, s);
+              {gamma, gamma * settings.error_scale * settings.exaggeration, settings.exaggeration,
+               epsilon, texel},
+              settings, s);
         // At ε = ∞ every visible patch with a finite Err_Scr stops at the root; should a NaN
         // bound (a corrupt index) still refine, give up raising rather than loop forever.
         if (s.patches.size() <= settings.max_patches || std::isinf(epsilon))
@@ -70,7 +76,7 @@ void PatchQuadtree::visit(PatchId p, const Camera& camera, const Frustum* frustu
                           Selection& out) const
 {
     ++out.visited;
-    const Box b = box(p);
+    const Box b = box(p, t.exaggeration);
     Visibility visibility = Visibility::Inside;
     if (frustum) {
         visibility = frustum->classify(b);

@@ -3,6 +3,7 @@
 #include "ridge/core/error.h"
 #include "ridge/lod/camera.h"
 #include "ridge/lod/camera_orientation.h"
+#include "ridge/lod/patch_quadtree.h"
 
 #include <cmath>
 
@@ -10,15 +11,16 @@ namespace ridge {
 
 namespace {
 
-// The finest surface under local (x, y); an error naming `what` off the raster.
-double groundAt(HeightQuery& query, glm::dvec2 local, const char* what)
+// The finest surface under local (x, y), times the exaggeration `k` it is drawn with; an error
+// naming `what` off the raster.
+double groundAt(HeightQuery& query, glm::dvec2 local, const char* what, double k)
 {
     const HeightSample s = query.sample(local, PointSpace::Local);
     if (!s.on_raster)
         throw Error(std::string(what) + " is off the raster (pixel/line " +
                     formatNumber(s.pixel.x) + ", " + formatNumber(s.pixel.y) +
                     "): there is no ground height there");
-    return s.height;
+    return k * s.height;
 }
 
 } // namespace
@@ -42,6 +44,7 @@ ResolvedCamera resolveCameraPlacement(HeightQuery& query, const CameraPlacement&
         throw Error("camera heading/pitch need a camera position");
     if (p.above_ground && !has_position)
         throw Error("camera height above the ground needs a camera position");
+    checkParameter("exaggeration", p.exaggeration, lod::SelectionSettings::kExaggerationRange);
 
     const TerrainGeoreference& geo = query.georeference();
     ResolvedCamera out;
@@ -57,7 +60,8 @@ ResolvedCamera resolveCameraPlacement(HeightQuery& query, const CameraPlacement&
         }
         checkParameters("camera position", &position.x, 3, lod::kCameraCoordinateRange);
         if (p.above_ground)
-            position.z += groundAt(query, {position.x, position.y}, "the camera position");
+            position.z += groundAt(query, {position.x, position.y}, "the camera position",
+                                   p.exaggeration);
         checkParameters("camera position", &position.x, 3, lod::kCameraCoordinateRange);
         out.position = position;
         if (p.heading_deg)
@@ -71,7 +75,9 @@ ResolvedCamera resolveCameraPlacement(HeightQuery& query, const CameraPlacement&
     } else if (p.look_at_lonlat) {
         const glm::dvec3 ll = *p.look_at_lonlat;
         const glm::dvec2 local = geo.toLocal({ll.x, ll.y}, PointSpace::LonLat);
-        const double z = std::isnan(ll.z) ? groundAt(query, local, "the look-at point") : ll.z;
+        const double z = std::isnan(ll.z)
+                             ? groundAt(query, local, "the look-at point", p.exaggeration)
+                             : ll.z;
         checkParameter("look-at height (m)", z, lod::kCameraCoordinateRange);
         out.look_at = glm::dvec3(local.x, local.y, z);
     }

@@ -32,20 +32,23 @@ lod::Camera cameraFor(const TerrainRenderer& renderer, const HeadlessRenderOptio
     if (!options.camera) {
         if (options.look_at)
             throw Error("look_at needs a camera position (HeadlessRenderOptions::camera)");
-        return renderer.defaultCamera(options.viewport, options.fov_y_degrees);
+        return renderer.defaultCamera(options.viewport, options.fov_y_degrees,
+                                      options.settings.exaggeration);
     }
+    // Positions are in the drawn space: heights times the exaggeration.
+    const double k = options.settings.exaggeration;
     glm::dvec3 target;
     if (options.look_at) {
         target = *options.look_at;
     } else {
         const lod::TerrainFrame& f = renderer.quadtree().frame();
         const double x = 0.5 * f.extentX(), y = 0.5 * f.extentY();
-        target = glm::dvec3(x, y, renderer.groundHeight(x, y));
+        target = glm::dvec3(x, y, renderer.groundHeight(x, y, k));
     }
     if (glm::length(target - *options.camera) <= 0.0)
         throw Error("render: the camera and the look-at point coincide");
     double near_m = 1.0, far_m = 1e6;
-    renderer.clipPlanesFor(*options.camera, near_m, far_m);
+    renderer.clipPlanesFor(*options.camera, near_m, far_m, k);
     return lod::Camera(*options.camera, target, options.fov_y_degrees, options.viewport, near_m,
                        far_m);
 }

@@ -29,8 +29,9 @@ PatchInstances buildPatchInstances(const lod::PatchQuadtree& tree, const lod::Se
                                    glm::dvec3 camera_position,
                                    const std::function<int(PatchId)>& slot_of,
                                    const std::function<double(PatchId)>& lambda_max,
-                                   double skirt_margin)
+                                   double skirt_margin, double exaggeration)
 {
+    const double k = exaggeration;
     const PyramidGeometry& g = tree.geometry();
 
     // Front to back by box distance (early depth rejection does the rest), whole patches
@@ -38,7 +39,7 @@ PatchInstances buildPatchInstances(const lod::PatchQuadtree& tree, const lod::Se
     std::vector<std::pair<double, PatchId>> order;
     order.reserve(selection.patches.size());
     for (const lod::SelectedPatch& s : selection.patches)
-        order.push_back({lod::distanceToBox(camera_position, tree.box(s.id)), s.id});
+        order.push_back({lod::distanceToBox(camera_position, tree.box(s.id, k)), s.id});
     std::sort(order.begin(), order.end(),
               [](const auto& a, const auto& b) { return a.first < b.first; });
     const auto split = std::stable_partition(order.begin(), order.end(),
@@ -50,13 +51,13 @@ PatchInstances buildPatchInstances(const lod::PatchQuadtree& tree, const lod::Se
     for (const auto& entry : order)
         out.patches.push_back(entry.second);
     const std::vector<double> depths = lod::skirtDepths(
-        tree, out.patches, [&](PatchId p) { return double(tree.bounds(p).err) + lambda_max(p); },
-        skirt_margin);
+        tree, out.patches,
+        [&](PatchId p) { return k * (double(tree.bounds(p).err) + lambda_max(p)); }, skirt_margin);
 
     const CameraAnchor anchor = cameraAnchor(tree.frame(), camera_position);
     out.records.reserve(order.size());
-    for (size_t k = 0; k < out.patches.size(); ++k) {
-        const PatchId p = out.patches[k];
+    for (size_t i = 0; i < out.patches.size(); ++i) {
+        const PatchId p = out.patches[i];
         const lod::PatchBounds& b = tree.bounds(p);
         const int64_t step = g.step(p.level);
         GpuPatchInstance r{};
@@ -65,10 +66,11 @@ PatchInstances buildPatchInstances(const lod::PatchQuadtree& tree, const lod::Se
         r.step = int32_t(step);
         r.layer = slot_of(p);
         r.level = p.level;
-        r.err = b.err;
-        r.skirt_depth = float(depths[k]);
-        r.min_z = float(double(b.min_height) - camera_position.z);
-        r.max_z = float(double(b.max_height) - camera_position.z);
+        // Rounded up: the shaders' Λ must not understate the exaggerated Err(P).
+        r.err = k == 1.0 ? b.err : std::nextafter(float(k * double(b.err)), INFINITY);
+        r.skirt_depth = float(depths[i]);
+        r.min_z = float(k * double(b.min_height) - camera_position.z);
+        r.max_z = float(k * double(b.max_height) - camera_position.z);
         // Exact while a patch spans < 2^24 finest samples (the fraction is a multiple of 1/step);
         // beyond, rounded to float like the shader's cell coordinates it is compared with.
         r.valid_extent[0] = float(g.validExtentX(p));

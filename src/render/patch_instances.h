@@ -48,11 +48,13 @@ struct PatchInstances {
 };
 
 // Records for `selection` seen from `camera_position`. `slot_of(p)` is the resident slot of
-// a selected patch, `lambda_max(p)` the largest λ^(d) of its blocks (metres).
+// a selected patch, `lambda_max(p)` the largest λ^(d) of its blocks (metres). With an
+// `exaggeration` k (SelectionSettings::exaggeration) the camera is in the exaggerated space
+// and every vertical quantity is k times the archive's: bounds, Err(P), λ and so the skirts.
 PatchInstances buildPatchInstances(const lod::PatchQuadtree& tree, const lod::Selection& selection,
                                    glm::dvec3 camera_position,
                                    const std::function<int(PatchId)>& slot_of,
                                    const std::function<double(PatchId)>& lambda_max,
-                                   double skirt_margin);
+                                   double skirt_margin, double exaggeration = 1.0);
 
 } // namespace ridge::render

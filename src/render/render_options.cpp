@@ -16,6 +16,7 @@ void RenderSettings::validate() const
     lodSchemeDescription(scheme); // throws for a name that is not registered
     checkParameter("epsilon_px", epsilon_px, kEpsilonPxRange);
     checkParameter("texel_px", texel_px, kTexelPxRange);
+    checkParameter("exaggeration", exaggeration, kExaggerationRange);
     checkParameters("sun_direction", &sun_direction.x, 3, kSunComponentRange);
     // Normalising a zero vector gives NaN, which would shade every pixel black.
     if (!(glm::length(sun_direction) > 1e-9))

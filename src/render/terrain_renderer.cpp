@@ -413,12 +413,13 @@ PatchInstances TerrainRenderer::Impl::writeInstances(const lod::Camera& camera,
     // |z − camera z| (2^−22 ≈ 2.4e−7 of it, times 4), or over flat ground (Err and λ 0), seen
     // from far above, its foot rounds onto its top and the seam it closes opens (found when
     // the texture-detail criterion split flat sea into levels seen from 760 km).
-    const double z_rel = std::max(std::abs(camera.position().z - double(min_height)),
-                                  std::abs(camera.position().z - double(max_height)));
+    const double k = settings.exaggeration;
+    const double z_rel = std::max(std::abs(camera.position().z - k * double(min_height)),
+                                  std::abs(camera.position().z - k * double(max_height)));
     PatchInstances built = buildPatchInstances(
         quadtree, selection, camera.position(), [&](PatchId p) { return residency.slotOf(p); },
         [&](PatchId p) { return scheme.meshDeviation(residency.slotOf(p)); },
-        skirt_margin + 1e-6 * z_rel);
+        skirt_margin * std::max(k, 1.0) + 1e-6 * z_rel, k);
     scheme.completeInstances(lod_camera, settings, built);
     const std::vector<GpuPatchInstance>& data = built.records;
     const size_t bytes = std::max<size_t>(data.size(), 1) * sizeof(GpuPatchInstance);
@@ -457,9 +458,12 @@ void TerrainRenderer::Impl::setFrameUniforms(const gpu::ShaderProgram& program,
     glProgramUniform2f(id, program.uniform("u_viewport"), float(camera.viewport().width),
                        float(camera.viewport().height));
     glProgramUniform1f(id, program.uniform("u_epsilon"), float(settings.epsilon_px));
-    glProgramUniform1f(id, program.uniform("u_height_scale"), float(quantization.scale));
+    // Exaggeration k: the drawn heights are k times the archive's (the camera is in that space).
+    const double k = settings.exaggeration;
+    glProgramUniform1f(id, program.uniform("u_height_scale"), float(k * quantization.scale));
     glProgramUniform1f(id, program.uniform("u_height_offset"),
-                       float(quantization.offset - camera.position().z));
+                       float(k * quantization.offset - camera.position().z));
+    glProgramUniform1f(id, program.uniform("u_exaggeration"), float(k));
     glProgramUniform1i(id, program.uniform("u_patch_cells"), n - 1);
     glProgramUniform1i(id, program.uniform("u_block_cells"), layout.block_cells);
     glProgramUniform1i(id, program.uniform("u_blocks_per_side"), blocks_per_side);
@@ -497,6 +501,7 @@ lod::Selection TerrainRenderer::Impl::prepare(const lod::Camera& camera,
     ss.cull = settings.cull;
     ss.max_patches = size_t(slots);
     ss.side_on = settings.side_on_bound;
+    ss.exaggeration = settings.exaggeration;
     schemeFor(settings).adjustSelection(settings, ss);
     lod::Selection selection = quadtree.select(camera, ss);
     stats.cpu_select_ms = millisecondsSince(t0);
@@ -792,8 +797,8 @@ FrameStats TerrainRenderer::draw(const lod::Camera& camera, const RenderSettings
         glProgramUniform3f(id, p->uniform("u_sun_direction"), float(sun.x), float(sun.y),
                            float(sun.z));
         glProgramUniform2f(id, p->uniform("u_height_range"),
-                           float(m.min_height - camera.position().z),
-                           float(m.max_height - camera.position().z));
+                           float(s.exaggeration * m.min_height - camera.position().z),
+                           float(s.exaggeration * m.max_height - camera.position().z));
         glProgramUniform1f(id, p->uniform("u_sea_level"), float(-camera.position().z));
         // Archives before format v4 store no water: the palette's old rule, heights <= 0 m.
         glProgramUniform1i(id, p->uniform("u_water_from_height"),
@@ -931,19 +936,26 @@ CapturedSurface TerrainRenderer::capture(const lod::Camera& camera, const Render
     return out;
 }
 
-double TerrainRenderer::groundHeight(double x, double y) const
+double TerrainRenderer::groundHeight(double x, double y, double exaggeration) const
 {
-    return impl_->coarse->groundHeight(x, y);
+    checkParameter("exaggeration", exaggeration, RenderSettings::kExaggerationRange);
+    return exaggeration * impl_->coarse->groundHeight(x, y);
 }
 
-void TerrainRenderer::clipPlanesFor(glm::dvec3 position, double& near_m, double& far_m) const
+void TerrainRenderer::clipPlanesFor(glm::dvec3 position, double& near_m, double& far_m,
+                                    double exaggeration) const
 {
-    impl_->coarse->clipPlanesFor(position, near_m, far_m);
+    if (exaggeration == 1.0)
+        return impl_->coarse->clipPlanesFor(position, near_m, far_m);
+    impl_->coarse->exaggerated(exaggeration).clipPlanesFor(position, near_m, far_m);
 }
 
-lod::Camera TerrainRenderer::defaultCamera(lod::Viewport viewport, double fov_y_degrees) const
+lod::Camera TerrainRenderer::defaultCamera(lod::Viewport viewport, double fov_y_degrees,
+                                           double exaggeration) const
 {
-    return impl_->coarse->defaultCamera(viewport, fov_y_degrees);
+    if (exaggeration == 1.0)
+        return impl_->coarse->defaultCamera(viewport, fov_y_degrees);
+    return impl_->coarse->exaggerated(exaggeration).defaultCamera(viewport, fov_y_degrees);
 }
 
 } // namespace ridge::render

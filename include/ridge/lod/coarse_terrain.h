@@ -24,6 +24,12 @@ class CoarseTerrain {
     const TerrainFrame& frame() const { return frame_; }
     const Box& box() const { return box_; }
 
+    // The same terrain with every height multiplied by `exaggeration` (render-time vertical
+    // exaggeration, RenderSettings::exaggeration): its ground, clip planes and default camera
+    // are those of the drawn, exaggerated surface. Throws ridge::Error outside
+    // SelectionSettings::kExaggerationRange.
+    CoarseTerrain exaggerated(double exaggeration) const;
+
     // Terrain-frame height (metres) of the level-0 patch's surface under (x, y), bilinear
     // between its samples. Points off the terrain take the nearest border point, however far
     // (huge finite coordinates clamp); the read never leaves the patch. Throws ridge::Error

@@ -52,6 +52,12 @@ struct SelectionSettings {
     // The drawn mesh's vertical error as a multiple of Err(P): 1 for meshes of the patch's
     // own samples; 1 + k for Ulrich's chunks simplified to k·Err(P) (lod/chunk_mesh.h).
     double error_scale = 1.0;
+    // Vertical exaggeration: the terrain is drawn with every height multiplied by this factor
+    // (the camera lives in that space), so selection measures boxes and Err(P) there too —
+    // Err_Scr of the exaggerated surface is exaggeration · Err_Scr, and ε holds on what is
+    // drawn. 1: true heights.
+    static constexpr ValueRange kExaggerationRange = ValueRange::closed(0.01, 100.0);
+    double exaggeration = 1.0;
 
     // Throws ridge::Error naming the first field outside its range (max_patches must be >= 1).
     void validate() const;
@@ -81,7 +87,9 @@ class PatchQuadtree {
     const TerrainFrame& frame() const { return frame_; }
     const PyramidGeometry& geometry() const { return frame_.geometry(); }
     const PatchBounds& bounds(PatchId p) const { return bounds_[geometry().patchIndex(p)]; }
-    Box box(PatchId p) const;
+    // The patch's box in the terrain frame, heights multiplied by `exaggeration`
+    // (SelectionSettings::exaggeration).
+    Box box(PatchId p, double exaggeration = 1.0) const;
 
     // Validates `settings` first (SelectionSettings::validate).
     Selection select(const Camera& camera, const SelectionSettings& settings) const;
@@ -89,7 +97,8 @@ class PatchQuadtree {
   private:
     struct Thresholds {
         double gamma;       // γ (texture detail)
-        double error_gamma; // γ · error_scale (Err_Scr)
+        double error_gamma; // γ · error_scale · exaggeration (Err_Scr)
+        double exaggeration;
         double epsilon;     // pixels
         double texel;       // pixels; 0 off
     };

@@ -25,6 +25,10 @@ struct CameraPlacement {
     std::optional<glm::dvec3> look_at_lonlat;  // longitude°, latitude°, height m (NaN: ground)
     std::optional<double> heading_deg;         // with pitch_deg, instead of a look-at point
     std::optional<double> pitch_deg;
+    // The vertical exaggeration the camera will be drawn with (RenderSettings::exaggeration):
+    // heights given are in the drawn space, and the ground a height is relative to, or a
+    // look-at point without a height rests on, is the drawn ground, k times the true one.
+    double exaggeration = 1.0;
 
     bool empty() const
     {

@@ -66,6 +66,12 @@ struct RenderSettings {
     // tessellation_rule = Paper reproduces their LOD for like-for-like comparisons.
     bool side_on_bound = true;
     bool skirts = true;
+    // Vertical exaggeration at render time: every height drawn k times the archive's. The
+    // camera is in that space (its z, the ground clamps: groundHeight · k), and selection,
+    // tessellation, culling and skirts measure the exaggerated surface, so ε holds on what is
+    // drawn; colours stay those of the true heights, normals are the exaggerated surface's.
+    static constexpr ValueRange kExaggerationRange = lod::SelectionSettings::kExaggerationRange;
+    double exaggeration = 1.0;
     DebugMode mode = DebugMode::Shaded;
     bool wireframe = false; // triangle edges over the shading
     bool sky = true;        // gradient sky; otherwise clear to clear_colour
@@ -273,14 +279,18 @@ class TerrainRenderer {
     uint64_t cacheMisses() const;
     uint64_t cacheHits() const;
     // Camera placement over this terrain, from its level-0 patch (lod::CoarseTerrain, which
-    // says how; each throws ridge::Error for NaN, infinite or out-of-range arguments).
+    // says how; each throws ridge::Error for NaN, infinite or out-of-range arguments), in the
+    // space drawn with `exaggeration` (RenderSettings::exaggeration: heights times it).
     // An oblique view from the south-south-west that frames the whole terrain.
-    lod::Camera defaultCamera(lod::Viewport viewport, double fov_y_degrees = 60.0) const;
+    lod::Camera defaultCamera(lod::Viewport viewport, double fov_y_degrees = 60.0,
+                              double exaggeration = 1.0) const;
     // near/far planes that suit a camera at `position` over this terrain.
-    void clipPlanesFor(glm::dvec3 position, double& near_m, double& far_m) const;
-    // Terrain-frame height (metres) of the level-0 patch's surface under (x, y), bilinearly
-    // (cheap, for cameras); points off the terrain take its nearest border point.
-    double groundHeight(double x, double y) const;
+    void clipPlanesFor(glm::dvec3 position, double& near_m, double& far_m,
+                       double exaggeration = 1.0) const;
+    // Terrain-frame height (metres, times `exaggeration`) of the level-0 patch's surface under
+    // (x, y), bilinearly (cheap, for cameras); points off the terrain take its nearest border
+    // point.
+    double groundHeight(double x, double y, double exaggeration = 1.0) const;
 
   private:
     struct Impl;

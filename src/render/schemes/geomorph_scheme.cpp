@@ -219,14 +219,15 @@ class GeomorphScheme final : public TerrainScheme {
     void completeInstances(const lod::Camera& lod_camera, const RenderSettings& settings,
                            PatchInstances& instances) const override
     {
-        const double gamma = lod::screenSpaceErrorFactor(lod_camera);
+        // In the exaggerated space (RenderSettings::exaggeration), as the selection measures.
+        const double gamma = lod::screenSpaceErrorFactor(lod_camera) * settings.exaggeration;
         for (size_t k = 0; k < instances.patches.size(); ++k) {
             const PatchId p = instances.patches[k];
             if (p.level == 0) {
                 instances.records[k].morph = 0.f;
                 continue;
             }
-            const lod::Box box = quadtree_.box(p);
+            const lod::Box box = quadtree_.box(p, settings.exaggeration);
             const double rho = lod::visibleDepthBound(
                 lod_camera, box, lod::distanceToBox(lod_camera.position(), box),
                 settings.side_on_bound); // the selection's own bound
@@ -276,10 +277,11 @@ class GeomorphScheme final : public TerrainScheme {
         const GLuint id = program.id();
         glProgramUniform1i(id, program.uniform("u_layout"), int(settings_.layout));
         glProgramUniform1i(id, program.uniform("u_hemisphere_map"), int(settings_.map));
-        glProgramUniform1f(id, program.uniform("u_geomorph_height_scale"), float(settings_.scale));
-        // Compact codes become camera-relative metres directly: offset − camera z.
+        // Compact codes become camera-relative drawn metres directly: k·offset − camera z.
+        const double k = frame.settings.exaggeration;
+        glProgramUniform1f(id, program.uniform("u_geomorph_height_scale"), float(k * settings_.scale));
         glProgramUniform1f(id, program.uniform("u_geomorph_height_offset"),
-                           float(settings_.offset - frame.camera.position().z));
+                           float(k * settings_.offset - frame.camera.position().z));
         glBindTextureUnit(3, hemisphere_.id());
     }
 
