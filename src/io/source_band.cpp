@@ -100,9 +100,15 @@ SourceBand::SourceBand(const std::string& path, const IngestOptions& options) : 
     if (!dataset_)
         fail(withGdalDetail("cannot open as a raster", capture));
 
-    if (GDALGetRasterCount(dataset_.get()) < 1)
+    const int band_count = GDALGetRasterCount(dataset_.get());
+    if (band_count < 1)
         fail("has no raster band" + subdatasetHint(dataset_.get()));
-    band_ = GDALGetRasterBand(dataset_.get(), 1);
+    if (options.band > band_count)
+        fail("band " + std::to_string(options.band) + " was asked for, but it has " +
+             (band_count == 1 ? std::string("1 band") : std::to_string(band_count) + " bands (1.." +
+                                                            std::to_string(band_count) + ")"));
+    band_number_ = options.band;
+    band_ = GDALGetRasterBand(dataset_.get(), band_number_);
     width_ = GDALGetRasterBandXSize(band_);
     height_ = GDALGetRasterBandYSize(band_);
     if (width_ < 2 || height_ < 2)
@@ -194,6 +200,24 @@ void SourceBand::checkSpacing(const GeoReference& geo) const
     }
 }
 
+std::vector<std::string> SourceBand::bandNames() const
+{
+    std::vector<std::string> names;
+    const int count = GDALGetRasterCount(dataset_.get());
+    for (int b = 1; b <= count; ++b) {
+        GDALRasterBandH band = GDALGetRasterBand(dataset_.get(), b);
+        const char* description = band ? GDALGetDescription(band) : nullptr;
+        const GDALColorInterp interp = band ? GDALGetRasterColorInterpretation(band) : GCI_Undefined;
+        if (description && *description)
+            names.push_back(description);
+        else if (interp != GCI_Undefined)
+            names.push_back(GDALGetColorInterpretationName(interp));
+        else
+            names.push_back("band " + std::to_string(b));
+    }
+    return names;
+}
+
 std::string SourceBand::dataTypeName() const
 {
     return signed_byte_ ? "Int8" : GDALGetDataTypeName(type_);
@@ -282,6 +306,9 @@ void IngestOptions::validate() const
         checkParameter("z_offset", *z_offset, kZOffsetRange);
     if (max_error)
         checkParameter("max_error", *max_error, kMaxErrorRange);
+    checkParameter("band", int64_t{band}, 1, kMaxBand);
+    if (vertical_datum)
+        resolveVerticalDatum(*vertical_datum); // throws naming vertical_datum
     if (fill_voids != VoidFill::All && fill_voids != VoidFill::Interior &&
         fill_voids != VoidFill::None)
         throw Error("fill_voids is " + std::to_string(static_cast<int>(fill_voids)) +
