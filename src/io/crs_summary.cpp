@@ -35,6 +35,9 @@ Context newContext()
     Context c(proj_context_create());
     if (!c)
         throw Error("PROJ context could not be created");
+    // Errors come back through the calls and are worded by us; PROJ's own log would print
+    // "proj_create_from_database: crs not found" on stderr besides.
+    proj_log_level(c.get(), PJ_LOG_NONE);
     return c;
 }
 

@@ -94,11 +94,22 @@ SourceBand::SourceBand(const std::string& path, const IngestOptions& options) : 
     GDALDriverH driver = GDALIdentifyDriverEx(path.c_str(), GDAL_OF_RASTER, nullptr, nullptr);
     if (driver && EQUAL(GDALGetDriverShortName(driver), "GTiff"))
         open_options.SetNameValue("NUM_THREADS", "ALL_CPUS");
-    dataset_.reset(GDALOpenEx(path.c_str(),
-                              GDAL_OF_RASTER | GDAL_OF_READONLY | GDAL_OF_VERBOSE_ERROR, nullptr,
-                              open_options.List(), nullptr));
-    if (!dataset_)
-        fail(withGdalDetail("cannot open as a raster", capture));
+    const auto open = [&] {
+        dataset_.reset(GDALOpenEx(path.c_str(),
+                                  GDAL_OF_RASTER | GDAL_OF_READONLY | GDAL_OF_VERBOSE_ERROR,
+                                  nullptr, open_options.List(), nullptr));
+        if (!dataset_)
+            fail(withGdalDetail("cannot open as a raster", capture));
+    };
+    open();
+    // Threads only help compressed blocks, and GDAL 3.6's threaded reader of an uncompressed
+    // multi-band GeoTIFF prints a bogus libtiff error for every block ("Bad value 2 for
+    // ExtraSamples tag", from its worker threads, past any capture): read those on one thread.
+    if (open_options.Count() > 0 && GDALGetRasterCount(dataset_.get()) > 1 &&
+        !GDALGetMetadataItem(dataset_.get(), "COMPRESSION", "IMAGE_STRUCTURE")) {
+        open_options.Clear();
+        open();
+    }
 
     const int band_count = GDALGetRasterCount(dataset_.get());
     if (band_count < 1)

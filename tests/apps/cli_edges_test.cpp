@@ -188,6 +188,14 @@ TEST(CliEdges, AMultiBandSourceNamesTheBandItReadsAndMinusBChoosesAnother)
     }
     EXPECT_TRUE(contains(test::runRidge("info " + inQuotes(second)).output, "Band 2 Type=Byte"));
 
+    // An uncompressed three-band GeoTIFF (gdal_translate's default): read without GDAL 3.6's
+    // threaded-decoding noise ("Bad value 2 for ExtraSamples tag" for every block).
+    const std::string tif = dir.path("everest_3band.tif");
+    gdalTranslate(test::dataPath("everest_crop.tif"), tif, {"-b", "1", "-b", "1", "-b", "1"});
+    r = test::runRidge("build " + inQuotes(tif) + " -o " + inQuotes(dir.path("tif.ridge")) + " -b 3");
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_FALSE(contains(r.output, "ERROR")) << r.output;
+
     // A band the raster lacks: a usage error before any work, naming the count.
     r = test::runRidge("build " + inQuotes(jpeg) + " -o " + inQuotes(dir.path("x.ridge")) + " -b 4");
     EXPECT_EQ(r.exit_code, 2) << r.output;
