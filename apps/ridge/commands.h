@@ -117,6 +117,8 @@ class ViewCommand {
     int frames_ = 0;         // > 0: render this many frames, then exit (smoke tests)
     std::string screenshot_; // PNG of the last frame, read back before the final swap
     CameraArgs camera_args_; // the starting camera, as `ridge render` takes it
+    std::string mode_ = "shaded"; // --mode, as `ridge render` takes it
+    bool no_overlay_ = false;     // start with the overlay hidden (O shows it)
     render::RendererOptions renderer_options_ = render::RendererOptions::streamingDefaults();
 };
 
@@ -140,14 +142,21 @@ class Commands {
   public:
     // GDAL's single-dash spellings of extract's options ("-ot" for "--ot"): CLI11 takes one
     // letter after a single dash, so main rewrites these arguments before parsing.
-    static constexpr const char* kGdalStyleFlags[] = {"-ot", "-of", "-co", "-a_nodata"};
+    static constexpr const char* kGdalStyleFlags[] = {"-ot",      "-of",     "-co",
+                                                      "-a_nodata", "-srcwin", "-projwin"};
 
     void registerAll(CLI::App& app);
     // Runs the subcommand that was parsed; returns the process exit code.
     int run();
 
   private:
+    void registerBuild(CLI::App& app); // build_command.cpp
+    void registerInfo(CLI::App& app);  // info_command.cpp
     void validateBuildOptions() const;
+    // What can be known wrong before reading a sample (UsageError): the codec's name and what
+    // it needs (--max-error, RIDGE_ALLOW_HTJ2K), a band the raster lacks. Warns on stderr
+    // when a raster of several bands is read without -b. Returns the raster's probe.
+    io::RasterProbe checkBuildBeforeWork() const;
     int runBuild();
     int runInfo();
     int runVerify();
@@ -168,6 +177,7 @@ class Commands {
     std::string archive_;
     // build
     BuildOptions build_options_;
+    bool band_given_ = false; // -b was given: no warning about other bands
     // verify
     std::string source_;
     // extract / hillshade

@@ -20,10 +20,16 @@ int main(int argc, char** argv)
     app.name("ridge");
     app.require_subcommand(1);
     app.set_version_flag("--version", "ridge 0.1.0");
-    app.footer("Exit status: 0 success, 1 failure, 2 usage error. --json prints a JSON document "
-               "on stdout (human text then goes to stderr).");
     Commands commands;
     commands.registerAll(app);
+    // Each --help names only what its command takes: the --json sentence only where --json is.
+    const std::string exit_status = "Exit status: 0 success, 1 failure, 2 usage error.";
+    app.footer(exit_status);
+    for (CLI::App* command : app.get_subcommands([](CLI::App*) { return true; }))
+        command->footer(command->get_option_no_throw("--json")
+                            ? exit_status + " --json prints one JSON document on stdout (human "
+                                            "text then goes to stderr or is not printed)."
+                            : exit_status);
     installInterruptHandler();
     std::vector<std::string> args(argv + (argc > 0 ? 1 : 0), argv + argc);
     for (std::string& arg : args)

@@ -130,6 +130,33 @@ inline void addCameraOptions(CLI::App& command, CameraArgs& args, const std::str
                      "The camera's height (Z or H) is metres above the terrain under it");
 }
 
+// --mode as `render` and `view` take it: shaded, lod (level colours), tess (tessellation
+// factors).
+inline render::DebugMode parseDebugMode(const std::string& mode)
+{
+    if (mode == "shaded")
+        return render::DebugMode::Shaded;
+    if (mode == "lod")
+        return render::DebugMode::LodLevels;
+    if (mode == "tess")
+        return render::DebugMode::TessellationFactors;
+    throw UsageError("--mode " + mode + ": expected shaded, lod or tess");
+}
+
+inline void addModeOption(CLI::App& command, std::string& mode)
+{
+    command
+        .add_option("--mode", mode,
+                    "shaded, lod (level colours) or tess (tessellation-factor heat map)")
+        ->capture_default_str()
+        ->check(CLI::Validator(
+            [](std::string& text) -> std::string {
+                parseDebugMode(text); // throws UsageError naming --mode
+                return {};
+            },
+            "shaded|lod|tess"));
+}
+
 // A registered LOD scheme's name (render::lodSchemeNames()); `option` names the flag in the
 // message.
 inline std::string parseLodScheme(const std::string& name, const std::string& option)

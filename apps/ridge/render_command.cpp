@@ -14,20 +14,6 @@
 #include <cstdio>
 
 namespace ridge::cli {
-namespace {
-
-render::DebugMode parseMode(const std::string& mode)
-{
-    if (mode == "shaded")
-        return render::DebugMode::Shaded;
-    if (mode == "lod")
-        return render::DebugMode::LodLevels;
-    if (mode == "tess")
-        return render::DebugMode::TessellationFactors;
-    throw UsageError("--mode " + mode + ": expected shaded, lod or tess");
-}
-
-} // namespace
 
 void RenderCommand::registerWith(CLI::App& app)
 {
@@ -46,10 +32,7 @@ void RenderCommand::registerWith(CLI::App& app)
         ->capture_default_str()
         ->check(inRange("--error", render::RenderSettings::kEpsilonPxRange));
     addTexelSizeOption(*command_, texel_px_);
-    command_
-        ->add_option("--mode", mode_,
-                     "shaded, lod (level colours) or tess (tessellation-factor heat map)")
-        ->capture_default_str();
+    addModeOption(*command_, mode_);
     command_
         ->add_option(
             "--lod", lod_,
@@ -106,7 +89,7 @@ int RenderCommand::run()
     options.vram_budget_mb = vram_mb_;
     options.settings.epsilon_px = error_;
     options.settings.texel_px = texel_px_;
-    options.settings.mode = parseMode(mode_);
+    options.settings.mode = parseDebugMode(mode_);
     options.settings.scheme = parseLodScheme(lod_, "--lod");
     options.settings.wireframe = wireframe_;
     options.settings.cull = !no_cull_;

@@ -70,8 +70,11 @@ std::string describeUsageError(CLI::App& app, const std::vector<std::string>& ar
         const std::string name = arg.substr(0, arg.find('='));
         if (command->get_option_no_throw(name) || app.get_option_no_throw(name))
             continue;
-        // "-qv": CLI11 takes clusters of single-letter flags; only whole names are judged.
-        if (name[1] != '-' && name.size() > 2)
+        // "-qv", "-b2": CLI11 reads a single dash and several letters as a cluster of
+        // single-letter flags, or one with its value attached, when the first letter is one
+        // of the command's; otherwise ("-projwin" where there is no -p) it is unknown.
+        if (name[1] != '-' && name.size() > 2 &&
+            command->get_option_no_throw(name.substr(0, 2)))
             continue;
         return where + ": unknown option '" + name + "'" + suggestion(name, flagNames(*command)) +
                " (" + where + " --help lists its options)";

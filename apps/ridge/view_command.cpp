@@ -2,6 +2,7 @@
 // GLFW input onto FlyCamera and RenderSettings, draw with TerrainRenderer and lay a Dear ImGui
 // stats overlay over it. Everything terrain-related lives in libridge; this file is input
 // plumbing and the overlay.
+#include "camera_readout.h"
 #include "commands.h"
 #include "range_check.h"
 #include "render_args.h"
@@ -42,7 +43,9 @@
 #endif
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <memory>
 #include <vector>
 #endif
@@ -137,45 +140,31 @@ void writeScreenshot(const std::string& path, int width, int height)
     io::writePng(path, rgb.data(), width, height, 3);
 }
 
-const char* modeName(render::DebugMode mode)
-{
-    switch (mode) {
-    case render::DebugMode::Shaded:
-        return "shaded";
-    case render::DebugMode::LodLevels:
-        return "LOD levels";
-    case render::DebugMode::TessellationFactors:
-        return "tessellation factors";
-    }
-    return "?";
-}
-
 // The viewer's per-session state and its frame.
 class Viewer {
   public:
     // `start`: the camera the command line asked for (render's options), else the default.
     Viewer(gpu::WindowContext& window, render::TerrainRenderer& renderer, double fov_y_degrees,
-           double epsilon_px, double texel_px, const ResolvedCamera& start,
-           const archive::ArchiveReader& reader)
+           double epsilon_px, double texel_px, render::DebugMode mode, bool show_overlay,
+           const ResolvedCamera& start, const archive::ArchiveReader& reader)
         : window_(window), renderer_(renderer), fov_y_degrees_(fov_y_degrees),
-          archive_(reader.path()), georeference_(reader)
+          archive_(reader.path()), readout_(reader), show_overlay_(show_overlay)
     {
         settings_.epsilon_px = std::clamp(epsilon_px, kMinEpsilonPx, kMaxEpsilonPx);
         settings_.texel_px = texel_px; // range-checked by the option
+        settings_.mode = mode;
 
         int w = 1, h = 1;
         window_.framebufferSize(w, h);
         const lod::Viewport viewport{std::max(w, 1), std::max(h, 1)};
-        // Crossing the terrain takes about 20 s at the starting speed, whatever its size.
-        const lod::TerrainFrame& frame = renderer_.quadtree().frame();
-        const double extent = std::max(frame.extentX(), frame.extentY());
         render::HeadlessRenderOptions options; // the same camera `ridge render` would draw
         options.camera = start.position;
         options.look_at = start.look_at;
         options.fov_y_degrees = fov_y_degrees_;
         options.viewport = viewport;
-        fly_ = render::FlyCamera::from(render::cameraFor(renderer_, options),
-                                       std::max(extent / 20.0, 1.0));
+        fly_ = render::FlyCamera::from(render::cameraFor(renderer_, options));
+        // The speed follows the height above the ground (updateCamera), from the first frame.
+        fly_.setSpeed(CameraReadout::flySpeed(heightAboveGround(), speed_rate_));
         glfwSetWindowUserPointer(window_.window(), &pending_);
         glfwSetScrollCallback(window_.window(), onScroll);
         glfwSetKeyCallback(window_.window(), onKey);
@@ -319,8 +308,13 @@ class Viewer {
         in.up = down(GLFW_KEY_E) || down(GLFW_KEY_SPACE);
         in.down = down(GLFW_KEY_Q) || down(GLFW_KEY_LEFT_CONTROL);
         in.fast = down(GLFW_KEY_LEFT_SHIFT) || down(GLFW_KEY_RIGHT_SHIFT);
-        in.speed_steps = pending_.scroll;
+        // The wheel scales the speed's rate per metre of height; the speed itself follows the
+        // height above the ground, so that skimming a valley is slow and crossing a continent
+        // from orbit is not.
+        speed_rate_ = std::clamp(speed_rate_ * std::pow(fly_.speedFactor(), pending_.scroll),
+                                 CameraReadout::kMinSpeedRate, CameraReadout::kMaxSpeedRate);
         pending_.scroll = 0.0;
+        fly_.setSpeed(CameraReadout::flySpeed(heightAboveGround(), speed_rate_));
 
         // Mouse look while the right button is held (a press over the overlay belongs to the
         // overlay) or while Tab has captured the cursor. The cursor is hidden and unbounded
@@ -356,27 +350,44 @@ class Viewer {
         }
     }
 
+    // Metres between the camera and the level-0 surface under it (negative below it).
+    double heightAboveGround() const
+    {
+        const glm::dvec3 p = fly_.position();
+        return p.z - renderer_.groundHeight(p.x, p.y);
+    }
+
+    // A compact panel in the top-left corner: frame rate, the camera in each of its frames and
+    // the speed; statistics, settings and keys in sections that start closed. The title bar's
+    // arrow collapses it to one line, O hides it.
     void drawOverlay(double frame_ms)
     {
         ImGui_ImplOpenGL3_NewFrame();
         ImGui_ImplGlfw_NewFrame();
         ImGui::NewFrame();
-        ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
-        ImGui::SetNextWindowBgAlpha(0.75f);
-        ImGui::Begin("ridge view", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
-        ImGui::Text("%.1f fps (%.2f ms smoothed), this frame %.2f ms",
-                    1000.0 / std::max(smoothed_ms_, 1e-3), smoothed_ms_, frame_ms);
-        ImGui::Text("GPU terrain pass %.2f ms, uploads %.2f ms", stats_.gpu_ms,
-                    stats_.gpu_upload_ms);
-        ImGui::Text("triangles %.3f M (%.1f Mtri/s)", double(stats_.triangles) * 1e-6,
-                    double(stats_.triangles) * 1e-3 / std::max(smoothed_ms_, 1e-3));
-        ImGui::Text("CPU select %.2f ms, load %.2f ms", stats_.cpu_select_ms, stats_.cpu_load_ms);
-        ImGui::Text("patches: %d drawn, %d culled, %d resident, %d loaded this frame",
-                    stats_.patches, stats_.culled, stats_.resident, stats_.loaded);
-        ImGui::Text("streaming: %d patches still coming (drawn by an ancestor)", stats_.missing);
-        ImGui::Text("this frame: read %.1f kB, decoded %.1f kB, uploaded %.1f kB (%d on the GPU)",
-                    double(stats_.bytes_read) / 1024.0, double(stats_.bytes_decoded) / 1024.0,
-                    double(stats_.bytes_uploaded) / 1024.0, stats_.reconstructed);
+        ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
+        ImGui::SetNextWindowBgAlpha(0.6f);
+        // Lines wrap at about a quarter of the window, so that no line widens the panel.
+        const float wrap = std::clamp(0.28f * float(width_), 260.f, 380.f);
+        ImGui::SetNextWindowSizeConstraints(ImVec2(0, 0), ImVec2(wrap + 24.f, float(height_)));
+        char title[96];
+        std::snprintf(title, sizeof title, "%.0f fps, %d patches###ridge view",
+                      1000.0 / std::max(smoothed_ms_, 1e-3), stats_.patches);
+        if (!ImGui::Begin(title, nullptr,
+                          ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoFocusOnAppearing)) {
+            ImGui::End(); // collapsed: the title bar alone
+            finishOverlay();
+            return;
+        }
+        ImGui::PushTextWrapPos(wrap);
+        const glm::dvec3 p = fly_.position();
+        for (const std::string& line : readout_.positionLines(p))
+            ImGui::TextUnformatted(line.c_str());
+        ImGui::Text("%.0f m above ground, speed %.0f m/s", heightAboveGround(), fly_.speed());
+        ImGui::Text("heading %.1f° from grid north, pitch %.1f°", fly_.yaw() * kDegreesPerRadian,
+                    fly_.pitch() * kDegreesPerRadian);
+        if (stats_.missing > 0)
+            ImGui::Text("streaming: %d patches to come", stats_.missing);
         const std::string stream_error = renderer_.streamingError();
         if (!stream_error.empty())
             ImGui::TextColored(ImVec4(1.f, 0.4f, 0.3f, 1.f), "%s", stream_error.c_str());
@@ -384,52 +395,66 @@ class Viewer {
             ImGui::TextColored(ImVec4(1.f, 0.7f, 0.3f, 1.f),
                                "epsilon raised to %.2f px: the selection exceeded the slots",
                                stats_.epsilon_px);
-        ImGui::Separator();
-        float epsilon = float(settings_.epsilon_px);
-        if (ImGui::SliderFloat("epsilon (px)", &epsilon, float(kMinEpsilonPx), float(kMaxEpsilonPx),
-                               "%.2f", ImGuiSliderFlags_Logarithmic))
-            settings_.epsilon_px = std::clamp(double(epsilon), kMinEpsilonPx, kMaxEpsilonPx);
-        float texel = float(settings_.texel_px);
-        if (ImGui::SliderFloat("texel size (px, 0 off)", &texel, 0.f, 16.f, "%.2f"))
-            settings_.texel_px = std::clamp(double(texel), 0.0, 16.0);
-        int mode = int(settings_.mode);
-        if (ImGui::Combo("mode", &mode, "shaded\0LOD levels\0tessellation factors\0"))
-            settings_.mode = render::DebugMode(mode);
-        drawLegend();
-        ImGui::Checkbox("wireframe", &settings_.wireframe);
-        ImGui::SameLine();
-        ImGui::Checkbox("cull", &settings_.cull);
-        ImGui::SameLine();
-        ImGui::Checkbox("skirts", &settings_.skirts);
-        ImGui::SameLine();
-        ImGui::Checkbox("fog", &settings_.fog);
-        ImGui::Checkbox("stay above ground", &clamp_to_ground_);
-        ImGui::Separator();
-        const glm::dvec3 p = fly_.position();
-        ImGui::Text("camera %.1f E, %.1f N, %.1f m (%.1f m above ground)", p.x, p.y, p.z,
-                    p.z - renderer_.groundHeight(p.x, p.y));
-        ImGui::Text("heading %.1f deg (from grid north), pitch %.1f deg, speed %.1f m/s",
-                    fly_.yaw() * kDegreesPerRadian, fly_.pitch() * kDegreesPerRadian,
-                    fly_.speed());
-        if (georeference_.hasCrs()) {
-            try { // PROJ refuses points outside the projection's domain: no line then
-                const glm::dvec2 ll = georeference_.fromLocal({p.x, p.y}, PointSpace::LonLat);
-                ImGui::Text("camera %.6f, %.6f (WGS 84 lon, lat); true north %+.3f deg from grid",
-                            ll.x, ll.y, georeference_.convergenceDegrees({p.x, p.y}));
-            } catch (const Error&) {
-            }
-        }
         if (!camera_line_.empty())
             ImGui::TextWrapped("copied: %s", camera_line_.c_str());
-        ImGui::Text("mode: %s", modeName(settings_.mode));
-        ImGui::Text("GL: %s", window_.rendererName().c_str());
-        ImGui::Separator();
-        ImGui::TextUnformatted(
-            "WASD move, Q/E down/up, Shift fast, wheel speed, right-drag or Tab look");
-        ImGui::TextUnformatted(
-            "F1-F3 modes, F4/Z wireframe, C cull, K skirts, L scheme, G fog, H ground, O overlay, "
-            "+/- epsilon, P print/copy camera, Esc quit");
+        drawLegend();
+        if (ImGui::CollapsingHeader("statistics")) {
+            ImGui::Text("%.2f ms smoothed, this frame %.2f ms", smoothed_ms_, frame_ms);
+            ImGui::Text("GPU terrain %.2f ms, uploads %.2f ms", stats_.gpu_ms,
+                        stats_.gpu_upload_ms);
+            ImGui::Text("triangles %.3f M (%.1f Mtri/s)", double(stats_.triangles) * 1e-6,
+                        double(stats_.triangles) * 1e-3 / std::max(smoothed_ms_, 1e-3));
+            ImGui::Text("CPU select %.2f ms, load %.2f ms", stats_.cpu_select_ms,
+                        stats_.cpu_load_ms);
+            ImGui::Text("patches: %d drawn, %d culled, %d resident, %d loaded", stats_.patches,
+                        stats_.culled, stats_.resident, stats_.loaded);
+            ImGui::Text("read %.1f kB, decoded %.1f kB, uploaded %.1f kB (%d on the GPU)",
+                        double(stats_.bytes_read) / 1024.0, double(stats_.bytes_decoded) / 1024.0,
+                        double(stats_.bytes_uploaded) / 1024.0, stats_.reconstructed);
+            ImGui::Text("GL: %s", window_.rendererName().c_str());
+        }
+        if (ImGui::CollapsingHeader("settings")) {
+            float epsilon = float(settings_.epsilon_px);
+            if (ImGui::SliderFloat("epsilon (px)", &epsilon, float(kMinEpsilonPx),
+                                   float(kMaxEpsilonPx), "%.2f", ImGuiSliderFlags_Logarithmic))
+                settings_.epsilon_px = std::clamp(double(epsilon), kMinEpsilonPx, kMaxEpsilonPx);
+            float texel = float(settings_.texel_px);
+            if (ImGui::SliderFloat("texel size (px, 0 off)", &texel, 0.f, 16.f, "%.2f"))
+                settings_.texel_px = std::clamp(double(texel), 0.0, 16.0);
+            float rate = float(speed_rate_);
+            if (ImGui::SliderFloat("speed (x height / s)", &rate,
+                                   float(CameraReadout::kMinSpeedRate),
+                                   float(CameraReadout::kMaxSpeedRate), "%.2f",
+                                   ImGuiSliderFlags_Logarithmic))
+                speed_rate_ = std::clamp(double(rate), CameraReadout::kMinSpeedRate,
+                                         CameraReadout::kMaxSpeedRate);
+            int mode = int(settings_.mode);
+            if (ImGui::Combo("mode", &mode, "shaded\0LOD levels\0tessellation factors\0"))
+                settings_.mode = render::DebugMode(mode);
+            ImGui::Checkbox("wireframe", &settings_.wireframe);
+            ImGui::SameLine();
+            ImGui::Checkbox("cull", &settings_.cull);
+            ImGui::SameLine();
+            ImGui::Checkbox("skirts", &settings_.skirts);
+            ImGui::SameLine();
+            ImGui::Checkbox("fog", &settings_.fog);
+            ImGui::Checkbox("stay above ground", &clamp_to_ground_);
+            ImGui::Text("LOD scheme: %s (L: next)", settings_.scheme.c_str());
+        }
+        if (ImGui::CollapsingHeader("keys")) {
+            ImGui::TextUnformatted("WASD move, Q/E down/up, Shift fast, wheel speed, right-drag "
+                                   "or Tab look");
+            ImGui::TextUnformatted("F1-F3 modes, F4/Z wireframe, C cull, K skirts, L scheme, G "
+                                   "fog, H ground, O overlay, +/- epsilon, P print/copy camera, "
+                                   "Esc quit");
+        }
+        ImGui::PopTextWrapPos();
         ImGui::End();
+        finishOverlay();
+    }
+
+    static void finishOverlay()
+    {
         ImGui::Render();
         ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
     }
@@ -462,7 +487,7 @@ class Viewer {
     double fov_y_degrees_;
     std::string archive_;
     std::string camera_line_; // the last camera P printed
-    TerrainGeoreference georeference_;
+    CameraReadout readout_;
     render::RenderSettings settings_;
     render::FlyCamera fly_;
     render::FrameStats stats_;
@@ -470,6 +495,8 @@ class Viewer {
     bool quit_ = false;
     bool clamp_to_ground_ = true;
     bool show_overlay_ = true; // O or F10
+    // Fly speed per metre of height above the ground, per second (the wheel scales it).
+    double speed_rate_ = CameraReadout::kDefaultSpeedRate;
     bool captured_ = false;    // Tab: mouse look without holding a button
     bool dragging_ = false;    // right button held, pressed outside the overlay
     bool looking_ = false;     // cursor disabled for mouse look
@@ -498,6 +525,9 @@ void ViewCommand::registerWith(CLI::App& app)
         ->capture_default_str()
         ->check(inRange("--error", ValueRange::closed(kMinEpsilonPx, kMaxEpsilonPx)));
     addCameraOptions(*command_, camera_args_, "an oblique view of the whole terrain");
+    addModeOption(*command_, mode_);
+    command_->add_flag("--no-overlay", no_overlay_,
+                       "Start with the statistics overlay hidden (O or F10 shows it)");
     addTexelSizeOption(*command_, texel_px_);
     addStreamingOptions(*command_, renderer_options_);
     addGeomorphOptions(*command_, renderer_options_);
@@ -548,7 +578,8 @@ int ViewCommand::run()
         // Streaming: the window never waits for disk or decoding; missing patches are drawn by
         // their resident ancestors until they arrive.
         render::TerrainRenderer renderer(reader, renderer_options_);
-        Viewer viewer(*window, renderer, fov_y_degrees_, epsilon_px_, texel_px_, start, reader);
+        Viewer viewer(*window, renderer, fov_y_degrees_, epsilon_px_, texel_px_,
+                      parseDebugMode(mode_), !no_overlay_, start, reader);
         const ImGuiSession imgui(window->window());
 
         for (int frame = 0; frames_ == 0 || frame < frames_; ++frame) {

@@ -127,11 +127,16 @@ void expectHeader(const std::string& name, int64_t value, uint32_t header, const
                std::to_string(header));
 }
 
+// GDAL's most bands in one dataset (IngestOptions::kMaxBand).
+constexpr int64_t kMaxBand = 65536;
+
 SourceMetadata parseSource(const Section& s, const Header& header)
 {
     SourceMetadata m;
     m.path = s.string("path");
     m.data_type = s.string("data_type");
+    if (s.find("band"))
+        m.band = static_cast<int>(s.integer("band", 1, kMaxBand));
     constexpr int64_t kMaxInt = std::numeric_limits<int64_t>::max();
     m.width = s.integer("width", 0, kMaxInt);
     expectHeader(s.path("width"), m.width, header.width, "width");
@@ -187,6 +192,17 @@ GeoreferenceMetadata parseGeoreference(const Section& s)
             values[k] = Section::numberValue(s.path("geotransform") + "[" + std::to_string(k) + "]",
                                              (*gt)[k], ValueRange::any());
         m.geotransform = values;
+    }
+    if (s.find("vertical_datum")) {
+        const Section datum = s.section("vertical_datum");
+        VerticalDatumMetadata d;
+        d.name = datum.string("name");
+        if (d.name.empty())
+            reject(datum.path("name") + " is \"\": must name the datum");
+        if (datum.find("epsg"))
+            d.epsg = static_cast<int>(datum.integer("epsg", 1, std::numeric_limits<int>::max()));
+        d.origin = datum.optionalString("from").value_or("");
+        m.vertical_datum = d;
     }
     return m;
 }

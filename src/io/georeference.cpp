@@ -1,5 +1,8 @@
 #include "georeference.h"
 
+#include "ridge/core/error.h"
+#include "ridge/io/crs_summary.h"
+
 #include <cpl_conv.h>
 #include <ogr_srs_api.h>
 
@@ -97,6 +100,18 @@ GeoReference readGeoReference(GDALDatasetH dataset, int width, int height,
                                              : projectedSpacing(srs, gt);
             if (usable(s))
                 spacing = s;
+        }
+    }
+
+    // The heights' datum: the user's word first (it corrects sources that state none, or a
+    // wrong one), else the vertical part of a compound CRS. A CRS PROJ cannot summarise
+    // states no datum ridge can use.
+    if (options.vertical_datum) {
+        geo.vertical_datum = resolveVerticalDatum(*options.vertical_datum);
+    } else if (!geo.crs_wkt.empty()) {
+        try {
+            geo.vertical_datum = summarizeCrs(geo.crs_wkt, "source CRS").vertical;
+        } catch (const Error&) {
         }
     }
 

@@ -1,4 +1,4 @@
-// ingestRaster: open band 1, read it strip by strip into codes, fill voids, record
+// ingestRaster: open the heights' band, read it strip by strip into codes, fill voids, record
 // georeferencing. ReferenceRaster: the same source as exact metres with NaN voids.
 #include "ridge/io/raster_source.h"
 
@@ -193,6 +193,7 @@ RasterProbe probeRaster(const std::string& path, const IngestOptions& options)
     probe.strip_extra_bytes_per_sample =
         (probe.direct_codes ? 0 : int(sizeof(double))) + (probe.has_mask_band ? 1 : 0);
     probe.block_cache_bytes = std::max(detail::kIngestCacheBytes, 2 * band.blockRowBytes());
+    probe.band_names = band.bandNames();
     return probe;
 }
 

@@ -94,15 +94,32 @@ SourceBand::SourceBand(const std::string& path, const IngestOptions& options) : 
     GDALDriverH driver = GDALIdentifyDriverEx(path.c_str(), GDAL_OF_RASTER, nullptr, nullptr);
     if (driver && EQUAL(GDALGetDriverShortName(driver), "GTiff"))
         open_options.SetNameValue("NUM_THREADS", "ALL_CPUS");
-    dataset_.reset(GDALOpenEx(path.c_str(),
-                              GDAL_OF_RASTER | GDAL_OF_READONLY | GDAL_OF_VERBOSE_ERROR, nullptr,
-                              open_options.List(), nullptr));
-    if (!dataset_)
-        fail(withGdalDetail("cannot open as a raster", capture));
+    const auto open = [&] {
+        dataset_.reset(GDALOpenEx(path.c_str(),
+                                  GDAL_OF_RASTER | GDAL_OF_READONLY | GDAL_OF_VERBOSE_ERROR,
+                                  nullptr, open_options.List(), nullptr));
+        if (!dataset_)
+            fail(withGdalDetail("cannot open as a raster", capture));
+    };
+    open();
+    // Threads only help compressed blocks, and GDAL 3.6's threaded reader of an uncompressed
+    // multi-band GeoTIFF prints a bogus libtiff error for every block ("Bad value 2 for
+    // ExtraSamples tag", from its worker threads, past any capture): read those on one thread.
+    if (open_options.Count() > 0 && GDALGetRasterCount(dataset_.get()) > 1 &&
+        !GDALGetMetadataItem(dataset_.get(), "COMPRESSION", "IMAGE_STRUCTURE")) {
+        open_options.Clear();
+        open();
+    }
 
-    if (GDALGetRasterCount(dataset_.get()) < 1)
+    const int band_count = GDALGetRasterCount(dataset_.get());
+    if (band_count < 1)
         fail("has no raster band" + subdatasetHint(dataset_.get()));
-    band_ = GDALGetRasterBand(dataset_.get(), 1);
+    if (options.band > band_count)
+        fail("band " + std::to_string(options.band) + " was asked for, but it has " +
+             (band_count == 1 ? std::string("1 band") : std::to_string(band_count) + " bands (1.." +
+                                                            std::to_string(band_count) + ")"));
+    band_number_ = options.band;
+    band_ = GDALGetRasterBand(dataset_.get(), band_number_);
     width_ = GDALGetRasterBandXSize(band_);
     height_ = GDALGetRasterBandYSize(band_);
     if (width_ < 2 || height_ < 2)
@@ -192,6 +209,24 @@ void SourceBand::checkSpacing(const GeoReference& geo) const
     } catch (const Error& e) {
         fail(e.what());
     }
+}
+
+std::vector<std::string> SourceBand::bandNames() const
+{
+    std::vector<std::string> names;
+    const int count = GDALGetRasterCount(dataset_.get());
+    for (int b = 1; b <= count; ++b) {
+        GDALRasterBandH band = GDALGetRasterBand(dataset_.get(), b);
+        const char* description = band ? GDALGetDescription(band) : nullptr;
+        const GDALColorInterp interp = band ? GDALGetRasterColorInterpretation(band) : GCI_Undefined;
+        if (description && *description)
+            names.push_back(description);
+        else if (interp != GCI_Undefined)
+            names.push_back(GDALGetColorInterpretationName(interp));
+        else
+            names.push_back("band " + std::to_string(b));
+    }
+    return names;
 }
 
 std::string SourceBand::dataTypeName() const
@@ -284,6 +319,9 @@ void IngestOptions::validate() const
         checkParameter("max_error", *max_error, kMaxErrorRange);
     if (sea_level)
         checkParameter("sea_level", *sea_level, kSeaLevelRange);
+    checkParameter("band", int64_t{band}, 1, kMaxBand);
+    if (vertical_datum)
+        resolveVerticalDatum(*vertical_datum); // throws naming vertical_datum
     if (fill_voids != VoidFill::All && fill_voids != VoidFill::Interior &&
         fill_voids != VoidFill::None)
         throw Error("fill_voids is " + std::to_string(static_cast<int>(fill_voids)) +

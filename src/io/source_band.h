@@ -1,5 +1,6 @@
 #pragma once
-// Band 1 of a source raster as both ingestRaster and ReferenceRaster see it: opened and
+// The heights' band of a source raster (IngestOptions::band, default 1) as both ingestRaster
+// and ReferenceRaster see it: opened and
 // validated, with one definition of "void", one z_scale/z_offset rule and one strip reader.
 #include "gdal_support.h"
 
@@ -28,13 +29,17 @@ void validateOptions(const std::string& path, const IngestOptions& options);
 
 class SourceBand {
 public:
-    // Opens band 1 read-only. Throws Error("path: ...") when the file cannot be opened, has
-    // no raster band, is smaller than 2x2, or has an unsupported data type.
+    // Opens band options.band read-only. Throws Error("path: ...") when the file cannot be
+    // opened, has no raster band or not that one, is smaller than 2x2, or has an unsupported
+    // data type.
     SourceBand(const std::string& path, const IngestOptions& options);
 
     const std::string& path() const { return path_; }
     GDALDatasetH dataset() const { return dataset_.get(); }
     GDALRasterBandH band() const { return band_; }
+    int bandNumber() const { return band_number_; } // 1-based
+    // Each band's name: description, else colour interpretation, else "band N".
+    std::vector<std::string> bandNames() const;
     int width() const { return width_; }
     int height() const { return height_; }
     GDALDataType dataType() const { return type_; }
@@ -55,7 +60,7 @@ public:
     // Bytes of one row of blocks in GDAL's block cache.
     int64_t blockRowBytes() const;
 
-    // Reads rows [y0, y0 + rows) of band 1 converted to `buffer_type` into `out`.
+    // Reads rows [y0, y0 + rows) of the band converted to `buffer_type` into `out`.
     void readRows(int y0, int rows, GDALDataType buffer_type, void* out) const;
     // Reads the mask band's rows [y0, y0 + rows) (0 = void). Only when hasMaskBand().
     void readMaskRows(int y0, int rows, uint8_t* out) const;
@@ -80,6 +85,7 @@ private:
     std::string path_;
     DatasetPtr dataset_;
     GDALRasterBandH band_ = nullptr;
+    int band_number_ = 1;
     int width_ = 0;
     int height_ = 0;
     int block_width_ = 1;

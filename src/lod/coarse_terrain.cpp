@@ -23,6 +23,43 @@ double clampToSamples(double index, int last)
     return index > 0.0 ? std::min(index, double(last)) : 0.0;
 }
 
+// The camera's offset e along `axis` (camera depth `ce` along `forward` fixed) at which the
+// samples' projections s_k = (p_k·axis − e) / (p_k·forward − ce) are centred, max s + min s =
+// 0, by bisection (the sum decreases with e); `fallback` when the centred extent would leave
+// [−k, k] (k: the margin's tangent).
+double centredOffset(const std::vector<glm::dvec3>& samples, glm::dvec3 axis, glm::dvec3 forward,
+                     double ce, double k, double fallback)
+{
+    auto extent = [&](double e, double& lo, double& hi) {
+        lo = INFINITY;
+        hi = -INFINITY;
+        for (const glm::dvec3& p : samples) {
+            const double s = (glm::dot(p, axis) - e) / (glm::dot(p, forward) - ce);
+            lo = std::min(lo, s);
+            hi = std::max(hi, s);
+        }
+    };
+    double lo = 0, hi = 0;
+    extent(fallback, lo, hi);
+    // Bracket: moving e by the samples' whole spread along the axis (plus a metre) shifts
+    // every projection past the centre.
+    double a_lo = INFINITY, a_hi = -INFINITY;
+    for (const glm::dvec3& p : samples) {
+        a_lo = std::min(a_lo, glm::dot(p, axis));
+        a_hi = std::max(a_hi, glm::dot(p, axis));
+    }
+    double below = fallback - (a_hi - a_lo) - 1.0, above = fallback + (a_hi - a_lo) + 1.0;
+    for (int i = 0; i < 60; ++i) {
+        const double mid = 0.5 * (below + above);
+        extent(mid, lo, hi);
+        (lo + hi > 0 ? below : above) = mid;
+    }
+    const double e = 0.5 * (below + above);
+    extent(e, lo, hi);
+    const double tolerance = 1e-9 * k;
+    return lo >= -k - tolerance && hi <= k + tolerance ? e : fallback;
+}
+
 } // namespace
 
 CoarseTerrain::CoarseTerrain(TerrainFrame frame, Box root_box, std::vector<uint16_t> root_codes,
@@ -83,42 +120,80 @@ void CoarseTerrain::clipPlanesFor(glm::dvec3 position, double& near_m, double& f
     far_m = std::max(farthest * 1.5, near_m * 2.0);
 }
 
+std::vector<glm::dvec3> CoarseTerrain::surfaceSamples() const
+{
+    // Root samples inside the valid extent, plus its last column and row (which fall between
+    // root samples when the extent is not a multiple of the root's step).
+    const PyramidGeometry& g = frame_.geometry();
+    const int64_t step = g.step(0);
+    auto lines = [step](int count) {
+        std::vector<double> at;
+        for (int64_t k = 0; k < count - 1; k += step)
+            at.push_back(double(k));
+        at.push_back(double(count - 1));
+        return at;
+    };
+    const std::vector<double> columns = lines(g.width()), rows = lines(g.height());
+    std::vector<glm::dvec3> samples;
+    samples.reserve(columns.size() * rows.size());
+    for (const double row : rows)
+        for (const double column : columns) {
+            const double x = frame_.xOf(column), y = frame_.yOf(row);
+            samples.emplace_back(x, y, groundHeight(x, y));
+        }
+    return samples;
+}
+
 Camera CoarseTerrain::defaultCamera(Viewport viewport, double fov_y_degrees) const
 {
-    // The box's heights are the index's floats; summed in float as the renderer always did,
-    // so that the default view (and the reference renders made with it) stays bit-identical.
-    const float lo = float(box_.min.z), hi = float(box_.max.z);
-    const glm::dvec3 centre(0.5 * frame_.extentX(), 0.5 * frame_.extentY(), 0.5 * (lo + hi));
-    const double dz = double(hi - lo);
-    const double radius = 0.5 * std::sqrt(frame_.extentX() * frame_.extentX() +
-                                          frame_.extentY() * frame_.extentY() + dz * dz);
+    // The field of view and viewport, validated by Camera before any arithmetic (the fit
+    // divides by the half-angles' tangents).
+    const Camera probe(glm::dvec3(0.0, 0.0, 1.0), glm::dvec3(0.0), fov_y_degrees, viewport, 1.0,
+                       2.0); // throws for a viewport Camera refuses
+
+    // The direction: from the south-south-west, 35° above the horizon.
     const double azimuth = 200.0 * std::numbers::pi / 180.0;
     const double elevation = 35.0 * std::numbers::pi / 180.0;
-    const glm::dvec3 dir(std::sin(azimuth) * std::cos(elevation),
-                         std::cos(azimuth) * std::cos(elevation), std::sin(elevation));
-    auto framed = [&](const Camera& camera) {
-        for (int k = 0; k < 8; ++k) {
-            const glm::dvec3 corner((k & 1) ? box_.max.x : box_.min.x,
-                                    (k & 2) ? box_.max.y : box_.min.y,
-                                    (k & 4) ? box_.max.z : box_.min.z);
-            glm::dvec2 px;
-            if (!camera.project(corner, px) || px.x < 0.04 * viewport.width ||
-                px.x > 0.96 * viewport.width || px.y < 0.04 * viewport.height ||
-                px.y > 0.96 * viewport.height)
-                return false;
-        }
-        return true;
-    };
-    double distance = 0.25 * radius;
-    for (;;) {
-        const glm::dvec3 position = centre + dir * distance;
-        double near_m = 1.0, far_m = 1e6;
-        clipPlanesFor(position, near_m, far_m);
-        const Camera camera(position, centre, fov_y_degrees, viewport, near_m, far_m);
-        if (framed(camera) || distance > 100.0 * radius)
-            return camera;
-        distance *= 1.05;
+    const glm::dvec3 forward(-std::sin(azimuth) * std::cos(elevation),
+                             -std::cos(azimuth) * std::cos(elevation), -std::sin(elevation));
+    // The basis Camera derives from a forward vector (camera.cpp): right = forward × z.
+    const glm::dvec3 right = glm::normalize(glm::cross(forward, glm::dvec3(0.0, 0.0, 1.0)));
+    const glm::dvec3 up = glm::cross(right, forward);
+
+    // The position: the nearest from which every sample of the surface lies inside the picture
+    // with a 4 % margin, and the surface centred in it. With the orientation fixed this is
+    // exact: in camera axes (a right, b up, c forward) a point is inside when
+    // |a − a_e| ≤ k_x (c − c_e) and |b − b_e| ≤ k_y (c − c_e); the tightest eye meets the
+    // extreme points' bounding planes: c_e = (Q − P) / 2k, a_e = (P + Q) / 2 with
+    // P = max(a − k c), Q = min(a + k c), per axis, and the smaller c_e (further back) of the
+    // two axes serves both. Framing the surface rather than its bounding box keeps a tall
+    // summit from leaving the terrain a fifth of the frame.
+    const double ky = 0.92 * std::tan(0.5 * probe.fovY());
+    const double kx = 0.92 * std::tan(0.5 * probe.fovX());
+    double pa = -INFINITY, qa = INFINITY, pb = -INFINITY, qb = INFINITY;
+    glm::dvec3 centre(0.0);
+    const std::vector<glm::dvec3> samples = surfaceSamples();
+    for (const glm::dvec3& p : samples) {
+        const double a = glm::dot(p, right), b = glm::dot(p, up), c = glm::dot(p, forward);
+        pa = std::max(pa, a - kx * c);
+        qa = std::min(qa, a + kx * c);
+        pb = std::max(pb, b - ky * c);
+        qb = std::min(qb, b + ky * c);
+        centre += p;
     }
+    centre /= double(samples.size());
+    const double ce = std::min((qa - pa) / (2.0 * kx), (qb - pb) / (2.0 * ky));
+    // On the looser axis the planes' midpoint is not the pixels' midpoint (near samples move
+    // further on screen than far ones): centre the projected extent itself, unless that would
+    // push a sample past the margin.
+    const double ae = centredOffset(samples, right, forward, ce, kx, 0.5 * (pa + qa));
+    const double be = centredOffset(samples, up, forward, ce, ky, 0.5 * (pb + qb));
+    const glm::dvec3 position = right * ae + up * be + forward * ce;
+    // Looking along `forward`, at the depth of the surface's centre.
+    const double depth = std::max(glm::dot(centre - position, forward), 1.0);
+    double near_m = 1.0, far_m = 1e6;
+    clipPlanesFor(position, near_m, far_m);
+    return Camera(position, position + forward * depth, fov_y_degrees, viewport, near_m, far_m);
 }
 
 } // namespace ridge::lod

@@ -20,6 +20,7 @@
 #include <algorithm>
 #include <cmath>
 #include <chrono>
+#include <filesystem>
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -117,14 +118,23 @@ BuildContext makeContext(int width, int height, const HeightQuantization& q,
     return ctx;
 }
 
+// The source as the archive names it: as given, except that an absolute path keeps only its
+// file name (an archive travels; the builder's directories are none of its readers' business).
+std::string recordedSourceName(const std::string& source_path)
+{
+    const std::filesystem::path p(source_path);
+    return p.is_absolute() && p.has_filename() ? p.filename().string() : source_path;
+}
+
 std::string metadataJson(const std::string& source_path, const io::IngestStats& stats,
                          const io::GeoReference& geo, const BuildContext& ctx,
                          const BuildOptions& options)
 {
     nlohmann::json meta = {
         {"generator", "ridge 0.1.0"},
-        {"source", {{"path", source_path},
+        {"source", {{"path", recordedSourceName(source_path)},
                     {"data_type", stats.data_type},
+                    {"band", options.ingest.band},
                     {"width", ctx.geometry.width()},
                     {"height", ctx.geometry.height()},
                     {"valid_samples", stats.valid_samples},
@@ -149,6 +159,12 @@ std::string metadataJson(const std::string& source_path, const io::IngestStats& 
     };
     if (geo.has_geotransform)
         meta["georeference"]["geotransform"] = geo.geotransform;
+    if (geo.vertical_datum.known()) {
+        nlohmann::json& datum = meta["georeference"]["vertical_datum"];
+        datum = {{"name", geo.vertical_datum.name}, {"from", geo.vertical_datum.origin}};
+        if (geo.vertical_datum.epsg)
+            datum["epsg"] = *geo.vertical_datum.epsg;
+    }
     // JSON has no NaN: a NaN nodata (float rasters) is recorded as absent, and extract then
     // writes NaN anyway.
     if (stats.nodata && std::isfinite(*stats.nodata))

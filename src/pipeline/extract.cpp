@@ -116,7 +116,13 @@ io::SampleType chooseType(const ExtractOptions& options, const std::string& sour
     } catch (const Error&) {
         // Not a type ridge writes (or none recorded): say so below.
     }
-    if (source && holds(*source)) {
+    // A floating-point source comes back in its own type, as gdal_translate writes it: the
+    // heights to the source's own precision (Float32: within half a unit in the last place,
+    // which max_rounding_error reports), not doubled in size as Float64.
+    const bool in_range = source && std::all_of(values.begin(), values.end(), [&](double v) {
+                              return v >= source->lo && v <= source->hi;
+                          });
+    if (source && ((!source->integer && in_range) || holds(*source))) {
         report.type_reason = "the source's type";
         return *source;
     }

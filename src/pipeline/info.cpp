@@ -2,6 +2,7 @@
 
 #include "ridge/archive/archive_reader.h"
 #include "ridge/core/error.h"
+#include "ridge/io/crs_summary.h"
 #include "ridge/pipeline/terrain_georeference.h"
 
 #include <algorithm>
@@ -91,6 +92,25 @@ ArchiveInfo readArchiveInfo(const std::string& archive_path)
         info.levels.push_back(li);
     }
     info.corners = cornersOf(reader, info.lon_lat_note);
+
+    const archive::ArchiveMetadata& meta = reader.metadata();
+    info.band = meta.source.band.value_or(1);
+    info.data_type = meta.source.data_type;
+    info.nodata = meta.source.nodata;
+    info.quantization_step = h.height_scale;
+    info.exact = meta.source.exact;
+    info.vertical_datum = meta.georeference.vertical_datum;
+    try {
+        const io::CrsSummary crs = io::summarizeCrs(meta.georeference.crs_wkt, archive_path);
+        info.crs_name = crs.name;
+        info.epsg = crs.epsg;
+        if (!info.vertical_datum && crs.vertical.known())
+            info.vertical_datum = archive::VerticalDatumMetadata{crs.vertical.name,
+                                                                 crs.vertical.epsg,
+                                                                 crs.vertical.origin};
+    } catch (const Error& e) {
+        info.crs_note = e.what(); // the WKT PROJ cannot read is still printed whole by --json
+    }
     return info;
 }
 

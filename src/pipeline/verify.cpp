@@ -240,6 +240,7 @@ void compareWithSource(const ArchiveReader& reader, const std::vector<CodeGrid>&
     io::IngestOptions options;
     options.z_scale = reader.metadata().build.z_scale;
     options.z_offset = reader.metadata().build.z_offset;
+    options.band = reader.metadata().source.band.value_or(1); // the band the archive was built from
     io::ReferenceRaster source(source_path, options);
     const PyramidGeometry& g = reader.geometry();
     if (source.width() != g.width() || source.height() != g.height()) {

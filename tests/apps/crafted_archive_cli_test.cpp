@@ -85,6 +85,35 @@ std::vector<Craft> crafts()
              a.setMetadata(j.dump());
          },
          "metadata: build.patch_size is 65 but the header's patch_size is 33"},
+        // The optional keys of issue 22: checked when present.
+        {"metadata_band.ridge",
+         [](ArchiveBytes& a) {
+             nlohmann::json j = nlohmann::json::parse(a.metadata());
+             j["source"]["band"] = 0;
+             a.setMetadata(j.dump());
+         },
+         "metadata: source.band is 0: must be an integer in [1, 65536]"},
+        {"metadata_datum_name.ridge",
+         [](ArchiveBytes& a) {
+             nlohmann::json j = nlohmann::json::parse(a.metadata());
+             j["georeference"]["vertical_datum"] = {{"name", ""}, {"epsg", 5773}};
+             a.setMetadata(j.dump());
+         },
+         "metadata: georeference.vertical_datum.name is \"\": must name the datum"},
+        {"metadata_datum_epsg.ridge",
+         [](ArchiveBytes& a) {
+             nlohmann::json j = nlohmann::json::parse(a.metadata());
+             j["georeference"]["vertical_datum"] = {{"name", "EGM96 height"}, {"epsg", "5773"}};
+             a.setMetadata(j.dump());
+         },
+         "metadata: georeference.vertical_datum.epsg is \"5773\": must be an integer"},
+        {"metadata_datum_kind.ridge",
+         [](ArchiveBytes& a) {
+             nlohmann::json j = nlohmann::json::parse(a.metadata());
+             j["georeference"]["vertical_datum"] = "EGM96 height";
+             a.setMetadata(j.dump());
+         },
+         "metadata: georeference.vertical_datum is \"EGM96 height\": must be an object"},
     };
 }
 

@@ -6,9 +6,11 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <vector>
 
 using namespace ridge;
 namespace fs = std::filesystem;
@@ -127,4 +129,46 @@ TEST(RenderCli, BadInputsGetAClearErrorANonZeroExitAndNoPicture)
                                                  dir.path("no/such/dir/x.png") + "' --size 64x64");
     EXPECT_NE(r.exit_code, 0);
     EXPECT_NE(r.output.find("x.png"), std::string::npos) << r.output;
+}
+
+// The default camera left the terrain a fifth of the frame (a sixth of its pixels at
+// 640 x 360 on the Everest tile): it framed the terrain's bounding box, which the summit makes
+// tall and mostly empty. Measured on the picture: pixels that are not the plain background.
+TEST(RenderCli, TheDefaultViewFillsTheFrameWithTheTerrain)
+{
+    test::ScratchDir dir;
+    const std::string arc = test::buildEverestWithCli(dir, "everest.ridge", "");
+    const std::string png = dir.path("default.png");
+    const test::CommandResult r = test::runRidge("render " + quoted(arc) + " -o " + quoted(png) +
+                                                 " --size 640x360 --no-sky --no-fog -q");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    GDALAllRegister();
+    GDALDatasetH ds = GDALOpen(png.c_str(), GA_ReadOnly);
+    ASSERT_NE(ds, nullptr);
+    const int w = GDALGetRasterXSize(ds), h = GDALGetRasterYSize(ds);
+    std::vector<uint8_t> rgb(size_t(w) * h * 3);
+    ASSERT_EQ(GDALDatasetRasterIO(ds, GF_Read, 0, 0, w, h, rgb.data(), w, h, GDT_Byte, 3, nullptr,
+                                  3, w * 3, 1),
+              CE_None);
+    GDALClose(ds);
+    // The top-left corner is background: the view keeps a 4 % margin around the terrain.
+    size_t terrain = 0;
+    int x0 = w, x1 = -1, y0 = h, y1 = -1;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const size_t i = (size_t(y) * w + x) * 3;
+            if (rgb[i] != rgb[0] || rgb[i + 1] != rgb[1] || rgb[i + 2] != rgb[2]) {
+                ++terrain;
+                x0 = std::min(x0, x);
+                x1 = std::max(x1, x);
+                y0 = std::min(y0, y);
+                y1 = std::max(y1, y);
+            }
+        }
+    EXPECT_GE(double(terrain) / (double(w) * h), 0.35);
+    // Spanning the picture on one axis, clear of its edges.
+    EXPECT_TRUE(x1 - x0 > 0.85 * w || y1 - y0 > 0.85 * h) << x0 << ".." << x1 << " x " << y0 << ".." << y1;
+    EXPECT_GT(x0, 0);
+    EXPECT_GT(y0, 0);
+    EXPECT_LT(x1, w - 1);
 }

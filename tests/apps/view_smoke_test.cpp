@@ -5,6 +5,7 @@
 #include <gdal.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <cstdlib>
@@ -98,4 +99,108 @@ TEST(ViewSmoke, StartsAtAGeographicCameraAndRefusesABadOneBeforeOpeningAWindow)
                "--pitch -20");
     EXPECT_EQ(bad.exit_code, 1) << bad.output;
     EXPECT_NE(bad.output.find("latitude"), std::string::npos) << bad.output;
+}
+
+namespace {
+
+struct Picture {
+    int width = 0, height = 0;
+    std::vector<uint8_t> rgb;
+};
+
+Picture readPicture(const std::string& path)
+{
+    GDALAllRegister();
+    Picture p;
+    GDALDatasetH ds = GDALOpen(path.c_str(), GA_ReadOnly);
+    EXPECT_NE(ds, nullptr) << path;
+    if (!ds)
+        return p;
+    p.width = GDALGetRasterXSize(ds);
+    p.height = GDALGetRasterYSize(ds);
+    p.rgb.resize(size_t(p.width) * p.height * 3);
+    EXPECT_EQ(GDALDatasetRasterIO(ds, GF_Read, 0, 0, p.width, p.height, p.rgb.data(), p.width,
+                                  p.height, GDT_Byte, 3, nullptr, 3, p.width * 3, 1),
+              CE_None);
+    GDALClose(ds);
+    return p;
+}
+
+// `ridge view ARCHIVE ARGS` for a few frames in Xvfb, patches loaded before each frame (no
+// streaming: two runs draw the same terrain), the last frame as `png`.
+test::CommandResult viewShot(const std::string& archive, const std::string& png,
+                             const std::string& args)
+{
+    return test::runShell("xvfb-run -a -s '-screen 0 1400x900x24' " + std::string(RIDGE_CLI_PATH) +
+                          " view '" + archive + "' --frames 6 --size 1280x720 --no-streaming " +
+                          "--screenshot '" + png + "' " + args);
+}
+
+} // namespace
+
+// The overlay covered about 70 % x 55 % of a 1280 x 720 window, hiding the summit the camera
+// looks at. Measured as the pixels that differ between the same view with and without it.
+TEST(ViewSmoke, TheOverlayIsCompact)
+{
+    if (!haveXvfbRun())
+        GTEST_SKIP() << "xvfb-run is not installed (apt-get install xvfb)";
+    test::ScratchDir dir;
+    const std::string arc = buildArchive(dir);
+    const std::string with = dir.path("with.png"), without = dir.path("without.png");
+    test::CommandResult r = viewShot(arc, with, "");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    r = viewShot(arc, without, "--no-overlay");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const Picture a = readPicture(with), b = readPicture(without);
+    ASSERT_EQ(a.width, 1280);
+    ASSERT_EQ(a.height, 720);
+    ASSERT_EQ(a.rgb.size(), b.rgb.size());
+    int x0 = a.width, x1 = -1, y0 = a.height, y1 = -1;
+    for (int y = 0; y < a.height; ++y)
+        for (int x = 0; x < a.width; ++x) {
+            const size_t i = (size_t(y) * a.width + x) * 3;
+            if (a.rgb[i] != b.rgb[i] || a.rgb[i + 1] != b.rgb[i + 1] || a.rgb[i + 2] != b.rgb[i + 2]) {
+                x0 = std::min(x0, x);
+                x1 = std::max(x1, x);
+                y0 = std::min(y0, y);
+                y1 = std::max(y1, y);
+            }
+        }
+    ASSERT_GE(x1, 0) << "no overlay drawn at all";
+    const double w = double(x1 - x0 + 1) / a.width, h = double(y1 - y0 + 1) / a.height;
+    EXPECT_LE(w, 0.32) << "overlay " << x0 << ".." << x1 << " x " << y0 << ".." << y1;
+    EXPECT_LE(h, 0.32) << "overlay " << x0 << ".." << x1 << " x " << y0 << ".." << y1;
+    EXPECT_LE(w * h, 0.10);
+    // In the top-left corner, clear of the centre, where the default view puts the terrain.
+    EXPECT_LT(x1, a.width / 2);
+    EXPECT_LT(y1, a.height / 2);
+}
+
+// `view --mode` as `render --mode`: it was refused as an unknown option.
+TEST(ViewSmoke, TakesTheModeRenderTakes)
+{
+    test::ScratchDir dir;
+    const std::string arc = buildArchive(dir);
+    // Without a display: refused for the display (status 1), not for the flag (status 2).
+    const std::string cli = "env -u DISPLAY -u WAYLAND_DISPLAY " + std::string(RIDGE_CLI_PATH);
+    test::CommandResult r = test::runShell(cli + " view '" + arc + "' --mode lod --frames 1");
+    EXPECT_EQ(r.exit_code, 1) << r.output;
+    EXPECT_NE(r.output.find("no display"), std::string::npos) << r.output;
+    r = test::runShell(cli + " view '" + arc + "' --mode heat --frames 1");
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find("--mode heat: expected shaded, lod or tess"), std::string::npos)
+        << r.output;
+    if (!haveXvfbRun())
+        GTEST_SKIP() << "xvfb-run is not installed (apt-get install xvfb)";
+    // Drawn: the level colours differ from the shading over the terrain.
+    const std::string shaded = dir.path("shaded.png"), lod = dir.path("lod.png");
+    ASSERT_EQ(viewShot(arc, shaded, "--no-overlay").exit_code, 0);
+    r = viewShot(arc, lod, "--no-overlay --mode lod");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const Picture a = readPicture(shaded), b = readPicture(lod);
+    ASSERT_EQ(a.rgb.size(), b.rgb.size());
+    size_t differ = 0;
+    for (size_t i = 0; i < a.rgb.size(); i += 3)
+        differ += a.rgb[i] != b.rgb[i] || a.rgb[i + 1] != b.rgb[i + 1] || a.rgb[i + 2] != b.rgb[i + 2];
+    EXPECT_GT(differ, a.rgb.size() / 3 / 5) << "the LOD colours should cover the terrain";
 }

@@ -18,8 +18,9 @@ namespace ridge::archive {
 
 // "source": the raster the archive was built from, as ingest saw it.
 struct SourceMetadata {
-    std::string path;
-    std::string data_type;     // GDAL data type name of band 1, e.g. "Int16"
+    std::string path;          // the source as named at build (an absolute path: its file name)
+    std::string data_type;     // GDAL data type name of the band read, e.g. "Int16"
+    std::optional<int> band;   // that band, 1-based (absent before 2027: band 1)
     int64_t width = 0;         // == header width
     int64_t height = 0;        // == header height
     int64_t valid_samples = 0; // >= 0 (streamed builds over-count: see docs/FORMAT.md)
@@ -33,6 +34,13 @@ struct SourceMetadata {
     bool exact = false; // every valid sample is its code's height (quantization_error 0)
 };
 
+// "georeference.vertical_datum": what the heights are measured from.
+struct VerticalDatumMetadata {
+    std::string name;            // non-empty, e.g. "EGM96 height"
+    std::optional<int> epsg;     // of the vertical CRS, in [1, 2^31 - 1]
+    std::string origin;          // "source CRS" or "--vertical-datum" (free text)
+};
+
 // "georeference": where the finest grid sits (GDAL conventions, pixel-is-area).
 struct GeoreferenceMetadata {
     std::string crs_wkt;        // may be empty
@@ -40,6 +48,7 @@ struct GeoreferenceMetadata {
     std::string vertical_units; // as the source states them, may be empty
     bool spacing_from_user = false;
     std::optional<std::array<double, 6>> geotransform; // GDAL order, finite, of the finest grid
+    std::optional<VerticalDatumMetadata> vertical_datum; // absent: unknown
 };
 
 // "build": the options the archive was built with.

@@ -1,11 +1,13 @@
 #pragma once
-// Ingest of elevation rasters through GDAL (band 1 of anything GDAL can read).
+// Ingest of elevation rasters through GDAL (one band, by default the first, of anything GDAL
+// can read).
 //
 // This is the only module (with raster_writer.h) that talks to GDAL; GDAL headers never
 // appear in ridge's public headers.
 #include "ridge/core/height_grid.h"
 #include "ridge/core/parameter_check.h"
 #include "ridge/core/progress.h"
+#include "ridge/io/crs_summary.h"
 
 #include <array>
 #include <cstdint>
@@ -28,6 +30,9 @@ struct GeoReference {
     double spacing_x = 1.0;
     double spacing_y = 1.0;
     bool spacing_from_user = false;
+    // What the heights are measured from: IngestOptions::vertical_datum when given, else the
+    // vertical part of the source's CRS (compound CRSs), else unknown.
+    VerticalDatum vertical_datum;
 };
 
 // Which nodata samples become terrain (`ridge build --fill-voids`).
@@ -54,6 +59,16 @@ struct IngestOptions {
     static constexpr ValueRange kZOffsetRange =
         ValueRange::closed(-kMaxAbsHeightMetres, kMaxAbsHeightMetres);
     static constexpr ValueRange kMaxErrorRange = ValueRange::openClosed(0.0, kMaxAbsHeightMetres);
+    // Band numbers start at 1 (GDAL's); GDAL datasets hold at most 65536 bands per file.
+    static constexpr int64_t kMaxBand = 65536;
+
+    // The band that holds the heights (gdal_translate's -b), 1-based. Opening a raster with
+    // fewer bands is an error naming both numbers.
+    int band = 1;
+    // The heights' vertical datum (`build --vertical-datum`): an EPSG code of a vertical CRS
+    // or a name (resolveVerticalDatum). Replaces what the source's CRS says; unset: the
+    // source's CRS's vertical part, if any.
+    std::optional<std::string> vertical_datum;
 
     // Ground spacing (metres) for rasters without georeferencing. Ignored when the raster
     // is georeferenced, unless force_spacing is set.
@@ -79,13 +94,14 @@ struct IngestOptions {
     Progress progress;
 
     // Throws ridge::Error("NAME is VALUE: must be RANGE") for the first set option outside
-    // its range above (NaN and infinities included, sea_level too), and for a fill_voids that
-    // is not one of the enumerators.
+    // its range above (NaN and infinities included, sea_level too), for a band outside
+    // [1, kMaxBand], a vertical_datum resolveVerticalDatum refuses, and a fill_voids that is
+    // not one of the enumerators.
     void validate() const;
 };
 
 struct IngestStats {
-    std::string data_type;        // GDAL data type name of band 1, e.g. "Int16"
+    std::string data_type;        // GDAL data type name of the band read, e.g. "Int16"
     int64_t valid_samples = 0;    // samples that were not nodata
     int64_t voids_filled = 0;     // nodata samples filled from valid neighbours
     int64_t voids_kept = 0;       // nodata samples kept as nodata (IngestOptions::fill_voids)
@@ -114,7 +130,7 @@ struct ElevationRaster {
     std::vector<uint8_t> flags;
 };
 
-// Reads band 1 of `path` into 16-bit codes, fills voids, records georeferencing.
+// Reads band options.band of `path` into 16-bit codes, fills voids, records georeferencing.
 //
 // Quantization: 8/16-bit integer bands are exact (code = value - type minimum). Other types
 // get a pre-pass for min/max; if every valid value is an integer and the range fits 16 bits
@@ -137,10 +153,11 @@ struct ElevationRaster {
 // Memory: 2 bytes per sample plus a strip buffer; voids add 1 byte per sample while filling.
 ElevationRaster ingestRaster(const std::string& path, const IngestOptions& options = {});
 
-// What sizing a build needs to know about a raster before reading any sample: opens band 1
-// and reads no pixels (cheap even for a 10^6 x 10^6 VRT), so it can come before
+// What sizing a build needs to know about a raster before reading any sample: opens
+// options.band and reads no pixels (cheap even for a 10^6 x 10^6 VRT), so it can come before
 // CodeRowReader's pre-pass over non-integer data. Same errors as opening for ingest
-// (options, unreadable file, no band, < 2x2, unsupported type); the value checks come later.
+// (options, unreadable file, no such band, < 2x2, unsupported type); the value checks come
+// later.
 struct RasterProbe {
     int width = 0;
     int height = 0;
@@ -153,10 +170,13 @@ struct RasterProbe {
     // CodeRowReader both bound it; a row of blocks must fit twice).
     int strip_extra_bytes_per_sample = 0;
     int64_t block_cache_bytes = 0;
+    // Every band of the dataset, in order: its description, else its colour interpretation
+    // ("Red", "Gray"), else "band N". More than one: the caller should say which it reads.
+    std::vector<std::string> band_names;
 };
 RasterProbe probeRaster(const std::string& path, const IngestOptions& options = {});
 
-// Strip-wise access to band 1 as codes, for builds that never hold the whole grid.
+// Strip-wise access to options.band as codes, for builds that never hold the whole grid.
 //
 // The constructor opens the band and settles the quantization exactly as ingestRaster does
 // (8/16-bit integers: exact, no pass over the data; other types: the strip-wise pre-pass for

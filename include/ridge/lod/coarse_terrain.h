@@ -43,9 +43,14 @@ class CoarseTerrain {
     void clipPlanesFor(glm::dvec3 position, double& near_m, double& far_m) const;
 
     // An oblique view from the south-south-west, 35° above the horizon, as close as lets
-    // every corner of the terrain's box project inside the picture with a 4% margin.
-    // Throws ridge::Error for a viewport or field of view lod::Camera refuses.
+    // every surface sample (surfaceSamples) project inside the picture with a 4% margin, the
+    // surface centred: the terrain fills the frame on its tighter axis. Throws ridge::Error
+    // for a viewport or field of view lod::Camera refuses.
     Camera defaultCamera(Viewport viewport, double fov_y_degrees = 60.0) const;
+
+    // The level-0 patch's surface over the terrain's extent, terrain-frame metres: its
+    // samples inside the extent, and the extent's last column and row (bilinear there).
+    std::vector<glm::dvec3> surfaceSamples() const;
 
   private:
     TerrainFrame frame_;

@@ -30,8 +30,9 @@ struct ExtractOptions {
     std::optional<ExtractWindow> window;   // default: the level's whole valid extent
     std::optional<ProjectionWindow> projwin; // instead of `window`
     // GDAL sample type ("Int16", "Float32", ...). Default: the source's (archive metadata
-    // source.data_type) when it holds every extracted height without loss, else Float32 when
-    // that does, else Float64. A type given here is used as asked: integer types round to the
+    // source.data_type) when it is a floating-point type whose range holds the heights (they
+    // come back to the source's own precision) or an integer type that holds every extracted
+    // height exactly; else Float32 when that gives every code back, else Float64. A type given here is used as asked: integer types round to the
     // nearest integer (ExtractReport::max_rounding_error says by how much); heights outside the
     // type's range are refused.
     std::optional<std::string> output_type;

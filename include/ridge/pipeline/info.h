@@ -3,6 +3,7 @@
 #include "ridge/archive/archive_metadata.h"
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -45,6 +46,23 @@ struct ArchiveInfo {
     std::vector<LevelInfo> levels;
     std::vector<CornerInfo> corners; // empty without a geotransform
     std::string lon_lat_note;        // why corners have no lon/lat (no CRS, PROJ error), or empty
+
+    // The source band as gdalinfo describes it.
+    int band = 1;                    // source.band (1 for archives that predate it)
+    std::string data_type;           // GDAL type name ("Int16", "Float32")
+    std::optional<double> nodata;    // the band's declared nodata value, if finite
+    // The heights' code step in metres (height_scale) and whether every valid sample is held
+    // exactly; non-integer sources (Float32 ...) are quantized to this step.
+    double quantization_step = 1.0;
+    bool exact = false;
+    // CRS, through PROJ: its name and EPSG code (empty / none without a CRS, or when PROJ
+    // cannot read it: crs_note says why).
+    std::string crs_name;
+    std::optional<int> epsg;
+    std::string crs_note;
+    // What the heights are measured from: the archive's georeference.vertical_datum, else the
+    // vertical part of its CRS (archives built before the key existed); none: unknown.
+    std::optional<archive::VerticalDatumMetadata> vertical_datum;
 };
 
 // Reads header, metadata and index (not the patches). Throws ridge::Error.
