@@ -145,6 +145,17 @@ int Commands::runInfo()
     else
         fmt::print("Vertical datum: unknown (the source's CRS states none; build "
                    "--vertical-datum NAME_OR_EPSG records one)\n");
+    // Water (format v4): how it was decided and how much of the grid it is.
+    const archive::WaterMetadata& water = info.metadata.water;
+    if (info.format_version < 4)
+        fmt::print("Water: not stored (format v{}: drawn where the decoded height is <= 0 m)\n",
+                   info.format_version);
+    else
+        fmt::print("Water: {} samples ({:.1f} %), {}{}\n", water.samples,
+                   100.0 * double(water.samples) / (double(info.width) * double(info.height)),
+                   water.sea_level ? fmt::format("at or below {:g} m", *water.sea_level)
+                                   : std::string("no sea level"),
+                   water.layer ? fmt::format(", and the layer {}", *water.layer) : std::string());
     fmt::print("Patches: {}x{} samples, {} levels, {} patches, tessellation blocks {}x{} cells (λ "
                "for d = 1..{})\n",
                info.patch_size, info.patch_size, info.level_count, info.patch_count,
