@@ -113,6 +113,7 @@ class ViewCommand {
     double fov_y_degrees_ = 60.0;
     double epsilon_px_ = 2.0;
     double texel_px_ = render::RenderSettings{}.texel_px;
+    double exaggeration_ = 1.0; // --exaggeration
     bool vsync_ = true;
     int frames_ = 0;         // > 0: render this many frames, then exit (smoke tests)
     std::string screenshot_; // PNG of the last frame, read back before the final swap

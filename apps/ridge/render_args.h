@@ -216,6 +216,17 @@ inline void addTexelSizeOption(CLI::App& command, double& texel_px)
         ->check(inRange("--texel-size", render::RenderSettings::kTexelPxRange));
 }
 
+// --exaggeration: render-time vertical exaggeration (render::RenderSettings::exaggeration).
+inline void addExaggerationOption(CLI::App& command, double& exaggeration)
+{
+    command
+        .add_option("--exaggeration", exaggeration,
+                    "Vertical exaggeration: heights drawn this many times as tall (camera heights "
+                    "are in the drawn space; ε holds on the exaggerated surface)")
+        ->capture_default_str()
+        ->check(inRange("--exaggeration", render::RenderSettings::kExaggerationRange));
+}
+
 // Which LOD rules: the tessellation rule and the coarse selection's bound.
 inline void addLodRuleOptions(CLI::App& command, render::RenderSettings& settings)
 {

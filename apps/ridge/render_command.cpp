@@ -62,12 +62,7 @@ void RenderCommand::registerWith(CLI::App& app)
                      "Texture memory for resident patches, MB (ε is raised when a view needs more)")
         ->capture_default_str()
         ->check(inRange("--vram", render::RendererOptions::kVramBudgetMbRange));
-    command_
-        ->add_option("--exaggeration", exaggeration_,
-                     "Vertical exaggeration: heights drawn this many times as tall (camera heights "
-                     "are in the drawn space; ε holds on the exaggerated surface)")
-        ->capture_default_str()
-        ->check(inRange("--exaggeration", render::RenderSettings::kExaggerationRange));
+    addExaggerationOption(*command_, exaggeration_);
     command_->add_flag("--json", json_, "Print the camera and frame statistics as JSON");
     command_->add_flag("-q,--quiet", quiet_, "Print nothing on success");
 }

@@ -146,13 +146,14 @@ class Viewer {
     // `start`: the camera the command line asked for (render's options), else the default.
     Viewer(gpu::WindowContext& window, render::TerrainRenderer& renderer, double fov_y_degrees,
            double epsilon_px, double texel_px, render::DebugMode mode, bool show_overlay,
-           const ResolvedCamera& start, const archive::ArchiveReader& reader)
+           double exaggeration, const ResolvedCamera& start, const archive::ArchiveReader& reader)
         : window_(window), renderer_(renderer), fov_y_degrees_(fov_y_degrees),
           archive_(reader.path()), readout_(reader), show_overlay_(show_overlay)
     {
         settings_.epsilon_px = std::clamp(epsilon_px, kMinEpsilonPx, kMaxEpsilonPx);
         settings_.texel_px = texel_px; // range-checked by the option
         settings_.mode = mode;
+        settings_.exaggeration = exaggeration; // range-checked by the option
 
         int w = 1, h = 1;
         window_.framebufferSize(w, h);
@@ -162,6 +163,7 @@ class Viewer {
         options.look_at = start.look_at;
         options.fov_y_degrees = fov_y_degrees_;
         options.viewport = viewport;
+        options.settings.exaggeration = settings_.exaggeration;
         fly_ = render::FlyCamera::from(render::cameraFor(renderer_, options));
         // The speed follows the height above the ground (updateCamera), from the first frame.
         fly_.setSpeed(CameraReadout::flySpeed(heightAboveGround(), speed_rate_));
@@ -196,7 +198,7 @@ class Viewer {
         updateCamera(dt);
 
         double near_m = 1.0, far_m = 1e6;
-        renderer_.clipPlanesFor(fly_.position(), near_m, far_m);
+        renderer_.clipPlanesFor(fly_.position(), near_m, far_m, settings_.exaggeration);
         const lod::Camera camera = fly_.camera({width_, height_}, fov_y_degrees_, near_m, far_m);
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
         glViewport(0, 0, width_, height_);
@@ -345,7 +347,7 @@ class Viewer {
         fly_.update(in, dt);
         if (clamp_to_ground_) {
             glm::dvec3 p = fly_.position();
-            p.z = std::max(p.z, renderer_.groundHeight(p.x, p.y) + 2.0);
+            p.z = std::max(p.z, renderer_.groundHeight(p.x, p.y, settings_.exaggeration) + 2.0);
             fly_.setPosition(p);
         }
     }
@@ -354,7 +356,7 @@ class Viewer {
     double heightAboveGround() const
     {
         const glm::dvec3 p = fly_.position();
-        return p.z - renderer_.groundHeight(p.x, p.y);
+        return p.z - renderer_.groundHeight(p.x, p.y, settings_.exaggeration);
     }
 
     // A compact panel in the top-left corner: frame rate, the camera in each of its frames and
@@ -421,6 +423,16 @@ class Viewer {
             float texel = float(settings_.texel_px);
             if (ImGui::SliderFloat("texel size (px, 0 off)", &texel, 0.f, 16.f, "%.2f"))
                 settings_.texel_px = std::clamp(double(texel), 0.0, 16.0);
+            // Vertical exaggeration: the camera keeps its height above the drawn ground.
+            float k = float(settings_.exaggeration);
+            if (ImGui::SliderFloat("vertical exaggeration", &k, 0.1f, 20.f, "%.2f",
+                                   ImGuiSliderFlags_Logarithmic)) {
+                const double above = heightAboveGround();
+                settings_.exaggeration = std::clamp(double(k), 0.1, 20.0);
+                glm::dvec3 p = fly_.position();
+                p.z = renderer_.groundHeight(p.x, p.y, settings_.exaggeration) + above;
+                fly_.setPosition(p);
+            }
             float rate = float(speed_rate_);
             if (ImGui::SliderFloat("speed (x height / s)", &rate,
                                    float(CameraReadout::kMinSpeedRate),
@@ -529,6 +541,7 @@ void ViewCommand::registerWith(CLI::App& app)
     command_->add_flag("--no-overlay", no_overlay_,
                        "Start with the statistics overlay hidden (O or F10 shows it)");
     addTexelSizeOption(*command_, texel_px_);
+    addExaggerationOption(*command_, exaggeration_);
     addStreamingOptions(*command_, renderer_options_);
     addGeomorphOptions(*command_, renderer_options_);
     command_->add_flag("--vsync,!--no-vsync", vsync_,
@@ -560,8 +573,9 @@ int ViewCommand::run()
     const archive::ArchiveReader reader(archive_);
     // Before the window: a bad camera is an error, not a flash of a window.
     ResolvedCamera start;
-    if (const CameraPlacement placement = camera_args_.placement(); !placement.empty()) {
+    if (CameraPlacement placement = camera_args_.placement(); !placement.empty()) {
         HeightQuery query(archive_);
+        placement.exaggeration = exaggeration_;
         start = resolveCameraPlacement(query, placement);
     }
     std::unique_ptr<gpu::WindowContext> window;
@@ -579,7 +593,7 @@ int ViewCommand::run()
         // their resident ancestors until they arrive.
         render::TerrainRenderer renderer(reader, renderer_options_);
         Viewer viewer(*window, renderer, fov_y_degrees_, epsilon_px_, texel_px_,
-                      parseDebugMode(mode_), !no_overlay_, start, reader);
+                      parseDebugMode(mode_), !no_overlay_, exaggeration_, start, reader);
         const ImGuiSession imgui(window->window());
 
         for (int frame = 0; frames_ == 0 || frame < frames_; ++frame) {
