@@ -44,7 +44,8 @@ std::optional<QueryResampling> parseResampling(std::string_view name)
 
 HeightQuery::HeightQuery(const std::string& archive_path, size_t cache_patches)
     : reader_(openArchive(archive_path)), georeference_(*reader_),
-      quadtree_(lod::PatchQuadtree::fromArchive(*reader_)), loader_(*reader_, cache_patches)
+      quadtree_(lod::PatchQuadtree::fromArchive(*reader_)), loader_(*reader_, cache_patches),
+      cache_patches_(std::max(cache_patches, size_t(reader_->geometry().levelCount()) + 1))
 {
 }
 
@@ -196,14 +197,17 @@ void HeightQuery::sampleEach(std::span<const glm::dvec2> points, PointSpace spac
     if (space == PointSpace::LonLat && !georeference_.hasCrs())
         throw Error(reader_->path() + ": the archive has no CRS (the source was not "
                                       "georeferenced): longitude/latitude cannot be converted");
-    // Keys (patch index << 32 | point) pack into 64 bits: slices of at most 2^32 points.
-    constexpr size_t kSlice = size_t(1) << 32;
+    const PyramidGeometry& g = reader_->geometry();
+    const int patches_x = g.patchesX(level);
+    const size_t level_patches = size_t(g.patchCount(level));
+    // Point indices are 32 bits: slices of at most 2^32 − 1 points.
+    constexpr size_t kSlice = (size_t(1) << 32) - 1;
     for (size_t first = 0; first < points.size(); first += kSlice) {
         const size_t count = std::min(kSlice, points.size() - first);
-        // Place every point; answer those off the raster, key the others by their patch.
-        order_.clear();
-        order_.reserve(count);
+        // Place every point; answer those off the raster, note the others' patch (its index
+        // within the level).
         pixels_.resize(count);
+        patch_of_.resize(count);
         for (size_t k = 0; k < count; ++k) {
             HeightSample s;
             s.level = level;
@@ -217,18 +221,40 @@ void HeightQuery::sampleEach(std::span<const glm::dvec2> points, PointSpace spac
             }
             if (!on_raster) {
                 emit(first + k, s);
+                patch_of_[k] = kNoPatch;
                 continue;
             }
             pixels_[k] = s.pixel;
             const PatchId patch = locate(s.pixel, level, resampling).patch;
-            order_.push_back(uint64_t(reader_->geometry().patchIndex(patch)) << 32 | k);
+            patch_of_[k] = uint32_t(size_t(patch.y) * size_t(patches_x) + size_t(patch.x));
         }
-        // Patch by patch: each decoded once here, however small the cache.
-        std::sort(order_.begin(), order_.end());
+        // The order to read them in. When the patches they touch, with the ancestors a
+        // decode may load (at most a third more, plus a chain), fit in the cache, input order:
+        // nothing is evicted before its last use, and memory is walked in order. Otherwise
+        // patch by patch (a counting sort, linear in points and patches), so that each patch
+        // is decoded once however small the cache.
+        first_of_.assign(level_patches + 1, 0);
+        for (size_t k = 0; k < count; ++k)
+            if (patch_of_[k] != kNoPatch)
+                ++first_of_[patch_of_[k] + 1];
+        const size_t touched = size_t(std::count_if(first_of_.begin() + 1, first_of_.end(),
+                                                    [](size_t n) { return n > 0; }));
+        order_.clear();
+        if (touched + touched / 3 + size_t(g.levelCount()) + 1 <= cache_patches_) {
+            for (size_t k = 0; k < count; ++k)
+                if (patch_of_[k] != kNoPatch)
+                    order_.push_back(uint32_t(k));
+        } else {
+            for (size_t p = 0; p < level_patches; ++p)
+                first_of_[p + 1] += first_of_[p];
+            order_.resize(first_of_[level_patches]);
+            for (size_t k = 0; k < count; ++k)
+                if (patch_of_[k] != kNoPatch)
+                    order_[first_of_[patch_of_[k]]++] = uint32_t(k);
+        }
         std::shared_ptr<const stream::DecodedPatch> patch;
-        uint64_t loaded = ~uint64_t{0};
-        for (const uint64_t key : order_) {
-            const size_t k = size_t(key & 0xffffffffu);
+        uint32_t loaded = kNoPatch;
+        for (const uint32_t k : order_) {
             HeightSample s;
             s.level = level;
             s.on_raster = true;
@@ -236,9 +262,9 @@ void HeightQuery::sampleEach(std::span<const glm::dvec2> points, PointSpace spac
             s.local = space == PointSpace::Local ? points[first + k]
                                                  : georeference_.localOfPixel(s.pixel);
             const Location at = locate(s.pixel, level, resampling);
-            if (key >> 32 != loaded) {
+            if (patch_of_[k] != loaded) {
                 patch = loader_.load(at.patch);
-                loaded = key >> 32;
+                loaded = patch_of_[k];
             }
             read(at, *patch, resampling, s);
             emit(first + k, s);

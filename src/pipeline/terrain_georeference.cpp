@@ -85,7 +85,10 @@ std::array<double, 2> TerrainGeoreference::crsToPixel(double x, double y) const
 
 glm::dvec2 TerrainGeoreference::toPixel(glm::dvec2 point, PointSpace from) const
 {
-    checkParameters(std::string(pointSpaceName(from)) + " point", &point.x, 2, ValueRange::any());
+    // The message is built only for a bad point: batches of queries convert millions.
+    if (!std::isfinite(point.x) || !std::isfinite(point.y))
+        checkParameters(std::string(pointSpaceName(from)) + " point", &point.x, 2,
+                        ValueRange::any());
     switch (from) {
     case PointSpace::Local: break;
     case PointSpace::Pixel: return point;

@@ -102,12 +102,12 @@ class HeightQuery {
     // converted gets invalid_point (the batch goes on; sample() gives the reason). Throws
     // ridge::Error when out.size() differs from points.size(), for a level beyond the finest,
     // a space the archive lacks (CRS without a geotransform, longitude/latitude without a
-    // CRS), or a corrupt patch. Memory: 8 bytes a point besides `out`.
+    // CRS), or a corrupt patch. Memory: 28 bytes a point besides `out`.
     void sampleBatch(std::span<const glm::dvec2> points, PointSpace space, int level,
                      QueryResampling resampling, std::span<HeightSample> out);
     // sampleBatch's work, each answer handed to `emit(k, sample)` for points[k] instead of
     // stored: once a point, in no particular order (off-raster and invalid points first,
-    // then patch by patch). Memory: 24 bytes a point.
+    // then patch by patch). Memory: 28 bytes a point, 8 a patch of the level.
     void sampleEach(std::span<const glm::dvec2> points, PointSpace space, int level,
                     QueryResampling resampling,
                     const std::function<void(size_t, const HeightSample&)>& emit);
@@ -144,11 +144,16 @@ class HeightQuery {
     TerrainGeoreference georeference_;
     lod::PatchQuadtree quadtree_;
     stream::PatchLoader loader_;
+    size_t cache_patches_; // what loader_ keeps
     stream::LruCache<int64_t, std::shared_ptr<const PatchValidity>> validity_{64};
-    // sampleEach's scratch, kept for reuse: (patch index, point) keys, and each point's
-    // pixel/line.
-    std::vector<uint64_t> order_;
+    // sampleEach's scratch, kept for reuse: each point's pixel/line and patch (its index in
+    // the level, kNoPatch off the raster), where each patch's points start, and the points
+    // patch by patch.
+    static constexpr uint32_t kNoPatch = ~uint32_t{0};
     std::vector<glm::dvec2> pixels_;
+    std::vector<uint32_t> patch_of_;
+    std::vector<size_t> first_of_;
+    std::vector<uint32_t> order_;
 };
 
 } // namespace ridge
