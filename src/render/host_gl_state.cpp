@@ -89,6 +89,7 @@ struct HostGlState::Saved {
     GLint patch_vertices = 3;
     GLint program = 0, vertex_array = 0, active_texture = GL_TEXTURE0;
     std::array<std::array<GLint, std::size(kTextureTargets)>, kTextureUnits> textures{};
+    std::array<GLint, kTextureUnits> samplers{};
     std::array<ImageBinding, kImageUnits> images{};
     std::array<BufferBinding, kStorageBindings> storage{};
     GLint storage_generic = 0;
@@ -130,6 +131,7 @@ HostGlState::HostGlState(const char* where) : saved_(std::make_unique<Saved>())
         glActiveTexture(GLenum(GL_TEXTURE0 + unit));
         for (size_t t = 0; t < std::size(kTextureBindings); ++t)
             s.textures[size_t(unit)][t] = integer(kTextureBindings[t]);
+        s.samplers[size_t(unit)] = integer(GL_SAMPLER_BINDING);
     }
     for (GLuint i = 0; i < GLuint(kImageUnits); ++i) {
         ImageBinding& b = s.images[i];
@@ -159,6 +161,10 @@ HostGlState::HostGlState(const char* where) : saved_(std::make_unique<Saved>())
     // Then the state ridge's code assumes.
     for (GLenum cap : kOffWhileRidgeWorks)
         glDisable(cap);
+    // A sampler object overrides a texture's own filtering: a linear one on ridge's integer
+    // height arrays would leave them incomplete (sampled as 0).
+    for (int unit = 0; unit < kTextureUnits; ++unit)
+        glBindSampler(GLuint(unit), 0);
     glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
     glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
     glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
@@ -188,6 +194,7 @@ HostGlState::~HostGlState()
         glActiveTexture(GLenum(GL_TEXTURE0 + unit));
         for (size_t t = 0; t < std::size(kTextureTargets); ++t)
             glBindTexture(kTextureTargets[t], GLuint(s.textures[size_t(unit)][t]));
+        glBindSampler(GLuint(unit), GLuint(s.samplers[size_t(unit)]));
     }
     glActiveTexture(GLenum(s.active_texture));
     for (GLuint i = 0; i < GLuint(kImageUnits); ++i) {

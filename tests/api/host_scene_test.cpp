@@ -324,7 +324,10 @@ TEST(HostScene, DrawAndPickLeaveTheHostsGlStateAsTheyFoundIt)
         renderer.draw(pose, kWidth, kHeight);
         clean = target.readRgba();
     }
-    GLuint texture2d = 0, array = 0, ssbo = 0, pbo = 0, vao = 0;
+    GLuint texture2d = 0, array = 0, ssbo = 0, pbo = 0, vao = 0, sampler = 0;
+    glCreateSamplers(1, &sampler); // linear filtering: integer textures under it are incomplete
+    glSamplerParameteri(sampler, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glSamplerParameteri(sampler, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     glCreateTextures(GL_TEXTURE_2D, 1, &texture2d);
     glTextureStorage2D(texture2d, 1, GL_RGBA8, 4, 4);
     glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &array);
@@ -356,6 +359,8 @@ TEST(HostScene, DrawAndPickLeaveTheHostsGlStateAsTheyFoundIt)
         glBindVertexArray(vao);
         glBindTextureUnit(0, texture2d);
         glBindTextureUnit(2, array);
+        glBindSampler(0, sampler);
+        glBindSampler(1, sampler);
         glActiveTexture(GL_TEXTURE3);
         glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 0, ssbo, 256, 512);
         glBindBuffer(GL_PIXEL_UNPACK_BUFFER, pbo);
@@ -396,6 +401,8 @@ TEST(HostScene, DrawAndPickLeaveTheHostsGlStateAsTheyFoundIt)
         EXPECT_EQ(GLuint(v), texture2d);
         glGetIntegerv(GL_TEXTURE_BINDING_2D_ARRAY, &v);
         EXPECT_EQ(v, 0);
+        glGetIntegerv(GL_SAMPLER_BINDING, &v);
+        EXPECT_EQ(GLuint(v), sampler);
         glActiveTexture(GL_TEXTURE2);
         glGetIntegerv(GL_TEXTURE_BINDING_2D_ARRAY, &v);
         EXPECT_EQ(GLuint(v), array);
@@ -462,6 +469,56 @@ TEST(HostScene, DrawAndPickLeaveTheHostsGlStateAsTheyFoundIt)
     glDeleteBuffers(1, &ssbo);
     glDeleteBuffers(1, &pbo);
     glDeleteVertexArrays(1, &vao);
+    glBindSampler(0, 0);
+    glBindSampler(1, 0);
+    glDeleteSamplers(1, &sampler);
+}
+
+TEST(HostScene, ARolledOffCentreHostFrustumIsDrawnToItsCorners)
+{
+    // A host camera that rolls 35° and whose frustum is shifted off its axis (as a stereo eye
+    // or a jittered frame is), looking down from above the terrain's middle so that terrain
+    // fills the whole view: LOD (culling included) is decided for a frustum that contains
+    // this one, so no corner of the picture is left as the host's background.
+    REQUIRE_GL();
+    ScratchDir dir;
+    const std::string path = everestArchive(dir);
+    const ridge::Terrain terrain(path);
+    ridge::RendererParameters rp;
+    rp.streaming = false;
+    ridge::Renderer renderer(path, rp);
+    host::Framebuffer target(kWidth, kHeight);
+    const double cx = 0.5 * double(terrain.info().width) * terrain.info().spacing_x;
+    const double cy = 0.5 * double(terrain.info().height) * terrain.info().spacing_y;
+    const host::Mat4 look = host::lookAt({cx, cy - 1500.0, 9500.0}, {cx, cy, 5400.0});
+    const double roll = 35.0 * M_PI / 180.0;
+    const host::Mat4 rotate_eye_z{std::cos(roll), std::sin(roll), 0, 0, -std::sin(roll),
+                                  std::cos(roll), 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+    ridge::HostView hv;
+    hv.view = host::multiply(rotate_eye_z, look);
+    hv.projection = host::perspective(50.0, double(kWidth) / kHeight, 5.0, 1e5,
+                                      ridge::DepthConvention::ZeroToOne);
+    hv.projection[8] = 0.3;   // off-centre: x_ndc += 0.3 at every depth
+    hv.projection[9] = -0.2;  // and y_ndc −= 0.2
+    hv.width = kWidth;
+    hv.height = kHeight;
+    hv.depth = ridge::DepthConvention::ZeroToOne;
+    host::beginHostFrame(hv.depth, {1.f, 0.f, 1.f, 1.f});
+    ridge::DrawParameters draw;
+    draw.clear = false;
+    draw.sky = false;
+    draw.fog = false;
+    renderer.draw(hv, draw);
+    const std::vector<uint8_t> rgba = target.readRgba();
+    int background = 0;
+    for (int y = 0; y < kHeight; ++y)
+        for (int x = 0; x < kWidth; ++x)
+            background += isColour(rgba, x, y, {255, 0, 255});
+    EXPECT_EQ(background, 0) << "pixels of the view without terrain";
+    // Each corner pixel picks a terrain point, on the ray through it.
+    for (const auto& [x, y] : {std::pair{0.5, 0.5}, std::pair{kWidth - 0.5, 0.5},
+                              std::pair{0.5, kHeight - 0.5}, std::pair{kWidth - 0.5, kHeight - 0.5}})
+        EXPECT_TRUE(renderer.pick(x, y).has_value()) << x << "," << y;
 }
 
 TEST(HostScene, HostViewsThatAreNotACameraAreRefusedByName)
