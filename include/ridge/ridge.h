@@ -155,8 +155,7 @@ enum class HeightStatus : uint8_t {
                   // PROJ cannot transform into the archive's CRS
 };
 
-// One point's answer. 24 bytes; the archive's per-sample flags, where it has them, are fields
-// beside `status`.
+// One point's answer (24 bytes; `status` leaves room for per-sample flags without growing it).
 struct PointHeight {
     double height = std::numeric_limits<double>::quiet_NaN(); // metres; NaN unless Ok
     // Err(P) of the patch read, metres: every sample of it is within this of the source
@@ -229,8 +228,9 @@ class RIDGE_API Terrain {
     double convergenceDegrees(double x, double y) const;
 
     // Batch queries: out[k] answers points[k] ({x, y} in parameters.coordinates). Points are
-    // read patch by patch, each patch decoded at most once per call whatever the cache size,
-    // and answered in input order; over 10^6 points a second once the patches are decoded
+    // read in input order when the patches they touch fit in the cache, else patch by patch:
+    // either way each patch the points fall in is decoded at most once a call, whatever the
+    // order of the points and the cache size. Over 10^6 points a second once decoded
     // (bench/query_bench.cpp; longitude/latitude add PROJ's cost). A bad point gets its
     // status and the batch goes on. Throws ridge::Error when out.size() != points.size(), for
     // a level out of range, coordinates the archive cannot take (CRS without a geotransform,

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <unordered_set>
 
 namespace ridge {
 
@@ -118,6 +119,24 @@ HeightQuery::Location HeightQuery::locate(glm::dvec2 pixel, int level,
     return at;
 }
 
+size_t HeightQuery::workingSet(int level, size_t limit) const
+{
+    // first_of_[p + 1] counts the points in patch p of `level` (before the prefix sums).
+    const PyramidGeometry& g = reader_->geometry();
+    const int patches_x = g.patchesX(level);
+    std::unordered_set<int64_t> patches;
+    for (size_t p = 0; p + 1 < first_of_.size() && patches.size() <= limit; ++p) {
+        if (first_of_[p + 1] == 0)
+            continue;
+        PatchId id{level, int(p % size_t(patches_x)), int(p / size_t(patches_x))};
+        patches.insert(g.patchIndex(id));
+        while (id.level > 0 && reader_->codec().needsParent(id.level) &&
+               patches.insert(g.patchIndex(id.parent())).second)
+            id = id.parent();
+    }
+    return patches.size();
+}
+
 std::shared_ptr<const PatchValidity> HeightQuery::sampleValidity(PatchId p)
 {
     const int64_t key = reader_->geometry().patchIndex(p);
@@ -228,19 +247,17 @@ void HeightQuery::sampleEach(std::span<const glm::dvec2> points, PointSpace spac
             const PatchId patch = locate(s.pixel, level, resampling).patch;
             patch_of_[k] = uint32_t(size_t(patch.y) * size_t(patches_x) + size_t(patch.x));
         }
-        // The order to read them in. When the patches they touch, with the ancestors a
-        // decode may load (at most a third more, plus a chain), fit in the cache, input order:
-        // nothing is evicted before its last use, and memory is walked in order. Otherwise
-        // patch by patch (a counting sort, linear in points and patches), so that each patch
-        // is decoded once however small the cache.
+        // The order to read them in. When the patches they touch, with the ancestors their
+        // decodes load, fit in the cache, input order: in an LRU no patch of that working
+        // set is evicted before its last use, and memory is walked in order. Otherwise patch
+        // by patch (a counting sort, linear in points and patches), so that each patch is
+        // decoded once however small the cache.
         first_of_.assign(level_patches + 1, 0);
         for (size_t k = 0; k < count; ++k)
             if (patch_of_[k] != kNoPatch)
                 ++first_of_[patch_of_[k] + 1];
-        const size_t touched = size_t(std::count_if(first_of_.begin() + 1, first_of_.end(),
-                                                    [](size_t n) { return n > 0; }));
         order_.clear();
-        if (touched + touched / 3 + size_t(g.levelCount()) + 1 <= cache_patches_) {
+        if (workingSet(level, cache_patches_) <= cache_patches_) {
             for (size_t k = 0; k < count; ++k)
                 if (patch_of_[k] != kNoPatch)
                     order_.push_back(uint32_t(k));

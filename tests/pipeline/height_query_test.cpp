@@ -549,4 +549,20 @@ TEST(HeightQuery, BatchDecodesEachPatchOnceWhateverTheCache)
         touched.insert(g.patchIndex(s.patch));
     EXPECT_EQ(decoded, touched.size());
     EXPECT_EQ(int64_t(touched.size()), g.patchCount(g.finestLevel()));
+
+    // Progressive, with a cache that holds what the points touch and every ancestor their
+    // decodes load: read in input order, each of those decoded exactly once.
+    const std::string progressive =
+        buildFixture(dir, test::dataPath("everest_crop.tif"), "p.ridge", "progressive", 1.0);
+    HeightQuery roomy(progressive, 1000);
+    const uint64_t start = roomy.loaderStats().decoded;
+    roomy.sampleBatch(points, PointSpace::Pixel, -1, QueryResampling::Nearest, out);
+    std::set<int64_t> chain;
+    for (const HeightSample& s : out)
+        for (PatchId p = s.patch;; p = p.parent()) {
+            chain.insert(g.patchIndex(p));
+            if (p.level == 0)
+                break;
+        }
+    EXPECT_EQ(roomy.loaderStats().decoded - start, chain.size());
 }

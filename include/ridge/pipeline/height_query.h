@@ -95,10 +95,14 @@ class HeightQuery {
     HeightSample sample(glm::dvec2 point, PointSpace space = PointSpace::Crs, int level = -1,
                         QueryResampling resampling = QueryResampling::Bilinear);
 
-    // sample() of every point: out[k] answers points[k]. The points are read patch by patch
-    // (sorted by the patch they fall in, answered in input order), so that each patch is
-    // decoded at most once per call whatever the cache size: random points over a large
-    // archive cost one decode per patch touched, not one per point. A point that cannot be
+    // sample() of every point: out[k] answers points[k]. The points are placed first; then,
+    // when the patches they touch and the ancestors their decodes load fit in the cache, read
+    // in input order (an LRU keeps that working set), else patch by patch (a counting sort
+    // by the patch they fall in): either way each patch the points fall in is decoded at
+    // most once a call whatever the cache size, so random points over a large archive cost
+    // one decode per patch touched, not one per point (in patch order with a cache smaller
+    // than an ancestor chain's reuse, a progressive patch's ancestors may be decoded again).
+    // A point that cannot be
     // converted gets invalid_point (the batch goes on; sample() gives the reason). Throws
     // ridge::Error when out.size() differs from points.size(), for a level beyond the finest,
     // a space the archive lacks (CRS without a geotransform, longitude/latitude without a
@@ -139,6 +143,9 @@ class HeightQuery {
     // The sample validity of a patch with kept nodata (nearest needs samples, the decoded
     // patch keeps only drawable cells), read once and cached.
     std::shared_ptr<const PatchValidity> sampleValidity(PatchId p);
+    // The patches a batch's points in `level` touch (counted in first_of_), with the ancestors
+    // their decodes load; counting stops past `limit`.
+    size_t workingSet(int level, size_t limit) const;
 
     std::unique_ptr<archive::ArchiveReader> reader_;
     TerrainGeoreference georeference_;
