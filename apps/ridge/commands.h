@@ -136,6 +136,7 @@ class QueryCommand {
     std::optional<double> x_, y_;
     bool lonlat_ = false, pixel_ = false, local_ = false;
     int level_ = -1;
+    std::string resampling_ = "nearest";
     bool json_ = false;
 };
 

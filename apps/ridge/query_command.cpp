@@ -1,5 +1,10 @@
 // `ridge query ARCHIVE [X Y]`: terrain heights at points, without a GL context, like
 // gdallocationinfo: one point from the command line, or many from stdin, one "X Y" per line.
+//
+// Stdin is answered in batches (HeightQuery::sampleBatch: each patch decoded once per batch,
+// whatever order the points come in) with buffered output. A batch ends when the input has no
+// more bytes ready (or at 65 536 points), so a program that writes one point and waits for
+// its answer gets it at once, and a file of points is answered 65 536 at a time.
 #include "commands.h"
 #include "range_check.h"
 
@@ -7,29 +12,63 @@
 #include "ridge/pipeline/height_query.h"
 
 #include <fmt/core.h>
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <poll.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <cstdio>
-#include <iostream>
+#include <cstring>
+#include <iterator>
 #include <optional>
-#include <sstream>
+#include <string_view>
+#include <vector>
 
 namespace ridge::cli {
 
 namespace {
 
-// "X Y" or "X,Y" (spaces and commas both separate); nullopt for anything else.
-std::optional<glm::dvec2> parsePoint(const std::string& line)
+constexpr size_t kBatchPoints = 65536;
+
+// One number of a point: the whole token the way CLI11 reads numbers (strtod).
+std::optional<double> parseToken(std::string_view token)
 {
-    std::string text = line;
-    for (char& c : text)
-        if (c == ',' || c == '\t')
-            c = ' ';
-    std::istringstream in(text);
-    std::string a, b, extra;
-    if (!(in >> a >> b) || (in >> extra))
+    char text[128];
+    if (token.size() >= sizeof text)
+        return detail::parseNumber(std::string(token));
+    std::memcpy(text, token.data(), token.size());
+    text[token.size()] = '\0';
+    char* end = nullptr;
+    const double value = std::strtod(text, &end);
+    if (token.empty() || end != text + token.size())
         return std::nullopt;
-    const std::optional<double> x = detail::parseNumber(a), y = detail::parseNumber(b);
+    return value;
+}
+
+// "X Y" or "X,Y" (spaces, tabs and commas all separate); nullopt for anything else.
+std::optional<glm::dvec2> parsePoint(std::string_view line)
+{
+    auto separator = [](char c) { return c == ' ' || c == '\t' || c == ','; };
+    std::string_view tokens[3];
+    int count = 0;
+    for (size_t k = 0; k < line.size();) {
+        if (separator(line[k])) {
+            ++k;
+            continue;
+        }
+        size_t end = k;
+        while (end < line.size() && !separator(line[end]))
+            ++end;
+        if (count == 3)
+            return std::nullopt;
+        tokens[count++] = line.substr(k, end - k);
+        k = end;
+    }
+    if (count != 2)
+        return std::nullopt;
+    const std::optional<double> x = parseToken(tokens[0]), y = parseToken(tokens[1]);
     if (!x || !y)
         return std::nullopt;
     return glm::dvec2(*x, *y);
@@ -50,6 +89,166 @@ nlohmann::json sampleJson(const HeightSample& s)
         j["height"] = nullptr;
     }
     return j;
+}
+
+// Answers points as text lines or JSON entries, in the order they are given.
+class Answers {
+  public:
+    explicit Answers(bool json) : json_(json) {}
+
+    // `error`: why the point has no height (a malformed line, a bad coordinate).
+    void add(std::string_view echo, const HeightSample* s, std::string_view error = {})
+    {
+        const bool answered = s && error.empty() && s->on_raster && !s->nodata;
+        failures_ += answered ? 0 : 1;
+        if (json_) {
+            nlohmann::json entry = {{"input", std::string(echo)}};
+            if (!error.empty())
+                entry["error"] = std::string(error);
+            else
+                entry.update(sampleJson(*s));
+            points_.push_back(std::move(entry));
+            return;
+        }
+        auto out = std::back_inserter(text_);
+        if (!error.empty())
+            fmt::format_to(out, "{}: error: {}\n", echo, error);
+        else if (answered)
+            fmt::format_to(out, "{}: {:.3f} m (level {}, within {:g} m of the source)\n", echo,
+                           s->height, s->level, s->error_bound);
+        else if (s->nodata)
+            fmt::format_to(out,
+                           "{}: nodata (the archive keeps no height here; pixel/line {:.2f}, "
+                           "{:.2f})\n",
+                           echo, s->pixel.x, s->pixel.y);
+        else
+            fmt::format_to(out, "{}: off the raster (pixel/line {:.2f}, {:.2f})\n", echo,
+                           s->pixel.x, s->pixel.y);
+        if (text_.size() > (size_t(1) << 16))
+            flush();
+    }
+    // Writes what is buffered and flushes stdout (the other end of a pipe sees it now).
+    void flush()
+    {
+        if (text_.size() > 0)
+            std::fwrite(text_.data(), 1, text_.size(), stdout);
+        text_.clear();
+        std::fflush(stdout);
+    }
+    int failures() const { return failures_; }
+    nlohmann::json& points() { return points_; }
+
+  private:
+    bool json_;
+    int failures_ = 0;
+    fmt::memory_buffer text_;
+    nlohmann::json points_ = nlohmann::json::array();
+};
+
+// The lines read from stdin and not answered yet: their text (for the echo) and points.
+struct PendingLines {
+    std::string text;                // the lines, back to back
+    std::vector<size_t> begin, size; // each line's place in `text`
+    std::vector<std::optional<glm::dvec2>> points;
+
+    void add(std::string_view line)
+    {
+        begin.push_back(text.size());
+        size.push_back(line.size());
+        text.append(line);
+        points.push_back(parsePoint(line));
+    }
+    std::string_view line(size_t k) const { return std::string_view(text).substr(begin[k], size[k]); }
+    size_t count() const { return points.size(); }
+    void clear()
+    {
+        text.clear();
+        begin.clear();
+        size.clear();
+        points.clear();
+    }
+};
+
+// Answers every pending line: the well-formed points in one batch, then each line in order.
+// A batch that fails as a whole (a corrupt patch) is answered point by point instead, so
+// that every other point still gets its height and the failing ones their reason.
+void answerPending(HeightQuery& query, PointSpace space, int level, QueryResampling resampling,
+                   PendingLines& pending, Answers& answers)
+{
+    std::vector<glm::dvec2> points;
+    for (const auto& p : pending.points)
+        if (p)
+            points.push_back(*p);
+    std::vector<HeightSample> samples(points.size());
+    bool batched = true;
+    try {
+        query.sampleBatch(points, space, level, resampling, samples);
+    } catch (const Error&) {
+        batched = false;
+    }
+    size_t next = 0;
+    for (size_t k = 0; k < pending.count(); ++k) {
+        const std::string_view echo = pending.line(k);
+        if (!pending.points[k]) {
+            answers.add(echo, nullptr, "expected two numbers, X Y");
+            continue;
+        }
+        const HeightSample& s = samples[next++];
+        if (batched && !s.invalid_point) {
+            answers.add(echo, &s);
+            continue;
+        }
+        try { // the slow path says why: a bad coordinate, PROJ, a corrupt patch
+            const HeightSample one = query.sample(*pending.points[k], space, level, resampling);
+            answers.add(echo, &one);
+        } catch (const Error& e) {
+            answers.add(echo, nullptr, e.what());
+        }
+    }
+    pending.clear();
+}
+
+// Whether stdin has bytes to read now (a regular file always has, up to its end).
+bool inputReady()
+{
+    pollfd fd{STDIN_FILENO, POLLIN, 0};
+    return ::poll(&fd, 1, 0) > 0;
+}
+
+// Reads stdin to its end, answering a batch whenever the input pauses or the batch is full.
+void answerStdin(HeightQuery& query, PointSpace space, int level, QueryResampling resampling,
+                 Answers& answers)
+{
+    PendingLines pending;
+    std::string partial; // a line whose end has not arrived yet
+    std::vector<char> buffer(size_t(1) << 16);
+    auto takeLine = [&](std::string_view line) {
+        if (!line.empty() && line.back() == '\r')
+            line.remove_suffix(1);
+        if (line.find_first_not_of(" \t,") == std::string_view::npos)
+            return; // blank lines separate groups, as in gdallocationinfo's input
+        pending.add(line);
+    };
+    for (;;) {
+        if (pending.count() >= kBatchPoints || (pending.count() > 0 && !inputReady())) {
+            answerPending(query, space, level, resampling, pending, answers);
+            answers.flush(); // before waiting: the writer may wait for these answers
+        }
+        const ssize_t n = ::read(STDIN_FILENO, buffer.data(), buffer.size());
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n < 0)
+            throw Error(std::string("query: cannot read stdin: ") + std::strerror(errno));
+        if (n == 0)
+            break;
+        partial.append(buffer.data(), size_t(n));
+        size_t start = 0;
+        for (size_t end; (end = partial.find('\n', start)) != std::string::npos; start = end + 1)
+            takeLine(std::string_view(partial).substr(start, end - start));
+        partial.erase(0, start);
+    }
+    takeLine(partial); // a last line without its newline
+    answerPending(query, space, level, resampling, pending, answers);
 }
 
 } // namespace
@@ -75,17 +274,24 @@ void QueryCommand::registerWith(CLI::App& app)
     pixel->excludes(local);
     command_->add_option("--level", level_, "Level whose surface is read (default: the finest)")
         ->check(inIntegerRange("--level", 0, 32));
+    command_
+        ->add_option("-r,--resampling", resampling_,
+                     "nearest: the sample whose pixel holds the point, as gdallocationinfo "
+                     "(default); bilinear: the surface between the samples, as drawn")
+        ->check(CLI::IsMember({"nearest", "bilinear"}));
     command_->add_flag("--json", json_, "Print a JSON document on stdout");
 }
 
 int QueryCommand::run()
 {
+    // Check the request, then open the archive and check it has the space the points are in.
     if (x_.has_value() != y_.has_value())
         throw Error("query: give both X and Y, or neither (points from stdin)");
     const PointSpace space = lonlat_ ? PointSpace::LonLat
                              : pixel_ ? PointSpace::Pixel
                              : local_ ? PointSpace::Local
                                       : PointSpace::Crs;
+    const QueryResampling resampling = parseResampling(resampling_).value();
     HeightQuery query(archive_);
     if (level_ > query.finestLevel())
         throw Error(fmt::format("--level {}: {} has levels 0 to {}", level_, archive_,
@@ -93,70 +299,35 @@ int QueryCommand::run()
     if (space == PointSpace::Crs && !query.georeference().hasGeotransform())
         throw Error(archive_ + ": the archive has no geotransform: give points with --pixel or "
                                "--local");
-    int failures = 0;
-    nlohmann::json points = nlohmann::json::array();
-    // One point: echoed as given, then its height, or a note saying why there is none.
-    auto answer = [&](const std::string& echo, std::optional<glm::dvec2> point) {
-        nlohmann::json entry = {{"input", echo}};
-        std::string text;
-        if (!point) {
-            ++failures;
-            entry["error"] = "expected two numbers, X Y";
-            text = "error: expected two numbers, X Y";
-        } else {
-            try {
-                const HeightSample s = query.sample(*point, space, level_);
-                entry.update(sampleJson(s));
-                if (s.on_raster && !s.nodata) {
-                    text = fmt::format("{:.3f} m (level {}, within {:g} m of the source)",
-                                       s.height, s.level, s.error_bound);
-                } else if (s.nodata) {
-                    ++failures;
-                    text = fmt::format("nodata (the archive keeps no height here; pixel/line "
-                                       "{:.2f}, {:.2f})",
-                                       s.pixel.x, s.pixel.y);
-                } else {
-                    ++failures;
-                    text = fmt::format("off the raster (pixel/line {:.2f}, {:.2f})", s.pixel.x,
-                                       s.pixel.y);
-                }
-            } catch (const Error& e) {
-                ++failures; // a bad coordinate (out of range, PROJ refuses it): next point
-                entry["error"] = e.what();
-                text = std::string("error: ") + e.what();
-            }
-        }
-        if (json_)
-            points.push_back(entry);
-        else
-            fmt::print("{}: {}\n", echo, text);
-    };
+
+    // Answer the point given, or every line of stdin.
+    Answers answers(json_);
     if (x_) {
-        answer(fmt::format("{} {}", formatNumber(*x_), formatNumber(*y_)),
-               glm::dvec2(*x_, *y_));
-    } else {
-        std::string line;
-        while (std::getline(std::cin, line)) {
-            if (line.find_first_not_of(" \t\r,") == std::string::npos)
-                continue; // blank lines separate groups, as in gdallocationinfo's input
-            if (!line.empty() && line.back() == '\r')
-                line.pop_back();
-            answer(line, parsePoint(line));
-            if (!json_)
-                std::fflush(stdout); // a pipe's other end sees each answer as it comes
+        const std::string echo = fmt::format("{} {}", formatNumber(*x_), formatNumber(*y_));
+        try {
+            const HeightSample s = query.sample({*x_, *y_}, space, level_, resampling);
+            answers.add(echo, &s);
+        } catch (const Error& e) {
+            answers.add(echo, nullptr, e.what());
         }
+    } else {
+        answerStdin(query, space, level_, resampling, answers);
     }
+
+    // Report: the JSON document, or the text already written; failures on stderr.
     if (json_) {
         const nlohmann::json doc = {{"archive", archive_},
                                     {"space", std::string(pointSpaceName(space))},
+                                    {"resampling", std::string(resamplingName(resampling))},
                                     {"level", level_ < 0 ? query.finestLevel() : level_},
-                                    {"points", points},
-                                    {"failed", failures}};
+                                    {"points", std::move(answers.points())},
+                                    {"failed", answers.failures()}};
         fmt::print("{}\n", doc.dump(2));
     }
-    if (failures > 0)
-        fmt::print(stderr, "ridge: query: {} point(s) without a height\n", failures);
-    return failures > 0 ? 1 : 0;
+    answers.flush();
+    if (answers.failures() > 0)
+        fmt::print(stderr, "ridge: query: {} point(s) without a height\n", answers.failures());
+    return answers.failures() > 0 ? 1 : 0;
 }
 
 } // namespace ridge::cli

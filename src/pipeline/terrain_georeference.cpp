@@ -35,6 +35,12 @@ TerrainGeoreference::TerrainGeoreference(const archive::ArchiveReader& reader)
         const double inv = 1.0 / det;
         inverse_ = {(g[2] * g[3] - g[0] * g[5]) * inv, g[5] * inv, -g[2] * inv,
                     (-g[1] * g[3] + g[0] * g[4]) * inv, -g[4] * inv, g[1] * inv};
+        // GDAL inverts a north-up geotransform without the determinant (GDALInvGeoTransform's
+        // special case), which rounds differently: 1/gt1 is 1200 where gt5/det is
+        // 1199.9999999999998 for a 3" grid. The same algebra puts a point on a pixel edge in
+        // the pixel gdallocationinfo reports (query --resampling nearest).
+        if (g[2] == 0.0 && g[4] == 0.0)
+            inverse_ = {-g[0] / g[1], 1.0 / g[1], 0.0, -g[3] / g[5], 0.0, 1.0 / g[5]};
     }
     if (!crs_wkt_.empty() && geotransform_) {
         try {
@@ -79,7 +85,10 @@ std::array<double, 2> TerrainGeoreference::crsToPixel(double x, double y) const
 
 glm::dvec2 TerrainGeoreference::toPixel(glm::dvec2 point, PointSpace from) const
 {
-    checkParameters(std::string(pointSpaceName(from)) + " point", &point.x, 2, ValueRange::any());
+    // The message is built only for a bad point: batches of queries convert millions.
+    if (!std::isfinite(point.x) || !std::isfinite(point.y))
+        checkParameters(std::string(pointSpaceName(from)) + " point", &point.x, 2,
+                        ValueRange::any());
     switch (from) {
     case PointSpace::Local: break;
     case PointSpace::Pixel: return point;

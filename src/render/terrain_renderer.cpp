@@ -42,9 +42,8 @@ double millisecondsSince(std::chrono::steady_clock::time_point t0)
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// Reverse-Z infinite perspective (depth 1 at the near plane, 0 at infinity) for
-// glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE). Its x, y and w rows equal those of
-// Camera::projection(), so screen-space measurements in the shaders match the C++ ones.
+} // namespace
+
 glm::dmat4 reverseZProjection(const lod::Camera& camera)
 {
     const double f = 1.0 / std::tan(camera.fovY() * 0.5);
@@ -56,6 +55,8 @@ glm::dmat4 reverseZProjection(const lod::Camera& camera)
     p[3][2] = camera.nearPlane();
     return p;
 }
+
+namespace {
 
 void setMatrix(const gpu::ShaderProgram& program, const char* name, const glm::dmat4& m)
 {
@@ -174,6 +175,14 @@ struct TerrainRenderer::Impl {
     stream::StreamerStats last_streamer_stats;
     stream::LoaderStats last_loader_stats;
     std::vector<PatchId> last_drawn;
+    // What the last draw() drew, for lastFrameSurface() (picking): replayed, not re-selected.
+    struct LastFrame {
+        lod::Camera camera, lod_camera;
+        RenderSettings settings; // with the ε met
+        PatchInstances instances;
+        TerrainScheme* scheme = nullptr;
+    };
+    std::optional<LastFrame> last_frame;
     gpu::GlBuffer instances;
     size_t instance_capacity = 0;
     gpu::GlBuffer feedback;
@@ -247,6 +256,9 @@ struct TerrainRenderer::Impl {
         if (r.partial)
             draw(*clip, r.whole, r.partial);
     }
+    // Captures the triangles of `ranges` (already in the instance buffer) drawn as `frame`.
+    CapturedSurface captureInstances(TerrainScheme& scheme, const SchemeFrame& frame,
+                                     const PatchInstances& ranges);
     // `frozen`: draw what is resident (resident cover), changing nothing.
     lod::Selection prepare(const lod::Camera& camera, const RenderSettings& settings,
                            FrameStats& stats, bool frozen = false);
@@ -680,6 +692,13 @@ void TerrainRenderer::waitForStreaming()
         impl_->streamer->waitIdle();
 }
 
+bool TerrainRenderer::waitForStreaming(double timeout_seconds)
+{
+    // A billion seconds (32 years) keeps the deadline within the clock's range.
+    checkParameter("streaming wait timeout (s)", timeout_seconds, ValueRange::closed(0.0, 1e9));
+    return !impl_->streamer || impl_->streamer->waitIdleFor(timeout_seconds);
+}
+
 std::string TerrainRenderer::streamingError() const
 {
     return impl_->streamer ? impl_->streamer->error() : std::string();
@@ -755,7 +774,7 @@ size_t TerrainRenderer::streamingCacheBytes() const
 }
 
 FrameStats TerrainRenderer::draw(const lod::Camera& camera, const RenderSettings& settings,
-                                 const lod::Camera* lod_camera)
+                                 const lod::Camera* lod_camera, const HostProjection* host)
 {
     settings.validate();
     Impl& m = *impl_;
@@ -763,37 +782,47 @@ FrameStats TerrainRenderer::draw(const lod::Camera& camera, const RenderSettings
     const lod::Camera& lod = lod_camera ? *lod_camera : camera;
     FrameStats stats;
     RenderSettings s;
-    const PatchInstances ranges = m.beginFrame(camera, lod, settings, stats, s);
+    PatchInstances ranges = m.beginFrame(camera, lod, settings, stats, s);
     const SchemeFrame frame{camera, lod, s, ranges};
     stats.bytes_uploaded += scheme.beginDraw(frame);
 
-    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
-    glClearColor(s.clear_colour.r, s.clear_colour.g, s.clear_colour.b, s.clear_colour.a);
-    glClearDepth(0.0);
+    // ridge's own frame is reverse-Z; a host's is whatever its projection and convention are.
+    const bool greater = !host || host->greater;
+    glClipControl(GL_LOWER_LEFT, !host || host->zero_to_one ? GL_ZERO_TO_ONE : GL_NEGATIVE_ONE_TO_ONE);
     glDepthMask(GL_TRUE);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    if (s.clear) {
+        glClearColor(s.clear_colour.r, s.clear_colour.g, s.clear_colour.b, s.clear_colour.a);
+        glClearDepth(greater ? 0.0 : 1.0);
+        glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    }
     glDisable(GL_CULL_FACE);
 
     const glm::vec3 horizon(0.78f, 0.84f, 0.90f), zenith(0.30f, 0.48f, 0.75f);
-    const glm::dmat4 view_projection = reverseZProjection(camera) * camera.view();
-    if (s.sky) {
+    const glm::dmat4 view_projection =
+        host ? host->view_projection : reverseZProjection(camera) * camera.view();
+    if (s.sky && s.clear) {
+        // Background only: no depth written, the cleared depth stays the far value.
         glDisable(GL_DEPTH_TEST);
+        glDepthMask(GL_FALSE);
         m.sky_program.use();
         setMatrix(m.sky_program, "u_inverse_view_projection", glm::inverse(view_projection));
         glUniform3f(m.sky_program.uniform("u_horizon_colour"), horizon.r, horizon.g, horizon.b);
         glUniform3f(m.sky_program.uniform("u_zenith_colour"), zenith.r, zenith.g, zenith.b);
         glBindVertexArray(m.empty_vao.id());
         glDrawArrays(GL_TRIANGLES, 0, 3);
+        glDepthMask(GL_TRUE);
     }
 
     glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_GREATER);
+    glDepthFunc(greater ? GL_GREATER : GL_LESS);
     const glm::dvec3 sun = glm::normalize(s.sun_direction);
     // Fog thickens over the terrain's own size: a tenth of the light lost across it.
     const double extent = std::max(m.quadtree.frame().extentX(), m.quadtree.frame().extentY());
     for (const gpu::ShaderProgram* p : scheme.programs(false)) {
         const GLuint id = p->id();
         m.setFrameUniforms(*p, frame);
+        if (host) // the image from the host's matrices; LOD (u_lod_view_projection) from `lod`
+            setMatrix(*p, "u_view_projection", view_projection);
         glProgramUniform3f(id, p->uniform("u_sun_direction"), float(sun.x), float(sun.y),
                            float(sun.z));
         glProgramUniform2f(id, p->uniform("u_height_range"),
@@ -837,8 +866,9 @@ FrameStats TerrainRenderer::draw(const lod::Camera& camera, const RenderSettings
     if (s.wireframe && ranges.total()) {
         glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
         glEnable(GL_POLYGON_OFFSET_LINE);
-        glPolygonOffset(1.f, 1.f); // reverse-Z: larger depth is nearer
-        glDepthFunc(GL_GEQUAL);
+        // Lines pulled towards the eye: larger depth is nearer in reverse-Z, smaller otherwise.
+        glPolygonOffset(greater ? 1.f : -1.f, greater ? 1.f : -1.f);
+        glDepthFunc(greater ? GL_GEQUAL : GL_LEQUAL);
         drawTerrain(3);
         glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
         glDisable(GL_POLYGON_OFFSET_LINE);
@@ -860,8 +890,20 @@ FrameStats TerrainRenderer::draw(const lod::Camera& camera, const RenderSettings
     glClearDepth(1.0);
     glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
     gpu::checkGlError("terrain renderer: draw");
+    m.last_frame = Impl::LastFrame{camera, lod, s, std::move(ranges), &scheme};
     return stats;
 }
+
+CapturedSurface TerrainRenderer::lastFrameSurface()
+{
+    Impl& m = *impl_;
+    if (!m.last_frame)
+        return {};
+    Impl::LastFrame& f = *m.last_frame;
+    const SchemeFrame frame{f.camera, f.lod_camera, f.settings, f.instances};
+    return m.captureInstances(*f.scheme, frame, f.instances);
+}
+
 
 CapturedSurface TerrainRenderer::capture(const lod::Camera& camera, const RenderSettings& settings,
                                          const lod::Camera* lod_camera, bool keep_residency)
@@ -872,10 +914,20 @@ CapturedSurface TerrainRenderer::capture(const lod::Camera& camera, const Render
     const lod::Camera& lod = lod_camera ? *lod_camera : camera;
     FrameStats stats;
     RenderSettings s;
+    m.last_frame.reset(); // the instance buffer is this capture's now
     const PatchInstances ranges = m.beginFrame(camera, lod, settings, stats, s, keep_residency);
     const SchemeFrame frame{camera, lod, s, ranges};
+    return m.captureInstances(scheme, frame, ranges);
+}
+
+CapturedSurface TerrainRenderer::Impl::captureInstances(TerrainScheme& scheme,
+                                                        const SchemeFrame& frame,
+                                                        const PatchInstances& ranges)
+{
+    Impl& m = *this;
+    const RenderSettings& s = frame.settings;
     CapturedSurface out;
-    out.camera_position = camera.position();
+    out.camera_position = frame.camera.position();
     out.patches = ranges.patches;
     for (const GpuPatchInstance& r : ranges.records)
         out.skirt_depth.push_back(r.skirt_depth);

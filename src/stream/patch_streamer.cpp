@@ -3,6 +3,7 @@
 #include "ridge/core/error.h"
 
 #include <algorithm>
+#include <chrono>
 
 namespace ridge::stream {
 
@@ -89,6 +90,13 @@ void PatchStreamer::waitIdle()
 {
     std::unique_lock<std::mutex> lock(mutex_);
     idle_cv_.wait(lock, [this] { return queued_.empty() && in_flight_.empty(); });
+}
+
+bool PatchStreamer::waitIdleFor(double timeout_seconds)
+{
+    std::unique_lock<std::mutex> lock(mutex_);
+    return idle_cv_.wait_for(lock, std::chrono::duration<double>(timeout_seconds),
+                             [this] { return queued_.empty() && in_flight_.empty(); });
 }
 
 StreamerStats PatchStreamer::stats() const

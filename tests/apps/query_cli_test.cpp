@@ -6,8 +6,14 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <poll.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <random>
 #include <sstream>
 
 using namespace ridge;
@@ -114,20 +120,29 @@ TEST(QueryCli, LonLatCrsAndJsonAgreeWithTheSource)
     int w = 0, h = 0;
     const std::vector<double> src = readSource(test::dataPath("everest_crop.tif"), w, h);
     // 86.925 E, 27.988 N: column 210, row 14.4 (pixel 210.5, line 14.9): bilinear between
-    // rows 14 and 15.
-    const double expected = 0.6 * src[14 * size_t(w) + 210] + 0.4 * src[15 * size_t(w) + 210];
-    for (const std::string& flags : {std::string("--lonlat"), std::string("")}) {
-        const test::CommandResult r =
-            runStdout("query " + flags + " --json " + quoted(arc) + " 86.925 27.988");
-        ASSERT_EQ(r.exit_code, 0) << r.output;
-        const nlohmann::json j = nlohmann::json::parse(r.output);
-        ASSERT_EQ(j["points"].size(), 1u);
-        const nlohmann::json& p = j["points"][0];
-        EXPECT_TRUE(p["on_raster"].get<bool>());
-        EXPECT_NEAR(p["height"].get<double>(), expected, 1e-6) << r.output;
-        EXPECT_NEAR(p["pixel"][0].get<double>(), 210.5, 1e-6);
-        EXPECT_NEAR(p["pixel"][1].get<double>(), 14.9, 1e-6);
-    }
+    // rows 14 and 15; nearest (the default, as gdallocationinfo) the sample of pixel 210, 14.
+    const double bilinear = 0.6 * src[14 * size_t(w) + 210] + 0.4 * src[15 * size_t(w) + 210];
+    const double nearest = src[14 * size_t(w) + 210];
+    for (const std::string& flags : {std::string("--lonlat"), std::string("")})
+        for (const std::string& mode : {std::string(""), std::string("-r nearest"),
+                                        std::string("--resampling bilinear")}) {
+            const test::CommandResult r = runStdout("query " + flags + " " + mode + " --json " +
+                                                    quoted(arc) + " 86.925 27.988");
+            ASSERT_EQ(r.exit_code, 0) << r.output;
+            const nlohmann::json j = nlohmann::json::parse(r.output);
+            ASSERT_EQ(j["points"].size(), 1u);
+            const nlohmann::json& p = j["points"][0];
+            const bool is_bilinear = mode.find("bilinear") != std::string::npos;
+            EXPECT_EQ(j["resampling"].get<std::string>(), is_bilinear ? "bilinear" : "nearest");
+            EXPECT_TRUE(p["on_raster"].get<bool>());
+            EXPECT_NEAR(p["height"].get<double>(), is_bilinear ? bilinear : nearest, 1e-6)
+                << r.output;
+            EXPECT_NEAR(p["pixel"][0].get<double>(), 210.5, 1e-6);
+            EXPECT_NEAR(p["pixel"][1].get<double>(), 14.9, 1e-6);
+        }
+    const test::CommandResult cubic = test::runRidge("query -r cubic " + quoted(arc) + " 1 1");
+    EXPECT_EQ(cubic.exit_code, 2) << cubic.output; // a usage error, named
+    EXPECT_NE(cubic.output.find("cubic"), std::string::npos) << cubic.output;
     const test::CommandResult off =
         runStdout("query --lonlat --json " + quoted(arc) + " 80 27.9");
     EXPECT_EQ(off.exit_code, 1);
@@ -221,4 +236,128 @@ TEST(QueryCli, NegativeCoordinatesArePositionalNumbersNotFlags)
     EXPECT_TRUE(j["points"][0]["on_raster"].get<bool>());
     EXPECT_GT(j["points"][0]["height"].get<double>(), 347.0); // the crop's range: 347..1994 m
     EXPECT_LT(j["points"][0]["height"].get<double>(), 1994.0);
+}
+
+TEST(QueryCli, NearestIsGdallocationinfoAtEveryPoint)
+{
+    // A lossless archive of an Int16 source; random CRS points and points exactly on pixel
+    // edges and corners (where the answer hangs on the inverse geotransform's last bit), fed
+    // to both tools on stdin: the same value at every point.
+    test::ScratchDir dir;
+    if (test::runShell("gdallocationinfo --version").exit_code != 0)
+        GTEST_SKIP() << "gdallocationinfo is not installed";
+    for (const std::string source : {"everest_crop.tif", "everest_utm45.tif"}) {
+        const std::string arc = buildArchive(dir, source, source + ".ridge");
+        GDALAllRegister();
+        GDALDatasetH ds = GDALOpen(test::dataPath(source).c_str(), GA_ReadOnly);
+        ASSERT_NE(ds, nullptr);
+        double gt[6];
+        GDALGetGeoTransform(ds, gt);
+        const int w = GDALGetRasterXSize(ds), h = GDALGetRasterYSize(ds);
+        GDALClose(ds);
+        std::mt19937 rng(29);
+        std::uniform_real_distribution<double> u(0.0, 1.0);
+        std::string input;
+        char line[96];
+        int points = 0;
+        auto add = [&](double p, double l) {
+            std::snprintf(line, sizeof line, "%.17g %.17g\n", gt[0] + p * gt[1] + l * gt[2],
+                          gt[3] + p * gt[4] + l * gt[5]);
+            input += line;
+            ++points;
+        };
+        for (int k = 0; k < 2000; ++k)
+            add(u(rng) * w, u(rng) * h);
+        for (int i = 0; i < w; i += 3)
+            for (int j = 0; j < h; j += 11)
+                add(i, j);
+        const std::string points_file = dir.path(source + ".txt");
+        {
+            std::FILE* f = std::fopen(points_file.c_str(), "w");
+            ASSERT_NE(f, nullptr);
+            std::fputs(input.c_str(), f);
+            std::fclose(f);
+        }
+        const test::CommandResult gdal = test::runShell(
+            "gdallocationinfo -valonly -geoloc " + quoted(test::dataPath(source)) + " < " +
+            quoted(points_file));
+        ASSERT_EQ(gdal.exit_code, 0) << gdal.output;
+        const test::CommandResult ours =
+            runStdout("query " + quoted(arc) + " < " + quoted(points_file));
+        ASSERT_EQ(ours.exit_code, 0) << ours.output.substr(0, 2000);
+        std::istringstream gdal_lines(gdal.output), our_lines(ours.output), inputs(input);
+        std::string g, o, in;
+        int compared = 0;
+        while (std::getline(inputs, in)) {
+            ASSERT_TRUE(std::getline(gdal_lines, g) && std::getline(our_lines, o)) << in;
+            ASSERT_EQ(o.rfind(in + ": ", 0), 0u) << o;
+            double value = NAN;
+            ASSERT_EQ(std::sscanf(o.c_str() + in.size() + 2, "%lf m", &value), 1) << o;
+            ASSERT_EQ(value, std::stod(g)) << source << ": " << in << " -> ridge " << o
+                                           << ", gdallocationinfo " << g;
+            ++compared;
+        }
+        EXPECT_EQ(compared, points) << source;
+    }
+}
+
+TEST(QueryCli, StdinAnswersEachPointBeforeTheNextArrives)
+{
+    // Batching must not hold an answer back while the writer waits for it: one line in,
+    // its answer out, then the next line (a pipe kept open, as a program would).
+    test::ScratchDir dir;
+    const std::string arc = buildArchive(dir, "everest_crop.tif", "e.ridge");
+    int to_child[2], from_child[2];
+    ASSERT_EQ(pipe(to_child), 0);
+    ASSERT_EQ(pipe(from_child), 0);
+    const pid_t pid = fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {
+        dup2(to_child[0], STDIN_FILENO);
+        dup2(from_child[1], STDOUT_FILENO);
+        close(to_child[1]);
+        close(from_child[0]);
+        execl(RIDGE_CLI_PATH, RIDGE_CLI_PATH, "query", "--pixel", arc.c_str(), (char*)nullptr);
+        _exit(127);
+    }
+    close(to_child[0]);
+    close(from_child[1]);
+    // However the test ends: the input closed (the CLI then ends), the child reaped.
+    struct Child {
+        pid_t pid;
+        int& in;
+        int out;
+        int status = -1;
+        ~Child()
+        {
+            if (in >= 0)
+                close(in);
+            if (pid > 0)
+                waitpid(pid, &status, 0);
+            close(out);
+        }
+    };
+    int input = to_child[1];
+    Child child{pid, input, from_child[0]};
+    std::string received;
+    for (const char* point : {"10.5 20.5\n", "30.5 40.5\n", "50.5 60.5\n"}) {
+        ASSERT_EQ(write(input, point, std::strlen(point)), ssize_t(std::strlen(point)));
+        // Its answer within 20 s (the CLI's start and one decode), the input still open.
+        const size_t lines = size_t(std::count(received.begin(), received.end(), '\n'));
+        while (size_t(std::count(received.begin(), received.end(), '\n')) == lines) {
+            pollfd fd{from_child[0], POLLIN, 0};
+            ASSERT_GT(poll(&fd, 1, 20000), 0) << "no answer to " << point << " while waiting";
+            char buffer[256];
+            const ssize_t n = read(from_child[0], buffer, sizeof buffer);
+            ASSERT_GT(n, 0);
+            received.append(buffer, size_t(n));
+        }
+    }
+    close(input);
+    input = -1;
+    int status = 0;
+    ASSERT_EQ(waitpid(pid, &status, 0), pid);
+    child.pid = 0;
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+    EXPECT_NE(received.find("30.5 40.5: "), std::string::npos) << received;
 }

@@ -14,8 +14,10 @@
 #include <ogr_srs_api.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
+#include <set>
 
 using namespace ridge;
 
@@ -26,6 +28,7 @@ struct SourceRaster {
     std::vector<double> values;
     double gt[6] = {};
     std::string wkt;
+    std::optional<double> nodata;
 };
 
 // The source as GDAL reads it, independently of ridge's ingest.
@@ -44,6 +47,10 @@ SourceRaster readSource(const std::string& path)
                                     s.width, s.height, GDT_Float64, 0, 0);
     GDALGetGeoTransform(ds, s.gt);
     s.wkt = GDALGetProjectionRef(ds);
+    int has_nodata = 0;
+    const double nodata = GDALGetRasterNoDataValue(band, &has_nodata);
+    if (has_nodata)
+        s.nodata = nodata;
     GDALClose(ds);
     if (err != CE_None)
         throw Error("cannot read " + path);
@@ -52,12 +59,14 @@ SourceRaster readSource(const std::string& path)
 
 std::string buildFixture(const test::ScratchDir& dir, const std::string& source,
                          const std::string& name, const std::string& codec = "lossless",
-                         std::optional<double> max_error = std::nullopt)
+                         std::optional<double> max_error = std::nullopt,
+                         io::VoidFill fill = io::VoidFill::Interior)
 {
     BuildOptions o;
     o.patch_size = 33;
     o.codec = codec;
     o.max_error = max_error;
+    o.ingest.fill_voids = fill;
     const std::string out = dir.path(name);
     buildArchive(source, out, o);
     return out;
@@ -291,4 +300,269 @@ TEST(HeightQuery, DrawnPatchIsTheSelectionsPatchAtThePoint)
     EXPECT_EQ(drawn.level, *far_level);
     EXPECT_LE(std::abs(drawn.height - query.sample(centre, PointSpace::Local).height),
               drawn.error_bound + 1e-6);
+}
+
+namespace {
+
+// CRS points whose GDAL pixel is known: random ones, and ones exactly on pixel edges and
+// corners (x = gt0 + i·gt1 as GDAL would compute it), where the pixel depends on the last
+// bit of the inverse geotransform.
+std::vector<glm::dvec2> crsPointsOf(const SourceRaster& src, int count, unsigned seed)
+{
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    std::vector<glm::dvec2> points;
+    for (int k = 0; k < count; ++k) {
+        const double p = u(rng) * src.width, l = u(rng) * src.height;
+        points.push_back({src.gt[0] + p * src.gt[1] + l * src.gt[2],
+                          src.gt[3] + p * src.gt[4] + l * src.gt[5]});
+    }
+    for (int i = 0; i < src.width; i += 7)
+        for (int j = 0; j < src.height; j += 5)
+            points.push_back({src.gt[0] + i * src.gt[1] + j * src.gt[2],
+                              src.gt[3] + i * src.gt[4] + j * src.gt[5]});
+    return points;
+}
+
+// gdallocationinfo -geoloc's pixel of a CRS point (its GDALInvGeoTransform and floor), or
+// nullopt off the raster ("Location is off this file").
+std::optional<std::array<int, 2>> gdalPixel(const SourceRaster& src, glm::dvec2 p)
+{
+    double inv[6];
+    if (!GDALInvGeoTransform(const_cast<double*>(src.gt), inv))
+        throw Error("singular geotransform");
+    const int pixel = int(std::floor(inv[0] + inv[1] * p.x + inv[2] * p.y));
+    const int line = int(std::floor(inv[3] + inv[4] * p.x + inv[5] * p.y));
+    if (pixel < 0 || line < 0 || pixel >= src.width || line >= src.height)
+        return std::nullopt;
+    return std::array<int, 2>{pixel, line};
+}
+
+} // namespace
+
+TEST(TerrainGeoreference, CrsToPixelIsGdalsInverseGeotransformBitForBit)
+{
+    // GDALInvGeoTransform inverts a north-up geotransform without the determinant; the
+    // determinant's algebra gives 1199.9999999999998 pixels a degree instead of 1200 for a
+    // 3" grid, which puts a point on a pixel edge in the pixel before GDAL's.
+    test::ScratchDir dir;
+    for (const std::string name : {"everest_crop.tif", "everest_utm45.tif"}) {
+        const SourceRaster src = readSource(test::dataPath(name));
+        const std::string path = buildFixture(dir, test::dataPath(name), name + ".ridge");
+        const archive::ArchiveReader reader(path);
+        const TerrainGeoreference geo(reader);
+        double inv[6];
+        ASSERT_TRUE(GDALInvGeoTransform(const_cast<double*>(src.gt), inv));
+        for (const glm::dvec2 p : crsPointsOf(src, 500, 5)) {
+            const glm::dvec2 pixel = geo.toPixel(p, PointSpace::Crs);
+            ASSERT_EQ(pixel.x, inv[0] + inv[1] * p.x + inv[2] * p.y) << name;
+            ASSERT_EQ(pixel.y, inv[3] + inv[4] * p.x + inv[5] * p.y) << name;
+        }
+    }
+}
+
+TEST(HeightQuery, NearestIsTheSampleGdalReportsAtEveryPoint)
+{
+    // A lossless archive of an Int16 source: nearest answers the source sample of the pixel
+    // gdallocationinfo picks, exactly, at random points and on every pixel edge tried.
+    test::ScratchDir dir;
+    for (const std::string name : {"everest_crop.tif", "everest_utm45.tif"}) {
+        const SourceRaster src = readSource(test::dataPath(name));
+        HeightQuery query(buildFixture(dir, test::dataPath(name), name + ".ridge"));
+        const std::vector<glm::dvec2> points = crsPointsOf(src, 3000, 11);
+        std::vector<HeightSample> batch(points.size());
+        query.sampleBatch(points, PointSpace::Crs, -1, QueryResampling::Nearest, batch);
+        int compared = 0;
+        for (size_t k = 0; k < points.size(); ++k) {
+            const std::optional<std::array<int, 2>> px = gdalPixel(src, points[k]);
+            const HeightSample one =
+                query.sample(points[k], PointSpace::Crs, -1, QueryResampling::Nearest);
+            if (!px) // off the file for GDAL: ridge's raster edge (P = width) or beyond
+                continue;
+            const double expected = src.values[size_t((*px)[1]) * src.width + size_t((*px)[0])];
+            ASSERT_TRUE(one.on_raster && !one.nodata) << name << " point " << k;
+            ASSERT_EQ(one.height, expected) << name << " point " << k << " pixel "
+                                            << (*px)[0] << "," << (*px)[1];
+            ASSERT_EQ(batch[k].height, expected) << name << " point " << k;
+            ++compared;
+        }
+        EXPECT_GT(compared, 3000) << name;
+    }
+}
+
+TEST(HeightQuery, NearestAtACoarserLevelIsItsNearestDecodedSample)
+{
+    test::ScratchDir dir;
+    const std::string path = buildFixture(dir, test::dataPath("everest_crop.tif"), "e.ridge");
+    HeightQuery query(path);
+    const archive::ArchiveReader& reader = query.reader();
+    const PyramidGeometry& g = reader.geometry();
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> px(0.0, g.width()), py(0.0, g.height());
+    for (int level = 0; level < g.finestLevel(); ++level) {
+        const CodeGrid grid =
+            decodeLevelWindow(reader, level, 0, 0, g.levelWidth(level), g.levelHeight(level));
+        const int64_t step = g.step(level);
+        for (int k = 0; k < 300; ++k) {
+            const glm::dvec2 p(px(rng), py(rng));
+            const HeightSample s = query.sample(p, PointSpace::Pixel, level, QueryResampling::Nearest);
+            // The level sample at the smallest distance along each axis, its position clamped
+            // to the last finest sample (pyramid_geometry.h).
+            auto nearest = [&](double c, int last, int samples) {
+                int best = 0;
+                for (int i = 1; i < samples; ++i)
+                    if (std::abs(double(std::min<int64_t>(i * step, last)) - c) <=
+                        std::abs(double(std::min<int64_t>(best * step, last)) - c))
+                        best = i;
+                return best;
+            };
+            const int i = nearest(std::clamp(p.x - 0.5, 0.0, g.width() - 1.0), g.width() - 1,
+                                  g.levelWidth(level));
+            const int j = nearest(std::clamp(p.y - 0.5, 0.0, g.height() - 1.0), g.height() - 1,
+                                  g.levelHeight(level));
+            ASSERT_EQ(s.height, reader.quantization().toMetres(grid.at(i, j)))
+                << "level " << level << " at " << p.x << "," << p.y;
+        }
+    }
+}
+
+TEST(HeightQuery, NearestNodataIsExactlyTheSourcesNodataSamples)
+{
+    // Kept nodata: the warped fixture's collar (border-connected) by default, the Rainier
+    // voids with fill "none". Nearest is nodata exactly where the source sample is; bilinear
+    // also where a cell around the point touches one (never drawn there).
+    test::ScratchDir dir;
+    const struct {
+        const char* name;
+        io::VoidFill fill;
+    } cases[] = {{"everest_utm44.tif", io::VoidFill::Interior},
+                 {"rainier_voids.tif", io::VoidFill::None}};
+    for (const auto& c : cases) {
+        const SourceRaster src = readSource(test::dataPath(c.name));
+        ASSERT_TRUE(src.nodata.has_value()) << c.name;
+        HeightQuery query(buildFixture(dir, test::dataPath(c.name), std::string(c.name) + ".ridge",
+                                       "lossless", std::nullopt, c.fill));
+        std::vector<glm::dvec2> centres;
+        for (int r = 0; r < src.height; ++r)
+            for (int col = 0; col < src.width; ++col)
+                centres.push_back({col + 0.5, r + 0.5});
+        std::vector<HeightSample> nearest(centres.size()), bilinear(centres.size());
+        query.sampleBatch(centres, PointSpace::Pixel, -1, QueryResampling::Nearest, nearest);
+        query.sampleBatch(centres, PointSpace::Pixel, -1, QueryResampling::Bilinear, bilinear);
+        int voids = 0, cell_nodata = 0;
+        for (size_t k = 0; k < centres.size(); ++k) {
+            const double value = src.values[k];
+            const bool is_void = value == *src.nodata;
+            voids += is_void;
+            ASSERT_EQ(nearest[k].nodata, is_void) << c.name << " sample " << k;
+            if (!is_void) {
+                ASSERT_EQ(nearest[k].height, value) << c.name << " sample " << k;
+            } else { // a void sample has no drawable cell around it: bilinear agrees there
+                ASSERT_TRUE(bilinear[k].nodata) << c.name << " sample " << k;
+            }
+            cell_nodata += bilinear[k].nodata && !is_void;
+        }
+        EXPECT_GT(voids, 300) << c.name;
+        // Data samples on a void's rim: no drawn cell holds them, nearest still answers.
+        EXPECT_GT(cell_nodata, 0) << c.name;
+    }
+}
+
+TEST(HeightQuery, BatchAnswersWhatSampleAnswersInInputOrder)
+{
+    test::ScratchDir dir;
+    const std::string path = buildFixture(dir, test::dataPath("everest_utm44.tif"), "u.ridge",
+                                          "progressive", 1.0);
+    HeightQuery batch_query(path, 1), one_query(path);
+    const PyramidGeometry& g = one_query.reader().geometry();
+    std::mt19937 rng(17);
+    std::uniform_real_distribution<double> px(-5.0, g.width() + 5.0), py(-5.0, g.height() + 5.0);
+    std::vector<glm::dvec2> points;
+    for (int k = 0; k < 4000; ++k)
+        points.push_back({px(rng), py(rng)});
+    points.push_back({NAN, 3.0}); // invalid: reported, the batch goes on
+    points.push_back({3.0, INFINITY});
+    for (const QueryResampling r : {QueryResampling::Bilinear, QueryResampling::Nearest})
+        for (const int level : {-1, 1}) {
+            std::vector<HeightSample> out(points.size());
+            batch_query.sampleBatch(points, PointSpace::Pixel, level, r, out);
+            int on = 0, off = 0, nodata = 0;
+            for (size_t k = 0; k < points.size(); ++k) {
+                const HeightSample& b = out[k];
+                if (!std::isfinite(points[k].x) || !std::isfinite(points[k].y)) {
+                    EXPECT_TRUE(b.invalid_point);
+                    EXPECT_FALSE(b.on_raster);
+                    EXPECT_THROW(one_query.sample(points[k], PointSpace::Pixel, level, r), Error);
+                    continue;
+                }
+                const HeightSample s = one_query.sample(points[k], PointSpace::Pixel, level, r);
+                ASSERT_FALSE(b.invalid_point);
+                ASSERT_EQ(b.on_raster, s.on_raster) << k;
+                ASSERT_EQ(b.nodata, s.nodata) << k;
+                ASSERT_EQ(b.pixel, s.pixel) << k;
+                ASSERT_EQ(b.local, s.local) << k;
+                ASSERT_EQ(b.level, s.level) << k;
+                if (s.on_raster) {
+                    ASSERT_EQ(b.patch, s.patch) << k;
+                    ASSERT_EQ(b.error_bound, s.error_bound) << k;
+                }
+                if (s.on_raster && !s.nodata) {
+                    ASSERT_EQ(b.height, s.height) << k;
+                }
+                on += s.on_raster && !s.nodata;
+                off += !s.on_raster;
+                nodata += s.nodata;
+            }
+            EXPECT_GT(on, 2000);
+            EXPECT_GT(off, 50);
+            EXPECT_GT(nodata, 100); // the collar
+        }
+    std::vector<HeightSample> short_out(3);
+    EXPECT_THROW(batch_query.sampleBatch(points, PointSpace::Pixel, -1, QueryResampling::Nearest,
+                                         short_out),
+                 Error);
+    EXPECT_THROW(batch_query.sampleBatch(points, PointSpace::Pixel, g.finestLevel() + 1,
+                                         QueryResampling::Nearest, std::span<HeightSample>()),
+                 Error);
+}
+
+TEST(HeightQuery, BatchDecodesEachPatchOnceWhateverTheCache)
+{
+    // Random points over every patch with the smallest cache: point by point, nearly every
+    // point decodes its patch again; in a batch each patch is decoded once (a lossless
+    // archive: no ancestor chains).
+    test::ScratchDir dir;
+    const std::string path = buildFixture(dir, test::dataPath("everest_crop.tif"), "e.ridge");
+    HeightQuery query(path, 1);
+    const PyramidGeometry& g = query.reader().geometry();
+    std::mt19937 rng(23);
+    std::uniform_real_distribution<double> px(0.0, g.width()), py(0.0, g.height());
+    std::vector<glm::dvec2> points;
+    for (int k = 0; k < 20000; ++k)
+        points.push_back({px(rng), py(rng)});
+    std::vector<HeightSample> out(points.size());
+    const uint64_t before = query.loaderStats().decoded;
+    query.sampleBatch(points, PointSpace::Pixel, -1, QueryResampling::Bilinear, out);
+    const uint64_t decoded = query.loaderStats().decoded - before;
+    std::set<int64_t> touched;
+    for (const HeightSample& s : out)
+        touched.insert(g.patchIndex(s.patch));
+    EXPECT_EQ(decoded, touched.size());
+    EXPECT_EQ(int64_t(touched.size()), g.patchCount(g.finestLevel()));
+
+    // Progressive, with a cache that holds what the points touch and every ancestor their
+    // decodes load: read in input order, each of those decoded exactly once.
+    const std::string progressive =
+        buildFixture(dir, test::dataPath("everest_crop.tif"), "p.ridge", "progressive", 1.0);
+    HeightQuery roomy(progressive, 1000);
+    const uint64_t start = roomy.loaderStats().decoded;
+    roomy.sampleBatch(points, PointSpace::Pixel, -1, QueryResampling::Nearest, out);
+    std::set<int64_t> chain;
+    for (const HeightSample& s : out)
+        for (PatchId p = s.patch;; p = p.parent()) {
+            chain.insert(g.patchIndex(p));
+            if (p.level == 0)
+                break;
+        }
+    EXPECT_EQ(roomy.loaderStats().decoded - start, chain.size());
 }

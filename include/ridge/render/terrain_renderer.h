@@ -16,6 +16,7 @@
 #include "ridge/lod/patch_quadtree.h"
 #include "ridge/lod/patch_residency.h"
 
+#include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
@@ -75,6 +76,9 @@ struct RenderSettings {
     DebugMode mode = DebugMode::Shaded;
     bool wireframe = false; // triangle edges over the shading
     bool sky = true;        // gradient sky; otherwise clear to clear_colour
+    // Clear colour and depth before drawing. Off: draw over what the framebuffer holds (a
+    // host application's scene, HostProjection), with no sky (it would paint over the scene).
+    bool clear = true;
     bool fog = true;
     glm::vec4 clear_colour{0.62f, 0.74f, 0.88f, 1.f};
     // Towards the sun (normalised on use): azimuth 315° (north-west, as hillshades), altitude 45°.
@@ -228,6 +232,26 @@ struct RendererOptions {
     }
 };
 
+// Reverse-Z infinite perspective (depth 1 at the near plane, 0 at infinity) for
+// glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE): the projection draw() uses for `camera`
+// without a HostProjection. Its x, y and w rows equal those of Camera::projection(), so
+// screen-space measurements in the shaders match the C++ ones.
+glm::dmat4 reverseZProjection(const lod::Camera& camera);
+
+// A host application's camera for draw() (ridge::Renderer::draw with a HostView): the image is
+// drawn with the host's matrices and depth convention, so that the host's geometry and the
+// terrain depth-test against each other in either drawing order. LOD is still decided for
+// draw()'s lod::Camera, which must sit at the host's eye with a frustum containing the host's
+// and γ no smaller than the host's (src/api/host_view.cpp derives one).
+struct HostProjection {
+    // Camera-relative terrain frame (world − camera.position(), metres) → clip: the host's
+    // projection times the rotation of its view.
+    glm::dmat4 view_projection{1.0};
+    bool zero_to_one = true; // glClipControl depth mode GL_ZERO_TO_ONE, else NEGATIVE_ONE_TO_ONE
+    bool greater = true;     // nearer is greater depth (reverse-Z): GL_GREATER, cleared to 0;
+                             // else GL_LESS, cleared to 1
+};
+
 class TerrainRenderer {
   public:
     TerrainRenderer(const archive::ArchiveReader& reader, const RendererOptions& options = {});
@@ -241,8 +265,15 @@ class TerrainRenderer {
     // factors, morph factors — while the image is drawn from `camera`: a frozen LOD for
     // inspecting a scheme, and the popping metric (this frame's view with the previous
     // frame's LOD state).
+    // `host`: the image is drawn with the host's projection and depth convention instead of
+    // ridge's reverse-Z one for `camera` (whose position must be the host's eye).
     FrameStats draw(const lod::Camera& camera, const RenderSettings& settings,
-                    const lod::Camera* lod_camera = nullptr);
+                    const lod::Camera* lod_camera = nullptr, const HostProjection* host = nullptr);
+    // The triangles the last draw() rasterised, for picking: its instance records replayed
+    // through the transform-feedback programs with its cameras, settings and resident slots,
+    // so the same selection, tessellation factors and morphs. Empty before the first draw()
+    // and after capture() (which replaces the instance records).
+    CapturedSurface lastFrameSurface();
     // The triangles draw() would rasterise for this camera (rasterizer discarded).
     // `keep_residency`: draw what is resident now (finest resident ancestors standing in),
     // requesting and uploading nothing — the state the last draw() left, for measurements.
@@ -260,6 +291,9 @@ class TerrainRenderer {
     const std::vector<PatchId>& lastDrawnPatches() const;
     // Streaming: blocks until every request so far is decoded (tests, benchmarks).
     void waitForStreaming();
+    // The same for at most `timeout_seconds` (finite, >= 0): true when every request so far
+    // is decoded, false when the time ran out first. True at once without streaming.
+    bool waitForStreaming(double timeout_seconds);
     // Streaming: the first patch that failed to decode ("PATH: patch (...): ..."), or empty.
     // Such a patch stays drawn by its ancestor.
     std::string streamingError() const;

@@ -80,6 +80,8 @@ class PatchStreamer {
     std::shared_ptr<const DecodedPatch> cached(PatchId p);
     // Blocks until no request is queued or in flight (tests, benchmarks).
     void waitIdle();
+    // The same for at most `timeout_seconds`: true when idle, false when the time ran out.
+    bool waitIdleFor(double timeout_seconds);
 
     StreamerStats stats() const;
     const StreamerOptions& options() const { return options_; }
