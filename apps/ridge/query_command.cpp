@@ -85,6 +85,8 @@ nlohmann::json sampleJson(const HeightSample& s)
         j["level"] = s.level;
         j["patch"] = {s.patch.level, s.patch.x, s.patch.y};
         j["error_bound"] = s.error_bound;
+        j["water"] = s.water;
+        j["filled"] = s.filled;
     } else {
         j["height"] = nullptr;
     }
@@ -114,8 +116,9 @@ class Answers {
         if (!error.empty())
             fmt::format_to(out, "{}: error: {}\n", echo, error);
         else if (answered)
-            fmt::format_to(out, "{}: {:.3f} m (level {}, within {:g} m of the source)\n", echo,
-                           s->height, s->level, s->error_bound);
+            fmt::format_to(out, "{}: {:.3f} m (level {}, within {:g} m of the source{}{})\n",
+                           echo, s->height, s->level, s->error_bound, s->water ? "; water" : "",
+                           s->filled ? "; filled: a void of the source, its height invented" : "");
         else if (s->nodata)
             fmt::format_to(out,
                            "{}: nodata (the archive keeps no height here; pixel/line {:.2f}, "

@@ -163,6 +163,11 @@ struct PointHeight {
     double error_bound = 0.0;
     int level = -1; // the level read
     HeightStatus status = HeightStatus::InvalidPoint;
+    // With a height (Ok): water there (the archive's water flags, as the renderers draw it:
+    // sea, lakes, whatever the build's --sea-level and --water said), and whether the height
+    // was invented by filling a void of the source (SRTM holes) rather than measured.
+    bool water = false;
+    bool filled = false;
 };
 
 // ---- Cameras --------------------------------------------------------------------------------
@@ -191,6 +196,9 @@ struct CameraParameters {
     std::optional<double> heading_degrees;
     std::optional<double> pitch_degrees;
     double fov_y_degrees = 60.0; // (0, 180)
+    // The vertical exaggeration the camera is for (DrawParameters::vertical_exaggeration):
+    // heights given are in the drawn space, the ground is the drawn ground.
+    double vertical_exaggeration = 1.0;
 };
 
 class RIDGE_API Terrain {
@@ -276,6 +284,11 @@ struct DrawParameters {
     bool clear = true;
     bool sky = true; // the background gradient, drawn only when clearing
     bool fog = true;
+    // Vertical exaggeration, (0.01, 100]: heights drawn this many times as tall. Cameras live
+    // in the drawn space (defaultCamera, groundHeight and CameraParameters take the same
+    // factor); ε, culling and skirts hold on the exaggerated surface; picks report true
+    // heights.
+    double vertical_exaggeration = 1.0;
 };
 
 struct FrameSummary {
@@ -406,9 +419,12 @@ class RIDGE_API Renderer {
     // report FrameSummary::missing == 0 once the view is complete.
     bool waitForStreaming(double timeout_seconds);
     // An oblique view from the south-south-west that frames the whole terrain.
-    CameraPose defaultCamera(int width, int height, double fov_y_degrees = 60.0) const;
-    // The ground height under local (x, y) from the coarsest level (cheap: camera clamps).
-    double groundHeight(double x, double y) const;
+    // `vertical_exaggeration`: as DrawParameters', for a camera of an exaggerated frame.
+    CameraPose defaultCamera(int width, int height, double fov_y_degrees = 60.0,
+                             double vertical_exaggeration = 1.0) const;
+    // The ground height under local (x, y) from the coarsest level (cheap: camera clamps),
+    // times `vertical_exaggeration` (the drawn ground).
+    double groundHeight(double x, double y, double vertical_exaggeration = 1.0) const;
 
   private:
     struct Impl;

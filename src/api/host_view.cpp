@@ -62,7 +62,8 @@ glm::dvec3 PixelRays::direction(double x, double y) const
     return world_from_eye * eyeDirection(projection, x_ndc, y_ndc);
 }
 
-HostCamera hostCamera(const HostView& host, const render::TerrainRenderer& renderer)
+HostCamera hostCamera(const HostView& host, const render::TerrainRenderer& renderer,
+                      double exaggeration)
 {
     // The numbers: finite, a viewport GL can have.
     checkParameters("HostView::view", host.view.data(), 16, ValueRange::any());
@@ -155,7 +156,7 @@ HostCamera hostCamera(const HostView& host, const render::TerrainRenderer& rende
                     " pixels across");
     const double fov_y_degrees = 2.0 * std::atan(tan_y) * 180.0 / std::numbers::pi;
     double near_m = 1.0, far_m = 1e6;
-    renderer.clipPlanesFor(eye, near_m, far_m); // far: the whole terrain
+    renderer.clipPlanesFor(eye, near_m, far_m, exaggeration); // far: the whole terrain
     near_m = std::min(near_m, host_near);       // culling never cuts what the host shows
     far_m = std::max(far_m, 2.0 * near_m);
 

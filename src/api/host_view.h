@@ -39,7 +39,8 @@ struct HostCamera {
 // direction that agrees with view.depth and a near plane in front of the eye); throws
 // ridge::Error naming the field otherwise. `renderer` gives the far plane that holds the
 // whole terrain.
-HostCamera hostCamera(const HostView& view, const render::TerrainRenderer& renderer);
+HostCamera hostCamera(const HostView& view, const render::TerrainRenderer& renderer,
+                      double exaggeration = 1.0);
 
 // The HostView of ridge's own camera: view = rotation · translation(−position), projection
 // render::reverseZProjection(camera), ReverseZ.

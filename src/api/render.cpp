@@ -39,6 +39,7 @@ render::RenderSettings settingsFrom(const DrawParameters& p)
     s.clear = p.clear;
     s.sky = p.sky;
     s.fog = p.fog;
+    s.exaggeration = p.vertical_exaggeration;
     return s;
 }
 
@@ -138,6 +139,7 @@ struct Renderer::Impl {
     std::optional<api::PickSurface> surface;
     // The finest samples picks are measured against, opened by the first pick.
     std::unique_ptr<HeightQuery> finest;
+    double exaggeration = 1.0; // of the last frame drawn: picks divide its heights by it
 
     Impl(const std::string& path, const render::RendererOptions& options)
         : reader(path), renderer(reader, options), georeference(reader)
@@ -155,6 +157,7 @@ struct Renderer::Impl {
         const render::FrameStats stats = renderer.draw(
             host.lod_camera, settings, nullptr, host_projection ? &host.projection : nullptr);
         rays = host.rays;
+        exaggeration = settings.exaggeration;
         return summaryOf(stats);
     }
 
@@ -181,14 +184,17 @@ struct Renderer::Impl {
         TerrainHit out;
         const glm::dvec3 p = surface->cameraPosition() + hit->relative;
         out.position = fromGlm(p);
-        out.height = p.z; // drawn without vertical exaggeration: the height itself
+        out.height = p.z / exaggeration; // the drawn height is k times the terrain's
         out.distance = hit->t;
         out.level = hit->patch.level;
         if (!finest)
             finest = std::make_unique<HeightQuery>(reader.path(), 64);
-        const glm::dvec3 triangle[3] = {surface->cameraPosition() + hit->triangle[0],
-                                        surface->cameraPosition() + hit->triangle[1],
-                                        surface->cameraPosition() + hit->triangle[2]};
+        // The triangle in true heights, to compare with the archive's samples.
+        glm::dvec3 triangle[3] = {surface->cameraPosition() + hit->triangle[0],
+                                  surface->cameraPosition() + hit->triangle[1],
+                                  surface->cameraPosition() + hit->triangle[2]};
+        for (glm::dvec3& v : triangle)
+            v.z /= exaggeration;
         out.error_bound = drawnError(*finest, triangle);
         if (georeference.hasCrs()) {
             try {
@@ -220,17 +226,20 @@ FrameSummary Renderer::draw(const CameraPose& pose, int width, int height,
                             const DrawParameters& parameters)
 {
     // Validates the pose and viewport like renderPng; ridge's own reverse-Z projection.
-    const lod::Camera camera =
-        render::cameraFor(impl_->renderer, headlessOptions(pose, width, height));
+    render::HeadlessRenderOptions options = headlessOptions(pose, width, height);
+    options.settings.exaggeration = parameters.vertical_exaggeration;
+    const lod::Camera camera = render::cameraFor(impl_->renderer, options);
     const HostView view = api::hostViewOf(camera);
-    api::HostCamera host = api::hostCamera(view, impl_->renderer);
+    api::HostCamera host =
+        api::hostCamera(view, impl_->renderer, parameters.vertical_exaggeration);
     host.lod_camera = camera; // exactly the pose's camera, not one rebuilt from matrices
     return impl_->draw(host, parameters, false);
 }
 
 FrameSummary Renderer::draw(const HostView& view, const DrawParameters& parameters)
 {
-    return impl_->draw(api::hostCamera(view, impl_->renderer), parameters, true);
+    return impl_->draw(api::hostCamera(view, impl_->renderer, parameters.vertical_exaggeration),
+                       parameters, true);
 }
 
 HostView Renderer::hostView(const CameraPose& pose, int width, int height) const
@@ -264,9 +273,11 @@ bool Renderer::waitForStreaming(double timeout_seconds)
     return impl_->renderer.waitForStreaming(timeout_seconds);
 }
 
-CameraPose Renderer::defaultCamera(int width, int height, double fov_y_degrees) const
+CameraPose Renderer::defaultCamera(int width, int height, double fov_y_degrees,
+                                   double vertical_exaggeration) const
 {
-    const lod::Camera c = impl_->renderer.defaultCamera({width, height}, fov_y_degrees);
+    const lod::Camera c =
+        impl_->renderer.defaultCamera({width, height}, fov_y_degrees, vertical_exaggeration);
     CameraPose pose;
     pose.position = fromGlm(c.position());
     // Any point along the view direction: the camera looks the same.
@@ -275,9 +286,9 @@ CameraPose Renderer::defaultCamera(int width, int height, double fov_y_degrees) 
     return pose;
 }
 
-double Renderer::groundHeight(double x, double y) const
+double Renderer::groundHeight(double x, double y, double vertical_exaggeration) const
 {
-    return impl_->renderer.groundHeight(x, y);
+    return impl_->renderer.groundHeight(x, y, vertical_exaggeration);
 }
 
 } // namespace ridge

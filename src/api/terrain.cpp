@@ -79,6 +79,8 @@ PointHeight pointHeightOf(const HeightSample& s)
     if (h.status == HeightStatus::Ok) {
         h.height = s.height;
         h.error_bound = s.error_bound;
+        h.water = s.water;
+        h.filled = s.filled;
     }
     return h;
 }
@@ -228,6 +230,7 @@ CameraPose Terrain::cameraPose(const CameraParameters& camera) const
     placement.look_at_lonlat = vec(camera.look_at_lonlat);
     placement.heading_deg = camera.heading_degrees;
     placement.pitch_deg = camera.pitch_degrees;
+    placement.exaggeration = camera.vertical_exaggeration;
     const ResolvedCamera resolved = resolveCameraPlacement(impl_->query, placement);
     glm::dvec3 target;
     if (resolved.look_at) {

@@ -156,6 +156,8 @@ void HeightQuery::read(const Location& at, const stream::DecodedPatch& patch,
     auto code = [&](int a, int b) {
         return double(patch.codes[size_t(b) * size_t(n) + size_t(a)]);
     };
+    const PatchSampleFlags& flags = patch.sample_flags;
+    const bool stored = reader_->storesSampleFlags();
     if (resampling == QueryResampling::Nearest) {
         // No drawable-cell mask: every sample is data. Otherwise the sample's own validity.
         if (!patch.drawable_cells.empty() && !sampleValidity(at.patch)->sampleValid(at.u, at.v)) {
@@ -163,6 +165,8 @@ void HeightQuery::read(const Location& at, const stream::DecodedPatch& patch,
             return;
         }
         out.height = reader_->quantization().toMetres(code(at.u, at.v));
+        out.water = stored ? flags.water(at.u, at.v) : out.height <= 0.0;
+        out.filled = flags.filled(at.u, at.v);
         return;
     }
     // Kept nodata: the cell the point lies in is not drawn, so the terrain has no height here.
@@ -179,6 +183,20 @@ void HeightQuery::read(const Location& at, const stream::DecodedPatch& patch,
     const double c = (code(u0, v0) * (1 - fu) + code(u0 + 1, v0) * fu) * (1 - fv) +
                      (code(u0, v0 + 1) * (1 - fu) + code(u0 + 1, v0 + 1) * fu) * fv;
     out.height = reader_->quantization().toMetres(c);
+    if (!stored) {
+        out.water = out.height <= 0.0;
+        return;
+    }
+    if (flags.kind == PatchSampleFlags::Kind::None)
+        return;
+    const double weight[4] = {(1 - fu) * (1 - fv), fu * (1 - fv), (1 - fu) * fv, fu * fv};
+    const int du[4] = {0, 1, 0, 1}, dv[4] = {0, 0, 1, 1};
+    double water = 0.0;
+    for (int k = 0; k < 4; ++k) {
+        water += flags.water(u0 + du[k], v0 + dv[k]) ? weight[k] : 0.0;
+        out.filled = out.filled || (weight[k] > 0.0 && flags.filled(u0 + du[k], v0 + dv[k]));
+    }
+    out.water = water >= 0.5;
 }
 
 HeightSample HeightQuery::sample(glm::dvec2 point, PointSpace space, int level,

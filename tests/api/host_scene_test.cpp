@@ -306,6 +306,42 @@ TEST(HostScene, PickReturnsTheSummitWithinTheDrawnError)
     EXPECT_THROW(renderer.pick(std::nan(""), 1.0), ridge::Error);
 }
 
+TEST(HostScene, PicksOfAnExaggeratedFrameReportTrueHeights)
+{
+    // Drawn 2.5 times as tall: the hit lies on the drawn surface (z = 2.5 h) and reports the
+    // terrain's own height h, within the bound measured against the true samples.
+    REQUIRE_GL();
+    ScratchDir dir;
+    const std::string path = everestArchive(dir);
+    const ridge::Terrain terrain(path);
+    const Summit summit = findSummit(terrain);
+    ridge::RendererParameters rp;
+    rp.streaming = false;
+    ridge::Renderer renderer(path, rp);
+    host::Framebuffer target(kWidth, kHeight);
+    const double k = 2.5;
+    ridge::CameraParameters cp;
+    cp.position_lonlat = {86.90, 27.95, k * 13000.0};
+    cp.look_at = std::array<double, 3>{summit.local.x, summit.local.y, k * summit.height};
+    cp.fov_y_degrees = 40.0;
+    cp.vertical_exaggeration = k;
+    ridge::DrawParameters draw;
+    draw.max_screen_error_px = 1.0;
+    draw.texel_size_px = 0.0;
+    draw.vertical_exaggeration = k;
+    renderer.draw(terrain.cameraPose(cp), kWidth, kHeight, draw);
+    const std::optional<ridge::TerrainHit> down =
+        renderer.pick({summit.local.x, summit.local.y, 50000.0}, {0.0, 0.0, -1.0});
+    ASSERT_TRUE(down.has_value());
+    EXPECT_NEAR(down->position[2], k * summit.height, 0.05) << "the drawn surface";
+    EXPECT_NEAR(down->height, summit.height, down->error_bound + 0.01) << "the terrain's height";
+    EXPECT_LT(down->error_bound, 0.05);
+    EXPECT_NEAR(renderer.groundHeight(summit.local.x, summit.local.y, k),
+                k * renderer.groundHeight(summit.local.x, summit.local.y), 1e-6);
+    draw.vertical_exaggeration = 0.0;
+    EXPECT_THROW(renderer.draw(terrain.cameraPose(cp), kWidth, kHeight, draw), ridge::Error);
+}
+
 TEST(HostScene, DrawAndPickLeaveTheHostsGlStateAsTheyFoundIt)
 {
     // A host mid-frame: its own conventions, program, buffers and textures bound, even a

@@ -64,3 +64,32 @@ TEST(WaterCli, TheWaterLayerIsAnInputNoOutputMayReplace)
     EXPECT_NE(r.exit_code, 0) << r.output;
     EXPECT_EQ(test::readFile(lake), test::readFile(test::dataPath("crystal_springs_utm10.geojson")));
 }
+
+TEST(WaterCli, QueryMarksWaterAndFilledAnswers)
+{
+    test::ScratchDir dir;
+    const std::string arc = dir.path("coast.ridge");
+    ASSERT_EQ(test::runRidge("build '" + coast() + "' -o '" + arc + "' --codec progressive --max-error 1 -q").exit_code, 0);
+    // Pixel (270.5, 100.5) is the Bay at 0 m, (150.5, 250.5) the peninsula's hills (135 m).
+    test::CommandResult r = test::runRidge("query '" + arc + "' --pixel 270.5 100.5");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find("; water)"), std::string::npos) << r.output;
+    r = test::runRidge("query '" + arc + "' --pixel 150.5 250.5");
+    EXPECT_EQ(r.output.find("water"), std::string::npos) << r.output;
+    r = test::runRidgeStdout("query '" + arc + "' --pixel 270.5 100.5 --json");
+    EXPECT_NE(r.output.find("\"water\": true"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("\"filled\": false"), std::string::npos) << r.output;
+
+    const std::string voids = dir.path("rainier.ridge");
+    ASSERT_EQ(test::runRidge("build '" + test::dataPath("rainier_voids.tif") + "' -o '" + voids +
+                             "' --fill-voids all -q")
+                  .exit_code,
+              0);
+    // Sample (226, 8) is a raw-SRTM void of the Rainier fixture: its height is
+    // GDALFillNodata's, not a measurement; (100, 100) is measured.
+    r = test::runRidge("query '" + voids + "' --pixel 226.5 8.5");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find("filled: a void of the source"), std::string::npos) << r.output;
+    r = test::runRidge("query '" + voids + "' --pixel 100.5 100.5");
+    EXPECT_EQ(r.output.find("filled"), std::string::npos) << r.output;
+}

@@ -10,6 +10,7 @@
 #include "ridge/core/error.h"
 #include "ridge/io/raster_source.h"
 #include "ridge/pipeline/build.h"
+#include "ridge/pipeline/height_query.h"
 #include "ridge/pipeline/hillshade.h"
 #include "ridge/pipeline/level_decoder.h"
 
@@ -259,4 +260,49 @@ TEST(Water, FilledVoidsAreFlaggedAndKeptNodataHasNoFlag)
     o.ingest.fill_voids = io::VoidFill::None;
     for (uint8_t f : finestFlags(build(dir, "kept.ridge", o, test::dataPath("rainier_voids.tif"))))
         ASSERT_EQ(f, 0);
+}
+
+TEST(Water, QueriesReportWaterAndFilledSamplesAsTheArchiveFlagsThem)
+{
+    test::ScratchDir dir;
+    const Source source = readSource(test::dataPath("sfbay_coast.tif"));
+    BuildOptions o = lossy();
+    o.ingest.water_layer = test::dataPath("crystal_springs_utm10.geojson");
+    HeightQuery query(build(dir, "lossy.ridge", o));
+    const std::vector<uint8_t> flags = finestFlags(query.reader().path());
+    int64_t sea_above_zero = 0, checked = 0;
+    for (int y = 0; y < source.height; y += 3)
+        for (int x = 0; x < source.width; x += 3) {
+            // At a sample centre both resamplings read that sample alone.
+            for (QueryResampling r : {QueryResampling::Nearest, QueryResampling::Bilinear}) {
+                const HeightSample s = query.sample({x + 0.5, y + 0.5}, PointSpace::Pixel, -1, r);
+                ASSERT_TRUE(s.on_raster);
+                ASSERT_EQ(s.water, (flags[size_t(y) * source.width + x] & kSampleWater) != 0)
+                    << x << ", " << y;
+                ASSERT_FALSE(s.filled);
+                sea_above_zero += s.water && source.at(x, y) <= 0.0 && s.height > 0.0;
+                ++checked;
+            }
+        }
+    EXPECT_GT(sea_above_zero, 0) << "sea decoded above 0 m is still water";
+    // Between samples (bilinear): water where the blend of the four water bits is >= 1/2;
+    // the reservoir's samples around (189, 294) are all 87 m and in the lake polygon.
+    const HeightSample lake = query.sample({189.9, 294.8}, PointSpace::Pixel);
+    EXPECT_EQ(source.at(189, 294), 87.0);
+    EXPECT_TRUE(lake.water) << "the reservoir, 87 m above the sea";
+
+    BuildOptions fill;
+    fill.patch_size = 65;
+    fill.ingest.fill_voids = io::VoidFill::All;
+    HeightQuery filled(build(dir, "filled.ridge", fill, test::dataPath("rainier_voids.tif")));
+    const Source rainier = readSource(test::dataPath("rainier_voids.tif"));
+    int64_t voids = 0;
+    for (int y = 0; y < rainier.height; ++y)
+        for (int x = 0; x < rainier.width; ++x) {
+            const HeightSample s = filled.sample({x + 0.5, y + 0.5}, PointSpace::Pixel, -1,
+                                                 QueryResampling::Nearest);
+            ASSERT_EQ(s.filled, std::isnan(rainier.at(x, y))) << x << ", " << y;
+            voids += s.filled;
+        }
+    EXPECT_EQ(voids, 368);
 }

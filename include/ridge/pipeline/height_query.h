@@ -67,6 +67,13 @@ struct HeightSample {
     int level = 0;            // level whose surface was read
     PatchId patch;            // the covering patch that was read (on the raster only)
     double error_bound = 0.0; // Err(P) of that patch, metres: its samples vs the source
+    // The archive's sample flags there (docs/FORMAT.md, "Sample flags"), with a height only.
+    // Nearest: the sample's own. Bilinear: water where the blend of the four samples' water
+    // bits is at least 1/2 (the renderers' rule, so a query agrees with the picture); filled
+    // where any sample that weighs in was invented by void filling. Archives before format 4
+    // store no flags: water is the height rule of then (<= 0 m) and nothing is filled.
+    bool water = false;
+    bool filled = false;
 };
 
 class HeightQuery {
