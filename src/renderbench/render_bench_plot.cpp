@@ -21,20 +21,20 @@ namespace ridge::renderbench {
 std::vector<std::string> renderBenchPlotTitles(const RenderBenchReport& r)
 {
     const RenderBenchOptions& o = r.options;
-    std::string title = fmt::format(
-        "{} on {}, {}x{}, ε {} px, path '{}'{}", o.scheme,
-        std::filesystem::path(r.archive).filename().string(), o.viewport.width,
-        o.viewport.height, o.epsilon_px, o.path.kind,
-        o.renderer.streaming ? "" : ", no streaming");
-    std::string detail = fmt::format("{} of {} frames at full detail", r.frames_full_detail,
-                                     r.frames.size());
+    std::string title = fmt::format("{} on {}, {}x{}, ε {} px, path '{}'{}", o.scheme,
+                                    std::filesystem::path(r.archive).filename().string(),
+                                    o.viewport.width, o.viewport.height, o.epsilon_px, o.path.kind,
+                                    o.renderer.streaming ? "" : ", no streaming");
+    std::string detail =
+        fmt::format("{} of {} frames at full detail", r.frames_full_detail, r.frames.size());
     if (r.full_detail_ms.count > 0)
         detail += fmt::format(", median {:.1f} ms over {} (frame 0 left out)",
                               r.full_detail_ms.median, r.full_detail_ms.count);
     if (!r.time_to_full_detail.empty()) {
         const TimeToFullDetail& t = r.time_to_full_detail.front();
-        detail += t.frames > 0 ? fmt::format("; full detail {:.2f} s after the start", t.ms / 1000.0)
-                               : std::string("; full detail not reached from the start");
+        detail += t.frames > 0
+                      ? fmt::format("; full detail {:.2f} s after the start", t.ms / 1000.0)
+                      : std::string("; full detail not reached from the start");
     }
     return {std::move(title), std::move(detail),
             "frame time (red; green dots: frames at full detail), GPU terrain pass (blue); " +

@@ -126,10 +126,10 @@ void summariseRenderBench(RenderBenchReport& r)
     r.popping_px = frameStatistics(std::move(popping));
     const std::vector<int> jumps = cameraJumpFrames(r.options);
     for (size_t k = 0; k < jumps.size() && jumps[k] < int(r.frames.size()); ++k)
-        r.time_to_full_detail.push_back(timeToFullDetail(
-            r.frames, jumps[k],
-            k + 1 < jumps.size() ? std::min(jumps[k + 1], int(r.frames.size()))
-                                 : int(r.frames.size())));
+        r.time_to_full_detail.push_back(
+            timeToFullDetail(r.frames, jumps[k],
+                             k + 1 < jumps.size() ? std::min(jumps[k + 1], int(r.frames.size()))
+                                                  : int(r.frames.size())));
 
     r.all_ms = frameStatistics(all);
     std::sort(all.begin(), all.end());
@@ -139,8 +139,8 @@ void summariseRenderBench(RenderBenchReport& r)
     r.fps_max = fps(all.front());
     r.rss_early_mib = r.frames[r.frames.size() / 10].rss_mib;
     r.rss_end_mib = r.frames.back().rss_mib;
-    r.frames_over_twice_median = int(std::count_if(
-        all.begin(), all.end(), [&](double m) { return m > 2.0 * r.all_ms.median; }));
+    r.frames_over_twice_median = int(
+        std::count_if(all.begin(), all.end(), [&](double m) { return m > 2.0 * r.all_ms.median; }));
     r.mtri_per_s = total_ms > 0.0 ? triangles / (total_ms * 1e3) : 0.0;
     r.triangles_mean = triangles / double(r.frames.size());
 }
@@ -155,9 +155,9 @@ std::string describe(const FrameStatistics& s, const char* unit, int decimals)
         return "no frames";
     auto number = [&](double v) { return fmt::format("{:.{}f}", v, decimals); };
     auto percentile = [&](const char* name, double v, double p) {
-        return std::isfinite(v) ? fmt::format(", {} {}", name, number(v))
-                                : fmt::format(", {} — (needs {} frames)", name,
-                                              framesForPercentile(p));
+        return std::isfinite(v)
+                   ? fmt::format(", {} {}", name, number(v))
+                   : fmt::format(", {} — (needs {} frames)", name, framesForPercentile(p));
     };
     return fmt::format("median {} {} over {} frame{}{}{}, max {} {}", number(s.median), unit,
                        s.count, s.count == 1 ? "" : "s", percentile("p90", s.p90, 0.90),
@@ -175,11 +175,10 @@ std::string describeTimeToFullDetail(const RenderBenchReport& r)
     if (r.time_to_full_detail.empty())
         return "no frames";
     auto one = [](const TimeToFullDetail& t) {
-        return t.frames > 0
-                   ? fmt::format("{} ({} frame{})", seconds(t.ms), t.frames,
-                                 t.frames == 1 ? "" : "s")
-                   : fmt::format("not reached in {} frames ({})", t.segment_frames,
-                                 seconds(t.segment_ms));
+        return t.frames > 0 ? fmt::format("{} ({} frame{})", seconds(t.ms), t.frames,
+                                          t.frames == 1 ? "" : "s")
+                            : fmt::format("not reached in {} frames ({})", t.segment_frames,
+                                          seconds(t.segment_ms));
     };
     std::string out = "start " + one(r.time_to_full_detail.front());
     std::vector<double> reached;
@@ -210,9 +209,9 @@ std::string formatRenderBenchSummary(const RenderBenchReport& r)
 {
     auto mib = [](uint64_t bytes) { return double(bytes) / (1024.0 * 1024.0); };
     const render::RendererOptions& ro = r.options.renderer;
-    const double scheme_fps =
-        r.full_detail_ms.count > 0 && r.full_detail_ms.median > 0 ? 1000.0 / r.full_detail_ms.median
-                                                                  : 0.0;
+    const double scheme_fps = r.full_detail_ms.count > 0 && r.full_detail_ms.median > 0
+                                  ? 1000.0 / r.full_detail_ms.median
+                                  : 0.0;
     const std::string budget =
         !ro.streaming ? std::string("not streaming")
         : r.upload_budget_ms.count == 0
@@ -247,11 +246,10 @@ std::string formatRenderBenchSummary(const RenderBenchReport& r)
         "reconstructed on the GPU)\n"
         "  hole pixels              {} in {} frames\n"
         "  popping                  {}\n",
-        r.archive, r.options.scheme, r.options.path.kind, r.frames.size(),
-        r.options.viewport.width, r.options.viewport.height, r.options.epsilon_px,
-        r.options.cull ? "on" : "off", r.gl_renderer, r.frames_full_detail, r.frames.size(),
-        r.frames_coarser, r.frames_missing, r.frames_epsilon_raised, describeTimeToFullDetail(r),
-        describe(r.full_detail_ms, "ms", 1),
+        r.archive, r.options.scheme, r.options.path.kind, r.frames.size(), r.options.viewport.width,
+        r.options.viewport.height, r.options.epsilon_px, r.options.cull ? "on" : "off",
+        r.gl_renderer, r.frames_full_detail, r.frames.size(), r.frames_coarser, r.frames_missing,
+        r.frames_epsilon_raised, describeTimeToFullDetail(r), describe(r.full_detail_ms, "ms", 1),
         scheme_fps > 0 ? fmt::format(": {:.1f} fps", scheme_fps)
                        : std::string(": no frame at full detail, no frame rate claimed"),
         describe(r.coarser_ms, "ms", 1), r.warmup_ms, r.fps_min, r.fps_median, r.fps_max,

@@ -116,8 +116,8 @@ TEST(RenderBenchSummary, ClaimsAPercentileOnlyWhereTheFramesSupportIt)
     EXPECT_DOUBLE_EQ(s.p99, 99.0); // not the worst frame
     EXPECT_DOUBLE_EQ(s.max, 100.0);
     // 60 frames: a "p99" would be the worst one (often the warm-up), so none is claimed.
-    const FrameStatistics sixty = frameStatistics(std::vector<double>(hundred.begin(),
-                                                                      hundred.begin() + 60));
+    const FrameStatistics sixty =
+        frameStatistics(std::vector<double>(hundred.begin(), hundred.begin() + 60));
     EXPECT_TRUE(std::isnan(sixty.p99));
     EXPECT_DOUBLE_EQ(sixty.p90, 54.0);
     EXPECT_TRUE(std::isnan(frameStatistics({1, 2, 3}).p90));
@@ -194,12 +194,10 @@ TEST(RenderBenchSummary, PlotTitlesNameTheSchemeArchiveSizeAndEpsilon)
         summariseRenderBench(r);
         const std::vector<std::string> titles = renderBenchPlotTitles(r);
         ASSERT_EQ(titles.size(), 3u);
-        for (const std::string& phrase :
-             {scheme + " on sierra #2.ridge", std::string("640x360"), std::string("ε 2 px"),
-              std::string("path 'teleport'")})
+        for (const std::string& phrase : {scheme + " on sierra #2.ridge", std::string("640x360"),
+                                          std::string("ε 2 px"), std::string("path 'teleport'")})
             EXPECT_NE(titles[0].find(phrase), std::string::npos) << phrase << " in " << titles[0];
-        EXPECT_NE(titles[1].find("12 of 30 frames at full detail"), std::string::npos)
-            << titles[1];
+        EXPECT_NE(titles[1].find("12 of 30 frames at full detail"), std::string::npos) << titles[1];
         EXPECT_NE(titles[2].find("llvmpipe (test)"), std::string::npos) << titles[2];
     }
 }
