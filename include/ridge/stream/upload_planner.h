@@ -73,7 +73,7 @@ struct UploadBudget {
 // Why it follows the frame time: a fixed budget is sized for one frame rate. 4 ms is a
 // quarter of a 60 Hz frame, but in a 150 ms frame (llvmpipe, or a heavy scheme on a weak GPU)
 // it is under 3 %, and where one upload costs more than the whole budget (a 129² GPU
-// reconstruction with its normal passes takes ~20 ms on llvmpipe) only the one upload that
+// reconstruction with its normal passes takes 10–20 ms on llvmpipe) only the one upload that
 // always goes gets through: a view of 150 missing patches then takes 150 frames — a minute —
 // to reach full detail. Streaming should cost the same share of every frame instead. So:
 //
@@ -83,13 +83,16 @@ struct UploadBudget {
 // successive frames less the time those frames spent uploading (the frame's own work: drawing,
 // the host's work, waiting for vsync). Uploads are left out of T so that the budget does not
 // feed on itself: spending f·T on uploads makes a frame at most 1 + f times as long as it
-// would be without streaming, whatever the frame rate. The median, not a running mean: one
+// would be without streaming (plus one upload's overrun), whatever the frame rate. Where
+// frames are short against one upload (a coarse view drawing the root alone, with uploads
+// decoded on the CPU), f·T stays below one upload and one patch a frame goes, as with the
+// fixed budget; the gain is where frames are long (docs/PERF.md, issue 22). The median, not a running mean: one
 // long frame (shader compilation on the first frame, a window drag, an idle host) does not
 // swing the budget, and it adapts within half a window to a real change. Until kMinFrames
 // intervals are known, the floor. The floor is the fixed budget (so a fast GPU behaves as
-// before: at 60 Hz a quarter of the frame is the 4 ms floor); the ceiling bounds the stall
-// one frame may take for uploads however slow the frames are. frame_fraction 0: the fixed
-// budget alone.
+// before: at 60 Hz a quarter of the frame is the 4 ms floor); the ceiling (a quarter of a
+// second) bounds the stall one frame may take for uploads however slow the frames are.
+// frame_fraction 0: the fixed budget alone.
 //
 // Time is the caller's clock in milliseconds (steady); nothing here reads a clock, so the
 // policy is tested with simulated frames. No allocation. Not thread-safe.
