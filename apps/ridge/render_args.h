@@ -8,6 +8,7 @@
 #include "ridge/pipeline/camera_placement.h"
 #include "ridge/render/headless_render.h"
 #include "ridge/render/terrain_renderer.h"
+#include "ridge/stream/upload_planner.h"
 
 #include <CLI/CLI.hpp>
 
@@ -192,9 +193,23 @@ inline void addStreamingOptions(CLI::App& command, render::RendererOptions& opti
     command.add_option("--upload-mb", options.upload_budget_mb, "Per-frame upload budget, MB")
         ->capture_default_str()
         ->check(inRange("--upload-mb", Options::kUploadBudgetMbRange));
-    command.add_option("--upload-ms", options.upload_budget_ms, "Per-frame upload budget, CPU ms")
+    command
+        .add_option("--upload-ms", options.upload_budget_ms,
+                    "Per-frame upload time budget, CPU ms: the floor of the adaptive budget")
         ->capture_default_str()
         ->check(inRange("--upload-ms", Options::kUploadBudgetMsRange));
+    command
+        .add_option("--upload-frame-fraction", options.upload_frame_fraction,
+                    "Upload time budget as a fraction of the recent frame time (without "
+                    "uploads), between --upload-ms and --upload-max-ms; 0: --upload-ms alone")
+        ->capture_default_str()
+        ->check(inRange("--upload-frame-fraction",
+                        stream::UploadTimeSettings::kFrameFractionRange));
+    command
+        .add_option("--upload-max-ms", options.upload_budget_max_ms,
+                    "Ceiling of the adaptive upload time budget, ms")
+        ->capture_default_str()
+        ->check(inRange("--upload-max-ms", stream::UploadTimeSettings::kCeilingMsRange));
     command.add_flag_callback(
         "--cpu-decode", [&options] { options.gpu_reconstruction = false; },
         "Decode progressive patches wholly on the CPU (default: entropy decoding on the CPU, "

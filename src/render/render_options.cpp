@@ -2,6 +2,7 @@
 #include "ridge/render/terrain_renderer.h"
 
 #include "ridge/core/error.h"
+#include "ridge/stream/upload_planner.h"
 
 #include <glm/geometric.hpp>
 
@@ -46,6 +47,11 @@ void RendererOptions::validate() const
     checkParameter("uploads_per_frame", int64_t{uploads_per_frame}, 1, kMaxUploadsPerFrame);
     checkParameter("upload_budget_mb", upload_budget_mb, kUploadBudgetMbRange);
     checkParameter("upload_budget_ms", upload_budget_ms, kUploadBudgetMsRange);
+    using stream::UploadTimeSettings;
+    checkParameter("upload_frame_fraction", upload_frame_fraction,
+                   UploadTimeSettings::kFrameFractionRange);
+    checkParameter("upload_budget_max_ms", upload_budget_max_ms,
+                   UploadTimeSettings::kCeilingMsRange);
     checkParameter("prefetch_frames", int64_t{prefetch_frames}, 0, kMaxPrefetchFrames);
     checkParameter("chunk_tolerance", chunk_tolerance, kChunkToleranceRange);
     for (const std::string& name : schemes)

@@ -171,6 +171,10 @@ struct TerrainRenderer::Impl {
     std::vector<std::shared_ptr<const stream::DecodedPatch>> arrived, waiting;
     std::vector<stream::ArrivedPatch> arrived_descriptions; // capacity kept across frames
     std::unique_ptr<stream::UploadPlanner> planner;
+    // The upload time budget follows the frame time, measured on this clock (ms since epoch).
+    stream::UploadTimeBudget upload_time{{options.upload_budget_ms, options.upload_frame_fraction,
+                                          options.upload_budget_max_ms}};
+    const std::chrono::steady_clock::time_point epoch = std::chrono::steady_clock::now();
     // Traffic counters at the end of the previous frame (FrameStats reports the difference).
     stream::StreamerStats last_streamer_stats;
     stream::LoaderStats last_loader_stats;
@@ -558,6 +562,8 @@ lod::Selection TerrainRenderer::Impl::streamResident(const lod::Selection& desir
                                                      FrameStats& stats, const lod::Camera& camera,
                                                      const lod::SelectionSettings& settings)
 {
+    // Each streamed frame's time budget follows the frame time (stream::UploadTimeBudget).
+    stats.upload_budget_ms = upload_time.beginFrame(millisecondsSince(epoch));
     streamer->beginFrame();
     for (auto& patch : streamer->takeReady())
         arrived.push_back(std::move(patch));
@@ -581,7 +587,7 @@ lod::Selection TerrainRenderer::Impl::streamResident(const lod::Selection& desir
     size_t done = 0;
     try {
         for (; done < plan.uploads.size(); ++done) {
-            if (done > 0 && millisecondsSince(t0) > options.upload_budget_ms)
+            if (!upload_time.mayStart(done, millisecondsSince(t0)))
                 break; // the time budget: the rest waits for the next frame
             const stream::PlannedUpload& u = plan.uploads[done];
             stats.bytes_uploaded += uploadPatch(*arrived[u.handle], u.slot, pending_slots);
@@ -592,6 +598,7 @@ lod::Selection TerrainRenderer::Impl::streamResident(const lod::Selection& desir
         planner->finish(done); // the failed upload and those after it give their slots back
         throw;
     }
+    upload_time.endFrame(done > 0 ? millisecondsSince(t0) : 0.0);
     const stream::StreamOutcome& outcome = planner->finish(done);
     waiting.clear();
     for (size_t h : outcome.waiting)

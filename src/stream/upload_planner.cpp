@@ -7,6 +7,7 @@
 #include <glm/trigonometric.hpp>
 
 #include <algorithm>
+#include <cmath>
 
 namespace ridge::stream {
 
@@ -43,6 +44,52 @@ std::optional<lod::Camera> extrapolatedCamera(const lod::Camera& camera, glm::dv
                                         glm::dvec3(-limit), glm::dvec3(limit));
     return lod::Camera(ahead, ahead + camera.forward(), glm::degrees(camera.fovY()),
                        camera.viewport(), camera.nearPlane(), camera.farPlane());
+}
+
+UploadTimeBudget::UploadTimeBudget(const UploadTimeSettings& settings) : settings_(settings)
+{
+    checkParameter("upload_budget_ms", settings.floor_ms, UploadTimeSettings::kFloorMsRange);
+    checkParameter("upload_frame_fraction", settings.frame_fraction,
+                   UploadTimeSettings::kFrameFractionRange);
+    checkParameter("upload_budget_max_ms", settings.ceiling_ms,
+                   UploadTimeSettings::kCeilingMsRange);
+    budget_ms_ = settings.floor_ms;
+}
+
+double UploadTimeBudget::beginFrame(double now_ms)
+{
+    // The previous frame's own work: its interval less its uploads (see the header: the
+    // budget must not feed on itself). A time that is not finite or runs backwards is
+    // ignored altogether (the next interval runs from the last good start); an interval
+    // shorter than its uploads (a caller's clock mixup) counts as 0.
+    if (std::isfinite(now_ms) && (!started_ || now_ms >= last_start_ms_)) {
+        if (started_) {
+            window_[size_t(next_)] = std::max(0.0, now_ms - last_start_ms_ - last_upload_ms_);
+            next_ = (next_ + 1) % kWindow;
+            count_ = std::min(count_ + 1, kWindow);
+        }
+        started_ = true;
+        last_start_ms_ = now_ms;
+    }
+    last_upload_ms_ = 0.0;
+    // The median of what the window holds: outliers (the first frame's shader compilation,
+    // an idle host) move it by one rank, not by their size. An upper median for even counts.
+    if (count_ >= kMinFrames) {
+        std::array<double, kWindow> sorted = window_;
+        const auto end = sorted.begin() + count_;
+        const auto mid = sorted.begin() + count_ / 2;
+        std::nth_element(sorted.begin(), mid, end);
+        frame_ms_ = *mid;
+    }
+    const double adaptive =
+        count_ >= kMinFrames ? settings_.frame_fraction * frame_ms_ : settings_.floor_ms;
+    budget_ms_ = std::max(settings_.floor_ms, std::min(adaptive, settings_.ceiling_ms));
+    return budget_ms_;
+}
+
+void UploadTimeBudget::endFrame(double upload_ms)
+{
+    last_upload_ms_ = std::isfinite(upload_ms) ? std::max(0.0, upload_ms) : 0.0;
 }
 
 UploadPlanner::UploadPlanner(const PyramidGeometry& geometry, lod::PatchResidency& residency,

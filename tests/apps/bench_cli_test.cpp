@@ -157,3 +157,108 @@ TEST(BenchCli, BytesPerViewReportsEveryFramesColdCacheBytesWithoutRendering)
         EXPECT_LE(s["path_bytes"].get<uint64_t>(), j["archive_blob_bytes"].get<uint64_t>());
     }
 }
+
+// The summary and JSON separate frames at full detail from frames drawn coarser and time full
+// detail after the start and each teleport (the teleport path jumps every 60 frames);
+// without streaming every frame is at full detail, the first one at once.
+TEST(BenchCli, SeparatesFramesAtFullDetailAndTimesFullDetailAfterEachTeleport)
+{
+    test::ScratchDir dir;
+    const std::string arc = test::buildEverestWithCli(
+        dir, "everest_progressive.ridge", "--patch 33 --codec progressive --max-error 2");
+    for (const std::string streaming : {"", " --no-streaming"}) {
+        const std::string json = dir.path("teleport.json");
+        const test::CommandResult r =
+            test::runRidge("bench '" + arc + "' --path teleport --frames 130 --size 160x90" +
+                           streaming + " --json-file '" + json + "'");
+        ASSERT_EQ(r.exit_code, 0) << r.output;
+        for (const char* phrase : {"frames at full detail", "frames drawn coarser",
+                                   "time to full detail      start ", "after 2 teleports",
+                                   "scheme frame time", "warm-up (frame 0)",
+                                   "not measured (--popping measures it)"})
+            EXPECT_NE(r.output.find(phrase), std::string::npos) << phrase << " in:\n" << r.output;
+        std::ifstream in(json);
+        const nlohmann::json j = nlohmann::json::parse(in);
+        const nlohmann::json& s = j["summary"];
+        int full = 0;
+        for (const auto& f : j["frames"]) {
+            EXPECT_EQ(f["full_detail"].get<bool>(),
+                      f["missing"].get<int>() == 0 && !f["coarser"].get<bool>());
+            full += f["full_detail"].get<bool>();
+        }
+        EXPECT_EQ(s["frames_full_detail"].get<int>(), full);
+        EXPECT_EQ(s["frames_full_detail"].get<int>() + s["frames_coarser"].get<int>(), 130);
+        EXPECT_EQ(s["full_detail_frame_ms"]["frames"].get<int>(),
+                  full - int(j["frames"][0]["full_detail"].get<bool>()));
+        EXPECT_EQ(s["full_detail_frame_ms"]["p99"].is_null(),
+                  s["full_detail_frame_ms"]["frames"].get<int>() < 100)
+            << "a p99 from 100 frames on";
+        const nlohmann::json& times = s["time_to_full_detail"];
+        ASSERT_EQ(times.size(), 3u);
+        int k = 0;
+        for (const auto& t : times) {
+            EXPECT_EQ(t["frame"].get<int>(), 60 * k);
+            EXPECT_EQ(t["after"], k == 0 ? "start" : "teleport");
+            if (t["reached"].get<bool>()) {
+                const int first = t["frame"].get<int>() + t["frames"].get<int>() - 1;
+                EXPECT_TRUE(j["frames"][size_t(first)]["full_detail"].get<bool>());
+                EXPECT_GT(t["ms"].get<double>(), 0.0);
+            }
+            ++k;
+        }
+        if (!streaming.empty()) {
+            EXPECT_EQ(full, 130) << "nothing streams, and 33² patches fit the slots";
+            EXPECT_EQ(times[0]["frames"], 1);
+        } else {
+            EXPECT_GT(s["frames_missing"].get<int>(), 0) << "a teleport streams";
+        }
+    }
+}
+
+// The upload time budget follows the frame time: above a tiny floor once frames are known,
+// never above the fraction of the longest frame interval seen; with fraction 0 it is the
+// floor.
+TEST(BenchCli, UploadTimeBudgetFollowsTheFrameTimeUnlessFixed)
+{
+    test::ScratchDir dir;
+    const std::string arc = buildArchive(dir);
+    int most_uploads[2] = {0, 0}; // in one frame: adaptive, fixed
+    for (const std::string fraction : {"0.9", "0"}) {
+        const std::string json = dir.path("budget.json");
+        const test::CommandResult r = test::runRidge(
+            "bench '" + arc + "' --path teleport --frames 24 --size 160x90 --upload-ms 0.001 " +
+            "--upload-max-ms 1e6 --upload-frame-fraction " + fraction + " --json-file '" + json +
+            "'");
+        ASSERT_EQ(r.exit_code, 0) << r.output;
+        std::ifstream in(json);
+        const nlohmann::json j = nlohmann::json::parse(in);
+        const auto& frames = j["frames"];
+        double longest = 0.0;
+        for (size_t k = 0; k < frames.size(); ++k) {
+            const double budget = frames[k]["upload_budget_ms"].get<double>();
+            if (k > 0)
+                longest = std::max(longest, frames[k]["start_ms"].get<double>() -
+                                                frames[k - 1]["start_ms"].get<double>());
+            // The floor until three frame intervals are known (UploadTimeBudget::kMinFrames).
+            if (fraction == "0" || k < 3) {
+                EXPECT_EQ(budget, 0.001) << "frame " << k;
+            } else {
+                EXPECT_GT(budget, 0.001) << "frame " << k;
+                EXPECT_LE(budget, 0.9 * longest) << "frame " << k;
+            }
+            int& most = most_uploads[fraction == "0"];
+            most = std::max(most, frames[k]["loaded"].get<int>());
+        }
+        EXPECT_EQ(j["upload_frame_fraction"].get<double>(), std::stod(fraction));
+    }
+    // The renderer's upload loop keeps to the budget: a 1 µs one lets only the upload that
+    // always goes through; most of a frame's time lets several (a teleport has many waiting).
+    EXPECT_EQ(most_uploads[1], 1);
+    EXPECT_GT(most_uploads[0], 1);
+    for (const std::string bad : {"--upload-frame-fraction 1", "--upload-frame-fraction nan",
+                                  "--upload-max-ms 0"}) {
+        const test::CommandResult r = test::runRidge("bench '" + arc + "' --frames 3 " + bad);
+        EXPECT_EQ(r.exit_code, 2) << bad << ": " << r.output;
+        EXPECT_NE(r.output.find(bad.substr(0, bad.find(' '))), std::string::npos) << r.output;
+    }
+}

@@ -440,3 +440,191 @@ TEST(UploadPlanner, RequestsCoarseBeforeFineAndPrefetchBelowEverything)
     }
     EXPECT_THROW(planner.prefetch(tree, b, 20, settings), Error);
 }
+
+// --- The executor's time budget (UploadTimeBudget), on a simulated clock -------------------
+
+namespace {
+
+// Frames of `work_ms` each (drawing, the host: everything but uploads), no uploads: the
+// budget after `frames` of them.
+double budgetAfterSteadyFrames(UploadTimeBudget& budget, double& now, double work_ms,
+                               int frames)
+{
+    double b = 0.0;
+    for (int k = 0; k < frames; ++k) {
+        b = budget.beginFrame(now);
+        budget.endFrame(0.0);
+        now += work_ms;
+    }
+    return b;
+}
+
+} // namespace
+
+TEST(UploadTimeBudget, FollowsAFractionOfTheMedianFrameTimeBetweenItsFloorAndCeiling)
+{
+    const UploadTimeSettings settings{4.0, 0.25, 250.0};
+    {
+        UploadTimeBudget budget(settings);
+        double now = 1000.0;
+        // Until kMinFrames intervals are known: the floor, however slow the frames.
+        for (int k = 0; k < UploadTimeBudget::kMinFrames; ++k) {
+            EXPECT_EQ(budget.beginFrame(now), 4.0) << k;
+            budget.endFrame(0.0);
+            now += 200.0;
+        }
+        EXPECT_DOUBLE_EQ(budget.beginFrame(now), 50.0); // a quarter of 200 ms
+        EXPECT_DOUBLE_EQ(budget.frameMs(), 200.0);
+    }
+    struct Case {
+        double work_ms, budget_ms;
+    };
+    for (const Case c : {Case{16.0, 4.0},     // 60 Hz: a quarter is the 4 ms floor
+                         Case{150.0, 37.5},   // llvmpipe
+                         Case{4000.0, 250.0}, // the ceiling
+                         Case{1.0, 4.0}}) {
+        UploadTimeBudget budget(settings);
+        double now = 0.0;
+        EXPECT_DOUBLE_EQ(budgetAfterSteadyFrames(budget, now, c.work_ms, 40), c.budget_ms)
+            << c.work_ms;
+    }
+    // Fraction 0: the fixed budget of old.
+    UploadTimeBudget fixed({4.0, 0.0, 250.0});
+    double now = 0.0;
+    EXPECT_EQ(budgetAfterSteadyFrames(fixed, now, 150.0, 40), 4.0);
+    // A ceiling below the floor: the floor wins.
+    UploadTimeBudget low({10.0, 0.25, 2.0});
+    now = 0.0;
+    EXPECT_EQ(budgetAfterSteadyFrames(low, now, 150.0, 40), 10.0);
+}
+
+TEST(UploadTimeBudget, LeavesUploadsOutOfTheFrameTimeSoThatItDoesNotFeedOnItself)
+{
+    // Every frame spends its whole budget uploading: were uploads counted in the frame time,
+    // the budget would climb to f·W / (1 − f) = 66.7 ms; without them it stays at f·W.
+    UploadTimeBudget budget({4.0, 0.25, 250.0});
+    double now = 0.0;
+    for (int k = 0; k < 200; ++k) {
+        const double b = budget.beginFrame(now);
+        budget.endFrame(b);
+        now += 200.0 + b;
+    }
+    EXPECT_DOUBLE_EQ(budget.beginFrame(now), 50.0);
+}
+
+TEST(UploadTimeBudget, ShrugsOffALongFrameAndAdaptsWithinHalfAWindow)
+{
+    UploadTimeBudget budget({4.0, 0.25, 1000.0});
+    double now = 0.0;
+    ASSERT_DOUBLE_EQ(budgetAfterSteadyFrames(budget, now, 100.0, 40), 25.0);
+    // One 4 s frame (shader compilation, a window drag): the median does not move.
+    budget.beginFrame(now);
+    budget.endFrame(0.0);
+    now += 4000.0;
+    for (int k = 0; k < 5; ++k)
+        EXPECT_DOUBLE_EQ(budgetAfterSteadyFrames(budget, now, 100.0, 1), 25.0) << k;
+    // Frames become four times as slow: within half a window (plus one) the budget follows.
+    int frames = 0;
+    while (budgetAfterSteadyFrames(budget, now, 400.0, 1) != 100.0 && frames < 100)
+        ++frames;
+    EXPECT_LE(frames, UploadTimeBudget::kWindow / 2 + 1);
+}
+
+TEST(UploadTimeBudget, StartsTheFirstUploadAlwaysAndTheOthersWhileTheBudgetLasts)
+{
+    UploadTimeBudget budget({4.0, 0.25, 250.0});
+    budget.beginFrame(0.0);
+    EXPECT_TRUE(budget.mayStart(0, 1e6)); // streaming always progresses
+    EXPECT_TRUE(budget.mayStart(1, 4.0));
+    EXPECT_FALSE(budget.mayStart(1, 4.01));
+}
+
+TEST(UploadTimeBudget, RefusesSettingsOutsideTheirRangesAndIgnoresABadClock)
+{
+    const double nan = std::nan(""), inf = INFINITY;
+    for (const UploadTimeSettings& bad :
+         {UploadTimeSettings{0.0, 0.25, 250.0}, UploadTimeSettings{nan, 0.25, 250.0},
+          UploadTimeSettings{4.0, 1.0, 250.0}, UploadTimeSettings{4.0, -0.1, 250.0},
+          UploadTimeSettings{4.0, nan, 250.0}, UploadTimeSettings{4.0, 0.25, inf},
+          UploadTimeSettings{4.0, 0.25, 0.0}})
+        EXPECT_THROW(UploadTimeBudget{bad}, Error);
+    try {
+        UploadTimeBudget{UploadTimeSettings{4.0, 1.5, 250.0}};
+        ADD_FAILURE() << "no error";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("upload_frame_fraction"), std::string::npos)
+            << e.what();
+    }
+    // A clock that steps back or is not finite adds no interval, however often (more than
+    // the median could hide), and the next one runs from the last good start.
+    UploadTimeBudget budget({4.0, 0.25, 250.0});
+    double now = 0.0;
+    ASSERT_DOUBLE_EQ(budgetAfterSteadyFrames(budget, now, 100.0, 40), 25.0);
+    now -= 100.0; // the last frame's start
+    for (int round = 0; round < UploadTimeBudget::kWindow; ++round)
+        for (const double t : {nan, inf, now - 1e6, -inf}) {
+            EXPECT_DOUBLE_EQ(budget.beginFrame(t), 25.0) << t;
+            budget.endFrame(t);
+        }
+    EXPECT_DOUBLE_EQ(budget.beginFrame(now + 100.0), 25.0);
+    EXPECT_DOUBLE_EQ(budget.frameMs(), 100.0);
+}
+
+// The case in miniature: frames of 150 ms (llvmpipe), each upload costing 10 ms,
+// more than the whole fixed 4 ms budget. With the fixed budget only the one upload that
+// always goes gets through per frame; the adaptive one lets a quarter of the frame's time
+// through, so a static view reaches full detail in about a quarter of the frames, and no
+// frame grows by more than a quarter plus one upload.
+TEST(UploadTimeBudget, LetsAStaticViewReachFullDetailInAQuarterOfTheFramesWhenUploadsAreSlow)
+{
+    const lod::PatchQuadtree tree = syntheticTree(kGeometry);
+    std::mt19937 rng(5);
+    const lod::Selection desired = select(tree, randomCamera(rng), 512);
+    const size_t n = desired.patches.size();
+    ASSERT_GT(n, 60u);
+    constexpr double kWorkMs = 150.0, kUploadMs = 10.0;
+    for (const bool gpu : {false, true}) {
+        struct Run {
+            int frames = 0;           // to full detail
+            double ms = 0.0;          // likewise, simulated
+            double longest_ms = 0.0;  // frame
+            size_t uploads = 0;       // in all
+        };
+        auto run = [&](double fraction) {
+            Simulation sim(kGeometry, 4096, gpu, 2);
+            UploadTimeBudget budget({4.0, fraction, 250.0});
+            const UploadBudget unlimited{size_t(1) << 40, 1 << 20}; // time binds, not bytes
+            Run r;
+            double now = 0.0;
+            for (; r.frames < 2000 && !(sim.allResident(desired) && sim.waiting() == 0);
+                 ++r.frames) {
+                budget.beginFrame(now);
+                // The executor's loop: how many uploads start within the budget.
+                size_t fit = 0;
+                while (budget.mayStart(fit, double(fit) * kUploadMs))
+                    ++fit;
+                const FrameReport f = sim.frame(desired, unlimited, fit);
+                const double upload_ms = double(f.uploads) * kUploadMs;
+                budget.endFrame(upload_ms);
+                now += kWorkMs + upload_ms;
+                r.ms = now;
+                r.uploads += f.uploads;
+                r.longest_ms = std::max(r.longest_ms, kWorkMs + upload_ms);
+            }
+            EXPECT_TRUE(sim.allResident(desired)) << "fraction " << fraction;
+            return r;
+        };
+        const Run fixed = run(0.0), adaptive = run(0.25);
+        // Fixed: one upload a frame, so at least as many frames as uploads.
+        EXPECT_GE(size_t(fixed.frames), fixed.uploads) << "gpu " << gpu;
+        EXPECT_GE(size_t(fixed.frames), n) << "gpu " << gpu;
+        // Adaptive: 37.5 ms lets 4 uploads start (at 0, 10, 20, 30 ms); the floor's frames
+        // until kMinFrames are known, and the streamer's delay, come on top.
+        const size_t levels = size_t(kGeometry.levelCount());
+        EXPECT_LE(size_t(adaptive.frames),
+                  adaptive.uploads / 4 + UploadTimeBudget::kMinFrames + 2 * levels + 4)
+            << "gpu " << gpu;
+        EXPECT_LT(adaptive.ms, 0.4 * fixed.ms) << "gpu " << gpu;
+        EXPECT_LE(adaptive.longest_ms, kWorkMs * 1.25 + kUploadMs) << "gpu " << gpu;
+    }
+}

@@ -5,6 +5,7 @@
 #include "ridge/lod/camera_path.h"
 #include "ridge/render/terrain_renderer.h"
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -21,9 +22,11 @@ struct RenderBenchOptions {
     // Chunked: every patch's full grid instead of Ulrich's simplified chunks (simplified to
     // renderer.chunk_tolerance·Err(P)).
     bool grid_chunks = false;
-    // Per frame, after its timing: the popping metric (two captures of this frame's camera,
-    // with the previous frame's LOD state and with this one's; render/frame_measures.h).
-    // Costly, and with streaming on the extra captures stream too: time a run without it.
+    // `--popping`. Per frame, after its timing: the popping metric (two captures of this
+    // frame's camera, with the previous frame's LOD state and with this one's, both of what
+    // is resident: they request and upload nothing; render/frame_measures.h). Costly, and
+    // the time between frames grows with it (and so time to full detail): time a run
+    // without it.
     bool measure_popping = false;
     // The LOD rules (render::RenderSettings): defaults are ridge's, ε on every sample.
     lod::TessellationRule tessellation_rule = lod::TessellationRule::Conservative;
@@ -40,10 +43,12 @@ struct RenderBenchOptions {
 };
 
 struct FrameRecord {
+    double start_ms = 0.0;  // wall time from the first frame's start to this frame's start
     double frame_ms = 0.0;  // wall time of draw() until the GPU finished it
     double select_ms = 0.0; // CPU: selection + culling
     double load_ms = 0.0;   // CPU: residency, uploads (streaming: requests and uploads only)
     double gpu_ms = 0.0;    // terrain pass, timer query
+    double upload_budget_ms = 0.0; // streaming: the frame's upload time budget (adaptive)
     uint64_t triangles = 0;
     int patches = 0;
     int missing = 0; // drawn by an ancestor while streaming
@@ -59,6 +64,43 @@ struct FrameRecord {
     size_t hole_pixels = 0;      // background inside the terrain's footprint
     size_t footprint_pixels = 0; // pixels whose ray must hit the terrain
     double popping_px = -1.0;    // LOD changes alone, pixels (−1: not measured)
+
+    // At full detail: what the scheme draws at the requested ε — no patch drawn by an
+    // ancestor while streaming, ε not raised for want of texture slots. Every other frame
+    // is drawn coarser, and its time is not the scheme's.
+    bool fullDetail() const { return missing == 0 && !coarser; }
+};
+
+// A distribution over some frames: how many it rests on and only the percentiles they can
+// support. Percentiles are nearest-rank (the ⌈p·n⌉-th smallest); pXX is claimed only when at
+// least one frame lies above it (n ≥ 1 / (1 − p): p90 from 10 frames, p99 from 100), so with
+// 60 frames there is no p99 (it would be the worst frame, often the warm-up). NaN: not
+// claimed (no frames, or too few).
+struct FrameStatistics {
+    int count = 0;
+    double median = std::numeric_limits<double>::quiet_NaN();
+    double p90 = std::numeric_limits<double>::quiet_NaN();
+    double p99 = std::numeric_limits<double>::quiet_NaN();
+    double max = std::numeric_limits<double>::quiet_NaN();
+};
+// Non-finite values are left out.
+FrameStatistics frameStatistics(std::vector<double> values);
+// Frames a percentile p in (0, 1) needs before it is claimed: ⌈1 / (1 − p)⌉.
+int framesForPercentile(double p);
+
+// How long the view took to reach full detail after the camera started or jumped.
+struct TimeToFullDetail {
+    int frame = 0;         // where the camera started (0) or teleported
+    bool teleport = false; // false: the start of the run
+    // Frames from `frame` to the first frame at full detail, counting both; −1: not reached
+    // before the next teleport or the end of the run.
+    int frames = -1;
+    // Wall time from the start of `frame` to the end of that first frame at full detail
+    // (draws and the bench's own per-frame measurements between them); NaN: not reached.
+    double ms = std::numeric_limits<double>::quiet_NaN();
+    // Not reached: the frames and wall time the segment lasted without reaching it.
+    int segment_frames = 0;
+    double segment_ms = 0.0;
 };
 
 struct RenderBenchReport {
@@ -66,19 +108,33 @@ struct RenderBenchReport {
     std::string gl_renderer;
     RenderBenchOptions options;
     std::vector<FrameRecord> frames;
-    // Summary over all frames.
+
+    // Full detail against coarser (FrameRecord::fullDetail).
+    int frames_full_detail = 0;
+    int frames_coarser = 0;        // not at full detail, for either reason below
+    int frames_missing = 0;        // frames that drew at least one patch by an ancestor
+    int frames_epsilon_raised = 0; // frames drawn at a raised ε (texture slots too few)
+    // After the start (first) and after each teleport of the `teleport` path.
+    std::vector<TimeToFullDetail> time_to_full_detail;
+    // The scheme's frame time: frames at full detail, the warm-up frame (frame 0: shader
+    // compilation, first allocations and loads) left out. Frames drawn coarser apart, same
+    // rule; the warm-up frame alone.
+    FrameStatistics full_detail_ms, coarser_ms;
+    double warmup_ms = 0.0;
+    FrameStatistics upload_budget_ms; // streamed frames' time budgets
+
+    // Summary over all frames, warm-up and streaming included (the fractal-rings paper's
+    // table reads these; every frame there is loaded in full first).
     double fps_min = 0, fps_median = 0, fps_max = 0;
-    double frame_ms_p99 = 0;
-    double frame_ms_max = 0;
-    // Stalls: frames slower than twice the median (the streaming issue's target is none).
+    FrameStatistics all_ms;
+    // Stalls: frames slower than twice the median of all frames (the streaming issue's
+    // target is none).
     int frames_over_twice_median = 0;
     double mtri_per_s = 0;      // triangles drawn / wall time
-    int frames_missing = 0;     // frames that drew at least one patch by an ancestor
     double select_ms_max = 0;   // CPU selection + culling, worst frame
     size_t ram_cache_bytes = 0; // decoded-patch cache at the end
     uint64_t cache_misses = 0;  // patches decoded because the RAM cache did not have them
     double triangles_mean = 0;
-    int frames_epsilon_raised = 0; // frames drawn coarser than asked (texture slots too few)
     uint64_t bytes_read = 0, bytes_decoded = 0, bytes_uploaded = 0; // all frames
     int reconstructed = 0;                                          // patches, on the GPU
     // Resident memory after the first tenth of the frames and at the end (a soak is flat
@@ -86,8 +142,15 @@ struct RenderBenchReport {
     double rss_early_mib = 0, rss_end_mib = 0;
     size_t hole_pixels = 0;     // all frames
     int frames_with_holes = 0;
-    double popping_p99_px = -1, popping_max_px = -1; // −1: not measured
+    FrameStatistics popping_px; // frames measured with --popping (count 0: not measured)
 };
+
+// The frames where the camera starts or jumps: 0, and with the `teleport` path every
+// path.teleport_every-th frame.
+std::vector<int> cameraJumpFrames(const RenderBenchOptions& options);
+// Fills the summary fields of `report` from its frames and options (runRenderBench does);
+// summarising twice gives the same report.
+void summariseRenderBench(RenderBenchReport& report);
 
 // Throws ridge::Error naming the archive or path file on bad input; options are validated
 // before the archive is opened.
@@ -100,7 +163,11 @@ std::string formatRenderBenchTable(const std::vector<RenderBenchReport>& reports
 std::string formatRenderBenchJson(const RenderBenchReport& report);
 // Writes formatRenderBenchJson to `path` atomically. Throws ridge::Error naming the path.
 void writeRenderBenchJson(const RenderBenchReport& report, const std::string& path);
-// Frame time per frame as a PNG (PLplot, pngcairo).
+// The plot's three title lines: the scheme, archive, frame size, ε and path; frames at full
+// detail, the scheme's median frame time over them and time to full detail; the legend and
+// the GL renderer.
+std::vector<std::string> renderBenchPlotTitles(const RenderBenchReport& report);
+// Frame time per frame as a PNG (PLplot, pngcairo); frames at full detail marked.
 void writeRenderBenchPlot(const RenderBenchReport& report, const std::string& path);
 
 } // namespace ridge::renderbench

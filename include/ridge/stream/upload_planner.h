@@ -4,11 +4,13 @@
 // which to keep waiting, and what to draw meanwhile (the resident cover of the selection).
 // The GL layer executes the plan:
 //
+//     time_budget.beginFrame(now);
 //     const StreamPlan& plan = planner.plan(desired, arrived, budget);
 //     for (const StreamRequest& r : plan.requests) streamer.request(r.id, r.priority);
 //     size_t done = 0;
-//     for (; done < plan.uploads.size() && !outOfTime(done); ++done)
+//     for (; done < plan.uploads.size() && time_budget.mayStart(done, elapsed); ++done)
 //         upload(arrived patch plan.uploads[done].handle, into plan.uploads[done].slot);
+//     time_budget.endFrame(elapsed);
 //     const StreamOutcome& outcome = planner.finish(done); // releases what was not written
 //     keep the arrived patches of outcome.waiting; draw outcome.drawn.
 //
@@ -21,18 +23,21 @@
 //     the resident parents of arrived patches waiting for GPU reconstruction;
 //   - uploads: arrived patches still wanted, coarse first (a parent is written before its
 //     children), within the byte and count budgets (at least one when one is ready) and the
-//     free slots; a patch reconstructed on the GPU only once its parent is resident and kept,
-//     or uploaded earlier in the same plan.
+//     free slots, and (the executor's part) within a time budget that follows the frame time
+//     (UploadTimeBudget); a patch reconstructed on the GPU only once its parent is resident
+//     and kept, or uploaded earlier in the same plan.
 //
 // No allocation per frame once the vectors have grown to the frame's sizes: members are
 // cleared, not rebuilt, and per-frame sets are FrameKeyMaps (generation-stamped open
 // addressing), not node-based hash sets or arrays over every patch of the archive.
 // Not thread-safe: one planner per render thread.
+#include "ridge/core/parameter_check.h"
 #include "ridge/lod/patch_quadtree.h"
 #include "ridge/lod/patch_residency.h"
 #include "ridge/lod/resident_cover.h"
 #include "ridge/stream/frame_key_map.h"
 
+#include <array>
 #include <cstddef>
 #include <functional>
 #include <optional>
@@ -59,6 +64,86 @@ struct StreamRequest {
 struct UploadBudget {
     size_t bytes = size_t(8) << 20;
     int count = 16;
+};
+
+// The executor's time budget: how long one frame may spend uploading before the rest of the
+// plan waits for the next frame (RendererOptions::upload_budget_ms, upload_frame_fraction,
+// upload_budget_max_ms).
+//
+// Why it follows the frame time: a fixed budget is sized for one frame rate. 4 ms is a
+// quarter of a 60 Hz frame, but in a 150 ms frame (llvmpipe, or a heavy scheme on a weak GPU)
+// it is under 3 %, and where one upload costs more than the whole budget (a 129² GPU
+// reconstruction with its normal passes takes 10–20 ms on llvmpipe) only the one upload that
+// always goes gets through: a view of 150 missing patches then takes 150 frames — a minute —
+// to reach full detail. Streaming should cost the same share of every frame instead. So:
+//
+//     budget = max(floor_ms, min(frame_fraction · T, ceiling_ms))
+//
+// where T is the median, over the last kWindow frames, of the time between the starts of
+// successive frames less the time those frames spent uploading (the frame's own work: drawing,
+// the host's work, waiting for vsync). Uploads are left out of T so that the budget does not
+// feed on itself: spending f·T on uploads makes a frame at most 1 + f times as long as it
+// would be without streaming (plus one upload's overrun), whatever the frame rate. Where
+// frames are short against one upload (a coarse view drawing the root alone, with uploads
+// decoded on the CPU), f·T stays below one upload and one patch a frame goes, as with the
+// fixed budget; the gain is where frames are long (docs/PERF.md, issue 22). The median, not a running mean: one
+// long frame (shader compilation on the first frame, a window drag, an idle host) does not
+// swing the budget, and it adapts within half a window to a real change. Until kMinFrames
+// intervals are known, the floor. The floor is the fixed budget (so a fast GPU behaves as
+// before: at 60 Hz a quarter of the frame is the 4 ms floor); the ceiling (a quarter of a
+// second) bounds the stall one frame may take for uploads however slow the frames are.
+// frame_fraction 0: the fixed budget alone.
+//
+// Time is the caller's clock in milliseconds (steady); nothing here reads a clock, so the
+// policy is tested with simulated frames. No allocation. Not thread-safe.
+struct UploadTimeSettings {
+    // The ranges UploadTimeBudget (and RendererOptions::validate) enforce.
+    static constexpr ValueRange kFloorMsRange = ValueRange::openClosed(0.0, 1e9);
+    static constexpr ValueRange kFrameFractionRange = ValueRange::closedOpen(0.0, 1.0);
+    static constexpr ValueRange kCeilingMsRange = ValueRange::openClosed(0.0, 1e9);
+
+    double floor_ms = 4.0;        // the fixed budget; never less
+    double frame_fraction = 0.25; // of the recent frame time (0: the floor alone)
+    double ceiling_ms = 250.0;    // never more (below the floor: the floor wins)
+};
+
+class UploadTimeBudget {
+  public:
+    static constexpr int kWindow = 16;   // frames whose time the budget follows
+    static constexpr int kMinFrames = 3; // intervals known before it adapts
+
+    // Throws ridge::Error naming the first setting outside its range (NaN included).
+    explicit UploadTimeBudget(const UploadTimeSettings& settings = {});
+
+    // A frame starts at `now_ms`: records the interval since the previous frame's start
+    // (less that frame's uploads) and returns this frame's budget. A clock that runs
+    // backwards or is not finite adds no interval.
+    double beginFrame(double now_ms);
+    // Whether the upload after the first `done` may start, `elapsed_ms` after this frame's
+    // uploads began: the first one always (streaming always progresses), the others while
+    // the budget lasts. An upload started inside the budget may overrun it by its own cost.
+    bool mayStart(size_t done, double elapsed_ms) const
+    {
+        return done == 0 || elapsed_ms <= budget_ms_;
+    }
+    // This frame's uploads took `upload_ms` (0 when there were none).
+    void endFrame(double upload_ms);
+
+    double budgetMs() const { return budget_ms_; } // this frame's
+    // T above: the median frame time without uploads, ms (0 until kMinFrames are known).
+    double frameMs() const { return frame_ms_; }
+    const UploadTimeSettings& settings() const { return settings_; }
+
+  private:
+    UploadTimeSettings settings_;
+    std::array<double, kWindow> window_{}; // frame times without uploads, a ring
+    int count_ = 0;                        // valid entries of window_
+    int next_ = 0;                         // where the next one goes
+    bool started_ = false;                 // a previous frame start is known
+    double last_start_ms_ = 0.0;
+    double last_upload_ms_ = 0.0; // the previous frame's, taken out of its interval
+    double frame_ms_ = 0.0;
+    double budget_ms_ = 0.0;
 };
 
 struct PlannedUpload {
