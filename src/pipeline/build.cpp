@@ -249,6 +249,9 @@ EncodedPatch encodePatch(const BuildContext& ctx, const LevelView& level, PatchI
         out.reconstruction.resize(codes.size());
         const int status = ctx.codec->decode(out.reconstruction.data(), out.payload.data(),
                                              out.payload.size(), pctx);
+        if (status == kCodecDisabled) // the user's to fix, not ours: say how
+            throw Error(std::string("the build decodes every patch it encodes, but ") +
+                        codecStatusMessage(status));
         if (status != kCodecOk)
             throw Error(std::string("internal error: a patch just encoded does not decode: ") +
                         codecStatusMessage(status));
