@@ -6,6 +6,7 @@
 
 #include "ridge/codec/height_codec.h"
 #include "ridge/core/error.h"
+#include "ridge/core/json_text.h"
 #include "ridge/io/geographic.h"
 #include "ridge/io/raster_writer.h"
 #include "ridge/pipeline/info.h"
@@ -360,7 +361,7 @@ int Commands::runBuild()
                                   {"seconds_ingest", r.seconds_ingest},
                                   {"seconds_errors", r.seconds_errors},
                                   {"seconds_encode", r.seconds_encode}};
-        fmt::print("{}\n", j.dump(2));
+        fmt::print("{}\n", jsonText(j));
     } else if (!quiet_)
         fmt::print(
             "{}: {}x{} samples, {} levels, {} patches, {} ({:.2f} bits/sample), "
@@ -414,7 +415,7 @@ int Commands::runInfo()
                                    {"max_err", l.max_err},
                                    {"max_err_appr", l.max_err_appr},
                                    {"level_bound", l.level_bound}});
-        fmt::print("{}\n", j.dump(2));
+        fmt::print("{}\n", jsonText(j));
         return 0;
     }
     const archive::SourceMetadata& source = info.metadata.source;
@@ -486,7 +487,7 @@ int Commands::runVerify()
                                    {"max_level_error", l.max_level_error},
                                    {"level_bound", l.level_bound},
                                    {"level_violations", l.level_violations}});
-        fmt::print("{}\n", j.dump(2));
+        fmt::print("{}\n", jsonText(j));
         return report.ok() ? 0 : 1;
     }
     if (!report.levels.empty()) {
@@ -544,7 +545,7 @@ int Commands::runExtract()
                             {"max_rounding_error", r.max_rounding_error},
                             {"geotransform", r.geotransform ? nlohmann::json(*r.geotransform)
                                                             : nlohmann::json()}};
-        fmt::print("{}\n", j.dump(2));
+        fmt::print("{}\n", jsonText(j));
     } else if (!quiet_) {
         fmt::print("{}: {} {}x{} of level {} at {},{}, {} ({}){}\n", output_,
                    options.output_format, r.window.width, r.window.height, r.level, r.window.x,

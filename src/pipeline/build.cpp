@@ -8,6 +8,7 @@
 #include "ridge/core/atomic_output.h"
 #include "ridge/core/error.h"
 #include "ridge/core/file_identity.h"
+#include "ridge/core/json_text.h"
 #include "ridge/io/dataset_files.h"
 #include "ridge/pipeline/build_memory.h"
 #include "ridge/pyramid/patch_context.h"
@@ -153,7 +154,7 @@ std::string metadataJson(const std::string& source_path, const io::IngestStats& 
         meta["build"]["codec_max_error"] = *options.max_error;
     if (const auto* progressive = dynamic_cast<const ProgressiveCodec*>(ctx.codec.get()))
         meta["build"]["codec_variant"] = progressive->variant().describe();
-    return meta.dump(2);
+    return jsonText(meta); // any bytes in source.path: invalid UTF-8 becomes U+FFFD
 }
 
 void trainStage(BuildContext& ctx, const LevelPyramid& pyramid, CodecTrainer& trainer);

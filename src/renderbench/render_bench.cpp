@@ -1,5 +1,6 @@
 #include "ridge/renderbench/render_bench.h"
 
+#include "ridge/core/json_text.h"
 #include "ridge/render/frame_measures.h"
 
 #include "ridge/core/atomic_output.h"
@@ -304,7 +305,7 @@ std::string formatRenderBenchJson(const RenderBenchReport& r)
                                 {"triangles_mean", r.triangles_mean},
                                 {"frames_epsilon_raised", r.frames_epsilon_raised}}},
                               {"frames", frames}};
-    return j.dump(1) + "\n";
+    return jsonText(j, 1) + "\n";
 }
 
 void writeRenderBenchJson(const RenderBenchReport& r, const std::string& path)
