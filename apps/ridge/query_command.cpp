@@ -4,15 +4,17 @@
 #include "range_check.h"
 
 #include "ridge/core/error.h"
+#include "ridge/core/json_text.h"
+#include "ridge/core/line_reader.h"
 #include "ridge/pipeline/height_query.h"
 
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
 #include <cstdio>
-#include <iostream>
 #include <optional>
 #include <sstream>
+#include <unistd.h>
 
 namespace ridge::cli {
 
@@ -33,6 +35,16 @@ std::optional<glm::dvec2> parsePoint(const std::string& line)
     if (!x || !y)
         return std::nullopt;
     return glm::dvec2(*x, *y);
+}
+
+// A point is a short line; longer ones are refused without being held in memory.
+constexpr size_t kMaxQueryLineBytes = 4096;
+
+// What a line too long to be a point is echoed as: its start, and how long it was not.
+std::string tooLongEcho(const LineReader::Line& line)
+{
+    return line.text.substr(0, 32) + "... (line " + std::to_string(line.number) +
+           " is longer than " + std::to_string(kMaxQueryLineBytes) + " bytes)";
 }
 
 nlohmann::json sampleJson(const HeightSample& s)
@@ -135,13 +147,15 @@ int QueryCommand::run()
         answer(fmt::format("{} {}", formatNumber(*x_), formatNumber(*y_)),
                glm::dvec2(*x_, *y_));
     } else {
-        std::string line;
-        while (std::getline(std::cin, line)) {
-            if (line.find_first_not_of(" \t\r,") == std::string::npos)
+        LineReader lines(STDIN_FILENO, "standard input", kMaxQueryLineBytes);
+        while (const std::optional<LineReader::Line> in = lines.next()) {
+            const std::string& line = in->text;
+            if (!in->too_long && line.find_first_not_of(" \t\r,") == std::string::npos)
                 continue; // blank lines separate groups, as in gdallocationinfo's input
-            if (!line.empty() && line.back() == '\r')
-                line.pop_back();
-            answer(line, parsePoint(line));
+            if (in->too_long) // answered, not stored or echoed whole
+                answer(tooLongEcho(*in), std::nullopt);
+            else
+                answer(line, parsePoint(line));
             if (!json_)
                 std::fflush(stdout); // a pipe's other end sees each answer as it comes
         }
@@ -152,7 +166,7 @@ int QueryCommand::run()
                                     {"level", level_ < 0 ? query.finestLevel() : level_},
                                     {"points", points},
                                     {"failed", failures}};
-        fmt::print("{}\n", doc.dump(2));
+        fmt::print("{}\n", jsonText(doc));
     }
     if (failures > 0)
         fmt::print(stderr, "ridge: query: {} point(s) without a height\n", failures);
