@@ -63,6 +63,15 @@ bool LineReader::fill()
 
 std::optional<LineReader::Line> LineReader::next()
 {
+    // The rest of the previous line, which was too long: read and dropped.
+    while (skipping_) {
+        if (begin_ == end_ && !fill())
+            return std::nullopt;
+        const char* start = buffer_.data() + begin_;
+        const char* newline = static_cast<const char*>(std::memchr(start, '\n', end_ - begin_));
+        begin_ = newline ? static_cast<size_t>(newline - buffer_.data()) + 1 : end_;
+        skipping_ = newline == nullptr;
+    }
     Line line;
     bool any = false; // a byte or a newline was read for this line
     while (true) {
@@ -76,8 +85,17 @@ std::optional<LineReader::Line> LineReader::next()
         // Keep one byte past the limit so that a '\r' before the '\n' can still be dropped.
         const size_t room = max_line_ + 1 - std::min(line.text.size(), max_line_ + 1);
         line.text.append(start, std::min(take, room));
-        if (take > room)
+        if (take > room) {
+            // Said at once, without reading the rest first (which may never end): the next
+            // call drops it.
             line.too_long = true;
+            begin_ += take;
+            if (newline)
+                ++begin_;
+            else
+                skipping_ = true;
+            break;
+        }
         begin_ += take;
         if (newline) {
             ++begin_;

@@ -82,8 +82,12 @@ TEST(LineReader, ALongLineIsReportedWithItsStartAndNeverStoredWhole)
 
 TEST(LineReader, AnEndlessInputIsBoundedByTheTotalLimit)
 {
-    // /dev/zero: one line without end. With a total limit the reader stops with a message.
+    // /dev/zero: one line without end. It is too long as soon as 4096 bytes are in, and a
+    // caller that reads on is stopped by the total limit.
     LineReader zero("/dev/zero", 4096, 1u << 20);
+    const std::optional<LineReader::Line> first = zero.next();
+    ASSERT_TRUE(first.has_value());
+    EXPECT_TRUE(first->too_long);
     const std::string message = errorOf([&] { zero.next(); });
     EXPECT_NE(message.find("/dev/zero: more than 1048576 bytes"), std::string::npos) << message;
 }

@@ -4,7 +4,8 @@
 // std::getline stores a line whatever its length (one 100 MB line took 434 MB and was echoed
 // back) and std::cin turns a read error, or a directory as stdin, into a silent end of input.
 // Here a line is at most `max_line_bytes` long: longer ones are reported as too long with their
-// first bytes, and the rest of them is read and dropped without being stored; the whole input
+// first bytes as soon as the limit is passed, and the rest of them is read and dropped by the
+// next call, without being stored; the whole input
 // may be limited too; and a failed read is an Error naming the input. Lines are byte strings
 // (no encoding is assumed or checked): a NUL or invalid UTF-8 is the caller's to judge.
 //
@@ -59,6 +60,7 @@ class LineReader {
     std::vector<char> buffer_;
     size_t begin_ = 0, end_ = 0;
     bool eof_ = false;
+    bool skipping_ = false; // inside a too-long line already returned
     int64_t number_ = 0;
 };
 
