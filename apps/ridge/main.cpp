@@ -114,7 +114,9 @@ int main(int argc, char** argv)
         } catch (const CLI::CallForVersion& e) {
             return finishStandardOutput(app.exit(e));
         } catch (const CLI::ParseError& e) {
-            std::fprintf(stderr, "ridge: error: %s\n", describeUsageError(app, args, e).c_str());
+            std::string message = describeUsageError(app, args, e);
+            std::erase(message, kNumberMark); // CLI11 quotes arguments as it was given them
+            std::fprintf(stderr, "ridge: error: %s\n", message.c_str());
             return kExitUsage;
         }
         return finishStandardOutput(commands.run());

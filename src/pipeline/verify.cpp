@@ -7,6 +7,7 @@
 
 #include "ridge/archive/archive_reader.h"
 #include "ridge/core/error.h"
+#include "ridge/io/geographic.h"
 #include "ridge/pipeline/level_decoder.h"
 #include "ridge/pyramid/tessellation_block_errors.h"
 
@@ -238,6 +239,14 @@ VerifyReport verifyArchive(const std::string& archive_path, const VerifyOptions&
         // corrupt or inconsistent file, naming the field).
         const ArchiveReader reader(archive_path);
         const PyramidGeometry& g = reader.geometry();
+
+        // A CRS nothing can read: extract refuses to write it, lon/lat cannot be converted.
+        if (const std::string& wkt = reader.metadata().georeference.crs_wkt; !wkt.empty())
+            if (const std::string why = io::crsReadProblem(wkt); !why.empty())
+                problems.add(archive_path +
+                             ": metadata: georeference.crs_wkt is not a CRS PROJ can read (" +
+                             why + "): extract cannot write it and longitude/latitude cannot "
+                                   "be converted");
 
         // 2. Every patch: checksum, mask, decode, min/max, λ, shared borders.
         const double decode_share = options.source ? 0.3 : 0.9;

@@ -106,8 +106,8 @@ TEST(HostileRegions, AMetadataValueNestedWithoutLimitIsRefusedBeforeAnythingSeri
 TEST(HostileRegions, AQuotedStringIsCutOnACharacterBoundary)
 {
     // Messages end up in `verify --json`: a cut through a UTF-8 sequence would make them
-    // invalid UTF-8 there. "é" is two bytes; 30 of them put a boundary question at byte 37.
-    std::string value = "\"x";
+    // invalid UTF-8 there. "é" is two bytes: after [\"xx byte 37 falls inside one.
+    std::string value = "\"xx";
     for (int k = 0; k < 30; ++k)
         value += "\xc3\xa9";
     value += "\"";

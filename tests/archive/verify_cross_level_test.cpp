@@ -17,6 +17,7 @@
 #include "ridge/pipeline/verify.h"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -299,4 +300,21 @@ TEST(VerifyCrossLevel, OneBadRootIsOneProblemNotOnePerDescendant)
         << report.problems[0];
     // With the source too: nothing is compared on the undecoded patches.
     EXPECT_EQ(verify(crafted, "everest_crop.tif").problems.size(), 1u);
+}
+
+TEST(VerifyCrossLevel, ACrsThatNothingCanReadIsAProblem)
+{
+    // The reader cannot parse WKT (only ridge_io talks to PROJ), so an archive whose CRS is
+    // garbage opened everywhere and verify said OK, while extract refused to write it.
+    test::ScratchDir dir;
+    const std::string path = build(dir, "e.ridge", "everest_crop.tif", 33, io::VoidFill::Interior);
+    const std::string crafted = craft(
+        path, dir.path("crafted.ridge"), [](ArchiveBytes& a, const archive::ArchiveReader&) {
+            nlohmann::json j = nlohmann::json::parse(a.metadata());
+            j["georeference"]["crs_wkt"] = "GEOGCRS[\"broken";
+            a.setMetadata(j.dump());
+        });
+    const VerifyReport report = verify(crafted);
+    EXPECT_TRUE(anyProblemHas(report, "metadata: georeference.crs_wkt is not a CRS PROJ can read"))
+        << allProblems(report);
 }
