@@ -2,8 +2,9 @@
 // Where the fields of a (possibly damaged) .ridge archive lie, for the structure-aware fuzz
 // target's mutator: header fields and index entry fields at their docs/FORMAT.md offsets
 // (tests/support/archive_bytes.h spells them out), checksums excluded since every input is
-// resealed before it is opened.
+// resealed before it is opened; regions that change size go through archive_craft.h.
 #include "archive_bytes.h"
+#include "archive_craft.h"
 
 #include <cstddef>
 #include <cstdint>
@@ -91,6 +92,22 @@ struct ArchiveLayout {
         return {index_offset + entry * e::kEntrySize + f.offset, f.type};
     }
 };
+
+// ArchiveBytes::reseal() predates the codec tables region (format v3): its checksum, then the
+// header's again, so that a mutated region reaches the reader's checks too.
+inline void resealCodecTables(test::ArchiveBytes& a)
+{
+    std::vector<uint8_t>& b = a.bytes();
+    if (b.size() < h::kHeaderSize || a.get<uint32_t>(8) < 3)
+        return;
+    namespace ct = test::codec_tables_offset;
+    const uint64_t offset = a.get<uint64_t>(ct::kOffset);
+    const uint32_t size = a.get<uint32_t>(ct::kSize);
+    if (offset > b.size() || size > b.size() - offset)
+        return;
+    a.set<uint32_t>(ct::kCrc, size ? crc32(b.data() + offset, size) : 0);
+    a.set<uint32_t>(h::kHeaderCrc, crc32(b.data(), h::kHeaderCrc));
+}
 
 template <typename T>
 T load(const uint8_t* p)

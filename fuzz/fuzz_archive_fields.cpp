@@ -6,19 +6,26 @@
 // mutation reaches the field checks instead of dying at a checksum. A custom mutator edits
 // whole fields of real archives (header, index entries, metadata values) with the values that
 // break arithmetic: NaN, infinities, zero, negative, huge, off-by-one; and the validity masks
-// of the blobs (kind, frame_size, frame bytes).
+// of the blobs (kind, frame_size, frame bytes). And what the second review found (issue 23),
+// changing sizes where they must: metadata values nested up to 100,000 deep and bytes after a
+// NUL, whole masks replaced at coarse levels (so that they no longer follow from the finest
+// level), codec tables on codecs without them, bytes after a payload's end (a JPEG 2000
+// codestream's EOC) and zeroed words inside payloads (a tile-part's Psot).
 //
 // Then, for archives the reader accepts: the patch quadtree, LOD selection for a handful of
 // cameras and ε, slot residency, synchronous patch loading, the streaming fallback cover,
-// Ulrich's chunk meshes and the instance records of the draw, all plain C++.
+// Ulrich's chunk meshes and the instance records of the draw, all plain C++; and, for small
+// ones, `ridge verify` whole (every cross-level check).
 // Properties: every failure is a ridge::Error, never a crash, an out-of-bounds access, UB or
-// an unbounded allocation; what is selected exists and what is drawn has a valid slot.
+// an unbounded allocation; what is selected exists and what is drawn has a valid slot;
+// verify reports, never throws.
 #include "archive_fields.h"
 #include "memory_file.h"
 #include "render_cpu_frame.h"
 
 #include "ridge/archive/archive_reader.h"
 #include "ridge/core/error.h"
+#include "ridge/pipeline/verify.h"
 
 #include <algorithm>
 #include <cmath>
@@ -141,6 +148,135 @@ void mutateValidityMask(uint8_t* data, size_t size, const ridge::fuzz::ArchiveLa
     }
 }
 
+namespace e = ridge::test::entry_offset;
+
+// Metadata that breaks the document's bounds: a value nested `depth` deep (the parser must
+// refuse past 32 before anything recurses), or valid JSON followed by a NUL and bytes.
+void mutateMetadataShape(ridge::test::ArchiveBytes& a, std::minstd_rand& rng)
+{
+    std::string text = a.metadata();
+    if (rng() % 3 == 0) {
+        text += std::string(1, '\0') + pick<std::string>(rng, {"", "x", "{}", "\0\0", "{\"a\":1}"});
+    } else {
+        const size_t close = text.rfind('}');
+        if (close == std::string::npos)
+            return;
+        const size_t depth = pick<size_t>(rng, {2, 31, 32, 33, 64, 1000, 100000});
+        const std::string open = rng() % 2 ? "[" : "{\"k\":";
+        std::string value;
+        for (size_t k = 0; k < depth; ++k)
+            value += open;
+        value += "1";
+        for (size_t k = 0; k < depth; ++k)
+            value += open == "[" ? "]" : "}";
+        text.insert(close, ",\"deep\":" + value);
+    }
+    a.setMetadata(text);
+}
+
+// One index entry, biased to the coarse levels (the first entries), whose blob lies in the
+// file with its block errors inside it; -1 when there is none.
+int64_t pickBlob(const ridge::test::ArchiveBytes& a, std::minstd_rand& rng)
+{
+    const size_t entries = a.entryCount();
+    if (entries == 0)
+        return -1;
+    const size_t i = rng() % 2 ? rng() % std::min<size_t>(entries, 7) : rng() % entries;
+    const uint64_t offset = a.entry<uint64_t>(i, e::kOffset);
+    const uint32_t size = a.entry<uint32_t>(i, e::kSize);
+    const uint32_t block_errors = a.entry<uint32_t>(i, e::kBlockErrorsSize);
+    const size_t file = const_cast<ridge::test::ArchiveBytes&>(a).bytes().size();
+    if (offset > file || size > file - offset || block_errors >= size)
+        return -1;
+    return int64_t(i);
+}
+
+// A whole validity mask replaced by another kind (its size changes): coarse masks that no
+// longer follow from the finest level, a bitmap turned into "all valid".
+void mutateWholeMask(ridge::test::ArchiveBytes& a, std::minstd_rand& rng)
+{
+    const int64_t i = pickBlob(a, rng);
+    if (i < 0)
+        return;
+    const std::vector<uint8_t> blob = ridge::test::blobOf(a, size_t(i));
+    const size_t at = a.entry<uint32_t>(size_t(i), e::kBlockErrorsSize);
+    uint32_t frame = 0;
+    if (blob[at] == 2 && blob.size() - at >= 5)
+        std::memcpy(&frame, blob.data() + at + 1, 4);
+    const size_t mask = blob[at] == 2 ? 5 + size_t(frame) : 1;
+    if (mask >= blob.size() - at)
+        return;
+    ridge::test::replaceBlobBytes(a, size_t(i), at, at + mask,
+                                  {pick<uint8_t>(rng, {0, 1, 0, 1, 2})});
+}
+
+// Bytes after a payload's end (after a JPEG 2000 codestream's EOC marker, typically), or a
+// zeroed 32-bit word inside it (a tile-part's Psot, a length field).
+void mutatePayloadEnd(ridge::test::ArchiveBytes& a, std::minstd_rand& rng)
+{
+    const int64_t i = pickBlob(a, rng);
+    if (i < 0)
+        return;
+    const uint32_t size = a.entry<uint32_t>(size_t(i), e::kSize);
+    if (rng() % 2) {
+        ridge::test::replaceBlobBytes(
+            a, size_t(i), size, size,
+            pick<std::vector<uint8_t>>(rng, {{0}, {0xFF, 0xD9}, {0xFF, 0xD9, 0xFF, 0xD9},
+                                             {0x2A, 0x2A, 0x2A, 0x2A, 0x2A}}));
+    } else if (size >= 8) {
+        const size_t at = size_t(rng() % (size - 4));
+        ridge::test::replaceBlobBytes(a, size_t(i), at, at + 4, {0, 0, 0, 0});
+    }
+}
+
+// The codec tables region: bytes where the codec has none, a well-formed header with junk,
+// or nothing.
+void mutateCodecTables(ridge::test::ArchiveBytes& a, std::minstd_rand& rng)
+{
+    if (a.get<uint32_t>(8) < 3)
+        return;
+    namespace ct = ridge::test::codec_tables_offset;
+    const uint64_t offset = a.get<uint64_t>(ct::kOffset);
+    const uint32_t size = a.get<uint32_t>(ct::kSize);
+    if (offset > a.bytes().size() || size > a.bytes().size() - offset)
+        return;
+    std::vector<uint8_t> tables;
+    switch (rng() % 3) {
+    case 0: break;
+    case 1:
+        tables = {'T', 1, uint8_t(a.get<uint32_t>(28)), 0};
+        for (uint32_t k = rng() % 64; k > 0; --k)
+            tables.push_back(uint8_t(rng() % 4));
+        break;
+    default:
+        for (uint32_t k = 1 + rng() % 32; k > 0; --k)
+            tables.push_back(uint8_t(rng()));
+        break;
+    }
+    ridge::test::setCodecTables(a, tables);
+}
+
+// Applies one of the mutations that change the file's size; false when none applied.
+bool mutateShape(uint8_t* data, size_t& size, size_t max_size, std::minstd_rand& rng)
+{
+    try {
+        ridge::test::ArchiveBytes a(std::vector<uint8_t>(data, data + size));
+        switch (rng() % 4) {
+        case 0: mutateMetadataShape(a, rng); break;
+        case 1: mutateWholeMask(a, rng); break;
+        case 2: mutatePayloadEnd(a, rng); break;
+        default: mutateCodecTables(a, rng); break;
+        }
+        if (a.bytes().size() > max_size)
+            return false;
+        std::memcpy(data, a.bytes().data(), a.bytes().size());
+        size = a.bytes().size();
+        return true;
+    } catch (const std::exception&) { // offsets the header or index made up: no edit
+        return false;
+    }
+}
+
 } // namespace
 
 extern "C" size_t LLVMFuzzerCustomMutator(uint8_t* data, size_t size, size_t max_size,
@@ -150,6 +286,8 @@ extern "C" size_t LLVMFuzzerCustomMutator(uint8_t* data, size_t size, size_t max
     const ridge::fuzz::ArchiveLayout layout = ridge::fuzz::ArchiveLayout::of(data, size);
     if (!layout.valid || rng() % 4 == 0)
         return LLVMFuzzerMutate(data, size, max_size); // bytes too: truncations, insertions
+    if (rng() % 4 == 0 && mutateShape(data, size, max_size, rng))
+        return size;
     const int mutations = 1 + int(rng() % 3);
     for (int m = 0; m < mutations; ++m) {
         const uint32_t what = rng() % 8;
@@ -175,8 +313,10 @@ extern "C" size_t LLVMFuzzerCustomMutator(uint8_t* data, size_t size, size_t max
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
 {
     ridge::test::ArchiveBytes archive(std::vector<uint8_t>(data, data + size));
-    if (size >= ridge::test::header_offset::kHeaderSize)
+    if (size >= ridge::test::header_offset::kHeaderSize) {
         archive.reseal();
+        ridge::fuzz::resealCodecTables(archive);
+    }
     static const ridge::fuzz::MemoryFile file; // the reader needs a path, the disk need not
     file.write(archive.bytes().data(), archive.bytes().size());
     try {
@@ -191,6 +331,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
             } catch (const ridge::Error&) {
             }
         }
+        // verify whole: every decode, and the checks across levels (masks, Err_Int). On the
+        // smaller archives only (up to the 99 patches of a 33-sample Everest): a whole verify
+        // under the sanitizers costs about a second on the larger seeds.
+        if (reader.geometry().patchCount() <= 128 && n <= 65)
+            (void)ridge::verifyArchive(file.path(), ridge::VerifyOptions{});
     } catch (const ridge::Error&) {
     }
     return 0;

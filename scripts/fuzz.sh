@@ -65,6 +65,12 @@ PY
 ./build/ridge build tests/data/everest_crop.tif -o "$seeds/archive/raw_33.ridge" -q --patch 33 --codec raw
 ./build/ridge build tests/data/everest_crop.tif -o "$seeds/archive/neville_blocks_33.ridge" -q --patch 33 \
     --filter neville --store-block-errors
+# Small enough (99 patches) for fuzz_archive_fields to verify whole: jpeg2000 payloads (bytes
+# after the EOC) and kept nodata (masks across levels).
+./build/ridge build tests/data/everest_crop.tif -o "$seeds/archive/jpeg2000_33.ridge" -q --patch 33 \
+    --codec jpeg2000 --max-error 2
+./build/ridge build tests/data/rainier_voids.tif -o "$seeds/archive/rainier_none_neville_33.ridge" -q \
+    --patch 33 --fill-voids none --filter neville
 
 status=0
 export RIDGE_FUZZ_ARCHIVES=$PWD/$seeds/archive # the archives fuzz_render_params renders

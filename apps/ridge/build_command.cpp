@@ -6,6 +6,7 @@
 #include "terminal.h"
 #include "usage_error.h"
 
+#include "ridge/core/json_text.h"
 #include "ridge/codec/height_codec.h"
 #include "ridge/codec/jpeg2000_codec.h"
 #include "ridge/core/error.h"
@@ -277,7 +278,7 @@ int Commands::runBuild()
                             {"seconds_encode", r.seconds_encode}};
         if (info.vertical_datum)
             j["vertical_datum"] = info.vertical_datum->name;
-        fmt::print("{}\n", j.dump(2));
+        fmt::print("{}\n", jsonText(j));
         return 0;
     }
     if (quiet_)

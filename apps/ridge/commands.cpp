@@ -7,6 +7,7 @@
 
 #include "ridge/codec/height_codec.h"
 #include "ridge/core/error.h"
+#include "ridge/core/json_text.h"
 #include "ridge/io/geographic.h"
 #include "ridge/io/raster_writer.h"
 #include "ridge/pipeline/info.h"
@@ -196,7 +197,7 @@ int Commands::runVerify()
                                    {"max_level_error", l.max_level_error},
                                    {"level_bound", l.level_bound},
                                    {"level_violations", l.level_violations}});
-        fmt::print("{}\n", j.dump(2));
+        fmt::print("{}\n", jsonText(j));
         return report.ok() ? 0 : 1;
     }
     if (!report.levels.empty()) {
@@ -254,7 +255,7 @@ int Commands::runExtract()
                             {"max_rounding_error", r.max_rounding_error},
                             {"geotransform", r.geotransform ? nlohmann::json(*r.geotransform)
                                                             : nlohmann::json()}};
-        fmt::print("{}\n", j.dump(2));
+        fmt::print("{}\n", jsonText(j));
     } else if (!quiet_) {
         fmt::print("{}: {} {}x{} of level {} at {},{}, {} ({}){}\n", output_,
                    options.output_format, r.window.width, r.window.height, r.level, r.window.x,

@@ -3,6 +3,7 @@
 #include "command_text.h"
 #include "commands.h"
 
+#include "ridge/core/json_text.h"
 #include "ridge/io/geographic.h"
 #include "ridge/pipeline/info.h"
 
@@ -115,7 +116,7 @@ int Commands::runInfo()
                                    {"max_err", l.max_err},
                                    {"max_err_appr", l.max_err_appr},
                                    {"level_bound", l.level_bound}});
-        fmt::print("{}\n", j.dump(2));
+        fmt::print("{}\n", jsonText(j));
         return 0;
     }
     const archive::SourceMetadata& source = info.metadata.source;

@@ -9,6 +9,8 @@
 #include "range_check.h"
 
 #include "ridge/core/error.h"
+#include "ridge/core/json_text.h"
+#include "ridge/core/line_reader.h"
 #include "ridge/pipeline/height_query.h"
 
 #include <fmt/core.h>
@@ -32,19 +34,11 @@ namespace {
 
 constexpr size_t kBatchPoints = 65536;
 
-// One number of a point: the whole token the way CLI11 reads numbers (strtod).
+// One number of a point, spelled as every number on ridge's command line is
+// (detail::parseNumber: decimal only; "-inf" reads, and the range checks refuse it).
 std::optional<double> parseToken(std::string_view token)
 {
-    char text[128];
-    if (token.size() >= sizeof text)
-        return detail::parseNumber(std::string(token));
-    std::memcpy(text, token.data(), token.size());
-    text[token.size()] = '\0';
-    char* end = nullptr;
-    const double value = std::strtod(text, &end);
-    if (token.empty() || end != text + token.size())
-        return std::nullopt;
-    return value;
+    return detail::parseNumber(std::string(token));
 }
 
 // "X Y" or "X,Y" (spaces, tabs and commas all separate); nullopt for anything else.
@@ -72,6 +66,16 @@ std::optional<glm::dvec2> parsePoint(std::string_view line)
     if (!x || !y)
         return std::nullopt;
     return glm::dvec2(*x, *y);
+}
+
+// A point is a short line; longer ones are refused without being held in memory.
+constexpr size_t kMaxQueryLineBytes = 4096;
+
+// What a line too long to be a point is echoed as: its start, and how long it was not.
+std::string tooLongEcho(std::string_view start, int64_t number)
+{
+    return std::string(start.substr(0, 32)) + "... (line " + std::to_string(number) +
+           " is longer than " + std::to_string(kMaxQueryLineBytes) + " bytes)";
 }
 
 nlohmann::json sampleJson(const HeightSample& s)
@@ -223,9 +227,23 @@ void answerStdin(HeightQuery& query, PointSpace space, int level, QueryResamplin
                  Answers& answers)
 {
     PendingLines pending;
-    std::string partial; // a line whose end has not arrived yet
+    std::string partial; // a line whose end has not arrived yet, at most kMaxQueryLineBytes
+    bool skipping = false; // inside a too-long line already answered: drop to its end
+    int64_t number = 0;    // of the line being read
     std::vector<char> buffer(size_t(1) << 16);
+    // A line longer than any point: answered (in order) as an error, never stored whole.
+    auto tooLong = [&](std::string_view start) {
+        answerPending(query, space, level, resampling, pending, answers);
+        answers.add(tooLongEcho(start, number), nullptr, "not a point: the line is too long");
+    };
     auto takeLine = [&](std::string_view line) {
+        ++number;
+        if (skipping) { // the rest of a too-long line
+            skipping = false;
+            return;
+        }
+        if (line.size() > kMaxQueryLineBytes)
+            return tooLong(line);
         if (!line.empty() && line.back() == '\r')
             line.remove_suffix(1);
         if (line.find_first_not_of(" \t,") == std::string_view::npos)
@@ -249,8 +267,18 @@ void answerStdin(HeightQuery& query, PointSpace space, int level, QueryResamplin
         for (size_t end; (end = partial.find('\n', start)) != std::string::npos; start = end + 1)
             takeLine(std::string_view(partial).substr(start, end - start));
         partial.erase(0, start);
+        if (partial.size() > kMaxQueryLineBytes) { // bounded memory whatever the input
+            if (!skipping) {
+                ++number;
+                tooLong(partial);
+                --number; // takeLine counts it again when its end arrives
+                skipping = true;
+            }
+            partial.clear();
+        }
     }
-    takeLine(partial); // a last line without its newline
+    if (!partial.empty() || skipping)
+        takeLine(partial); // a last line without its newline
     answerPending(query, space, level, resampling, pending, answers);
 }
 
@@ -325,7 +353,7 @@ int QueryCommand::run()
                                     {"level", level_ < 0 ? query.finestLevel() : level_},
                                     {"points", std::move(answers.points())},
                                     {"failed", answers.failures()}};
-        fmt::print("{}\n", doc.dump(2));
+        fmt::print("{}\n", jsonText(doc));
     }
     answers.flush();
     if (answers.failures() > 0)

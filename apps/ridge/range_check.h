@@ -3,7 +3,9 @@
 // the parameter it sets accepts, and says so readably:
 //   ridge: error: --vram 0: must be a number in (0, 1e+06]
 // (CLI::PositiveNumber and CLI::Range print their bounds with up to 309 digits, and CLI11
-// parses "nan" and "inf" as numbers, which they let through.)
+// parses "nan" and "inf" as numbers, which they let through.) Every number is spelt by one
+// rule (detail::isDecimalNumber), which main() also applies to the numeric options that have
+// no range of their own.
 //
 // A rejected value throws UsageError rather than returning CLI11's message, so that the
 // message is ours (CLI11 would append its own wording) and main exits with the usage status 2
@@ -15,40 +17,82 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <optional>
 #include <string>
+#include <string_view>
 
 namespace ridge::cli {
 
 namespace detail {
 
-// The whole of `text` as a number the way CLI11 reads it (strtod: "nan", "inf" and "1e999",
-// which overflows to inf, all parse; the range then rejects them); nullopt for anything else.
+// One spelling rule for every number on the command line, in every flag, positional and
+// stdin line alike: decimal digits with an optional sign, decimal point and exponent ("12",
+// "-0.5", ".5", "1e-3"), or inf, infinity and nan in any case (which every range then refuses
+// by name, rather than calling them malformed). No hexadecimal ("0x10" read as 16 where
+// another flag refused it), no blanks around, nothing after.
+inline bool isDecimalNumber(std::string_view text)
+{
+    size_t at = 0;
+    if (at < text.size() && (text[at] == '+' || text[at] == '-'))
+        ++at;
+    std::string word(text.substr(at));
+    for (char& c : word)
+        c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (word == "inf" || word == "infinity" || word == "nan")
+        return true;
+    auto digits = [&] {
+        const size_t start = at;
+        while (at < text.size() && text[at] >= '0' && text[at] <= '9')
+            ++at;
+        return at - start;
+    };
+    size_t mantissa = digits();
+    if (at < text.size() && text[at] == '.') {
+        ++at;
+        mantissa += digits();
+    }
+    if (mantissa == 0)
+        return false;
+    if (at < text.size() && (text[at] == 'e' || text[at] == 'E')) {
+        ++at;
+        if (at < text.size() && (text[at] == '+' || text[at] == '-'))
+            ++at;
+        if (digits() == 0)
+            return false;
+    }
+    return at == text.size();
+}
+
+// An integer under the same rule: decimal digits with an optional sign.
+inline bool isDecimalInteger(std::string_view text)
+{
+    size_t at = text.size() > 0 && (text[0] == '+' || text[0] == '-') ? 1 : 0;
+    return at < text.size() &&
+           text.find_first_not_of("0123456789", at) == std::string_view::npos;
+}
+
+// The whole of `text` as a number (isDecimalNumber; "1e999" overflows to inf, which the
+// ranges then refuse); nullopt for anything else.
 inline std::optional<double> parseNumber(const std::string& text)
 {
-    if (text.empty())
+    if (!isDecimalNumber(text))
         return std::nullopt;
-    char* end = nullptr;
-    errno = 0;
-    const double value = std::strtod(text.c_str(), &end);
-    if (end != text.c_str() + text.size())
-        return std::nullopt;
-    return value;
+    return std::strtod(text.c_str(), nullptr);
 }
 
 // `text` as a base-10 integer; nullopt for anything else (including out of int64 range).
 inline std::optional<int64_t> parseInteger(const std::string& text)
 {
-    if (text.empty())
+    if (!isDecimalInteger(text))
         return std::nullopt;
-    char* end = nullptr;
     errno = 0;
-    const long long value = std::strtoll(text.c_str(), &end, 10);
-    if (end != text.c_str() + text.size() || errno == ERANGE)
+    const long long value = std::strtoll(text.c_str(), nullptr, 10);
+    if (errno == ERANGE)
         return std::nullopt;
     return int64_t{value};
 }

@@ -27,15 +27,18 @@ namespace ridge::cli {
 inline lod::Viewport parseSize(const std::string& text,
                                int max_side = render::HeadlessRenderOptions::kMaxImageSide)
 {
-    long long w = 0, h = 0;
-    char x = 0, extra = 0;
-    if (std::sscanf(text.c_str(), "%lld%c%lld%c", &w, &x, &h, &extra) != 3 ||
-        (x != 'x' && x != 'X'))
+    // Two decimal integers around one 'x' (the command line's one spelling of numbers).
+    const size_t x = text.find_first_of("xX");
+    const std::optional<int64_t> w =
+        x == std::string::npos ? std::nullopt : detail::parseInteger(text.substr(0, x));
+    const std::optional<int64_t> h =
+        x == std::string::npos ? std::nullopt : detail::parseInteger(text.substr(x + 1));
+    if (!w || !h)
         throw UsageError("--size " + text + ": expected WIDTHxHEIGHT, e.g. 1920x1080");
-    if (w < 1 || h < 1 || w > max_side || h > max_side)
+    if (*w < 1 || *h < 1 || *w > max_side || *h > max_side)
         throw UsageError("--size " + text + ": each side must be an integer in [1, " +
                     std::to_string(max_side) + "]");
-    return {int(w), int(h)};
+    return {int(*w), int(*h)};
 }
 
 // The camera options `ridge render` and `ridge view` share, as given.

@@ -5,6 +5,7 @@
 #include "usage_error.h"
 
 #include "ridge/core/error.h"
+#include "ridge/core/json_text.h"
 #include "ridge/render/headless_render.h"
 
 #include <fmt/core.h>
@@ -118,7 +119,7 @@ int RenderCommand::run()
                                                   : nlohmann::json()},
                             {"cpu_select_ms", r.stats.cpu_select_ms},
                             {"cpu_load_ms", r.stats.cpu_load_ms}};
-        fmt::print("{}\n", j.dump(2));
+        fmt::print("{}\n", jsonText(j));
     } else if (!quiet_) {
         fmt::print("{}: {}x{}, camera {:.1f},{:.1f},{:.1f}, ε {:.2g} px: {} patches, {} triangles, "
                    "GPU {:.2f} ms ({})\n",

@@ -5,6 +5,7 @@
 #include "ridge/core/parameter_check.h"
 #include "ridge/pyramid/level_pyramid.h"
 
+#include <cmath>
 #include <limits>
 #include <nlohmann/json.hpp>
 
@@ -19,15 +20,69 @@ using nlohmann::json;
     throw Error("metadata: " + problem);
 }
 
+// Cuts `text` to at most `size` bytes without splitting a UTF-8 sequence (the parser has
+// checked that the document is UTF-8, so a message quoting it stays UTF-8 and can itself be
+// emitted as JSON, by `verify --json`).
+std::string_view utf8Prefix(std::string_view text, size_t size)
+{
+    if (text.size() <= size)
+        return text;
+    while (size > 0 && (static_cast<unsigned char>(text[size]) & 0xC0) == 0x80)
+        --size;
+    return text.substr(0, size);
+}
+
+// Appends the compact JSON text of `value` to `out` until `out` holds more than `budget`
+// bytes, then stops: every level of nesting writes a byte before it descends, so the
+// recursion is at most `budget` deep and the work O(budget) whatever the value's size.
+void appendExcerpt(const json& value, size_t budget, std::string& out)
+{
+    if (out.size() > budget)
+        return;
+    switch (value.type()) {
+    case json::value_t::array:
+        out += '[';
+        for (auto it = value.begin(); it != value.end() && out.size() <= budget; ++it) {
+            if (it != value.begin())
+                out += ',';
+            appendExcerpt(*it, budget, out);
+        }
+        out += ']';
+        return;
+    case json::value_t::object:
+        out += '{';
+        for (auto it = value.begin(); it != value.end() && out.size() <= budget; ++it) {
+            if (it != value.begin())
+                out += ',';
+            out += json(std::string(utf8Prefix(it.key(), budget))).dump();
+            out += ':';
+            appendExcerpt(it.value(), budget, out);
+        }
+        out += '}';
+        return;
+    case json::value_t::string:
+        // Only the part that can show: a 10 MB string is not copied for a 40-byte message.
+        out += json(std::string(utf8Prefix(value.get_ref<const std::string&>(), budget + 1)))
+                   .dump();
+        return;
+    default: // numbers, booleans, null: short
+        out += value.dump();
+        return;
+    }
+}
+
 // A JSON value as messages quote it: numbers as formatNumber prints them, anything else as
-// its JSON text, cut short.
+// its compact JSON text cut to 40 bytes. Bounded: never serialises more than that of a value
+// nested or long without limit (100,000 nested arrays crashed the recursive dump).
 std::string quote(const json& value)
 {
     if (value.is_number())
         return formatNumber(value.get<double>());
-    std::string text = value.dump();
-    if (text.size() > 40)
-        text = text.substr(0, 37) + "...";
+    constexpr size_t kShown = 40;
+    std::string text;
+    appendExcerpt(value, kShown, text);
+    if (text.size() > kShown)
+        text = std::string(utf8Prefix(text, kShown - 3)) + "...";
     return text;
 }
 
@@ -176,7 +231,27 @@ SourceMetadata parseSource(const Section& s, const Header& header)
     return m;
 }
 
-GeoreferenceMetadata parseGeoreference(const Section& s)
+// A geotransform every command can use: pixels of non-zero area whose inverse is finite
+// (query, info's corners and extract's windows map coordinates to pixels), and every corner
+// of the grid finite (extract writes them). GDALInvGeoTransform's algebra.
+void checkGeotransform(const std::string& name, const std::array<double, 6>& g,
+                       const Header& header)
+{
+    const double det = g[1] * g[5] - g[2] * g[4];
+    if (!(std::abs(det) > 0.0) || !std::isfinite(det) || !std::isfinite(1.0 / det))
+        reject(name + " is [" + formatNumber(g[0]) + "," + formatNumber(g[1]) + "," +
+               formatNumber(g[2]) + "," + formatNumber(g[3]) + "," + formatNumber(g[4]) + "," +
+               formatNumber(g[5]) + "]: its pixels have zero area (determinant " +
+               formatNumber(det) + "): must map pixels to coordinates and back");
+    const double w = header.width, h = header.height;
+    for (const double x : {g[0] + w * g[1], g[0] + h * g[2], g[0] + w * g[1] + h * g[2]})
+        for (const double y : {g[3] + w * g[4], g[3] + h * g[5], g[3] + w * g[4] + h * g[5]})
+            if (!std::isfinite(x) || !std::isfinite(y))
+                reject(name + ": the grid's corners are not finite (" + formatNumber(x) + ", " +
+                       formatNumber(y) + ")");
+}
+
+GeoreferenceMetadata parseGeoreference(const Section& s, const Header& header)
 {
     GeoreferenceMetadata m;
     m.crs_wkt = s.string("crs_wkt");
@@ -191,6 +266,7 @@ GeoreferenceMetadata parseGeoreference(const Section& s)
         for (size_t k = 0; k < 6; ++k)
             values[k] = Section::numberValue(s.path("geotransform") + "[" + std::to_string(k) + "]",
                                              (*gt)[k], ValueRange::any());
+        checkGeotransform(s.path("geotransform"), values, header);
         m.geotransform = values;
     }
     if (s.find("vertical_datum")) {
@@ -272,13 +348,33 @@ const char* kindOf(const json& value)
     }
 }
 
-} // namespace
-
-ArchiveMetadata parseArchiveMetadata(std::string_view text, const Header& header)
+// The parsed document, refused before anything else reads it: no NUL byte (the parser would
+// take one as the end of the text and accept whatever follows), at most kMaxMetadataDepth
+// levels of nesting (refused while parsing, so no deep value is ever built, serialised or
+// destroyed recursively).
+json parseBounded(std::string_view text)
 {
-    json document;
+    if (text.size() > kMaxMetadataBytes)
+        reject("document of " + std::to_string(text.size()) + " bytes: must be at most " +
+               std::to_string(kMaxMetadataBytes));
+    if (const size_t nul = text.find('\0'); nul != std::string_view::npos)
+        reject("not JSON: a NUL byte at offset " + std::to_string(nul) + " of " +
+               std::to_string(text.size()) +
+               " (JSON text holds none: bytes after the document?)");
+    struct TooDeep {};
+    const json::parser_callback_t limit_depth = [](int depth, json::parse_event_t event, json&) {
+        // `depth` counts the containers around the element; the document itself is 0.
+        if ((event == json::parse_event_t::object_start ||
+             event == json::parse_event_t::array_start) &&
+            depth >= kMaxMetadataDepth)
+            throw TooDeep{};
+        return true;
+    };
     try {
-        document = json::parse(text);
+        return json::parse(text, limit_depth);
+    } catch (const TooDeep&) {
+        reject("values nested more than " + std::to_string(kMaxMetadataDepth) +
+               " deep: must be at most " + std::to_string(kMaxMetadataDepth));
     } catch (const json::exception& e) {
         // Syntax errors, invalid UTF-8, and numbers beyond double (1e999: so a parsed number
         // is always finite). e.what() is "[json.exception.parse_error.101] parse error at
@@ -287,12 +383,19 @@ ArchiveMetadata parseArchiveMetadata(std::string_view text, const Header& header
         const size_t tag_end = what.find("] ");
         reject("not JSON: " + (tag_end == std::string::npos ? what : what.substr(tag_end + 2)));
     }
+}
+
+} // namespace
+
+ArchiveMetadata parseArchiveMetadata(std::string_view text, const Header& header)
+{
+    const json document = parseBounded(text);
     if (!document.is_object())
         reject(std::string("not a JSON object (it is ") + kindOf(document) + ")");
     const Section root(document, "");
     ArchiveMetadata m;
     m.source = parseSource(root.section("source"), header);
-    m.georeference = parseGeoreference(root.section("georeference"));
+    m.georeference = parseGeoreference(root.section("georeference"), header);
     m.build = parseBuild(root.section("build"), header);
     if (header.version >= kFirstVersionWithSampleFlags)
         m.water = parseWater(root.section("water"), header);

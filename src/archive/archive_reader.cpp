@@ -72,6 +72,13 @@ void ArchiveReader::loadHeader()
     codec_ = makeCodec(static_cast<CodecId>(header_.codec_id), settings, &problem);
     if (!codec_)
         fail("header field " + problem);
+    // Tables only where the codec has them: a codec without per-archive tables stores none,
+    // whatever it does with the region (raw and lossless ignore it; bytes nobody reads would
+    // be a checksummed hiding place).
+    if (!settings.tables.empty() && codec_->storeTables().empty())
+        fail("codec tables region of " + std::to_string(settings.tables.size()) +
+             " bytes: the " + codec_->name() +
+             " codec has no codec tables (only progressive v2 stores any): must be empty");
 }
 
 std::vector<uint8_t> ArchiveReader::loadCodecTables()
@@ -85,6 +92,10 @@ std::vector<uint8_t> ArchiveReader::loadCodecTables()
         fail("header fields codec_tables_offset " + std::to_string(h.codec_tables_offset) +
              " and codec_tables_size " + std::to_string(h.codec_tables_size) +
              " lie outside the file (truncated?)");
+    if (h.codec_tables_size > kMaxCodecTablesBytes)
+        fail("header field codec_tables_size is " + std::to_string(h.codec_tables_size) +
+             ": must be at most " + std::to_string(kMaxCodecTablesBytes) +
+             " (the largest tables a codec stores)");
     if (h.codec_tables_offset + h.codec_tables_size != h.metadata_offset)
         fail("header fields codec_tables_offset + codec_tables_size (" +
              std::to_string(h.codec_tables_offset + h.codec_tables_size) +
@@ -143,6 +154,9 @@ void ArchiveReader::loadMetadata()
              std::to_string(header_.metadata_offset + header_.metadata_size) +
              ") must equal index_offset (" + std::to_string(header_.index_offset) +
              "): the index follows the metadata");
+    if (header_.metadata_size > kMaxMetadataBytes)
+        fail("header field metadata_size is " + std::to_string(header_.metadata_size) +
+             ": must be at most " + std::to_string(kMaxMetadataBytes));
     metadata_.resize(header_.metadata_size);
     readAt(header_.metadata_offset, metadata_.data(), metadata_.size(), "metadata");
     if (crc32(metadata_.data(), metadata_.size()) != header_.metadata_crc32)

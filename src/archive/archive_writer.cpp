@@ -1,5 +1,6 @@
 #include "ridge/archive/archive_writer.h"
 
+#include "ridge/archive/archive_metadata.h"
 #include "ridge/archive/sample_flags_storage.h"
 #include "ridge/archive/validity_storage.h"
 #include "ridge/core/crc32.h"
@@ -98,6 +99,14 @@ void ArchiveWriter::finish(const std::string& metadata_json)
     if (written_count_ != geometry_.patchCount())
         throw Error(output_.finalPath() + ": internal error: " + std::to_string(written_count_) +
                     " of " + std::to_string(geometry_.patchCount()) + " patches written");
+    // The metadata must satisfy what every reader checks (docs/FORMAT.md, "Metadata"): a
+    // source whose geotransform no command could use is refused here, naming the key, rather
+    // than written into an archive that every command then refuses.
+    try {
+        parseArchiveMetadata(metadata_json, header_);
+    } catch (const Error& e) {
+        throw Error(output_.finalPath() + ": cannot write: " + e.what());
+    }
     header_.codec_tables_offset = position_;
     header_.codec_tables_size = static_cast<uint32_t>(codec_tables_.size());
     header_.codec_tables_crc32 = crc32(codec_tables_.data(), codec_tables_.size());

@@ -20,6 +20,10 @@ const char* codecStatusMessage(int status)
     case kCodecCorrupt: return "corrupt payload";
     case kCodecTrailingBytes: return "trailing bytes after payload";
     case kCodecNeedsParent: return "patch decoded without its parent's reconstruction";
+    case kCodecDisabled:
+        return "its decoder is disabled: HTJ2K payloads are decoded only with "
+               "RIDGE_ALLOW_HTJ2K=1 (OpenJPH 0.9 aborts the process on some malformed "
+               "codestreams; set it for archives you trust)";
     default: return "unknown codec error";
     }
 }

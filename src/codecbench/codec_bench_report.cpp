@@ -4,6 +4,7 @@
 #include "ridge/core/atomic_output.h"
 #include "ridge/core/error.h"
 #include "ridge/core/file_identity.h"
+#include "ridge/core/json_text.h"
 #include "ridge/io/dataset_files.h"
 
 #include <fmt/core.h>
@@ -211,7 +212,7 @@ std::string formatCodecBenchJson(const CodecBenchReport& r)
                           {"rows", rows}});
     }
     j["bounds"] = bounds;
-    return j.dump(2) + "\n";
+    return jsonText(j) + "\n";
 }
 
 void writeCodecBenchJson(const CodecBenchReport& report, const std::string& path)

@@ -118,6 +118,20 @@ bool tmpfileUnsupported(int error)
     return error == EOPNOTSUPP || error == EISDIR || error == EINVAL;
 }
 
+// "a FIFO", "a character device" ...; null for a regular file, a directory or a symlink.
+const char* specialKind(mode_t mode)
+{
+    if (S_ISFIFO(mode))
+        return "a FIFO";
+    if (S_ISCHR(mode))
+        return "a character device";
+    if (S_ISBLK(mode))
+        return "a block device";
+    if (S_ISSOCK(mode))
+        return "a socket";
+    return nullptr;
+}
+
 } // namespace
 
 std::string AtomicOutput::temporaryNamePrefix(const std::string& final_name)
@@ -144,6 +158,7 @@ AtomicOutput::AtomicOutput(std::string final_path) : final_path_(std::move(final
         if (::fstatat(dir_fd_, final_name_.c_str(), &st, AT_SYMLINK_NOFOLLOW) == 0 &&
             S_ISDIR(st.st_mode))
             fail("it is a directory", 0);
+        refuseSpecialFile();
         removeDeadTemporaries(dir_fd_, temporaryNamePrefix(final_name_));
         openTemporary();
     } catch (...) {
@@ -171,6 +186,26 @@ void AtomicOutput::fail(const std::string& what, int error) const
 {
     throw Error(final_path_ + ": cannot write: " + what +
                 (error ? std::string(": ") + std::strerror(error) : std::string()));
+}
+
+void AtomicOutput::refuseSpecialFile() const
+{
+    // The rename would put a regular file in place of the FIFO, device or socket (as root,
+    // `-o /dev/null` would replace /dev/null), and a symlink to one (`-o /dev/stdout`) names
+    // a stream, not a file that can be replaced whole. Regular files, directories (refused
+    // above) and symlinks to regular files or to nothing are the rest.
+    struct stat st {};
+    if (::fstatat(dir_fd_, final_name_.c_str(), &st, AT_SYMLINK_NOFOLLOW) != 0)
+        return;
+    const char* kind = specialKind(st.st_mode);
+    std::string what = kind ? std::string("it is ") + kind : std::string();
+    if (!kind && S_ISLNK(st.st_mode) && ::fstatat(dir_fd_, final_name_.c_str(), &st, 0) == 0 &&
+        (kind = specialKind(st.st_mode)) != nullptr)
+        what = std::string("it is a symlink to ") + kind;
+    if (kind)
+        fail(what + ": outputs are written only to regular files, and a FIFO, device or socket "
+                    "is never replaced (write to a file, then copy it there)",
+             0);
 }
 
 void AtomicOutput::openTemporary()
@@ -258,6 +293,9 @@ void AtomicOutput::commit()
     // is also where delayed write errors (EIO, ENOSPC, EDQUOT) surface.
     if (::fsync(fd_) != 0)
         fail("fsync", errno);
+    // Again at the last moment: a special file may have appeared at the final path during
+    // the work (the window that remains is the rename's own instant).
+    refuseSpecialFile();
     if (temp_name_.empty())
         giveUnnamedAName();
     if (::renameat(dir_fd_, temp_name_.c_str(), dir_fd_, final_name_.c_str()) != 0)

@@ -16,14 +16,38 @@ GLint glInteger(GLenum name)
     return value;
 }
 
-void requireComplete(GLuint fbo, const char* what)
+const char* framebufferStatusName(GLenum status)
+{
+    switch (status) {
+    case GL_FRAMEBUFFER_INCOMPLETE_ATTACHMENT: return "GL_FRAMEBUFFER_INCOMPLETE_ATTACHMENT";
+    case GL_FRAMEBUFFER_INCOMPLETE_MISSING_ATTACHMENT:
+        return "GL_FRAMEBUFFER_INCOMPLETE_MISSING_ATTACHMENT";
+    case GL_FRAMEBUFFER_UNSUPPORTED: return "GL_FRAMEBUFFER_UNSUPPORTED";
+    case GL_FRAMEBUFFER_INCOMPLETE_MULTISAMPLE: return "GL_FRAMEBUFFER_INCOMPLETE_MULTISAMPLE";
+    default: return "status";
+    }
+}
+
+// Within GL_MAX_TEXTURE_SIZE and GL_MAX_RENDERBUFFER_SIZE a target can still be too large
+// for the implementation to allocate (llvmpipe refuses a 16384 x 16384 target with 4 samples,
+// 8 GiB of colour and depth): the attachment is then incomplete, and the message says so in
+// those terms rather than as a GL status code alone.
+void requireComplete(GLuint fbo, const char* what, int width, int height, int samples)
 {
     const GLenum status = glCheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER);
     if (status != GL_FRAMEBUFFER_COMPLETE) {
         checkGlError(what);
         char code[16];
         std::snprintf(code, sizeof code, "0x%04x", status);
-        throw Error(std::string(what) + " framebuffer is incomplete (status " + code + ")");
+        const double gib = double(width) * height * samples * 8.0 / (1024.0 * 1024.0 * 1024.0);
+        char size[64];
+        std::snprintf(size, sizeof size, "%.2g GiB", gib);
+        throw Error("a " + std::to_string(width) + "x" + std::to_string(height) +
+                    " render target with " + std::to_string(samples) +
+                    " sample(s) per pixel (" + size +
+                    " of colour and depth) cannot be allocated by this GL implementation (" +
+                    what + " framebuffer incomplete: " + framebufferStatusName(status) + ", " +
+                    code + "): use fewer samples or a smaller size");
     }
 }
 
@@ -45,7 +69,8 @@ RenderTarget::RenderTarget(int width, int height, int samples)
         std::min(glInteger(GL_MAX_TEXTURE_SIZE), glInteger(GL_MAX_RENDERBUFFER_SIZE));
     if (width <= 0 || height <= 0 || width > max_size || height > max_size)
         throw Error("render target size " + std::to_string(width) + "x" + std::to_string(height) +
-                    " is outside 1.." + std::to_string(max_size));
+                    " is outside 1.." + std::to_string(max_size) +
+                    " (GL_MAX_TEXTURE_SIZE and GL_MAX_RENDERBUFFER_SIZE of this GL implementation)");
     const GLint max_samples = glInteger(GL_MAX_SAMPLES);
     if (samples < 1 || samples > max_samples)
         throw Error("render target sample count " + std::to_string(samples) + " is outside 1.." +
@@ -56,7 +81,7 @@ RenderTarget::RenderTarget(int width, int height, int samples)
     glNamedFramebufferTexture(resolved_fbo_.id(), GL_COLOR_ATTACHMENT0, colour_.id(), 0);
     glNamedFramebufferTexture(resolved_fbo_.id(), GL_DEPTH_ATTACHMENT, depth_.id(), 0);
     checkGlError("RenderTarget storage");
-    requireComplete(resolved_fbo_.id(), "RenderTarget");
+    requireComplete(resolved_fbo_.id(), "RenderTarget", width, height, 1);
 
     if (samples > 1) {
         glNamedRenderbufferStorageMultisample(msaa_colour_.id(), samples, GL_RGBA8, width, height);
@@ -67,7 +92,7 @@ RenderTarget::RenderTarget(int width, int height, int samples)
         glNamedFramebufferRenderbuffer(msaa_fbo_.id(), GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER,
                                        msaa_depth_.id());
         checkGlError("RenderTarget multisampled storage");
-        requireComplete(msaa_fbo_.id(), "RenderTarget multisampled");
+        requireComplete(msaa_fbo_.id(), "RenderTarget multisampled", width, height, samples);
     }
 }
 

@@ -39,6 +39,25 @@ std::string projError(PJ_CONTEXT* context)
 
 } // namespace
 
+std::string crsReadProblem(const std::string& crs_wkt)
+{
+    PJ_CONTEXT* context = proj_context_create();
+    if (!context)
+        return "PROJ context could not be created";
+    // PROJ logs its parse errors on stderr as well: the caller reports them.
+    proj_log_level(context, PJ_LOG_NONE);
+    PJ* crs = proj_create(context, crs_wkt.c_str());
+    std::string problem;
+    if (!crs)
+        problem = projError(context);
+    else if (!proj_is_crs(crs))
+        problem = "not a coordinate reference system";
+    if (crs)
+        proj_destroy(crs);
+    proj_context_destroy(context);
+    return problem;
+}
+
 GeographicTransform::GeographicTransform(const std::string& crs_wkt, const std::string& what)
     : state_(std::make_unique<State>()), what_(what)
 {

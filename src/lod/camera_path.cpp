@@ -1,12 +1,12 @@
 #include "ridge/lod/camera_path.h"
 
 #include "ridge/core/error.h"
+#include "ridge/core/line_reader.h"
 
 #include <glm/geometric.hpp>
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <iterator>
 #include <random>
 #include <sstream>
@@ -44,16 +44,21 @@ CameraPose orbit(const TerrainFrame& f, double min_h, double max_h, const Camera
             {c.x, c.y, 0.5 * (min_h + max_h)}};
 }
 
+constexpr size_t kMaxCameraPathLineBytes = 4096;
+constexpr uint64_t kMaxCameraPathFileBytes = 64u << 20;
+
 std::vector<CameraPose> fromFile(const std::string& path, const CameraPathSettings& settings)
 {
-    std::ifstream in(path);
-    if (!in)
-        throw Error(path + ": cannot open the camera path file");
+    // Bounded: a pose is a short line, a path a few MB (/dev/zero is one endless line).
+    LineReader in(path, kMaxCameraPathLineBytes, kMaxCameraPathFileBytes);
     std::vector<CameraPose> poses;
-    std::string line;
-    int number = 0;
-    while (std::getline(in, line)) {
-        ++number;
+    while (const std::optional<LineReader::Line> read = in.next()) {
+        const std::string& line = read->text;
+        const int64_t number = read->number;
+        if (read->too_long)
+            throw Error(path + ":" + std::to_string(number) + ": longer than " +
+                        std::to_string(kMaxCameraPathLineBytes) +
+                        " bytes: not a camera path file (one pose a line)");
         if (line.empty() || line[0] == '#')
             continue;
         std::istringstream fields(line);

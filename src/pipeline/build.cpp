@@ -9,6 +9,7 @@
 #include "ridge/core/atomic_output.h"
 #include "ridge/core/error.h"
 #include "ridge/core/file_identity.h"
+#include "ridge/core/json_text.h"
 #include "ridge/io/dataset_files.h"
 #include "ridge/pipeline/build_memory.h"
 #include "ridge/pyramid/patch_context.h"
@@ -181,7 +182,7 @@ std::string metadataJson(const std::string& source_path, const io::IngestStats& 
     meta["water"] = water;
     if (const auto* progressive = dynamic_cast<const ProgressiveCodec*>(ctx.codec.get()))
         meta["build"]["codec_variant"] = progressive->variant().describe();
-    return meta.dump(2);
+    return jsonText(meta); // any bytes in source.path: invalid UTF-8 becomes U+FFFD
 }
 
 void trainStage(BuildContext& ctx, const LevelPyramid& pyramid, CodecTrainer& trainer);
@@ -296,6 +297,9 @@ EncodedPatch encodePatch(const BuildContext& ctx, const LevelView& level, PatchI
         out.reconstruction.resize(codes.size());
         const int status = ctx.codec->decode(out.reconstruction.data(), out.payload.data(),
                                              out.payload.size(), pctx);
+        if (status == kCodecDisabled) // the user's to fix, not ours: say how
+            throw Error(std::string("the build decodes every patch it encodes, but ") +
+                        codecStatusMessage(status));
         if (status != kCodecOk)
             throw Error(std::string("internal error: a patch just encoded does not decode: ") +
                         codecStatusMessage(status));

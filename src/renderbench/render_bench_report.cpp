@@ -2,6 +2,7 @@
 // drawn coarser, time to full detail, the scheme's frame time apart from the warm-up,
 // percentiles only where the frames support them) and its text, table and JSON forms.
 // GL-free.
+#include "ridge/core/json_text.h"
 #include "ridge/renderbench/render_bench.h"
 
 #include "ridge/core/atomic_output.h"
@@ -395,7 +396,7 @@ std::string formatRenderBenchJson(const RenderBenchReport& r)
           {"cache_misses", r.cache_misses},
           {"triangles_mean", r.triangles_mean}}},
         {"frames", frames}};
-    return j.dump(1) + "\n";
+    return jsonText(j, 1) + "\n";
 }
 
 void writeRenderBenchJson(const RenderBenchReport& r, const std::string& path)

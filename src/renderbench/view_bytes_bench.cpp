@@ -4,6 +4,7 @@
 #include "ridge/archive/archive_reader.h"
 #include "ridge/core/atomic_output.h"
 #include "ridge/core/file_identity.h"
+#include "ridge/core/json_text.h"
 #include "ridge/lod/coarse_terrain.h"
 #include "ridge/stream/view_bytes.h"
 
@@ -159,7 +160,7 @@ std::string formatViewBytesJson(const ViewBytesBenchReport& r)
                                 {"path_bytes", r.path_bytes},
                                 {"path_patches", r.path_patches}}},
                               {"frames", frames}};
-    return j.dump(2) + "\n";
+    return jsonText(j) + "\n";
 }
 
 void writeViewBytesJson(const ViewBytesBenchReport& r, const std::string& path)

@@ -258,7 +258,7 @@ TEST(Cli, OneSpellingPerConceptWithTheOldOnesHidden)
     const test::CommandResult bad =
         test::runRidge("hillshade '" + arc + "' -o '" + dir.path("x.png") + "' --sun 315,100");
     EXPECT_EQ(bad.exit_code, 2);
-    EXPECT_NE(bad.output.find("--sun 100: the altitude must be a number in [0, 90]"),
+    EXPECT_NE(bad.output.find("--sun 100: the altitude must be a number in (0, 90]"),
               std::string::npos)
         << bad.output;
     struct Hidden {

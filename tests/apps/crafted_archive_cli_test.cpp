@@ -2,8 +2,10 @@
 // archives), as a user meets them: `ridge verify`, `info`, `extract` and `render` each refuse
 // them with exit code 1 (not 0, not a signal), a message that names the field, and no output
 // left behind. Among them the two that crashed the default `ridge render`: a NaN root
-// min/max and an infinite spacing_x.
+// min/max and an infinite spacing_x; and the metadata nested 100,000 deep that crashed every
+// command, and what some commands accepted and others refused (issue 23).
 #include "archive_bytes.h"
+#include "archive_craft.h"
 #include "test_support.h"
 
 #include <gtest/gtest.h>
@@ -114,6 +116,30 @@ std::vector<Craft> crafts()
              a.setMetadata(j.dump());
          },
          "metadata: georeference.vertical_datum is \"EGM96 height\": must be an object"},
+        // Issue 23: each of these crashed (SIGSEGV, the first) or passed some commands.
+        {"metadata_deep.ridge",
+         [](ArchiveBytes& a) {
+             nlohmann::json j = nlohmann::json::parse(a.metadata());
+             j["generator"] = "@";
+             std::string text = j.dump();
+             text.replace(text.find("\"@\""), 3,
+                          std::string(100000, '[') + std::string(100000, ']'));
+             a.setMetadata(text);
+         },
+         "metadata: values nested more than 32 deep"},
+        {"metadata_nul.ridge",
+         [](ArchiveBytes& a) { a.setMetadata(a.metadata() + std::string("\0{\"x\":1}", 8)); },
+         "metadata: not JSON: a NUL byte at offset"},
+        {"geotransform_zero.ridge",
+         [](ArchiveBytes& a) {
+             nlohmann::json j = nlohmann::json::parse(a.metadata());
+             j["georeference"]["geotransform"] = {0, 0, 0, 0, 0, 0};
+             a.setMetadata(j.dump());
+         },
+         "metadata: georeference.geotransform is [0,0,0,0,0,0]: its pixels have zero area"},
+        {"tables_on_lossless.ridge",
+         [](ArchiveBytes& a) { test::setCodecTables(a, {'T', 1, 5, 0}); },
+         "codec tables region of 4 bytes: the lossless codec has no codec tables"},
     };
 }
 
@@ -175,6 +201,37 @@ TEST(CraftedArchiveCli, VerifyInfoExtractAndRenderRefuseEachWithExitOneNamingThe
         expectRefused(
             test::runRidge("render " + q + " -o '" + dir.path("out.png") + "' --size 64x48 -q"),
             path, c.phrase, "render");
+        expectRefused(test::runRidge("query " + q + " 10 10 --pixel"), path, c.phrase, "query");
+        expectRefused(test::runRidge("verify " + q + " --json"), path, c.phrase, "verify --json");
         expectNoOutput(dir);
     }
+}
+
+TEST(CraftedArchiveCli, AnHtj2kArchiveWithoutRidgeAllowHtj2kIsOneProblemNamingTheVariable)
+{
+    // Every patch read "corrupt payload", and a build said "internal error: a patch just
+    // encoded does not decode": the reason (HTJ2K decoding is off by default) was lost.
+    test::ScratchDir dir;
+    const std::string arc = dir.path("htj2k.ridge");
+    const std::string build = "build '" + test::dataPath("everest_crop.tif") + "' -o '" + arc +
+                              "' --patch 33 --codec jpeg2000,library=htj2k --max-error 2 -q";
+    const test::CommandResult refused = test::runRidge(build);
+    EXPECT_EQ(refused.exit_code, 1) << refused.output;
+    EXPECT_NE(refused.output.find("RIDGE_ALLOW_HTJ2K=1"), std::string::npos) << refused.output;
+    EXPECT_EQ(refused.output.find("internal error"), std::string::npos) << refused.output;
+    ASSERT_EQ(test::runShell("RIDGE_ALLOW_HTJ2K=1 " + std::string(RIDGE_CLI_PATH) + " " + build)
+                  .exit_code,
+              0);
+    const test::CommandResult verify = test::runRidge("verify '" + arc + "' -q");
+    EXPECT_EQ(verify.exit_code, 1) << verify.output;
+    EXPECT_NE(verify.output.find("its decoder is disabled: HTJ2K payloads are decoded only with "
+                                 "RIDGE_ALLOW_HTJ2K=1"),
+              std::string::npos)
+        << verify.output;
+    EXPECT_NE(verify.output.find("verify FAILED: 1 problem(s)"), std::string::npos)
+        << verify.output;
+    EXPECT_EQ(test::runShell("RIDGE_ALLOW_HTJ2K=1 " + std::string(RIDGE_CLI_PATH) + " verify '" +
+                             arc + "' -q")
+                  .exit_code,
+              0);
 }

@@ -6,7 +6,8 @@
 // The CLI is run with fork/exec (not a shell) so that each test knows the child's pid before
 // it runs (to plant symlinks at names derived from it) and can stop, signal and limit it.
 // RIDGE_TEST_CLI=/path/to/ridge runs these tests against another build of the CLI (to show
-// that they fail on an older one).
+// that they fail on an older one). Also: outputs never replace a FIFO, device or socket, and a
+// failed write to stdout is a failure (issue 23).
 #include "test_support.h"
 
 #include <gdal.h>
@@ -24,6 +25,10 @@
 #include <poll.h>
 #include <sstream>
 #include <sys/resource.h>
+#include <sys/socket.h>
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
+#include <sys/un.h>
 #include <sys/wait.h>
 #include <thread>
 #include <unistd.h>
@@ -589,4 +594,95 @@ TEST(OutputSafety, MissingOrReadOnlyOutputDirectoriesAreClearErrorsWithNothingLe
     EXPECT_NE(r.output.find(out + ": cannot write"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("Permission denied"), std::string::npos) << r.output;
     EXPECT_TRUE(fs::is_empty(ro));
+}
+
+// --- Outputs are regular files; writes are checked ------------------------------------------
+
+// extract and render replaced a FIFO or a character device with a regular file (as root,
+// `-o /dev/null` replaced /dev/null). Every output is refused there before the work, naming
+// it, and the special file is left as it was. (A device made here, never /dev/null itself:
+// the older CLI this test may run against would replace it.)
+TEST(OutputSafety, OutputsOntoAFifoADeviceOrASocketAreRefusedAndLeaveThemAsTheyWere)
+{
+    test::ScratchDir dir;
+    const std::string arc = everestArchive(dir);
+    struct Special {
+        std::string path;
+        std::string kind;
+        std::function<bool()> unchanged;
+    };
+    std::vector<Special> specials;
+    const std::string fifo = dir.path("fifo");
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    specials.push_back({fifo, "it is a FIFO", [=] { return fs::is_fifo(fifo); }});
+    const std::string device = dir.path("null-device");
+    if (::mknod(device.c_str(), S_IFCHR | 0666, ::makedev(1, 3)) == 0)
+        specials.push_back(
+            {device, "it is a character device", [=] { return fs::is_character_file(device); }});
+    const std::string link = dir.path("link-to-dev-null");
+    fs::create_symlink("/dev/null", link);
+    specials.push_back({link, "it is a symlink to a character device",
+                        [=] { return fs::is_symlink(link); }});
+    const std::string sock = dir.path("socket");
+    const int s = ::socket(AF_UNIX, SOCK_STREAM, 0);
+    sockaddr_un address{};
+    address.sun_family = AF_UNIX;
+    std::snprintf(address.sun_path, sizeof address.sun_path, "%s", sock.c_str());
+    ASSERT_EQ(::bind(s, reinterpret_cast<const sockaddr*>(&address), sizeof address), 0);
+    specials.push_back({sock, "it is a socket", [=] { return fs::is_socket(sock); }});
+    std::vector<std::string> keep = {"a.ridge"};
+    for (const Special& sp : specials)
+        keep.push_back(fs::path(sp.path).filename().string());
+
+    for (const Special& sp : specials)
+        for (const std::vector<std::string>& command :
+             {std::vector<std::string>{"extract", arc},
+              {"hillshade", arc},
+              {"render", arc, "--size", "32x32", "-q"},
+              {"build", test::dataPath("everest_crop.tif")}}) {
+            std::vector<std::string> args = command;
+            args.insert(args.end(), {"-o", sp.path});
+            const CliResult r = runCli(args);
+            SCOPED_TRACE(command[0] + " -o " + sp.path);
+            EXPECT_EQ(r.exit_code, 1) << r.output;
+            EXPECT_NE(r.output.find(sp.path + ": cannot write: " + sp.kind), std::string::npos)
+                << r.output;
+            EXPECT_EQ(r.output.find("...10"), std::string::npos) << "checked before the work";
+            EXPECT_TRUE(sp.unchanged()) << "replaced";
+            EXPECT_EQ(othersIn(dir.dir(), keep), std::vector<std::string>{});
+        }
+    ::close(s);
+}
+
+// Commands said success with stdout on a full disk or /dev/full: buffered output fails only
+// when flushed, after the command's work. Each now exits 1 and names standard output; the
+// shell's redirection is the only way in, so these run through it.
+TEST(OutputSafety, AFailedWriteToStandardOutputIsAFailureThatSaysSo)
+{
+    test::ScratchDir dir;
+    const std::string arc = everestArchive(dir);
+    const std::string q = "'" + arc + "'";
+    for (const std::string& args :
+         {"info " + q, "info " + q + " --json", "verify " + q + " --json", "verify " + q + " -q",
+          "query " + q + " 10 10 --pixel", "query " + q + " 10 10 --pixel --json",
+          "render " + q + " -o '" + dir.path("r.png") + "' --size 32x32 --json",
+          "extract " + q + " -o '" + dir.path("e.tif") + "' --json -q",
+          "build '" + test::dataPath("everest_crop.tif") + "' -o '" + dir.path("b.ridge") +
+              "' --json",
+          std::string("info --help")}) {
+        SCOPED_TRACE(args);
+        // The group's stderr is captured; ridge's stdout goes to /dev/full.
+        const test::CommandResult r =
+            test::runShell("{ " + cliPath() + " " + args + " > /dev/full; }");
+        EXPECT_EQ(r.exit_code, 1) << r.output;
+        EXPECT_NE(r.output.find("standard output: cannot write: No space left on device"),
+                  std::string::npos)
+            << r.output;
+        EXPECT_EQ(r.output.find("internal error"), std::string::npos) << r.output;
+    }
+    // Query from stdin too, whose answers are flushed line by line.
+    const test::CommandResult r = test::runShell("{ printf '1 1\\n2 2\\n' | " + cliPath() +
+                                                 " query " + q + " --pixel > /dev/full; }");
+    EXPECT_EQ(r.exit_code, 1) << r.output;
+    EXPECT_NE(r.output.find("standard output: cannot write"), std::string::npos) << r.output;
 }

@@ -20,6 +20,8 @@
 #include <sstream>
 #include <sys/file.h>
 #include <sys/resource.h>
+#include <sys/socket.h>
+#include <sys/un.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -355,4 +357,63 @@ TEST(WriteFileAtomically, FailsCleanlyOverTheFileSizeLimit)
         EXPECT_NE(message.find("File too large"), std::string::npos) << message;
         EXPECT_TRUE(entries(dir).empty()) << "named = " << named;
     }
+}
+
+// An output is a regular file or nothing: a FIFO, a device or a socket at the final path (or
+// a symlink to one) is never replaced by the rename (as root, `-o /dev/null` replaced
+// /dev/null). Refused when the output is made, and again at commit for one that appears
+// during the work.
+TEST_P(AtomicOutputBothWays, FifosDevicesSocketsAndLinksToThemAreNeverReplaced)
+{
+    NamedTemporaries mode(GetParam());
+    test::ScratchDir dir;
+    const std::string fifo = dir.path("fifo");
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    std::string message = errorOf([&] { AtomicOutput out(fifo); });
+    EXPECT_NE(message.find(fifo + ": cannot write: it is a FIFO: outputs are written only to "
+                                  "regular files"),
+              std::string::npos)
+        << message;
+    EXPECT_TRUE(fs::is_fifo(fifo));
+
+    message = errorOf([&] { AtomicOutput out("/dev/null"); });
+    EXPECT_NE(message.find("/dev/null: cannot write: it is a character device"), std::string::npos)
+        << message;
+    EXPECT_TRUE(fs::is_character_file("/dev/null"));
+
+    const std::string link = dir.path("null-link");
+    fs::create_symlink("/dev/null", link);
+    message = errorOf([&] { AtomicOutput out(link); });
+    EXPECT_NE(message.find("it is a symlink to a character device"), std::string::npos) << message;
+    EXPECT_TRUE(fs::is_symlink(link));
+
+    const std::string socket_path = dir.path("sock");
+    const int s = ::socket(AF_UNIX, SOCK_STREAM, 0);
+    ASSERT_GE(s, 0);
+    sockaddr_un address{};
+    address.sun_family = AF_UNIX;
+    std::snprintf(address.sun_path, sizeof address.sun_path, "%s", socket_path.c_str());
+    ASSERT_EQ(::bind(s, reinterpret_cast<const sockaddr*>(&address), sizeof address), 0);
+    message = errorOf([&] { AtomicOutput out(socket_path); });
+    EXPECT_NE(message.find("it is a socket"), std::string::npos) << message;
+    ::close(s);
+    EXPECT_TRUE(fs::is_socket(socket_path));
+
+    // Appearing during the work: commit refuses it and leaves it (and no temporary).
+    const std::string late = dir.path("late");
+    {
+        AtomicOutput out(late);
+        writeAll(out.fd(), "data");
+        ASSERT_EQ(::mkfifo(late.c_str(), 0600), 0);
+        message = errorOf([&] { out.commit(); });
+    }
+    EXPECT_NE(message.find(late + ": cannot write: it is a FIFO"), std::string::npos) << message;
+    EXPECT_TRUE(fs::is_fifo(late));
+    EXPECT_TRUE(temporaries(dir, "late").empty());
+    // A symlink to a regular file is still replaced (not written through), as before.
+    std::ofstream(dir.path("target")) << "old";
+    fs::create_symlink(dir.path("target"), dir.path("file-link"));
+    writeFileAtomically(dir.path("file-link"), "new");
+    EXPECT_EQ(readFile(dir.path("target")), "old");
+    EXPECT_FALSE(fs::is_symlink(dir.path("file-link")));
 }

@@ -202,7 +202,7 @@ TEST(PipelineOptionsValidation, HillshadeAndExtractNameTheirBadParameters)
     h = {};
     h.altitude = 91;
     expectPhrases(errorOf([&] { h.validate(); }),
-                  {"altitude (degrees) is 91: must be a number in [0, 90]"});
+                  {"altitude (degrees) is 91: must be a number in (0, 90]"});
     h = {};
     h.z_factor = 0;
     expectPhrases(errorOf([&] { h.validate(); }), {"z_factor is 0"});

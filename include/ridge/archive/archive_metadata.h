@@ -85,10 +85,18 @@ struct ArchiveMetadata {
     std::string generator;
 };
 
+// Bounds on the document (docs/FORMAT.md, "Metadata"), checked before it is parsed: what
+// ridge writes is a few KB (the CRS WKT dominates) and three levels deep, and every consumer
+// (messages, `info --json`) then handles any document in bounded time, memory and stack.
+inline constexpr uint32_t kMaxMetadataBytes = 16u << 20;
+inline constexpr int kMaxMetadataDepth = 32; // containers around a value, the document's own included
+
 // Parses and checks `json` against `header` (already checked itself). Throws ridge::Error
 // "metadata: WHAT" naming the key: "metadata: not JSON (...)", "metadata: source.width is
 // missing", "metadata: build.z_scale is \"1\": must be a number", "metadata:
-// build.patch_size is 65 but the header says 129".
+// build.patch_size is 65 but the header says 129", "metadata: values nested more than 32
+// deep", "metadata: not JSON: a NUL byte at offset 812 ...". A georeference.geotransform must
+// be invertible with finite corners (what query, info and extract need of it).
 ArchiveMetadata parseArchiveMetadata(std::string_view json, const Header& header);
 
 } // namespace ridge::archive

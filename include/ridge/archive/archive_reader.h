@@ -38,6 +38,11 @@
 
 namespace ridge::archive {
 
+// The largest codec tables region a reader loads (docs/FORMAT.md, "Codec tables"): progressive
+// v2's tables at 32 levels take under 300 KB (2048 tables of at most 143 bytes, and weights),
+// so a larger size is refused before anything is allocated.
+inline constexpr uint32_t kMaxCodecTablesBytes = 1u << 20;
+
 class ArchiveReader {
   public:
     explicit ArchiveReader(const std::string& path);

@@ -30,7 +30,9 @@ enum CodecStatus : int {
     kCodecTruncated = -2,    // payload ends early
     kCodecCorrupt = -3,      // inconsistent content (entropy stream, sizes)
     kCodecTrailingBytes = -4, // payload longer than its content
-    kCodecNeedsParent = -5    // a patch below the root decoded without its parent
+    kCodecNeedsParent = -5,   // a patch below the root decoded without its parent
+    kCodecDisabled = -6       // the payload is intact as far as checked, but its decoder is
+                              // off in this process (HTJ2K without RIDGE_ALLOW_HTJ2K=1)
 };
 
 const char* codecStatusMessage(int status);

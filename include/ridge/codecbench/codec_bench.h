@@ -26,9 +26,10 @@
 namespace ridge::codecbench {
 
 struct CodecBenchOptions {
-    // The ranges validation enforces (the CLI's flags use them too): a bound is a height
-    // difference (0 = lossless); a tile is at most a GL-sized 65536 samples across.
-    static constexpr ValueRange kMaxErrorRange = ValueRange::closed(0.0, kMaxAbsHeightMetres);
+    // The ranges validation enforces (the CLI's flags use them too, so --help states them): a
+    // bound is a positive height difference (ridge's lossy build needs one; its lossless row
+    // is --ridge-codec lossless); a tile is at most a GL-sized 65536 samples across.
+    static constexpr ValueRange kMaxErrorRange = ValueRange::openClosed(0.0, kMaxAbsHeightMetres);
     static constexpr int kMaxTileSize = 65536;
 
     // L-inf bounds in metres (kMaxErrorRange), at least one, in the order they are reported.

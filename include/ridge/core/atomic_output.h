@@ -20,7 +20,9 @@
 // directory. Destroyed without commit() — an exception, a cancelled build — the temporary
 // file disappears and nothing changes at the final path. A final path that is a symlink is
 // replaced by the new file (rename replaces the link itself), never written through; callers
-// refuse outputs that are inputs first (file_identity.h).
+// refuse outputs that are inputs first (file_identity.h). A final path that is a FIFO, a
+// character or block device or a socket, or a symlink to one, is refused (checked when the
+// object is made and again at commit): it is never replaced by a regular file.
 //
 // Not thread-safe: one object, one thread at a time.
 //
@@ -34,7 +36,7 @@ class AtomicOutput {
   public:
     // Creates the temporary file (and removes dead owners' ones, see above). Throws
     // Error("FINAL: cannot write: REASON") when the directory is missing or not writable,
-    // or FINAL is a directory. Cost: one directory scan of the output's directory.
+    // or FINAL is a directory or a special file ("it is a FIFO: ..."). Cost: one directory scan of the output's directory.
     explicit AtomicOutput(std::string final_path);
     // Without commit(): the temporary file is unlinked (named) or just closed (unnamed).
     ~AtomicOutput();
@@ -66,6 +68,9 @@ class AtomicOutput {
   private:
     // Throws Error("FINAL: cannot write: WHAT: strerror(error)"), without the reason for 0.
     [[noreturn]] void fail(const std::string& what, int error) const;
+    // Throws unless the final path is absent, a regular file or a symlink that does not lead
+    // to a FIFO, device or socket.
+    void refuseSpecialFile() const;
     void openTemporary();
     void openNamed();
     void giveUnnamedAName();

@@ -18,6 +18,10 @@ namespace ridge::io {
 inline constexpr double kMaxAbsLongitudeDegrees = 360.0;
 inline constexpr double kMaxAbsLatitudeDegrees = 90.0;
 
+// Empty when PROJ reads `crs_wkt` as a CRS (what `extract` must write with the raster), else
+// PROJ's reason ("missing , or ]"). Does not look for a transformation to WGS 84.
+std::string crsReadProblem(const std::string& crs_wkt);
+
 class GeographicTransform {
   public:
     // `crs_wkt` as stored in an archive (georeference.crs_wkt). Throws ridge::Error when it is

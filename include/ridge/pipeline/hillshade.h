@@ -15,7 +15,9 @@ struct HillshadeOptions {
     // zenith (gdaldem's ranges); exaggeration positive and short of flattening every slope
     // to a cliff.
     static constexpr ValueRange kAzimuthDegreesRange = ValueRange::closed(-360.0, 360.0);
-    static constexpr ValueRange kAltitudeDegreesRange = ValueRange::closed(0.0, 90.0);
+    // (0, 90] as render's sun (render::kSunAltitudeDegreesRange): at 0 the sun lies on the
+    // horizon and shades nothing, which both refuse.
+    static constexpr ValueRange kAltitudeDegreesRange = ValueRange::openClosed(0.0, 90.0);
     static constexpr ValueRange kZFactorRange = ValueRange::openClosed(0.0, 1e6);
     static constexpr int kMaxLevel = 62; // PatchId levels; -1 means the finest
 

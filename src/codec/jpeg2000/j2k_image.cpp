@@ -48,6 +48,56 @@ bool encode(Library library, const int32_t* samples, int width, int height, int 
                                      : encodeOpenJpeg(samples, width, height, bits, rate, out, error);
 }
 
+namespace {
+
+uint32_t bigEndian(const uint8_t* p, int bytes)
+{
+    uint32_t v = 0;
+    for (int k = 0; k < bytes; ++k)
+        v = v << 8 | p[k];
+    return v;
+}
+
+} // namespace
+
+size_t codestreamSize(const uint8_t* b, size_t size, std::string* error)
+{
+    constexpr uint32_t kSoc = 0xFF4F, kSot = 0xFF90, kEoc = 0xFFD9;
+    auto fail = [&](const char* what) {
+        *error = what;
+        return size_t{0};
+    };
+    if (size < 2 || bigEndian(b, 2) != kSoc)
+        return fail("no SOC marker");
+    // Main header: marker segments, each with its length (which counts its own two bytes).
+    size_t at = 2;
+    while (true) {
+        if (size - at < 4)
+            return fail("main header truncated");
+        if (bigEndian(b + at, 2) == kSot)
+            break;
+        if (b[at] != 0xFF)
+            return fail("main header: not a marker");
+        const uint32_t length = bigEndian(b + at + 2, 2);
+        if (length < 2 || length > size - at - 2)
+            return fail("main header: marker segment runs past the codestream");
+        at += 2 + length;
+    }
+    // Tile-parts: SOT (Lsot 10, Isot, Psot, TPsot, TNsot), Psot bytes from the SOT's first.
+    while (size - at >= 2 && bigEndian(b + at, 2) == kSot) {
+        if (size - at < 12 || bigEndian(b + at + 2, 2) != 10)
+            return fail("tile-part header truncated or malformed");
+        const uint32_t psot = bigEndian(b + at + 6, 4);
+        // Psot 0 ("to the EOC") would let bytes after the real data pass as tile data.
+        if (psot < 14 || psot > size - at)
+            return fail("tile-part length (Psot) is 0 or runs past the codestream");
+        at += psot;
+    }
+    if (size - at < 2 || bigEndian(b + at, 2) != kEoc)
+        return fail("no EOC marker after the last tile-part");
+    return at + 2;
+}
+
 bool htj2kDecodingAllowed()
 {
     const char* v = std::getenv("RIDGE_ALLOW_HTJ2K");

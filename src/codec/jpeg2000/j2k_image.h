@@ -43,6 +43,12 @@ bool decode(Library library, const uint8_t* bytes, size_t size, int width, int h
             int32_t* samples, std::string* error, bool trusted = false);
 bool htj2kDecodingAllowed();
 
+// The length of the codestream at the start of `bytes`, by its markers: SOC, the main header's
+// marker segments, each tile-part by its SOT's Psot (which must be non-zero), then EOC; the
+// result includes the EOC. 0, with *error set, when the markers do not hold together. A result
+// below `size` means bytes after the EOC marker, which neither library reports.
+size_t codestreamSize(const uint8_t* bytes, size_t size, std::string* error);
+
 // Decompositions used for a width x height image: each halves the smaller side, and the
 // lowest resolution keeps at least one sample (at most 6, OpenJPEG's default).
 int decompositionsFor(int width, int height);

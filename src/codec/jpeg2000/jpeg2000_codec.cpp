@@ -479,8 +479,18 @@ int Jpeg2000Codec::decodeDifference(const uint8_t* src, size_t src_size, const P
     const size_t stream_size = src_size - kHeaderSize - border_bytes;
     if (stream_size == 0)
         return kCodecTruncated;
-    std::vector<int32_t> image(r.count());
+    // The codestream runs to the end of the payload: bytes after its EOC marker are refused,
+    // as the other codecs refuse trailing bytes (neither library notices them).
     std::string error;
+    const size_t codestream = j2k::codestreamSize(stream, stream_size, &error);
+    if (codestream == 0)
+        return kCodecCorrupt;
+    if (codestream != stream_size)
+        return kCodecTrailingBytes;
+    // Said before decoding, so that an intact HTJ2K archive does not read as corrupt.
+    if (variant_.library == Jpeg2000Library::Htj2k && !j2k::htj2kDecodingAllowed())
+        return kCodecDisabled;
+    std::vector<int32_t> image(r.count());
     if (!j2k::decode(libraryOf(variant_.library), stream, stream_size, r.width, r.height, q.bits,
                      image.data(), &error))
         return kCodecCorrupt;
