@@ -52,6 +52,24 @@ std::vector<uint8_t> finestValidity(const archive::ArchiveReader& reader,
     return valid;
 }
 
+std::vector<uint8_t> finestFlags(const archive::ArchiveReader& reader, const DecodedLevel& finest)
+{
+    const PyramidGeometry& g = reader.geometry();
+    const int L = g.finestLevel(), cells = g.cells();
+    if (!reader.storesSampleFlags() ||
+        std::find(finest.mask_read.begin(), finest.mask_read.end(), 0) != finest.mask_read.end())
+        return {};
+    std::vector<uint8_t> flags(static_cast<size_t>(g.width()) * g.height());
+    for (int y = 0; y < g.height(); ++y)
+        for (int x = 0; x < g.width(); ++x) {
+            const int px = std::min(x / cells, g.patchesX(L) - 1);
+            const int py = std::min(y / cells, g.patchesY(L) - 1);
+            const PatchSampleFlags& f = finest.flags[static_cast<size_t>(py) * g.patchesX(L) + px];
+            flags[static_cast<size_t>(y) * g.width() + x] = f.at(x - px * cells, y - py * cells);
+        }
+    return flags;
+}
+
 } // namespace verify_detail
 
 namespace {
@@ -117,6 +135,7 @@ double decodeAndCheckLevel(const ArchiveReader& reader, int level, DecodedLevel&
     grid.codes.assign(static_cast<size_t>(grid.width) * grid.height, 0);
     out.decoded.assign(patches, 0);
     out.validity.assign(patches, PatchValidity{});
+    out.flags.assign(patches, PatchSampleFlags{});
     out.mask_read.assign(patches, 0);
     std::vector<PatchBorders> borders(patches);
 
@@ -139,7 +158,8 @@ double decodeAndCheckLevel(const ArchiveReader& reader, int level, DecodedLevel&
         }
         try {
             const std::vector<uint8_t> blob = reader.readBlob(p);
-            reader.payloadOffset(p, blob, &out.validity[k]); // the mask alone, checked
+            // The masks alone, checked (validity, and the sample flags of format v4).
+            reader.payloadOffset(p, blob, &out.validity[k], &out.flags[k]);
             out.mask_read[k] = 1;
             reader.decodeBlob(p, blob, codes.data(), parents ? parent.data() : nullptr,
                               &block_errors);
@@ -271,13 +291,16 @@ VerifyReport verifyArchive(const std::string& archive_path, const VerifyOptions&
         const std::vector<uint8_t> finest_valid = finestValidity(reader, levels.back());
         if (reader.storesValidity() && !finest_valid.empty())
             checkValidityPyramid(reader, levels, finest_valid, problems);
+        const std::vector<uint8_t> finest_flags = finestFlags(reader, levels.back());
+        if (!finest_flags.empty())
+            checkSampleFlagsPyramid(reader, levels, finest_flags, problems);
         reportProgress(options.progress, options.source ? 0.35 : 1.0);
 
         // 4. The end-to-end bound against the source, on every valid sample of every level,
         // and the kept voids against the source's.
         if (options.source)
-            compareWithSource(reader, levels, finest_valid, *options.source, report, problems,
-                              subProgress(options.progress, 0.35, 1.0));
+            compareWithSource(reader, levels, finest_valid, finest_flags, *options.source, report,
+                              problems, subProgress(options.progress, 0.35, 1.0));
     } catch (const Cancelled&) {
         throw;
     } catch (const Error& e) {

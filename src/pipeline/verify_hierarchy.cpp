@@ -152,4 +152,55 @@ void checkValidityPyramid(const ArchiveReader& reader, const std::vector<Decoded
     }
 }
 
+namespace {
+
+std::string describeFlags(const PatchSampleFlags& f)
+{
+    switch (f.kind) {
+    case PatchSampleFlags::Kind::None:
+        return "no flag";
+    case PatchSampleFlags::Kind::AllWater:
+        return "all water";
+    case PatchSampleFlags::Kind::Mixed:
+        break;
+    }
+    size_t water = 0, filled = 0;
+    for (uint8_t b : f.flags) {
+        water += (b & kSampleWater) != 0;
+        filled += (b & kSampleFilled) != 0;
+    }
+    return std::to_string(water) + " water and " + std::to_string(filled) + " filled samples";
+}
+
+} // namespace
+
+void checkSampleFlagsPyramid(const ArchiveReader& reader, const std::vector<DecodedLevel>& levels,
+                             const std::vector<uint8_t>& finest_flags, ProblemList& problems)
+{
+    const PyramidGeometry& g = reader.geometry();
+    const SampleFlagsPyramid derived(SampleFlagsGrid(finest_flags, g.width(), g.height()),
+                                     g.finestLevel(), g);
+    for (int l = 0; l < g.levelCount(); ++l) {
+        const DecodedLevel& level = levels[l];
+        const int nx = g.patchesX(l), ny = g.patchesY(l);
+        for (int64_t k = 0; k < int64_t{nx} * ny; ++k) {
+            if (!level.mask_read[k])
+                continue;
+            const PatchId p{l, static_cast<int>(k % nx), static_cast<int>(k / nx)};
+            const PatchSampleFlags expected = derived.patch(p);
+            const PatchSampleFlags& stored = level.flags[k];
+            if (stored.kind != expected.kind || stored.flags != expected.flags)
+                problems.add(reader.describe(p) + ": sample flags (" + describeFlags(stored) +
+                             ") differ from those the finest level's flags determine (" +
+                             describeFlags(expected) + "; docs/FORMAT.md, \"Sample flags\")");
+        }
+    }
+    const int64_t water = std::count_if(finest_flags.begin(), finest_flags.end(),
+                                        [](uint8_t f) { return (f & kSampleWater) != 0; });
+    if (water != reader.metadata().water.samples)
+        problems.add(reader.path() + ": metadata: water.samples is " +
+                     std::to_string(reader.metadata().water.samples) + " but the finest level has " +
+                     std::to_string(water) + " water samples");
+}
+
 } // namespace ridge::verify_detail

@@ -6,6 +6,7 @@
 #include "ridge/core/height_grid.h"
 #include "ridge/core/progress.h"
 #include "ridge/pipeline/verify.h"
+#include "ridge/pyramid/sample_flags.h"
 #include "ridge/pyramid/validity_pyramid.h"
 
 #include <cstdint>
@@ -40,6 +41,8 @@ struct DecodedLevel {
     std::vector<uint8_t> decoded;
     // Per patch: its stored validity mask (kind only, unless Mixed), when the mask itself read.
     std::vector<PatchValidity> validity;
+    // Per patch: its stored sample flags (format v4), read with the mask.
+    std::vector<PatchSampleFlags> flags;
     std::vector<uint8_t> mask_read;
 
     bool patchDecoded(const PyramidGeometry& g, int level, int x, int y) const
@@ -52,6 +55,17 @@ struct DecodedLevel {
 // the stored masks; empty when a finest mask could not be read (the failure is reported).
 std::vector<uint8_t> finestValidity(const archive::ArchiveReader& reader,
                                     const DecodedLevel& finest);
+
+// The finest level's sample flags over the valid extent, W × H row-major; empty when a
+// finest patch's flags could not be read (reported) or the archive stores none (format < 4).
+std::vector<uint8_t> finestFlags(const archive::ArchiveReader& reader, const DecodedLevel& finest);
+
+// Every stored patch's flags equal those the format derives from the finest level's
+// (docs/FORMAT.md, "Sample flags": a coarse sample takes the finest sample's at its position),
+// and the metadata's water.samples counts the finest water samples.
+void checkSampleFlagsPyramid(const archive::ArchiveReader& reader,
+                             const std::vector<DecodedLevel>& levels,
+                             const std::vector<uint8_t>& finest_flags, ProblemList& problems);
 
 // Err_Appr(P) >= Err_Int(P) + max Err_Appr(child) for every patch whose level and children
 // decoded, with Err_Int measured on the decoded levels (docs/FORMAT.md, "Error bounds"):
@@ -69,11 +83,14 @@ void checkValidityPyramid(const archive::ArchiveReader& reader,
                           const std::vector<DecodedLevel>& levels,
                           const std::vector<uint8_t>& finest_valid, ProblemList& problems);
 
-// The end-to-end bound against the source on every valid sample of every level, and the
-// finest validity against the source's voids both ways (`finest_valid` may be empty: then
-// the voids are not compared).
+// The end-to-end bound against the source on every valid sample of every level, the finest
+// validity against the source's voids both ways (`finest_valid` may be empty: then the voids
+// are not compared), and the finest flags (`finest_flags`, may be empty) against the source:
+// filled exactly on the voids the build filled, and water where the sea level says so (on
+// measured samples; a water layer only adds water, which the source cannot confirm).
 void compareWithSource(const archive::ArchiveReader& reader, const std::vector<DecodedLevel>& levels,
-                       const std::vector<uint8_t>& finest_valid, const std::string& source_path,
+                       const std::vector<uint8_t>& finest_valid,
+                       const std::vector<uint8_t>& finest_flags, const std::string& source_path,
                        VerifyReport& report, ProblemList& problems, const Progress& progress);
 
 } // namespace ridge::verify_detail

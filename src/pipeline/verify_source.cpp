@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 namespace ridge::verify_detail {
 
@@ -181,10 +182,45 @@ void compareVoids(const ArchiveReader& reader, const std::vector<uint8_t>& sourc
                      "--fill-voids " + mode + " fills");
 }
 
+// Filled flags exactly where the build filled a source void (a void the archive keeps valid),
+// water at least where the sea level says so on measured samples, and none beyond it unless a
+// water layer was given (which only it can confirm). `finest_valid` may be empty (all valid).
+void compareFlags(const ArchiveReader& reader, const std::vector<uint8_t>& source_void,
+                  const std::vector<uint8_t>& source_water, const std::vector<uint8_t>& finest_valid,
+                  const std::vector<uint8_t>& finest_flags, ProblemList& problems)
+{
+    const bool layer = reader.metadata().water.layer.has_value();
+    int64_t filled_wrong = 0, water_missing = 0, water_extra = 0;
+    for (size_t k = 0; k < finest_flags.size(); ++k) {
+        const bool valid = finest_valid.empty() || finest_valid[k];
+        const bool filled = (finest_flags[k] & kSampleFilled) != 0;
+        const bool water = (finest_flags[k] & kSampleWater) != 0;
+        filled_wrong += filled != (valid && source_void[k]);
+        if (!valid || source_void[k])
+            continue; // a filled height is judged by its code, which the source does not have
+        water_missing += source_water[k] && !water;
+        water_extra += !source_water[k] && water && !layer;
+    }
+    const std::string& path = reader.path();
+    if (filled_wrong)
+        problems.add(path + ": " + std::to_string(filled_wrong) +
+                     " finest samples are flagged filled where the build filled no void, or not "
+                     "flagged where it did");
+    if (water_missing)
+        problems.add(path + ": " + std::to_string(water_missing) +
+                     " finest samples at or below the sea level in the source are not flagged "
+                     "water");
+    if (water_extra)
+        problems.add(path + ": " + std::to_string(water_extra) +
+                     " finest samples are flagged water above the sea level, and the archive "
+                     "names no water layer");
+}
+
 } // namespace
 
 void compareWithSource(const ArchiveReader& reader, const std::vector<DecodedLevel>& levels,
-                       const std::vector<uint8_t>& finest_valid, const std::string& source_path,
+                       const std::vector<uint8_t>& finest_valid,
+                       const std::vector<uint8_t>& finest_flags, const std::string& source_path,
                        VerifyReport& report, ProblemList& problems, const Progress& progress)
 {
     // The source's values map to metres as they did when the archive was built.
@@ -204,6 +240,9 @@ void compareWithSource(const ArchiveReader& reader, const std::vector<DecodedLev
     const bool decimated = reader.filter() == PyramidFilter::Decimate;
     std::vector<LevelAccumulator> totals(level_count);
     std::vector<uint8_t> source_void(static_cast<size_t>(g.width()) * g.height());
+    // 1 where the source's measured height is at or below the archive's sea level.
+    std::vector<uint8_t> source_water(source_void.size(), 0);
+    const std::optional<double> sea_level = reader.metadata().water.sea_level;
     constexpr int kStrip = 128;
     std::vector<double> strip(static_cast<size_t>(kStrip) * g.width());
     for (int y0 = 0; y0 < g.height(); y0 += kStrip) {
@@ -212,6 +251,7 @@ void compareWithSource(const ArchiveReader& reader, const std::vector<DecodedLev
         const size_t first = static_cast<size_t>(y0) * g.width();
         for (size_t k = 0; k < static_cast<size_t>(rows) * g.width(); ++k) {
             source_void[first + k] = std::isnan(strip[k]) ? 1 : 0;
+            source_water[first + k] = sea_level && strip[k] <= *sea_level; // NaN: false
             report.source_voids += source_void[first + k];
             if (!finest_valid.empty())
                 report.nodata_samples += finest_valid[first + k] == 0;
@@ -232,6 +272,8 @@ void compareWithSource(const ArchiveReader& reader, const std::vector<DecodedLev
     }
     if (!finest_valid.empty())
         compareVoids(reader, source_void, finest_valid, problems);
+    if (!finest_flags.empty())
+        compareFlags(reader, source_void, source_water, finest_valid, finest_flags, problems);
     for (int l = 0; l < level_count; ++l) {
         LevelVerifyReport& lr = report.levels[l];
         const LevelAccumulator& t = totals[l];

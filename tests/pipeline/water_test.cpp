@@ -4,15 +4,19 @@
 // fixture (tests/data/sfbay_coast.tif: the Pacific and the Bay at exactly 0 m) a progressive
 // archive within 1 m decodes the sea as up to +1 m; before the flags, hillshade painted it as
 // land.
+#include "archive_bytes.h"
+#include "archive_craft.h"
 #include "test_support.h"
 
 #include "ridge/archive/archive_reader.h"
+#include "ridge/archive/sample_flags_storage.h"
 #include "ridge/core/error.h"
 #include "ridge/io/raster_source.h"
 #include "ridge/pipeline/build.h"
 #include "ridge/pipeline/height_query.h"
 #include "ridge/pipeline/hillshade.h"
 #include "ridge/pipeline/level_decoder.h"
+#include "ridge/pipeline/verify.h"
 
 #include <gdal.h>
 #include <gtest/gtest.h>
@@ -20,6 +24,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 
 using namespace ridge;
 
@@ -305,4 +310,119 @@ TEST(Water, QueriesReportWaterAndFilledSamplesAsTheArchiveFlagsThem)
             voids += s.filled;
         }
     EXPECT_EQ(voids, 368);
+}
+
+TEST(Water, VerifyChecksTheFlagsAcrossLevelsAndAgainstTheSource)
+{
+    test::ScratchDir dir;
+    BuildOptions o = lossy();
+    o.ingest.water_layer = test::dataPath("crystal_springs_utm10.geojson");
+    const std::string path = build(dir, "coast.ridge", o);
+    VerifyOptions with_source;
+    with_source.source = test::dataPath("sfbay_coast.tif");
+    VerifyReport clean = verifyArchive(path, with_source);
+    EXPECT_TRUE(clean.ok()) << (clean.problems.empty() ? "" : clean.problems.front());
+
+    // A patch of land whose flags byte says "all water": a valid encoding, a wrong one.
+    const archive::ArchiveReader reader(path);
+    const PyramidGeometry& g = reader.geometry();
+    std::optional<PatchId> land;
+    for (int l = g.finestLevel(); l >= 0 && !land; --l)
+        for (int y = 0; y < g.patchesY(l) && !land; ++y)
+            for (int x = 0; x < g.patchesX(l) && !land; ++x)
+                if (reader.readSampleFlags({l, x, y}).kind == PatchSampleFlags::Kind::None &&
+                    reader.readValidity({l, x, y}).kind == PatchValidity::Kind::AllValid)
+                    land = PatchId{l, x, y};
+    ASSERT_TRUE(land.has_value());
+    const archive::PatchRecord& r = reader.record(*land);
+    test::ArchiveBytes bytes(path);
+    // Block errors (none stored), the one-byte validity kind, then the flags' kind.
+    ASSERT_EQ(r.block_errors_size, 0u);
+    bytes.bytes()[r.offset + 1] = 1;
+    bytes.reseal();
+    const std::string crafted = dir.path("crafted.ridge");
+    bytes.save(crafted);
+    const VerifyReport plain = verifyArchive(crafted, {});
+    ASSERT_FALSE(plain.ok()) << "patch (" << land->level << ", " << land->x << ", " << land->y << ")";
+    bool named = false;
+    for (const std::string& p : plain.problems)
+        named = named || p.find("sample flags (all water) differ") != std::string::npos ||
+                p.find("water.samples") != std::string::npos;
+    EXPECT_TRUE(named) << plain.problems.front();
+    if (land->level == g.finestLevel()) {
+        const VerifyReport checked = verifyArchive(crafted, with_source);
+        bool extra = false;
+        for (const std::string& p : checked.problems)
+            extra = extra || p.find("flagged water above the sea level") != std::string::npos;
+        // With a water layer named, extra water cannot be refuted by the source.
+        EXPECT_FALSE(extra);
+    }
+}
+
+TEST(Water, VerifySourceRefutesWaterAndFilledFlagsTheSourceDoesNotSupport)
+{
+    test::ScratchDir dir;
+    // Without a layer: every water sample must be at or below the sea level in the source.
+    BuildOptions o = lossy();
+    const std::string path = build(dir, "coast.ridge", o);
+    const archive::ArchiveReader reader(path);
+    const PyramidGeometry& g = reader.geometry();
+    const int L = g.finestLevel();
+    std::optional<PatchId> land;
+    for (int y = 0; y < g.patchesY(L) && !land; ++y)
+        for (int x = 0; x < g.patchesX(L) && !land; ++x)
+            if (reader.readSampleFlags({L, x, y}).kind == PatchSampleFlags::Kind::None)
+                land = PatchId{L, x, y};
+    ASSERT_TRUE(land.has_value());
+    test::ArchiveBytes bytes(path);
+    bytes.bytes()[reader.record(*land).offset + 1] = 1; // all water
+    bytes.reseal();
+    const std::string crafted = dir.path("crafted.ridge");
+    bytes.save(crafted);
+    VerifyOptions with_source;
+    with_source.source = test::dataPath("sfbay_coast.tif");
+    const VerifyReport report = verifyArchive(crafted, with_source);
+    bool extra = false;
+    for (const std::string& p : report.problems)
+        extra = extra || p.find("flagged water above the sea level") != std::string::npos;
+    EXPECT_TRUE(extra) << (report.problems.empty() ? "ok" : report.problems.front());
+
+    // Filled voids: a Rainier archive verifies clean, and with a finest patch's flags
+    // re-encoded without its filled samples (and, to keep the pyramid consistent, nothing
+    // else changed: the coarse patches still say what the finest did) --source refutes it.
+    BuildOptions fill;
+    fill.patch_size = 65;
+    fill.ingest.fill_voids = io::VoidFill::All;
+    const std::string rainier = build(dir, "rainier.ridge", fill, test::dataPath("rainier_voids.tif"));
+    VerifyOptions rainier_source;
+    rainier_source.source = test::dataPath("rainier_voids.tif");
+    const VerifyReport fine = verifyArchive(rainier, rainier_source);
+    EXPECT_TRUE(fine.ok()) << (fine.problems.empty() ? "" : fine.problems.front());
+    const archive::ArchiveReader rr(rainier);
+    const PyramidGeometry& rg = rr.geometry();
+    const int RL = rg.finestLevel();
+    std::optional<PatchId> holes;
+    for (int y = 0; y < rg.patchesY(RL) && !holes; ++y)
+        for (int x = 0; x < rg.patchesX(RL) && !holes; ++x)
+            if (rr.readSampleFlags({RL, x, y}).kind == PatchSampleFlags::Kind::Mixed)
+                holes = PatchId{RL, x, y};
+    ASSERT_TRUE(holes.has_value());
+    const std::vector<uint8_t> blob = rr.readBlob(*holes);
+    const size_t flags_at = rr.record(*holes).block_errors_size + test::validityMaskSize(blob, rr.record(*holes).block_errors_size);
+    PatchSampleFlags stored;
+    size_t stored_size = 0;
+    ASSERT_EQ(archive::unpackSampleFlags(blob.data() + flags_at, blob.size() - flags_at,
+                                         rg.patchSize(), nullptr, stored, stored_size),
+              "");
+    test::ArchiveBytes edited(rainier);
+    test::replaceBlobBytes(edited, size_t(rg.patchIndex(*holes)), flags_at, flags_at + stored_size,
+                           archive::noSampleFlags());
+    edited.reseal();
+    const std::string crafted_rainier = dir.path("rainier_crafted.ridge");
+    edited.save(crafted_rainier);
+    const VerifyReport refuted = verifyArchive(crafted_rainier, rainier_source);
+    bool filled = false;
+    for (const std::string& p : refuted.problems)
+        filled = filled || p.find("flagged filled where the build filled no void, or not") != std::string::npos;
+    EXPECT_TRUE(filled) << (refuted.problems.empty() ? "ok" : refuted.problems.front());
 }
