@@ -42,6 +42,7 @@ void BenchCommand::registerWith(CLI::App& app)
         ->capture_default_str()
         ->check(inRange("--error", render::RenderSettings::kEpsilonPxRange));
     addTexelSizeOption(*command_, texel_px_);
+    addExaggerationOption(*command_, exaggeration_);
     addStreamingOptions(*command_, renderer_options_);
     addGeomorphOptions(*command_, renderer_options_);
     addLodRuleOptions(*command_, rules_);
@@ -102,6 +103,7 @@ int BenchCommand::run()
     options.viewport = parseSize(size_);
     options.epsilon_px = error_;
     options.texel_px = texel_px_;
+    options.exaggeration = exaggeration_;
     options.cull = !no_cull_;
     options.grid_chunks = grid_chunks_;
     options.measure_popping = popping_;

@@ -50,6 +50,7 @@ class BenchCommand {
     int frames_ = 600;
     std::string size_ = "1920x1080";
     double error_ = 2.0;
+    double exaggeration_ = 1.0; // --exaggeration
     double texel_px_ = render::RenderSettings{}.texel_px;
     render::RendererOptions renderer_options_ = render::RendererOptions::streamingDefaults();
     bool no_cull_ = false;

@@ -135,12 +135,18 @@ class Answers {
             flush();
     }
     // Writes what is buffered and flushes stdout (the other end of a pipe sees it now).
+    // A failed write (a full disk, /dev/full, a closed pipe) is a failure naming stdout and
+    // why, at once: the answers after it would be lost too.
     void flush()
     {
-        if (text_.size() > 0)
-            std::fwrite(text_.data(), 1, text_.size(), stdout);
+        errno = 0;
+        const bool written =
+            std::fwrite(text_.data(), 1, text_.size(), stdout) == text_.size() &&
+            std::fflush(stdout) == 0;
         text_.clear();
-        std::fflush(stdout);
+        if (!written)
+            throw Error(std::string("standard output: cannot write: ") +
+                        std::strerror(errno ? errno : EIO));
     }
     int failures() const { return failures_; }
     nlohmann::json& points() { return points_; }
@@ -259,7 +265,7 @@ void answerStdin(HeightQuery& query, PointSpace space, int level, QueryResamplin
         if (n < 0 && errno == EINTR)
             continue;
         if (n < 0)
-            throw Error(std::string("query: cannot read stdin: ") + std::strerror(errno));
+            throw Error(std::string("standard input: cannot read: ") + std::strerror(errno));
         if (n == 0)
             break;
         partial.append(buffer.data(), size_t(n));

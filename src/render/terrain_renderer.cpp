@@ -309,8 +309,7 @@ TerrainRenderer::Impl::Impl(const archive::ArchiveReader& r, const RendererOptio
             uploadPatch(*loader.load(l.id), l.slot);
         computeNormals(root, {});
         textures->finishUploads();
-        planner = std::make_unique<stream::UploadPlanner>(reader.geometry(), residency,
-                                                          so.residuals_for_gpu);
+        planner = std::make_unique<stream::UploadPlanner>(reader.geometry(), residency);
     }
     sky_program =
         gpu::ShaderProgram({{GL_VERTEX_SHADER, "sky.vert"}, {GL_FRAGMENT_SHADER, "sky.frag"}});

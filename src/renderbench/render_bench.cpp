@@ -40,6 +40,7 @@ void RenderBenchOptions::validate() const
                    HeadlessRenderOptions::kMaxImageSide);
     checkParameter("epsilon_px", epsilon_px, render::RenderSettings::kEpsilonPxRange);
     checkParameter("texel_px", texel_px, render::RenderSettings::kTexelPxRange);
+    checkParameter("exaggeration", exaggeration, render::RenderSettings::kExaggerationRange);
     path.validate();
     renderer.validate();
 }
@@ -60,9 +61,11 @@ RenderBenchReport runRenderBench(const std::string& archive, const RenderBenchOp
     ro.schemes = {o.scheme};
     render::TerrainRenderer renderer(reader, ro);
     const lod::PatchBounds& root = renderer.quadtree().bounds({0, 0, 0});
+    // Vertical exaggeration: the path, clip planes and hole measure in the drawn space.
+    const double k = o.exaggeration;
     const std::vector<lod::CameraPose> path = lod::makeCameraPath(
-        renderer.quadtree().frame(), root.min_height, root.max_height,
-        [&](double x, double y) { return renderer.groundHeight(x, y); }, o.path, o.frames);
+        renderer.quadtree().frame(), k * root.min_height, k * root.max_height,
+        [&](double x, double y) { return renderer.groundHeight(x, y, k); }, o.path, o.frames);
     const gpu::RenderTarget target(o.viewport.width, o.viewport.height, 1);
     target.bind();
     render::RenderSettings settings;
@@ -72,11 +75,12 @@ RenderBenchReport runRenderBench(const std::string& archive, const RenderBenchOp
     settings.cull = o.cull;
     settings.tessellation_rule = o.tessellation_rule;
     settings.side_on_bound = o.side_on_bound;
+    settings.exaggeration = k;
     std::optional<lod::Camera> previous; // the popping metric's previous LOD state
     std::optional<std::chrono::steady_clock::time_point> first_start; // of frame 0's draw
     for (const lod::CameraPose& pose : path) {
         double near_m = 1.0, far_m = 1e6;
-        renderer.clipPlanesFor(pose.position, near_m, far_m);
+        renderer.clipPlanesFor(pose.position, near_m, far_m, k);
         const lod::Camera camera(pose.position, pose.look_at, 60.0, o.viewport, near_m, far_m);
         // The popping metric's first half, before this frame changes anything: this camera
         // drawn with the previous frame's LOD state (its LOD camera and resident patches).
@@ -119,7 +123,8 @@ RenderBenchReport runRenderBench(const std::string& archive, const RenderBenchOp
         for (size_t i = 0; i < depth.size(); ++i)
             background[i] = depth[i] == 0.f; // reverse-Z clears to 0: nothing drawn
         const render::HoleReport holes = render::countHolePixels(
-            background, camera, renderer.quadtree().frame(), root.min_height, root.max_height);
+            background, camera, renderer.quadtree().frame(), k * root.min_height,
+            k * root.max_height);
         f.hole_pixels = holes.hole_pixels;
         f.footprint_pixels = holes.footprint_pixels;
         if (!before.z.empty()) { // ... and with this frame's, as drawn

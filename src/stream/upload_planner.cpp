@@ -92,9 +92,8 @@ void UploadTimeBudget::endFrame(double upload_ms)
     last_upload_ms_ = std::isfinite(upload_ms) ? std::max(0.0, upload_ms) : 0.0;
 }
 
-UploadPlanner::UploadPlanner(const PyramidGeometry& geometry, lod::PatchResidency& residency,
-                             bool gpu_reconstruction)
-    : geometry_(geometry), residency_(residency), gpu_reconstruction_(gpu_reconstruction),
+UploadPlanner::UploadPlanner(const PyramidGeometry& geometry, lod::PatchResidency& residency)
+    : geometry_(geometry), residency_(residency),
       is_resident_([this](PatchId p) { return resident(p); })
 {
     // What a frame keeps and uploads fits in the slots, and the selection should too: room
@@ -127,10 +126,12 @@ void UploadPlanner::collectWanted(const lod::Selection& desired)
     wanted_list_.clear();
     for (const lod::SelectedPatch& sp : desired.patches)
         want(sp.id, requestPriority(geometry_, sp.id, sp.screen_error));
-    if (!gpu_reconstruction_)
-        return;
-    // A patch reconstructed on the GPU needs its parent resident, so every ancestor up to the
-    // finest resident one is wanted too, ahead of it (a coarser level ranks higher).
+    // Every ancestor up to the finest resident one is wanted too, ahead of it (a coarser level
+    // ranks higher). A patch reconstructed on the GPU needs its parent resident; and whatever
+    // the decoding, the resident cover can only draw a patch once all its siblings' areas are
+    // covered as finely, so without the levels between, a view of 300 missing patches would
+    // stay the root until the last arrived (issue 22: every frame of a bench drew one patch).
+    // Coarse first, the view refines level by level instead, for about a third more patches.
     for (const lod::SelectedPatch& sp : desired.patches)
         for (PatchId a = sp.id; a.level > 0 && !resident(a);) {
             a = a.parent();

@@ -238,8 +238,11 @@ TEST(VerifyCrossLevel, SourceVoidsThatTheFillModeFillsMustNotBeKept)
                                           setMask(a, r, chosen, archive::packValidity(mask, n));
                                       });
     const VerifyReport report = verify(crafted, "rainier_voids.tif");
+    // Format v4 flags the filled voids, and a flag on a sample the mask calls nodata is
+    // refused by the reader itself; either way the archive fails, naming what is wrong.
     EXPECT_TRUE(anyProblemHas(report, "finest samples are kept as nodata where the source has "
-                                      "voids that --fill-voids all fills"))
+                                      "voids that --fill-voids all fills") ||
+                anyProblemHas(report, "is flagged filled but is not valid"))
         << allProblems(report);
 }
 

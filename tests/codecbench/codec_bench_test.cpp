@@ -178,9 +178,9 @@ TEST(CodecBench, InvalidOptionsAreRejectedByName)
         return std::string();
     };
     EXPECT_EQ(messageOf(losslessOptions(dir, {-1.0})),
-              "max_errors[0] (metres) is -1: must be a number in [0, 1e+07]");
+              "max_errors[0] (metres) is -1: must be a number in (0, 1e+07]");
     EXPECT_EQ(messageOf(losslessOptions(dir, {1.0, std::nan("")})),
-              "max_errors[1] (metres) is nan: must be a number in [0, 1e+07]");
+              "max_errors[1] (metres) is nan: must be a number in (0, 1e+07]");
     EXPECT_EQ(messageOf(losslessOptions(dir, {})), "max_errors: at least one bound is needed");
     CodecBenchOptions options = losslessOptions(dir, {1.0});
     options.tile_size = -5;

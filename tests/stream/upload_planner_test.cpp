@@ -100,6 +100,7 @@ struct FrameReport {
     size_t not_done = 0; // planned, then left by the executor's time budget
     int reconstructed = 0;
     int missing = 0;
+    size_t drawn = 0;       // patches of the resident cover drawn this frame
     size_t allocations = 0; // by plan() and finish()
 };
 
@@ -108,7 +109,7 @@ class Simulation {
   public:
     Simulation(const PyramidGeometry& g, int slots, bool gpu_reconstruction, int delay)
         : g_(g), gpu_reconstruction_(gpu_reconstruction), residency_(g, slots),
-          planner_(g, residency_, gpu_reconstruction), streamer_(g, delay), written_(size_t(slots))
+          planner_(g, residency_), streamer_(g, delay), written_(size_t(slots))
     {
         // The renderer loads the root synchronously before streaming starts.
         for (const lod::PatchResidency::Load& l : residency_.update({PatchId{}}, 1))
@@ -154,6 +155,7 @@ class Simulation {
         checkHandles(dropped, done, outcome.waiting);
         checkCover(outcome.drawn, desired);
         report.missing = outcome.missing;
+        report.drawn = outcome.drawn.patches.size();
         report.reconstructed = outcome.reconstructed;
         std::vector<PatchId> kept;
         for (size_t h : outcome.waiting)
@@ -175,11 +177,12 @@ class Simulation {
     size_t waiting() const { return arrived_.size(); }
 
   private:
-    // Wanted this frame: a desired patch or (GPU reconstruction) an ancestor of one.
+    // Wanted this frame: a desired patch or an ancestor of one (whatever the decoding: the
+    // view refines level by level).
     bool wantedByTest(PatchId p, const lod::Selection& desired) const
     {
         for (const lod::SelectedPatch& s : desired.patches)
-            if (gpu_reconstruction_ ? isAncestorOrSelf(p, s.id) : p == s.id)
+            if (isAncestorOrSelf(p, s.id))
                 return true;
         return false;
     }
@@ -312,6 +315,34 @@ TEST(UploadPlanner, StreamsAFixedViewInFullWithinBudgetsThenPlansWithoutAllocati
     }
 }
 
+TEST(UploadPlanner, TheViewRefinesLevelByLevelWhileTheSelectionStreamsWhateverTheDecoding)
+{
+    // Issue 22: with patches decoded on the CPU, only the selection was requested, and the
+    // resident cover (which must tile) drew the root alone until the last selected patch
+    // arrived. With the ancestors requested coarse first, the drawn patches multiply long
+    // before full detail.
+    const lod::PatchQuadtree tree = syntheticTree(kGeometry);
+    std::mt19937 rng(5);
+    for (bool gpu : {false, true}) {
+        Simulation sim(kGeometry, 4096, gpu, 1);
+        const lod::Selection desired = select(tree, randomCamera(rng), 512);
+        ASSERT_GT(desired.patches.size(), 40u);
+        const UploadBudget budget{1 << 20, 4}; // four uploads a frame
+        int frames = 0, first_refined = -1;
+        for (; frames < 500 && !(sim.allResident(desired) && sim.waiting() == 0); ++frames) {
+            const FrameReport r = sim.frame(desired, budget);
+            if (first_refined < 0 && r.drawn > 1)
+                first_refined = frames;
+        }
+        ASSERT_TRUE(sim.allResident(desired));
+        std::printf("gpu %d: %zu patches selected, more than the root drawn from frame %d, full "
+                    "detail at frame %d\n",
+                    int(gpu), desired.patches.size(), first_refined, frames);
+        EXPECT_GE(first_refined, 0);
+        EXPECT_LT(first_refined, frames / 4) << "gpu " << gpu;
+    }
+}
+
 TEST(UploadPlanner, HoldsItsRulesWhileTheViewJumpsAndSlotsRunShort)
 {
     const lod::PatchQuadtree tree = syntheticTree(kGeometry);
@@ -370,7 +401,7 @@ TEST(UploadPlanner, ReleasesTheSlotsOfUploadsNotDoneAndKeepsThosePatches)
 {
     lod::PatchResidency residency(kGeometry, 16);
     (void)residency.update({PatchId{}}, 1);
-    UploadPlanner planner(kGeometry, residency, false);
+    UploadPlanner planner(kGeometry, residency);
     lod::Selection desired;
     std::vector<ArrivedPatch> arrived;
     for (int k = 0; k < 4; ++k) {
@@ -397,7 +428,7 @@ TEST(UploadPlanner, ReleasesTheSlotsOfUploadsNotDoneAndKeepsThosePatches)
 TEST(UploadPlanner, RefusesToPlanWithoutTheRoot)
 {
     lod::PatchResidency residency(kGeometry, 16);
-    UploadPlanner planner(kGeometry, residency, false);
+    UploadPlanner planner(kGeometry, residency);
     EXPECT_THROW(planner.plan(lod::Selection{}, {}, UploadBudget{}), Error);
 }
 
@@ -411,7 +442,7 @@ TEST(UploadPlanner, RequestsCoarseBeforeFineAndPrefetchBelowEverything)
     const lod::PatchQuadtree tree = syntheticTree(g);
     lod::PatchResidency residency(g, 4096);
     (void)residency.update({PatchId{}}, 1);
-    UploadPlanner planner(g, residency, true);
+    UploadPlanner planner(g, residency);
     const lod::Camera a({2000, 1000, 800}, {5000, 3500, 0}, 60.0, {1280, 720}, 1.0, 1e6);
     const lod::Camera b({2100, 1050, 800}, {5100, 3550, 0}, 60.0, {1280, 720}, 1.0, 1e6);
     lod::SelectionSettings settings;

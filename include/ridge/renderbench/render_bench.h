@@ -19,6 +19,9 @@ struct RenderBenchOptions {
     double epsilon_px = 2.0;
     double texel_px = 1.0; // render::RenderSettings::texel_px (0: off)
     bool cull = true;
+    // Vertical exaggeration (render::RenderSettings::exaggeration): the path flies over the
+    // exaggerated terrain.
+    double exaggeration = 1.0;
     // Chunked: every patch's full grid instead of Ulrich's simplified chunks (simplified to
     // renderer.chunk_tolerance·Err(P)).
     bool grid_chunks = false;

@@ -16,9 +16,11 @@
 //
 // The policy (the hardware-tessellation paper's streaming, with the fractal-rings paper's LRU
 // tile cache, lod::PatchResidency):
-//   - requests: the selection, coarse before fine, then by screen-space error; with GPU
-//     reconstruction also every ancestor up to the finest resident one, ahead of it (one
-//     request round for the whole chain); not what is resident or arrived already;
+//   - requests: the selection, coarse before fine, then by screen-space error; also every
+//     ancestor up to the finest resident one, ahead of it (one request round for the whole
+//     chain: GPU reconstruction needs the parent, and the view refines level by level
+//     instead of staying at the root until the whole selection arrived); not what is
+//     resident or arrived already;
 //   - kept resident: the root, what is drawn now (the resident cover of the selection) and
 //     the resident parents of arrived patches waiting for GPU reconstruction;
 //   - uploads: arrived patches still wanted, coarse first (a parent is written before its
@@ -188,10 +190,9 @@ class UploadPlanner {
   public:
     // `residency` is the caller's (it also maps patches to slots when drawing) and must
     // outlive the planner; its root patch must be resident before the first plan().
-    // `gpu_reconstruction`: the streamer delivers residuals (StreamerOptions::
-    // residuals_for_gpu), so whole ancestor chains are requested.
-    UploadPlanner(const PyramidGeometry& geometry, lod::PatchResidency& residency,
-                  bool gpu_reconstruction);
+    // Whether the streamer delivers residuals (GPU reconstruction) or codes, ancestor chains
+    // are requested alike: what an arrived patch needs is in ArrivedPatch.
+    UploadPlanner(const PyramidGeometry& geometry, lod::PatchResidency& residency);
     // Pinned: is_resident_ captures `this`.
     UploadPlanner(const UploadPlanner&) = delete;
     UploadPlanner& operator=(const UploadPlanner&) = delete;
@@ -226,7 +227,6 @@ class UploadPlanner {
 
     PyramidGeometry geometry_;
     lod::PatchResidency& residency_;
-    bool gpu_reconstruction_ = false;
     std::function<bool(PatchId)> is_resident_; // for lod::residentCover, built once
 
     StreamPlan plan_;
