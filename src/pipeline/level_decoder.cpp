@@ -127,21 +127,21 @@ DecodedPatches decodePatches(const archive::ArchiveReader& reader, int level, in
             const int w = p.x == out.px1 ? n : cells, h = p.y == out.py1 ? n : cells;
             for (int j = 0; j < h; ++j)
                 std::copy_n(patch.data() + static_cast<size_t>(j) * n, w, &out.grid.at(gx, gy + j));
-            if (!out.valid.empty() && validity.kind != PatchValidity::Kind::AllValid) {
-                // Shared borders: a patch's masks agree with its neighbours' on them (both
-                // come from the level's one validity grid).
+            // The patch's own w × h samples of a per-sample byte plane of the grid. Shared
+            // borders: a patch's masks agree with its neighbours' on them (both come from
+            // the level's one grid).
+            auto writePlane = [&](std::vector<uint8_t>& plane, auto byteOf) {
                 for (int j = 0; j < h; ++j)
                     for (int i = 0; i < w; ++i)
-                        out.valid[static_cast<size_t>(gy + j) * out.grid.width + gx + i] =
-                            validity.sampleValid(i, j);
+                        plane[static_cast<size_t>(gy + j) * out.grid.width + gx + i] = byteOf(i, j);
+            };
+            if (!out.valid.empty() && validity.kind != PatchValidity::Kind::AllValid) {
+                writePlane(out.valid, [&](int i, int j) -> uint8_t { return validity.sampleValid(i, j); });
 #pragma omp atomic write
                 any_invalid = true;
             }
             if (!out.flags.empty() && flags.kind != PatchSampleFlags::Kind::None) {
-                for (int j = 0; j < h; ++j)
-                    for (int i = 0; i < w; ++i)
-                        out.flags[static_cast<size_t>(gy + j) * out.grid.width + gx + i] =
-                            flags.at(i, j);
+                writePlane(out.flags, [&](int i, int j) { return flags.at(i, j); });
 #pragma omp atomic write
                 any_flag = true;
             }

@@ -33,41 +33,46 @@ void ProblemList::finish()
         out_.push_back("... and " + std::to_string(dropped_) + " more problems");
 }
 
-std::vector<uint8_t> finestValidity(const archive::ArchiveReader& reader,
-                                    const DecodedLevel& finest)
+namespace {
+
+// One byte per finest sample over the valid extent, W × H row-major: `byteOf(patch, i, j)` of
+// the finest patch covering it; empty when a finest patch's masks could not be read.
+template <typename ByteOf>
+std::vector<uint8_t> finestPlane(const archive::ArchiveReader& reader, const DecodedLevel& finest,
+                                 ByteOf byteOf)
 {
     const PyramidGeometry& g = reader.geometry();
     const int L = g.finestLevel(), cells = g.cells();
     if (std::find(finest.mask_read.begin(), finest.mask_read.end(), 0) != finest.mask_read.end())
         return {};
-    std::vector<uint8_t> valid(static_cast<size_t>(g.width()) * g.height());
+    std::vector<uint8_t> plane(static_cast<size_t>(g.width()) * g.height());
     for (int y = 0; y < g.height(); ++y)
         for (int x = 0; x < g.width(); ++x) {
             const int px = std::min(x / cells, g.patchesX(L) - 1);
             const int py = std::min(y / cells, g.patchesY(L) - 1);
-            const PatchValidity& v = finest.validity[static_cast<size_t>(py) * g.patchesX(L) + px];
-            valid[static_cast<size_t>(y) * g.width() + x] =
-                v.sampleValid(x - px * cells, y - py * cells) ? 1 : 0;
+            plane[static_cast<size_t>(y) * g.width() + x] = byteOf(
+                static_cast<size_t>(py) * g.patchesX(L) + px, x - px * cells, y - py * cells);
         }
-    return valid;
+    return plane;
+}
+
+} // namespace
+
+std::vector<uint8_t> finestValidity(const archive::ArchiveReader& reader,
+                                    const DecodedLevel& finest)
+{
+    return finestPlane(reader, finest, [&](size_t patch, int i, int j) -> uint8_t {
+        return finest.validity[patch].sampleValid(i, j) ? 1 : 0;
+    });
 }
 
 std::vector<uint8_t> finestFlags(const archive::ArchiveReader& reader, const DecodedLevel& finest)
 {
-    const PyramidGeometry& g = reader.geometry();
-    const int L = g.finestLevel(), cells = g.cells();
-    if (!reader.storesSampleFlags() ||
-        std::find(finest.mask_read.begin(), finest.mask_read.end(), 0) != finest.mask_read.end())
+    if (!reader.storesSampleFlags())
         return {};
-    std::vector<uint8_t> flags(static_cast<size_t>(g.width()) * g.height());
-    for (int y = 0; y < g.height(); ++y)
-        for (int x = 0; x < g.width(); ++x) {
-            const int px = std::min(x / cells, g.patchesX(L) - 1);
-            const int py = std::min(y / cells, g.patchesY(L) - 1);
-            const PatchSampleFlags& f = finest.flags[static_cast<size_t>(py) * g.patchesX(L) + px];
-            flags[static_cast<size_t>(y) * g.width() + x] = f.at(x - px * cells, y - py * cells);
-        }
-    return flags;
+    return finestPlane(reader, finest, [&](size_t patch, int i, int j) {
+        return finest.flags[patch].at(i, j);
+    });
 }
 
 } // namespace verify_detail

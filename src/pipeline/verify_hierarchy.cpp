@@ -126,6 +126,23 @@ void checkErrorBounds(const ArchiveReader& reader, const std::vector<DecodedLeve
     }
 }
 
+namespace {
+
+// Calls fn(patch, its level, its index in the level) for every patch whose masks were read.
+template <typename Fn>
+void forEachReadPatch(const PyramidGeometry& g, const std::vector<DecodedLevel>& levels, Fn fn)
+{
+    for (int l = 0; l < g.levelCount(); ++l) {
+        const int nx = g.patchesX(l), ny = g.patchesY(l);
+        for (int64_t k = 0; k < int64_t{nx} * ny; ++k)
+            if (levels[l].mask_read[k])
+                fn(PatchId{l, static_cast<int>(k % nx), static_cast<int>(k / nx)}, levels[l],
+                   static_cast<size_t>(k));
+    }
+}
+
+} // namespace
+
 void checkValidityPyramid(const ArchiveReader& reader, const std::vector<DecodedLevel>& levels,
                           const std::vector<uint8_t>& finest_valid, ProblemList& problems)
 {
@@ -134,22 +151,15 @@ void checkValidityPyramid(const ArchiveReader& reader, const std::vector<Decoded
     for (size_t i = 0; i < nodata.size(); ++i)
         nodata[i] = finest_valid[i] ? 0 : 1;
     const ValidityPyramid derived(nodata, g, reader.filter());
-    for (int l = 0; l < g.levelCount(); ++l) {
-        const DecodedLevel& level = levels[l];
-        const int nx = g.patchesX(l), ny = g.patchesY(l);
-        for (int64_t k = 0; k < int64_t{nx} * ny; ++k) {
-            if (!level.mask_read[k])
-                continue;
-            const PatchId p{l, static_cast<int>(k % nx), static_cast<int>(k / nx)};
-            const PatchValidity expected = derived.patch(p);
-            const PatchValidity& stored = level.validity[k];
-            if (!sameMask(stored, expected))
-                problems.add(reader.describe(p) + ": validity mask (" + describeMask(stored) +
-                             ") differs from the one the finest level's sample validity "
-                             "determines (" +
-                             describeMask(expected) + "; docs/FORMAT.md, \"Validity mask\")");
-        }
-    }
+    forEachReadPatch(g, levels, [&](PatchId p, const DecodedLevel& level, size_t k) {
+        const PatchValidity expected = derived.patch(p);
+        const PatchValidity& stored = level.validity[k];
+        if (!sameMask(stored, expected))
+            problems.add(reader.describe(p) + ": validity mask (" + describeMask(stored) +
+                         ") differs from the one the finest level's sample validity "
+                         "determines (" +
+                         describeMask(expected) + "; docs/FORMAT.md, \"Validity mask\")");
+    });
 }
 
 namespace {
@@ -180,21 +190,14 @@ void checkSampleFlagsPyramid(const ArchiveReader& reader, const std::vector<Deco
     const PyramidGeometry& g = reader.geometry();
     const SampleFlagsPyramid derived(SampleFlagsGrid(finest_flags, g.width(), g.height()),
                                      g.finestLevel(), g);
-    for (int l = 0; l < g.levelCount(); ++l) {
-        const DecodedLevel& level = levels[l];
-        const int nx = g.patchesX(l), ny = g.patchesY(l);
-        for (int64_t k = 0; k < int64_t{nx} * ny; ++k) {
-            if (!level.mask_read[k])
-                continue;
-            const PatchId p{l, static_cast<int>(k % nx), static_cast<int>(k / nx)};
-            const PatchSampleFlags expected = derived.patch(p);
-            const PatchSampleFlags& stored = level.flags[k];
-            if (stored.kind != expected.kind || stored.flags != expected.flags)
-                problems.add(reader.describe(p) + ": sample flags (" + describeFlags(stored) +
-                             ") differ from those the finest level's flags determine (" +
-                             describeFlags(expected) + "; docs/FORMAT.md, \"Sample flags\")");
-        }
-    }
+    forEachReadPatch(g, levels, [&](PatchId p, const DecodedLevel& level, size_t k) {
+        const PatchSampleFlags expected = derived.patch(p);
+        const PatchSampleFlags& stored = level.flags[k];
+        if (stored.kind != expected.kind || stored.flags != expected.flags)
+            problems.add(reader.describe(p) + ": sample flags (" + describeFlags(stored) +
+                         ") differ from those the finest level's flags determine (" +
+                         describeFlags(expected) + "; docs/FORMAT.md, \"Sample flags\")");
+    });
     const int64_t water = std::count_if(finest_flags.begin(), finest_flags.end(),
                                         [](uint8_t f) { return (f & kSampleWater) != 0; });
     if (water != reader.metadata().water.samples)

@@ -4,6 +4,7 @@
 // vertical datum), the source's recorded name, the README's format version, and every
 // `--help` listing only what its command takes. Inputs are made from the real fixtures with
 // GDAL's own gdal_translate (gdal_utils.h).
+#include "gdal_translate.h"
 #include "test_support.h"
 
 #include <gdal.h>
@@ -26,30 +27,11 @@ namespace fs = std::filesystem;
 
 namespace {
 
+using test::gdalTranslate;
+
 std::string inQuotes(const std::string& s)
 {
     return "'" + s + "'";
-}
-
-// gdal_translate SRC DST ARGS through GDAL's own library.
-void gdalTranslate(const std::string& src, const std::string& dst,
-                   const std::vector<std::string>& args)
-{
-    GDALAllRegister();
-    std::vector<char*> argv;
-    for (const std::string& a : args)
-        argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    GDALTranslateOptions* options = GDALTranslateOptionsNew(argv.data(), nullptr);
-    ASSERT_NE(options, nullptr);
-    GDALDatasetH in = GDALOpen(src.c_str(), GA_ReadOnly);
-    ASSERT_NE(in, nullptr);
-    int usage_error = 0;
-    GDALDatasetH out = GDALTranslate(dst.c_str(), in, options, &usage_error);
-    GDALTranslateOptionsFree(options);
-    ASSERT_NE(out, nullptr);
-    GDALClose(out);
-    GDALClose(in);
 }
 
 struct Band {

@@ -1,5 +1,6 @@
 // `ridge extract` as gdal_translate's user expects it: the source's type by default, -ot, -of,
 // -co, -a_nodata, --srcwin and --projwin, and every bad value refused with nothing left behind.
+#include "gdal_translate.h"
 #include "test_support.h"
 
 #include <gdal.h>
@@ -16,6 +17,8 @@ using namespace ridge;
 namespace fs = std::filesystem;
 
 namespace {
+
+using test::gdalTranslate;
 
 std::string inQuotes(const std::string& path)
 {
@@ -54,27 +57,6 @@ Raster readRaster(const std::string& path)
               CE_None);
     GDALClose(ds);
     return r;
-}
-
-// gdal_translate SRC DST ARGS through GDAL's own library (gdal_utils.h).
-void gdalTranslate(const std::string& src, const std::string& dst,
-                   const std::vector<std::string>& args)
-{
-    GDALAllRegister();
-    std::vector<char*> argv;
-    for (const std::string& a : args)
-        argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    GDALTranslateOptions* options = GDALTranslateOptionsNew(argv.data(), nullptr);
-    ASSERT_NE(options, nullptr);
-    GDALDatasetH in = GDALOpen(src.c_str(), GA_ReadOnly);
-    ASSERT_NE(in, nullptr);
-    int usage_error = 0;
-    GDALDatasetH out = GDALTranslate(dst.c_str(), in, options, &usage_error);
-    GDALTranslateOptionsFree(options);
-    ASSERT_NE(out, nullptr);
-    GDALClose(out);
-    GDALClose(in);
 }
 
 class ExtractCli : public ::testing::Test {

@@ -4,6 +4,7 @@
 #include "ridge/io/crs_summary.h"
 #include "ridge/io/raster_source.h"
 
+#include "gdal_translate.h"
 #include "test_support.h"
 
 #include <gdal.h>
@@ -18,25 +19,7 @@ using namespace ridge;
 
 namespace {
 
-// gdal_translate SRC DST ARGS through GDAL's own library.
-void gdalTranslate(const std::string& src, const std::string& dst,
-                   const std::vector<std::string>& args)
-{
-    GDALAllRegister();
-    std::vector<char*> argv;
-    for (const std::string& a : args)
-        argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    GDALTranslateOptions* options = GDALTranslateOptionsNew(argv.data(), nullptr);
-    ASSERT_NE(options, nullptr);
-    GDALDatasetH in = GDALOpen(src.c_str(), GA_ReadOnly);
-    ASSERT_NE(in, nullptr);
-    GDALDatasetH out = GDALTranslate(dst.c_str(), in, options, nullptr);
-    GDALTranslateOptionsFree(options);
-    ASSERT_NE(out, nullptr);
-    GDALClose(out);
-    GDALClose(in);
-}
+using test::gdalTranslate;
 
 std::string errorOf(const std::function<void()>& f)
 {
