@@ -95,7 +95,7 @@ void PatchQuadtree::visit(PatchId p, const Camera& camera, const Frustum* frustu
     const double texel_scr = projectedSampleSpacing(t.gamma, spacing, depth);
     const bool texels_fine = t.texel <= 0.0 || texel_scr <= t.texel;
     if (p.level == geometry().finestLevel() || (err_scr <= t.epsilon && texels_fine)) {
-        out.patches.push_back({p, err_scr, visibility, texel_scr});
+        out.patches.push_back({p, err_scr, visibility, texel_scr, err_scr});
         return;
     }
     for (int k = 0; k < 4; ++k) {

@@ -29,6 +29,7 @@ void mergeDuplicates(std::vector<SelectedPatch>& patches)
         if (out > 0 && patches[out - 1].id == patches[k].id) {
             SelectedPatch& kept = patches[out - 1];
             kept.screen_error = std::max(kept.screen_error, patches[k].screen_error);
+            kept.rank = std::max(kept.rank, patches[k].rank);
             kept.visibility = std::min(kept.visibility, patches[k].visibility);
         } else {
             patches[out++] = patches[k];

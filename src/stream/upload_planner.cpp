@@ -21,16 +21,15 @@ const PatchId kRoot{0, 0, 0};
 
 } // namespace
 
-double requestPriority(const PyramidGeometry& geometry, PatchId p, double screen_error)
+double requestPriority(const PyramidGeometry& geometry, PatchId p, double rank)
 {
-    return kLevelRank * (geometry.levelCount() - p.level) +
-           std::clamp(screen_error, 0.0, kLevelRank - 1.0);
+    return kLevelRank * (geometry.levelCount() - p.level) + std::clamp(rank, 0.0, kLevelRank - 1.0);
 }
 
-double prefetchPriority(const PyramidGeometry& geometry, PatchId p, double screen_error)
+double prefetchPriority(const PyramidGeometry& geometry, PatchId p, double rank)
 {
     // The finest level ranks 10^6 in requestPriority, the root (levels + 1)·10^6 at most.
-    return requestPriority(geometry, p, screen_error) - kLevelRank * (geometry.levelCount() + 1);
+    return requestPriority(geometry, p, rank) - kLevelRank * (geometry.levelCount() + 1);
 }
 
 std::optional<lod::Camera> extrapolatedCamera(const lod::Camera& camera, glm::dvec3 velocity,
@@ -125,7 +124,7 @@ void UploadPlanner::collectWanted(const lod::Selection& desired)
     wanted_.clear();
     wanted_list_.clear();
     for (const lod::SelectedPatch& sp : desired.patches)
-        want(sp.id, requestPriority(geometry_, sp.id, sp.screen_error));
+        want(sp.id, requestPriority(geometry_, sp.id, sp.rank));
     // Every ancestor up to the finest resident one is wanted too, ahead of it (a coarser level
     // ranks higher). A patch reconstructed on the GPU needs its parent resident; and whatever
     // the decoding, the resident cover can only draw a patch once all its siblings' areas are
@@ -235,9 +234,19 @@ void UploadPlanner::assignSlots()
         u.slot = residency_.slotOf(u.id);
 }
 
+// The selector's cover of this frame's selection into cover_ (the quadtree walk's: every
+// missing patch drawn by its finest resident ancestor).
+void UploadPlanner::coverDesired()
+{
+    if (selector_)
+        selector_->cover(desired_, is_resident_, cover_);
+    else
+        lod::residentCover(desired_, geometry_, is_resident_, cover_);
+}
+
 const StreamPlan& UploadPlanner::plan(const lod::Selection& desired,
                                       std::span<const ArrivedPatch> arrived,
-                                      const UploadBudget& budget)
+                                      const UploadBudget& budget, lod::PatchSelector* selector)
 {
     if (open_)
         throw Error("upload planner: plan() before finish() of the previous plan");
@@ -248,6 +257,7 @@ const StreamPlan& UploadPlanner::plan(const lod::Selection& desired,
     plan_.dropped.clear();
     outcome_.waiting.clear();
     desired_ = desired; // capacity kept
+    selector_ = selector;
 
     collectWanted(desired);
     sortArrived(arrived);
@@ -258,7 +268,7 @@ const StreamPlan& UploadPlanner::plan(const lod::Selection& desired,
     needed_.clear();
     needed_list_.clear();
     need(kRoot);
-    lod::residentCover(desired, geometry_, is_resident_, cover_);
+    coverDesired();
     for (const lod::SelectedPatch& d : cover_.patches)
         need(d.id);
     keepParentsOfWaiting(arrived);
@@ -268,7 +278,7 @@ const StreamPlan& UploadPlanner::plan(const lod::Selection& desired,
     return plan_;
 }
 
-void UploadPlanner::prefetch(const lod::PatchQuadtree& quadtree, const lod::Camera& camera,
+void UploadPlanner::prefetch(const lod::PatchSelector& selector, const lod::Camera& camera,
                              int frames, const lod::SelectionSettings& settings)
 {
     if (!open_)
@@ -282,9 +292,10 @@ void UploadPlanner::prefetch(const lod::PatchQuadtree& quadtree, const lod::Came
         return;
     // Not what this frame wants: a streamer request overwrites the priority, and prefetch's
     // lower one would put this frame's patches behind the future's.
-    for (const lod::SelectedPatch& sp : quadtree.select(*future, settings).patches)
+    selector.preview(*future, settings, future_);
+    for (const lod::SelectedPatch& sp : future_.patches)
         if (!resident(sp.id) && !wanted_.contains(geometry_.patchIndex(sp.id)))
-            plan_.requests.push_back({sp.id, prefetchPriority(geometry_, sp.id, sp.screen_error)});
+            plan_.requests.push_back({sp.id, prefetchPriority(geometry_, sp.id, sp.rank)});
 }
 
 const StreamOutcome& UploadPlanner::finish(size_t done)
@@ -304,12 +315,13 @@ const StreamOutcome& UploadPlanner::finish(size_t done)
         residency_.release(plan_.uploads[k].id);
         outcome_.waiting.push_back(plan_.uploads[k].handle);
     }
-    lod::residentCover(desired_, geometry_, is_resident_, cover_);
+    coverDesired();
     outcome_.missing = cover_.missing;
     outcome_.drawn.patches = cover_.patches; // capacity kept
     outcome_.drawn.epsilon_px = desired_.epsilon_px;
     outcome_.drawn.visited = desired_.visited;
     outcome_.drawn.culled = desired_.culled;
+    outcome_.drawn.levels_coarser = desired_.levels_coarser;
     return outcome_;
 }
 

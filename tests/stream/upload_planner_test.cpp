@@ -5,6 +5,7 @@
 
 #include "ridge/core/error.h"
 #include "ridge/stream/upload_planner.h"
+#include "ridge/lod/rings.h"
 
 #include <gtest/gtest.h>
 
@@ -130,7 +131,7 @@ class Simulation {
 
         FrameReport report;
         std::optional<test::AllocationCounter> counter(std::in_place);
-        const StreamPlan& plan = planner_.plan(desired, descriptors_, budget);
+        const StreamPlan& plan = planner_.plan(desired, descriptors_, budget, selector_);
         report.allocations += counter->count();
         counter.reset();
         checkPlan(plan, desired, budget);
@@ -172,6 +173,9 @@ class Simulation {
         return true;
     }
     const lod::PatchResidency& residency() const { return residency_; }
+    // A scheme's own selector: its cover is drawn (and checked by the caller) instead of
+    // the quadtree walk's resident cover.
+    void useSelector(lod::PatchSelector* selector) { selector_ = selector; }
     UploadPlanner& planner() { return planner_; }
     FakeStreamer& streamer() { return streamer_; }
     size_t waiting() const { return arrived_.size(); }
@@ -252,6 +256,8 @@ class Simulation {
     {
         for (const lod::SelectedPatch& d : drawn.patches)
             EXPECT_TRUE(written(d.id)) << "drawn patch not resident";
+        if (selector_)
+            return; // the selector's own rule: its tests check it
         for (const lod::SelectedPatch& s : desired.patches) {
             int under = 0;
             for (const lod::SelectedPatch& d : drawn.patches)
@@ -268,6 +274,7 @@ class Simulation {
     std::vector<std::optional<PatchId>> written_; // the fake GPU
     std::vector<PatchId> arrived_;                // the executor's list of decoded patches
     std::vector<ArrivedPatch> descriptors_;
+    lod::PatchSelector* selector_ = nullptr;
     int frame_ = 0;
 };
 
@@ -310,6 +317,55 @@ TEST(UploadPlanner, StreamsAFixedViewInFullWithinBudgetsThenPlansWithoutAllocati
             EXPECT_EQ(r.missing, 0);
             EXPECT_EQ(r.uploads, 0u);
             EXPECT_EQ(r.requests, 0u);
+            ASSERT_EQ(r.allocations, 0u) << "steady frame " << k << ", gpu " << gpu;
+        }
+    }
+}
+
+TEST(UploadPlanner, StreamsAMovingRingsViewThroughItsOwnSelectorAndCoverThenPlansWithoutAllocating)
+{
+    // The other kind of selection: scheme rings' selector (distance rings, its own cover).
+    // The planner's rules hold for it too: budgets, parents before GPU reconstruction,
+    // everything drawn resident, no allocation once a view has streamed in.
+    const PyramidGeometry g(4097, 2049, 65); // 64 × 32 tiles, 7 levels
+    const lod::PatchQuadtree tree = syntheticTree(g);
+    for (bool gpu : {false, true}) {
+        lod::RingsSelector rings(tree, lod::RingsSettings{4, 1});
+        Simulation sim(g, 256, gpu, 2);
+        sim.useSelector(&rings);
+        const UploadBudget budget{3 * 2600, 4};
+        lod::SelectionSettings settings;
+        settings.max_patches = 256;
+        lod::Selection desired;
+        auto checkTiles = [&](const char* when) {
+            for (const lod::RingTile& t : rings.drawnTiles()) {
+                ASSERT_GE(sim.residency().slotOf(rings.ancestorOf(t.x, t.y, t.level)), 0) << when;
+                if (t.stitch) {
+                    ASSERT_GE(sim.residency().slotOf(rings.ancestorOf(t.x, t.y, t.level - 1)), 0)
+                        << when;
+                }
+            }
+        };
+        // A walk east along the terrain: the centre moves tile by tile (updateRings).
+        for (int step = 0; step < 40; ++step) {
+            const double x = 500.0 + 400.0 * step, y = 5000.0;
+            const lod::Camera cam({x, y, 800.0}, {x + 3000.0, y + 400.0, 0.0}, 60.0, {640, 360},
+                                  1.0, 1e6);
+            rings.select(cam, settings, desired);
+            sim.frame(desired, budget);
+            checkTiles("walking");
+        }
+        int frames = 0;
+        for (; frames < 800 && !(sim.allResident(desired) && sim.waiting() == 0); ++frames) {
+            sim.frame(desired, budget);
+            checkTiles("settling");
+        }
+        ASSERT_TRUE(sim.allResident(desired)) << "gpu " << gpu << " after " << frames;
+        EXPECT_EQ(rings.lowered(), 0);
+        for (int k = 0; k < 50; ++k) {
+            const FrameReport r = sim.frame(desired, budget);
+            EXPECT_EQ(r.missing, 0);
+            EXPECT_EQ(r.uploads, 0u);
             ASSERT_EQ(r.allocations, 0u) << "steady frame " << k << ", gpu " << gpu;
         }
     }

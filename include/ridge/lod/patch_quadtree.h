@@ -68,6 +68,10 @@ struct SelectedPatch {
     double screen_error = 0.0; // Err_Scr(P), pixels
     Visibility visibility = Visibility::Inside;
     double texel_spacing = 0.0; // projected sample spacing of the patch's level, pixels
+    // Streaming order within a level, larger first (stream::requestPriority): Err_Scr for
+    // the quadtree walk; a scheme that owns its selection ranks by its own order (rings:
+    // inner rings first).
+    double rank = 0.0;
 };
 
 struct Selection {
@@ -76,6 +80,9 @@ struct Selection {
     double texel_px = 0.0;   // texel target actually met (raised with ε; 0: off)
     int visited = 0;         // patches tested
     int culled = 0;          // subtrees dropped by the frustum test
+    // Levels a scheme's own selection was made coarser by to fit max_patches (the quadtree
+    // walk raises epsilon_px instead): 0 when it fits as designed.
+    int levels_coarser = 0;
 };
 
 class PatchQuadtree {

@@ -16,12 +16,14 @@
 //
 // The policy (the hardware-tessellation paper's streaming, with the fractal-rings paper's LRU
 // tile cache, lod::PatchResidency):
-//   - requests: the selection, coarse before fine, then by screen-space error; also every
+//   - requests: the selection, coarse before fine, then by its rank (screen-space error for
+//     the quadtree walk, the scheme's own order for a scheme's selector); also every
 //     ancestor up to the finest resident one, ahead of it (one request round for the whole
 //     chain: GPU reconstruction needs the parent, and the view refines level by level
 //     instead of staying at the root until the whole selection arrived); not what is
 //     resident or arrived already;
-//   - kept resident: the root, what is drawn now (the resident cover of the selection) and
+//   - kept resident: the root, what is drawn now (the selector's cover of the selection:
+//     lod::residentCover for the quadtree walk, the scheme's own rule otherwise) and
 //     the resident parents of arrived patches waiting for GPU reconstruction;
 //   - uploads: arrived patches still wanted, coarse first (a parent is written before its
 //     children), within the byte and count budgets (at least one when one is ready) and the
@@ -36,6 +38,7 @@
 #include "ridge/core/parameter_check.h"
 #include "ridge/lod/patch_quadtree.h"
 #include "ridge/lod/patch_residency.h"
+#include "ridge/lod/patch_selector.h"
 #include "ridge/lod/resident_cover.h"
 #include "ridge/stream/frame_key_map.h"
 
@@ -168,17 +171,18 @@ struct StreamPlan {
 
 // What finish() settles; valid until the next plan().
 struct StreamOutcome {
-    lod::Selection drawn;        // the desired selection's resident cover: draw this
+    lod::Selection drawn;        // the selector's cover of the desired selection: draw this
     std::vector<size_t> waiting; // handles of arrived patches to offer again next frame
     int missing = 0;             // desired patches drawn by an ancestor
     int uploaded = 0;            // uploads done
     int reconstructed = 0;       // of those, reconstructed on the GPU
 };
 
-// Coarse before fine, then by Err_Scr: 10^6 per level above the finest, Err_Scr below it.
-double requestPriority(const PyramidGeometry& geometry, PatchId p, double screen_error);
+// Coarse before fine, then by rank (SelectedPatch::rank, Err_Scr for the quadtree walk):
+// 10^6 per level above the finest, the rank below it.
+double requestPriority(const PyramidGeometry& geometry, PatchId p, double rank);
 // Below every requestPriority of the geometry: for what a later frame will need.
-double prefetchPriority(const PyramidGeometry& geometry, PatchId p, double screen_error);
+double prefetchPriority(const PyramidGeometry& geometry, PatchId p, double rank);
 
 // `camera` moved `frames` frames ahead at `velocity` (terrain-frame metres per frame), looking
 // the same way, within kCameraCoordinateRange however far that extrapolates; nothing when
@@ -199,15 +203,24 @@ class UploadPlanner {
 
     // Plans a frame: `desired` is this frame's selection (at most residency.capacity()
     // patches), `arrived` every decoded patch not yet uploaded (last frame's waiting ones and
-    // what the streamer delivered since). Assigns the uploads their slots at once. Throws
+    // what the streamer delivered since). `selector` made `desired` and decides what is
+    // drawn (its cover) until finish(); it must outlive the plan. Without one, the resident
+    // cover of the quadtree walk. Assigns the uploads their slots at once. Throws
     // ridge::Error when the root is not resident or the last plan was not finished.
     const StreamPlan& plan(const lod::Selection& desired, std::span<const ArrivedPatch> arrived,
-                           const UploadBudget& budget);
-    // Appends to the current plan's requests, below all of them, what `camera` will select
-    // (`settings`) `frames` frames ahead at its velocity since the previous call (none the
-    // first time), less what is resident or requested already. Between plan() and finish().
-    void prefetch(const lod::PatchQuadtree& quadtree, const lod::Camera& camera, int frames,
+                           const UploadBudget& budget, lod::PatchSelector* selector = nullptr);
+    // Appends to the current plan's requests, below all of them, what `selector` previews
+    // for `camera` (`settings`) `frames` frames ahead at its velocity since the previous call
+    // (none the first time), less what is resident or requested already. Between plan() and
+    // finish().
+    void prefetch(const lod::PatchSelector& selector, const lod::Camera& camera, int frames,
                   const lod::SelectionSettings& settings);
+    // The same for the quadtree walk.
+    void prefetch(const lod::PatchQuadtree& quadtree, const lod::Camera& camera, int frames,
+                  const lod::SelectionSettings& settings)
+    {
+        prefetch(lod::QuadtreeSelector(quadtree), camera, frames, settings);
+    }
     // Ends the frame after the first `done` uploads of the plan were written: the slots of
     // the others are released and their patches wait for a later frame. Call it also when an
     // upload throws (with the index of the failed one), before rethrowing.
@@ -215,6 +228,7 @@ class UploadPlanner {
 
   private:
     bool resident(PatchId p) const { return residency_.slotOf(p) >= 0; }
+    void coverDesired();
     bool want(PatchId p, double priority);
     void collectWanted(const lod::Selection& desired);
     void need(PatchId p);
@@ -233,7 +247,9 @@ class UploadPlanner {
     StreamOutcome outcome_;
     bool open_ = false;        // plan() done, finish() not yet
     lod::Selection desired_;   // this frame's, for the cover drawn after the uploads
+    lod::PatchSelector* selector_ = nullptr; // this frame's (null: residentCover)
     lod::ResidentCover cover_; // scratch
+    lod::Selection future_;    // prefetch's preview, capacity kept
     FrameKeyMap<char> wanted_; // patch index -> wanted this frame (requested unless resident)
     std::vector<StreamRequest> wanted_list_;
     FrameKeyMap<char> needed_; // patch index -> kept resident this frame
