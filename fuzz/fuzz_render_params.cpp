@@ -152,7 +152,15 @@ void frame(FuzzedDataProvider& in, ridge::fuzz::CpuRenderer& r)
         settings.max_patches = in.ConsumeIntegralInRange<size_t>(0, ridge::fuzz::CpuRenderer::kSlots - 1);
         settings.cull = in.ConsumeBool();
         settings.conservative_distance = in.ConsumeBool();
-        r.drawFrame(camera, settings);
+        if (in.ConsumeBool()) {
+            // Scheme rings' own selection: any ring count and vertex step, valid or not.
+            ridge::lod::RingsSettings rings;
+            rings.rings = in.ConsumeIntegralInRange<int>(-2, 20);
+            rings.vertex_step = in.ConsumeIntegralInRange<int>(0, 3);
+            r.drawRingsFrame(camera, settings, rings);
+        } else {
+            r.drawFrame(camera, settings);
+        }
     } catch (const ridge::Error&) {
     }
 }

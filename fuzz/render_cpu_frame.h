@@ -3,7 +3,8 @@
 // fuzz targets: patch quadtree from the index, ground height, clip planes and default camera
 // from the root patch (lod::CoarseTerrain), LOD selection, slot residency with the root
 // pinned, synchronous patch loading, the streaming cover (missing patches drawn by resident
-// ancestors), Ulrich's chunk meshes and the instance records of the draw.
+// ancestors), Ulrich's chunk meshes and the instance records of the draw; and scheme rings'
+// own selection (lod::RingsSelector: updateRings, its streaming cover).
 //
 // Properties checked (a failure traps, so libFuzzer reports it): every selected patch exists,
 // the ε met is at least the one asked for, the cover holds only resident patches and every
@@ -17,10 +18,15 @@
 #include "ridge/lod/patch_quadtree.h"
 #include "ridge/lod/patch_residency.h"
 #include "ridge/lod/resident_cover.h"
+#include "ridge/lod/rings.h"
 #include "ridge/stream/patch_loader.h"
 
 #include <glm/geometric.hpp>
 
+#include <cstdlib>
+#include <map>
+#include <memory>
+#include <utility>
 #include <vector>
 
 namespace ridge::fuzz {
@@ -93,6 +99,46 @@ struct CpuRenderer {
             require(r.layer >= 0 && r.layer < kSlots);
     }
 
+    // Scheme rings' selection with `rings` settings (refused when the archive's patches
+    // cannot make its grids): select, make resident what fits, cover. Properties: the cover
+    // draws only resident patches, touching tiles differ by at most one level and every
+    // stitched tile's coarser patch is resident.
+    void drawRingsFrame(const lod::Camera& camera, const lod::SelectionSettings& settings,
+                        const lod::RingsSettings& rings)
+    {
+        auto& selector = ring_selectors[{rings.rings, rings.vertex_step}];
+        if (!selector)
+            selector = std::make_unique<lod::RingsSelector>(tree, rings); // may throw Error
+        lod::Selection desired;
+        selector->select(camera, settings, desired);
+        require(desired.patches.size() <= settings.max_patches || desired.patches.size() == 1);
+        std::vector<PatchId> needed{PatchId{0, 0, 0}};
+        for (const lod::SelectedPatch& s : desired.patches) {
+            require(reader.geometry().exists(s.id));
+            if (needed.size() < size_t(kSlots))
+                needed.push_back(s.id);
+        }
+        residency.update(needed, ++frame);
+        auto resident = [&](PatchId p) { return residency.slotOf(p) >= 0; };
+        lod::ResidentCover cover;
+        selector->cover(desired, resident, cover);
+        for (const lod::SelectedPatch& s : cover.patches)
+            require(resident(s.id));
+        std::map<std::pair<int, int>, int> level;
+        for (const lod::RingTile& t : selector->drawnTiles()) {
+            require(resident(selector->ancestorOf(t.x, t.y, t.level)));
+            require(!t.stitch || resident(selector->ancestorOf(t.x, t.y, t.level - 1)));
+            level[{t.x, t.y}] = t.level;
+        }
+        for (const auto& [at, l] : level)
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    auto it = level.find({at.first + dx, at.second + dy});
+                    require(it == level.end() || std::abs(it->second - l) <= 1);
+                }
+    }
+    std::map<std::pair<int, int>, std::unique_ptr<lod::RingsSelector>> ring_selectors;
+
     // The views a user reaches first: the default camera, straight down over the centre, low
     // over the south-west corner looking across, and far above.
     std::vector<lod::Camera> typicalCameras(lod::Viewport viewport) const
@@ -128,6 +174,10 @@ inline void runCpuFrames(const archive::ArchiveReader& reader)
             settings.max_patches = CpuRenderer::kSlots - 1;
             try {
                 renderer.drawFrame(camera, settings);
+            } catch (const Error&) {
+            }
+            try {
+                renderer.drawRingsFrame(camera, settings, lod::RingsSettings{});
             } catch (const Error&) {
             }
         }

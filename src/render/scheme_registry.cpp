@@ -51,4 +51,9 @@ std::string lodSchemeDescription(const std::string& name)
     return schemeNamed(name).description;
 }
 
+SchemePromises lodSchemePromises(const std::string& name)
+{
+    return schemeNamed(name).promises;
+}
+
 } // namespace ridge::render

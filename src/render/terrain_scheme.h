@@ -17,6 +17,7 @@
 #include "ridge/gpu/shader_program.h"
 #include "ridge/lod/patch_quadtree.h"
 #include "ridge/lod/patch_residency.h"
+#include "ridge/lod/patch_selector.h"
 #include "ridge/render/terrain_renderer.h"
 #include "ridge/stream/patch_loader.h"
 
@@ -70,6 +71,19 @@ class TerrainScheme {
                                  lod::SelectionSettings& /*selection*/) const
     {
     }
+    // A scheme that owns its selection returns its selector (plain C++, lod::PatchSelector):
+    // the renderer selects with it instead of the quadtree walk, the streaming planner ranks
+    // its requests, prefetches and keeps resident what its cover draws. Null (the default):
+    // the screen-space-error walk, with adjustSelection, and the resident cover.
+    virtual lod::PatchSelector* selector() { return nullptr; }
+    // The instance records of what the selector's last cover draws, for a scheme whose drawn
+    // pieces are not one per patch (rings: tiles that share their level's patch). False (the
+    // default): one record per drawn patch, skirts by Err(P) and meshDeviation.
+    virtual bool buildInstances(const lod::Camera& /*camera*/, const RenderSettings& /*settings*/,
+                                PatchInstances& /*out*/)
+    {
+        return false;
+    }
     // Makes the scheme's own per-slot data for `patch` resident in `slot` (after the shared
     // textures: heights, normals, λ). Returns the bytes sent.
     virtual size_t upload(const stream::DecodedPatch& /*patch*/, int /*slot*/) { return 0; }
@@ -108,6 +122,7 @@ struct SchemeInfo {
     const char* description; // one line for --help and reports
     SchemeNeeds (*needs)(const archive::ArchiveReader& reader, const RendererOptions& options);
     std::unique_ptr<TerrainScheme> (*make)(const SchemeResources& resources);
+    SchemePromises promises = {}; // what the conformance suite holds it to
 };
 
 // Every scheme, in registration order (scheme_registry.cpp).

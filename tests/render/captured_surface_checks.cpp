@@ -46,7 +46,75 @@ double heightAt(const SeamProfile& profile, double t)
     return lo->second + f * (it->second - lo->second);
 }
 
+// The terrain's outer border x = 0, x = W − 1, y = 0, y = H − 1 (finest samples): open by
+// nature. Only edges lying on it are exempt.
+bool onOuterBorder(const VertexKey& a, const VertexKey& b, const render::CapturedSurface& s,
+                   const lod::TerrainFrame& frame)
+{
+    const double last_column = frame.geometry().width() - 1,
+                 last_row = frame.geometry().height() - 1;
+    float ax, ay, bx, by;
+    std::memcpy(&ax, &a[0], 4);
+    std::memcpy(&ay, &a[1], 4);
+    std::memcpy(&bx, &b[0], 4);
+    std::memcpy(&by, &b[1], 4);
+    const double ca = frame.columnOf(ax + s.camera_position.x),
+                 cb = frame.columnOf(bx + s.camera_position.x);
+    const double ra = frame.rowOf(ay + s.camera_position.y),
+                 rb = frame.rowOf(by + s.camera_position.y);
+    auto both = [](double u, double v, double line) {
+        return std::abs(u - line) < 1e-3 && std::abs(v - line) < 1e-3;
+    };
+    return both(ca, cb, 0.0) || both(ca, cb, last_column) || both(ra, rb, 0.0) ||
+           both(ra, rb, last_row);
+}
+
 } // namespace
+
+StitchedReport checkStitchedWatertight(const render::CapturedSurface& s,
+                                       const lod::TerrainFrame& frame)
+{
+    StitchedReport report;
+    std::map<std::pair<VertexKey, VertexKey>, int> edges;
+    std::set<VertexKey> feet;
+    const size_t triangles = s.vertices.size() / 3;
+    report.triangles = triangles;
+    for (size_t t = 0; t < triangles; ++t) {
+        const render::CapturedVertex* v = &s.vertices[3 * t];
+        const VertexKey k[3] = {keyOf(v[0]), keyOf(v[1]), keyOf(v[2])};
+        if (k[0] == k[1] || k[1] == k[2] || k[0] == k[2]) {
+            ++report.degenerate;
+            continue;
+        }
+        report.walls += v[0].skirt != 0;
+        for (int e = 0; e < 3; ++e) {
+            if (v[e].skirt == 2)
+                feet.insert(k[e]);
+            VertexKey a = k[e], b = k[(e + 1) % 3];
+            if (b < a)
+                std::swap(a, b);
+            ++edges[{a, b}];
+        }
+    }
+    for (const auto& [edge, count] : edges) {
+        const bool foot = feet.count(edge.first) && feet.count(edge.second);
+        if (count == 1 && !foot && !onOuterBorder(edge.first, edge.second, s, frame)) {
+            ++report.open_edges;
+            if (report.first_problem.empty()) {
+                float x, y;
+                std::memcpy(&x, &edge.first[0], 4);
+                std::memcpy(&y, &edge.first[1], 4);
+                report.first_problem =
+                    "open edge at column " +
+                    std::to_string(frame.columnOf(x + s.camera_position.x)) + ", row " +
+                    std::to_string(frame.rowOf(y + s.camera_position.y));
+            }
+        }
+        if (count > 2)
+            ++report.overused_edges;
+    }
+    return report;
+}
 
 WatertightReport checkWatertight(const render::CapturedSurface& s, const lod::TerrainFrame& frame)
 {
@@ -189,6 +257,7 @@ ScreenErrorReport measureScreenSpaceError(const render::CapturedSurface& s,
                                           const lod::Camera& camera)
 {
     ScreenErrorReport report;
+    std::vector<double> deviations;
     const int W = frame.geometry().width(), H = frame.geometry().height();
     std::vector<uint8_t> covered(size_t(W) * H, 0);
     const glm::dvec3 c = s.camera_position;
@@ -243,6 +312,7 @@ ScreenErrorReport measureScreenSpaceError(const render::CapturedSurface& s,
                 if (!inView(p_true, a) || !camera.project(p_lod, b))
                     continue;
                 ++report.samples;
+                deviations.push_back(glm::length(a - b));
                 report.max_px = std::max(report.max_px, glm::length(a - b));
                 report.max_metres = std::max(report.max_metres, std::abs(z_lod - z_true));
             }
@@ -254,6 +324,11 @@ ScreenErrorReport measureScreenSpaceError(const render::CapturedSurface& s,
                 inView({frame.xOf(col), frame.yOf(r), finest[size_t(r) * W + col]}, px))
                 ++report.uncovered;
         }
+    if (!deviations.empty()) {
+        const auto p99 = deviations.begin() + std::ptrdiff_t(deviations.size() * 99 / 100);
+        std::nth_element(deviations.begin(), p99, deviations.end());
+        report.p99_px = *p99;
+    }
     return report;
 }
 

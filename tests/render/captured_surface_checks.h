@@ -27,10 +27,28 @@ struct WatertightReport {
 // (a vertical gap is covered).
 WatertightReport checkWatertight(const render::CapturedSurface& s, const lod::TerrainFrame& frame);
 
+struct StitchedReport {
+    size_t triangles = 0;
+    size_t degenerate = 0;     // triangles with two bit-identical corners (not rasterised)
+    size_t open_edges = 0;     // edges of the whole surface used once, off the outer border
+    size_t overused_edges = 0; // edges used more than twice
+    size_t walls = 0;          // triangles of the walls under the clipped border
+    std::string first_problem;
+};
+
+// For schemes without skirts (stitched seams): over the whole captured surface, across every
+// piece, every edge is shared by exactly two triangles with bit-identical endpoints, except
+// on the terrain's outer border and the walls' feet. Degenerate triangles (two identical
+// corners: a stitched odd vertex moved onto its even neighbour) cover nothing, as the
+// rasteriser drops them, and are left out.
+StitchedReport checkStitchedWatertight(const render::CapturedSurface& s,
+                                       const lod::TerrainFrame& frame);
+
 struct ScreenErrorReport {
     size_t samples = 0;      // full-resolution samples in view that were compared
     double max_px = 0.0;     // largest projected vertical deviation, pixels
     double max_metres = 0.0; // largest vertical deviation, metres
+    double p99_px = 0.0;     // 99th percentile of the projected deviation, pixels
     size_t uncovered = 0;    // finest samples in view with no captured surface triangle
                              // above them (a strip the surface stops short of, a hole)
 };

@@ -40,6 +40,23 @@ std::string lodSchemeList();
 // One line about scheme `name`; throws ridge::Error for a name that is not registered.
 std::string lodSchemeDescription(const std::string& name);
 
+// What a scheme guarantees, declared in its registration; the conformance suite
+// (tests/render/scheme_conformance_test.cpp) checks each scheme against its promises and
+// measures and reports the rest for all.
+struct SchemePromises {
+    // Every finest sample in view within ε pixels of the drawn surface (false: measured only).
+    bool screen_space_error = true;
+    // How neighbouring pieces close their seams: skirts hung below every border, or
+    // stitching (shared bit-identical vertices: every edge of the surface used by exactly two
+    // triangles).
+    enum class Seams { Skirts, Stitching } seams = Seams::Skirts;
+    // A change of LOD (all of it resident) moves no drawn point visibly: geomorphing.
+    // Arrivals while streaming are not LOD changes.
+    bool pop_free = false;
+};
+// Scheme `name`'s promises; throws ridge::Error for a name that is not registered.
+SchemePromises lodSchemePromises(const std::string& name);
+
 struct RenderSettings {
     // ε in pixels. Below 1/20 px the tessellator saturates everywhere (the finest level at
     // 64 segments per edge costs what brute force does); above 1000 px the root patch is all
