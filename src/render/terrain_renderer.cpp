@@ -8,6 +8,7 @@
 #include "ridge/core/error.h"
 #include "ridge/gpu/gl_objects.h"
 #include "ridge/gpu/gpu_timer.h"
+#include "ridge/gpu/primitive_counter.h"
 #include "ridge/gpu/render_target.h"
 #include "ridge/gpu/shader_program.h"
 #include "ridge/lod/coarse_terrain.h"
@@ -198,15 +199,8 @@ struct TerrainRenderer::Impl {
     gpu::ShaderProgram sky_program;
     gpu::GpuTimer timer;                              // terrain pass
     gpu::GpuTimer upload_timer;                       // uploads and normal maps of new patches
-    gpu::GlQuery primitives{GL_PRIMITIVES_GENERATED}; // capture(), synchronous stats
-    // Triangles of the terrain pass for interactive use: a ring of queries read only once
-    // their results are available, so counting never stalls the pipeline.
-    static constexpr int kTriangleQueries = 4;
-    std::vector<gpu::GlQuery> triangle_queries;
-    std::vector<bool> triangle_query_pending = std::vector<bool>(kTriangleQueries, false);
-    int next_triangle_query = 0;
-    uint64_t last_triangles = 0;
-    uint64_t latestTriangles();
+    gpu::PrimitiveCounter triangles;                  // terrain pass
+    gpu::GlQuery primitives{GL_PRIMITIVES_GENERATED}; // capture()
     gpu::GlQuery written{GL_TRANSFORM_FEEDBACK_PRIMITIVES_WRITTEN};
     // Drawing needs a complete framebuffer even with the rasterizer discarded; a surfaceless
     // context has none, so capture binds this one.
@@ -631,26 +625,6 @@ void TerrainRenderer::Impl::countTraffic(FrameStats& stats)
     }
 }
 
-uint64_t TerrainRenderer::Impl::latestTriangles()
-{
-    // Oldest first, so the newest available result wins.
-    for (int k = 1; k <= kTriangleQueries; ++k) {
-        const int q = (next_triangle_query + k) % kTriangleQueries;
-        if (!triangle_query_pending[size_t(q)])
-            continue;
-        GLuint available = 0;
-        glGetQueryObjectuiv(triangle_queries[size_t(q)].id(), GL_QUERY_RESULT_AVAILABLE,
-                            &available);
-        if (!available)
-            continue;
-        GLuint64 generated = 0;
-        glGetQueryObjectui64v(triangle_queries[size_t(q)].id(), GL_QUERY_RESULT, &generated);
-        last_triangles = generated;
-        triangle_query_pending[size_t(q)] = false;
-    }
-    return last_triangles;
-}
-
 namespace {
 
 // Checked before Impl touches GL or sizes anything from them.
@@ -857,18 +831,10 @@ FrameStats TerrainRenderer::draw(const lod::Camera& camera, const RenderSettings
             false);
     };
 
-    const bool synchronous = m.options.synchronous_stats;
-    if (m.triangle_queries.empty())
-        for (int k = 0; k < Impl::kTriangleQueries; ++k)
-            m.triangle_queries.emplace_back(GL_PRIMITIVES_GENERATED);
-    const int query = m.next_triangle_query;
-    m.next_triangle_query = (query + 1) % Impl::kTriangleQueries;
     m.timer.begin();
-    // A still-pending query in this slot is dropped: its frame is 4 frames old.
-    glBeginQuery(GL_PRIMITIVES_GENERATED, m.triangle_queries[size_t(query)].id());
+    m.triangles.begin();
     drawTerrain(int(s.mode));
-    glEndQuery(GL_PRIMITIVES_GENERATED);
-    m.triangle_query_pending[size_t(query)] = true;
+    m.triangles.end();
     if (s.wireframe && ranges.total()) {
         glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
         glEnable(GL_POLYGON_OFFSET_LINE);
@@ -880,15 +846,8 @@ FrameStats TerrainRenderer::draw(const lod::Camera& camera, const RenderSettings
         glDisable(GL_POLYGON_OFFSET_LINE);
     }
     m.timer.end();
-    if (synchronous) {
-        GLuint64 generated = 0;
-        glGetQueryObjectui64v(m.triangle_queries[size_t(query)].id(), GL_QUERY_RESULT, &generated);
-        m.triangle_query_pending[size_t(query)] = false;
-        m.last_triangles = generated;
-        stats.triangles = generated;
-    } else {
-        stats.triangles = m.latestTriangles();
-    }
+    const bool synchronous = m.options.synchronous_stats;
+    stats.triangles = synchronous ? m.triangles.wait() : m.triangles.latest();
     stats.gpu_ms = synchronous ? m.timer.waitMs() : m.timer.lastMs();
 
     // Leave the default GL conventions to whatever draws next (an overlay, a test).
