@@ -69,44 +69,6 @@ void setMatrix(const gpu::ShaderProgram& program, const char* name, const glm::d
 
 namespace {
 
-// Whether patches may carry water bitmaps (archive sample flags with any water sample): only
-// then does each slot hold an n² water map.
-bool hasWaterMaps(const archive::ArchiveReader& reader)
-{
-    return reader.storesSampleFlags() && reader.metadata().water.samples > 0;
-}
-
-// Slots for resident patches: the requested count within the VRAM budget and the GL limit on
-// array layers; at least 4, so that raising ε always finds a selection that fits.
-int slotCount(const archive::ArchiveReader& reader, const RendererOptions& options,
-              double scheme_slot_bytes)
-{
-    const double n = reader.geometry().patchSize();
-    const double blocks = double(reader.blockLayout().blocksPerSide());
-    // Heights R16UI and normals RGBA8 (n²), block errors RGBA32F, the kept-nodata cell mask
-    // R8UI ((n−1)², allocated for every slot) and its flag, the water map R8UI (n², only for
-    // archives with water), and what the scheme adds.
-    const double bytes_per_slot = n * n * (2.0 + 4.0 + (hasWaterMaps(reader) ? 1.0 : 0.0)) +
-                                  blocks * blocks * 16.0 + (n - 1) * (n - 1) + 1.0 +
-                                  scheme_slot_bytes;
-    GLint max_layers = 256;
-    glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &max_layers);
-    const double by_budget = std::floor(options.vram_budget_mb * 1024.0 * 1024.0 / bytes_per_slot);
-    const int wanted =
-        int(std::min({double(options.max_resident_patches), by_budget, double(max_layers)}));
-    const int minimum = 4;
-    if (wanted < minimum) {
-        char message[160];
-        std::snprintf(
-            message, sizeof message,
-            ": patches of %d^2 samples need %.3g MB of texture memory at least; the budget "
-            "is %.3g MB",
-            int(n), minimum * bytes_per_slot / 1048576.0, options.vram_budget_mb);
-        throw Error(reader.path() + message);
-    }
-    return wanted;
-}
-
 // The schemes `options` asks for (all registered ones that need no CPU codes when empty),
 // with what each needs.
 struct PlannedSchemes {
@@ -264,7 +226,9 @@ struct TerrainRenderer::Impl {
 
 TerrainRenderer::Impl::Impl(const archive::ArchiveReader& r, const RendererOptions& o)
     : reader(r), options(o), planned(planSchemes(r, o)), quadtree(lod::PatchQuadtree::fromArchive(r)),
-      slots(slotCount(r, o, planned.slot_bytes)), residency(r.geometry(), slots),
+      slots(PatchTextures::slotCount(r, planned.slot_bytes, o.vram_budget_mb,
+                                     o.max_resident_patches)),
+      residency(r.geometry(), slots),
       loader(r, o.decoded_cache_patches, planned.preparations), layout(r.blockLayout()),
       quantization(r.quantization())
 {
@@ -285,7 +249,7 @@ TerrainRenderer::Impl::Impl(const archive::ArchiveReader& r, const RendererOptio
             ? reader.codec().capabilities().gpu_reconstruction
             : nullptr;
     textures = std::make_unique<PatchTextures>(n, layout, block_levels, slots, quantization,
-                                               gpu_codec, hasWaterMaps(reader));
+                                               gpu_codec, PatchTextures::waterMaps(reader));
     for (size_t k = 0; k < planned.infos.size(); ++k)
         schemes.push_back(planned.infos[k]->make(SchemeResources{
             reader, quadtree, options, *textures, residency, slots, planned.product[k]}));
@@ -697,46 +661,19 @@ uint64_t TerrainRenderer::cacheHits() const
 std::vector<uint16_t> TerrainRenderer::residentCodes(PatchId p) const
 {
     const int slot = impl_->residency.slotOf(p);
-    if (slot < 0)
-        return {};
-    const int n = impl_->n;
-    std::vector<uint16_t> codes(size_t(n) * n);
-    glPixelStorei(GL_PACK_ALIGNMENT, 2);
-    glGetTextureSubImage(impl_->textures->heights(), 0, 0, 0, slot, n, n, 1, GL_RED_INTEGER,
-                         GL_UNSIGNED_SHORT, GLsizei(codes.size() * sizeof(uint16_t)), codes.data());
-    glPixelStorei(GL_PACK_ALIGNMENT, 4);
-    gpu::checkGlError("terrain renderer: read resident codes");
-    return codes;
+    return slot < 0 ? std::vector<uint16_t>() : impl_->textures->readCodes(slot);
 }
 
 std::vector<float> TerrainRenderer::residentBlockErrors(PatchId p) const
 {
     const int slot = impl_->residency.slotOf(p);
-    if (slot < 0)
-        return {};
-    const int B = impl_->blocks_per_side, D = impl_->layout.levels();
-    std::vector<float> texels(size_t(B) * B * 4);
-    glGetTextureSubImage(impl_->textures->blockErrors(), 0, 0, 0, slot, B, B, 1, GL_RGBA, GL_FLOAT,
-                         GLsizei(texels.size() * sizeof(float)), texels.data());
-    gpu::checkGlError("terrain renderer: read resident block errors");
-    std::vector<float> lambda(size_t(B) * B * D, 0.f);
-    for (int b = 0; b < B * B; ++b)
-        for (int d = 0; d < std::min(D, 4); ++d)
-            lambda[size_t(b) * D + d] = texels[size_t(b) * 4 + d];
-    return lambda;
+    return slot < 0 ? std::vector<float>() : impl_->textures->readBlockErrors(slot);
 }
 
 std::vector<int8_t> TerrainRenderer::residentNormals(PatchId p) const
 {
     const int slot = impl_->residency.slotOf(p);
-    if (slot < 0)
-        return {};
-    const int n = impl_->n;
-    std::vector<int8_t> texels(size_t(n) * n * 4);
-    glGetTextureSubImage(impl_->textures->normals(), 0, 0, 0, slot, n, n, 1, GL_RGBA, GL_BYTE,
-                         GLsizei(texels.size()), texels.data());
-    gpu::checkGlError("terrain renderer: read resident normals");
-    return texels;
+    return slot < 0 ? std::vector<int8_t>() : impl_->textures->readNormals(slot);
 }
 
 double TerrainRenderer::residentLambdaMax(PatchId p) const
