@@ -3,6 +3,7 @@
 #include "palette_uniforms.h"
 #include "patch_instances.h"
 #include "patch_textures.h"
+#include "scheme_plan.h"
 #include "terrain_scheme.h"
 
 #include "ridge/core/error.h"
@@ -69,49 +70,12 @@ void setMatrix(const gpu::ShaderProgram& program, const char* name, const glm::d
 
 namespace {
 
-// The schemes `options` asks for (all registered ones that need no CPU codes when empty),
-// with what each needs.
-struct PlannedSchemes {
-    std::vector<const SchemeInfo*> infos;
-    std::vector<SchemeNeeds> needs;
-    double slot_bytes = 0.0;
-    bool codes_on_cpu = false;
-    std::vector<stream::PatchPreparation> preparations;
-    std::vector<int> product; // per scheme: index into preparations, or −1
-};
-
-PlannedSchemes planSchemes(const archive::ArchiveReader& reader, const RendererOptions& options)
-{
-    PlannedSchemes out;
-    auto add = [&](const SchemeInfo& info, SchemeNeeds needs) {
-        out.infos.push_back(&info);
-        out.slot_bytes += needs.slot_bytes;
-        out.codes_on_cpu = out.codes_on_cpu || needs.codes_on_cpu;
-        out.product.push_back(needs.preparation ? int(out.preparations.size()) : -1);
-        if (needs.preparation)
-            out.preparations.push_back(needs.preparation);
-        out.needs.push_back(std::move(needs));
-    };
-    if (options.schemes.empty()) {
-        for (const SchemeInfo& info : schemeRegistry())
-            if (SchemeNeeds needs = info.needs(reader, options); !needs.codes_on_cpu)
-                add(info, std::move(needs));
-    } else {
-        for (const std::string& name : options.schemes) {
-            const SchemeInfo& info = schemeNamed(name);
-            if (std::find(out.infos.begin(), out.infos.end(), &info) == out.infos.end())
-                add(info, info.needs(reader, options));
-        }
-    }
-    return out;
-}
-
 } // namespace
 
 struct TerrainRenderer::Impl {
     const archive::ArchiveReader& reader;
     RendererOptions options;
-    PlannedSchemes planned;
+    SchemePlan plan;
     lod::PatchQuadtree quadtree;
     int slots = 0; // texture-array layers
     lod::PatchResidency residency;
@@ -155,9 +119,8 @@ struct TerrainRenderer::Impl {
     gpu::GlBuffer feedback;
     size_t feedback_capacity = 0; // bytes
     gpu::GlVertexArray empty_vao;
-    // The drawable schemes (planned.infos order), each over the shared pieces above.
-    std::vector<std::unique_ptr<TerrainScheme>> schemes;
-    std::vector<std::string> scheme_names;
+    // The drawable schemes, each over the shared pieces above.
+    std::unique_ptr<Schemes> schemes;
     gpu::ShaderProgram sky_program;
     gpu::GpuTimer timer;                              // terrain pass
     gpu::GpuTimer upload_timer;                       // uploads and normal maps of new patches
@@ -180,12 +143,10 @@ struct TerrainRenderer::Impl {
     // What uploading `patch` will send, at most (the per-frame budget plans with it).
     size_t plannedUploadBytes(const stream::DecodedPatch& patch) const
     {
-        size_t bytes = textures->uploadBytes(patch);
-        for (const auto& scheme : schemes)
-            bytes += scheme->plannedUploadBytes(patch);
-        return bytes;
+        return textures->uploadBytes(patch) + schemes->plannedUploadBytes(patch);
     }
-    // The scheme `settings` names; throws when this renderer was not built for it.
+    // The scheme `settings` names, constructed on first use; throws when this renderer was
+    // not built for it.
     TerrainScheme& schemeFor(const RenderSettings& settings) const;
     void countTraffic(FrameStats& stats);
     void computeNormals(PatchId p, const std::unordered_set<int>& pending);
@@ -225,11 +186,11 @@ struct TerrainRenderer::Impl {
 };
 
 TerrainRenderer::Impl::Impl(const archive::ArchiveReader& r, const RendererOptions& o)
-    : reader(r), options(o), planned(planSchemes(r, o)), quadtree(lod::PatchQuadtree::fromArchive(r)),
-      slots(PatchTextures::slotCount(r, planned.slot_bytes, o.vram_budget_mb,
+    : reader(r), options(o), plan(planSchemes(r, o)), quadtree(lod::PatchQuadtree::fromArchive(r)),
+      slots(PatchTextures::slotCount(r, plan.slot_bytes, o.vram_budget_mb,
                                      o.max_resident_patches)),
       residency(r.geometry(), slots),
-      loader(r, o.decoded_cache_patches, planned.preparations), layout(r.blockLayout()),
+      loader(r, o.decoded_cache_patches, plan.preparations), layout(r.blockLayout()),
       quantization(r.quantization())
 {
     n = reader.geometry().patchSize();
@@ -245,21 +206,18 @@ TerrainRenderer::Impl::Impl(const archive::ArchiveReader& r, const RendererOptio
 
     // The codec's GPU reconstruction, unless a drawable scheme needs codes on the CPU.
     const ProgressiveCodec* gpu_codec =
-        options.streaming && options.gpu_reconstruction && !planned.codes_on_cpu
+        options.streaming && options.gpu_reconstruction && !plan.codes_on_cpu
             ? reader.codec().capabilities().gpu_reconstruction
             : nullptr;
     textures = std::make_unique<PatchTextures>(n, layout, block_levels, slots, quantization,
                                                gpu_codec, PatchTextures::waterMaps(reader));
-    for (size_t k = 0; k < planned.infos.size(); ++k)
-        schemes.push_back(planned.infos[k]->make(SchemeResources{
-            reader, quadtree, options, *textures, residency, slots, planned.product[k]}));
-    for (const SchemeInfo* info : planned.infos)
-        scheme_names.push_back(info->name);
+    schemes = std::make_unique<Schemes>(
+        plan, SchemeResources{reader, quadtree, options, *textures, residency, slots, -1});
     if (options.streaming) {
         stream::StreamerOptions so = stream::StreamerOptions::forRamBudget(
             size_t(options.ram_budget_mb * 1024.0 * 1024.0), options.io_threads);
         so.residuals_for_gpu = gpu_codec != nullptr;
-        so.preparations = planned.preparations;
+        so.preparations = plan.preparations;
         streamer = std::make_unique<stream::PatchStreamer>(reader, so);
         // The root stays resident: the last resort of every fallback.
         const PatchId root{0, 0, 0};
@@ -275,15 +233,7 @@ TerrainRenderer::Impl::Impl(const archive::ArchiveReader& r, const RendererOptio
 
 TerrainScheme& TerrainRenderer::Impl::schemeFor(const RenderSettings& settings) const
 {
-    for (size_t k = 0; k < planned.infos.size(); ++k)
-        if (settings.scheme == planned.infos[k]->name)
-            return *schemes[k];
-    std::string built;
-    for (const SchemeInfo* info : planned.infos)
-        built += (built.empty() ? "" : ", ") + std::string(info->name);
-    throw Error(reader.path() + ": LOD scheme '" + settings.scheme +
-                "' is not one this renderer was built for (RendererOptions::schemes: " + built +
-                ")");
+    return schemes->get(settings.scheme);
 }
 
 // Makes `patch` resident in `slot`: codes are uploaded, residuals reconstructed on the GPU
@@ -298,10 +248,7 @@ size_t TerrainRenderer::Impl::uploadPatch(const stream::DecodedPatch& patch, int
     const float lambda_cap = bounds.max_height - bounds.min_height;
     if (!patch.needsGpuReconstruction()) {
         textures->upload(patch, slot, lambda_cap);
-        size_t bytes = textures->uploadBytes(patch);
-        for (const auto& scheme : schemes)
-            bytes += scheme->upload(patch, slot);
-        return bytes;
+        return textures->uploadBytes(patch) + schemes->upload(patch, slot);
     }
     const int parent_slot = residency.slotOf(p.parent());
     if (parent_slot < 0 || pending_slots.count(parent_slot))
@@ -617,7 +564,7 @@ int TerrainRenderer::blockCells() const { return impl_->layout.block_cells; }
 
 const std::vector<std::string>& TerrainRenderer::schemes() const
 {
-    return impl_->scheme_names;
+    return impl_->plan.names;
 }
 
 int TerrainRenderer::residentSlots() const
