@@ -3,6 +3,7 @@
 #include "palette_uniforms.h"
 #include "patch_instances.h"
 #include "patch_textures.h"
+#include "resident_set.h"
 #include "scheme_plan.h"
 #include "terrain_scheme.h"
 
@@ -14,11 +15,7 @@
 #include "ridge/gpu/shader_program.h"
 #include "ridge/lod/coarse_terrain.h"
 #include "ridge/lod/edge_tessellation.h"
-#include "ridge/lod/resident_cover.h"
 #include "ridge/lod/screen_space_error.h"
-#include "ridge/stream/patch_loader.h"
-#include "ridge/stream/patch_streamer.h"
-#include "ridge/stream/upload_planner.h"
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
@@ -32,7 +29,6 @@
 #include <cmath>
 #include <cstdio>
 #include <optional>
-#include <unordered_set>
 
 namespace ridge::render {
 namespace {
@@ -68,18 +64,13 @@ void setMatrix(const gpu::ShaderProgram& program, const char* name, const glm::d
 
 } // namespace
 
-namespace {
-
-} // namespace
-
 struct TerrainRenderer::Impl {
     const archive::ArchiveReader& reader;
     RendererOptions options;
     SchemePlan plan;
     lod::PatchQuadtree quadtree;
     int slots = 0; // texture-array layers
-    lod::PatchResidency residency;
-    stream::PatchLoader loader;
+    ResidentSet resident;
     TessellationBlockLayout layout;
     HeightQuantization quantization;
     int n = 0;                                // samples per patch side
@@ -89,22 +80,6 @@ struct TerrainRenderer::Impl {
     double skirt_margin = 0.0;                // float rounding of camera-relative heights
     // The level-0 patch on the CPU: ground heights and clip planes for cameras.
     std::optional<lod::CoarseTerrain> coarse;
-    uint64_t frame = 0;
-
-    std::unique_ptr<PatchTextures> textures;
-    // Streaming mode: decoded patches arrive from the streamer's workers and wait here for an
-    // upload slot in a later frame.
-    std::unique_ptr<stream::PatchStreamer> streamer;
-    std::vector<std::shared_ptr<const stream::DecodedPatch>> arrived, waiting;
-    std::vector<stream::ArrivedPatch> arrived_descriptions; // capacity kept across frames
-    std::unique_ptr<stream::UploadPlanner> planner;
-    // The upload time budget follows the frame time, measured on this clock (ms since epoch).
-    stream::UploadTimeBudget upload_time{{options.upload_budget_ms, options.upload_frame_fraction,
-                                          options.upload_budget_max_ms}};
-    const std::chrono::steady_clock::time_point epoch = std::chrono::steady_clock::now();
-    // Traffic counters at the end of the previous frame (FrameStats reports the difference).
-    stream::StreamerStats last_streamer_stats;
-    stream::LoaderStats last_loader_stats;
     std::vector<PatchId> last_drawn;
     // What the last draw() drew, for lastFrameSurface() (picking): replayed, not re-selected.
     struct LastFrame {
@@ -132,24 +107,9 @@ struct TerrainRenderer::Impl {
     std::unique_ptr<gpu::RenderTarget> capture_target;
 
     Impl(const archive::ArchiveReader& r, const RendererOptions& o);
-    void makeResident(const lod::Selection& selection, FrameStats& stats);
-    // Streaming: requests what is missing, uploads what arrived (within the per-frame budget)
-    // and returns what to draw now — missing patches replaced by resident ancestors.
-    lod::Selection streamResident(const lod::Selection& desired, FrameStats& stats,
-                                  const lod::Camera& camera,
-                                  const lod::SelectionSettings& settings);
-    size_t uploadPatch(const stream::DecodedPatch& patch, int slot,
-                       const std::unordered_set<int>& pending_slots = {});
-    // What uploading `patch` will send, at most (the per-frame budget plans with it).
-    size_t plannedUploadBytes(const stream::DecodedPatch& patch) const
-    {
-        return textures->uploadBytes(patch) + schemes->plannedUploadBytes(patch);
-    }
     // The scheme `settings` names, constructed on first use; throws when this renderer was
     // not built for it.
     TerrainScheme& schemeFor(const RenderSettings& settings) const;
-    void countTraffic(FrameStats& stats);
-    void computeNormals(PatchId p, const std::unordered_set<int>& pending);
     PatchInstances writeInstances(const lod::Camera& camera, const lod::Camera& lod_camera,
                                   const lod::Selection& selection, const RenderSettings& settings);
     // Selection, residency and instance buffer for one frame; `used` receives `settings` with
@@ -164,7 +124,7 @@ struct TerrainRenderer::Impl {
         used.epsilon_px = selection.epsilon_px;
         return writeInstances(camera, lod_camera, selection, used);
     }
-    void setFrameUniforms(const gpu::ShaderProgram& program, const SchemeFrame& frame) const;
+    void setFrameUniforms(const gpu::ShaderProgram& program, const SchemeFrame& frame);
     // Calls draw(program, first, count) for the non-empty instance groups: whole patches with
     // the scheme's plain (or capture) program, partial ones with its clipping one.
     template <class Draw>
@@ -189,8 +149,7 @@ TerrainRenderer::Impl::Impl(const archive::ArchiveReader& r, const RendererOptio
     : reader(r), options(o), plan(planSchemes(r, o)), quadtree(lod::PatchQuadtree::fromArchive(r)),
       slots(PatchTextures::slotCount(r, plan.slot_bytes, o.vram_budget_mb,
                                      o.max_resident_patches)),
-      residency(r.geometry(), slots),
-      loader(r, o.decoded_cache_patches, plan.preparations), layout(r.blockLayout()),
+      resident(r, quadtree, options, slots, plan), layout(r.blockLayout()),
       quantization(r.quantization())
 {
     n = reader.geometry().patchSize();
@@ -202,31 +161,11 @@ TerrainRenderer::Impl::Impl(const archive::ArchiveReader& r, const RendererOptio
     // Float rounding of camera-relative heights: a centimetre plus a few ulps of the highest.
     skirt_margin = 0.01 + 1e-6 * std::max(std::abs(root.min_height), std::abs(root.max_height));
     coarse.emplace(quadtree.frame(), quadtree.box(PatchId{0, 0, 0}),
-                   loader.load(PatchId{0, 0, 0})->codes, quantization);
-
-    // The codec's GPU reconstruction, unless a drawable scheme needs codes on the CPU.
-    const ProgressiveCodec* gpu_codec =
-        options.streaming && options.gpu_reconstruction && !plan.codes_on_cpu
-            ? reader.codec().capabilities().gpu_reconstruction
-            : nullptr;
-    textures = std::make_unique<PatchTextures>(n, layout, block_levels, slots, quantization,
-                                               gpu_codec, PatchTextures::waterMaps(reader));
+                   resident.load(PatchId{0, 0, 0})->codes, quantization);
     schemes = std::make_unique<Schemes>(
-        plan, SchemeResources{reader, quadtree, options, *textures, residency, slots, -1});
-    if (options.streaming) {
-        stream::StreamerOptions so = stream::StreamerOptions::forRamBudget(
-            size_t(options.ram_budget_mb * 1024.0 * 1024.0), options.io_threads);
-        so.residuals_for_gpu = gpu_codec != nullptr;
-        so.preparations = plan.preparations;
-        streamer = std::make_unique<stream::PatchStreamer>(reader, so);
-        // The root stays resident: the last resort of every fallback.
-        const PatchId root{0, 0, 0};
-        for (const lod::PatchResidency::Load& l : residency.update({root}, ++frame))
-            uploadPatch(*loader.load(l.id), l.slot);
-        computeNormals(root, {});
-        textures->finishUploads();
-        planner = std::make_unique<stream::UploadPlanner>(reader.geometry(), residency);
-    }
+        plan, SchemeResources{reader, quadtree, options, resident.textures(),
+                              resident.residency(), slots, -1});
+    resident.start(*schemes);
     sky_program =
         gpu::ShaderProgram({{GL_VERTEX_SHADER, "sky.vert"}, {GL_FRAGMENT_SHADER, "sky.frag"}});
 }
@@ -234,91 +173,6 @@ TerrainRenderer::Impl::Impl(const archive::ArchiveReader& r, const RendererOptio
 TerrainScheme& TerrainRenderer::Impl::schemeFor(const RenderSettings& settings) const
 {
     return schemes->get(settings.scheme);
-}
-
-// Makes `patch` resident in `slot`: codes are uploaded, residuals reconstructed on the GPU
-// from the parent's slot. Slots in `pending_slots` are assigned this frame but not yet
-// written: their content must not be read. Returns the bytes sent. The normal map follows in
-// computeNormals.
-size_t TerrainRenderer::Impl::uploadPatch(const stream::DecodedPatch& patch, int slot,
-                                          const std::unordered_set<int>& pending_slots)
-{
-    const PatchId p = patch.id;
-    const lod::PatchBounds& bounds = quadtree.bounds(p);
-    const float lambda_cap = bounds.max_height - bounds.min_height;
-    if (!patch.needsGpuReconstruction()) {
-        textures->upload(patch, slot, lambda_cap);
-        return textures->uploadBytes(patch) + schemes->upload(patch, slot);
-    }
-    const int parent_slot = residency.slotOf(p.parent());
-    if (parent_slot < 0 || pending_slots.count(parent_slot))
-        throw Error(reader.describe(p) + ": internal: parent not resident for GPU reconstruction");
-    textures->reconstruct(patch, parent_slot, slot, lambda_cap);
-    return textures->uploadBytes(patch);
-}
-
-// The normal map of `p`, just made resident, and those of its resident same-level
-// neighbours, whose borders now have a real neighbour instead of an extrapolated one: every
-// same-level seam between resident patches gets the same normals on both sides, whatever
-// order the patches arrived in. Slots in `pending` (assigned, not yet written) are treated as
-// absent; when one is written it refreshes its neighbours in turn.
-void TerrainRenderer::Impl::computeNormals(PatchId p, const std::unordered_set<int>& pending)
-{
-    const PyramidGeometry& g = reader.geometry();
-    auto sidesOf = [](PatchId q) {
-        return std::array<PatchId, 4>{
-            PatchId{q.level, q.x - 1, q.y}, PatchId{q.level, q.x + 1, q.y},
-            PatchId{q.level, q.x, q.y - 1}, PatchId{q.level, q.x, q.y + 1}};
-    };
-    auto writtenSlot = [&](PatchId q) {
-        const int s = g.exists(q) ? residency.slotOf(q) : -1;
-        return s >= 0 && !pending.count(s) ? s : -1;
-    };
-    auto normalsOf = [&](PatchId q) {
-        std::array<int, 4> neighbours{-1, -1, -1, -1};
-        if (options.seamless_normals) {
-            const std::array<PatchId, 4> sides = sidesOf(q);
-            for (size_t k = 0; k < 4; ++k)
-                neighbours[k] = writtenSlot(sides[k]);
-        }
-        const double step = double(g.step(q.level));
-        textures->computeNormals(residency.slotOf(q), neighbours, step * reader.header().spacing_x,
-                                 step * reader.header().spacing_y);
-    };
-    normalsOf(p);
-    if (options.seamless_normals)
-        for (PatchId q : sidesOf(p))
-            if (writtenSlot(q) >= 0)
-                normalsOf(q);
-}
-
-void TerrainRenderer::Impl::makeResident(const lod::Selection& selection, FrameStats& stats)
-{
-    std::vector<PatchId> ids;
-    ids.reserve(selection.patches.size());
-    for (const lod::SelectedPatch& s : selection.patches)
-        ids.push_back(s.id);
-    const auto loads = residency.update(ids, ++frame);
-    std::unordered_set<int> pending;
-    for (const lod::PatchResidency::Load& l : loads)
-        pending.insert(l.slot);
-    for (size_t k = 0; k < loads.size(); ++k) {
-        try {
-            stats.bytes_uploaded += uploadPatch(*loader.load(loads[k].id), loads[k].slot);
-        } catch (...) {
-            // The failed patch and those after it were given slots they never filled.
-            for (size_t j = k; j < loads.size(); ++j)
-                residency.release(loads[j].id);
-            textures->finishUploads();
-            throw;
-        }
-        pending.erase(loads[k].slot);
-        computeNormals(loads[k].id, pending);
-    }
-    if (!loads.empty())
-        textures->finishUploads();
-    stats.loaded = int(loads.size());
-    stats.resident = residency.residentCount();
 }
 
 PatchInstances TerrainRenderer::Impl::writeInstances(const lod::Camera& camera,
@@ -337,8 +191,9 @@ PatchInstances TerrainRenderer::Impl::writeInstances(const lod::Camera& camera,
     const double z_rel = std::max(std::abs(camera.position().z - k * double(min_height)),
                                   std::abs(camera.position().z - k * double(max_height)));
     PatchInstances built = buildPatchInstances(
-        quadtree, selection, camera.position(), [&](PatchId p) { return residency.slotOf(p); },
-        [&](PatchId p) { return scheme.meshDeviation(residency.slotOf(p)); },
+        quadtree, selection, camera.position(),
+        [&](PatchId p) { return resident.residency().slotOf(p); },
+        [&](PatchId p) { return scheme.meshDeviation(resident.residency().slotOf(p)); },
         skirt_margin * std::max(k, 1.0) + 1e-6 * z_rel, k);
     scheme.completeInstances(lod_camera, settings, built);
     const std::vector<GpuPatchInstance>& data = built.records;
@@ -355,7 +210,7 @@ PatchInstances TerrainRenderer::Impl::writeInstances(const lod::Camera& camera,
 }
 
 void TerrainRenderer::Impl::setFrameUniforms(const gpu::ShaderProgram& program,
-                                             const SchemeFrame& frame) const
+                                             const SchemeFrame& frame)
 {
     const lod::Camera& camera = frame.camera;
     const RenderSettings& settings = frame.settings;
@@ -405,7 +260,7 @@ void TerrainRenderer::Impl::setFrameUniforms(const gpu::ShaderProgram& program,
     }
     glProgramUniform4fv(id, program.uniform("u_frustum"), 6, &planes[0][0]);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, instances.id());
-    textures->bind();
+    resident.textures().bind();
     schemeFor(settings).setUniforms(program, frame);
 }
 
@@ -413,7 +268,7 @@ lod::Selection TerrainRenderer::Impl::prepare(const lod::Camera& camera,
                                               const RenderSettings& settings, FrameStats& stats,
                                               bool frozen)
 {
-    textures->collect(); // λ maxima derived on the GPU in earlier frames
+    resident.textures().collect(); // λ maxima derived on the GPU in earlier frames
     auto t0 = std::chrono::steady_clock::now();
     lod::SelectionSettings ss;
     ss.epsilon_px = settings.epsilon_px;
@@ -431,19 +286,14 @@ lod::Selection TerrainRenderer::Impl::prepare(const lod::Camera& camera,
     stats.texel_px = selection.texel_px;
     stats.coarser = selection.epsilon_px > ss.epsilon_px;
     t0 = std::chrono::steady_clock::now();
-    if (frozen) {
-        // What is resident now, ancestors standing in for the rest: no request, no upload.
-        selection.patches = lod::residentCover(selection, reader.geometry(), [&](PatchId p) {
-                                return residency.slotOf(p) >= 0;
-                            }).patches;
-        return selection;
-    }
+    if (frozen)
+        return resident.frozenCover(std::move(selection));
     upload_timer.begin();
     try {
-        if (streamer)
-            selection = streamResident(selection, stats, camera, ss);
+        if (resident.streaming())
+            selection = resident.stream(selection, camera, ss, stats);
         else
-            makeResident(selection, stats);
+            resident.makeResident(selection, stats);
     } catch (...) {
         upload_timer.end(); // keep begin/end balanced for the next frame
         throw;
@@ -451,89 +301,12 @@ lod::Selection TerrainRenderer::Impl::prepare(const lod::Camera& camera,
     upload_timer.end();
     stats.gpu_upload_ms = options.synchronous_stats ? upload_timer.waitMs() : upload_timer.lastMs();
     stats.cpu_load_ms = millisecondsSince(t0);
-    countTraffic(stats);
+    resident.countTraffic(stats);
     stats.patches = int(selection.patches.size());
     last_drawn.clear();
     for (const lod::SelectedPatch& p : selection.patches)
         last_drawn.push_back(p.id);
     return selection;
-}
-
-// Streaming, executed: the GL-free stream::UploadPlanner decides what to request, what stays
-// resident, what to upload this frame and into which slot; this uploads it (stopping when the
-// time budget is spent) and tells the planner how far it got.
-lod::Selection TerrainRenderer::Impl::streamResident(const lod::Selection& desired,
-                                                     FrameStats& stats, const lod::Camera& camera,
-                                                     const lod::SelectionSettings& settings)
-{
-    // Each streamed frame's time budget follows the frame time (stream::UploadTimeBudget).
-    stats.upload_budget_ms = upload_time.beginFrame(millisecondsSince(epoch));
-    streamer->beginFrame();
-    for (auto& patch : streamer->takeReady())
-        arrived.push_back(std::move(patch));
-    arrived_descriptions.clear();
-    for (size_t k = 0; k < arrived.size(); ++k)
-        arrived_descriptions.push_back({arrived[k]->id, plannedUploadBytes(*arrived[k]),
-                                        arrived[k]->needsGpuReconstruction(), k});
-    const stream::StreamPlan& plan =
-        planner->plan(desired, arrived_descriptions,
-                      {size_t(options.upload_budget_mb * 1024.0 * 1024.0), options.uploads_per_frame});
-    planner->prefetch(quadtree, camera, options.prefetch_frames, settings);
-    for (const stream::StreamRequest& r : plan.requests)
-        streamer->request(r.id, r.priority);
-
-    std::unordered_set<int> pending_slots;
-    for (const stream::PlannedUpload& u : plan.uploads)
-        pending_slots.insert(u.slot);
-    // Coarse first (the plan's order), so that a parent uploaded this frame is written before
-    // its children.
-    const auto t0 = std::chrono::steady_clock::now();
-    size_t done = 0;
-    try {
-        for (; done < plan.uploads.size(); ++done) {
-            if (!upload_time.mayStart(done, millisecondsSince(t0)))
-                break; // the time budget: the rest waits for the next frame
-            const stream::PlannedUpload& u = plan.uploads[done];
-            stats.bytes_uploaded += uploadPatch(*arrived[u.handle], u.slot, pending_slots);
-            pending_slots.erase(u.slot);
-            computeNormals(u.id, pending_slots); // inside the time budget too
-        }
-    } catch (...) {
-        planner->finish(done); // the failed upload and those after it give their slots back
-        throw;
-    }
-    upload_time.endFrame(done > 0 ? millisecondsSince(t0) : 0.0);
-    const stream::StreamOutcome& outcome = planner->finish(done);
-    waiting.clear();
-    for (size_t h : outcome.waiting)
-        waiting.push_back(std::move(arrived[h]));
-    arrived.swap(waiting);
-    if (done > 0)
-        textures->finishUploads();
-    stats.loaded = outcome.uploaded;
-    stats.reconstructed = outcome.reconstructed;
-    stats.missing = outcome.missing;
-    stats.resident = residency.residentCount();
-    return outcome.drawn;
-}
-
-void TerrainRenderer::Impl::countTraffic(FrameStats& stats)
-{
-    if (streamer) {
-        const stream::StreamerStats now = streamer->stats();
-        stats.bytes_read = now.bytes_read - last_streamer_stats.bytes_read;
-        stats.bytes_decoded = now.bytes_decoded - last_streamer_stats.bytes_decoded;
-        stats.cache_hits = int(now.cache_hits - last_streamer_stats.cache_hits);
-        stats.cache_misses = int(now.requested - last_streamer_stats.requested);
-        last_streamer_stats = now;
-    } else {
-        const stream::LoaderStats& now = loader.stats();
-        stats.bytes_read = now.bytes_read - last_loader_stats.bytes_read;
-        stats.cache_hits = int(now.cache_hits - last_loader_stats.cache_hits);
-        stats.cache_misses = int(now.decoded - last_loader_stats.decoded);
-        stats.bytes_decoded = now.bytes_decoded - last_loader_stats.bytes_decoded;
-        last_loader_stats = now;
-    }
 }
 
 namespace {
@@ -579,62 +352,58 @@ const std::vector<PatchId>& TerrainRenderer::lastDrawnPatches() const
 
 void TerrainRenderer::waitForStreaming()
 {
-    if (impl_->streamer)
-        impl_->streamer->waitIdle();
+    impl_->resident.waitIdle();
 }
 
 bool TerrainRenderer::waitForStreaming(double timeout_seconds)
 {
     // A billion seconds (32 years) keeps the deadline within the clock's range.
     checkParameter("streaming wait timeout (s)", timeout_seconds, ValueRange::closed(0.0, 1e9));
-    return !impl_->streamer || impl_->streamer->waitIdleFor(timeout_seconds);
+    return impl_->resident.waitIdleFor(timeout_seconds);
 }
 
 std::string TerrainRenderer::streamingError() const
 {
-    return impl_->streamer ? impl_->streamer->error() : std::string();
+    return impl_->resident.error();
 }
 
 uint64_t TerrainRenderer::cacheMisses() const
 {
-    return impl_->streamer ? impl_->streamer->stats().requested : impl_->loader.stats().decoded;
+    return impl_->resident.cacheMisses();
 }
 
 uint64_t TerrainRenderer::cacheHits() const
 {
-    return impl_->streamer ? impl_->streamer->stats().cache_hits : impl_->loader.stats().cache_hits;
+    return impl_->resident.cacheHits();
 }
 
 std::vector<uint16_t> TerrainRenderer::residentCodes(PatchId p) const
 {
-    const int slot = impl_->residency.slotOf(p);
-    return slot < 0 ? std::vector<uint16_t>() : impl_->textures->readCodes(slot);
+    const int slot = impl_->resident.residency().slotOf(p);
+    return slot < 0 ? std::vector<uint16_t>() : impl_->resident.textures().readCodes(slot);
 }
 
 std::vector<float> TerrainRenderer::residentBlockErrors(PatchId p) const
 {
-    const int slot = impl_->residency.slotOf(p);
-    return slot < 0 ? std::vector<float>() : impl_->textures->readBlockErrors(slot);
+    const int slot = impl_->resident.residency().slotOf(p);
+    return slot < 0 ? std::vector<float>() : impl_->resident.textures().readBlockErrors(slot);
 }
 
 std::vector<int8_t> TerrainRenderer::residentNormals(PatchId p) const
 {
-    const int slot = impl_->residency.slotOf(p);
-    return slot < 0 ? std::vector<int8_t>() : impl_->textures->readNormals(slot);
+    const int slot = impl_->resident.residency().slotOf(p);
+    return slot < 0 ? std::vector<int8_t>() : impl_->resident.textures().readNormals(slot);
 }
 
 double TerrainRenderer::residentLambdaMax(PatchId p) const
 {
-    const int slot = impl_->residency.slotOf(p);
-    return slot < 0 ? -1.0 : double(impl_->textures->lambdaMax(slot));
+    const int slot = impl_->resident.residency().slotOf(p);
+    return slot < 0 ? -1.0 : double(impl_->resident.textures().lambdaMax(slot));
 }
 
 size_t TerrainRenderer::streamingCacheBytes() const
 {
-    if (!impl_->streamer)
-        return 0;
-    const stream::StreamerStats s = impl_->streamer->stats();
-    return s.cache_bytes + s.compressed_bytes;
+    return impl_->resident.cacheBytes();
 }
 
 FrameStats TerrainRenderer::draw(const lod::Camera& camera, const RenderSettings& settings,
