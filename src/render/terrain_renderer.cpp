@@ -1,17 +1,17 @@
 #include "ridge/render/terrain_renderer.h"
 
+#include "instance_buffer.h"
 #include "palette_uniforms.h"
-#include "patch_instances.h"
 #include "patch_textures.h"
 #include "resident_set.h"
 #include "scheme_plan.h"
+#include "surface_capture.h"
 #include "terrain_scheme.h"
 
 #include "ridge/core/error.h"
 #include "ridge/gpu/gl_objects.h"
 #include "ridge/gpu/gpu_timer.h"
 #include "ridge/gpu/primitive_counter.h"
-#include "ridge/gpu/render_target.h"
 #include "ridge/gpu/shader_program.h"
 #include "ridge/lod/coarse_terrain.h"
 #include "ridge/lod/edge_tessellation.h"
@@ -32,8 +32,6 @@
 
 namespace ridge::render {
 namespace {
-
-static_assert(sizeof(CapturedVertex) == 20, "must match the interleaved feedback varyings");
 
 double millisecondsSince(std::chrono::steady_clock::time_point t0)
 {
@@ -77,7 +75,6 @@ struct TerrainRenderer::Impl {
     int blocks_per_side = 0;                  // B
     int block_levels = 0;                     // D
     float min_height = 0.f, max_height = 0.f; // terrain frame, metres
-    double skirt_margin = 0.0;                // float rounding of camera-relative heights
     // The level-0 patch on the CPU: ground heights and clip planes for cameras.
     std::optional<lod::CoarseTerrain> coarse;
     std::vector<PatchId> last_drawn;
@@ -89,10 +86,8 @@ struct TerrainRenderer::Impl {
         TerrainScheme* scheme = nullptr;
     };
     std::optional<LastFrame> last_frame;
-    gpu::GlBuffer instances;
-    size_t instance_capacity = 0;
-    gpu::GlBuffer feedback;
-    size_t feedback_capacity = 0; // bytes
+    InstanceBuffer instances;
+    SurfaceCapture surface_capture;
     gpu::GlVertexArray empty_vao;
     // The drawable schemes, each over the shared pieces above.
     std::unique_ptr<Schemes> schemes;
@@ -100,18 +95,11 @@ struct TerrainRenderer::Impl {
     gpu::GpuTimer timer;                              // terrain pass
     gpu::GpuTimer upload_timer;                       // uploads and normal maps of new patches
     gpu::PrimitiveCounter triangles;                  // terrain pass
-    gpu::GlQuery primitives{GL_PRIMITIVES_GENERATED}; // capture()
-    gpu::GlQuery written{GL_TRANSFORM_FEEDBACK_PRIMITIVES_WRITTEN};
-    // Drawing needs a complete framebuffer even with the rasterizer discarded; a surfaceless
-    // context has none, so capture binds this one.
-    std::unique_ptr<gpu::RenderTarget> capture_target;
 
     Impl(const archive::ArchiveReader& r, const RendererOptions& o);
     // The scheme `settings` names, constructed on first use; throws when this renderer was
     // not built for it.
     TerrainScheme& schemeFor(const RenderSettings& settings) const;
-    PatchInstances writeInstances(const lod::Camera& camera, const lod::Camera& lod_camera,
-                                  const lod::Selection& selection, const RenderSettings& settings);
     // Selection, residency and instance buffer for one frame; `used` receives `settings` with
     // the ε actually met (raised when the selection exceeded the slots), which the
     // tessellator must use too.
@@ -122,24 +110,15 @@ struct TerrainRenderer::Impl {
         const lod::Selection selection = prepare(lod_camera, settings, stats, frozen);
         used = settings;
         used.epsilon_px = selection.epsilon_px;
-        return writeInstances(camera, lod_camera, selection, used);
+        return instances.write(schemeFor(used), camera, lod_camera, selection, used);
     }
     void setFrameUniforms(const gpu::ShaderProgram& program, const SchemeFrame& frame);
-    // Calls draw(program, first, count) for the non-empty instance groups: whole patches with
-    // the scheme's plain (or capture) program, partial ones with its clipping one.
-    template <class Draw>
-    void forEachGroup(TerrainScheme& scheme, const PatchInstances& r, Draw&& draw,
-                      bool capture) const
+    // The triangles of frame.instances (already in the instance buffer) drawn as `frame`.
+    CapturedSurface captureInstances(TerrainScheme& scheme, const SchemeFrame& frame)
     {
-        const auto [whole, clip] = scheme.programs(capture);
-        if (r.whole)
-            draw(*whole, size_t(0), r.whole);
-        if (r.partial)
-            draw(*clip, r.whole, r.partial);
+        return surface_capture.capture(
+            scheme, frame, [&](const gpu::ShaderProgram& p) { setFrameUniforms(p, frame); });
     }
-    // Captures the triangles of `ranges` (already in the instance buffer) drawn as `frame`.
-    CapturedSurface captureInstances(TerrainScheme& scheme, const SchemeFrame& frame,
-                                     const PatchInstances& ranges);
     // `frozen`: draw what is resident (resident cover), changing nothing.
     lod::Selection prepare(const lod::Camera& camera, const RenderSettings& settings,
                            FrameStats& stats, bool frozen = false);
@@ -150,7 +129,7 @@ TerrainRenderer::Impl::Impl(const archive::ArchiveReader& r, const RendererOptio
       slots(PatchTextures::slotCount(r, plan.slot_bytes, o.vram_budget_mb,
                                      o.max_resident_patches)),
       resident(r, quadtree, options, slots, plan), layout(r.blockLayout()),
-      quantization(r.quantization())
+      quantization(r.quantization()), instances(quadtree, resident.residency())
 {
     n = reader.geometry().patchSize();
     blocks_per_side = layout.blocksPerSide();
@@ -158,8 +137,6 @@ TerrainRenderer::Impl::Impl(const archive::ArchiveReader& r, const RendererOptio
     const lod::PatchBounds& root = quadtree.bounds(PatchId{0, 0, 0});
     min_height = root.min_height;
     max_height = root.max_height;
-    // Float rounding of camera-relative heights: a centimetre plus a few ulps of the highest.
-    skirt_margin = 0.01 + 1e-6 * std::max(std::abs(root.min_height), std::abs(root.max_height));
     coarse.emplace(quadtree.frame(), quadtree.box(PatchId{0, 0, 0}),
                    resident.load(PatchId{0, 0, 0})->codes, quantization);
     schemes = std::make_unique<Schemes>(
@@ -173,40 +150,6 @@ TerrainRenderer::Impl::Impl(const archive::ArchiveReader& r, const RendererOptio
 TerrainScheme& TerrainRenderer::Impl::schemeFor(const RenderSettings& settings) const
 {
     return schemes->get(settings.scheme);
-}
-
-PatchInstances TerrainRenderer::Impl::writeInstances(const lod::Camera& camera,
-                                                     const lod::Camera& lod_camera,
-                                                     const lod::Selection& selection,
-                                                     const RenderSettings& settings)
-{
-    // Skirts hang by what the scheme's mesh drops beyond Err(P) (the tessellator's λ, a
-    // chunk's simplification error, ...).
-    const TerrainScheme& scheme = schemeFor(settings);
-    // Camera-relative heights are floats: a skirt must also hang a few ulps of the largest
-    // |z − camera z| (2^−22 ≈ 2.4e−7 of it, times 4), or over flat ground (Err and λ 0), seen
-    // from far above, its foot rounds onto its top and the seam it closes opens (found when
-    // the texture-detail criterion split flat sea into levels seen from 760 km).
-    const double k = settings.exaggeration;
-    const double z_rel = std::max(std::abs(camera.position().z - k * double(min_height)),
-                                  std::abs(camera.position().z - k * double(max_height)));
-    PatchInstances built = buildPatchInstances(
-        quadtree, selection, camera.position(),
-        [&](PatchId p) { return resident.residency().slotOf(p); },
-        [&](PatchId p) { return scheme.meshDeviation(resident.residency().slotOf(p)); },
-        skirt_margin * std::max(k, 1.0) + 1e-6 * z_rel, k);
-    scheme.completeInstances(lod_camera, settings, built);
-    const std::vector<GpuPatchInstance>& data = built.records;
-    const size_t bytes = std::max<size_t>(data.size(), 1) * sizeof(GpuPatchInstance);
-    if (bytes > instance_capacity) {
-        instances = gpu::GlBuffer();
-        instance_capacity = std::max(bytes, size_t(256) * sizeof(GpuPatchInstance));
-        glNamedBufferStorage(instances.id(), instance_capacity, nullptr, GL_DYNAMIC_STORAGE_BIT);
-    }
-    if (!data.empty())
-        glNamedBufferSubData(instances.id(), 0, data.size() * sizeof(GpuPatchInstance),
-                             data.data());
-    return built;
 }
 
 void TerrainRenderer::Impl::setFrameUniforms(const gpu::ShaderProgram& program,
@@ -259,7 +202,7 @@ void TerrainRenderer::Impl::setFrameUniforms(const gpu::ShaderProgram& program,
         planes[i][3] = float(d + 0.01 + 1e-6 * camera.farPlane());
     }
     glProgramUniform4fv(id, program.uniform("u_frustum"), 6, &planes[0][0]);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, instances.id());
+    instances.bind();
     resident.textures().bind();
     schemeFor(settings).setUniforms(program, frame);
 }
@@ -474,14 +417,12 @@ FrameStats TerrainRenderer::draw(const lod::Camera& camera, const RenderSettings
     }
     // Both instance groups with `mode` (3: the wireframe's flat colour).
     auto drawTerrain = [&](int mode) {
-        m.forEachGroup(
-            scheme, ranges,
-            [&](const gpu::ShaderProgram& p, size_t first, size_t n) {
-                p.use();
-                glUniform1i(p.uniform("u_mode"), mode);
-                scheme.draw(p, frame, first, n);
-            },
-            false);
+        forEachGroup(scheme.programs(false), ranges,
+                     [&](const gpu::ShaderProgram& p, size_t first, size_t n) {
+                         p.use();
+                         glUniform1i(p.uniform("u_mode"), mode);
+                         scheme.draw(p, frame, first, n);
+                     });
     };
 
     m.timer.begin();
@@ -519,7 +460,7 @@ CapturedSurface TerrainRenderer::lastFrameSurface()
         return {};
     Impl::LastFrame& f = *m.last_frame;
     const SchemeFrame frame{f.camera, f.lod_camera, f.settings, f.instances};
-    return m.captureInstances(*f.scheme, frame, f.instances);
+    return m.captureInstances(*f.scheme, frame);
 }
 
 
@@ -535,75 +476,7 @@ CapturedSurface TerrainRenderer::capture(const lod::Camera& camera, const Render
     m.last_frame.reset(); // the instance buffer is this capture's now
     const PatchInstances ranges = m.beginFrame(camera, lod, settings, stats, s, keep_residency);
     const SchemeFrame frame{camera, lod, s, ranges};
-    return m.captureInstances(scheme, frame, ranges);
-}
-
-CapturedSurface TerrainRenderer::Impl::captureInstances(TerrainScheme& scheme,
-                                                        const SchemeFrame& frame,
-                                                        const PatchInstances& ranges)
-{
-    Impl& m = *this;
-    const RenderSettings& s = frame.settings;
-    CapturedSurface out;
-    out.camera_position = frame.camera.position();
-    out.patches = ranges.patches;
-    for (const GpuPatchInstance& r : ranges.records)
-        out.skirt_depth.push_back(r.skirt_depth);
-    if (ranges.total() == 0)
-        return out;
-
-    scheme.beginDraw(frame);
-    for (const gpu::ShaderProgram* p : scheme.programs(true))
-        m.setFrameUniforms(*p, frame);
-    GLint previous_framebuffer = 0;
-    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &previous_framebuffer);
-    if (!m.capture_target)
-        m.capture_target = std::make_unique<gpu::RenderTarget>(1, 1, 1);
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m.capture_target->framebuffer());
-    glEnable(GL_RASTERIZER_DISCARD);
-    // Clipping makes at most 3 triangles and 2 walls (4 triangles) of one.
-    const size_t per_instance = scheme.maxTrianglesPerInstance(s.skirts);
-    const size_t bytes =
-        (ranges.whole + 7 * ranges.partial) * per_instance * 3 * sizeof(CapturedVertex);
-    if (bytes > m.feedback_capacity) {
-        m.feedback = gpu::GlBuffer();
-        glNamedBufferStorage(m.feedback.id(), bytes, nullptr, 0);
-        m.feedback_capacity = bytes;
-    }
-    // One feedback session per program (programs cannot change while it is active); the
-    // second appends after the first.
-    size_t stored_total = 0;
-    m.forEachGroup(
-        scheme, ranges,
-        [&](const gpu::ShaderProgram& p, size_t first, size_t n) {
-            p.use();
-            const GLintptr offset = GLintptr(stored_total * 3 * sizeof(CapturedVertex));
-            glBindBufferRange(GL_TRANSFORM_FEEDBACK_BUFFER, 0, m.feedback.id(), offset,
-                              GLsizeiptr(m.feedback_capacity - size_t(offset)));
-            glBeginQuery(GL_TRANSFORM_FEEDBACK_PRIMITIVES_WRITTEN, m.written.id());
-            glBeginQuery(GL_PRIMITIVES_GENERATED, m.primitives.id());
-            glBeginTransformFeedback(GL_TRIANGLES);
-            scheme.draw(p, frame, first, n);
-            glEndTransformFeedback();
-            glEndQuery(GL_PRIMITIVES_GENERATED);
-            glEndQuery(GL_TRANSFORM_FEEDBACK_PRIMITIVES_WRITTEN);
-            GLuint64 generated = 0, stored = 0;
-            glGetQueryObjectui64v(m.primitives.id(), GL_QUERY_RESULT, &generated);
-            glGetQueryObjectui64v(m.written.id(), GL_QUERY_RESULT, &stored);
-            if (generated != stored)
-                throw Error("terrain renderer: transform feedback kept " + std::to_string(stored) +
-                            " of " + std::to_string(generated) + " triangles");
-            stored_total += size_t(stored);
-        },
-        true);
-    glDisable(GL_RASTERIZER_DISCARD);
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(previous_framebuffer));
-    const size_t stored = stored_total;
-    out.vertices.resize(size_t(stored) * 3);
-    glGetNamedBufferSubData(m.feedback.id(), 0, out.vertices.size() * sizeof(CapturedVertex),
-                            out.vertices.data());
-    gpu::checkGlError("terrain renderer: capture");
-    return out;
+    return m.captureInstances(scheme, frame);
 }
 
 double TerrainRenderer::groundHeight(double x, double y, double exaggeration) const
