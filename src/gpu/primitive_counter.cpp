@@ -23,8 +23,9 @@ void PrimitiveCounter::end()
 
 std::uint64_t PrimitiveCounter::latest()
 {
-    // Oldest first, so the newest available result wins.
-    for (std::size_t k = 1; k <= kRingSize; ++k) {
+    // Oldest first (the query the next begin() takes is the oldest), so the newest available
+    // result wins.
+    for (std::size_t k = 0; k < kRingSize; ++k) {
         const std::size_t q = (next_ + k) % kRingSize;
         if (!pending_[q])
             continue;
