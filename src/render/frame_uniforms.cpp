@@ -2,6 +2,7 @@
 
 #include "palette_uniforms.h"
 #include "patch_instances.h"
+#include "sky.h"
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -62,7 +63,8 @@ void FrameUniforms::setShading(const gpu::ShaderProgram& program, const lod::Cam
     // Archives before format v4 store no water: the palette's old rule, heights <= 0 m.
     glProgramUniform1i(id, program.uniform("u_water_from_height"),
                        reader_.storesSampleFlags() ? 0 : 1);
-    // Fog thickens over the terrain's own size: a tenth of the light lost across it.
+    // Fog fades to the sky's horizon and thickens over the terrain's own size: a tenth of the
+    // light lost across it.
     const double extent = std::max(quadtree_.frame().extentX(), quadtree_.frame().extentY());
     glProgramUniform3f(id, program.uniform("u_fog_colour"), kHorizonColour.r, kHorizonColour.g,
                        kHorizonColour.b);

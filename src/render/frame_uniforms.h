@@ -12,16 +12,11 @@
 #include "ridge/render/terrain_renderer.h"
 
 #include <glm/mat4x4.hpp>
-#include <glm/vec3.hpp>
 
 namespace ridge::render {
 
 // Sets the mat4 uniform `name` of `program` to `m`, in floats.
 void setMatrix(const gpu::ShaderProgram& program, const char* name, const glm::dmat4& m);
-
-// The sky's colour at the horizon, which the fog fades to, and at the zenith.
-inline const glm::vec3 kHorizonColour(0.78f, 0.84f, 0.90f);
-inline const glm::vec3 kZenithColour(0.30f, 0.48f, 0.75f);
 
 class FrameUniforms {
   public:

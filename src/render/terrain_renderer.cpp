@@ -4,6 +4,7 @@
 #include "instance_buffer.h"
 #include "resident_set.h"
 #include "scheme_plan.h"
+#include "sky.h"
 #include "surface_capture.h"
 #include "terrain_scheme.h"
 
@@ -13,8 +14,6 @@
 #include "ridge/gpu/primitive_counter.h"
 #include "ridge/gpu/shader_program.h"
 #include "ridge/lod/coarse_terrain.h"
-
-#include <glm/gtc/matrix_inverse.hpp>
 
 #include <chrono>
 #include <cmath>
@@ -69,8 +68,7 @@ struct TerrainRenderer::Impl {
         TerrainScheme* scheme = nullptr;
     };
     std::optional<LastFrame> last_frame;
-    gpu::GlVertexArray empty_vao;
-    gpu::ShaderProgram sky_program;
+    Sky sky;
     gpu::GpuTimer timer;             // terrain pass
     gpu::GpuTimer upload_timer;      // uploads and normal maps of new patches
     gpu::PrimitiveCounter triangles; // terrain pass
@@ -107,7 +105,6 @@ struct TerrainRenderer::Impl {
             setUniforms(scheme, p, frame);
         });
     }
-    void drawSky(const glm::dmat4& view_projection);
 };
 
 TerrainRenderer::Impl::Impl(const archive::ArchiveReader& r, const RendererOptions& o)
@@ -123,8 +120,6 @@ TerrainRenderer::Impl::Impl(const archive::ArchiveReader& r, const RendererOptio
       instances(quadtree, resident.residency()), uniforms(r, quadtree)
 {
     resident.start(schemes);
-    sky_program =
-        gpu::ShaderProgram({{GL_VERTEX_SHADER, "sky.vert"}, {GL_FRAGMENT_SHADER, "sky.frag"}});
 }
 
 lod::Selection TerrainRenderer::Impl::prepare(TerrainScheme& scheme, const lod::Camera& camera,
@@ -170,22 +165,6 @@ lod::Selection TerrainRenderer::Impl::prepare(TerrainScheme& scheme, const lod::
     for (const lod::SelectedPatch& p : selection.patches)
         last_drawn.push_back(p.id);
     return selection;
-}
-
-void TerrainRenderer::Impl::drawSky(const glm::dmat4& view_projection)
-{
-    // Background only: no depth written, the cleared depth stays the far value.
-    glDisable(GL_DEPTH_TEST);
-    glDepthMask(GL_FALSE);
-    sky_program.use();
-    setMatrix(sky_program, "u_inverse_view_projection", glm::inverse(view_projection));
-    glUniform3f(sky_program.uniform("u_horizon_colour"), kHorizonColour.r, kHorizonColour.g,
-                kHorizonColour.b);
-    glUniform3f(sky_program.uniform("u_zenith_colour"), kZenithColour.r, kZenithColour.g,
-                kZenithColour.b);
-    glBindVertexArray(empty_vao.id());
-    glDrawArrays(GL_TRIANGLES, 0, 3);
-    glDepthMask(GL_TRUE);
 }
 
 namespace {
@@ -311,7 +290,7 @@ FrameStats TerrainRenderer::draw(const lod::Camera& camera, const RenderSettings
     const glm::dmat4 view_projection =
         host ? host->view_projection : reverseZProjection(camera) * camera.view();
     if (s.sky && s.clear)
-        m.drawSky(view_projection);
+        m.sky.draw(view_projection);
 
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(greater ? GL_GREATER : GL_LESS);
