@@ -2,6 +2,7 @@
 
 #include "frame_uniforms.h"
 #include "instance_buffer.h"
+#include "patch_textures.h"
 #include "resident_set.h"
 #include "scheme_plan.h"
 #include "sky.h"
