@@ -3,9 +3,51 @@
 #include "ridge/core/error.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <cstring>
 
 namespace ridge::render {
+
+bool PatchTextures::waterMaps(const archive::ArchiveReader& reader)
+{
+    return reader.storesSampleFlags() && reader.metadata().water.samples > 0;
+}
+
+double PatchTextures::bytesPerSlot(int patch_size, const TessellationBlockLayout& layout,
+                                   bool water_maps)
+{
+    const double n = patch_size;
+    const double blocks = double(layout.blocksPerSide());
+    // Heights R16UI and normals RGBA8 (n²), block errors RGBA32F, the kept-nodata cell mask
+    // R8UI ((n−1)², allocated for every slot) and its flag, the water map R8UI (n², only for
+    // archives with water).
+    return n * n * (2.0 + 4.0 + (water_maps ? 1.0 : 0.0)) + blocks * blocks * 16.0 +
+           (n - 1) * (n - 1) + 1.0;
+}
+
+int PatchTextures::slotCount(const archive::ArchiveReader& reader, double scheme_slot_bytes,
+                             double vram_budget_mb, int max_slots)
+{
+    const int n = reader.geometry().patchSize();
+    const double bytes_per_slot =
+        bytesPerSlot(n, reader.blockLayout(), waterMaps(reader)) + scheme_slot_bytes;
+    GLint max_layers = 256;
+    glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &max_layers);
+    const double by_budget = std::floor(vram_budget_mb * 1024.0 * 1024.0 / bytes_per_slot);
+    const int wanted = int(std::min({double(max_slots), by_budget, double(max_layers)}));
+    const int minimum = 4;
+    if (wanted < minimum) {
+        char message[160];
+        std::snprintf(
+            message, sizeof message,
+            ": patches of %d^2 samples need %.3g MB of texture memory at least; the budget "
+            "is %.3g MB",
+            n, minimum * bytes_per_slot / 1048576.0, vram_budget_mb);
+        throw Error(reader.path() + message);
+    }
+    return wanted;
+}
 
 PatchTextures::PatchTextures(int patch_size, const TessellationBlockLayout& layout, int levels,
                              int slots, const HeightQuantization& quantization,
@@ -216,6 +258,40 @@ void PatchTextures::collect()
         glDeleteSync(oldest.fence);
         pending_.erase(pending_.begin());
     }
+}
+
+std::vector<uint16_t> PatchTextures::readCodes(int slot) const
+{
+    std::vector<uint16_t> codes(size_t(n_) * n_);
+    glPixelStorei(GL_PACK_ALIGNMENT, 2);
+    glGetTextureSubImage(heights_.id(), 0, 0, 0, slot, n_, n_, 1, GL_RED_INTEGER,
+                         GL_UNSIGNED_SHORT, GLsizei(codes.size() * sizeof(uint16_t)), codes.data());
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    gpu::checkGlError("patch textures: read codes");
+    return codes;
+}
+
+std::vector<float> PatchTextures::readBlockErrors(int slot) const
+{
+    const int B = layout_.blocksPerSide(), D = layout_.levels();
+    std::vector<float> texels(size_t(B) * B * 4);
+    glGetTextureSubImage(block_errors_.id(), 0, 0, 0, slot, B, B, 1, GL_RGBA, GL_FLOAT,
+                         GLsizei(texels.size() * sizeof(float)), texels.data());
+    gpu::checkGlError("patch textures: read block errors");
+    std::vector<float> lambda(size_t(B) * B * D, 0.f);
+    for (int b = 0; b < B * B; ++b)
+        for (int d = 0; d < std::min(D, 4); ++d)
+            lambda[size_t(b) * D + d] = texels[size_t(b) * 4 + d];
+    return lambda;
+}
+
+std::vector<int8_t> PatchTextures::readNormals(int slot) const
+{
+    std::vector<int8_t> texels(size_t(n_) * n_ * 4);
+    glGetTextureSubImage(normals_.id(), 0, 0, 0, slot, n_, n_, 1, GL_RGBA, GL_BYTE,
+                         GLsizei(texels.size()), texels.data());
+    gpu::checkGlError("patch textures: read normals");
+    return texels;
 }
 
 void PatchTextures::bind() const

@@ -8,6 +8,7 @@
 // residuals that the GPU reconstructs from its parent's layer (reconstruct); λ is then
 // derived on the GPU too unless the archive stores it. Normal maps are computed from the
 // height layers once a batch is written (computeNormals).
+#include "ridge/archive/archive_reader.h"
 #include "ridge/codec/progressive_codec.h"
 #include "ridge/core/height_grid.h"
 #include "ridge/gpu/gl_objects.h"
@@ -19,12 +20,26 @@
 
 #include <array>
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace ridge::render {
 
 class PatchTextures {
   public:
+    // Whether slots hold water maps for `reader`'s patches: only when they may carry water
+    // bitmaps (archive sample flags with any water sample).
+    static bool waterMaps(const archive::ArchiveReader& reader);
+    // Texture memory one slot takes, bytes (what the constructor allocates per slot).
+    static double bytesPerSlot(int patch_size, const TessellationBlockLayout& layout,
+                               bool water_maps);
+    // Slots for resident patches of `reader`: at most `max_slots`, at most what
+    // `vram_budget_mb` holds at bytesPerSlot plus `scheme_slot_bytes` (what the schemes keep
+    // per slot) and at most the GL limit on array layers. At least 4, so that raising ε always
+    // finds a selection that fits: throws ridge::Error naming the archive otherwise.
+    static int slotCount(const archive::ArchiveReader& reader, double scheme_slot_bytes,
+                         double vram_budget_mb, int max_slots);
+
     // Needs a current GL 4.5 context. `levels` is D as the shaders use it (<= 4).
     // `progressive`: the archive's codec when patches may arrive as residuals, else null.
     // `water_maps`: patches may carry water bitmaps (archive sample flags), which then take
@@ -63,9 +78,12 @@ class PatchTextures {
     // and their per-slot flags to 4 and 5, the water maps to 6 (terrain.frag; 3 is
     // geomorph's).
     void bind() const;
-    GLuint heights() const { return heights_.id(); }
-    GLuint blockErrors() const { return block_errors_.id(); }
-    GLuint normals() const { return normals_.id(); }
+    // Read back from the GPU (tests): the codes of `slot` (n², row-major), its λ(d) in metres
+    // (B² blocks of D = the layout's levels, TessellationBlockLayout order; levels beyond 4 read
+    // 0) and its normal map (RGBA8_SNORM texels, row-major).
+    std::vector<uint16_t> readCodes(int slot) const;
+    std::vector<float> readBlockErrors(int slot) const;
+    std::vector<int8_t> readNormals(int slot) const;
     // The largest λ^(d) of any block of the patch in `slot`, metres.
     float lambdaMax(int slot) const { return lambda_max_[size_t(slot)]; }
 

@@ -30,6 +30,13 @@ namespace ridge::render {
 
 // What a scheme needs decided before the renderer allocates anything, from the archive and
 // the renderer's options alone.
+//
+// They also decide when the scheme's object is constructed. A scheme that keeps per-slot data
+// (slot_bytes > 0 or a preparation) is constructed with the renderer, so that upload() sees
+// every patch that becomes resident. Any other is constructed on the first frame that draws it
+// (a renderer built for several schemes allocates only those it draws); it sees only the uploads
+// from then on, so it must keep nothing per slot: its upload() and plannedUploadBytes() send
+// and store nothing.
 struct SchemeNeeds {
     // Codes on the CPU for every patch (no GPU reconstruction of progressive residuals):
     // schemes that build meshes or vertex arrays from heights.

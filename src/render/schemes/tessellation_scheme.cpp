@@ -2,8 +2,16 @@
 // the patch quadtree at ε; fine LOD is the tessellation control shader's per-edge factors from
 // the blocks' Λ^(d) = λ^(d) + Err(P) (shaders/terrain.tesc, edge_tessellation.glsl); every
 // selected patch is one instance of one draw, B² tessellation blocks plus 4B skirt segments.
+#include "../frame_uniforms.h"
 #include "../scheme_programs.h"
 #include "../terrain_scheme.h"
+
+#include "ridge/lod/frustum.h"
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <algorithm>
 
 namespace ridge::render {
 namespace {
@@ -12,7 +20,8 @@ class TessellationScheme final : public TerrainScheme {
   public:
     explicit TessellationScheme(const SchemeResources& r)
         : textures_(r.textures), blocks_per_side_(r.reader.blockLayout().blocksPerSide()),
-          block_cells_(r.reader.blockLayout().block_cells)
+          block_cells_(r.reader.blockLayout().block_cells),
+          block_levels_(std::min(r.reader.blockLayout().levels(), lod::kMaxBlockLevels))
     {
     }
 
@@ -24,11 +33,47 @@ class TessellationScheme final : public TerrainScheme {
         return programs_.get(capture);
     }
 
-    // Conservative (ridge's default: ε on every sample) or the paper's edge rule.
+    // What only the tessellation shaders read: the LOD camera, ε and the rule for the edge
+    // factors (edge_tessellation.glsl), and the blocks and frustum for block culling
+    // (terrain.tesc).
     void setUniforms(const gpu::ShaderProgram& program, const SchemeFrame& frame) const override
     {
-        glProgramUniform1i(program.id(), program.uniform("u_tessellation_rule"),
-                           int(frame.settings.tessellation_rule));
+        const GLuint id = program.id();
+        const lod::Camera& camera = frame.camera;
+        const RenderSettings& settings = frame.settings;
+        // Conservative (ridge's default: ε on every sample) or the paper's edge rule.
+        glProgramUniform1i(id, program.uniform("u_tessellation_rule"),
+                           int(settings.tessellation_rule));
+        // LOD is decided for frame.lod_camera: positions relative to the drawn camera, moved to
+        // the LOD camera and projected by it (the same matrix when both are one camera).
+        const glm::dmat4 to_lod_camera = glm::translate(
+            glm::dmat4(1.0), camera.position() - frame.lod_camera.position());
+        setMatrix(program, "u_lod_view_projection",
+                  reverseZProjection(frame.lod_camera) * frame.lod_camera.view() * to_lod_camera);
+        const glm::dvec3 lod_offset = frame.lod_camera.position() - camera.position();
+        glProgramUniform3f(id, program.uniform("u_lod_camera"), float(lod_offset.x),
+                           float(lod_offset.y), float(lod_offset.z));
+        glProgramUniform2f(id, program.uniform("u_viewport"), float(camera.viewport().width),
+                           float(camera.viewport().height));
+        glProgramUniform1f(id, program.uniform("u_epsilon"), float(settings.epsilon_px));
+        glProgramUniform1i(id, program.uniform("u_blocks_per_side"), blocks_per_side_);
+        glProgramUniform1i(id, program.uniform("u_block_levels"), block_levels_);
+        // Block culling uses the camera-relative frustum: the terrain-frame planes moved by −c.
+        glProgramUniform1i(id, program.uniform("u_cull_blocks"),
+                           settings.cull && settings.cull_blocks ? 1 : 0);
+        const lod::Frustum frustum(camera);
+        float planes[6][4];
+        for (int i = 0; i < 6; ++i) {
+            const glm::dvec4 pl = frustum.plane(i);
+            const double d = pl.w + glm::dot(glm::dvec3(pl), camera.position());
+            planes[i][0] = float(pl.x);
+            planes[i][1] = float(pl.y);
+            planes[i][2] = float(pl.z);
+            // Widened beyond float rounding of camera-relative positions (~1e-7 of the
+            // distance): a visible block must never be culled.
+            planes[i][3] = float(d + 0.01 + 1e-6 * camera.farPlane());
+        }
+        glProgramUniform4fv(id, program.uniform("u_frustum"), 6, &planes[0][0]);
     }
 
     void draw(const gpu::ShaderProgram& program, const SchemeFrame& frame, size_t first,
@@ -52,6 +97,7 @@ class TessellationScheme final : public TerrainScheme {
   private:
     const PatchTextures& textures_;
     int blocks_per_side_, block_cells_;
+    int block_levels_; // D as the shaders use it (<= lod::kMaxBlockLevels)
     gpu::GlVertexArray empty_vao_; // the tessellator's one vertex per patch primitive is implicit
     SchemePrograms programs_{{{GL_VERTEX_SHADER, "terrain.vert"},
                               {GL_TESS_CONTROL_SHADER, "terrain.tesc"},

@@ -1,0 +1,41 @@
+#pragma once
+// The frame uniforms every scheme's terrain programs share (internal to ridge_render): the
+// geometry of shaders/terrain_common.glsl — view-projection, camera anchor, height decoding,
+// patch and block cells — for every program a scheme draws or captures with, and the shading
+// of terrain.frag for the drawing ones. Uniforms that only one scheme's shaders read are that
+// scheme's (TerrainScheme::setUniforms: the tessellation scheme's LOD camera, ε, block
+// culling).
+#include "ridge/archive/archive_reader.h"
+#include "ridge/gpu/shader_program.h"
+#include "ridge/lod/camera.h"
+#include "ridge/lod/patch_quadtree.h"
+#include "ridge/render/terrain_renderer.h"
+
+#include <glm/mat4x4.hpp>
+
+namespace ridge::render {
+
+// Sets the mat4 uniform `name` of `program` to `m`, in floats.
+void setMatrix(const gpu::ShaderProgram& program, const char* name, const glm::dmat4& m);
+
+class FrameUniforms {
+  public:
+    // `reader` and `quadtree` must outlive this.
+    FrameUniforms(const archive::ArchiveReader& reader, const lod::PatchQuadtree& quadtree);
+
+    // terrain_common.glsl's uniforms of `program` for a frame drawn from `camera` with
+    // `settings`.
+    void setGeometry(const gpu::ShaderProgram& program, const lod::Camera& camera,
+                     const RenderSettings& settings) const;
+    // terrain.frag's: sun, height range, sea level, the water rule, fog, the wireframe's
+    // colour and the palette.
+    void setShading(const gpu::ShaderProgram& program, const lod::Camera& camera,
+                    const RenderSettings& settings) const;
+
+  private:
+    const archive::ArchiveReader& reader_;
+    const lod::PatchQuadtree& quadtree_;
+    float min_height_ = 0.f, max_height_ = 0.f; // terrain frame, metres
+};
+
+} // namespace ridge::render

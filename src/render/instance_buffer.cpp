@@ -1,0 +1,56 @@
+#include "instance_buffer.h"
+
+#include "terrain_scheme.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ridge::render {
+
+InstanceBuffer::InstanceBuffer(const lod::PatchQuadtree& quadtree,
+                               const lod::PatchResidency& residency)
+    : quadtree_(quadtree), residency_(residency)
+{
+    const lod::PatchBounds& root = quadtree.bounds(PatchId{0, 0, 0});
+    min_height_ = root.min_height;
+    max_height_ = root.max_height;
+    // Float rounding of camera-relative heights: a centimetre plus a few ulps of the highest.
+    skirt_margin_ = 0.01 + 1e-6 * std::max(std::abs(root.min_height), std::abs(root.max_height));
+}
+
+PatchInstances InstanceBuffer::write(const TerrainScheme& scheme, const lod::Camera& camera,
+                                     const lod::Camera& lod_camera, const lod::Selection& selection,
+                                     const RenderSettings& settings)
+{
+    // Skirts hang by what the scheme's mesh drops beyond Err(P) (the tessellator's λ, a
+    // chunk's simplification error, ...).
+    // Camera-relative heights are floats: a skirt must also hang a few ulps of the largest
+    // |z − camera z| (2^−22 ≈ 2.4e−7 of it, times 4), or over flat ground (Err and λ 0), seen
+    // from far above, its foot rounds onto its top and the seam it closes opens (found when
+    // the texture-detail criterion split flat sea into levels seen from 760 km).
+    const double k = settings.exaggeration;
+    const double z_rel = std::max(std::abs(camera.position().z - k * double(min_height_)),
+                                  std::abs(camera.position().z - k * double(max_height_)));
+    PatchInstances built = buildPatchInstances(
+        quadtree_, selection, camera.position(), [&](PatchId p) { return residency_.slotOf(p); },
+        [&](PatchId p) { return scheme.meshDeviation(residency_.slotOf(p)); },
+        skirt_margin_ * std::max(k, 1.0) + 1e-6 * z_rel, k);
+    scheme.completeInstances(lod_camera, settings, built);
+    const std::vector<GpuPatchInstance>& data = built.records;
+    const size_t bytes = std::max<size_t>(data.size(), 1) * sizeof(GpuPatchInstance);
+    if (bytes > capacity_) {
+        buffer_ = gpu::GlBuffer();
+        capacity_ = std::max(bytes, size_t(256) * sizeof(GpuPatchInstance));
+        glNamedBufferStorage(buffer_.id(), capacity_, nullptr, GL_DYNAMIC_STORAGE_BIT);
+    }
+    if (!data.empty())
+        glNamedBufferSubData(buffer_.id(), 0, data.size() * sizeof(GpuPatchInstance), data.data());
+    return built;
+}
+
+void InstanceBuffer::bind() const
+{
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, buffer_.id());
+}
+
+} // namespace ridge::render

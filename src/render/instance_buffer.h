@@ -1,0 +1,56 @@
+#pragma once
+// The instance buffer of the terrain draw (internal to ridge_render): one frame's instance
+// records (patch_instances.h) for a scheme — skirts hung by what its mesh drops beyond Err(P),
+// what it keeps in the records filled in — in the shader storage buffer every terrain program
+// reads (shaders/terrain_common.glsl's PatchInstances).
+#include "patch_instances.h"
+
+#include "ridge/gpu/gl_objects.h"
+#include "ridge/gpu/shader_program.h"
+#include "ridge/lod/patch_quadtree.h"
+#include "ridge/lod/patch_residency.h"
+#include "ridge/render/terrain_renderer.h"
+
+#include <array>
+#include <cstddef>
+
+namespace ridge::render {
+
+class TerrainScheme;
+
+class InstanceBuffer {
+  public:
+    // `quadtree` and `residency` must outlive this.
+    InstanceBuffer(const lod::PatchQuadtree& quadtree, const lod::PatchResidency& residency);
+
+    // The records of `selection` (resident) seen from `camera` as `scheme` draws it with
+    // `settings` (the ε met), LOD decided for `lod_camera`, uploaded; returns them.
+    PatchInstances write(const TerrainScheme& scheme, const lod::Camera& camera,
+                         const lod::Camera& lod_camera, const lod::Selection& selection,
+                         const RenderSettings& settings);
+    // Binds the buffer to shader storage binding 0.
+    void bind() const;
+
+  private:
+    const lod::PatchQuadtree& quadtree_;
+    const lod::PatchResidency& residency_;
+    float min_height_ = 0.f, max_height_ = 0.f; // terrain frame, metres
+    double skirt_margin_ = 0.0;                 // float rounding of camera-relative heights
+    gpu::GlBuffer buffer_;
+    size_t capacity_ = 0; // bytes
+};
+
+// Calls draw(program, first, count) for the non-empty instance groups of `instances`: whole
+// patches with programs[0], a scheme's plain (or capture) program, those clipped at the valid
+// extent with programs[1], its clipping one (TerrainScheme::programs).
+template <class Draw>
+void forEachGroup(const std::array<const gpu::ShaderProgram*, 2>& programs,
+                  const PatchInstances& instances, Draw&& draw)
+{
+    if (instances.whole)
+        draw(*programs[0], size_t(0), instances.whole);
+    if (instances.partial)
+        draw(*programs[1], instances.whole, instances.partial);
+}
+
+} // namespace ridge::render

@@ -1,0 +1,102 @@
+#pragma once
+// The resident set, executed (internal to ridge_render): which patches are in the
+// texture-array slots, and getting them there. Synchronously (makeResident: the whole selection
+// loaded and uploaded before the frame) or streaming (stream: the GL-free stream::UploadPlanner
+// decides what to request, keep and upload; this uploads within the frame's budgets and draws
+// the resident cover meanwhile). An upload reaches the shared texture arrays (PatchTextures:
+// codes or a GPU reconstruction, λ, masks, then the normal maps) and every constructed scheme.
+//
+// Owns the slots' residency and texture arrays, the synchronous loader, the streamer and its
+// planner, the decoded patches waiting for an upload, the upload time budget and the traffic
+// counters behind FrameStats.
+#include "patch_textures.h"
+#include "scheme_plan.h"
+
+#include "ridge/archive/archive_reader.h"
+#include "ridge/lod/patch_quadtree.h"
+#include "ridge/lod/patch_residency.h"
+#include "ridge/render/terrain_renderer.h"
+#include "ridge/stream/patch_loader.h"
+#include "ridge/stream/patch_streamer.h"
+#include "ridge/stream/upload_planner.h"
+
+#include <chrono>
+#include <memory>
+#include <unordered_set>
+#include <vector>
+
+namespace ridge::render {
+
+class ResidentSet {
+  public:
+    // `slots` texture-array layers for the schemes of `plan`; the arguments must outlive this.
+    // Streaming starts with start().
+    ResidentSet(const archive::ArchiveReader& reader, const lod::PatchQuadtree& quadtree,
+                const RendererOptions& options, int slots, const SchemePlan& plan);
+    ~ResidentSet();
+    ResidentSet(const ResidentSet&) = delete;
+    ResidentSet& operator=(const ResidentSet&) = delete;
+
+    // Uploads reach `schemes` (built over textures() and residency()) from now on; streaming,
+    // the root is made resident: the last resort of every fallback. Once, before any frame.
+    void start(Schemes& schemes);
+
+    bool streaming() const { return streamer_ != nullptr; }
+    PatchTextures& textures() { return *textures_; }
+    const lod::PatchResidency& residency() const { return residency_; }
+    // A patch decoded on this thread (the loader's cache or a decode now).
+    std::shared_ptr<const stream::DecodedPatch> load(PatchId p) { return loader_.load(p); }
+
+    // Synchronous: every patch of `selection` is resident when this returns.
+    void makeResident(const lod::Selection& selection, FrameStats& stats);
+    // Streaming: requests what is missing, uploads what arrived (within the per-frame budget)
+    // and returns what to draw now — missing patches replaced by resident ancestors.
+    // `settings`: the selection's, for the prefetch.
+    lod::Selection stream(const lod::Selection& desired, const lod::Camera& camera,
+                          const lod::SelectionSettings& settings, FrameStats& stats);
+    // What is resident now, ancestors standing in for the rest of `selection`: no request, no
+    // upload.
+    lod::Selection frozenCover(lod::Selection selection) const;
+    // The reads, decodes and cache traffic since the last call, into `stats`.
+    void countTraffic(FrameStats& stats);
+
+    // Streaming: see TerrainRenderer::waitForStreaming, streamingError, streamingCacheBytes.
+    void waitIdle();
+    bool waitIdleFor(double timeout_seconds);
+    std::string error() const;
+    size_t cacheBytes() const;
+    // Since construction, either mode: patches decoded because the cache missed them, and
+    // loads the cache served.
+    uint64_t cacheMisses() const;
+    uint64_t cacheHits() const;
+
+  private:
+    size_t uploadPatch(const stream::DecodedPatch& patch, int slot,
+                       const std::unordered_set<int>& pending_slots = {});
+    // What uploading `patch` will send, at most (the per-frame budget plans with it).
+    size_t plannedUploadBytes(const stream::DecodedPatch& patch) const;
+    void computeNormals(PatchId p, const std::unordered_set<int>& pending);
+
+    const archive::ArchiveReader& reader_;
+    const lod::PatchQuadtree& quadtree_;
+    const RendererOptions& options_;
+    Schemes* schemes_ = nullptr; // from start()
+    lod::PatchResidency residency_;
+    uint64_t frame_ = 0; // residency's clock (synchronous frames)
+    stream::PatchLoader loader_;
+    std::unique_ptr<PatchTextures> textures_;
+    // Streaming mode: decoded patches arrive from the streamer's workers and wait here for an
+    // upload slot in a later frame.
+    std::unique_ptr<stream::PatchStreamer> streamer_;
+    std::vector<std::shared_ptr<const stream::DecodedPatch>> arrived_, waiting_;
+    std::vector<stream::ArrivedPatch> arrived_descriptions_; // capacity kept across frames
+    std::unique_ptr<stream::UploadPlanner> planner_;
+    // The upload time budget follows the frame time, measured on this clock (ms since epoch).
+    stream::UploadTimeBudget upload_time_;
+    const std::chrono::steady_clock::time_point epoch_ = std::chrono::steady_clock::now();
+    // Traffic counters at the end of the previous frame (FrameStats reports the difference).
+    stream::StreamerStats last_streamer_stats_;
+    stream::LoaderStats last_loader_stats_;
+};
+
+} // namespace ridge::render

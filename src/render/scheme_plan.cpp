@@ -1,0 +1,87 @@
+#include "scheme_plan.h"
+
+#include "terrain_scheme.h"
+
+#include "ridge/core/error.h"
+
+#include <algorithm>
+
+namespace ridge::render {
+
+SchemePlan planSchemes(const archive::ArchiveReader& reader, const RendererOptions& options)
+{
+    SchemePlan out;
+    auto add = [&](const SchemeInfo& info, const SchemeNeeds& needs) {
+        out.infos.push_back(&info);
+        out.names.push_back(info.name);
+        out.slot_bytes += needs.slot_bytes;
+        out.codes_on_cpu = out.codes_on_cpu || needs.codes_on_cpu;
+        out.product.push_back(needs.preparation ? int(out.preparations.size()) : -1);
+        out.eager.push_back(needs.slot_bytes > 0.0 || needs.preparation);
+        if (needs.preparation)
+            out.preparations.push_back(needs.preparation);
+    };
+    if (options.schemes.empty()) {
+        for (const SchemeInfo& info : schemeRegistry())
+            if (SchemeNeeds needs = info.needs(reader, options); !needs.codes_on_cpu)
+                add(info, needs);
+    } else {
+        for (const std::string& name : options.schemes) {
+            const SchemeInfo& info = schemeNamed(name);
+            if (std::find(out.infos.begin(), out.infos.end(), &info) == out.infos.end())
+                add(info, info.needs(reader, options));
+        }
+    }
+    return out;
+}
+
+Schemes::Schemes(const SchemePlan& plan, const SchemeResources& shared)
+    : plan_(plan), shared_(std::make_unique<const SchemeResources>(shared)),
+      schemes_(plan.infos.size())
+{
+    for (size_t k = 0; k < plan_.infos.size(); ++k)
+        if (plan_.eager[k])
+            get(plan_.names[k]);
+}
+
+Schemes::~Schemes() = default;
+
+TerrainScheme& Schemes::get(const std::string& name)
+{
+    const auto found = std::find(plan_.names.begin(), plan_.names.end(), name);
+    if (found == plan_.names.end()) {
+        std::string built;
+        for (const std::string& n : plan_.names)
+            built += (built.empty() ? "" : ", ") + n;
+        throw Error(shared_->reader.path() + ": LOD scheme '" + name +
+                    "' is not one this renderer was built for (RendererOptions::schemes: " + built +
+                    ")");
+    }
+    const size_t k = size_t(found - plan_.names.begin());
+    if (!schemes_[k]) {
+        SchemeResources resources = *shared_;
+        resources.product = plan_.product[k];
+        schemes_[k] = plan_.infos[k]->make(resources);
+    }
+    return *schemes_[k];
+}
+
+size_t Schemes::upload(const stream::DecodedPatch& patch, int slot)
+{
+    size_t bytes = 0;
+    for (const auto& scheme : schemes_)
+        if (scheme)
+            bytes += scheme->upload(patch, slot);
+    return bytes;
+}
+
+size_t Schemes::plannedUploadBytes(const stream::DecodedPatch& patch) const
+{
+    size_t bytes = 0;
+    for (const auto& scheme : schemes_)
+        if (scheme)
+            bytes += scheme->plannedUploadBytes(patch);
+    return bytes;
+}
+
+} // namespace ridge::render

@@ -1,0 +1,27 @@
+#include "sky.h"
+
+#include "frame_uniforms.h"
+
+#include <glm/gtc/matrix_inverse.hpp>
+
+namespace ridge::render {
+
+Sky::Sky() : program_({{GL_VERTEX_SHADER, "sky.vert"}, {GL_FRAGMENT_SHADER, "sky.frag"}}) {}
+
+void Sky::draw(const glm::dmat4& view_projection) const
+{
+    // Background only: no depth written, the cleared depth stays the far value.
+    glDisable(GL_DEPTH_TEST);
+    glDepthMask(GL_FALSE);
+    program_.use();
+    setMatrix(program_, "u_inverse_view_projection", glm::inverse(view_projection));
+    glUniform3f(program_.uniform("u_horizon_colour"), kHorizonColour.r, kHorizonColour.g,
+                kHorizonColour.b);
+    glUniform3f(program_.uniform("u_zenith_colour"), kZenithColour.r, kZenithColour.g,
+                kZenithColour.b);
+    glBindVertexArray(empty_vao_.id());
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glDepthMask(GL_TRUE);
+}
+
+} // namespace ridge::render
