@@ -106,10 +106,11 @@ int slotCount(const archive::ArchiveReader& reader, const RendererOptions& optio
     return wanted;
 }
 
-// The schemes `options` asks for (all registered ones that need no CPU codes when empty),
-// with what each needs.
+// The schemes `options` asks for (all registered ones that need no CPU codes with their
+// default options when empty), with their own options and what each needs.
 struct PlannedSchemes {
     std::vector<const SchemeInfo*> infos;
+    std::vector<SchemeOptions> own; // per scheme: its options, from its spec
     std::vector<SchemeNeeds> needs;
     double slot_bytes = 0.0;
     bool codes_on_cpu = false;
@@ -120,8 +121,9 @@ struct PlannedSchemes {
 PlannedSchemes planSchemes(const archive::ArchiveReader& reader, const RendererOptions& options)
 {
     PlannedSchemes out;
-    auto add = [&](const SchemeInfo& info, SchemeNeeds needs) {
+    auto add = [&](const SchemeInfo& info, SchemeOptions own, SchemeNeeds needs) {
         out.infos.push_back(&info);
+        out.own.push_back(std::move(own));
         out.slot_bytes += needs.slot_bytes;
         out.codes_on_cpu = out.codes_on_cpu || needs.codes_on_cpu;
         out.product.push_back(needs.preparation ? int(out.preparations.size()) : -1);
@@ -130,14 +132,17 @@ PlannedSchemes planSchemes(const archive::ArchiveReader& reader, const RendererO
         out.needs.push_back(std::move(needs));
     };
     if (options.schemes.empty()) {
-        for (const SchemeInfo& info : schemeRegistry())
-            if (SchemeNeeds needs = info.needs(reader, options); !needs.codes_on_cpu)
-                add(info, std::move(needs));
+        for (const SchemeInfo& info : schemeRegistry()) {
+            SchemeOptions own = parseSchemeSpec(info.name);
+            if (SchemeNeeds needs = info.needs(reader, options, own); !needs.codes_on_cpu)
+                add(info, std::move(own), std::move(needs));
+        }
     } else {
-        for (const std::string& name : options.schemes) {
-            const SchemeInfo& info = schemeNamed(name);
-            if (std::find(out.infos.begin(), out.infos.end(), &info) == out.infos.end())
-                add(info, info.needs(reader, options));
+        for (const std::string& spec : options.schemes) { // validate(): one spec per scheme
+            SchemeOptions own = parseSchemeSpec(spec);
+            const SchemeInfo& info = schemeNamed(own.scheme());
+            SchemeNeeds needs = info.needs(reader, options, own);
+            add(info, std::move(own), std::move(needs));
         }
     }
     return out;
@@ -293,8 +298,9 @@ TerrainRenderer::Impl::Impl(const archive::ArchiveReader& r, const RendererOptio
     textures = std::make_unique<PatchTextures>(n, layout, block_levels, slots, quantization,
                                                gpu_codec, hasWaterMaps(reader));
     for (size_t k = 0; k < planned.infos.size(); ++k)
-        schemes.push_back(planned.infos[k]->make(SchemeResources{
-            reader, quadtree, options, *textures, residency, slots, planned.product[k]}));
+        schemes.push_back(planned.infos[k]->make(
+            SchemeResources{reader, quadtree, options, planned.own[k], *textures, residency, slots,
+                            planned.product[k]}));
     for (const SchemeInfo* info : planned.infos)
         scheme_names.push_back(info->name);
     if (options.streaming) {

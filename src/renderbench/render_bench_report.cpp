@@ -8,6 +8,7 @@
 #include "ridge/core/atomic_output.h"
 #include "ridge/core/error.h"
 #include "ridge/core/file_identity.h"
+#include "ridge/render/scheme_options.h"
 
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
@@ -269,8 +270,7 @@ std::string formatRenderBenchTable(const std::vector<RenderBenchReport>& reports
                     "FPS max", "FPS med", "cache miss", "triangles", "coarser");
     for (const RenderBenchReport& r : reports) {
         const std::string name =
-            fmt::format("{}{}{}", r.options.scheme, r.options.grid_chunks ? ", grid chunks" : "",
-                        r.options.cull ? "" : " without frustum");
+            fmt::format("{}{}", r.options.scheme, r.options.cull ? "" : " without frustum");
         out += fmt::format("{:<38} {:>9.1f} {:>9.1f} {:>9.1f} {:>11} {:>12.0f} {:>8}\n", name,
                            r.fps_min, r.fps_max, r.fps_median, r.cache_misses, r.triangles_mean,
                            r.frames_epsilon_raised);
@@ -337,18 +337,18 @@ std::string formatRenderBenchJson(const RenderBenchReport& r)
                            {"segment_ms", t.frames > 0 ? nlohmann::json(nullptr)
                                                        : nlohmann::json(t.segment_ms)}});
     const render::RendererOptions& ro = r.options.renderer;
+    const render::SchemeOptions options = render::parseSchemeSpec(r.options.scheme);
     const nlohmann::json j = {
         {"archive", r.archive},
         {"gl_renderer", r.gl_renderer},
-        {"renderer", r.options.scheme},
+        {"renderer", options.scheme()},
+        {"scheme_spec", options.spec()}, // every option of the scheme, defaults included
         {"path", r.options.path.kind},
         {"speed_mps", r.options.path.speed_mps},
         {"size", {r.options.viewport.width, r.options.viewport.height}},
         {"epsilon_px", r.options.epsilon_px},
         {"texel_px", r.options.texel_px},
         {"cull", r.options.cull},
-        {"chunks", r.options.grid_chunks ? "grid" : "simplified"},
-        {"chunk_tolerance", ro.chunk_tolerance},
         {"streaming", ro.streaming},
         {"hole_pixels", r.hole_pixels},
         {"frames_with_holes", r.frames_with_holes},

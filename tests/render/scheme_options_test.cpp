@@ -1,11 +1,15 @@
 // LOD schemes' own options (ridge/render/scheme_options.h): the KEY=VALUE parser against a
-// made-up scheme's descriptors, without a GL context.
+// made-up scheme's descriptors, then every registered scheme's, without a GL context.
 #include "error_expectations.h"
 #include "scheme_option_cases.h"
 
 #include "ridge/render/scheme_options.h"
+#include "ridge/render/terrain_renderer.h"
 
 #include <gtest/gtest.h>
+
+#include <algorithm>
+#include <set>
 
 using namespace ridge;
 using render::SchemeOption;
@@ -131,4 +135,102 @@ TEST(SchemeOptions, DescriptorsSayWhatTheyTake)
     EXPECT_EQ(d[3].placeholder(), "on|off");
     EXPECT_EQ(d[0].default_value, "0.5");
     EXPECT_EQ(d[3].default_value, "on");
+}
+
+// ---- The registered schemes ------------------------------------------------------------------
+
+TEST(SchemeOptions, EveryRegisteredSchemeParsesWithItsDefaultsAndRoundTrips)
+{
+    const std::vector<std::string> names = render::lodSchemeNames();
+    ASSERT_FALSE(names.empty());
+    EXPECT_EQ(render::defaultLodScheme(), names.front());
+    EXPECT_EQ(render::RenderSettings{}.scheme, names.front());
+    for (const std::string& name : names) {
+        const SchemeOptions o = render::parseSchemeSpec(name);
+        EXPECT_EQ(o.scheme(), name);
+        EXPECT_EQ(render::parseSchemeSpec(o.spec()).spec(), o.spec()) << name;
+        std::set<std::string> keys;
+        for (const SchemeOption& option : render::lodSchemeOptions(name)) {
+            EXPECT_TRUE(keys.insert(option.key).second) << name << ": " << option.key << " twice";
+            EXPECT_FALSE(option.help.empty()) << name << ": " << option.key;
+            EXPECT_EQ(option.key.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789-"),
+                      std::string::npos)
+                << name << ": " << option.key;
+            EXPECT_NE(o.spec().find("," + option.key + "=" + option.default_value),
+                      std::string::npos)
+                << o.spec();
+        }
+    }
+}
+
+TEST(SchemeOptions, EveryRegisteredOptionRefusesBadValuesNamingTheSchemeAndTheOption)
+{
+    for (const std::string& name : render::lodSchemeNames()) {
+        std::string keys;
+        for (const SchemeOption& o : render::lodSchemeOptions(name)) {
+            keys += (keys.empty() ? "" : ", ") + o.key;
+            for (const std::string& v : test::refusedValues(o))
+                expectError([&] { render::parseSchemeSpec(name + "," + o.key + "=" + v, "--lod"); },
+                            "--lod " + name + ": " + o.key + "=" + v + ": must be " + o.describe());
+            expectError(
+                [&] {
+                    render::parseSchemeSpec(name + "," + o.key + "=" + o.default_value + "," +
+                                            o.key + "=" + o.default_value);
+                },
+                name + ": " + o.key + " given twice");
+        }
+        expectError([&] { render::parseSchemeSpec(name + ",no-such-key=1"); },
+                    "LOD scheme " + name + ": no option 'no-such-key' (" + name +
+                        (keys.empty() ? " takes no options)" : " takes " + keys + ")"));
+        expectError([&] { render::parseSchemeSpec(name + ","); }, name + ": an empty option");
+        expectError([&] { render::parseSchemeSpec(name + ",x"); }, "'x' is not KEY=VALUE");
+    }
+    expectError([] { render::parseSchemeSpec("no-such-scheme,x=1", "--lod"); },
+                "--lod no-such-scheme: not a LOD scheme; expected one of " +
+                    render::lodSchemeList());
+    expectError([] { render::parseSchemeSpec(""); }, "LOD scheme '': not a LOD scheme");
+    expectError([] { render::parseSchemeSpec(" " + render::defaultLodScheme()); },
+                "not a LOD scheme");
+    expectError([] { render::lodSchemeOptions("no-such-scheme"); }, "unknown LOD scheme");
+}
+
+TEST(SchemeOptions, VariantsCoverEveryChoiceAndFlagOfEveryScheme)
+{
+    const std::vector<std::string> variants = render::lodSchemeVariants();
+    for (const std::string& name : render::lodSchemeNames()) {
+        EXPECT_NE(std::find(variants.begin(), variants.end(), name), variants.end()) << name;
+        for (const SchemeOption& o : render::lodSchemeOptions(name)) {
+            std::vector<std::string> values = o.choices;
+            if (o.kind == SchemeOption::Kind::Flag)
+                values = {"on", "off"};
+            for (const std::string& v : values) {
+                const std::string spec = v == o.default_value ? name : name + "," + o.key + "=" + v;
+                EXPECT_NE(std::find(variants.begin(), variants.end(), spec), variants.end())
+                    << spec;
+            }
+        }
+    }
+    for (const std::string& spec : variants)
+        EXPECT_NO_THROW(render::parseSchemeSpec(spec)) << spec;
+}
+
+TEST(SchemeOptions, RendererOptionsTakeSpecsOnePerScheme)
+{
+    render::RendererOptions o;
+    o.schemes = render::lodSchemeVariants();
+    o.schemes.resize(1);
+    EXPECT_NO_THROW(o.validate());
+    o.schemes = render::lodSchemeNames();
+    EXPECT_NO_THROW(o.validate());
+    const std::string first = render::defaultLodScheme();
+    o.schemes = {first, first};
+    expectError([&] { o.validate(); }, "LOD scheme " + first + " is given twice");
+    o.schemes = {first + ",no-such-key=1"};
+    expectError([&] { o.validate(); }, "LOD scheme " + first + ": no option 'no-such-key'");
+    o.schemes = {"no-such-scheme"};
+    expectError([&] { o.validate(); }, "no-such-scheme: not a LOD scheme");
+    // A scheme's name alone is what RenderSettings::scheme takes; a spec is not a name.
+    render::RenderSettings s;
+    s.scheme = first + ",x=1";
+    expectError([&] { s.validate(); }, "unknown LOD scheme");
 }

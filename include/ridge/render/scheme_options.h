@@ -91,4 +91,17 @@ SchemeOptions parseSchemeOptions(const std::string& scheme,
                                  const std::vector<SchemeOption>& declared, std::string_view pairs,
                                  std::string_view what = "LOD scheme");
 
+// ---- The registered schemes' options (src/render/scheme_registry.cpp) ------------------------
+
+// The options scheme `name` declares; throws ridge::Error for a name that is not registered.
+const std::vector<SchemeOption>& lodSchemeOptions(const std::string& name);
+// A spec ("NAME[,KEY=VALUE...]") of a registered scheme, checked as parseSchemeOptions does.
+// `what` starts every message: "--lod" for the command line. An unregistered name:
+// "--lod fancy: not a LOD scheme; expected one of ...".
+SchemeOptions parseSchemeSpec(std::string_view spec, std::string_view what = "LOD scheme");
+// For every registered scheme in order: its name (every option at its default), then for each
+// of its choice and on/off options each value other than the default, alone (NAME,KEY=VALUE):
+// for tests and benchmarks that cover every variant of every scheme without naming one.
+std::vector<std::string> lodSchemeVariants();
+
 } // namespace ridge::render
