@@ -1,5 +1,6 @@
 // Renderer benchmarks (Google Benchmark) on the Sierra Nevada mosaic: frames of the
-// tessellation renderer at 1920x1080 and the CPU cost of coarse LOD selection.
+// tessellation renderer at 1920x1080, frames of every registered scheme and variant of its
+// options, and the CPU cost of coarse LOD selection.
 //
 //   ./build/bench/ridge_bench_render     # data: $RIDGE_DATA_DIR or ../shared/data
 //
@@ -7,8 +8,9 @@
 // variants run here (ε, skirts, culling); on a GPU machine they are the GPU's.
 #include "ridge/gpu/context.h"
 #include "ridge/gpu/render_target.h"
-#include "ridge/pipeline/build.h"
 #include "ridge/lod/chunk_mesh.h"
+#include "ridge/pipeline/build.h"
+#include "ridge/render/scheme_options.h"
 #include "ridge/render/terrain_renderer.h"
 #include "ridge/stream/patch_loader.h"
 
@@ -27,10 +29,21 @@ struct Scene {
     std::string error;
     std::unique_ptr<gpu::HeadlessContext> context;
     std::unique_ptr<archive::ArchiveReader> reader;
-    std::unique_ptr<render::TerrainRenderer> renderer;
-    std::unique_ptr<render::TerrainRenderer> chunk_renderer; // Ulrich's simplified chunks
+    std::unique_ptr<render::TerrainRenderer> renderer; // the default scheme
     std::unique_ptr<gpu::RenderTarget> target;
+    // The renderer of one scheme spec (BM_SchemeFrame), rebuilt when another is asked for.
+    std::string scheme_spec;
+    std::unique_ptr<render::TerrainRenderer> scheme_renderer;
 };
+
+render::RendererOptions benchOptions()
+{
+    render::RendererOptions options;
+    options.synchronous_stats = true;
+    options.max_resident_patches = 2048; // brute force needs every finest patch in view
+    options.vram_budget_mb = 512.0;
+    return options;
+}
 
 Scene& scene()
 {
@@ -49,14 +62,9 @@ Scene& scene()
             buildArchive(input, archive, BuildOptions{});
         out.context = gpu::HeadlessContext::create();
         out.reader = std::make_unique<archive::ArchiveReader>(archive);
-        render::RendererOptions options;
-        options.synchronous_stats = true;
-        options.max_resident_patches = 2048; // brute force needs every finest patch in view
-        options.vram_budget_mb = 512.0;
+        render::RendererOptions options = benchOptions();
+        options.schemes = {render::defaultLodScheme()};
         out.renderer = std::make_unique<render::TerrainRenderer>(*out.reader, options);
-        options.chunk_meshes = true;
-        options.schemes = {"chunked"};
-        out.chunk_renderer = std::make_unique<render::TerrainRenderer>(*out.reader, options);
         out.target = std::make_unique<gpu::RenderTarget>(1920, 1080, 1);
         return out;
     }();
@@ -77,24 +85,11 @@ lod::Camera view(int which)
     return lod::Camera(pos, at, 60.0, vp, near_m, far_m);
 }
 
-void BM_TessellationFrame(benchmark::State& state)
+// One frame of `renderer` drawing `settings` from `camera`, timed until the GPU finished it.
+void timeFrames(benchmark::State& state, render::TerrainRenderer& renderer,
+                const lod::Camera& camera, const render::RenderSettings& settings)
 {
     Scene& s = scene();
-    if (!s.error.empty()) {
-        state.SkipWithError(s.error.c_str());
-        return;
-    }
-    const lod::Camera camera = view(int(state.range(0)));
-    render::RenderSettings settings;
-    settings.epsilon_px = double(state.range(1));
-    settings.skirts = state.range(2) != 0;
-    settings.cull = state.range(3) != 0;
-    settings.cull_blocks = state.range(4) != 0;
-    // 3: chunked LOD with Ulrich's simplified chunks (its own renderer builds them).
-    const bool simplified = state.range(5) == 3;
-    static const char* const kSchemes[] = {"tess", "chunked", "brute", "chunked"};
-    settings.scheme = kSchemes[state.range(5)];
-    render::TerrainRenderer& renderer = simplified ? *s.chunk_renderer : *s.renderer;
     s.target->bind();
     render::FrameStats stats = renderer.draw(camera, settings); // loads patches
     glFinish();
@@ -109,25 +104,68 @@ void BM_TessellationFrame(benchmark::State& state)
     state.counters["Mtri/s"] = benchmark::Counter(double(stats.triangles) * 1e-6,
                                                   benchmark::Counter::kIsIterationInvariantRate);
 }
-// view, ε, skirts, cull (patches), blocks (cull tessellation blocks too), scheme (0 tess,
-// 1 chunked LOD with full-grid chunks, 2 brute force, 3 chunked LOD with Ulrich's simplified
-// chunks)
+
+// The default scheme (render::defaultLodScheme(): the paper's tessellation) under ε, skirts
+// and culling.
+void BM_TessellationFrame(benchmark::State& state)
+{
+    Scene& s = scene();
+    if (!s.error.empty()) {
+        state.SkipWithError(s.error.c_str());
+        return;
+    }
+    render::RenderSettings settings;
+    settings.epsilon_px = double(state.range(1));
+    settings.skirts = state.range(2) != 0;
+    settings.cull = state.range(3) != 0;
+    settings.cull_blocks = state.range(4) != 0;
+    timeFrames(state, *s.renderer, view(int(state.range(0))), settings);
+}
+// view, ε, skirts, cull (patches), blocks (cull tessellation blocks too)
 BENCHMARK(BM_TessellationFrame)
-    ->ArgNames({"view", "eps", "skirts", "cull", "blocks", "scheme"})
-    ->Args({0, 2, 1, 1, 1, 0})
-    ->Args({1, 2, 1, 1, 1, 0})
-    ->Args({1, 1, 1, 1, 1, 0})
-    ->Args({1, 4, 1, 1, 1, 0})
-    ->Args({1, 2, 0, 1, 1, 0})
-    ->Args({1, 2, 1, 1, 0, 0})
-    ->Args({1, 2, 1, 0, 0, 0})
-    ->Args({1, 2, 1, 1, 1, 1})
-    ->Args({1, 1, 1, 1, 1, 1})
-    ->Args({1, 2, 1, 1, 1, 3})
-    ->Args({1, 1, 1, 1, 1, 3})
-    ->Args({1, 2, 1, 1, 1, 2})
+    ->ArgNames({"view", "eps", "skirts", "cull", "blocks"})
+    ->Args({0, 2, 1, 1, 1})
+    ->Args({1, 2, 1, 1, 1})
+    ->Args({1, 1, 1, 1, 1})
+    ->Args({1, 4, 1, 1, 1})
+    ->Args({1, 2, 0, 1, 1})
+    ->Args({1, 2, 1, 1, 0})
+    ->Args({1, 2, 1, 0, 0})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
+
+// Every registered scheme, and each value of its choices and flags (render::lodSchemeVariants():
+// e.g. chunked LOD with Ulrich's simplified chunks and with full grids), from view 1 at ε 2
+// and 1 px; each spec in a renderer of its own.
+void BM_SchemeFrame(benchmark::State& state, const std::string& spec)
+{
+    Scene& s = scene();
+    if (!s.error.empty()) {
+        state.SkipWithError(s.error.c_str());
+        return;
+    }
+    if (s.scheme_spec != spec) {
+        s.scheme_renderer.reset();
+        render::RendererOptions options = benchOptions();
+        options.schemes = {spec};
+        s.scheme_renderer = std::make_unique<render::TerrainRenderer>(*s.reader, options);
+        s.scheme_spec = spec;
+    }
+    render::RenderSettings settings;
+    settings.scheme = s.scheme_renderer->schemes().front();
+    settings.epsilon_px = double(state.range(0));
+    timeFrames(state, *s.scheme_renderer, view(1), settings);
+}
+[[maybe_unused]] const bool kSchemeFramesRegistered = [] {
+    for (const std::string& spec : render::lodSchemeVariants())
+        benchmark::RegisterBenchmark(("BM_SchemeFrame/" + spec).c_str(), BM_SchemeFrame, spec)
+            ->ArgNames({"eps"})
+            ->Arg(2)
+            ->Arg(1)
+            ->Unit(benchmark::kMillisecond)
+            ->UseRealTime();
+    return true;
+}();
 
 void BM_SelectPatches(benchmark::State& state)
 {

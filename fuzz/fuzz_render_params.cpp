@@ -19,6 +19,7 @@
 #include "ridge/lod/camera_path.h"
 #include "ridge/render/fly_camera.h"
 #include "ridge/render/headless_render.h"
+#include "ridge/render/scheme_options.h"
 #include "ridge/render/terrain_renderer.h"
 
 #include <fuzzer/FuzzedDataProvider.h>
@@ -29,6 +30,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace {
@@ -92,7 +94,12 @@ void settingsAndOptions(FuzzedDataProvider& in)
     o.ram_budget_mb = consumeNumber(in, 512.0);
     o.upload_budget_mb = consumeNumber(in, 16.0);
     o.upload_budget_ms = consumeNumber(in, 8.0);
-    o.chunk_tolerance = consumeNumber(in, 1.0);
+    // A registered scheme, maybe with options from the input: the spec parser's hostile text.
+    const std::vector<std::string> names = ridge::render::lodSchemeNames();
+    std::string spec = names[in.ConsumeIntegralInRange<size_t>(0, names.size() - 1)];
+    if (in.ConsumeBool())
+        spec += "," + in.ConsumeRandomLengthString(64);
+    o.schemes = {spec};
     o.max_resident_patches = in.ConsumeIntegral<int>();
     o.uploads_per_frame = in.ConsumeIntegral<int>();
     o.io_threads = in.ConsumeIntegral<int>();
@@ -102,6 +109,9 @@ void settingsAndOptions(FuzzedDataProvider& in)
         // The byte counts the renderer derives (slots, the streamer's caches) fit a size_t.
         require(o.vram_budget_mb * 1048576.0 < 1.8e19 && o.ram_budget_mb * 1048576.0 < 1.8e19);
         require(o.upload_budget_mb * 1048576.0 < 1.8e19 && o.max_resident_patches >= 1);
+        // An accepted spec spells every option back, and that spelling parses to itself.
+        const std::string whole = ridge::render::parseSchemeSpec(spec).spec();
+        require(ridge::render::parseSchemeSpec(whole).spec() == whole);
     } catch (const ridge::Error&) {
     }
 

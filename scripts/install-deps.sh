@@ -14,6 +14,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   python3                        # bench and fuzz helper scripts
   clang libclang-rt-14-dev       # libFuzzer targets (scripts/fuzz.sh)
+  clang-format-14                # the formatting scripts/check-layering.sh checks
   # ridge codec-bench: anchor codecs (LERC, JPEG-LS, JPEG 2000, JPEG XL, ZFP) and its PNG plot
   liblerc-dev libcharls-dev libjxl-dev libzfp-dev
   libplplot-dev plplot-driver-cairo

@@ -5,6 +5,7 @@
 #include "render_args.h"
 
 #include "ridge/core/atomic_output.h"
+#include "ridge/core/error.h"
 #include "ridge/core/file_identity.h"
 #include "ridge/pipeline/terrain_georeference.h"
 #include "ridge/renderbench/render_bench.h"
@@ -21,10 +22,14 @@ void BenchCommand::registerWith(CLI::App& app)
         "bench",
         "Fly a renderer along a camera path headless and report fps, frame times, triangles");
     command_->add_option("archive", archive_, "Archive (.ridge)")->required();
-    command_->add_option("--lod", renderer_, lodSchemeHelp())->capture_default_str();
+    command_->add_option("--lod", renderer_, lodSchemeHelp())
+        ->capture_default_str()
+        ->check(lodSpecCheck("--lod"));
     // --renderer: the name before the schemes were unified with render's --lod; hidden, kept
     // for scripts (docs/PERF.md's runs use it).
-    command_->add_option("--renderer", renderer_, "Same as --lod")->group("");
+    command_->add_option("--renderer", renderer_, "Same as --lod")
+        ->group("")
+        ->check(lodSpecCheck("--lod"));
     command_
         ->add_option("--path", path_,
                      "flyover, orbit, teleport, or a file of 'x y z look-x look-y look-z' lines")
@@ -44,25 +49,16 @@ void BenchCommand::registerWith(CLI::App& app)
     addTexelSizeOption(*command_, texel_px_);
     addExaggerationOption(*command_, exaggeration_);
     addStreamingOptions(*command_, renderer_options_);
-    addGeomorphOptions(*command_, renderer_options_);
     addLodRuleOptions(*command_, rules_);
     command_->add_flag("--popping", popping_,
                        "Measure popping per frame (the surface's displacement from LOD changes "
                        "alone, px; two extra captures a frame, so time a run without it)");
     command_->add_flag("--no-cull", no_cull_, "Disable view-frustum culling");
-    command_
-        ->add_option("--chunk-tolerance", renderer_options_.chunk_tolerance,
-                     "chunked: simplify each of Ulrich's chunks to K times its patch's "
-                     "error bound Err(P) (selected at (1 + K)·Err(P))")
-        ->capture_default_str()
-        ->check(inRange("--chunk-tolerance", render::RendererOptions::kChunkToleranceRange));
-    command_->add_flag("--grid-chunks", grid_chunks_,
-                       "chunked: draw every patch's full grid instead of simplified chunks");
     command_->add_flag(
         "--table", table_,
-        "Run tess, chunked and brute, with and without frustum culling, and print the "
-        "fractal-rings paper's Table 1, each frame loaded in full first (--lod, "
-        "--no-cull and streaming are then ignored)");
+        "Run every registered scheme with its default options, with and without frustum "
+        "culling, and print the fractal-rings paper's Table 1, each frame loaded in full "
+        "first (--lod, --no-cull and streaming are then ignored)");
     command_->add_flag(
         "--bytes-per-view", bytes_per_view_,
         "Render nothing (no GL): for each frame of the path, the bytes a cold cache reads to "
@@ -89,7 +85,7 @@ int BenchCommand::run()
     std::FILE* human = json_ ? stderr : stdout;
     renderbench::RenderBenchOptions options;
     options.renderer = renderer_options_;
-    options.scheme = parseLodScheme(renderer_, "--lod");
+    options.scheme = renderer_; // a spec, checked by --lod's validator
     options.path.kind = path_;
     // "lonlat" poses in a path file: WGS 84 through the archive's CRS (PROJ).
     auto geo = std::make_shared<const TerrainGeoreference>(archive::ArchiveReader(archive_));
@@ -105,7 +101,6 @@ int BenchCommand::run()
     options.texel_px = texel_px_;
     options.exaggeration = exaggeration_;
     options.cull = !no_cull_;
-    options.grid_chunks = grid_chunks_;
     options.measure_popping = popping_;
     options.tessellation_rule = rules_.tessellation_rule;
     options.side_on_bound = rules_.side_on_bound;
@@ -113,6 +108,7 @@ int BenchCommand::run()
         return runBytesPerView(options);
     if (table_) {
         std::vector<renderbench::RenderBenchReport> reports;
+        std::string refused; // schemes that cannot draw this archive (rings: small patches)
         for (const std::string& scheme : render::lodSchemeNames())
             for (const bool cull : {true, false}) {
                 renderbench::RenderBenchOptions o = options;
@@ -121,11 +117,20 @@ int BenchCommand::run()
                 // Like the paper's table: every patch at its full detail before its frame, so
                 // the rows compare the schemes, not how far streaming got.
                 o.renderer.streaming = false;
-                reports.push_back(renderbench::runRenderBench(archive_, o));
+                try {
+                    reports.push_back(renderbench::runRenderBench(archive_, o));
+                } catch (const Error& e) {
+                    if (!cull)
+                        continue;
+                    refused += fmt::format("{}: not run: {}\n", scheme, e.what());
+                }
             }
-        fmt::print(human, "{}: path {}, {} frames at {}x{}, ε {} px, {}\n{}", archive_, path_,
+        if (reports.empty())
+            throw Error(archive_ + ": no LOD scheme could draw it\n" + refused);
+        fmt::print(human, "{}: path {}, {} frames at {}x{}, ε {} px, {}\n{}{}", archive_, path_,
                    frames_, options.viewport.width, options.viewport.height, error_,
-                   reports.front().gl_renderer, renderbench::formatRenderBenchTable(reports));
+                   reports.front().gl_renderer, renderbench::formatRenderBenchTable(reports),
+                   refused);
         writeOutputs(reports.front());
         return 0;
     }

@@ -44,7 +44,7 @@ class BenchCommand {
   private:
     CLI::App* command_ = nullptr;
     std::string archive_;
-    std::string renderer_ = "tess";
+    std::string renderer_ = render::defaultLodScheme(); // --lod: a scheme spec
     std::string path_ = "flyover";
     double speed_ = 250.0;
     int frames_ = 600;
@@ -54,7 +54,6 @@ class BenchCommand {
     double texel_px_ = render::RenderSettings{}.texel_px;
     render::RendererOptions renderer_options_ = render::RendererOptions::streamingDefaults();
     bool no_cull_ = false;
-    bool grid_chunks_ = false;
     bool popping_ = false;
     render::RenderSettings rules_; // --tess-rule, --on-axis-bound
     bool table_ = false;
@@ -84,7 +83,7 @@ class RenderCommand {
     double error_ = 2.0;
     double texel_px_ = render::RenderSettings{}.texel_px;
     std::string mode_ = "shaded";
-    std::string lod_ = "tess";
+    std::string lod_ = render::defaultLodScheme(); // --lod: a scheme spec
     bool wireframe_ = false;
     bool no_cull_ = false;
     bool no_skirts_ = false;
@@ -120,6 +119,7 @@ class ViewCommand {
     std::string screenshot_; // PNG of the last frame, read back before the final swap
     CameraArgs camera_args_; // the starting camera, as `ridge render` takes it
     std::string mode_ = "shaded"; // --mode, as `ridge render` takes it
+    std::vector<std::string> lod_; // --lod: the schemes L cycles through (specs)
     bool no_overlay_ = false;     // start with the overlay hidden (O shows it)
     render::RendererOptions renderer_options_ = render::RendererOptions::streamingDefaults();
 };

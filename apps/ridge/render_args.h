@@ -7,6 +7,7 @@
 #include "ridge/lod/camera_orientation.h"
 #include "ridge/pipeline/camera_placement.h"
 #include "ridge/render/headless_render.h"
+#include "ridge/render/scheme_options.h"
 #include "ridge/render/terrain_renderer.h"
 #include "ridge/stream/upload_planner.h"
 
@@ -161,22 +162,44 @@ inline void addModeOption(CLI::App& command, std::string& mode)
             "shaded|lod|tess"));
 }
 
-// A registered LOD scheme's name (render::lodSchemeNames()); `option` names the flag in the
-// message.
-inline std::string parseLodScheme(const std::string& name, const std::string& option)
+// A --lod spec, "NAME[,KEY=VALUE...]": a registered scheme (render::lodSchemeNames()) and
+// its own options, checked against the options its module declares. `option` names the flag
+// in the message: "--lod NAME: KEY=VALUE: must be ...".
+inline render::SchemeOptions parseLodSpec(const std::string& spec, const std::string& option)
 {
-    for (const std::string& known : render::lodSchemeNames())
-        if (name == known)
-            return name;
-    throw UsageError(option + " " + name + ": expected " + render::lodSchemeList());
+    try {
+        return render::parseSchemeSpec(spec, option);
+    } catch (const Error& e) {
+        throw UsageError(e.what());
+    }
 }
 
-// --help text listing every registered scheme with its description.
+// CLI11's check for a --lod spec: refused while the command line is parsed (exit status 2).
+inline CLI::Validator lodSpecCheck(const std::string& option)
+{
+    return CLI::Validator(
+        [option](std::string& text) -> std::string {
+            parseLodSpec(text, option); // throws UsageError naming the option
+            return {};
+        },
+        "NAME[,KEY=VALUE...]");
+}
+
+// --help text listing every registered scheme with its description and its options, from the
+// descriptors its module declares.
 inline std::string lodSchemeHelp()
 {
-    std::string help = "LOD scheme:";
-    for (const std::string& name : render::lodSchemeNames())
+    std::string help = "LOD scheme and its options, NAME[,KEY=VALUE...]:";
+    for (const std::string& name : render::lodSchemeNames()) {
         help += "\n  " + name + ": " + render::lodSchemeDescription(name);
+        for (const render::SchemeOption& o : render::lodSchemeOptions(name)) {
+            const bool number = o.kind == render::SchemeOption::Kind::Number ||
+                                o.kind == render::SchemeOption::Kind::Integer;
+            help += "\n    " + o.key + "=" + o.placeholder() + " (" +
+                    (number ? o.describe() + ", " : "") + "default " + o.default_value +
+                    "): " + o.help;
+        }
+    }
     return help;
 }
 
@@ -261,34 +284,6 @@ inline void addLodRuleOptions(CLI::App& command, render::RenderSettings& setting
         "--on-axis-bound", [&settings] { settings.side_on_bound = false; },
         "Coarse selection without the side-on factor (earlier releases' bound; with "
         "--tess-rule paper, their LOD)");
-}
-
-// Scheme "geomorph"'s options: the paper's vertex layouts and regimes.
-inline void addGeomorphOptions(CLI::App& command, render::RendererOptions& options)
-{
-    const std::map<std::string, lod::GeomorphLayout> layouts = {
-        {"standard", lod::GeomorphLayout::Standard},
-        {"float", lod::GeomorphLayout::FloatMorph},
-        {"compact", lod::GeomorphLayout::Compact}};
-    command
-        .add_option("--geomorph-layout", options.geomorph_layout,
-                    "geomorph: vertex layout — standard (CPU morph, positions sent every frame), "
-                    "float (GPU morph, float position, target and normal) or compact (block "
-                    "coordinates, 16-bit codes, 2-byte hemisphere normal index)")
-        ->transform(CLI::CheckedTransformer(layouts, CLI::ignore_case))
-        ->default_str("compact");
-    const std::map<std::string, lod::HemisphereMap> maps = {
-        {"orthographic", lod::HemisphereMap::Orthographic},
-        {"concentric", lod::HemisphereMap::Concentric}};
-    command
-        .add_option("--geomorph-normals", options.geomorph_normal_map,
-                    "geomorph compact: hemisphere normal texture — orthographic or concentric "
-                    "(Shirley and Chiu's map)")
-        ->transform(CLI::CheckedTransformer(maps, CLI::ignore_case))
-        ->default_str("orthographic");
-    command.add_flag("--geomorph-per-frame", options.geomorph_per_frame,
-                     "geomorph: send every drawn patch's vertices every frame (the paper's "
-                     "regime, no resident buffers)");
 }
 
 } // namespace ridge::cli

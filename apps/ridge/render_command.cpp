@@ -35,10 +35,10 @@ void RenderCommand::registerWith(CLI::App& app)
     addTexelSizeOption(*command_, texel_px_);
     addModeOption(*command_, mode_);
     command_
-        ->add_option(
-            "--lod", lod_,
-            lodSchemeHelp() + "\n(every scheme shares selection, data and shading)")
-        ->capture_default_str();
+        ->add_option("--lod", lod_,
+                     lodSchemeHelp() + "\n(every scheme shares selection, data and shading)")
+        ->capture_default_str()
+        ->check(lodSpecCheck("--lod"));
     command_->add_flag("--wireframe", wireframe_, "Draw triangle edges over the shading");
     command_->add_flag("--no-cull", no_cull_, "Disable view-frustum culling");
     command_->add_flag("--no-skirts", no_skirts_, "Disable the vertical skirts between patches");
@@ -86,7 +86,8 @@ int RenderCommand::run()
     options.settings.epsilon_px = error_;
     options.settings.texel_px = texel_px_;
     options.settings.mode = parseDebugMode(mode_);
-    options.settings.scheme = parseLodScheme(lod_, "--lod");
+    options.settings.scheme = parseLodSpec(lod_, "--lod").scheme();
+    options.scheme_spec = lod_;
     options.settings.wireframe = wireframe_;
     options.settings.cull = !no_cull_;
     options.settings.skirts = !no_skirts_;

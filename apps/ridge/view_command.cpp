@@ -154,6 +154,7 @@ class Viewer {
         settings_.texel_px = texel_px; // range-checked by the option
         settings_.mode = mode;
         settings_.exaggeration = exaggeration; // range-checked by the option
+        settings_.scheme = renderer_.schemes().front(); // the first --lod, else the default
 
         int w = 1, h = 1;
         window_.framebufferSize(w, h);
@@ -543,7 +544,13 @@ void ViewCommand::registerWith(CLI::App& app)
     addTexelSizeOption(*command_, texel_px_);
     addExaggerationOption(*command_, exaggeration_);
     addStreamingOptions(*command_, renderer_options_);
-    addGeomorphOptions(*command_, renderer_options_);
+    command_
+        ->add_option("--lod", lod_,
+                     lodSchemeHelp() +
+                         "\nRepeat it for each scheme L cycles through, the first drawn first "
+                         "(default: every scheme that needs no decoding on the CPU, with its "
+                         "default options)")
+        ->check(lodSpecCheck("--lod"));
     command_->add_flag("--vsync,!--no-vsync", vsync_,
                        "Wait for the display's refresh (default on)");
     command_
@@ -557,6 +564,12 @@ void ViewCommand::registerWith(CLI::App& app)
 int ViewCommand::run()
 {
     const lod::Viewport size = parseSize(size_);
+    renderer_options_.schemes = lod_;
+    try {
+        renderer_options_.validate(); // each --lod checked already; a scheme given twice
+    } catch (const Error& e) {
+        throw UsageError(std::string("--lod: ") + e.what());
+    }
     const int width = size.width, height = size.height;
 #if !RIDGE_HAVE_VIEWER
     throw Error("ridge view: this ridge was built without the viewer (Dear ImGui or its "

@@ -16,6 +16,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -196,18 +197,18 @@ int main(int argc, char** argv)
     try {
         ridge::RendererParameters parameters;
         parameters.streaming = false; // every patch loaded before the frame that needs it
-        parameters.schemes = {"tess", "chunked", "geomorph"};
+        parameters.schemes = ridge::lodSchemes(); // every scheme, with its default options
         ridge::Renderer renderer(argv[1], parameters);
 
         // 1. ridge's own camera: it clears and draws (reverse-Z) into the bound framebuffer.
         const ridge::CameraPose camera = renderer.defaultCamera(width, height);
         ridge::FrameSummary frame{};
-        for (const char* scheme : {"tess", "chunked", "geomorph"}) {
+        for (const std::string& scheme : renderer.schemes()) {
             ridge::DrawParameters draw;
             draw.scheme = scheme;
             frame = renderer.draw(camera, width, height, draw);
-            std::printf("%s: %d patches, %llu triangles, ε %.2f px\n", scheme, frame.patches,
-                        (unsigned long long)frame.triangles, frame.screen_error_px);
+            std::printf("%s: %d patches, %llu triangles, ε %.2f px\n", scheme.c_str(),
+                        frame.patches, (unsigned long long)frame.triangles, frame.screen_error_px);
         }
         // The default camera frames the whole terrain: terrain pixels have a reverse-Z depth
         // above the cleared 0.

@@ -271,8 +271,17 @@ class RIDGE_API Terrain {
 
 // ---- Rendering ----------------------------------------------------------------------------
 
+// The LOD schemes ridge draws with, by name, in its registry's order (the first is the
+// default). A scheme may take options of its own, spelt after its name in a spec
+// "NAME[,KEY=VALUE...]" (`ridge render --help` lists them); options not given take the
+// scheme's defaults.
+RIDGE_API std::vector<std::string> lodSchemes();
+
 struct DrawParameters {
-    std::string scheme = "tess"; // LOD scheme: "tess", "chunked", "brute", "geomorph"
+    // The LOD scheme. renderPng: a spec, "NAME[,KEY=VALUE...]"; Renderer::draw: the name of
+    // one of the renderer's schemes (RendererParameters::schemes set their options). Empty:
+    // the first of lodSchemes() for renderPng, the renderer's first scheme for draw().
+    std::string scheme;
     double max_screen_error_px = 2.0; // ε, pixels
     // Texture detail beside ε: patches are also refined until their level's samples are at
     // most this many pixels apart on screen (colour and normals come from the patch's maps);
@@ -315,8 +324,9 @@ struct RendererParameters {
     double vram_budget_mb = 256.0; // texture arrays of resident patches
     double ram_budget_mb = 256.0;  // caches of compressed and decoded patches
     bool streaming = true;         // never wait for disk: draw resident ancestors meanwhile
-    // The LOD schemes draw() may be asked for. Empty: those that need no heights on the CPU
-    // ("tess", "chunked", "brute"); naming "geomorph" decodes patches on the CPU for all.
+    // The LOD schemes draw() may be asked for, as specs "NAME[,KEY=VALUE...]" (lodSchemes()),
+    // at most one per scheme. Empty: every scheme that, with its default options, needs no
+    // heights on the CPU; naming one that does decodes patches on the CPU for all.
     std::vector<std::string> schemes;
 };
 
@@ -395,6 +405,9 @@ class RIDGE_API Renderer {
     // The view and projection draw(camera, width, height) uses (ReverseZ, infinite far
     // plane): a host can draw its own objects with them, or pass them to draw(HostView).
     HostView hostView(const CameraPose& camera, int width, int height) const;
+    // The names of the schemes draw() takes (RendererParameters::schemes, resolved), the
+    // first drawn when DrawParameters::scheme is empty.
+    std::vector<std::string> schemes() const;
 
     // The terrain point under window pixel (x, y) of the last frame drawn: x right and y down
     // from the viewport's top-left corner, in pixels (pixel (i, j) covers [i, i+1) × [j, j+1);

@@ -14,6 +14,7 @@
 #include "ridge/pipeline/terrain_georeference.h"
 #include "ridge/render/headless_render.h"
 #include "ridge/render/host_gl_state.h"
+#include "ridge/render/scheme_options.h"
 #include "ridge/render/terrain_renderer.h"
 
 #include <glm/geometric.hpp>
@@ -29,10 +30,11 @@ namespace {
 glm::dvec3 toGlm(const std::array<double, 3>& v) { return {v[0], v[1], v[2]}; }
 std::array<double, 3> fromGlm(const glm::dvec3& v) { return {v.x, v.y, v.z}; }
 
-render::RenderSettings settingsFrom(const DrawParameters& p)
+// `scheme`: the scheme drawn, by name (DrawParameters::scheme resolved by the caller).
+render::RenderSettings settingsFrom(const DrawParameters& p, const std::string& scheme)
 {
     render::RenderSettings s;
-    s.scheme = p.scheme;
+    s.scheme = scheme;
     s.epsilon_px = p.max_screen_error_px;
     s.texel_px = p.texel_size_px;
     s.skirts = p.skirts;
@@ -121,7 +123,10 @@ FrameSummary renderPng(const std::string& archive_path, const std::string& png_p
     render::HeadlessRenderOptions options;
     options.viewport = {parameters.width, parameters.height};
     options.samples = parameters.samples;
-    options.settings = settingsFrom(parameters.draw);
+    const std::string spec =
+        parameters.draw.scheme.empty() ? render::defaultLodScheme() : parameters.draw.scheme;
+    options.settings = settingsFrom(parameters.draw, render::parseSchemeSpec(spec).scheme());
+    options.scheme_spec = spec;
     if (parameters.camera) {
         options.camera = toGlm(parameters.camera->position);
         options.look_at = toGlm(parameters.camera->look_at);
@@ -149,7 +154,13 @@ struct Renderer::Impl {
     FrameSummary draw(const api::HostCamera& host, const DrawParameters& parameters,
                       bool host_projection)
     {
-        const render::RenderSettings settings = settingsFrom(parameters);
+        const std::string& scheme =
+            parameters.scheme.empty() ? renderer.schemes().front() : parameters.scheme;
+        if (scheme.find(',') != std::string::npos)
+            throw Error("DrawParameters::scheme '" + scheme +
+                        "': Renderer::draw takes a scheme's name (its options are "
+                        "RendererParameters::schemes')");
+        const render::RenderSettings settings = settingsFrom(parameters, scheme);
         settings.validate(); // before any GL state changes
         render::HostGlState state("Renderer::draw");
         surface.reset();
@@ -221,6 +232,16 @@ Renderer::Renderer(const std::string& archive_path, const RendererParameters& pa
 }
 
 Renderer::~Renderer() = default;
+
+std::vector<std::string> Renderer::schemes() const
+{
+    return impl_->renderer.schemes();
+}
+
+std::vector<std::string> lodSchemes()
+{
+    return render::lodSchemeNames();
+}
 
 FrameSummary Renderer::draw(const CameraPose& pose, int width, int height,
                             const DrawParameters& parameters)

@@ -7,6 +7,7 @@
 #include "ridge/gpu/render_target.h"
 #include "ridge/io/raster_writer.h"
 #include "ridge/render/legend.h"
+#include "ridge/render/scheme_options.h"
 
 #include <glm/geometric.hpp>
 
@@ -24,6 +25,12 @@ void HeadlessRenderOptions::validate() const
     checkParameter("samples", int64_t{samples}, 1, kMaxSamples);
     checkParameter("vram_budget_mb", vram_budget_mb, RendererOptions::kVramBudgetMbRange);
     settings.validate();
+    if (!scheme_spec.empty()) {
+        const std::string name = parseSchemeSpec(scheme_spec).scheme();
+        if (name != settings.scheme)
+            throw Error("scheme_spec '" + scheme_spec + "' is not of settings.scheme '" +
+                        settings.scheme + "'");
+    }
 }
 
 lod::Camera cameraFor(const TerrainRenderer& renderer, const HeadlessRenderOptions& options)
@@ -64,8 +71,7 @@ HeadlessRenderResult renderToPng(const std::string& archive_path,
     RendererOptions ro;
     ro.synchronous_stats = true;
     ro.vram_budget_mb = options.vram_budget_mb;
-    ro.chunk_meshes = true; // "chunked" draws Ulrich's simplified chunks
-    ro.schemes = {options.settings.scheme};
+    ro.schemes = {options.scheme_spec.empty() ? options.settings.scheme : options.scheme_spec};
     TerrainRenderer renderer(reader, ro);
     HeadlessRenderResult result{cameraFor(renderer, options), {}, context->rendererName()};
     const gpu::RenderTarget target(options.viewport.width, options.viewport.height,

@@ -18,7 +18,7 @@ InstanceBuffer::InstanceBuffer(const lod::PatchQuadtree& quadtree,
     skirt_margin_ = 0.01 + 1e-6 * std::max(std::abs(root.min_height), std::abs(root.max_height));
 }
 
-PatchInstances InstanceBuffer::write(const TerrainScheme& scheme, const lod::Camera& camera,
+PatchInstances InstanceBuffer::write(TerrainScheme& scheme, const lod::Camera& camera,
                                      const lod::Camera& lod_camera, const lod::Selection& selection,
                                      const RenderSettings& settings)
 {
@@ -31,10 +31,12 @@ PatchInstances InstanceBuffer::write(const TerrainScheme& scheme, const lod::Cam
     const double k = settings.exaggeration;
     const double z_rel = std::max(std::abs(camera.position().z - k * double(min_height_)),
                                   std::abs(camera.position().z - k * double(max_height_)));
-    PatchInstances built = buildPatchInstances(
-        quadtree_, selection, camera.position(), [&](PatchId p) { return residency_.slotOf(p); },
-        [&](PatchId p) { return scheme.meshDeviation(residency_.slotOf(p)); },
-        skirt_margin_ * std::max(k, 1.0) + 1e-6 * z_rel, k);
+    PatchInstances built;
+    if (!scheme.buildInstances(camera, settings, built))
+        built = buildPatchInstances(
+            quadtree_, selection, camera.position(), [&](PatchId p) { return residency_.slotOf(p); },
+            [&](PatchId p) { return scheme.meshDeviation(residency_.slotOf(p)); },
+            skirt_margin_ * std::max(k, 1.0) + 1e-6 * z_rel, k);
     scheme.completeInstances(lod_camera, settings, built);
     const std::vector<GpuPatchInstance>& data = built.records;
     const size_t bytes = std::max<size_t>(data.size(), 1) * sizeof(GpuPatchInstance);

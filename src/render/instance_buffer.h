@@ -25,7 +25,8 @@ class InstanceBuffer {
 
     // The records of `selection` (resident) seen from `camera` as `scheme` draws it with
     // `settings` (the ε met), LOD decided for `lod_camera`, uploaded; returns them.
-    PatchInstances write(const TerrainScheme& scheme, const lod::Camera& camera,
+    // A scheme that builds its own records (TerrainScheme::buildInstances) gives them instead.
+    PatchInstances write(TerrainScheme& scheme, const lod::Camera& camera,
                          const lod::Camera& lod_camera, const lod::Selection& selection,
                          const RenderSettings& settings);
     // Binds the buffer to shader storage binding 0.

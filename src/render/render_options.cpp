@@ -2,6 +2,7 @@
 #include "ridge/render/terrain_renderer.h"
 
 #include "ridge/core/error.h"
+#include "ridge/render/scheme_options.h"
 #include "ridge/stream/upload_planner.h"
 
 #include <glm/geometric.hpp>
@@ -53,9 +54,13 @@ void RendererOptions::validate() const
     checkParameter("upload_budget_max_ms", upload_budget_max_ms,
                    UploadTimeSettings::kCeilingMsRange);
     checkParameter("prefetch_frames", int64_t{prefetch_frames}, 0, kMaxPrefetchFrames);
-    checkParameter("chunk_tolerance", chunk_tolerance, kChunkToleranceRange);
-    for (const std::string& name : schemes)
-        lodSchemeDescription(name);
+    std::vector<std::string> named;
+    for (const std::string& spec : schemes) {
+        const std::string name = parseSchemeSpec(spec).scheme();
+        if (std::find(named.begin(), named.end(), name) != named.end())
+            throw Error("LOD scheme " + name + " is given twice (one spec per scheme)");
+        named.push_back(name);
+    }
 }
 
 } // namespace ridge::render

@@ -159,7 +159,8 @@ void ResidentSet::makeResident(const lod::Selection& selection, FrameStats& stat
 // resident, what to upload this frame and into which slot; this uploads it (stopping when the
 // time budget is spent) and tells the planner how far it got. The planner is called here
 // alone: plan (with prefetch) before the uploads, finish after them.
-lod::Selection ResidentSet::stream(const lod::Selection& desired, const lod::Camera& camera,
+lod::Selection ResidentSet::stream(const lod::Selection& desired, lod::PatchSelector& selector,
+                                   const lod::Camera& camera,
                                    const lod::SelectionSettings& settings, FrameStats& stats)
 {
     // Each streamed frame's time budget follows the frame time (stream::UploadTimeBudget).
@@ -173,8 +174,9 @@ lod::Selection ResidentSet::stream(const lod::Selection& desired, const lod::Cam
                                          arrived_[k]->needsGpuReconstruction(), k});
     const stream::StreamPlan& plan = planner_->plan(
         desired, arrived_descriptions_,
-        {size_t(options_.upload_budget_mb * 1024.0 * 1024.0), options_.uploads_per_frame});
-    planner_->prefetch(quadtree_, camera, options_.prefetch_frames, settings);
+        {size_t(options_.upload_budget_mb * 1024.0 * 1024.0), options_.uploads_per_frame},
+        &selector);
+    planner_->prefetch(selector, camera, options_.prefetch_frames, settings);
     for (const stream::StreamRequest& r : plan.requests)
         streamer_->request(r.id, r.priority);
 
@@ -217,11 +219,11 @@ lod::Selection ResidentSet::stream(const lod::Selection& desired, const lod::Cam
     return outcome.drawn;
 }
 
-lod::Selection ResidentSet::frozenCover(lod::Selection selection) const
+lod::Selection ResidentSet::cover(lod::Selection selection, lod::PatchSelector& selector) const
 {
-    selection.patches = lod::residentCover(selection, reader_.geometry(), [&](PatchId p) {
-                            return residency_.slotOf(p) >= 0;
-                        }).patches;
+    lod::ResidentCover drawn;
+    selector.cover(selection, [&](PatchId p) { return residency_.slotOf(p) >= 0; }, drawn);
+    selection.patches = std::move(drawn.patches);
     return selection;
 }
 

@@ -15,6 +15,7 @@
 #include "ridge/archive/archive_reader.h"
 #include "ridge/lod/patch_quadtree.h"
 #include "ridge/lod/patch_residency.h"
+#include "ridge/lod/patch_selector.h"
 #include "ridge/render/terrain_renderer.h"
 #include "ridge/stream/patch_loader.h"
 #include "ridge/stream/patch_streamer.h"
@@ -50,13 +51,15 @@ class ResidentSet {
     // Synchronous: every patch of `selection` is resident when this returns.
     void makeResident(const lod::Selection& selection, FrameStats& stats);
     // Streaming: requests what is missing, uploads what arrived (within the per-frame budget)
-    // and returns what to draw now — missing patches replaced by resident ancestors.
-    // `settings`: the selection's, for the prefetch.
-    lod::Selection stream(const lod::Selection& desired, const lod::Camera& camera,
-                          const lod::SelectionSettings& settings, FrameStats& stats);
-    // What is resident now, ancestors standing in for the rest of `selection`: no request, no
-    // upload.
-    lod::Selection frozenCover(lod::Selection selection) const;
+    // and returns what to draw now: `selector`'s cover of `desired` (which it selected; for
+    // the quadtree walk, missing patches replaced by resident ancestors). `settings`: the
+    // selection's, for the prefetch (`selector` previews the camera ahead).
+    lod::Selection stream(const lod::Selection& desired, lod::PatchSelector& selector,
+                          const lod::Camera& camera, const lod::SelectionSettings& settings,
+                          FrameStats& stats);
+    // What to draw of `selection` from what is resident now (`selector`'s cover): no request,
+    // no upload.
+    lod::Selection cover(lod::Selection selection, lod::PatchSelector& selector) const;
     // The reads, decodes and cache traffic since the last call, into `stats`.
     void countTraffic(FrameStats& stats);
 

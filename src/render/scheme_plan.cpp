@@ -11,9 +11,10 @@ namespace ridge::render {
 SchemePlan planSchemes(const archive::ArchiveReader& reader, const RendererOptions& options)
 {
     SchemePlan out;
-    auto add = [&](const SchemeInfo& info, const SchemeNeeds& needs) {
+    auto add = [&](const SchemeInfo& info, SchemeOptions own, const SchemeNeeds& needs) {
         out.infos.push_back(&info);
         out.names.push_back(info.name);
+        out.own.push_back(std::move(own));
         out.slot_bytes += needs.slot_bytes;
         out.codes_on_cpu = out.codes_on_cpu || needs.codes_on_cpu;
         out.product.push_back(needs.preparation ? int(out.preparations.size()) : -1);
@@ -22,14 +23,23 @@ SchemePlan planSchemes(const archive::ArchiveReader& reader, const RendererOptio
             out.preparations.push_back(needs.preparation);
     };
     if (options.schemes.empty()) {
-        for (const SchemeInfo& info : schemeRegistry())
-            if (SchemeNeeds needs = info.needs(reader, options); !needs.codes_on_cpu)
-                add(info, needs);
+        for (const SchemeInfo& info : schemeRegistry()) {
+            SchemeOptions own = parseSchemeSpec(info.name);
+            SchemeNeeds needs;
+            try {
+                needs = info.needs(reader, options, own);
+            } catch (const Error&) {
+                continue; // a scheme that cannot draw this archive (rings: patches too small)
+            }
+            if (!needs.codes_on_cpu)
+                add(info, std::move(own), needs);
+        }
     } else {
-        for (const std::string& name : options.schemes) {
-            const SchemeInfo& info = schemeNamed(name);
-            if (std::find(out.infos.begin(), out.infos.end(), &info) == out.infos.end())
-                add(info, info.needs(reader, options));
+        for (const std::string& spec : options.schemes) { // validate(): one spec per scheme
+            SchemeOptions own = parseSchemeSpec(spec);
+            const SchemeInfo& info = schemeNamed(own.scheme());
+            const SchemeNeeds needs = info.needs(reader, options, own);
+            add(info, std::move(own), needs);
         }
     }
     return out;
@@ -59,9 +69,10 @@ TerrainScheme& Schemes::get(const std::string& name)
     }
     const size_t k = size_t(found - plan_.names.begin());
     if (!schemes_[k]) {
-        SchemeResources resources = *shared_;
-        resources.product = plan_.product[k];
-        schemes_[k] = plan_.infos[k]->make(resources);
+        const SchemeResources& s = *shared_;
+        schemes_[k] = plan_.infos[k]->make(SchemeResources{s.reader, s.quadtree, s.options,
+                                                           plan_.own[k], s.textures, s.residency,
+                                                           s.slots, plan_.product[k]});
     }
     return *schemes_[k];
 }

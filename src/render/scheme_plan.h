@@ -5,6 +5,7 @@
 // shared pieces (Schemes), each constructed when a frame first draws it unless it keeps
 // per-slot data (terrain_scheme.h, SchemeNeeds, says why).
 #include "ridge/archive/archive_reader.h"
+#include "ridge/render/scheme_options.h"
 #include "ridge/render/terrain_renderer.h"
 #include "ridge/stream/patch_loader.h"
 
@@ -18,11 +19,12 @@ struct SchemeInfo;
 struct SchemeResources;
 class TerrainScheme;
 
-// The schemes `options` asks for (all registered ones that need no CPU codes when empty),
-// with what they need.
+// The schemes `options` asks for (all registered ones that need no CPU codes with their
+// default options when empty), with their own options and what they need.
 struct SchemePlan {
     std::vector<const SchemeInfo*> infos;
     std::vector<std::string> names; // per scheme
+    std::vector<SchemeOptions> own; // per scheme: its options, from its spec
     std::vector<int> product;       // per scheme: index into preparations, or −1
     std::vector<bool> eager;        // per scheme: keeps per-slot data (constructed at once)
     double slot_bytes = 0.0;        // per slot, all schemes together
@@ -36,7 +38,8 @@ SchemePlan planSchemes(const archive::ArchiveReader& reader, const RendererOptio
 // frame that draws them.
 class Schemes {
   public:
-    // `plan` and what `shared` lends (its product is each scheme's own) must outlive this.
+    // `plan` and what `shared` lends (its `own` and product are each scheme's) must outlive
+    // this.
     Schemes(const SchemePlan& plan, const SchemeResources& shared);
     ~Schemes();
     Schemes(const Schemes&) = delete;

@@ -23,6 +23,8 @@
 namespace ridge::render {
 namespace {
 
+const SchemeOptions kSharedOnly; // SchemeResources' `own` before Schemes gives each its own
+
 double millisecondsSince(std::chrono::steady_clock::time_point t0)
 {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -57,6 +59,8 @@ struct TerrainRenderer::Impl {
     lod::CoarseTerrain coarse;
     // The drawable schemes, each over the resident set's textures and residency.
     Schemes schemes;
+    // The screen-space-error walk, for schemes that do not select for themselves.
+    lod::QuadtreeSelector quadtree_selector{quadtree};
     InstanceBuffer instances;
     FrameUniforms uniforms;
     SurfaceCapture surface_capture;
@@ -116,8 +120,9 @@ TerrainRenderer::Impl::Impl(const archive::ArchiveReader& r, const RendererOptio
       resident(r, quadtree, options, slots, plan),
       coarse(quadtree.frame(), quadtree.box(PatchId{0, 0, 0}),
              resident.load(PatchId{0, 0, 0})->codes, r.quantization()),
-      schemes(plan, SchemeResources{r, quadtree, options, resident.textures(), resident.residency(),
-                                    slots, -1}),
+      // The shared pieces; each scheme gets its own options and product (Schemes::get).
+      schemes(plan, SchemeResources{r, quadtree, options, kSharedOnly, resident.textures(),
+                                    resident.residency(), slots, -1}),
       instances(quadtree, resident.residency()), uniforms(r, quadtree)
 {
     resident.start(schemes);
@@ -137,22 +142,27 @@ lod::Selection TerrainRenderer::Impl::prepare(TerrainScheme& scheme, const lod::
     ss.side_on = settings.side_on_bound;
     ss.exaggeration = settings.exaggeration;
     scheme.adjustSelection(settings, ss);
-    lod::Selection selection = quadtree.select(camera, ss);
+    // The scheme's own selector (rings), or the screen-space-error walk.
+    lod::PatchSelector& selector = scheme.selector() ? *scheme.selector() : quadtree_selector;
+    lod::Selection selection;
+    selector.select(camera, ss, selection);
     stats.cpu_select_ms = millisecondsSince(t0);
     stats.patches = int(selection.patches.size());
     stats.culled = selection.culled;
     stats.epsilon_px = selection.epsilon_px;
     stats.texel_px = selection.texel_px;
-    stats.coarser = selection.epsilon_px > ss.epsilon_px;
+    stats.coarser = selection.epsilon_px > ss.epsilon_px || selection.levels_coarser > 0;
     t0 = std::chrono::steady_clock::now();
     if (frozen)
-        return resident.frozenCover(std::move(selection));
+        return resident.cover(std::move(selection), selector);
     upload_timer.begin();
     try {
-        if (resident.streaming())
-            selection = resident.stream(selection, camera, ss, stats);
-        else
+        if (resident.streaming()) {
+            selection = resident.stream(selection, selector, camera, ss, stats);
+        } else {
             resident.makeResident(selection, stats);
+            selection = resident.cover(std::move(selection), selector); // all of it resident
+        }
     } catch (...) {
         upload_timer.end(); // keep begin/end balanced for the next frame
         throw;

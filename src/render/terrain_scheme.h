@@ -7,9 +7,12 @@
 // adds only what is its own: how it adjusts the coarse selection, what it derives from a
 // patch's codes on the stream workers, what it uploads per slot, its programs and its draw.
 //
-// A scheme is one file under src/render/schemes/ plus one line in scheme_registry.cpp;
-// nothing else in ridge names a scheme (CLI, bench, viewer and tests take the registry's
-// names). Schemes are CDLOD-style modules: read one alone to see the whole of its algorithm.
+// A scheme is one file under src/render/schemes/ plus one line in scheme_registry.cpp, with
+// its own options declared there (SchemeInfo::options); nothing else in ridge names a scheme
+// (CLI, bench, viewer and tests take the registry's names; scripts/check-layering.sh refuses
+// a scheme's name as a string literal elsewhere, except in its own tests,
+// tests/render/schemes/<module>_test.cpp). Schemes are CDLOD-style modules: read one alone to
+// see the whole of its algorithm.
 #include "patch_instances.h"
 #include "patch_textures.h"
 
@@ -18,6 +21,7 @@
 #include "ridge/lod/patch_quadtree.h"
 #include "ridge/lod/patch_residency.h"
 #include "ridge/lod/patch_selector.h"
+#include "ridge/render/scheme_options.h"
 #include "ridge/render/terrain_renderer.h"
 #include "ridge/stream/patch_loader.h"
 
@@ -28,8 +32,8 @@
 
 namespace ridge::render {
 
-// What a scheme needs decided before the renderer allocates anything, from the archive and
-// the renderer's options alone.
+// What a scheme needs decided before the renderer allocates anything, from the archive, the
+// renderer's options and the scheme's own options alone.
 //
 // They also decide when the scheme's object is constructed. A scheme that keeps per-slot data
 // (slot_bytes > 0 or a preparation) is constructed with the renderer, so that upload() sees
@@ -54,6 +58,7 @@ struct SchemeResources {
     const archive::ArchiveReader& reader;
     const lod::PatchQuadtree& quadtree;
     const RendererOptions& options;
+    const SchemeOptions& own; // this scheme's options (SchemeInfo::options, as its spec set them)
     PatchTextures& textures;
     const lod::PatchResidency& residency;
     int slots = 0;
@@ -124,10 +129,17 @@ class TerrainScheme {
     virtual size_t maxTrianglesPerInstance(bool skirts) const = 0;
 };
 
+// A module's registration, written with designated initializers
+// ({.name = ..., .description = ..., .options = ..., .needs = ..., .make = ...}) so that
+// fields added later need no change to the modules that do not use them.
 struct SchemeInfo {
     const char* name;        // as the CLI, the benchmark and the viewer spell it
     const char* description; // one line for --help and reports
-    SchemeNeeds (*needs)(const archive::ArchiveReader& reader, const RendererOptions& options);
+    // The scheme's own options, as its spec sets them ("NAME,KEY=VALUE,..."; see
+    // ridge/render/scheme_options.h); --help lists them from here.
+    std::vector<SchemeOption> options;
+    SchemeNeeds (*needs)(const archive::ArchiveReader& reader, const RendererOptions& options,
+                         const SchemeOptions& own);
     std::unique_ptr<TerrainScheme> (*make)(const SchemeResources& resources);
     SchemePromises promises = {}; // what the conformance suite holds it to
 };

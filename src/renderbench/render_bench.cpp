@@ -7,6 +7,7 @@
 #include "ridge/gpu/render_target.h"
 #include "ridge/render/frame_measures.h"
 #include "ridge/render/headless_render.h"
+#include "ridge/render/scheme_options.h"
 
 #include <chrono>
 #include <cmath>
@@ -41,6 +42,7 @@ void RenderBenchOptions::validate() const
     checkParameter("epsilon_px", epsilon_px, render::RenderSettings::kEpsilonPxRange);
     checkParameter("texel_px", texel_px, render::RenderSettings::kTexelPxRange);
     checkParameter("exaggeration", exaggeration, render::RenderSettings::kExaggerationRange);
+    render::parseSchemeSpec(scheme, "scheme");
     path.validate();
     renderer.validate();
 }
@@ -57,7 +59,6 @@ RenderBenchReport runRenderBench(const std::string& archive, const RenderBenchOp
     render::RendererOptions ro = o.renderer;
     ro.max_resident_patches = 2048;
     ro.synchronous_stats = true; // per-frame GPU time and triangles, measured
-    ro.chunk_meshes = !o.grid_chunks; // what "chunked" draws
     ro.schemes = {o.scheme};
     render::TerrainRenderer renderer(reader, ro);
     const lod::PatchBounds& root = renderer.quadtree().bounds({0, 0, 0});
@@ -69,7 +70,7 @@ RenderBenchReport runRenderBench(const std::string& archive, const RenderBenchOp
     const gpu::RenderTarget target(o.viewport.width, o.viewport.height, 1);
     target.bind();
     render::RenderSettings settings;
-    settings.scheme = o.scheme;
+    settings.scheme = render::parseSchemeSpec(o.scheme).scheme();
     settings.epsilon_px = o.epsilon_px;
     settings.texel_px = o.texel_px;
     settings.cull = o.cull;

@@ -193,16 +193,19 @@ TEST(HostScene, PickReturnsTheSummitWithinTheDrawnError)
     EXPECT_NEAR(summit.lon_lat[1], 27.988, 1.0 / 2400);
     EXPECT_NEAR(summit.height, 8848.0, 10.0);
 
+    // Every registered scheme with its default options (ridge::lodSchemes()).
     ridge::RendererParameters rp;
     rp.streaming = false;
+    rp.schemes = ridge::lodSchemes();
     ridge::Renderer renderer(path, rp);
+    EXPECT_EQ(renderer.schemes(), ridge::lodSchemes());
     host::Framebuffer target(kWidth, kHeight);
     EXPECT_THROW(renderer.pick(10.0, 10.0), ridge::Error); // nothing drawn yet
 
     const int finest = terrain.info().levels - 1;
-    for (const char* scheme : {"tess", "chunked", "brute"})
+    for (const std::string& scheme : renderer.schemes())
         for (const double epsilon : {1.0, 40.0}) {
-            SCOPED_TRACE(std::string(scheme) + ", epsilon " + std::to_string(epsilon));
+            SCOPED_TRACE(scheme + ", epsilon " + std::to_string(epsilon));
             ridge::CameraParameters cp;
             cp.position_lonlat = {86.90, 27.95, 13000.0};
             cp.look_at = std::array<double, 3>{summit.local.x, summit.local.y, summit.height};
@@ -229,16 +232,19 @@ TEST(HostScene, PickReturnsTheSummitWithinTheDrawnError)
             // Float rounding of camera-relative vertices ~13 km from the eye: a few mm.
             EXPECT_LE(std::abs(down->height - summit.height), down->error_bound + 0.01)
                 << "level " << down->level << ", bound " << down->error_bound;
-            if (epsilon == 1.0) { // the finest level, every sample a vertex: exact
-                EXPECT_NEAR(down->height, summit.height, 0.01);
-                EXPECT_LT(down->error_bound, 0.01); // float vertices vs integer samples
-            }
             EXPECT_GE(down->level, 0);
             EXPECT_LE(down->level, finest);
-            if (std::string(scheme) == "brute") {
-                EXPECT_EQ(down->level, finest);
-            } else if (epsilon == 40.0) {
-                EXPECT_LT(down->level, finest) << "a coarse frame draws a coarser level";
+            // The default scheme follows ε: at 1 px the finest level, every sample a vertex,
+            // exactly; at 40 px a coarser level. What each other scheme draws at a sample is
+            // its own tests' (tests/render/schemes/: brute force's finest level whatever ε,
+            // chunks' vertices on their level's samples; geomorphing moves them by design).
+            if (scheme == ridge::lodSchemes().front()) {
+                if (epsilon == 1.0) {
+                    EXPECT_NEAR(down->height, summit.height, 0.01);
+                    EXPECT_LT(down->error_bound, 0.01); // float vertices vs integer samples
+                } else {
+                    EXPECT_LT(down->level, finest) << "a coarse frame draws a coarser level";
+                }
             }
             // Straight down onto every finest sample around the summit: each within the
             // bound measured under its triangle (lossless: the archive's samples are the
@@ -259,29 +265,13 @@ TEST(HostScene, PickReturnsTheSummitWithinTheDrawnError)
                         << "sample " << di << "," << dj << " level " << hit->level;
                     worst = std::max(worst, std::abs(hit->height - source));
                 }
-            if (epsilon == 40.0 && std::string(scheme) != "brute") {
+            // A coarser level visibly departs from the samples.
+            if (epsilon == 40.0 && down->level < finest) {
                 EXPECT_GT(worst, 5.0) << "the coarse frame drew the finest surface";
             }
             std::printf("%s, ε %.0f: level %d at the summit, bound %.2f m; worst of 625 "
                         "samples around it %.2f m\n",
-                        scheme, epsilon, down->level, down->error_bound, worst);
-
-            // The full-grid schemes draw each sample of the level as a vertex: at the level's
-            // sample nearest the summit, the pick is that sample's height (what that level
-            // draws), whichever level was drawn.
-            if (std::string(scheme) != "tess") {
-                const int64_t step = int64_t(1) << (finest - down->level);
-                const int col = int(std::lround(summit.local.x / terrain.info().spacing_x));
-                const int row = int(terrain.info().height - 1 -
-                                    std::lround(summit.local.y / terrain.info().spacing_y));
-                const ridge::LocalPoint s = terrain.localFromPixel(
-                    double(col / step * step) + 0.5, double(row / step * step) + 0.5);
-                const std::optional<ridge::TerrainHit> at_sample =
-                    renderer.pick({s.x, s.y, 20000.0}, {0.0, 0.0, -1.0});
-                ASSERT_TRUE(at_sample.has_value());
-                EXPECT_EQ(at_sample->level, down->level);
-                EXPECT_NEAR(at_sample->height, *terrain.heightAtLevel(s.x, s.y, down->level), 0.01);
-            }
+                        scheme.c_str(), epsilon, down->level, down->error_bound, worst);
 
             // Through the summit's pixel from the eye: a point of the drawn surface near the
             // summit, the same one a vertical ray through it finds (exact to the triangles).

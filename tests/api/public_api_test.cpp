@@ -155,7 +155,9 @@ TEST(PublicApi, RendersAPngHeadless)
     p.width = 160;
     p.draw.scheme = "no-such-scheme";
     EXPECT_THROW(ridge::renderPng(path, dir.path("f.png"), p), ridge::Error);
-    p.draw.scheme = "tess";
+    p.draw.scheme = ridge::lodSchemes().front() + ",no-such-option=1";
+    EXPECT_THROW(ridge::renderPng(path, dir.path("f.png"), p), ridge::Error);
+    p.draw.scheme = ridge::lodSchemes().front();
     p.draw.max_screen_error_px = std::nan("");
     EXPECT_THROW(ridge::renderPng(path, dir.path("f.png"), p), ridge::Error);
     EXPECT_FALSE(std::filesystem::exists(dir.path("f.png")));

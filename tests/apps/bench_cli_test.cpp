@@ -1,6 +1,8 @@
 // `ridge bench` as a user runs it: figures for every frame, a plot, and clear errors.
 #include "test_support.h"
 
+#include "ridge/render/terrain_renderer.h"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -24,7 +26,7 @@ TEST(BenchCli, FliesEachRendererAlongAPathAndWritesJsonAndAPlot)
 {
     test::ScratchDir dir;
     const std::string arc = buildArchive(dir);
-    for (const std::string renderer : {"tess", "chunked", "brute"})
+    for (const std::string& renderer : render::lodSchemeNames())
         for (const std::string path : {"flyover", "orbit", "teleport"}) {
             const std::string json = dir.path(renderer + path + ".json"),
                               png = dir.path(renderer + path + ".png");
@@ -57,8 +59,9 @@ TEST(BenchCli, BadInputsGetAClearErrorAndANonZeroExit)
     for (const Case& c :
          {Case{"--path '" + dir.path("bad_path.txt") + "'", "bad_path.txt:2:"},
           Case{"--path '" + dir.path("missing.txt") + "'", "missing.txt"},
-          Case{"--renderer fancy", "--lod fancy: expected tess, chunked, brute"}, Case{"--size 0x0", "--size"},
-          Case{"--renderer chunked --chunk-tolerance -1", "--chunk-tolerance"},
+          Case{"--renderer fancy",
+               "--lod fancy: not a LOD scheme; expected one of " + render::lodSchemeList()},
+          Case{"--size 0x0", "--size"},
           // Unwritable outputs are caught before the run (PLplot would exit() after it).
           Case{"--plot '" + dir.path("no/such/dir/p.png") + "'", "p.png: cannot write"},
           Case{"--json-file '" + dir.path("no/such/dir/f.json") + "'", "f.json: cannot write"}}) {
@@ -80,10 +83,9 @@ TEST(BenchCli, TablePrintsTheFractalRingsRowsForEveryRendererWithAndWithoutCulli
     const test::CommandResult r =
         test::runRidge("bench '" + arc + "' --table --frames 6 --size 160x90");
     ASSERT_EQ(r.exit_code, 0) << r.output;
-    for (const char* row :
-         {"tess  ", "tess without frustum", "chunked  ", "chunked without frustum", "brute  ",
-          "brute without frustum"})
-        EXPECT_NE(r.output.find(row), std::string::npos) << row << " in:\n" << r.output;
+    for (const std::string& scheme : render::lodSchemeNames())
+        for (const std::string& row : {scheme + "  ", scheme + " without frustum"})
+            EXPECT_NE(r.output.find(row), std::string::npos) << row << " in:\n" << r.output;
     EXPECT_NE(r.output.find("cache miss"), std::string::npos);
 }
 

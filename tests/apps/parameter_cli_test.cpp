@@ -132,8 +132,7 @@ TEST_F(ParameterCli, BenchRefusesANanSpeedAndOtherBadNumbers)
     expectRefused(bench + "--frames 2 --error nan", {"--error nan:"});
     expectRefused(bench + "--frames 2 --texel-size inf", {"--texel-size inf:"});
     expectRefused(bench + "--frames 0", {"--frames 0: must be an integer in [1, 100000000]"});
-    expectRefused(bench + "--frames 2 --chunk-tolerance nan",
-                  {"--chunk-tolerance nan: must be a number in [0, 100]"});
+    // A scheme's own numbers are its --lod spec's: lod_spec_cli_test.cpp.
 }
 
 TEST_F(ParameterCli, BuildRefusesAZScaleThatMakesHeightsImpossibleAndWritesNothing)

@@ -65,6 +65,7 @@ foreach(line IN LISTS symbols)
   # Public: ridge::<Name> (capitalised types and their members, typeinfo and vtables) and
   # the free functions ridge.h declares.
   if(name MATCHES "(^|[ :])ridge::(Error|Cancelled|Terrain|Renderer|build|verify|renderPng|versionString)[(:]"
+     OR name MATCHES "^ridge::lodSchemes(\\[abi:cxx11\\])?\\(\\)$"
      OR name MATCHES "^(typeinfo|typeinfo name|vtable) for ridge::(Error|Cancelled)$")
     math(EXPR public "${public} + 1")
   else()

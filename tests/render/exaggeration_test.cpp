@@ -30,7 +30,6 @@ class Exaggeration : public ::testing::TestWithParam<std::string> {
         reader_ = new archive::ArchiveReader(test::buildEverestArchive(*scratch_, "lossless", 33));
         render::RendererOptions ro;
         ro.synchronous_stats = true;
-        ro.chunk_meshes = true;
         ro.max_resident_patches = 2048;
         ro.schemes = render::lodSchemeNames();
         renderer_ = new render::TerrainRenderer(*reader_, ro);

@@ -107,7 +107,6 @@ class SchemeConformance : public ::testing::TestWithParam<std::string> {
         s.reader = std::make_unique<archive::ArchiveReader>(path);
         render::RendererOptions ro;
         ro.synchronous_stats = true;
-        ro.chunk_meshes = true;
         ro.max_resident_patches = 2048;
         ro.schemes = render::lodSchemeNames();
         s.renderer = std::make_unique<render::TerrainRenderer>(*s.reader, ro);
@@ -382,7 +381,6 @@ void streamingFlyOver(const std::string& scheme, const Fixture& fx)
     Scene& synchronous = SchemeConformance::sceneOf(fx);
     render::RendererOptions options = render::RendererOptions::streamingDefaults();
     options.schemes = {scheme};
-    options.chunk_meshes = true;
     options.max_resident_patches = 12; // a handful of slots: ε rises, ancestors stand in
     options.ram_budget_mb = 1.0;
     options.uploads_per_frame = 2;

@@ -2,6 +2,7 @@
 // to full detail once the workers are done.
 #include "captured_surface_checks.h"
 #include "fixture_archives.h"
+#include "streaming_checks.h"
 
 #include "ridge/gpu/context.h"
 #include "ridge/gpu/render_target.h"
@@ -19,51 +20,9 @@
 
 using namespace ridge;
 
-namespace {
-
-// The drawn patches tile the valid extent without holes or overlaps: every finest cell is
-// under exactly one of them (culling off, so the whole extent is drawn).
-size_t holesOrOverlaps(const PyramidGeometry& g, const std::vector<PatchId>& drawn)
-{
-    const int W = g.width() - 1, H = g.height() - 1;
-    std::vector<uint8_t> count(size_t(W) * H, 0);
-    for (PatchId p : drawn) {
-        const int64_t span = int64_t(g.cells()) * g.step(p.level);
-        for (int64_t r = p.y * span; r < std::min<int64_t>((p.y + 1) * span, H); ++r)
-            for (int64_t c = p.x * span; c < std::min<int64_t>((p.x + 1) * span, W); ++c)
-                ++count[size_t(r) * W + c];
-    }
-    size_t bad = 0;
-    for (uint8_t c : count)
-        bad += c != 1;
-    return bad;
-}
-
-struct StreamingScene {
-    test::ScratchDir dir;
-    std::unique_ptr<gpu::HeadlessContext> context = gpu::HeadlessContext::create();
-    std::unique_ptr<archive::ArchiveReader> reader;
-
-    explicit StreamingScene(const std::string& codec)
-    {
-        reader = std::make_unique<archive::ArchiveReader>(test::buildEverestArchive(dir, codec));
-    }
-};
-
-// A low, fast fly-over from the south-west corner to the north-east one.
-lod::Camera flyover(const render::TerrainRenderer& r, int frame, int frames)
-{
-    const lod::TerrainFrame& f = r.quadtree().frame();
-    const double t = double(frame) / frames;
-    const double x = f.extentX() * (0.05 + 0.9 * t), y = f.extentY() * (0.05 + 0.9 * t);
-    const glm::dvec3 pos(x, y, r.groundHeight(x, y) + 400.0);
-    const glm::dvec3 at(x + 3000.0, y + 3000.0, r.groundHeight(x, y) - 300.0);
-    double near_m, far_m;
-    r.clipPlanesFor(pos, near_m, far_m);
-    return lod::Camera(pos, at, 60.0, {320, 180}, near_m, far_m);
-}
-
-} // namespace
+using test::flyover;
+using test::holesOrOverlaps;
+using test::StreamingScene;
 
 TEST(Streaming, AFastFlyOverUnderATinyBudgetNeverShowsAHoleAndStaysWithinBudget)
 {
@@ -105,56 +64,6 @@ TEST(Streaming, AFastFlyOverUnderATinyBudgetNeverShowsAHoleAndStaysWithinBudget)
                 << "the budget must force fallbacks for this test to mean anything";
             EXPECT_TRUE(renderer.streamingError().empty());
         }
-}
-
-TEST(Streaming, UlrichsChunksStreamWithoutHolesAndConvergeToAWatertightSurface)
-{
-    // The chunked baseline under streaming: its chunks are built by the decode workers, each
-    // slot's budget counts a full-grid index buffer, and the result is as sound as the
-    // synchronous renderer's.
-    for (const char* codec : {"lossless", "progressive"}) {
-        StreamingScene scene(codec);
-        render::RendererOptions options;
-        options.streaming = true;
-        options.chunk_meshes = true;
-        options.schemes = {"chunked"};
-        options.synchronous_stats = true; // this frame's triangles
-        // 24 slots of 33² patches: textures plus a 16-bit index buffer of the full grid.
-        options.vram_budget_mb = 24 * (7815.0 + (6 * 32 * 32 + 24 * 32) * 2) / (1024 * 1024);
-        options.ram_budget_mb = 0.5;
-        options.uploads_per_frame = 3;
-        render::TerrainRenderer renderer(*scene.reader, options);
-        ASSERT_EQ(renderer.residentSlots(), 24);
-        gpu::RenderTarget target(320, 180, 1);
-        target.bind();
-        render::RenderSettings settings;
-        settings.scheme = "chunked";
-        settings.cull = false;
-        settings.epsilon_px = 1.0;
-        const int frames = 40;
-        for (int k = 0; k < frames; ++k) {
-            const render::FrameStats stats = renderer.draw(flyover(renderer, k, frames), settings);
-            ASSERT_EQ(holesOrOverlaps(scene.reader->geometry(), renderer.lastDrawnPatches()), 0u)
-                << codec << " frame " << k;
-            EXPECT_LE(stats.resident, 24);
-            EXPECT_GT(stats.triangles, 0u);
-        }
-        const lod::Camera cam = flyover(renderer, frames / 2, frames);
-        settings.cull_blocks = false;
-        render::FrameStats stats = renderer.draw(cam, settings);
-        for (int k = 0; k < 200 && stats.missing > 0; ++k) {
-            renderer.waitForStreaming();
-            stats = renderer.draw(cam, settings);
-        }
-        EXPECT_EQ(stats.missing, 0) << codec;
-        const render::CapturedSurface surface = renderer.capture(cam, settings);
-        const test::WatertightReport w =
-            test::checkWatertight(surface, renderer.quadtree().frame());
-        EXPECT_GT(w.triangles, 0u);
-        EXPECT_EQ(w.open_edges, 0u) << codec << ": " << w.first_problem;
-        EXPECT_EQ(w.uncovered_seams, 0u) << codec << ": " << w.first_problem;
-        EXPECT_TRUE(renderer.streamingError().empty());
-    }
 }
 
 TEST(Streaming, ATeleportReachesFullDetailWithinBoundedFramesOnceTheWorkersAreDone)

@@ -1,8 +1,7 @@
 // The tessellation renderer's two promises on a real fixture (SRTM Everest), measured on what
 // the GPU (Mesa llvmpipe in CI) actually produced: no cracks, and no more than ε pixels of
 // screen-space error.
-#include "captured_surface_checks.h"
-#include "fixture_archives.h"
+#include "terrain_renderer_fixture.h"
 
 #include "ridge/core/error.h"
 #include "ridge/gpu/context.h"
@@ -22,148 +21,9 @@
 
 using namespace ridge;
 
-namespace {
-
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool kSanitized = true;
-#else
-constexpr bool kSanitized = false;
-#endif
-
-struct Scene {
-    std::unique_ptr<archive::ArchiveReader> reader;
-    std::unique_ptr<render::TerrainRenderer> renderer;
-    std::vector<float> finest; // metres, full resolution
-};
-
-class TerrainRendererTest : public ::testing::Test {
-  protected:
-    static void SetUpTestSuite()
-    {
-        scratch_ = new test::ScratchDir();
-        context_ = gpu::HeadlessContext::create().release();
-        std::printf("GL renderer: %s (%s)\n", context_->rendererName().c_str(),
-                    context_->platformName().c_str());
-    }
-    static void TearDownTestSuite()
-    {
-        delete context_;
-        delete scratch_;
-    }
-
-    // Patches of 33 samples give the Everest crop 5 levels: an unbalanced tree and seams
-    // between patches up to 4 levels apart.
-    static Scene scene(const std::string& codec, double max_error = 0.0, bool chunk_meshes = false)
-    {
-        return sceneOf(test::buildEverestArchive(*scratch_, codec, 33, max_error), chunk_meshes);
-    }
-
-    // The Everest crop with patches of `patch_size` and its heights scaled by `z_scale` (0.05:
-    // a low-relief terrain of 170..440 m, slopes of a few degrees).
-    static Scene scene(const std::string& codec, double max_error, int patch_size, double z_scale)
-    {
-        BuildOptions options;
-        options.patch_size = patch_size;
-        options.codec = codec;
-        if (codec == "progressive")
-            options.max_error = max_error;
-        options.ingest.z_scale = z_scale;
-        options.progress = {};
-        const std::string path = scratch_->path(codec + "_" + std::to_string(patch_size) + "_z" +
-                                                std::to_string(z_scale) + ".ridge");
-        buildArchive(test::dataPath("everest_crop.tif"), path, options);
-        return sceneOf(path, false);
-    }
-
-    static Scene sceneOf(const std::string& path, bool chunk_meshes)
-    {
-        Scene s;
-        s.reader = std::make_unique<archive::ArchiveReader>(path);
-        render::RendererOptions ro;
-        ro.synchronous_stats = true;
-        ro.chunk_meshes = chunk_meshes;
-        ro.schemes = render::lodSchemeNames(); // every scheme, whatever it needs
-        ro.max_resident_patches = 1024;
-        s.renderer = std::make_unique<render::TerrainRenderer>(*s.reader, ro);
-        // Full resolution: the archive's finest level as decoded (for the lossless codec the
-        // source itself; the lossy codec's own bound against the source is verify's job).
-        s.finest = toMetres(decodeLevel(*s.reader, s.reader->geometry().finestLevel()),
-                            s.reader->quantization());
-        return s;
-    }
-
-    // Cameras over and around the terrain, looking at random points of it, low and high.
-    static std::vector<lod::Camera> randomCameras(const render::TerrainRenderer& r, int count,
-                                                  lod::Viewport vp, unsigned seed)
-    {
-        const lod::TerrainFrame& f = r.quadtree().frame();
-        std::mt19937 rng(seed);
-        std::uniform_real_distribution<double> u(0.0, 1.0);
-        std::vector<lod::Camera> cameras;
-        while (int(cameras.size()) < count) {
-            const double x = (u(rng) * 1.4 - 0.2) * f.extentX(),
-                         y = (u(rng) * 1.4 - 0.2) * f.extentY();
-            const double above = 30.0 * std::pow(400.0, u(rng)); // 30 m .. 12 km above ground
-            const glm::dvec3 pos(x, y, r.groundHeight(x, y) + above);
-            const double tx = u(rng) * f.extentX(), ty = u(rng) * f.extentY();
-            const glm::dvec3 at(tx, ty, r.groundHeight(tx, ty));
-            if (glm::length(at - pos) < 1.0)
-                continue;
-            double near_m, far_m;
-            r.clipPlanesFor(pos, near_m, far_m);
-            cameras.emplace_back(pos, at, 40.0 + 40.0 * u(rng), vp, near_m, far_m);
-        }
-        return cameras;
-    }
-
-    // Cameras 15..200 m above the ground looking across it 300 m..3 km ahead, half of them
-    // up or down the steepest of a few candidate slopes: where blocks near the camera project
-    // largest and the view grazes the relief.
-    static std::vector<lod::Camera> lowCameras(const render::TerrainRenderer& r, int count,
-                                               lod::Viewport vp, unsigned seed)
-    {
-        const lod::TerrainFrame& f = r.quadtree().frame();
-        std::mt19937 rng(seed);
-        std::uniform_real_distribution<double> u(0.0, 1.0);
-        std::vector<lod::Camera> cameras;
-        const double pi = 3.14159265358979;
-        while (int(cameras.size()) < count) {
-            const bool slope = cameras.size() % 2 == 1;
-            double x = 0, y = 0, heading = 2 * pi * u(rng), steepest = -1;
-            for (int k = 0; k < (slope ? 12 : 1); ++k) {
-                const double cx = (0.1 + 0.8 * u(rng)) * f.extentX(),
-                             cy = (0.1 + 0.8 * u(rng)) * f.extentY(), h = 2 * f.spacingX();
-                const double gx = r.groundHeight(cx + h, cy) - r.groundHeight(cx - h, cy),
-                             gy = r.groundHeight(cx, cy + h) - r.groundHeight(cx, cy - h);
-                if (std::hypot(gx, gy) > steepest) {
-                    steepest = std::hypot(gx, gy);
-                    x = cx;
-                    y = cy;
-                    // Up the slope, or down it.
-                    if (slope)
-                        heading = std::atan2(gy, gx) + (u(rng) < 0.5 ? 0.0 : pi);
-                }
-            }
-            const double above = 15.0 * std::pow(200.0 / 15.0, u(rng));
-            const glm::dvec3 pos(x, y, r.groundHeight(x, y) + above);
-            const double ahead = 300.0 * std::pow(10.0, u(rng));
-            const double tx = x + ahead * std::cos(heading), ty = y + ahead * std::sin(heading);
-            const glm::dvec3 at(tx, ty, r.groundHeight(tx, ty));
-            double near_m, far_m;
-            r.clipPlanesFor(pos, near_m, far_m);
-            cameras.emplace_back(pos, at, 40.0 + 40.0 * u(rng), vp, near_m, far_m);
-        }
-        return cameras;
-    }
-
-    static test::ScratchDir* scratch_;
-    static gpu::HeadlessContext* context_;
-};
-
-test::ScratchDir* TerrainRendererTest::scratch_ = nullptr;
-gpu::HeadlessContext* TerrainRendererTest::context_ = nullptr;
-
-} // namespace
+using test::kSanitized;
+using test::Scene;
+using test::TerrainRendererTest;
 
 TEST_F(TerrainRendererTest, CapturedSurfaceIsWatertightForRandomCameras)
 {
@@ -204,70 +64,6 @@ TEST_F(TerrainRendererTest, WithoutSkirtsTheSeamsBetweenLevelsAreOpen)
     const test::WatertightReport w =
         test::checkWatertight(s.renderer->capture(cam, settings), s.renderer->quadtree().frame());
     EXPECT_GT(w.open_edges, 0u);
-}
-
-TEST_F(TerrainRendererTest, ChunkedAndBruteForceBaselinesAreWatertightAndWithinEpsilon)
-{
-    // The baselines' meshes add no error beyond what their selection accounts for: Ulrich's
-    // simplified chunks select at 1.5·Err(P) and drop at most Err(P)/2 (how far they simplify
-    // is lod's ChunkMesh tests' and the Sierra benchmark's); full-grid chunks draw the
-    // level's samples. Both must meet ε itself (no fine-LOD excess), and brute force on a
-    // lossless archive draws the data exactly. Progressive: the finest level has Err > 0, so
-    // even its chunks are simplified.
-    struct Case {
-        std::string name, codec;
-        double max_error;
-        bool chunk_meshes;
-        std::string scheme;
-        double epsilon_px = 2.0;
-    };
-    const std::string chunked = "chunked";
-    std::map<std::string, size_t> patches; // drawn, over all cameras
-    for (const Case& c :
-         {Case{"simplified chunks", "lossless", 0.0, true, chunked},
-          Case{"full-grid chunks", "lossless", 0.0, false, chunked},
-          Case{"brute force", "lossless", 0.0, false, "brute"},
-          Case{"progressive simplified chunks", "progressive", 1.0, true, chunked},
-          Case{"progressive full-grid chunks", "progressive", 1.0, false, chunked},
-          // Coarse: big simplified triangles meet the terrain's clipped east and south border.
-          Case{"simplified chunks at ε 8", "lossless", 0.0, true, chunked, 8.0},
-          Case{"progressive simplified chunks at ε 8", "progressive", 1.0, true, chunked, 8.0}}) {
-        const Scene s = scene(c.codec, c.max_error, c.chunk_meshes);
-        const auto cameras = randomCameras(*s.renderer, 8, {480, 270}, 31);
-        double worst = 0.0;
-        for (size_t k = 0; k < cameras.size(); ++k) {
-            render::RenderSettings settings;
-            settings.scheme = c.scheme;
-            settings.epsilon_px = c.epsilon_px;
-            settings.texel_px = 0.0; // measures how close to ε the chunks come: ε alone decides
-            settings.cull_blocks = false;
-            const render::CapturedSurface surface = s.renderer->capture(cameras[k], settings);
-            patches[c.name] += surface.patches.size();
-            const test::WatertightReport w =
-                test::checkWatertight(surface, s.renderer->quadtree().frame());
-            EXPECT_GT(w.skirt_triangles, 0u);
-            EXPECT_EQ(w.open_edges, 0u) << c.name << " camera " << k << ": " << w.first_problem;
-            EXPECT_EQ(w.overused_edges, 0u) << c.name << " camera " << k;
-            EXPECT_EQ(w.uncovered_seams, 0u)
-                << c.name << " camera " << k << ": " << w.first_problem;
-            const test::ScreenErrorReport e = test::measureScreenSpaceError(
-                surface, s.renderer->quadtree().frame(), s.finest, cameras[k]);
-            EXPECT_EQ(e.uncovered, 0u);
-            worst = std::max(worst, e.max_px);
-        }
-        if (c.scheme == chunked) {
-            EXPECT_LE(worst, c.epsilon_px * 1.001) << c.name;
-            EXPECT_GT(worst, c.epsilon_px / 4) << c.name << ", and not far below ε";
-        } else {
-            // Only float rounding of camera-relative heights separates it from the data.
-            EXPECT_LT(worst, 0.01) << "brute force draws the finest samples themselves";
-        }
-        std::printf("%s: max projected error %.3f px at ε = %g\n", c.name.c_str(), worst,
-                    c.epsilon_px);
-    }
-    // Their own error in the selection refines further than the full grids.
-    EXPECT_GT(patches["simplified chunks"], patches["full-grid chunks"]);
-    EXPECT_GT(patches["progressive simplified chunks"], patches["progressive full-grid chunks"]);
 }
 
 TEST_F(TerrainRendererTest, ASmallTextureBudgetRaisesEpsilonInsteadOfFailing)

@@ -31,7 +31,7 @@ struct SelectionSettings {
     // ε may be 0 (brute force: the finest level wherever the frustum lets it); the upper end
     // only keeps ε and its 25% raises finite.
     static constexpr ValueRange kEpsilonPxRange = ValueRange::closed(0.0, 1e9);
-    // error_scale: Ulrich's chunks reach 1 + RendererOptions::kChunkToleranceRange.hi.
+    // error_scale: Ulrich's chunks reach 1 + their largest tolerance (src/render/schemes/).
     static constexpr ValueRange kErrorScaleRange = ValueRange::closed(1.0, 1000.0);
 
     double epsilon_px = 2.0; // ε, pixels

@@ -24,10 +24,14 @@ struct HeadlessRenderOptions {
     int samples = 4;               // MSAA
     double vram_budget_mb = 256.0; // texture arrays of resident patches (RendererOptions)
     RenderSettings settings;
+    // The scheme's own options: a spec of settings.scheme, "NAME[,KEY=VALUE...]"
+    // (RendererOptions::schemes). Empty: settings.scheme with its module's defaults.
+    std::string scheme_spec;
 
     // Throws ridge::Error naming the first field outside its range: camera and look-at within
     // lod::kCameraCoordinateRange, the field of view, image sides in [1, kMaxImageSide],
-    // samples in [1, kMaxSamples], vram_budget_mb (RendererOptions), settings.validate().
+    // samples in [1, kMaxSamples], vram_budget_mb (RendererOptions), settings.validate(),
+    // a scheme_spec that does not parse or names another scheme than settings.scheme.
     void validate() const;
 };
 

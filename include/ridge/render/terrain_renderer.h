@@ -12,7 +12,6 @@
 #include "ridge/core/parameter_check.h"
 #include "ridge/lod/camera.h"
 #include "ridge/lod/edge_tessellation.h"
-#include "ridge/lod/geomorph.h"
 #include "ridge/lod/patch_quadtree.h"
 #include "ridge/lod/patch_residency.h"
 
@@ -30,12 +29,16 @@ namespace ridge::render {
 enum class DebugMode : int { Shaded = 0, LodLevels = 1, TessellationFactors = 2 };
 
 // LOD schemes — how selected patches become triangles — are named by the registry
-// (src/render/scheme_registry.cpp): "tess" (the paper's hardware tessellation), "chunked"
-// (Ulrich's chunks), "brute" (the finest level everywhere), ... Every scheme shares everything
-// else — archive, selection, texture arrays, skirts, shading — so that frame rates compare
-// the schemes alone. The CLI (render --lod, bench --lod, the viewer's L key) uses these names.
+// (src/render/scheme_registry.cpp), each with its own options (ridge/render/scheme_options.h):
+// the paper's hardware tessellation first, then the baselines it is compared with and the
+// schemes added since. Every scheme shares everything else — archive, selection, texture
+// arrays, skirts, shading — so that frame rates compare the schemes alone. The CLI (render
+// --lod, bench --lod, view --lod and the viewer's L key), the benchmarks and the tests take
+// these names rather than spelling any.
 std::vector<std::string> lodSchemeNames();
-// "tess, chunked, brute, ..." for messages and --help.
+// The first registered scheme: the default of RenderSettings::scheme and of the CLI's --lod.
+std::string defaultLodScheme();
+// "NAME, NAME, ..." (the registered names) for messages and --help.
 std::string lodSchemeList();
 // One line about scheme `name`; throws ridge::Error for a name that is not registered.
 std::string lodSchemeDescription(const std::string& name);
@@ -66,8 +69,10 @@ struct RenderSettings {
     // squared when it is normalised).
     static constexpr ValueRange kSunComponentRange = ValueRange::closed(-1e6, 1e6);
 
-    std::string scheme = "tess"; // one of RendererOptions::schemes (lodSchemeNames())
-    double epsilon_px = 2.0;     // ε, pixels (ignored by "brute")
+    // The scheme drawn: a bare name (no options), one of the renderer's schemes
+    // (TerrainRenderer::schemes(), as RendererOptions::schemes built them).
+    std::string scheme = defaultLodScheme();
+    double epsilon_px = 2.0; // ε, pixels (schemes that draw the finest level ignore it)
     // Texture detail beside ε (lod::SelectionSettings::texel_px): patches are refined until
     // their level's samples are at most this many pixels apart on screen, so colour, water and
     // normals (read from the patch's maps at each fragment) are at about one texel per pixel.
@@ -167,15 +172,14 @@ struct RendererOptions {
     static constexpr ValueRange kUploadBudgetMbRange = ValueRange::openClosed(0.0, 1e6);
     static constexpr ValueRange kUploadBudgetMsRange = ValueRange::openClosed(0.0, 1e9);
     static constexpr int kMaxPrefetchFrames = 1000000;
-    // k in k·Err(P): 0 keeps every sample; beyond 100·Err(P) every chunk is already as
-    // coarse as its two triangles.
-    static constexpr ValueRange kChunkToleranceRange = ValueRange::closed(0.0, 100.0);
 
-    // The LOD schemes this renderer can draw (RenderSettings::scheme picks one per frame).
-    // Each prepares what it needs from construction on — CPU codes, per-patch products on
-    // the stream workers, memory per slot — so a scheme that needs codes on the CPU turns GPU
-    // reconstruction off for all. Empty: every registered scheme whose needs cost nothing
-    // with these options: those that do not need codes on the CPU.
+    // The LOD schemes this renderer can draw (RenderSettings::scheme picks one per frame by
+    // name), each a spec of a registered scheme and its own options, "NAME[,KEY=VALUE...]"
+    // (ridge/render/scheme_options.h; options not given take the module's defaults); at most
+    // one spec per scheme. Each prepares what it needs from construction on — CPU codes,
+    // per-patch products on the stream workers, memory per slot — so a scheme that needs codes
+    // on the CPU turns GPU reconstruction off for all. Empty: every registered scheme, with
+    // its default options, whose needs cost nothing: those that do not need codes on the CPU.
     std::vector<std::string> schemes;
 
     // Texture-array slots: at most this many, at most what `vram_budget_mb` holds (heights,
@@ -222,28 +226,10 @@ struct RendererOptions {
     // pipeline: headless renders and tests). Otherwise gpu_ms and triangles are those of the
     // latest finished frame (a few frames old).
     bool synchronous_stats = false;
-    // Ulrich's chunks for scheme "chunked": every upload also builds its patch's chunk
-    // mesh, simplified to chunk_tolerance·Err(P) (lod::buildChunkMesh), so chunked frames
-    // select at (1 + chunk_tolerance)·Err(P), draw each chunk with its own draw call (no
-    // instancing: the paper's baseline) and hang the skirts by the chunk's error. Meshes are
-    // built from codes on the CPU, so streaming decodes on the CPU; each slot's budget
-    // counts the worst-case (unsimplified) index buffer. Off: chunked frames draw every
-    // patch's full grid of samples.
-    bool chunk_meshes = false;
-    double chunk_tolerance = 0.5; // fewest triangles and draws on the Sierra fly-over
-
-    // Scheme "geomorph" (Ma, Sun & Song 2013): the vertex layout it sends, as the paper
-    // studies them — Standard (positions morphed on the CPU and sent every frame),
-    // FloatMorph (GPU morph, float position, target height and normal) or Compact (GPU morph,
-    // block coordinates in bytes, 16-bit height and target codes, a 2-byte index into a
-    // hemisphere normal texture); the hemisphere map of the compact normals; and the paper's
-    // regime (vertex data sent every frame, no resident buffers) or resident buffers.
-    lod::GeomorphLayout geomorph_layout = lod::GeomorphLayout::Compact;
-    lod::HemisphereMap geomorph_normal_map = lod::HemisphereMap::Orthographic;
-    bool geomorph_per_frame = false;
-
     // Throws ridge::Error naming the first field outside its range above (NaN and infinities
-    // included, and schemes that are not registered). The TerrainRenderer constructor calls it.
+    // included), and for a spec in `schemes` that does not parse (an unregistered scheme, an
+    // option it does not take or a value outside its range: parseSchemeSpec's message) or a
+    // scheme given twice. The TerrainRenderer constructor calls it.
     void validate() const;
 
     // The defaults with streaming on (the viewer's and the benchmark's).

@@ -12,7 +12,9 @@
 namespace ridge::renderbench {
 
 struct RenderBenchOptions {
-    std::string scheme = "tess"; // a registered LOD scheme (render::lodSchemeNames())
+    // The LOD scheme and its own options: a spec "NAME[,KEY=VALUE...]" of a registered scheme
+    // (render::RendererOptions::schemes; ridge/render/scheme_options.h), as --lod takes it.
+    std::string scheme = render::defaultLodScheme();
     lod::CameraPathSettings path;
     int frames = 600;
     lod::Viewport viewport{1920, 1080};
@@ -22,9 +24,6 @@ struct RenderBenchOptions {
     // Vertical exaggeration (render::RenderSettings::exaggeration): the path flies over the
     // exaggerated terrain.
     double exaggeration = 1.0;
-    // Chunked: every patch's full grid instead of Ulrich's simplified chunks (simplified to
-    // renderer.chunk_tolerance·Err(P)).
-    bool grid_chunks = false;
     // `--popping`. Per frame, after its timing: the popping metric (two captures of this
     // frame's camera, with the previous frame's LOD state and with this one's, both of what
     // is resident: they request and upload nothing; render/frame_measures.h). Costly, and
@@ -40,8 +39,8 @@ struct RenderBenchOptions {
 
     // Throws ridge::Error naming the first field outside its range: frames in
     // [1, lod::CameraPathSettings::kMaxFrames], frame sides in [1, kMaxImageSide] of
-    // render::HeadlessRenderOptions, epsilon_px (RenderSettings), path.validate(),
-    // renderer.validate().
+    // render::HeadlessRenderOptions, epsilon_px (RenderSettings), a scheme spec that does not
+    // parse (render::parseSchemeSpec), path.validate(), renderer.validate().
     void validate() const;
 };
 

@@ -44,11 +44,16 @@ class BruteForceScheme final : public TerrainScheme {
 
 SchemeInfo bruteForceScheme()
 {
-    return {"brute", "brute force: the finest level everywhere in view, every sample a vertex",
-            [](const archive::ArchiveReader&, const RendererOptions&) { return SchemeNeeds{}; },
-            [](const SchemeResources& r) -> std::unique_ptr<TerrainScheme> {
-                return std::make_unique<BruteForceScheme>(r);
-            }};
+    return {
+        .name = "brute",
+        .description = "brute force: the finest level everywhere in view, every sample a vertex",
+        .options = {},
+        .needs = [](const archive::ArchiveReader&, const RendererOptions&,
+                    const SchemeOptions&) { return SchemeNeeds{}; },
+        .make = [](const SchemeResources& r) -> std::unique_ptr<TerrainScheme> {
+            return std::make_unique<BruteForceScheme>(r);
+        },
+    };
 }
 
 } // namespace ridge::render

@@ -1,10 +1,10 @@
 // Scheme "chunked": Ulrich's chunked LOD ("Rendering massive terrains using chunked level of
 // detail", 2000), the baseline of the hardware-tessellation paper. Each selected patch is one
-// precomputed mesh of its level with a skirt around it. With RendererOptions::chunk_meshes
-// the mesh is simplified to chunk_tolerance·Err(P) (lod::buildChunkMesh, built on the stream
-// workers), selection runs at (1 + chunk_tolerance)·Err(P) so ε still holds, and every chunk
-// is its own draw call (no instancing: the paper's baseline). Without it, every patch draws
-// its full grid of samples, all in one instanced draw.
+// precomputed mesh of its level with a skirt around it. With its option meshes=on (the
+// default) the mesh is simplified to tolerance·Err(P) (lod::buildChunkMesh, built on the
+// stream workers), selection runs at (1 + tolerance)·Err(P) so ε still holds, and every chunk
+// is its own draw call (no instancing: the paper's baseline). With meshes=off every patch
+// draws its full grid of samples, all in one instanced draw.
 #include "../patch_grid_mesh.h"
 #include "../scheme_programs.h"
 #include "../terrain_scheme.h"
@@ -13,6 +13,15 @@
 
 namespace ridge::render {
 namespace {
+
+// The options (SchemeInfo::options below): Ulrich's simplified chunks or full grids, and how
+// far chunks are simplified. k in k·Err(P): 0 keeps every sample; beyond 100·Err(P) every
+// chunk is already as coarse as its two triangles.
+constexpr const char* kMeshes = "meshes";
+constexpr const char* kTolerance = "tolerance";
+constexpr ValueRange kToleranceRange = ValueRange::closed(0.0, 100.0);
+static_assert(kToleranceRange.hi + 1.0 <= lod::SelectionSettings::kErrorScaleRange.hi,
+              "the selection's error scale reaches 1 + the largest tolerance");
 
 // Vertex ids run to n² + 4(n − 1) (the skirt's feet); 16-bit while they fit.
 bool shortIndices(int n)
@@ -51,8 +60,8 @@ std::shared_ptr<const stream::PatchProduct> prepareChunk(const archive::ArchiveR
 class ChunkedScheme final : public TerrainScheme {
   public:
     explicit ChunkedScheme(const SchemeResources& r)
-        : textures_(r.textures), meshes_(r.options.chunk_meshes), product_(r.product),
-          tolerance_(r.options.chunk_tolerance), scale_(r.reader.quantization().scale),
+        : textures_(r.textures), meshes_(r.own.flag(kMeshes)), product_(r.product),
+          tolerance_(r.own.number(kTolerance)), scale_(r.reader.quantization().scale),
           n_(r.reader.geometry().patchSize()), grid_(n_)
     {
         if (meshes_)
@@ -148,16 +157,17 @@ class ChunkedScheme final : public TerrainScheme {
     SchemePrograms programs_{{{GL_VERTEX_SHADER, "chunk.vert"}}};
 };
 
-SchemeNeeds chunkedNeeds(const archive::ArchiveReader& reader, const RendererOptions& options)
+SchemeNeeds chunkedNeeds(const archive::ArchiveReader& reader, const RendererOptions&,
+                         const SchemeOptions& own)
 {
     SchemeNeeds needs;
-    if (!options.chunk_meshes)
+    if (!own.flag(kMeshes))
         return needs;
     // Meshes are built from codes on the CPU, so streaming decodes on the CPU; each slot's
     // budget counts the worst-case (unsimplified) index buffer.
     needs.codes_on_cpu = true;
     needs.slot_bytes = double(worstChunkMeshBytes(reader.geometry().patchSize()));
-    const double tolerance = options.chunk_tolerance;
+    const double tolerance = own.number(kTolerance);
     needs.preparation = [&reader, tolerance](PatchId p, const uint16_t* codes) {
         return prepareChunk(reader, tolerance, p, codes);
     };
@@ -168,10 +178,24 @@ SchemeNeeds chunkedNeeds(const archive::ArchiveReader& reader, const RendererOpt
 
 SchemeInfo chunkedScheme()
 {
-    return {"chunked", "Ulrich's chunked LOD: one mesh per selected patch, with skirts",
-            chunkedNeeds, [](const SchemeResources& r) -> std::unique_ptr<TerrainScheme> {
-                return std::make_unique<ChunkedScheme>(r);
-            }};
+    return {
+        .name = "chunked",
+        .description = "Ulrich's chunked LOD: one mesh per selected patch, with skirts",
+        .options = {SchemeOption::flag(kMeshes,
+                                       "Ulrich's chunks, simplified to tolerance·Err(P) on the "
+                                       "stream workers (decoding on the CPU), one draw each; "
+                                       "off: every patch's full grid, one instanced draw",
+                                       true),
+                    SchemeOption::number(kTolerance,
+                                         "with meshes: simplify each chunk to tolerance·Err(P) "
+                                         "and select at (1 + tolerance)·Err(P)",
+                                         kToleranceRange,
+                                         0.5)}, // fewest triangles and draws on the Sierra fly-over
+        .needs = chunkedNeeds,
+        .make = [](const SchemeResources& r) -> std::unique_ptr<TerrainScheme> {
+            return std::make_unique<ChunkedScheme>(r);
+        },
+    };
 }
 
 } // namespace ridge::render

@@ -6,10 +6,11 @@
 // so that ε holds at every morph state and a patch that changes level does not jump
 // (lod::morphFactor says why). Skirts hang by Err(P) plus the largest morph displacement.
 //
-// The vertex layouts are the paper's (RendererOptions::geomorph_layout): Standard morphs on
-// the CPU and sends positions every frame; FloatMorph and Compact morph in geomorph.vert.
-// RendererOptions::geomorph_per_frame is the paper's regime (no display lists: every drawn
-// patch's vertices sent every frame); otherwise they stay resident in a per-slot buffer.
+// The vertex layouts are the paper's (option layout=standard|float|compact): Standard morphs
+// on the CPU and sends positions every frame; FloatMorph and Compact morph in geomorph.vert.
+// Compact's normals index a hemisphere texture (option normals=orthographic|concentric).
+// Option per-frame=on is the paper's regime (no display lists: every drawn patch's vertices
+// sent every frame); otherwise they stay resident in a per-slot buffer.
 #include "../scheme_programs.h"
 #include "../terrain_scheme.h"
 
@@ -28,6 +29,25 @@ namespace ridge::render {
 namespace {
 
 using lod::GeomorphLayout;
+
+// The options (SchemeInfo::options below), as the spec spells them.
+constexpr const char* kLayout = "layout";
+constexpr const char* kNormals = "normals";
+constexpr const char* kPerFrame = "per-frame";
+
+GeomorphLayout layoutOf(const SchemeOptions& own)
+{
+    const std::string& name = own.choice(kLayout);
+    return name == "standard" ? GeomorphLayout::Standard
+           : name == "float"  ? GeomorphLayout::FloatMorph
+                              : GeomorphLayout::Compact;
+}
+
+lod::HemisphereMap normalMapOf(const SchemeOptions& own)
+{
+    return own.choice(kNormals) == "concentric" ? lod::HemisphereMap::Concentric
+                                                : lod::HemisphereMap::Orthographic;
+}
 using lod::GeomorphShading;
 
 // Vertices of one patch: its n² samples, then 4C foot copies of its border ring.
@@ -146,10 +166,10 @@ std::shared_ptr<const stream::PatchProduct> prepareGeomorph(const GeomorphSettin
     return out;
 }
 
-GeomorphSettings settingsOf(const archive::ArchiveReader& reader, const RendererOptions& o)
+GeomorphSettings settingsOf(const archive::ArchiveReader& reader, const SchemeOptions& own)
 {
-    return {o.geomorph_layout,
-            o.geomorph_normal_map,
+    return {layoutOf(own),
+            normalMapOf(own),
             reader.geometry().patchSize(),
             reader.quantization().scale,
             reader.quantization().offset,
@@ -161,8 +181,8 @@ GeomorphSettings settingsOf(const archive::ArchiveReader& reader, const Renderer
 class GeomorphScheme final : public TerrainScheme {
   public:
     explicit GeomorphScheme(const SchemeResources& r)
-        : quadtree_(r.quadtree), settings_(settingsOf(r.reader, r.options)),
-          per_frame_(r.options.geomorph_per_frame), product_(r.product),
+        : quadtree_(r.quadtree), settings_(settingsOf(r.reader, r.own)),
+          per_frame_(r.own.flag(kPerFrame)), product_(r.product),
           stride_(vertexBytes(settings_.layout)), vertices_per_patch_(patchVertices(settings_.n)),
           slots_(size_t(r.slots))
     {
@@ -391,13 +411,14 @@ class GeomorphScheme final : public TerrainScheme {
     SchemePrograms programs_{{{GL_VERTEX_SHADER, "geomorph.vert"}}};
 };
 
-SchemeNeeds geomorphNeeds(const archive::ArchiveReader& reader, const RendererOptions& options)
+SchemeNeeds geomorphNeeds(const archive::ArchiveReader& reader, const RendererOptions&,
+                          const SchemeOptions& own)
 {
     SchemeNeeds needs;
     needs.codes_on_cpu = true; // vertex arrays are built from codes
     const int n = reader.geometry().patchSize();
-    needs.slot_bytes = double(patchVertices(n)) * vertexBytes(options.geomorph_layout);
-    const GeomorphSettings s = settingsOf(reader, options);
+    needs.slot_bytes = double(patchVertices(n)) * vertexBytes(layoutOf(own));
+    const GeomorphSettings s = settingsOf(reader, own);
     if (n - 1 <= lod::kGeomorphMaxBlockCells)
         needs.preparation = [s](PatchId p, const uint16_t* codes) {
             return prepareGeomorph(s, p, codes);
@@ -409,12 +430,30 @@ SchemeNeeds geomorphNeeds(const archive::ArchiveReader& reader, const RendererOp
 
 SchemeInfo geomorphScheme()
 {
-    return {"geomorph",
-            "GPU geomorphing with compact vertices: every patch morphs towards its parent's "
-            "surface",
-            geomorphNeeds, [](const SchemeResources& r) -> std::unique_ptr<TerrainScheme> {
-                return std::make_unique<GeomorphScheme>(r);
-            }};
+    return {
+        .name = "geomorph",
+        .description = "GPU geomorphing with compact vertices: every patch morphs towards its "
+                       "parent's surface",
+        .options = {SchemeOption::choice(
+                        kLayout,
+                        "the paper's vertex layout: standard (CPU morph, positions "
+                        "sent every frame), float (GPU morph, float position, target "
+                        "and normal) or compact (block coordinates, 16-bit codes, "
+                        "2-byte hemisphere normal index)",
+                        {"standard", "float", "compact"}, "compact"),
+                    SchemeOption::choice(kNormals,
+                                         "compact's hemisphere normal texture: orthographic or "
+                                         "concentric (Shirley and Chiu's map)",
+                                         {"orthographic", "concentric"}, "orthographic"),
+                    SchemeOption::flag(kPerFrame,
+                                       "send every drawn patch's vertices every frame (the paper's "
+                                       "regime, no resident buffers)",
+                                       false)},
+        .needs = geomorphNeeds,
+        .make = [](const SchemeResources& r) -> std::unique_ptr<TerrainScheme> {
+            return std::make_unique<GeomorphScheme>(r);
+        },
+    };
 }
 
 } // namespace ridge::render

@@ -272,15 +272,20 @@ class RingsScheme final : public TerrainScheme {
     SchemePrograms programs_{{{GL_VERTEX_SHADER, "rings.vert"}}};
 };
 
-// The rings' settings for `reader`, refused with the archive's name when its patches cannot
-// make the static grids.
-lod::RingsSettings settingsFor(const archive::ArchiveReader& reader, const RendererOptions&)
+constexpr const char* kRings = "rings";
+constexpr const char* kVertexStep = "vertex-step";
+
+// The rings' settings from the scheme's options, refused with the archive's name when its
+// patches cannot make the static grids.
+lod::RingsSettings settingsFor(const archive::ArchiveReader& reader, const SchemeOptions& own)
 {
     lod::RingsSettings settings;
+    settings.rings = int(own.integer(kRings));
+    settings.vertex_step = int(own.integer(kVertexStep));
     try {
         settings.validate(reader.geometry());
     } catch (const Error& e) {
-        throw Error(reader.path() + ": LOD scheme rings: " + e.what());
+        throw Error(reader.path() + ": --lod " + own.spec() + ": " + e.what());
     }
     return settings;
 }
@@ -289,17 +294,30 @@ lod::RingsSettings settingsFor(const archive::ArchiveReader& reader, const Rende
 
 SchemeInfo ringsScheme()
 {
-    return {"rings",
-            "the fractal-rings paper's rings of tiles around the viewer, one level coarser a "
-            "ring, stitched odd/even (no skirts, no screen-space bound)",
-            [](const archive::ArchiveReader& reader, const RendererOptions& options) {
-                settingsFor(reader, options);
-                return SchemeNeeds{};
-            },
-            [](const SchemeResources& r) -> std::unique_ptr<TerrainScheme> {
-                return std::make_unique<RingsScheme>(r, settingsFor(r.reader, r.options));
-            },
-            SchemePromises{false, SchemePromises::Seams::Stitching, false}};
+    return {
+        .name = "rings",
+        .description = "the fractal-rings paper's rings of tiles around the viewer, one level "
+                       "coarser a ring, stitched odd/even (no skirts, no screen-space bound)",
+        .options = {SchemeOption::integer(kRings,
+                                          "rings around the central patch, each one level "
+                                          "coarser than the one inside it (0: one per level)",
+                                          0, lod::RingsSettings::kMaxRings, 0),
+                    SchemeOption::integer(kVertexStep,
+                                          "samples per vertex along a side: 1, or 2 as the "
+                                          "paper's 128² vertices for 256² tiles",
+                                          1, 2, 1)},
+        .needs = [](const archive::ArchiveReader& reader, const RendererOptions&,
+                    const SchemeOptions& own) {
+            settingsFor(reader, own);
+            return SchemeNeeds{};
+        },
+        .make = [](const SchemeResources& r) -> std::unique_ptr<TerrainScheme> {
+            return std::make_unique<RingsScheme>(r, settingsFor(r.reader, r.own));
+        },
+        .promises = {.screen_space_error = false,
+                     .seams = SchemePromises::Seams::Stitching,
+                     .pop_free = false},
+    };
 }
 
 } // namespace ridge::render

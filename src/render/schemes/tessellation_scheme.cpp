@@ -108,11 +108,16 @@ class TessellationScheme final : public TerrainScheme {
 
 SchemeInfo tessellationScheme()
 {
-    return {"tess", "the paper's hardware tessellation: per-edge factors inside each patch",
-            [](const archive::ArchiveReader&, const RendererOptions&) { return SchemeNeeds{}; },
-            [](const SchemeResources& r) -> std::unique_ptr<TerrainScheme> {
-                return std::make_unique<TessellationScheme>(r);
-            }};
+    return {
+        .name = "tess",
+        .description = "the paper's hardware tessellation: per-edge factors inside each patch",
+        .options = {},
+        .needs = [](const archive::ArchiveReader&, const RendererOptions&,
+                    const SchemeOptions&) { return SchemeNeeds{}; },
+        .make = [](const SchemeResources& r) -> std::unique_ptr<TerrainScheme> {
+            return std::make_unique<TessellationScheme>(r);
+        },
+    };
 }
 
 } // namespace ridge::render

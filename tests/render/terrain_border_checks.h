@@ -1,11 +1,10 @@
-// The terrain's east and south borders, where a coarse level's samples do not land on the last
-// column or row: the surface must still reach it (no strip left without surface), and every
-// scheme's patches must stay closed there — including flat patches whose skirts hang only
-// the rounding margin.
-#include "captured_surface_checks.h"
-#include "fixture_archives.h"
+#pragma once
+// The terrain's east and south borders, where a coarse level's samples do not land on the
+// last column or row: the surface must still reach it (no strip left without surface), and a
+// scheme's patches must stay closed there — including flat patches whose skirts hang only the
+// rounding margin. The checks the schemes' own tests run (tests/render/schemes/).
+#include "terrain_renderer_fixture.h"
 
-#include "ridge/gpu/context.h"
 #include "ridge/io/raster_source.h"
 #include "ridge/io/raster_writer.h"
 #include "ridge/pipeline/build.h"
@@ -15,25 +14,21 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
 
-using namespace ridge;
+namespace ridge::test {
 
-namespace {
-
-struct Scene {
-    std::unique_ptr<archive::ArchiveReader> reader;
-    std::unique_ptr<render::TerrainRenderer> renderer;
-    std::vector<float> finest; // metres, full resolution
-};
-
-Scene openScene(const std::string& path, bool chunk_meshes)
+// A synchronous renderer over `path` for one scheme spec (RendererOptions::schemes).
+inline Scene openScene(const std::string& path, const std::string& spec)
 {
     Scene s;
     s.reader = std::make_unique<archive::ArchiveReader>(path);
     render::RendererOptions ro;
     ro.synchronous_stats = true;
-    ro.chunk_meshes = chunk_meshes;
-    ro.schemes = {"tess", "chunked"};
+    ro.schemes = {spec};
     ro.max_resident_patches = 1024;
     s.renderer = std::make_unique<render::TerrainRenderer>(*s.reader, ro);
     s.finest = toMetres(decodeLevel(*s.reader, s.reader->geometry().finestLevel()),
@@ -43,7 +38,7 @@ Scene openScene(const std::string& path, bool chunk_meshes)
 
 // A drawn patch of a level whose samples miss the last column (row): the strip between its
 // last sample inside the extent and the border is what the checks below are about.
-bool drawsShortLevelOnBorder(const render::CapturedSurface& s, const PyramidGeometry& g)
+inline bool drawsShortLevelOnBorder(const render::CapturedSurface& s, const PyramidGeometry& g)
 {
     for (const PatchId& p : s.patches) {
         const int64_t step = g.step(p.level), span = int64_t(g.cells()) * step;
@@ -63,7 +58,7 @@ struct BorderCamera {
 
 // High above the whole terrain (only the coarsest levels), and low outside the east and the
 // south border looking back across it.
-std::vector<BorderCamera> borderCameras(const render::TerrainRenderer& r)
+inline std::vector<BorderCamera> borderCameras(const render::TerrainRenderer& r)
 {
     const lod::TerrainFrame& f = r.quadtree().frame();
     const lod::PatchBounds& root = r.quadtree().bounds({0, 0, 0});
@@ -102,13 +97,13 @@ struct Counts {
 };
 
 // Every camera through every check; returns the totals for the report and the failure test.
-Counts checkBorders(Scene& s, std::string scheme, const std::string& what, double texel_px = 0.0)
+inline Counts checkBorders(Scene& s, const std::string& what, double texel_px = 0.0)
 {
     Counts total;
     const lod::TerrainFrame& frame = s.renderer->quadtree().frame();
     for (const BorderCamera& c : borderCameras(*s.renderer)) {
         render::RenderSettings settings;
-        settings.scheme = scheme;
+        settings.scheme = s.renderer->schemes().front();
         settings.epsilon_px = c.epsilon_px;
         // The levels ε selects at these cameras (root only, coarse) are what the border checks
         // are about; the texture-detail criterion would refine them away (0 unless asked).
@@ -133,57 +128,15 @@ Counts checkBorders(Scene& s, std::string scheme, const std::string& what, doubl
     return total;
 }
 
-class TerrainBorderTest : public ::testing::Test {
-  protected:
-    static void SetUpTestSuite()
-    {
-        scratch_ = new test::ScratchDir();
-        context_ = gpu::HeadlessContext::create().release();
-    }
-    static void TearDownTestSuite()
-    {
-        delete context_;
-        delete scratch_;
-    }
-    static test::ScratchDir* scratch_;
-    static gpu::HeadlessContext* context_;
-};
-
-test::ScratchDir* TerrainBorderTest::scratch_ = nullptr;
-gpu::HeadlessContext* TerrainBorderTest::context_ = nullptr;
-
-} // namespace
-
-TEST_F(TerrainBorderTest, CoarseLevelsReachTheEastAndSouthBorder)
+// Everest with its eastern 45 % replaced by a sea at height 0, with 1 km spacing and patches
+// of 33, built once into `scratch`: those patches have Err(P) = 0 and exact chunks, so their
+// skirts hang only the rounding margin (a centimetre), under cells of kilometres (steps up to
+// 16) — thin walls the clipping shader must keep.
+inline std::string seaArchive(ScratchDir& scratch)
 {
-    // Everest is 301 x 203: W − 1 = 300 and H − 1 = 202 are multiples of neither 8 nor 16,
-    // the steps of its coarse levels with patches of 33 (5 levels) and 65 (4 levels).
-    struct Case {
-        int patch_size;
-        std::string scheme;
-        bool chunk_meshes;
-        const char* name;
-    };
-    const std::string tess = "tess", chunked = "chunked";
-    for (const Case& c : {Case{33, tess, false, "tessellation, patches of 33"},
-                          Case{65, tess, false, "tessellation, patches of 65"},
-                          Case{33, chunked, false, "full-grid chunks, patches of 33"},
-                          Case{33, chunked, true, "simplified chunks, patches of 33"},
-                          Case{65, chunked, true, "simplified chunks, patches of 65"}}) {
-        Scene s = openScene(test::buildEverestArchive(*scratch_, "lossless", c.patch_size),
-                            c.chunk_meshes);
-        const Counts n = checkBorders(s, c.scheme, c.name);
-        // The cameras must draw levels that end short of the border, or nothing was tested.
-        EXPECT_GE(n.short_borders, 2u) << c.name;
-    }
-}
-
-TEST_F(TerrainBorderTest, FlatSeaPatchesAreClosedInEveryScheme)
-{
-    // Everest with its eastern 45 % replaced by a sea at height 0: those patches have Err(P) =
-    // 0 and exact chunks, so their skirts hang only the rounding margin (a centimetre), under
-    // cells of kilometres (1 km spacing, steps up to 16) — thin walls the clipping shader must
-    // keep.
+    const std::string archive = scratch.path("everest_sea.ridge");
+    if (std::filesystem::exists(archive))
+        return archive;
     const io::ElevationRaster everest = io::ingestRaster(test::dataPath("everest_crop.tif"));
     const int W = everest.grid.width, H = everest.grid.height;
     std::vector<float> metres(size_t(W) * H);
@@ -192,29 +145,14 @@ TEST_F(TerrainBorderTest, FlatSeaPatchesAreClosedInEveryScheme)
             metres[size_t(y) * W + x] =
                 x >= W * 55 / 100 ? 0.f
                                   : float(everest.quantization.toMetres(everest.grid.at(x, y)));
-    const std::string tif = scratch_->path("everest_sea.tif");
+    const std::string tif = scratch.path("everest_sea.tif");
     io::writeGeoTiff(tif, metres.data(), W, H, io::GeoReference{});
     BuildOptions options;
     options.patch_size = 33;
     options.progress = {};
     options.ingest.spacing = 1000.0;
-    const std::string archive = scratch_->path("everest_sea.ridge");
     buildArchive(tif, archive, options);
-    struct Case {
-        std::string scheme;
-        bool chunk_meshes;
-        const char* name;
-    };
-    for (const Case& c : {Case{"chunked", false, "sea, full-grid chunks"},
-                          Case{"chunked", true, "sea, simplified chunks"},
-                          // Tessellated skirts over the sea hang λ = 0 plus the margin too.
-                          Case{"tess", false, "sea, tessellation"}}) {
-        Scene s = openScene(archive, c.chunk_meshes);
-        const Counts n = checkBorders(s, c.scheme, c.name);
-        EXPECT_GE(n.short_borders, 4u) << c.name;
-        // With the texture-detail criterion flat sea patches of different levels meet, closed
-        // by skirts as thin as float rounding allows (233 open edges from 760 km up before the
-        // skirt margin followed the camera's distance).
-        checkBorders(s, c.scheme, std::string(c.name) + ", texel 1 px", 1.0);
-    }
+    return archive;
 }
+
+} // namespace ridge::test
