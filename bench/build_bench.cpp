@@ -25,7 +25,8 @@ namespace {
 std::string dataFile()
 {
     const char* dir = std::getenv("RIDGE_DATA_DIR");
-    return std::string(dir ? dir : RIDGE_SHARED_DATA_DIR) + "/sierra_nevada_sfbay_10801x4801_int16.tif";
+    return std::string(dir ? dir : RIDGE_SHARED_DATA_DIR) +
+           "/sierra_nevada_sfbay_10801x4801_int16.tif";
 }
 
 struct ChildRun {
@@ -35,8 +36,7 @@ struct ChildRun {
 };
 
 // Runs `work` in a child process; returns its wall time and peak resident set.
-template <typename Work>
-ChildRun runInChild(Work work)
+template <typename Work> ChildRun runInChild(Work work)
 {
     const auto start = std::chrono::steady_clock::now();
     const pid_t pid = fork();
@@ -59,8 +59,7 @@ ChildRun runInChild(Work work)
     return run;
 }
 
-template <typename Work>
-void measure(benchmark::State& state, Work work)
+template <typename Work> void measure(benchmark::State& state, Work work)
 {
     const std::string input = dataFile();
     if (!std::filesystem::exists(input)) {

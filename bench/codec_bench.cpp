@@ -36,8 +36,8 @@ std::string dataFile()
 // One archive's payloads and the decoded parents each patch needs.
 struct Decodable {
     std::unique_ptr<ridge::archive::ArchiveReader> reader;
-    std::vector<std::vector<uint8_t>> payloads;     // [patch index]
-    std::vector<std::vector<uint16_t>> codes;       // [patch index], decoded once
+    std::vector<std::vector<uint8_t>> payloads; // [patch index]
+    std::vector<std::vector<uint16_t>> codes;   // [patch index], decoded once
     uint64_t covered_bytes = 0;
 };
 
@@ -51,10 +51,10 @@ const Decodable* archiveFor(const std::string& codec, double max_error)
         return nullptr;
     if (codec.find("htj2k") != std::string::npos)
         setenv("RIDGE_ALLOW_HTJ2K", "1", 0); // our own archive, built just below: trusted
-    const std::string path = (std::filesystem::temp_directory_path() /
-                              ("ridge_codec_bench_" + std::to_string(getpid()) + "_" +
-                               std::to_string(cache.size()) + ".ridge"))
-                                 .string();
+    const std::string path =
+        (std::filesystem::temp_directory_path() / ("ridge_codec_bench_" + std::to_string(getpid()) +
+                                                   "_" + std::to_string(cache.size()) + ".ridge"))
+            .string();
     ridge::BuildOptions options;
     options.codec = codec;
     options.max_error = max_error;
@@ -67,11 +67,14 @@ const Decodable* archiveFor(const std::string& codec, double max_error)
     for (int64_t i = 0; i < g.patchCount(); ++i) {
         const ridge::PatchId p = g.patchAt(i);
         const std::vector<uint8_t> blob = d->reader->readBlob(p);
-        d->payloads.emplace_back(blob.begin() + long(d->reader->payloadOffset(p, blob)), blob.end());
+        d->payloads.emplace_back(blob.begin() + long(d->reader->payloadOffset(p, blob)),
+                                 blob.end());
         d->codes.emplace_back(samples);
-        const uint16_t* parent = p.level > 0 ? d->codes[size_t(g.patchIndex(p.parent()))].data() : nullptr;
+        const uint16_t* parent =
+            p.level > 0 ? d->codes[size_t(g.patchIndex(p.parent()))].data() : nullptr;
         if (d->reader->codec().decode(d->codes.back().data(), d->payloads.back().data(),
-                                      d->payloads.back().size(), ridge::patchContext(g, p, parent)) != 0)
+                                      d->payloads.back().size(),
+                                      ridge::patchContext(g, p, parent)) != 0)
             return nullptr;
         d->covered_bytes += uint64_t(g.coveredCellsX(p) + 1) * uint64_t(g.coveredCellsY(p) + 1) * 2;
     }
@@ -92,13 +95,15 @@ void decodeAll(benchmark::State& state, const std::string& codec, bool residuals
     for (auto _ : state) {
         for (int64_t i = 0; i < g.patchCount(); ++i) {
             const ridge::PatchId p = g.patchAt(i);
-            const uint16_t* parent = p.level > 0 ? d->codes[size_t(g.patchIndex(p.parent()))].data() : nullptr;
+            const uint16_t* parent =
+                p.level > 0 ? d->codes[size_t(g.patchIndex(p.parent()))].data() : nullptr;
             const auto ctx = ridge::patchContext(g, p, parent);
             const auto& payload = d->payloads[size_t(i)];
-            const int status = residuals_only && p.level > 0
-                                   ? progressive->decodeResiduals(payload.data(), payload.size(), ctx,
-                                                                  residuals.data())
-                                   : d->reader->codec().decode(out.data(), payload.data(), payload.size(), ctx);
+            const int status =
+                residuals_only && p.level > 0
+                    ? progressive->decodeResiduals(payload.data(), payload.size(), ctx,
+                                                   residuals.data())
+                    : d->reader->codec().decode(out.data(), payload.data(), payload.size(), ctx);
             benchmark::DoNotOptimize(status);
         }
         benchmark::ClobberMemory();
@@ -107,13 +112,34 @@ void decodeAll(benchmark::State& state, const std::string& codec, bool residuals
     state.counters["archive_bytes"] = double(d->reader->fileSize());
 }
 
-void BM_DecodeV1(benchmark::State& s) { decodeAll(s, "progressive-v1", false); }
-void BM_DecodeV2(benchmark::State& s) { decodeAll(s, "progressive", false); }
-void BM_DecodeV2NoCorrections(benchmark::State& s) { decodeAll(s, "progressive,corrections=0", false); }
-void BM_EntropyOnlyV2(benchmark::State& s) { decodeAll(s, "progressive", true); }
-void BM_DecodeJpeg2000(benchmark::State& s) { decodeAll(s, "jpeg2000", false); }
-void BM_DecodeJpeg2000Htj2k(benchmark::State& s) { decodeAll(s, "jpeg2000,library=htj2k", false); }
-void BM_DecodeJpeg2000Direct(benchmark::State& s) { decodeAll(s, "jpeg2000,encoding=direct", false); }
+void BM_DecodeV1(benchmark::State& s)
+{
+    decodeAll(s, "progressive-v1", false);
+}
+void BM_DecodeV2(benchmark::State& s)
+{
+    decodeAll(s, "progressive", false);
+}
+void BM_DecodeV2NoCorrections(benchmark::State& s)
+{
+    decodeAll(s, "progressive,corrections=0", false);
+}
+void BM_EntropyOnlyV2(benchmark::State& s)
+{
+    decodeAll(s, "progressive", true);
+}
+void BM_DecodeJpeg2000(benchmark::State& s)
+{
+    decodeAll(s, "jpeg2000", false);
+}
+void BM_DecodeJpeg2000Htj2k(benchmark::State& s)
+{
+    decodeAll(s, "jpeg2000,library=htj2k", false);
+}
+void BM_DecodeJpeg2000Direct(benchmark::State& s)
+{
+    decodeAll(s, "jpeg2000,encoding=direct", false);
+}
 
 } // namespace
 

@@ -62,7 +62,8 @@ const Fixture& fixture()
             const double pixel = u(rng) * double(info.width), line = u(rng) * double(info.height);
             const ridge::LocalPoint p = terrain.localFromPixel(pixel, line);
             out.local.push_back({p.x, p.y});
-            out.crs.push_back({gt[0] + pixel * gt[1] + line * gt[2], gt[3] + pixel * gt[4] + line * gt[5]});
+            out.crs.push_back(
+                {gt[0] + pixel * gt[1] + line * gt[2], gt[3] + pixel * gt[4] + line * gt[5]});
         }
         out.lonlat = out.crs; // a geographic WGS 84 tile: the CRS is longitude/latitude
         return out;
@@ -105,7 +106,7 @@ void BM_HeightsBatch(benchmark::State& state)
     q.coordinates = ridge::Coordinates(state.range(3));
     q.resampling = ridge::Resampling(state.range(4));
     const std::span<const std::array<double, 2>> points(pointsIn(q.coordinates).data(),
-                                                         size_t(state.range(0)));
+                                                        size_t(state.range(0)));
     std::vector<ridge::PointHeight> out(points.size());
     terrain.heights(points, out, q); // warm
     for (auto _ : state) {

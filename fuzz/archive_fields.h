@@ -14,7 +14,10 @@
 namespace ridge::fuzz {
 
 enum class FieldType { U32, U64, F32, F64 };
-inline size_t fieldBytes(FieldType t) { return t == FieldType::U64 || t == FieldType::F64 ? 8 : 4; }
+inline size_t fieldBytes(FieldType t)
+{
+    return t == FieldType::U64 || t == FieldType::F64 ? 8 : 4;
+}
 
 struct Field {
     size_t offset = 0;
@@ -30,19 +33,30 @@ namespace e = test::entry_offset;
 
 // Every header field but the magic and the checksums; reserved words included.
 inline constexpr Field kHeaderFields[] = {
-    {8, FieldType::U32}, // version
+    {8, FieldType::U32},  // version
     {12, FieldType::U32}, // header_size
-    {h::kWidth, FieldType::U32},           {h::kHeight, FieldType::U32},
-    {h::kPatchSize, FieldType::U32},       {h::kLevelCount, FieldType::U32},
-    {h::kBlockCells, FieldType::U32},      {h::kBlockLevels, FieldType::U32},
-    {h::kCodecId, FieldType::U32},         {h::kFilterId, FieldType::U32},
-    {h::kHeightScale, FieldType::F64},     {h::kHeightOffset, FieldType::F64},
-    {h::kSpacingX, FieldType::F64},        {h::kSpacingY, FieldType::F64},
-    {h::kQuantizationError, FieldType::F64}, {h::kReserved0, FieldType::U64},
-    {h::kCodecParam0, FieldType::F64},     {h::kCodecParam1, FieldType::F64},
-    {h::kMetadataOffset, FieldType::U64},  {h::kMetadataSize, FieldType::U32},
-    {h::kIndexOffset, FieldType::U64},     {h::kReserved1, FieldType::U32},
-    {h::kReserved1 + 4, FieldType::U64},   {h::kReserved1 + 12, FieldType::U32},
+    {h::kWidth, FieldType::U32},
+    {h::kHeight, FieldType::U32},
+    {h::kPatchSize, FieldType::U32},
+    {h::kLevelCount, FieldType::U32},
+    {h::kBlockCells, FieldType::U32},
+    {h::kBlockLevels, FieldType::U32},
+    {h::kCodecId, FieldType::U32},
+    {h::kFilterId, FieldType::U32},
+    {h::kHeightScale, FieldType::F64},
+    {h::kHeightOffset, FieldType::F64},
+    {h::kSpacingX, FieldType::F64},
+    {h::kSpacingY, FieldType::F64},
+    {h::kQuantizationError, FieldType::F64},
+    {h::kReserved0, FieldType::U64},
+    {h::kCodecParam0, FieldType::F64},
+    {h::kCodecParam1, FieldType::F64},
+    {h::kMetadataOffset, FieldType::U64},
+    {h::kMetadataSize, FieldType::U32},
+    {h::kIndexOffset, FieldType::U64},
+    {h::kReserved1, FieldType::U32},
+    {h::kReserved1 + 4, FieldType::U64},
+    {h::kReserved1 + 12, FieldType::U32},
 };
 // Index entry fields relative to the entry (its crc32 excluded).
 inline constexpr Field kEntryFields[] = {
@@ -86,8 +100,9 @@ struct ArchiveLayout {
     {
         if (entries == 0)
             return headerField(r);
-        const size_t entry = pick % 3 == 0 ? 0 : pick % 3 == 1 ? (pick / 3) % std::min<size_t>(entries, 5)
-                                                               : (pick / 3) % entries;
+        const size_t entry = pick % 3 == 0   ? 0
+                             : pick % 3 == 1 ? (pick / 3) % std::min<size_t>(entries, 5)
+                                             : (pick / 3) % entries;
         const Field f = kEntryFields[r % std::size(kEntryFields)];
         return {index_offset + entry * e::kEntrySize + f.offset, f.type};
     }
@@ -109,16 +124,14 @@ inline void resealCodecTables(test::ArchiveBytes& a)
     a.set<uint32_t>(h::kHeaderCrc, crc32(b.data(), h::kHeaderCrc));
 }
 
-template <typename T>
-T load(const uint8_t* p)
+template <typename T> T load(const uint8_t* p)
 {
     T v;
     std::memcpy(&v, p, sizeof v);
     return v;
 }
 
-template <typename T>
-void store(uint8_t* p, T v)
+template <typename T> void store(uint8_t* p, T v)
 {
     std::memcpy(p, &v, sizeof v);
 }

@@ -41,8 +41,7 @@ namespace {
 
 using ridge::fuzz::FieldType;
 
-template <typename T>
-T pick(std::minstd_rand& rng, std::initializer_list<T> values)
+template <typename T> T pick(std::minstd_rand& rng, std::initializer_list<T> values)
 {
     return *(values.begin() + rng() % values.size());
 }
@@ -55,9 +54,15 @@ void mutateFloat(uint8_t* p, FieldType type, std::minstd_rand& rng)
         v = pick<double>(rng, {NAN, INFINITY, -INFINITY, 0.0, -0.0, -1.0, 1e-300, 1e-45, 1e30,
                                3.4e38, 1e300, 65535.0, 1e7, -1e7, 32767.5});
         break;
-    case 1: v = std::nextafter(v, rng() % 2 ? INFINITY : -INFINITY); break;
-    case 2: v *= pick<double>(rng, {-1.0, 2.0, 0.5, 1e6, 1e-6}); break;
-    default: v = double(int32_t(rng())) / double(1 + rng() % 1000); break;
+    case 1:
+        v = std::nextafter(v, rng() % 2 ? INFINITY : -INFINITY);
+        break;
+    case 2:
+        v *= pick<double>(rng, {-1.0, 2.0, 0.5, 1e6, 1e-6});
+        break;
+    default:
+        v = double(int32_t(rng())) / double(1 + rng() % 1000);
+        break;
     }
     if (type == FieldType::F64)
         ridge::fuzz::store<double>(p, v);
@@ -67,15 +72,24 @@ void mutateFloat(uint8_t* p, FieldType type, std::minstd_rand& rng)
 
 void mutateInteger(uint8_t* p, FieldType type, size_t file_size, std::minstd_rand& rng)
 {
-    const uint64_t v = type == FieldType::U64 ? ridge::fuzz::load<uint64_t>(p) : ridge::fuzz::load<uint32_t>(p);
+    const uint64_t v =
+        type == FieldType::U64 ? ridge::fuzz::load<uint64_t>(p) : ridge::fuzz::load<uint32_t>(p);
     uint64_t w = 0;
     switch (rng() % 4) {
-    case 0: w = pick<uint64_t>(rng, {0, 1, 2, 3, 4, 5, 8, 9, 17, 65, 129, 160, 0x7fffffff,
-                                     0x80000000u, 0xffffffffu, ~uint64_t{0}, file_size,
-                                     file_size - 1, file_size + 1}); break;
-    case 1: w = v + (rng() % 2 ? 1 : -1); break;
-    case 2: w = v * 2 + rng() % 2; break;
-    default: w = rng() % (file_size + 2); break;
+    case 0:
+        w = pick<uint64_t>(rng,
+                           {0, 1, 2, 3, 4, 5, 8, 9, 17, 65, 129, 160, 0x7fffffff, 0x80000000u,
+                            0xffffffffu, ~uint64_t{0}, file_size, file_size - 1, file_size + 1});
+        break;
+    case 1:
+        w = v + (rng() % 2 ? 1 : -1);
+        break;
+    case 2:
+        w = v * 2 + rng() % 2;
+        break;
+    default:
+        w = rng() % (file_size + 2);
+        break;
     }
     if (type == FieldType::U64)
         ridge::fuzz::store<uint64_t>(p, w);
@@ -97,15 +111,33 @@ void mutateMetadataValue(uint8_t* data, const ridge::fuzz::Region& metadata, std
     size_t end = start;
     int depth = 0;
     const size_t limit = metadata.offset + metadata.size;
-    while (end < limit && (depth > 0 || (data[end] != ',' && data[end] != '}' && data[end] != '\n'))) {
+    while (end < limit &&
+           (depth > 0 || (data[end] != ',' && data[end] != '}' && data[end] != '\n'))) {
         depth += data[end] == '[' || data[end] == '{';
         depth -= data[end] == ']' || data[end] == '}';
         ++end;
     }
-    const std::string token = pick<std::string>(
-        rng, {"null", "true", "0", "-1", "1e999", "-1e999", "NaN", "1.5", "\"\"", "\"x\"", "[]",
-              "{}", "65", "129", "4294967296", "[0,0,0,0,0,0]", "[1e308,1,0,1,0,-1]", "\"raw\"",
-              "\"lossless\"", "\"neville\"", "2"});
+    const std::string token = pick<std::string>(rng, {"null",
+                                                      "true",
+                                                      "0",
+                                                      "-1",
+                                                      "1e999",
+                                                      "-1e999",
+                                                      "NaN",
+                                                      "1.5",
+                                                      "\"\"",
+                                                      "\"x\"",
+                                                      "[]",
+                                                      "{}",
+                                                      "65",
+                                                      "129",
+                                                      "4294967296",
+                                                      "[0,0,0,0,0,0]",
+                                                      "[1e308,1,0,1,0,-1]",
+                                                      "\"raw\"",
+                                                      "\"lossless\"",
+                                                      "\"neville\"",
+                                                      "2"});
     if (token.size() > end - start)
         return;
     std::memset(data + start, ' ', end - start);
@@ -132,7 +164,9 @@ void mutateValidityMask(uint8_t* data, size_t size, const ridge::fuzz::ArchiveLa
     uint8_t* mask = data + offset + block_errors;
     const size_t room = blob - block_errors;
     switch (rng() % 3) {
-    case 0: mask[0] = pick<uint8_t>(rng, {0, 1, 2, 3, 255}); break;
+    case 0:
+        mask[0] = pick<uint8_t>(rng, {0, 1, 2, 3, 255});
+        break;
     case 1:
         if (room >= 5) {
             const uint32_t v = ridge::fuzz::load<uint32_t>(mask + 1);
@@ -221,8 +255,9 @@ void mutatePayloadEnd(ridge::test::ArchiveBytes& a, std::minstd_rand& rng)
     if (rng() % 2) {
         ridge::test::replaceBlobBytes(
             a, size_t(i), size, size,
-            pick<std::vector<uint8_t>>(rng, {{0}, {0xFF, 0xD9}, {0xFF, 0xD9, 0xFF, 0xD9},
-                                             {0x2A, 0x2A, 0x2A, 0x2A, 0x2A}}));
+            pick<std::vector<uint8_t>>(
+                rng,
+                {{0}, {0xFF, 0xD9}, {0xFF, 0xD9, 0xFF, 0xD9}, {0x2A, 0x2A, 0x2A, 0x2A, 0x2A}}));
     } else if (size >= 8) {
         const size_t at = size_t(rng() % (size - 4));
         ridge::test::replaceBlobBytes(a, size_t(i), at, at + 4, {0, 0, 0, 0});
@@ -242,7 +277,8 @@ void mutateCodecTables(ridge::test::ArchiveBytes& a, std::minstd_rand& rng)
         return;
     std::vector<uint8_t> tables;
     switch (rng() % 3) {
-    case 0: break;
+    case 0:
+        break;
     case 1:
         tables = {'T', 1, uint8_t(a.get<uint32_t>(28)), 0};
         for (uint32_t k = rng() % 64; k > 0; --k)
@@ -262,10 +298,18 @@ bool mutateShape(uint8_t* data, size_t& size, size_t max_size, std::minstd_rand&
     try {
         ridge::test::ArchiveBytes a(std::vector<uint8_t>(data, data + size));
         switch (rng() % 4) {
-        case 0: mutateMetadataShape(a, rng); break;
-        case 1: mutateWholeMask(a, rng); break;
-        case 2: mutatePayloadEnd(a, rng); break;
-        default: mutateCodecTables(a, rng); break;
+        case 0:
+            mutateMetadataShape(a, rng);
+            break;
+        case 1:
+            mutateWholeMask(a, rng);
+            break;
+        case 2:
+            mutatePayloadEnd(a, rng);
+            break;
+        default:
+            mutateCodecTables(a, rng);
+            break;
         }
         if (a.bytes().size() > max_size)
             return false;
@@ -299,7 +343,8 @@ extern "C" size_t LLVMFuzzerCustomMutator(uint8_t* data, size_t size, size_t max
             mutateValidityMask(data, size, layout, rng);
             continue;
         }
-        const ridge::fuzz::Field f = what < 4 ? layout.headerField(rng()) : layout.indexField(rng(), rng());
+        const ridge::fuzz::Field f =
+            what < 4 ? layout.headerField(rng()) : layout.indexField(rng(), rng());
         if (f.offset + ridge::fuzz::fieldBytes(f.type) > size)
             continue;
         if (f.type == FieldType::F32 || f.type == FieldType::F64)

@@ -32,7 +32,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
             try { // the validity mask (format v2) on its own
                 const ridge::PatchValidity v = reader.readValidity(p);
                 if (v.kind == ridge::PatchValidity::Kind::Mixed &&
-                    (v.samples.size() != size_t(n) * n || v.cells.size() != size_t(n - 1) * (n - 1)))
+                    (v.samples.size() != size_t(n) * n ||
+                     v.cells.size() != size_t(n - 1) * (n - 1)))
                     __builtin_trap();
             } catch (const ridge::Error&) {
             }

@@ -22,7 +22,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
         std::vector<uint8_t> again(codec.encodeBound({n, 0, nullptr, 0}));
         again.resize(codec.encode(again.data(), again.size(), out.data(), {n, 0, nullptr, 0}));
         std::vector<uint16_t> back(out.size());
-        if (codec.decode(back.data(), again.data(), again.size(), {n, 0, nullptr, 0}) != 0 || back != out)
+        if (codec.decode(back.data(), again.data(), again.size(), {n, 0, nullptr, 0}) != 0 ||
+            back != out)
             __builtin_trap();
     }
     return 0;

@@ -3,9 +3,9 @@
 // patch covers the valid extent, byte 1 the level (0..3) and quadrant, byte 2 the bound
 // (0..31 codes) and variant (v1's four, v2 with 1, 2 or 32 nested levels and either
 // predictor), byte 3 seeds the parent; the rest is the payload. v2 decodes with its default
-// tables (an archive's own tables are fuzzed through the archive target). Properties: decode returns ok or a negative status and stays in bounds; a
-// patch that decodes re-encodes, from the same parent, to a payload decoding to what the
-// codec says it reconstructs.
+// tables (an archive's own tables are fuzzed through the archive target). Properties: decode
+// returns ok or a negative status and stays in bounds; a patch that decodes re-encodes, from the
+// same parent, to a payload decoding to what the codec says it reconstructs.
 #include "ridge/codec/progressive_codec.h"
 
 #include <cstddef>
@@ -33,8 +33,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
         v = static_cast<uint16_t>(20000 + (state >> 22));
     }
     const int cut = data[0] >> 4; // samples covering the extent: all (0) or fewer
-    const ridge::PatchContext ctx{n, level, level > 0 ? parent.data() : nullptr, child,
-                                  cut ? 1 + (cut * (n - 1)) / 16 : 0, cut ? n - cut % 4 : 0};
+    const ridge::PatchContext ctx{n,
+                                  level,
+                                  level > 0 ? parent.data() : nullptr,
+                                  child,
+                                  cut ? 1 + (cut * (n - 1)) / 16 : 0,
+                                  cut ? n - cut % 4 : 0};
     const int status = codec.decode(out.data(), data + 4, size - 4, ctx);
     if (status > 0)
         __builtin_trap();
@@ -43,7 +47,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
         again.resize(codec.encode(again.data(), again.size(), out.data(), ctx));
         std::vector<uint16_t> expected(out.size()), back(out.size());
         codec.reconstruct(out.data(), ctx, expected.data());
-        if (again.empty() || codec.decode(back.data(), again.data(), again.size(), ctx) != 0 || back != expected)
+        if (again.empty() || codec.decode(back.data(), again.data(), again.size(), ctx) != 0 ||
+            back != expected)
             __builtin_trap();
     }
     return 0;

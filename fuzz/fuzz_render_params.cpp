@@ -53,14 +53,16 @@ std::vector<Loaded>& archives()
 double consumeNumber(FuzzedDataProvider& in, double scale)
 {
     switch (in.ConsumeIntegralInRange<int>(0, 3)) {
-    case 0: return std::bit_cast<double>(in.ConsumeIntegral<uint64_t>());
+    case 0:
+        return std::bit_cast<double>(in.ConsumeIntegral<uint64_t>());
     case 1: {
-        static constexpr double kSpecial[] = {NAN,  INFINITY, -INFINITY, 0.0,   -0.0,
-                                              1e-310, 1e308, -1e308,    1e15,  -1e15,
-                                              1e16, 1.0,      -1.0,      90.0,  180.0};
+        static constexpr double kSpecial[] = {NAN,    INFINITY, -INFINITY, 0.0,  -0.0,
+                                              1e-310, 1e308,    -1e308,    1e15, -1e15,
+                                              1e16,   1.0,      -1.0,      90.0, 180.0};
         return in.PickValueInArray(kSpecial);
     }
-    default: return scale * in.ConsumeFloatingPointInRange<double>(-2.0, 2.0);
+    default:
+        return scale * in.ConsumeFloatingPointInRange<double>(-2.0, 2.0);
     }
 }
 
@@ -77,7 +79,8 @@ void settingsAndOptions(FuzzedDataProvider& in)
     ridge::render::RenderSettings s;
     s.epsilon_px = consumeNumber(in, 10.0);
     try {
-        s.sun_direction = ridge::render::sunDirection(consumeNumber(in, 360.0), consumeNumber(in, 90.0));
+        s.sun_direction =
+            ridge::render::sunDirection(consumeNumber(in, 360.0), consumeNumber(in, 90.0));
         require(std::isfinite(s.sun_direction.x + s.sun_direction.y + s.sun_direction.z));
     } catch (const ridge::Error&) {
         s.sun_direction = {consumeNumber(in, 1.0), consumeNumber(in, 1.0), consumeNumber(in, 1.0)};
@@ -117,9 +120,11 @@ void settingsAndOptions(FuzzedDataProvider& in)
 
     ridge::render::HeadlessRenderOptions h;
     if (in.ConsumeBool())
-        h.camera = glm::dvec3(consumeNumber(in, 1e4), consumeNumber(in, 1e4), consumeNumber(in, 1e4));
+        h.camera =
+            glm::dvec3(consumeNumber(in, 1e4), consumeNumber(in, 1e4), consumeNumber(in, 1e4));
     if (in.ConsumeBool())
-        h.look_at = glm::dvec3(consumeNumber(in, 1e4), consumeNumber(in, 1e4), consumeNumber(in, 1e4));
+        h.look_at =
+            glm::dvec3(consumeNumber(in, 1e4), consumeNumber(in, 1e4), consumeNumber(in, 1e4));
     h.fov_y_degrees = consumeNumber(in, 90.0);
     h.viewport = {in.ConsumeIntegral<int>(), in.ConsumeIntegral<int>()};
     h.samples = in.ConsumeIntegral<int>();
@@ -140,7 +145,8 @@ void frame(FuzzedDataProvider& in, ridge::fuzz::CpuRenderer& r)
                                         in.ConsumeIntegralInRange<int>(-2, 5000)};
     const double fov = consumeNumber(in, 90.0);
     try {
-        const double h = r.coarse.groundHeight(consumeNumber(in, box.max.x), consumeNumber(in, box.max.y));
+        const double h =
+            r.coarse.groundHeight(consumeNumber(in, box.max.x), consumeNumber(in, box.max.y));
         require(std::isfinite(h));
     } catch (const ridge::Error&) {
     }
@@ -159,7 +165,8 @@ void frame(FuzzedDataProvider& in, ridge::fuzz::CpuRenderer& r)
         ridge::lod::SelectionSettings settings;
         settings.epsilon_px = consumeNumber(in, 8.0);
         settings.error_scale = consumeNumber(in, 2.0);
-        settings.max_patches = in.ConsumeIntegralInRange<size_t>(0, ridge::fuzz::CpuRenderer::kSlots - 1);
+        settings.max_patches =
+            in.ConsumeIntegralInRange<size_t>(0, ridge::fuzz::CpuRenderer::kSlots - 1);
         settings.cull = in.ConsumeBool();
         settings.conservative_distance = in.ConsumeBool();
         if (in.ConsumeBool()) {
@@ -218,7 +225,8 @@ extern "C" int LLVMFuzzerInitialize(int*, char***)
 {
     const char* dir = std::getenv("RIDGE_FUZZ_ARCHIVES");
     if (!dir) {
-        std::fprintf(stderr, "fuzz_render_params: set RIDGE_FUZZ_ARCHIVES to a directory of .ridge files\n");
+        std::fprintf(
+            stderr, "fuzz_render_params: set RIDGE_FUZZ_ARCHIVES to a directory of .ridge files\n");
         std::exit(2);
     }
     for (const auto& entry : std::filesystem::directory_iterator(dir)) {

@@ -72,11 +72,12 @@ struct CpuRenderer {
             try {
                 const auto patch = loader.load(l.id);
                 if (l.id.level > 0 && patch->codes.size() == size_t(reader.geometry().patchSize()) *
-                                                                  reader.geometry().patchSize())
-                    (void)lod::buildChunkMesh(
-                        patch->codes.data(), reader.geometry().patchSize(),
-                        0.5 * reader.record(l.id).err / reader.quantization().scale,
-                        reader.geometry().coveredCellsX(l.id), reader.geometry().coveredCellsY(l.id));
+                                                                 reader.geometry().patchSize())
+                    (void)lod::buildChunkMesh(patch->codes.data(), reader.geometry().patchSize(),
+                                              0.5 * reader.record(l.id).err /
+                                                  reader.quantization().scale,
+                                              reader.geometry().coveredCellsX(l.id),
+                                              reader.geometry().coveredCellsY(l.id));
             } catch (const Error&) {
                 residency.release(l.id); // drawn by an ancestor, as a failed stream
             }

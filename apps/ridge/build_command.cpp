@@ -6,10 +6,10 @@
 #include "terminal.h"
 #include "usage_error.h"
 
-#include "ridge/core/json_text.h"
 #include "ridge/codec/height_codec.h"
 #include "ridge/codec/jpeg2000_codec.h"
 #include "ridge/core/error.h"
+#include "ridge/core/json_text.h"
 #include "ridge/io/crs_summary.h"
 #include "ridge/pipeline/info.h"
 #include "ridge/pyramid/pyramid_geometry.h"
@@ -68,7 +68,8 @@ void Commands::registerBuild(CLI::App& app)
     build_
         ->add_option(
             "--codec", build_options_.codec,
-            "Patch codec: lossless, raw, progressive (lossy v2, needs --max-error), progressive-v1, "
+            "Patch codec: lossless, raw, progressive (lossy v2, needs --max-error), "
+            "progressive-v1, "
             "progressive-paper, progressive,nested=K, jpeg2000 (the JPEG2000 paper's model, needs "
             "--max-error; jpeg2000,encoding=direct, jpeg2000,library=htj2k)")
         ->capture_default_str();
@@ -131,7 +132,8 @@ void Commands::registerBuild(CLI::App& app)
         ->check(CLI::Validator(
             [](std::string& text) -> std::string {
                 if (text != "none")
-                    (void)inRange("--sea-level", Ingest::kSeaLevelRange, "the height or 'none'")(text);
+                    (void)inRange("--sea-level", Ingest::kSeaLevelRange,
+                                  "the height or 'none'")(text);
                 return {};
             },
             "METRES|none"));
@@ -152,7 +154,8 @@ void Commands::registerBuild(CLI::App& app)
         ->check(inRange("--max-memory", kMaxMemoryMbRange));
     build_
         ->add_option_function<int>(
-            "-b,--band", [this, &ingest](int band) {
+            "-b,--band",
+            [this, &ingest](int band) {
                 ingest.band = band;
                 band_given_ = true;
             },
@@ -176,7 +179,6 @@ void Commands::registerBuild(CLI::App& app)
         ->type_name("NAME_OR_EPSG");
     build_->add_flag("--json", json_, "Print the build's figures as JSON on stdout");
     addCommonFlags(build_, quiet_);
-
 }
 
 // Checks the geometry options up front so the message names the option, not the input.
@@ -223,10 +225,9 @@ io::RasterProbe Commands::checkBuildBeforeWork() const
     const int bands = int(probe.band_names.size());
     const int band = build_options_.ingest.band;
     if (band > bands)
-        throw UsageError(fmt::format("-b {}: {} has {} (1..{})", band, input_,
-                                     bands == 1 ? std::string("1 band")
-                                                : fmt::format("{} bands", bands),
-                                     bands));
+        throw UsageError(fmt::format(
+            "-b {}: {} has {} (1..{})", band, input_,
+            bands == 1 ? std::string("1 band") : fmt::format("{} bands", bands), bands));
     if (bands > 1 && !band_given_)
         fmt::print(stderr,
                    "ridge: warning: {} has {} bands ({}); the heights are read from band {} "
@@ -283,12 +284,12 @@ int Commands::runBuild()
     }
     if (quiet_)
         return 0;
-    fmt::print(
-        "{}: {}x{} samples, {} levels, {} patches, {} ({:.2f} bits/sample), "
-        "{} voids filled, {} kept as nodata, quantization error {:g} m\n",
-        output_, r.width, r.height, r.level_count, r.patch_count, humanBytes(r.archive_bytes),
-        8.0 * double(r.archive_bytes) / (double(r.width) * r.height), r.voids_filled, r.voids_kept,
-        r.quantization_error);
+    fmt::print("{}: {}x{} samples, {} levels, {} patches, {} ({:.2f} bits/sample), "
+               "{} voids filled, {} kept as nodata, quantization error {:g} m\n",
+               output_, r.width, r.height, r.level_count, r.patch_count,
+               humanBytes(r.archive_bytes),
+               8.0 * double(r.archive_bytes) / (double(r.width) * r.height), r.voids_filled,
+               r.voids_kept, r.quantization_error);
     if (!info.exact)
         fmt::print("heights: {} band {} quantized to 16-bit codes, a step of {} (each height "
                    "within {} of the source; --max-error sets what is allowed)\n",

@@ -43,7 +43,7 @@ class CameraReadout {
 
   private:
     TerrainGeoreference georeference_;
-    std::string crs_label_; // "WGS 84 / UTM zone 45N (EPSG:32645)"; empty without a CRS
+    std::string crs_label_;          // "WGS 84 / UTM zone 45N (EPSG:32645)"; empty without a CRS
     bool wgs84_lon_lat_crs_ = false; // the CRS's x, y already are WGS 84 lon/lat
 };
 

@@ -74,17 +74,20 @@ void Commands::registerAll(CLI::App& app)
                     name = io::sampleType(name).name;
                 } catch (const Error& e) {
                     const std::string what = e.what(), prefix = "output_type '" + name + "': ";
-                    throw UsageError("--ot " + name + ": " +
-                                     (what.rfind(prefix, 0) == 0 ? what.substr(prefix.size()) : what));
+                    throw UsageError(
+                        "--ot " + name + ": " +
+                        (what.rfind(prefix, 0) == 0 ? what.substr(prefix.size()) : what));
                 }
                 return {};
             },
             "TYPE"));
-    extract_->add_option("--of", extract_options_.output_format,
-                         "Output format (GDAL's -of): a GDAL driver that writes")
+    extract_
+        ->add_option("--of", extract_options_.output_format,
+                     "Output format (GDAL's -of): a GDAL driver that writes")
         ->capture_default_str();
-    extract_->add_option("--co", extract_options_.creation_options,
-                         "NAME=VALUE creation option for the driver (GDAL's -co; repeatable)")
+    extract_
+        ->add_option("--co", extract_options_.creation_options,
+                     "NAME=VALUE creation option for the driver (GDAL's -co; repeatable)")
         ->expected(1)
         ->allow_extra_args(false) // one NAME=VALUE per -co, as GDAL has it
         ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
@@ -96,9 +99,10 @@ void Commands::registerAll(CLI::App& app)
                 return {};
             },
             "NAME=VALUE"));
-    extract_->add_option_function<double>(
-                "--a_nodata", [this](double v) { extract_options_.nodata_value = v; },
-                "Nodata value of the output band (GDAL's -a_nodata)")
+    extract_
+        ->add_option_function<double>(
+            "--a_nodata", [this](double v) { extract_options_.nodata_value = v; },
+            "Nodata value of the output band (GDAL's -a_nodata)")
         ->check(inRange("--a_nodata", ValueRange::any()));
     extract_->add_flag("--json", json_,
                        "Print what was written (type, window, geotransform) as JSON on stdout");
@@ -246,20 +250,20 @@ int Commands::runExtract()
     options.progress = terminalProgress(quiet_ || json_);
     const ExtractReport r = extractLevel(archive_, output_, options);
     if (json_) {
-        nlohmann::json j = {{"output", output_},
-                            {"format", options.output_format},
-                            {"level", r.level},
-                            {"srcwin", {r.window.x, r.window.y, r.window.width, r.window.height}},
-                            {"type", r.output_type},
-                            {"type_reason", r.type_reason},
-                            {"max_rounding_error", r.max_rounding_error},
-                            {"geotransform", r.geotransform ? nlohmann::json(*r.geotransform)
-                                                            : nlohmann::json()}};
+        nlohmann::json j = {
+            {"output", output_},
+            {"format", options.output_format},
+            {"level", r.level},
+            {"srcwin", {r.window.x, r.window.y, r.window.width, r.window.height}},
+            {"type", r.output_type},
+            {"type_reason", r.type_reason},
+            {"max_rounding_error", r.max_rounding_error},
+            {"geotransform", r.geotransform ? nlohmann::json(*r.geotransform) : nlohmann::json()}};
         fmt::print("{}\n", jsonText(j));
     } else if (!quiet_) {
-        fmt::print("{}: {} {}x{} of level {} at {},{}, {} ({}){}\n", output_,
-                   options.output_format, r.window.width, r.window.height, r.level, r.window.x,
-                   r.window.y, r.output_type, r.type_reason,
+        fmt::print("{}: {} {}x{} of level {} at {},{}, {} ({}){}\n", output_, options.output_format,
+                   r.window.width, r.window.height, r.level, r.window.x, r.window.y, r.output_type,
+                   r.type_reason,
                    r.max_rounding_error > 0
                        ? fmt::format(", heights rounded by up to {:g} m", r.max_rounding_error)
                        : "");

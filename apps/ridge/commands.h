@@ -115,12 +115,12 @@ class ViewCommand {
     double texel_px_ = render::RenderSettings{}.texel_px;
     double exaggeration_ = 1.0; // --exaggeration
     bool vsync_ = true;
-    int frames_ = 0;         // > 0: render this many frames, then exit (smoke tests)
-    std::string screenshot_; // PNG of the last frame, read back before the final swap
-    CameraArgs camera_args_; // the starting camera, as `ridge render` takes it
-    std::string mode_ = "shaded"; // --mode, as `ridge render` takes it
+    int frames_ = 0;               // > 0: render this many frames, then exit (smoke tests)
+    std::string screenshot_;       // PNG of the last frame, read back before the final swap
+    CameraArgs camera_args_;       // the starting camera, as `ridge render` takes it
+    std::string mode_ = "shaded";  // --mode, as `ridge render` takes it
     std::vector<std::string> lod_; // --lod: the schemes L cycles through (specs)
-    bool no_overlay_ = false;     // start with the overlay hidden (O shows it)
+    bool no_overlay_ = false;      // start with the overlay hidden (O shows it)
     render::RendererOptions renderer_options_ = render::RendererOptions::streamingDefaults();
 };
 
@@ -145,7 +145,7 @@ class Commands {
   public:
     // GDAL's single-dash spellings of extract's options ("-ot" for "--ot"): CLI11 takes one
     // letter after a single dash, so main rewrites these arguments before parsing.
-    static constexpr const char* kGdalStyleFlags[] = {"-ot",      "-of",     "-co",
+    static constexpr const char* kGdalStyleFlags[] = {"-ot",       "-of",     "-co",
                                                       "-a_nodata", "-srcwin", "-projwin"};
 
     void registerAll(CLI::App& app);

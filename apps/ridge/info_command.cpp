@@ -61,7 +61,6 @@ void Commands::registerInfo(CLI::App& app)
         app.add_subcommand("info", "Describe an archive: geometry, levels, codec, georeference");
     info_->add_option("archive", archive_, "Archive (.ridge)")->required();
     info_->add_flag("--json", json_, "Machine-readable output");
-
 }
 
 int Commands::runInfo()
@@ -102,7 +101,8 @@ int Commands::runInfo()
         j["bands"] = nlohmann::json::array({band});
         if (const auto& datum = info.vertical_datum) {
             j["vertical_datum"] = {{"name", datum->name}, {"from", datum->origin}};
-            j["vertical_datum"]["epsg"] = datum->epsg ? nlohmann::json(*datum->epsg) : nlohmann::json();
+            j["vertical_datum"]["epsg"] =
+                datum->epsg ? nlohmann::json(*datum->epsg) : nlohmann::json();
         }
         addCornersJson(info, j);
         for (const LevelInfo& l : info.levels)
@@ -141,8 +141,7 @@ int Commands::runInfo()
     if (const auto& datum = info.vertical_datum)
         fmt::print("Vertical datum: {}{}, from {}\n", datum->name,
                    datum->epsg ? fmt::format(" (EPSG:{})", *datum->epsg) : std::string(),
-                   datum->origin == "source CRS" ? std::string("the source's CRS")
-                                                 : datum->origin);
+                   datum->origin == "source CRS" ? std::string("the source's CRS") : datum->origin);
     else
         fmt::print("Vertical datum: unknown (the source's CRS states none; build "
                    "--vertical-datum NAME_OR_EPSG records one)\n");
@@ -164,8 +163,8 @@ int Commands::runInfo()
     fmt::print("Codec: {}, level filter: {}\n", info.codec, info.filter);
     if (geo.geotransform) {
         const std::array<double, 6>& gt = *geo.geotransform;
-        fmt::print("Geotransform: ({:.9g}, {:.9g}, {:.9g}, {:.9g}, {:.9g}, {:.9g})\n", gt[0],
-                   gt[1], gt[2], gt[3], gt[4], gt[5]);
+        fmt::print("Geotransform: ({:.9g}, {:.9g}, {:.9g}, {:.9g}, {:.9g}, {:.9g})\n", gt[0], gt[1],
+                   gt[2], gt[3], gt[4], gt[5]);
     }
     if (geo.crs_wkt.empty())
         fmt::print("CRS: none\n");
@@ -184,6 +183,5 @@ int Commands::runInfo()
                    l.level_bound);
     return 0;
 }
-
 
 } // namespace ridge::cli

@@ -78,8 +78,8 @@ int finishStandardOutput(int code)
     if (!failed)
         return code;
     const int error = errno;
-    std::fprintf(stderr, "\nridge: error: standard output: cannot write%s%s\n",
-                 error ? ": " : "", error ? std::strerror(error) : "");
+    std::fprintf(stderr, "\nridge: error: standard output: cannot write%s%s\n", error ? ": " : "",
+                 error ? std::strerror(error) : "");
     return kExitFailure;
 }
 

@@ -120,8 +120,8 @@ class Answers {
         if (!error.empty())
             fmt::format_to(out, "{}: error: {}\n", echo, error);
         else if (answered)
-            fmt::format_to(out, "{}: {:.3f} m (level {}, within {:g} m of the source{}{})\n",
-                           echo, s->height, s->level, s->error_bound, s->water ? "; water" : "",
+            fmt::format_to(out, "{}: {:.3f} m (level {}, within {:g} m of the source{}{})\n", echo,
+                           s->height, s->level, s->error_bound, s->water ? "; water" : "",
                            s->filled ? "; filled: a void of the source, its height invented" : "");
         else if (s->nodata)
             fmt::format_to(out,
@@ -140,9 +140,8 @@ class Answers {
     void flush()
     {
         errno = 0;
-        const bool written =
-            std::fwrite(text_.data(), 1, text_.size(), stdout) == text_.size() &&
-            std::fflush(stdout) == 0;
+        const bool written = std::fwrite(text_.data(), 1, text_.size(), stdout) == text_.size() &&
+                             std::fflush(stdout) == 0;
         text_.clear();
         if (!written)
             throw Error(std::string("standard output: cannot write: ") +
@@ -171,7 +170,10 @@ struct PendingLines {
         text.append(line);
         points.push_back(parsePoint(line));
     }
-    std::string_view line(size_t k) const { return std::string_view(text).substr(begin[k], size[k]); }
+    std::string_view line(size_t k) const
+    {
+        return std::string_view(text).substr(begin[k], size[k]);
+    }
     size_t count() const { return points.size(); }
     void clear()
     {
@@ -233,7 +235,7 @@ void answerStdin(HeightQuery& query, PointSpace space, int level, QueryResamplin
                  Answers& answers)
 {
     PendingLines pending;
-    std::string partial; // a line whose end has not arrived yet, at most kMaxQueryLineBytes
+    std::string partial;   // a line whose end has not arrived yet, at most kMaxQueryLineBytes
     bool skipping = false; // inside a too-long line already answered: drop to its end
     int64_t number = 0;    // of the line being read
     std::vector<char> buffer(size_t(1) << 16);
@@ -298,8 +300,8 @@ void QueryCommand::registerWith(CLI::App& app)
     command_->add_option("archive", archive_, "Archive (.ridge)")->required();
     command_->add_option("x", x_, "X in the archive CRS (with --lonlat longitude, --pixel pixel)");
     command_->add_option("y", y_, "Y in the archive CRS (with --lonlat latitude, --pixel line)");
-    auto* lonlat = command_->add_flag("--lonlat", lonlat_,
-                                      "Points are WGS 84 longitude, latitude in degrees");
+    auto* lonlat =
+        command_->add_flag("--lonlat", lonlat_, "Points are WGS 84 longitude, latitude in degrees");
     auto* pixel = command_->add_flag(
         "--pixel", pixel_,
         "Points are GDAL pixel/line (pixel-is-area: sample (0,0)'s centre is 0.5,0.5)");
@@ -324,7 +326,7 @@ int QueryCommand::run()
     // Check the request, then open the archive and check it has the space the points are in.
     if (x_.has_value() != y_.has_value())
         throw Error("query: give both X and Y, or neither (points from stdin)");
-    const PointSpace space = lonlat_ ? PointSpace::LonLat
+    const PointSpace space = lonlat_  ? PointSpace::LonLat
                              : pixel_ ? PointSpace::Pixel
                              : local_ ? PointSpace::Local
                                       : PointSpace::Crs;

@@ -72,8 +72,7 @@ inline bool isDecimalNumber(std::string_view text)
 inline bool isDecimalInteger(std::string_view text)
 {
     size_t at = text.size() > 0 && (text[0] == '+' || text[0] == '-') ? 1 : 0;
-    return at < text.size() &&
-           text.find_first_not_of("0123456789", at) == std::string_view::npos;
+    return at < text.size() && text.find_first_not_of("0123456789", at) == std::string_view::npos;
 }
 
 // The whole of `text` as a number (isDecimalNumber; "1e999" overflows to inf, which the
@@ -101,7 +100,8 @@ inline std::optional<int64_t> parseInteger(const std::string& text)
 [[noreturn]] inline void reject(const std::string& flag, const std::string& text,
                                 const std::string& what, const std::string& range)
 {
-    throw UsageError(flag + " " + text + ": " + (what.empty() ? "" : what + " ") + "must be " + range);
+    throw UsageError(flag + " " + text + ": " + (what.empty() ? "" : what + " ") + "must be " +
+                     range);
 }
 
 } // namespace detail

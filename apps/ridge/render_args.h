@@ -14,13 +14,13 @@
 #include <CLI/CLI.hpp>
 
 #include <charconv>
-#include <limits>
-#include <optional>
-#include <vector>
 #include <cstdio>
+#include <limits>
 #include <map>
+#include <optional>
 #include <string>
 #include <system_error>
+#include <vector>
 
 namespace ridge::cli {
 
@@ -38,7 +38,7 @@ inline lod::Viewport parseSize(const std::string& text,
         throw UsageError("--size " + text + ": expected WIDTHxHEIGHT, e.g. 1920x1080");
     if (*w < 1 || *h < 1 || *w > max_side || *h > max_side)
         throw UsageError("--size " + text + ": each side must be an integer in [1, " +
-                    std::to_string(max_side) + "]");
+                         std::to_string(max_side) + "]");
     return {int(*w), int(*h)};
 }
 
@@ -101,13 +101,13 @@ inline void addCameraOptions(CLI::App& command, CameraArgs& args, const std::str
             ->expected(3)
             ->check(inRange("--camera-lonlat", ValueRange::any(), "each value"));
     camera->excludes(camera_lonlat);
-    auto* look_at = command
-                        .add_option("--look-at", args.look_at,
-                                    "Point the camera looks at, X,Y,Z (default: terrain centre)")
-                        ->delimiter(',')
-                        ->expected(3)
-                        ->check(inRange("--look-at", lod::kCameraCoordinateRange,
-                                        "each coordinate"));
+    auto* look_at =
+        command
+            .add_option("--look-at", args.look_at,
+                        "Point the camera looks at, X,Y,Z (default: terrain centre)")
+            ->delimiter(',')
+            ->expected(3)
+            ->check(inRange("--look-at", lod::kCameraCoordinateRange, "each coordinate"));
     auto* look_at_lonlat =
         command
             .add_option("--look-at-lonlat", args.look_at_lonlat,
@@ -229,8 +229,8 @@ inline void addStreamingOptions(CLI::App& command, render::RendererOptions& opti
                     "Upload time budget as a fraction of the recent frame time (without "
                     "uploads), between --upload-ms and --upload-max-ms; 0: --upload-ms alone")
         ->capture_default_str()
-        ->check(inRange("--upload-frame-fraction",
-                        stream::UploadTimeSettings::kFrameFractionRange));
+        ->check(
+            inRange("--upload-frame-fraction", stream::UploadTimeSettings::kFrameFractionRange));
     command
         .add_option("--upload-max-ms", options.upload_budget_max_ms,
                     "Ceiling of the adaptive upload time budget, ms")

@@ -73,8 +73,7 @@ std::string describeUsageError(CLI::App& app, const std::vector<std::string>& ar
         // "-qv", "-b2": CLI11 reads a single dash and several letters as a cluster of
         // single-letter flags, or one with its value attached, when the first letter is one
         // of the command's; otherwise ("-projwin" where there is no -p) it is unknown.
-        if (name[1] != '-' && name.size() > 2 &&
-            command->get_option_no_throw(name.substr(0, 2)))
+        if (name[1] != '-' && name.size() > 2 && command->get_option_no_throw(name.substr(0, 2)))
             continue;
         return where + ": unknown option '" + name + "'" + suggestion(name, flagNames(*command)) +
                " (" + where + " --help lists its options)";
@@ -87,14 +86,14 @@ std::string withFlagNames(const std::string& message)
     // The library's parameter names (BuildOptions, HeadlessRenderOptions, ...) and the flags
     // that set them; one spelling per concept across the commands.
     static const std::pair<const char*, const char*> kFlags[] = {
-        {"max_error", "--max-error"},    {"memory_limit_bytes", "--max-memory"},
-        {"look_at", "--look-at"},        {"epsilon_px", "--error"},
-        {"z_scale", "--z-scale"},        {"z_offset", "--z-offset"},
-        {"patch_size", "--patch"},       {"block_cells", "--block"},
-        {"fov_y_degrees", "--fov"},      {"measure_popping", "--popping"},
-        {"data_type", "-ot"},            {"nodata", "-a_nodata"},
-        {"creation_options", "-co"},     {"format", "-of"},
-        {"projwin", "--projwin"},        {"srcwin", "--srcwin"},
+        {"max_error", "--max-error"}, {"memory_limit_bytes", "--max-memory"},
+        {"look_at", "--look-at"},     {"epsilon_px", "--error"},
+        {"z_scale", "--z-scale"},     {"z_offset", "--z-offset"},
+        {"patch_size", "--patch"},    {"block_cells", "--block"},
+        {"fov_y_degrees", "--fov"},   {"measure_popping", "--popping"},
+        {"data_type", "-ot"},         {"nodata", "-a_nodata"},
+        {"creation_options", "-co"},  {"format", "-of"},
+        {"projwin", "--projwin"},     {"srcwin", "--srcwin"},
     };
     auto isNameChar = [](char c) {
         return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
@@ -104,7 +103,8 @@ std::string withFlagNames(const std::string& message)
         const std::string p = parameter;
         for (size_t at = message.find(p); at != std::string::npos; at = message.find(p, at + 1)) {
             const bool starts = at == 0 || !isNameChar(message[at - 1]);
-            const bool ends = at + p.size() == message.size() || !isNameChar(message[at + p.size()]);
+            const bool ends =
+                at + p.size() == message.size() || !isNameChar(message[at + p.size()]);
             if (starts && ends) {
                 hints += (hints.empty() ? "" : ", ") + p + " is " + flag;
                 break;

@@ -61,9 +61,9 @@ constexpr double kDegreesPerRadian = 180.0 / 3.14159265358979323846;
 // `text` as one shell word: as is when it holds only safe characters, else single-quoted.
 std::string shellQuoted(const std::string& text)
 {
-    const bool safe = !text.empty() && text.find_first_not_of(
-                                           "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
-                                           "0123456789_-+./:=@%,") == std::string::npos;
+    const bool safe = !text.empty() &&
+                      text.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                             "0123456789_-+./:=@%,") == std::string::npos;
     if (safe)
         return text;
     std::string out = "'";
@@ -153,7 +153,7 @@ class Viewer {
         settings_.epsilon_px = std::clamp(epsilon_px, kMinEpsilonPx, kMaxEpsilonPx);
         settings_.texel_px = texel_px; // range-checked by the option
         settings_.mode = mode;
-        settings_.exaggeration = exaggeration; // range-checked by the option
+        settings_.exaggeration = exaggeration;          // range-checked by the option
         settings_.scheme = renderer_.schemes().front(); // the first --lod, else the default
 
         int w = 1, h = 1;
@@ -377,7 +377,8 @@ class Viewer {
         std::snprintf(title, sizeof title, "%.0f fps, %d patches###ridge view",
                       1000.0 / std::max(smoothed_ms_, 1e-3), stats_.patches);
         if (!ImGui::Begin(title, nullptr,
-                          ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoFocusOnAppearing)) {
+                          ImGuiWindowFlags_AlwaysAutoResize |
+                              ImGuiWindowFlags_NoFocusOnAppearing)) {
             ImGui::End(); // collapsed: the title bar alone
             finishOverlay();
             return;
@@ -435,10 +436,9 @@ class Viewer {
                 fly_.setPosition(p);
             }
             float rate = float(speed_rate_);
-            if (ImGui::SliderFloat("speed (x height / s)", &rate,
-                                   float(CameraReadout::kMinSpeedRate),
-                                   float(CameraReadout::kMaxSpeedRate), "%.2f",
-                                   ImGuiSliderFlags_Logarithmic))
+            if (ImGui::SliderFloat(
+                    "speed (x height / s)", &rate, float(CameraReadout::kMinSpeedRate),
+                    float(CameraReadout::kMaxSpeedRate), "%.2f", ImGuiSliderFlags_Logarithmic))
                 speed_rate_ = std::clamp(double(rate), CameraReadout::kMinSpeedRate,
                                          CameraReadout::kMaxSpeedRate);
             int mode = int(settings_.mode);
@@ -476,9 +476,8 @@ class Viewer {
     // (render::legendEntries).
     void drawLegend() const
     {
-        const std::vector<render::LegendEntry> entries =
-            render::legendEntries(settings_.mode, renderer_.quadtree().geometry().finestLevel(),
-                                  renderer_.blockCells());
+        const std::vector<render::LegendEntry> entries = render::legendEntries(
+            settings_.mode, renderer_.quadtree().geometry().finestLevel(), renderer_.blockCells());
         if (entries.empty())
             return;
         ImGui::TextUnformatted(settings_.mode == render::DebugMode::LodLevels
@@ -510,9 +509,9 @@ class Viewer {
     bool show_overlay_ = true; // O or F10
     // Fly speed per metre of height above the ground, per second (the wheel scales it).
     double speed_rate_ = CameraReadout::kDefaultSpeedRate;
-    bool captured_ = false;    // Tab: mouse look without holding a button
-    bool dragging_ = false;    // right button held, pressed outside the overlay
-    bool looking_ = false;     // cursor disabled for mouse look
+    bool captured_ = false; // Tab: mouse look without holding a button
+    bool dragging_ = false; // right button held, pressed outside the overlay
+    bool looking_ = false;  // cursor disabled for mouse look
     bool have_cursor_ = false;
     double cursor_x_ = 0.0, cursor_y_ = 0.0; // screen coordinates, last frame
     double last_time_ = 0.0;                 // seconds, glfwGetTime

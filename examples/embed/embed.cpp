@@ -25,14 +25,13 @@ int main(int argc, char** argv)
         build.patch_size = 65;
         const ridge::BuildSummary built = ridge::build(source, archive, build);
         std::printf("built %s: %lld x %lld samples, %d levels, %lld patches, %llu bytes\n",
-                    archive.c_str(), (long long)built.width, (long long)built.height,
-                    built.levels, (long long)built.patches, (unsigned long long)built.archive_bytes);
+                    archive.c_str(), (long long)built.width, (long long)built.height, built.levels,
+                    (long long)built.patches, (unsigned long long)built.archive_bytes);
 
         const ridge::Terrain terrain(archive);
         const ridge::TerrainInfo& info = terrain.info();
-        std::printf("spacing %.2f x %.2f m, heights %.1f .. %.1f m, bound %.3f m\n",
-                    info.spacing_x, info.spacing_y, info.min_height, info.max_height,
-                    info.max_error);
+        std::printf("spacing %.2f x %.2f m, heights %.1f .. %.1f m, bound %.3f m\n", info.spacing_x,
+                    info.spacing_y, info.min_height, info.max_height, info.max_error);
 
         // Heights without a GL context: the centre of the terrain, in local metres, and the
         // same point as longitude/latitude through PROJ.

@@ -35,7 +35,8 @@ bool makeHeadlessContext()
     // version, which there is not yet.
     if (epoxy_has_egl_extension(EGL_NO_DISPLAY, "EGL_EXT_platform_base") &&
         epoxy_has_egl_extension(EGL_NO_DISPLAY, "EGL_MESA_platform_surfaceless"))
-        display = eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+        display =
+            eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
     if (display == EGL_NO_DISPLAY || !eglInitialize(display, nullptr, nullptr)) {
         display = eglGetDisplay(EGL_DEFAULT_DISPLAY);
         pbuffer = true;
@@ -49,10 +50,15 @@ bool makeHeadlessContext()
     if (!eglBindAPI(EGL_OPENGL_API) ||
         !eglChooseConfig(display, config_attributes, &config, 1, &count) || count == 0)
         return false;
-    const EGLint context_attributes[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 5,
+    const EGLint context_attributes[] = {EGL_CONTEXT_MAJOR_VERSION,
+                                         4,
+                                         EGL_CONTEXT_MINOR_VERSION,
+                                         5,
                                          EGL_CONTEXT_OPENGL_PROFILE_MASK,
-                                         EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
-    const EGLContext context = eglCreateContext(display, config, EGL_NO_CONTEXT, context_attributes);
+                                         EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                                         EGL_NONE};
+    const EGLContext context =
+        eglCreateContext(display, config, EGL_NO_CONTEXT, context_attributes);
     if (context == EGL_NO_CONTEXT)
         return false;
     EGLSurface surface = EGL_NO_SURFACE;
@@ -75,15 +81,16 @@ Mat4 lookAt(const Vec3& eye, const Vec3& target)
     s = {s[0] / ls, s[1] / ls, 0.0};
     const Vec3 u{s[1] * f[2] - s[2] * f[1], s[2] * f[0] - s[0] * f[2], s[0] * f[1] - s[1] * f[0]};
     auto dot = [](const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
-    return {s[0], u[0], -f[0], 0, s[1], u[1], -f[1], 0, s[2], u[2], -f[2], 0,
-            -dot(s, eye), -dot(u, eye), dot(f, eye), 1};
+    return {s[0], u[0], -f[0], 0, s[1],         u[1],         -f[1],       0,
+            s[2], u[2], -f[2], 0, -dot(s, eye), -dot(u, eye), dot(f, eye), 1};
 }
 
 Mat4 perspective(double fov_y_degrees, double aspect, double n, double f)
 {
     const double t = 1.0 / std::tan(fov_y_degrees * 3.14159265358979323846 / 360.0);
-    return {t / aspect, 0, 0, 0, 0, t, 0, 0, 0, 0, -(f + n) / (f - n), -1,
-            0, 0, -2.0 * f * n / (f - n), 0};
+    return {
+        t / aspect, 0, 0, 0, 0, t, 0, 0, 0, 0, -(f + n) / (f - n), -1, 0, 0, -2.0 * f * n / (f - n),
+        0};
 }
 
 // Window pixel (x right, y down) of world point p.
@@ -109,7 +116,8 @@ class Box {
         const char* fs = "#version 450 core\nout vec4 c;\n"
                          "void main() { c = vec4(1.0, 0.0, 1.0, 1.0); }\n";
         program_ = glCreateProgram();
-        for (auto [kind, source] : {std::pair{GL_VERTEX_SHADER, vs}, std::pair{GL_FRAGMENT_SHADER, fs}}) {
+        for (auto [kind, source] :
+             {std::pair{GL_VERTEX_SHADER, vs}, std::pair{GL_FRAGMENT_SHADER, fs}}) {
             const GLuint s = glCreateShader(kind);
             glShaderSource(s, 1, &source, nullptr);
             glCompileShader(s);
@@ -132,7 +140,8 @@ class Box {
     {
         Vec3 eye{};
         for (int i = 0; i < 3; ++i)
-            eye[i] = -(view[i * 4] * view[12] + view[i * 4 + 1] * view[13] + view[i * 4 + 2] * view[14]);
+            eye[i] =
+                -(view[i * 4] * view[12] + view[i * 4 + 1] * view[13] + view[i * 4 + 2] * view[14]);
         Mat4 rotation = view;
         rotation[12] = rotation[13] = rotation[14] = 0.0;
         float m[16];
@@ -236,7 +245,8 @@ int main(int argc, char** argv)
         const std::vector<ridge::PointHeight> heights = terrain.heights(centres, q);
         size_t top = 0;
         for (size_t k = 0; k < heights.size(); ++k)
-            if (heights[k].status == ridge::HeightStatus::Ok && heights[k].height > heights[top].height)
+            if (heights[k].status == ridge::HeightStatus::Ok &&
+                heights[k].height > heights[top].height)
                 top = k;
         const ridge::LocalPoint summit = terrain.localFromPixel(centres[top][0], centres[top][1]);
         const Vec3 peak{summit.x, summit.y, heights[top].height};

@@ -16,13 +16,13 @@ namespace ridge {
 // Any failure a user can cause: bad input, a corrupt archive, an I/O failure, a parameter
 // out of range. The message names the file or the parameter and the problem.
 class RIDGE_API Error : public std::runtime_error {
-public:
+  public:
     using std::runtime_error::runtime_error;
 };
 
 // The operation was cancelled through its progress callback (e.g. Ctrl-C in the CLI).
 class RIDGE_API Cancelled : public Error {
-public:
+  public:
     Cancelled() : Error("cancelled") {}
 };
 

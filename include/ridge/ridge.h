@@ -49,23 +49,23 @@ struct BuildParameters {
     std::string codec = "lossless"; // "lossless", "raw", "progressive", "progressive-paper"
     // Lossy codecs: the L∞ bound at the finest level, metres (ingest quantization included).
     std::optional<double> max_error;
-    int patch_size = 129;             // samples per patch side, 2^n + 1 (33 .. 4097)
-    std::string filter = "decimate";  // level filter: "decimate" or "neville"
+    int patch_size = 129;            // samples per patch side, 2^n + 1 (33 .. 4097)
+    std::string filter = "decimate"; // level filter: "decimate" or "neville"
     // Nodata in the source: "interior" fills voids enclosed by data and keeps nodata that
     // reaches the raster's border (a warped DEM's collar, sea) as nodata, which no renderer
     // draws and queries report as off the terrain; "all" fills every void, "none" none.
     std::string fill_voids = "interior";
-    ProgressCallback progress;        // optional
+    ProgressCallback progress; // optional
 };
 
 struct BuildSummary {
-    int64_t width = 0;  // finest samples
+    int64_t width = 0; // finest samples
     int64_t height = 0;
     int levels = 0;
     int64_t patches = 0;
     uint64_t archive_bytes = 0;
     int64_t voids_filled = 0;
-    int64_t voids_kept = 0;    // nodata kept as nodata (BuildParameters::fill_voids)
+    int64_t voids_kept = 0; // nodata kept as nodata (BuildParameters::fill_voids)
     double seconds = 0.0;
 };
 
@@ -78,37 +78,36 @@ struct VerifySummary {
     bool ok = false;                   // no problem found
     std::vector<std::string> problems; // each names the file and, where it applies, the patch
     bool source_checked = false;
-    int64_t samples_checked = 0;       // sample comparisons: every finest sample once per level
-    double max_error = 0.0;            // largest |drawn surface − source|, metres
-    int64_t bound_violations = 0;      // samples farther from the source than their bound
+    int64_t samples_checked = 0;  // sample comparisons: every finest sample once per level
+    double max_error = 0.0;       // largest |drawn surface − source|, metres
+    int64_t bound_violations = 0; // samples farther from the source than their bound
 };
 
 // Checks every checksum and field of `archive_path`, decodes every patch and, with a
 // `source_path`, checks every sample of every level against its stored error bound. Never
 // throws for problems in the files (they are reported); throws ridge::Cancelled.
-RIDGE_API VerifySummary verify(const std::string& archive_path,
-                               const std::string& source_path = {},
+RIDGE_API VerifySummary verify(const std::string& archive_path, const std::string& source_path = {},
                                const ProgressCallback& progress = {});
 
 // ---- An open archive and GL-free queries --------------------------------------------------
 
 struct TerrainInfo {
     std::string path;
-    int64_t width = 0;           // finest samples, west to east
-    int64_t height = 0;          // finest samples, north to south
-    double spacing_x = 0.0;      // metres between samples
+    int64_t width = 0;      // finest samples, west to east
+    int64_t height = 0;     // finest samples, north to south
+    double spacing_x = 0.0; // metres between samples
     double spacing_y = 0.0;
-    int levels = 0;              // level 0 is one patch; levels − 1 is the finest
-    int patch_size = 0;          // samples per patch side
+    int levels = 0;     // level 0 is one patch; levels − 1 is the finest
+    int patch_size = 0; // samples per patch side
     int64_t patches = 0;
-    std::string codec;           // as `BuildParameters::codec`
-    double min_height = 0.0;     // metres, over every level (bounds, not exact extremes)
+    std::string codec;       // as `BuildParameters::codec`
+    double min_height = 0.0; // metres, over every level (bounds, not exact extremes)
     double max_height = 0.0;
     // The finest level's L∞ distance from the source, metres (codec + quantization): every
     // finest sample of Terrain::height is within this of the source sample.
     double max_error = 0.0;
-    std::string crs_wkt;         // empty when the source had none
-    bool geographic = false;     // the CRS is longitude/latitude
+    std::string crs_wkt;     // empty when the source had none
+    bool geographic = false; // the CRS is longitude/latitude
     // GDAL's geotransform of the finest grid (pixel-is-area), when the source had one.
     std::optional<std::array<double, 6>> geotransform;
 };
@@ -188,7 +187,7 @@ struct CameraParameters {
     std::optional<std::array<double, 3>> position;        // local x, y, z, metres
     std::optional<std::array<double, 3>> position_lonlat; // longitude°, latitude°, height m
     bool above_ground = false; // the position's height is above the finest surface under it
-    std::optional<std::array<double, 3>> look_at;         // local x, y, z, metres
+    std::optional<std::array<double, 3>> look_at; // local x, y, z, metres
     // Longitude°, latitude°, height m; a NaN height looks at the finest surface there.
     std::optional<std::array<double, 3>> look_at_lonlat;
     // Degrees clockwise from grid north (local +y; Terrain::convergenceDegrees turns it into
@@ -301,16 +300,16 @@ struct DrawParameters {
 };
 
 struct FrameSummary {
-    int patches = 0;       // drawn
-    uint64_t triangles = 0; // GPU query results arrive a frame or two late: 0 until then
+    int patches = 0;              // drawn
+    uint64_t triangles = 0;       // GPU query results arrive a frame or two late: 0 until then
     double screen_error_px = 0.0; // ε met (raised when the view needed more patches than fit)
-    int missing = 0;       // streaming: selected patches drawn by a resident ancestor
+    int missing = 0;              // streaming: selected patches drawn by a resident ancestor
 };
 
 struct RenderParameters {
-    int width = 1920;  // pixels
+    int width = 1920; // pixels
     int height = 1080;
-    int samples = 4;   // MSAA
+    int samples = 4;                  // MSAA
     std::optional<CameraPose> camera; // default: an oblique view that frames the terrain
     DrawParameters draw;
 };
@@ -355,7 +354,7 @@ struct HostView {
     // Eye → clip: a perspective projection, last row (0, 0, −1, 0): glm::perspective,
     // glm::frustum (off-centre, jittered), their _ZO, infinite and reverse-Z forms.
     std::array<double, 16> projection{};
-    int width = 0;  // the viewport the host draws into, pixels
+    int width = 0; // the viewport the host draws into, pixels
     int height = 0;
     DepthConvention depth = DepthConvention::Standard; // must agree with `projection`
 };

@@ -15,7 +15,10 @@ static_assert(RIDGE_VERSION_MAJOR == RIDGE_PROJECT_VERSION_MAJOR &&
                   RIDGE_VERSION_PATCH == RIDGE_PROJECT_VERSION_PATCH,
               "ridge.h's RIDGE_VERSION_* must equal the project version in CMakeLists.txt");
 
-const char* versionString() { return RIDGE_PROJECT_VERSION; }
+const char* versionString()
+{
+    return RIDGE_PROJECT_VERSION;
+}
 
 BuildSummary build(const std::string& source_path, const std::string& archive_path,
                    const BuildParameters& parameters)

@@ -89,8 +89,7 @@ HostCamera hostCamera(const HostView& host, const render::TerrainRenderer& rende
     requireNear(v[3][3], 1.0, "view's last row must be 0 0 0 1");
     const glm::dmat3 world_from_eye = glm::transpose(rotation);
     const glm::dvec3 eye = -(world_from_eye * glm::dvec3(v[3]));
-    checkParameters("HostView eye position (local metres)", &eye.x, 3,
-                    lod::kCameraCoordinateRange);
+    checkParameters("HostView eye position (local metres)", &eye.x, 3, lod::kCameraCoordinateRange);
 
     // The projection: perspective, invertible across the screen, depth one way or the other.
     requireNear(p[0][3], 0.0, "projection is not perspective (its last row must be 0 0 -1 0)");
@@ -113,9 +112,9 @@ HostCamera hostCamera(const HostView& host, const render::TerrainRenderer& rende
                     (host.depth == DepthConvention::ReverseZ ? "ReverseZ" : "Standard/ZeroToOne") +
                     ": give the convention the host draws with");
     // The near plane: where window depth takes the near value (−1, 0 or 1 in NDC).
-    const double near_ndc = host.depth == DepthConvention::Standard ? -1.0
+    const double near_ndc = host.depth == DepthConvention::Standard    ? -1.0
                             : host.depth == DepthConvention::ZeroToOne ? 0.0
-                                                                        : 1.0;
+                                                                       : 1.0;
     const double host_near = depth_slope / (near_ndc + p[2][2]);
     if (!(host_near > 0.0) || !std::isfinite(host_near))
         throw Error("HostView: projection's near plane is not in front of the eye (near " +
@@ -157,12 +156,13 @@ HostCamera hostCamera(const HostView& host, const render::TerrainRenderer& rende
     const double fov_y_degrees = 2.0 * std::atan(tan_y) * 180.0 / std::numbers::pi;
     double near_m = 1.0, far_m = 1e6;
     renderer.clipPlanesFor(eye, near_m, far_m, exaggeration); // far: the whole terrain
-    near_m = std::min(near_m, host_near);       // culling never cuts what the host shows
+    near_m = std::min(near_m, host_near); // culling never cuts what the host shows
     far_m = std::max(far_m, 2.0 * near_m);
 
-    HostCamera out{lod::Camera(eye, eye + forward, fov_y_degrees,
-                               {int(lod_width), int(lod_height)}, near_m, far_m),
-                   {}, {}};
+    HostCamera out{lod::Camera(eye, eye + forward, fov_y_degrees, {int(lod_width), int(lod_height)},
+                               near_m, far_m),
+                   {},
+                   {}};
     out.projection.view_projection = p * glm::dmat4(rotation);
     out.projection.zero_to_one = host.depth != DepthConvention::Standard;
     out.projection.greater = greater;

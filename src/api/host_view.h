@@ -15,10 +15,10 @@ namespace ridge::api {
 
 // The rays through a viewport's pixels: eye space is the host's, world the local frame.
 struct PixelRays {
-    glm::dvec3 eye{0.0};              // local frame, metres
-    glm::dmat3 world_from_eye{1.0};   // the view's rotation, inverted
-    glm::dmat4 projection{1.0};       // eye → clip
-    int width = 1, height = 1;        // pixels
+    glm::dvec3 eye{0.0};            // local frame, metres
+    glm::dmat3 world_from_eye{1.0}; // the view's rotation, inverted
+    glm::dmat4 projection{1.0};     // eye → clip
+    int width = 1, height = 1;      // pixels
     // The world direction (not normalised) of the ray from the eye through window point
     // (x, y): x right and y down from the top-left corner, pixels.
     glm::dvec3 direction(double x, double y) const;

@@ -27,8 +27,14 @@
 namespace ridge {
 namespace {
 
-glm::dvec3 toGlm(const std::array<double, 3>& v) { return {v[0], v[1], v[2]}; }
-std::array<double, 3> fromGlm(const glm::dvec3& v) { return {v.x, v.y, v.z}; }
+glm::dvec3 toGlm(const std::array<double, 3>& v)
+{
+    return {v[0], v[1], v[2]};
+}
+std::array<double, 3> fromGlm(const glm::dvec3& v)
+{
+    return {v.x, v.y, v.z};
+}
 
 // `scheme`: the scheme drawn, by name (DrawParameters::scheme resolved by the caller).
 render::RenderSettings settingsFrom(const DrawParameters& p, const std::string& scheme)
@@ -77,10 +83,13 @@ double drawnError(HeightQuery& query, const glm::dvec3 (&t)[3])
     const double sx = frame.spacingX(), sy = frame.spacingY();
     const int last_row = g.height() - 1;
     // Barycentric coordinates of (x, y) in the triangle's footprint.
-    const double det = (t[1].y - t[2].y) * (t[0].x - t[2].x) + (t[2].x - t[1].x) * (t[0].y - t[2].y);
+    const double det =
+        (t[1].y - t[2].y) * (t[0].x - t[2].x) + (t[2].x - t[1].x) * (t[0].y - t[2].y);
     auto weights = [&](double x, double y) {
-        const double a = ((t[1].y - t[2].y) * (x - t[2].x) + (t[2].x - t[1].x) * (y - t[2].y)) / det;
-        const double b = ((t[2].y - t[0].y) * (x - t[2].x) + (t[0].x - t[2].x) * (y - t[2].y)) / det;
+        const double a =
+            ((t[1].y - t[2].y) * (x - t[2].x) + (t[2].x - t[1].x) * (y - t[2].y)) / det;
+        const double b =
+            ((t[2].y - t[0].y) * (x - t[2].x) + (t[0].x - t[2].x) * (y - t[2].y)) / det;
         return glm::dvec3(a, b, 1.0 - a - b);
     };
     double worst = -1.0;
@@ -88,12 +97,16 @@ double drawnError(HeightQuery& query, const glm::dvec3 (&t)[3])
         const HeightSample s = query.sample({column + 0.5, row + 0.5}, PointSpace::Pixel, -1,
                                             QueryResampling::Nearest);
         if (s.on_raster && !s.nodata)
-            worst = std::max(worst, std::abs(w.x * t[0].z + w.y * t[1].z + w.z * t[2].z - s.height));
+            worst =
+                std::max(worst, std::abs(w.x * t[0].z + w.y * t[1].z + w.z * t[2].z - s.height));
     };
     if (std::abs(det) > 0.0) {
-        const double x0 = std::min({t[0].x, t[1].x, t[2].x}), x1 = std::max({t[0].x, t[1].x, t[2].x});
-        const double y0 = std::min({t[0].y, t[1].y, t[2].y}), y1 = std::max({t[0].y, t[1].y, t[2].y});
-        const int c0 = std::max(0, int(std::floor(x0 / sx))), c1 = std::min(g.width() - 1, int(std::ceil(x1 / sx)));
+        const double x0 = std::min({t[0].x, t[1].x, t[2].x}),
+                     x1 = std::max({t[0].x, t[1].x, t[2].x});
+        const double y0 = std::min({t[0].y, t[1].y, t[2].y}),
+                     y1 = std::max({t[0].y, t[1].y, t[2].y});
+        const int c0 = std::max(0, int(std::floor(x0 / sx))),
+                  c1 = std::min(g.width() - 1, int(std::ceil(x1 / sx)));
         const int r0 = std::max(0, last_row - int(std::ceil(y1 / sy)));
         const int r1 = std::min(last_row, last_row - int(std::floor(y0 / sy)));
         constexpr double kSlack = 1e-6; // float corners: a sample on an edge is under it
@@ -251,8 +264,7 @@ FrameSummary Renderer::draw(const CameraPose& pose, int width, int height,
     options.settings.exaggeration = parameters.vertical_exaggeration;
     const lod::Camera camera = render::cameraFor(impl_->renderer, options);
     const HostView view = api::hostViewOf(camera);
-    api::HostCamera host =
-        api::hostCamera(view, impl_->renderer, parameters.vertical_exaggeration);
+    api::HostCamera host = api::hostCamera(view, impl_->renderer, parameters.vertical_exaggeration);
     host.lod_camera = camera; // exactly the pose's camera, not one rebuilt from matrices
     return impl_->draw(host, parameters, false);
 }
@@ -265,7 +277,8 @@ FrameSummary Renderer::draw(const HostView& view, const DrawParameters& paramete
 
 HostView Renderer::hostView(const CameraPose& pose, int width, int height) const
 {
-    return api::hostViewOf(render::cameraFor(impl_->renderer, headlessOptions(pose, width, height)));
+    return api::hostViewOf(
+        render::cameraFor(impl_->renderer, headlessOptions(pose, width, height)));
 }
 
 std::optional<TerrainHit> Renderer::pick(double x, double y)
@@ -287,7 +300,10 @@ std::optional<TerrainHit> Renderer::pick(const std::array<double, 3>& origin,
     return impl_->pick(toGlm(origin), d);
 }
 
-void Renderer::waitForStreaming() { impl_->renderer.waitForStreaming(); }
+void Renderer::waitForStreaming()
+{
+    impl_->renderer.waitForStreaming();
+}
 
 bool Renderer::waitForStreaming(double timeout_seconds)
 {

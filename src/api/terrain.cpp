@@ -42,10 +42,14 @@ TerrainInfo describe(const archive::ArchiveReader& reader)
 PointSpace spaceOf(Coordinates c)
 {
     switch (c) {
-    case Coordinates::Local: return PointSpace::Local;
-    case Coordinates::Pixel: return PointSpace::Pixel;
-    case Coordinates::Crs: return PointSpace::Crs;
-    case Coordinates::LonLat: return PointSpace::LonLat;
+    case Coordinates::Local:
+        return PointSpace::Local;
+    case Coordinates::Pixel:
+        return PointSpace::Pixel;
+    case Coordinates::Crs:
+        return PointSpace::Crs;
+    case Coordinates::LonLat:
+        return PointSpace::LonLat;
     }
     throw Error("QueryParameters::coordinates is " + std::to_string(int(c)) +
                 ": not a Coordinates value");
@@ -54,8 +58,10 @@ PointSpace spaceOf(Coordinates c)
 QueryResampling resamplingOf(Resampling r)
 {
     switch (r) {
-    case Resampling::Bilinear: return QueryResampling::Bilinear;
-    case Resampling::Nearest: return QueryResampling::Nearest;
+    case Resampling::Bilinear:
+        return QueryResampling::Bilinear;
+    case Resampling::Nearest:
+        return QueryResampling::Nearest;
     }
     throw Error("QueryParameters::resampling is " + std::to_string(int(r)) +
                 ": not a Resampling value");
@@ -91,8 +97,8 @@ void queryHeights(HeightQuery& query, std::span<const std::array<double, 2>> poi
                   std::span<PointHeight> out, const QueryParameters& p)
 {
     if (out.size() != points.size())
-        throw Error("Terrain::heights: out has " + std::to_string(out.size()) +
-                    " entries for " + std::to_string(points.size()) + " points");
+        throw Error("Terrain::heights: out has " + std::to_string(out.size()) + " entries for " +
+                    std::to_string(points.size()) + " points");
     checkLevel(query.finestLevel(), p.level);
     const PointSpace space = spaceOf(p.coordinates);
     const QueryResampling resampling = resamplingOf(p.resampling);
@@ -132,7 +138,10 @@ Terrain::~Terrain() = default;
 Terrain::Terrain(Terrain&&) noexcept = default;
 Terrain& Terrain::operator=(Terrain&&) noexcept = default;
 
-const TerrainInfo& Terrain::info() const { return impl_->info; }
+const TerrainInfo& Terrain::info() const
+{
+    return impl_->info;
+}
 
 std::optional<double> Terrain::height(double x, double y) const
 {
@@ -201,14 +210,13 @@ Terrain::heightsAsync(std::vector<std::array<double, 2>> points,
     spaceOf(parameters.coordinates);
     resamplingOf(parameters.resampling);
     checkLevel(impl_->info.levels - 1, parameters.level);
-    return std::async(std::launch::async,
-                      [path = impl_->info.path, cache = impl_->cache_patches,
-                       points = std::move(points), parameters] {
-                          HeightQuery query(path, cache);
-                          std::vector<PointHeight> out(points.size());
-                          queryHeights(query, points, out, parameters);
-                          return out;
-                      });
+    return std::async(std::launch::async, [path = impl_->info.path, cache = impl_->cache_patches,
+                                           points = std::move(points), parameters] {
+        HeightQuery query(path, cache);
+        std::vector<PointHeight> out(points.size());
+        queryHeights(query, points, out, parameters);
+        return out;
+    });
 }
 
 CameraPose Terrain::cameraPose(const CameraParameters& camera) const
@@ -220,8 +228,7 @@ CameraPose Terrain::cameraPose(const CameraParameters& camera) const
     };
     if (!camera.position && !camera.position_lonlat)
         throw Error("CameraParameters: give a position (position or position_lonlat)");
-    checkParameter("CameraParameters::fov_y_degrees", camera.fov_y_degrees,
-                   lod::kCameraFovYRange);
+    checkParameter("CameraParameters::fov_y_degrees", camera.fov_y_degrees, lod::kCameraFovYRange);
     CameraPlacement placement;
     placement.position = vec(camera.position);
     placement.position_lonlat = vec(camera.position_lonlat);

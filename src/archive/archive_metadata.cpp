@@ -62,8 +62,8 @@ void appendExcerpt(const json& value, size_t budget, std::string& out)
         return;
     case json::value_t::string:
         // Only the part that can show: a 10 MB string is not copied for a 40-byte message.
-        out += json(std::string(utf8Prefix(value.get_ref<const std::string&>(), budget + 1)))
-                   .dump();
+        out +=
+            json(std::string(utf8Prefix(value.get_ref<const std::string&>(), budget + 1))).dump();
         return;
     default: // numbers, booleans, null: short
         out += value.dump();
@@ -324,8 +324,9 @@ WaterMetadata parseWater(const Section& s, const Header& header)
     if (level.is_null())
         m.sea_level.reset();
     else
-        m.sea_level = Section::numberValue(s.path("sea_level"), level,
-                                           ValueRange::closed(-kMaxAbsHeightMetres, kMaxAbsHeightMetres));
+        m.sea_level =
+            Section::numberValue(s.path("sea_level"), level,
+                                 ValueRange::closed(-kMaxAbsHeightMetres, kMaxAbsHeightMetres));
     m.layer = s.optionalString("layer");
     m.samples = s.integer("samples", 0, int64_t{header.width} * int64_t{header.height});
     return m;
@@ -359,8 +360,7 @@ json parseBounded(std::string_view text)
                std::to_string(kMaxMetadataBytes));
     if (const size_t nul = text.find('\0'); nul != std::string_view::npos)
         reject("not JSON: a NUL byte at offset " + std::to_string(nul) + " of " +
-               std::to_string(text.size()) +
-               " (JSON text holds none: bytes after the document?)");
+               std::to_string(text.size()) + " (JSON text holds none: bytes after the document?)");
     struct TooDeep {};
     const json::parser_callback_t limit_depth = [](int depth, json::parse_event_t event, json&) {
         // `depth` counts the containers around the element; the document itself is 0.

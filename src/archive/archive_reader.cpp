@@ -11,8 +11,8 @@
 
 #include <cerrno>
 #include <cstring>
-#include <limits>
 #include <fcntl.h>
+#include <limits>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -76,8 +76,8 @@ void ArchiveReader::loadHeader()
     // whatever it does with the region (raw and lossless ignore it; bytes nobody reads would
     // be a checksummed hiding place).
     if (!settings.tables.empty() && codec_->storeTables().empty())
-        fail("codec tables region of " + std::to_string(settings.tables.size()) +
-             " bytes: the " + codec_->name() +
+        fail("codec tables region of " + std::to_string(settings.tables.size()) + " bytes: the " +
+             codec_->name() +
              " codec has no codec tables (only progressive v2 stores any): must be empty");
 }
 
@@ -113,8 +113,8 @@ void ArchiveReader::checkGeometryFields()
 {
     // PyramidGeometry takes int extents; every valid one fits.
     constexpr uint32_t kMaxExtent = std::numeric_limits<int>::max();
-    for (const auto& [field, value] : {std::pair{"width", header_.width},
-                                       std::pair{"height", header_.height}})
+    for (const auto& [field, value] :
+         {std::pair{"width", header_.width}, std::pair{"height", header_.height}})
         if (value < 2 || value > kMaxExtent)
             fail(std::string("header field ") + field + " is " + std::to_string(value) +
                  ": must be an integer in [2, " + std::to_string(kMaxExtent) + "]");
@@ -371,8 +371,9 @@ bool ArchiveReader::decodesResiduals(int level) const
     return level > 0 && codec_->capabilities().gpu_reconstruction != nullptr;
 }
 
-CodedRegion ArchiveReader::decodeResiduals(PatchId p, const std::vector<uint8_t>& blob, int32_t* residuals,
-                                    std::vector<float>* block_errors) const
+CodedRegion ArchiveReader::decodeResiduals(PatchId p, const std::vector<uint8_t>& blob,
+                                           int32_t* residuals,
+                                           std::vector<float>* block_errors) const
 {
     const ProgressiveCodec* progressive = codec_->capabilities().gpu_reconstruction;
     if (!progressive || p.level == 0)
@@ -385,8 +386,8 @@ CodedRegion ArchiveReader::decodeResiduals(PatchId p, const std::vector<uint8_t>
             *block_errors = unpackBlockErrorsOf(p, blob);
     }
     const PatchContext ctx = patchContext(geometry_, p, nullptr);
-    const int status = progressive->decodeResiduals(blob.data() + payload, blob.size() - payload,
-                                                    ctx, residuals);
+    const int status =
+        progressive->decodeResiduals(blob.data() + payload, blob.size() - payload, ctx, residuals);
     if (status != kCodecOk)
         throw Error(describe(p) + ": cannot decode: " + codecStatusMessage(status));
     return progressive->codedRegion(ctx);

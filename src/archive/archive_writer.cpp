@@ -74,7 +74,8 @@ void ArchiveWriter::writePatch(PatchRecord record, const std::vector<uint8_t>& b
 {
     if (validity.empty() || sample_flags.empty())
         throw Error(output_.finalPath() + ": internal error: empty validity mask or sample flags");
-    const PatchId p{static_cast<int>(record.level), static_cast<int>(record.x), static_cast<int>(record.y)};
+    const PatchId p{static_cast<int>(record.level), static_cast<int>(record.x),
+                    static_cast<int>(record.y)};
     if (!geometry_.exists(p) || written_[geometry_.patchIndex(p)])
         throw Error(output_.finalPath() + ": internal error: patch written twice or out of range");
     record.offset = position_;
@@ -124,7 +125,8 @@ void ArchiveWriter::finish(const std::string& metadata_json)
 
     uint8_t bytes[kHeaderSize];
     serializeHeader(header_, bytes);
-    if (std::fseek(file_, 0, SEEK_SET) != 0 || std::fwrite(bytes, 1, kHeaderSize, file_) != kHeaderSize)
+    if (std::fseek(file_, 0, SEEK_SET) != 0 ||
+        std::fwrite(bytes, 1, kHeaderSize, file_) != kHeaderSize)
         throw Error(output_.finalPath() + ": write failed: " + std::strerror(errno));
     const bool closed = std::fclose(file_) == 0;
     file_ = nullptr;

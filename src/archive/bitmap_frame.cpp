@@ -10,7 +10,8 @@ constexpr size_t kPrefix = 1 + 4; // kind, frame_size
 
 } // namespace
 
-std::vector<uint8_t> packBitmapFrame(uint8_t kind, const std::vector<const std::vector<uint8_t>*>& planes)
+std::vector<uint8_t> packBitmapFrame(uint8_t kind,
+                                     const std::vector<const std::vector<uint8_t>*>& planes)
 {
     size_t bits = 0;
     for (const std::vector<uint8_t>* plane : planes)
@@ -37,8 +38,8 @@ std::vector<uint8_t> packBitmapFrame(uint8_t kind, const std::vector<const std::
 }
 
 std::string unpackBitmapFrame(const uint8_t* data, size_t size, const char* what,
-                              const char* bits_formula, const std::vector<std::vector<uint8_t>*>& planes,
-                              size_t& consumed)
+                              const char* bits_formula,
+                              const std::vector<std::vector<uint8_t>*>& planes, size_t& consumed)
 {
     const std::string name = what;
     consumed = 0;
@@ -71,7 +72,8 @@ std::string unpackBitmapFrame(const uint8_t* data, size_t size, const char* what
         return name + " frame does not decompress to " + std::to_string(expected) + " bytes";
     for (size_t b = bits; b < 8 * expected; ++b)
         if (raw[b / 8] & (1u << (b % 8)))
-            return name + " bitmap has a non-zero bit past its last (bit " + std::to_string(b) + ")";
+            return name + " bitmap has a non-zero bit past its last (bit " + std::to_string(b) +
+                   ")";
     size_t bit = 0;
     for (std::vector<uint8_t>* plane : planes)
         for (uint8_t& b : *plane) {

@@ -12,7 +12,8 @@ namespace ridge::archive::detail {
 
 // The kind byte of `kind`, then frame_size and the zstd frame of `planes` (each byte one bit,
 // non-zero = 1, planes one after the other). Empty on a zstd failure.
-std::vector<uint8_t> packBitmapFrame(uint8_t kind, const std::vector<const std::vector<uint8_t>*>& planes);
+std::vector<uint8_t> packBitmapFrame(uint8_t kind,
+                                     const std::vector<const std::vector<uint8_t>*>& planes);
 
 // Reads frame_size and the frame at data[1 ..) (data[0] is the kind byte the caller has read)
 // within `size` bytes, checks it as stated above for `bits` bits and expands it into `planes`
@@ -20,7 +21,7 @@ std::vector<uint8_t> packBitmapFrame(uint8_t kind, const std::vector<const std::
 // mask in messages ("validity", "sample flags"); `bits_formula` says how `bits` is derived.
 // Returns the problem, or empty with `consumed` = 1 + 4 + frame_size.
 std::string unpackBitmapFrame(const uint8_t* data, size_t size, const char* what,
-                              const char* bits_formula, const std::vector<std::vector<uint8_t>*>& planes,
-                              size_t& consumed);
+                              const char* bits_formula,
+                              const std::vector<std::vector<uint8_t>*>& planes, size_t& consumed);
 
 } // namespace ridge::archive::detail

@@ -10,8 +10,7 @@
 
 namespace ridge::archive {
 
-std::vector<uint8_t> packBlockErrors(const float* lambda_codes, size_t count,
-                                     double height_scale)
+std::vector<uint8_t> packBlockErrors(const float* lambda_codes, size_t count, double height_scale)
 {
     float largest = 0.f;
     for (size_t i = 0; i < count; ++i)
@@ -22,9 +21,10 @@ std::vector<uint8_t> packBlockErrors(const float* lambda_codes, size_t count,
     std::vector<uint8_t> raw(2 * count);
     for (size_t i = 0; i < count; ++i) {
         // (1 + 1e-6) absorbs the float rounding of λ so that rounding up stays conservative.
-        const double units = std::ceil(lambda_codes[i] * height_scale / double(quantum) * (1 + 1e-6));
-        const uint16_t q = units >= kBlockErrorSaturated ? kBlockErrorSaturated
-                                                         : static_cast<uint16_t>(units);
+        const double units =
+            std::ceil(lambda_codes[i] * height_scale / double(quantum) * (1 + 1e-6));
+        const uint16_t q =
+            units >= kBlockErrorSaturated ? kBlockErrorSaturated : static_cast<uint16_t>(units);
         raw[2 * i] = static_cast<uint8_t>(q & 0xff);
         raw[2 * i + 1] = static_cast<uint8_t>(q >> 8);
     }

@@ -4,9 +4,9 @@
 #include "ridge/core/height_grid.h"
 #include "ridge/core/parameter_check.h"
 
-#include <cmath>
 #include <algorithm>
 #include <bit>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 
@@ -15,8 +15,7 @@ namespace ridge::archive {
 namespace {
 
 // Little-endian field access at fixed offsets (the host may be big-endian).
-template <typename T>
-void put(uint8_t* p, T value)
+template <typename T> void put(uint8_t* p, T value)
 {
     uint8_t bytes[sizeof(T)];
     std::memcpy(bytes, &value, sizeof(T));
@@ -25,8 +24,7 @@ void put(uint8_t* p, T value)
     std::memcpy(p, bytes, sizeof(T));
 }
 
-template <typename T>
-T get(const uint8_t* p)
+template <typename T> T get(const uint8_t* p)
 {
     uint8_t bytes[sizeof(T)];
     std::memcpy(bytes, p, sizeof(T));
@@ -39,13 +37,34 @@ T get(const uint8_t* p)
 
 // Header field offsets (docs/FORMAT.md, "Header").
 enum HeaderOffset : size_t {
-    kOffMagic = 0, kOffVersion = 8, kOffHeaderSize = 12, kOffWidth = 16, kOffHeight = 20,
-    kOffPatchSize = 24, kOffLevelCount = 28, kOffBlockCells = 32, kOffBlockLevels = 36,
-    kOffCodec = 40, kOffFilter = 44, kOffScale = 48, kOffOffset = 56, kOffSpacingX = 64,
-    kOffSpacingY = 72, kOffQuantError = 80, kOffReserved0 = 88, kOffCodecParam = 96,
-    kOffMetaOffset = 112, kOffMetaSize = 120, kOffMetaCrc = 124, kOffIndexOffset = 128,
-    kOffIndexCrc = 136, kOffReserved = 140, kOffTablesOffset = 140, kOffTablesSize = 148,
-    kOffTablesCrc = 152, kOffHeaderCrc = 156,
+    kOffMagic = 0,
+    kOffVersion = 8,
+    kOffHeaderSize = 12,
+    kOffWidth = 16,
+    kOffHeight = 20,
+    kOffPatchSize = 24,
+    kOffLevelCount = 28,
+    kOffBlockCells = 32,
+    kOffBlockLevels = 36,
+    kOffCodec = 40,
+    kOffFilter = 44,
+    kOffScale = 48,
+    kOffOffset = 56,
+    kOffSpacingX = 64,
+    kOffSpacingY = 72,
+    kOffQuantError = 80,
+    kOffReserved0 = 88,
+    kOffCodecParam = 96,
+    kOffMetaOffset = 112,
+    kOffMetaSize = 120,
+    kOffMetaCrc = 124,
+    kOffIndexOffset = 128,
+    kOffIndexCrc = 136,
+    kOffReserved = 140,
+    kOffTablesOffset = 140,
+    kOffTablesSize = 148,
+    kOffTablesCrc = 152,
+    kOffHeaderCrc = 156,
 };
 
 // "" when the reserved bytes [begin, end) are zero, else which byte is not.
@@ -54,8 +73,9 @@ std::string checkReserved(const uint8_t* in, size_t begin, size_t end)
     for (size_t i = begin; i < end; ++i) {
         if (in[i] != 0) {
             char text[96];
-            std::snprintf(text, sizeof text, "header reserved bytes %zu..%zu are not zero (byte %zu is 0x%02x)",
-                          begin, end - 1, i, unsigned(in[i]));
+            std::snprintf(text, sizeof text,
+                          "header reserved bytes %zu..%zu are not zero (byte %zu is 0x%02x)", begin,
+                          end - 1, i, unsigned(in[i]));
             return text;
         }
     }
@@ -79,14 +99,16 @@ std::string checkHeaderValues(const Header& h)
 {
     const ValueRange heights = ValueRange::closed(-kMaxAbsHeightMetres, kMaxAbsHeightMetres);
     const ValueRange spacing = ValueRange::openClosed(0, kMaxSpacingMetres);
-    if (std::string p = checkField("height_scale", h.height_scale, ValueRange::positive()); !p.empty())
+    if (std::string p = checkField("height_scale", h.height_scale, ValueRange::positive());
+        !p.empty())
         return p;
     if (std::string p = checkField("height_offset", h.height_offset, heights); !p.empty())
         return p;
     // metres = offset + scale·code is monotone in the code: codes 0 and 65535 bound them all.
     const double top = h.height_offset + h.height_scale * kMaxCode;
     if (!heights.contains(top))
-        return "header fields height_offset + 65535 * height_scale (the height of code 65535) are " +
+        return "header fields height_offset + 65535 * height_scale (the height of code 65535) "
+               "are " +
                formatNumber(top) + ": must be " + heights.describe();
     if (std::string p = checkField("spacing_x", h.spacing_x, spacing); !p.empty())
         return p;

@@ -30,7 +30,8 @@ std::vector<uint8_t> packSampleFlags(const PatchSampleFlags& flags, int patch_si
 }
 
 std::string unpackSampleFlags(const uint8_t* data, size_t size, int patch_size,
-                              const PatchValidity* validity, PatchSampleFlags& out, size_t& consumed)
+                              const PatchValidity* validity, PatchSampleFlags& out,
+                              size_t& consumed)
 {
     const int n = patch_size;
     out = PatchSampleFlags{};
@@ -40,20 +41,22 @@ std::string unpackSampleFlags(const uint8_t* data, size_t size, int patch_size,
         return "sample flags missing (blob ends after its validity mask)";
     const uint8_t kind = data[0];
     if (kind == kKindNone || kind == kKindAllWater) {
-        out.kind = kind == kKindNone ? PatchSampleFlags::Kind::None : PatchSampleFlags::Kind::AllWater;
+        out.kind =
+            kind == kKindNone ? PatchSampleFlags::Kind::None : PatchSampleFlags::Kind::AllWater;
         consumed = 1;
     } else if (kind == kKindBitmap) {
         const size_t samples = static_cast<size_t>(n) * n;
         std::vector<uint8_t> water(samples), filled(samples);
         size_t frame_bytes = 0;
-        const std::string problem = detail::unpackBitmapFrame(data, size, "sample flags",
-                                                              "ceil(2·n² / 8)", {&water, &filled}, frame_bytes);
+        const std::string problem = detail::unpackBitmapFrame(
+            data, size, "sample flags", "ceil(2·n² / 8)", {&water, &filled}, frame_bytes);
         if (!problem.empty())
             return problem;
         out.kind = PatchSampleFlags::Kind::Mixed;
         out.flags.resize(samples);
         for (size_t k = 0; k < samples; ++k)
-            out.flags[k] = static_cast<uint8_t>((water[k] ? kSampleWater : 0) | (filled[k] ? kSampleFilled : 0));
+            out.flags[k] = static_cast<uint8_t>((water[k] ? kSampleWater : 0) |
+                                                (filled[k] ? kSampleFilled : 0));
         PatchSampleFlags canonical = out;
         canonical.canonicalize();
         if (canonical.kind != PatchSampleFlags::Kind::Mixed)
@@ -66,7 +69,8 @@ std::string unpackSampleFlags(const uint8_t* data, size_t size, int patch_size,
         return "sample flags kind is " + std::to_string(kind) +
                ": must be 0 (none), 1 (all water) or 2 (bitmaps)";
     }
-    if (validity && validity->kind != PatchValidity::Kind::AllValid && out.kind != PatchSampleFlags::Kind::None)
+    if (validity && validity->kind != PatchValidity::Kind::AllValid &&
+        out.kind != PatchSampleFlags::Kind::None)
         for (int j = 0; j < n; ++j)
             for (int i = 0; i < n; ++i)
                 if (out.at(i, j) != 0 && !validity->sampleValid(i, j)) {

@@ -34,7 +34,8 @@ std::string unpackValidity(const uint8_t* data, size_t size, int patch_size, boo
     if (size < 1)
         return "validity mask missing (blob ends after its block errors)";
     if (data[0] == kKindAll || data[0] == kKindNone) {
-        out.kind = data[0] == kKindAll ? PatchValidity::Kind::AllValid : PatchValidity::Kind::NoneValid;
+        out.kind =
+            data[0] == kKindAll ? PatchValidity::Kind::AllValid : PatchValidity::Kind::NoneValid;
         consumed = 1;
         return {};
     }

@@ -14,23 +14,31 @@ namespace ridge {
 const char* codecStatusMessage(int status)
 {
     switch (status) {
-    case kCodecOk: return "ok";
-    case kCodecBadHeader: return "bad payload header";
-    case kCodecTruncated: return "truncated payload";
-    case kCodecCorrupt: return "corrupt payload";
-    case kCodecTrailingBytes: return "trailing bytes after payload";
-    case kCodecNeedsParent: return "patch decoded without its parent's reconstruction";
+    case kCodecOk:
+        return "ok";
+    case kCodecBadHeader:
+        return "bad payload header";
+    case kCodecTruncated:
+        return "truncated payload";
+    case kCodecCorrupt:
+        return "corrupt payload";
+    case kCodecTrailingBytes:
+        return "trailing bytes after payload";
+    case kCodecNeedsParent:
+        return "patch decoded without its parent's reconstruction";
     case kCodecDisabled:
         return "its decoder is disabled: HTJ2K payloads are decoded only with "
                "RIDGE_ALLOW_HTJ2K=1 (OpenJPH 0.9 aborts the process on some malformed "
                "codestreams; set it for archives you trust)";
-    default: return "unknown codec error";
+    default:
+        return "unknown codec error";
     }
 }
 
 void HeightCodec::reconstruct(const uint16_t* codes, const PatchContext& ctx, uint16_t* out) const
 {
-    std::memcpy(out, codes, sizeof(uint16_t) * static_cast<size_t>(ctx.patch_size) * ctx.patch_size);
+    std::memcpy(out, codes,
+                sizeof(uint16_t) * static_cast<size_t>(ctx.patch_size) * ctx.patch_size);
 }
 
 namespace {
@@ -169,7 +177,8 @@ std::string checkJpeg2000Parameters(const CodecSettings& s)
                "(bit 0 direct, bits 1..2 criterion max/rms/lossless, bit 3 HTJ2K)";
     const bool lossless = Jpeg2000Variant::fromBits(static_cast<int>(bits))->criterion ==
                           CompressionCriterion::Lossless;
-    const ValueRange range = lossless ? ValueRange::closed(0, 32767) : ValueRange::openClosed(0, 32767);
+    const ValueRange range =
+        lossless ? ValueRange::closed(0, 32767) : ValueRange::openClosed(0, 32767);
     if (!range.contains(s.param[0]))
         return "codec_param[0] is " + formatNumber(s.param[0]) +
                ": the jpeg2000 codec's criterion E (codes) must be " + range.describe();
@@ -222,8 +231,9 @@ std::unique_ptr<HeightCodec> makeCodec(CodecId id, const CodecSettings& settings
             settings.param[0], settings.level_count,
             *Jpeg2000Variant::fromBits(static_cast<int>(settings.param[1])));
     }
-    return rejected(problem, "codec_id is " + std::to_string(static_cast<uint32_t>(id)) +
-                                 ": must be 0 (raw), 1 (lossless), 2 (progressive) or 3 (jpeg2000)");
+    return rejected(problem,
+                    "codec_id is " + std::to_string(static_cast<uint32_t>(id)) +
+                        ": must be 0 (raw), 1 (lossless), 2 (progressive) or 3 (jpeg2000)");
 }
 
 } // namespace ridge

@@ -57,13 +57,15 @@ std::vector<uint8_t>& scratch(size_t bytes)
 // zstd contexts are reused per thread (creating one costs more than coding a patch).
 ZSTD_CCtx* threadCCtx()
 {
-    thread_local std::unique_ptr<ZSTD_CCtx, size_t (*)(ZSTD_CCtx*)> ctx(ZSTD_createCCtx(), ZSTD_freeCCtx);
+    thread_local std::unique_ptr<ZSTD_CCtx, size_t (*)(ZSTD_CCtx*)> ctx(ZSTD_createCCtx(),
+                                                                        ZSTD_freeCCtx);
     return ctx.get();
 }
 
 ZSTD_DCtx* threadDCtx()
 {
-    thread_local std::unique_ptr<ZSTD_DCtx, size_t (*)(ZSTD_DCtx*)> ctx(ZSTD_createDCtx(), ZSTD_freeDCtx);
+    thread_local std::unique_ptr<ZSTD_DCtx, size_t (*)(ZSTD_DCtx*)> ctx(ZSTD_createDCtx(),
+                                                                        ZSTD_freeDCtx);
     return ctx.get();
 }
 
@@ -91,7 +93,8 @@ size_t LosslessCodec::encode(uint8_t* dst, size_t dst_capacity, const uint16_t* 
         const size_t row = static_cast<size_t>(y) * size;
         // Border samples (first row, first column) use the special predictions...
         for (int x = 0; x < size; x += (y == 0 ? 1 : size)) {
-            const uint16_t z = zigzag(static_cast<uint16_t>(codes[row + x] - medPredictAt(codes, size, x, y)));
+            const uint16_t z =
+                zigzag(static_cast<uint16_t>(codes[row + x] - medPredictAt(codes, size, x, y)));
             planes[row + x] = static_cast<uint8_t>(z & 0xff);
             planes[n + row + x] = static_cast<uint8_t>(z >> 8);
         }
@@ -99,8 +102,9 @@ size_t LosslessCodec::encode(uint8_t* dst, size_t dst_capacity, const uint16_t* 
         if (y > 0)
             encodeInteriorRow(codes + row, size, planes.data() + row, planes.data() + n + row);
     }
-    const size_t written = ZSTD_compressCCtx(threadCCtx(), dst + kHeaderSize, dst_capacity - kHeaderSize,
-                                             planes.data(), 2 * n, zstd_level_);
+    const size_t written =
+        ZSTD_compressCCtx(threadCCtx(), dst + kHeaderSize, dst_capacity - kHeaderSize,
+                          planes.data(), 2 * n, zstd_level_);
     if (ZSTD_isError(written))
         return 0;
     dst[0] = kMagic;

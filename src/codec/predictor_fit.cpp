@@ -75,7 +75,8 @@ void CorrectionFit::add(const int32_t* q, int n, const CodedRegion& region, int 
                 double f[T];
                 for (int i = 0; i < T; ++i) {
                     const CorrectionTap t = kCorrectionTaps[c][i];
-                    f[i] = std::clamp(at[t.dy * static_cast<ptrdiff_t>(n) + t.dx] - p0, -32767, 32767);
+                    f[i] =
+                        std::clamp(at[t.dy * static_cast<ptrdiff_t>(n) + t.dx] - p0, -32767, 32767);
                 }
                 const double target = std::clamp(double(*at - p0), -kMaxTarget, kMaxTarget);
                 for (int i = 0; i < T; ++i) {
@@ -113,7 +114,7 @@ std::vector<PredictorWeights> CorrectionFit::solve() const
             const Normal& nm = normal_[l][size_t(c)];
             if (nm.count < kMinSamples)
                 continue;
-            std::array<double, T * T> a = nm.ata;
+            std::array<double, T* T> a = nm.ata;
             for (int i = 0; i < T; ++i) // mirror the lower triangle
                 for (int j = i + 1; j < T; ++j)
                     a[i * T + j] = a[j * T + i];
@@ -124,7 +125,8 @@ std::vector<PredictorWeights> CorrectionFit::solve() const
             std::array<double, T> wq{};
             for (int i = 0; i < T; ++i)
                 wq[i] = std::clamp(std::round(x[i] * 4096.0), double(-kMaxCorrectionWeight),
-                                   double(kMaxCorrectionWeight)) / 4096.0;
+                                   double(kMaxCorrectionWeight)) /
+                        4096.0;
             double err = nm.btb;
             for (int i = 0; i < T; ++i) {
                 err -= 2 * wq[i] * nm.atb[i];

@@ -13,7 +13,7 @@
 namespace ridge {
 
 class CorrectionFit {
-public:
+  public:
     explicit CorrectionFit(int level_count);
     // The interior samples of one child patch's bins q[n·n] (level > 0).
     void add(const int32_t* q, int n, const CodedRegion& region, int level, OddPredictor predictor);
@@ -22,7 +22,7 @@ public:
     // squared error, keeps weights 0.
     std::vector<PredictorWeights> solve() const;
 
-private:
+  private:
     struct Normal {
         std::array<double, kCorrectionTapCount * kCorrectionTapCount> ata{};
         std::array<double, kCorrectionTapCount> atb{};

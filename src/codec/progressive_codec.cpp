@@ -1,7 +1,7 @@
 #include "ridge/codec/progressive_codec.h"
 
-#include "progressive_entropy.h"
 #include "predictor_fit.h"
+#include "progressive_entropy.h"
 #include "progressive_entropy_v2.h"
 #include "ridge/core/error.h"
 
@@ -16,8 +16,8 @@ namespace ridge {
 namespace {
 
 constexpr uint8_t kMagic = 'P';
-constexpr size_t kHeaderSize = 2;      // magic, payload version
-constexpr size_t kV2HeaderSize = 3;    // + flags
+constexpr size_t kHeaderSize = 2;   // magic, payload version
+constexpr size_t kV2HeaderSize = 3; // + flags
 constexpr uint8_t kV2RefinementsCoded = 1;
 
 // Per-thread scratch: patches are coded concurrently by the build and the streamer.
@@ -72,8 +72,8 @@ std::optional<ProgressiveVariant> ProgressiveVariant::fromBits(int bits)
 {
     if (bits < 0 || (bits & 1) || bits >= (1 << 10))
         return std::nullopt;
-    ProgressiveVariant v{(bits & 2) ? OddPredictor::Cubic : OddPredictor::Bilinear,
-                         (bits & 4) != 0, (bits & 8) ? 2 : 1, bits >> 4};
+    ProgressiveVariant v{(bits & 2) ? OddPredictor::Cubic : OddPredictor::Bilinear, (bits & 4) != 0,
+                         (bits & 8) ? 2 : 1, bits >> 4};
     if (v.format == 1) {
         if (v.nested_levels != 0)
             return std::nullopt;
@@ -313,9 +313,10 @@ namespace {
 
 // Counts the symbols of every observed patch; fits the tables when done.
 class ProgressiveTrainer final : public CodecTrainer {
-public:
-    explicit ProgressiveTrainer(const ProgressiveCodec& codec, int level_count,
-                                std::function<bool(const uint16_t*, const PatchContext&, int32_t*)> residuals)
+  public:
+    explicit ProgressiveTrainer(
+        const ProgressiveCodec& codec, int level_count,
+        std::function<bool(const uint16_t*, const PatchContext&, int32_t*)> residuals)
         : codec_(codec), counts_(level_count), residuals_(std::move(residuals))
     {
     }
@@ -327,8 +328,8 @@ public:
         if (!residuals_(codes, ctx, residuals.data()))
             throw Error("progressive codec: cannot train on a patch it cannot encode");
         ResidualCodingV2 coding{ctx.level, ctx.level == 0, codec_.codedRegion(ctx), true};
-        coding.refinements = !coding.root &&
-                             hasRefinements(residuals.data(), ctx.patch_size, coding.region);
+        coding.refinements =
+            !coding.root && hasRefinements(residuals.data(), ctx.patch_size, coding.region);
         std::lock_guard<std::mutex> lock(mutex_);
         if (!countResidualsV2(residuals.data(), ctx.patch_size, coding, counts_))
             throw Error("progressive codec: a residual is beyond the codable range");
@@ -341,7 +342,7 @@ public:
         return trained;
     }
 
-private:
+  private:
     const ProgressiveCodec& codec_;
     std::mutex mutex_;
     SymbolCounts counts_;
@@ -350,7 +351,7 @@ private:
 
 // Stage 1: fits the least-squares predictor corrections on the patches' exact bins.
 class CorrectionTrainer final : public CodecTrainer {
-public:
+  public:
     explicit CorrectionTrainer(const ProgressiveCodec& codec, int level_count)
         : codec_(codec), fit_(level_count), level_count_(level_count)
     {
@@ -377,7 +378,7 @@ public:
         return trained;
     }
 
-private:
+  private:
     const ProgressiveCodec& codec_;
     std::mutex mutex_;
     CorrectionFit fit_;

@@ -12,8 +12,8 @@ namespace ridge {
 namespace {
 
 constexpr int kActivityClasses = 12;
-constexpr int kDirectMagnitudes = 8;   // tokens 0..7 are |d| itself
-constexpr int kOctaveTokens = 7;       // tokens 8..14: [8·2^k, 16·2^k), k + 3 raw bits
+constexpr int kDirectMagnitudes = 8; // tokens 0..7 are |d| itself
+constexpr int kOctaveTokens = 7;     // tokens 8..14: [8·2^k, 16·2^k), k + 3 raw bits
 constexpr int kEscapeToken = 15;
 constexpr int32_t kEscapeBase = kDirectMagnitudes << kOctaveTokens; // 1024
 constexpr int kRefineEscape = 3;
@@ -38,7 +38,7 @@ struct Models {
 // Neighbourhood magnitudes (clamped to 255) on a grid padded by 2 zero samples per side, so
 // every neighbour read is in bounds and samples outside the patch count as flat.
 class ActivityGrid {
-public:
+  public:
     explicit ActivityGrid(int n) : stride_(n + 4)
     {
         thread_local std::vector<uint16_t> storage; // not uint8_t: char stores alias everything
@@ -61,14 +61,16 @@ public:
             a = (at(x - 2, y) + at(x, y - 2) + at(x - 2, y - 2) + at(x + 2, y - 2)) / 2;
         else if (cls == SampleClass::B) // the 4 diagonal A samples, then W and N in B
             a = (at(x - 1, y - 1) + at(x + 1, y - 1) + at(x - 1, y + 1) + at(x + 1, y + 1) +
-                 at(x - 2, y) + at(x, y - 2)) / 3;
+                 at(x - 2, y) + at(x, y - 2)) /
+                3;
         else // C: the 2 A and 2 B samples around it, then W and N in C
             a = (at(x, y - 1) + at(x, y + 1) + at(x - 1, y) + at(x + 1, y) + at(x - 2, y) +
-                 at(x, y - 2)) / 3;
+                 at(x, y - 2)) /
+                3;
         return a < 48 ? kActivityClass[a] : kActivityClasses - 1;
     }
 
-private:
+  private:
     int stride_;
     uint16_t* origin_;
 };
@@ -194,7 +196,8 @@ void traverse(int32_t* residuals, int n, const ResidualCoding& coding, Side& sid
         const int x0 = static_cast<int>(cls) & 1, y0 = static_cast<int>(cls) >> 1;
         for (int y = y0; y < n; y += 2)
             for (int x = x0; x < n; x += 2)
-                activity.set(x, y, side.error(static_cast<int>(cls), context(cls, x, y), slot(x, y)));
+                activity.set(x, y,
+                             side.error(static_cast<int>(cls), context(cls, x, y), slot(x, y)));
     }
 }
 

@@ -21,8 +21,8 @@
 namespace ridge {
 
 struct ResidualCoding {
-    bool root = false;      // coarsest patch: one MED class in raster order
-    bool contexts = true;   // activity contexts (false: one model per sample class)
+    bool root = false;    // coarsest patch: one MED class in raster order
+    bool contexts = true; // activity contexts (false: one model per sample class)
 };
 
 // Largest residual magnitude the format carries (larger ones are corrupt input).

@@ -1,7 +1,7 @@
 #include "progressive_entropy_v2.h"
 
-#include "ridge/codec/progressive_tokens.h"
 #include "ridge/codec/height_codec.h"
+#include "ridge/codec/progressive_tokens.h"
 #include "ridge/codec/rans_coder.h"
 
 #include <array>
@@ -29,7 +29,7 @@ constexpr std::array<uint8_t, kActivityLimit> kActivityContext = [] {
 // Residual magnitudes (clamped to 255) on a grid padded by 2 zero samples per side: every
 // neighbour read is in bounds, and samples outside the coded region count as flat.
 class MagnitudeGrid {
-public:
+  public:
     explicit MagnitudeGrid(int n) : stride_(n + 4)
     {
         thread_local std::vector<uint16_t> storage;
@@ -39,7 +39,7 @@ public:
     uint16_t* row(int y) { return origin_ + static_cast<ptrdiff_t>(y) * stride_; }
     ptrdiff_t stride() const { return stride_; }
 
-private:
+  private:
     int stride_;
     uint16_t* origin_;
 };
@@ -56,15 +56,15 @@ inline uint16_t clampMagnitude(int32_t d)
 }
 
 // Context of a sample from the magnitudes its pass already has (v1's neighbourhoods).
-template <int kClass>
-inline int context(const uint16_t* at, ptrdiff_t s)
+template <int kClass> inline int context(const uint16_t* at, ptrdiff_t s)
 {
     if constexpr (kClass == 0) // root, raster order: W, N, NW, NE
         return contextOf((at[-1] + at[-s] + at[-s - 1] + at[-s + 1]) >> 1);
     else if constexpr (kClass == 1) // A: the previous A of the row, three A of the row above
         return contextOf((at[-2] + at[-2 * s] + at[-2 * s - 2] + at[-2 * s + 2]) >> 1);
     else if constexpr (kClass == 2) // B: the 4 diagonal A, then W and N in B
-        return contextOf((at[-s - 1] + at[-s + 1] + at[s - 1] + at[s + 1] + at[-2] + at[-2 * s]) / 3);
+        return contextOf((at[-s - 1] + at[-s + 1] + at[s - 1] + at[s + 1] + at[-2] + at[-2 * s]) /
+                         3);
     else // C: the 2 A and 2 B beside it, then W and N in C
         return contextOf((at[-s] + at[s] + at[-1] + at[1] + at[-2] + at[-2 * s]) / 3);
 }
@@ -158,14 +158,15 @@ void traverse(int32_t* residuals, int n, const ResidualCodingV2& coding, Side& s
 // compiler that storing a residual or a magnitude cannot change them, so nothing is reloaded
 // per symbol. Visits exactly traverse()'s samples in traverse()'s order.
 class FastDecoder {
-public:
-    FastDecoder(const uint8_t* data, size_t size, tokens::BitReader& raw) : rans_(data, size), raw_(raw)
+  public:
+    FastDecoder(const uint8_t* data, size_t size, tokens::BitReader& raw)
+        : rans_(data, size), raw_(raw)
     {
     }
 
     template <int kClass>
-    void pass(int32_t* __restrict residuals, int n, const CodedRegion& r,
-              uint16_t* __restrict mags, ptrdiff_t ms, const rans::Table* const* tables)
+    void pass(int32_t* __restrict residuals, int n, const CodedRegion& r, uint16_t* __restrict mags,
+              ptrdiff_t ms, const rans::Table* const* tables)
     {
         const int x0 = kClass == 0 ? 0 : (kClass & 1), y0 = kClass == 0 ? 0 : (kClass >> 1);
         const int step = kClass == 0 ? 1 : 2;
@@ -190,7 +191,7 @@ public:
 
     const rans::Decoder& rans() const { return rans_; }
 
-private:
+  private:
     int32_t next(const rans::Table& t)
     {
         const int s = rans_.decode(t, int(lane_++ & (rans::kLanes - 1)));

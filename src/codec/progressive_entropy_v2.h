@@ -27,10 +27,10 @@
 namespace ridge {
 
 struct ResidualCodingV2 {
-    int level = 0;            // selects the tables
-    bool root = false;        // the coarsest patch: MED residuals in raster order
-    CodedRegion region;       // samples visited
-    bool refinements = true;  // child: R refinements are in the stream
+    int level = 0;           // selects the tables
+    bool root = false;       // the coarsest patch: MED residuals in raster order
+    CodedRegion region;      // samples visited
+    bool refinements = true; // child: R refinements are in the stream
 };
 
 // Appends the stream to `out`. False when a residual is beyond the tokens' range or its

@@ -96,7 +96,8 @@ int32_t basePrediction(const int32_t* q, int n, const CodedRegion& region, int x
             return (at[-row - 1] + at[-row + 1] + at[row - 1] + at[row + 1] + 2) >> 2;
         // Row through the B samples and column through the A samples, averaged.
         return (midpoint16(at - x, 1, x, w) + midpoint16(at - y * row, row, y, h) + 16) >> 5;
-    case SampleClass::R: break;
+    case SampleClass::R:
+        break;
     }
     return 0; // R samples are refined, not predicted
 }
@@ -160,11 +161,12 @@ struct Correction {
     int x0, x1, y0, y1; // the interior: [x0, x1) × [y0, y1)
 
     Correction(const PredictorWeights& w, int c, int n, const CodedRegion& r)
-        : x0(kCorrectionMarginX[c]), x1(r.width - kCorrectionMarginX[c]),
-          y0(kCorrectionMarginY[c]), y1(r.height - kCorrectionMarginY[c])
+        : x0(kCorrectionMarginX[c]), x1(r.width - kCorrectionMarginX[c]), y0(kCorrectionMarginY[c]),
+          y1(r.height - kCorrectionMarginY[c])
     {
         for (int i = 0; i < kCorrectionTapCount; ++i) {
-            offset[i] = kCorrectionTaps[c][i].dy * static_cast<ptrdiff_t>(n) + kCorrectionTaps[c][i].dx;
+            offset[i] =
+                kCorrectionTaps[c][i].dy * static_cast<ptrdiff_t>(n) + kCorrectionTaps[c][i].dx;
             weight[i] = w.w[c][i];
         }
     }
@@ -245,9 +247,8 @@ void cubicPasses(const int32_t* residuals, int n, const CodedRegion& region, int
         const bool inner = y >= 3 && y + 3 < h;
         for (int x = 1, k = 0; x < w; x += 2, ++k) {
             const int32_t* at = row + x;
-            const int32_t mr = (x >= 3 && x + 3 < w)
-                                   ? 9 * (at[-1] + at[1]) - at[-3] - at[3]
-                                   : midpoint16(row, 1, x, w);
+            const int32_t mr = (x >= 3 && x + 3 < w) ? 9 * (at[-1] + at[1]) - at[-3] - at[3]
+                                                     : midpoint16(row, 1, x, w);
             const int32_t mc = inner ? 9 * (at[-s] + at[s]) - at[-3 * s] - at[3 * s]
                                      : midpoint16(at - y * s, s, y, h);
             p[k] = (mr + mc + 16) >> 5;

@@ -126,7 +126,10 @@ const rans::Table& defaultTable(int level, int cls, int context)
     return (cls == 0 && level > 0) ? d.refinement : d.activity[context];
 }
 
-int tablesPerLevel() { return kClasses * kContexts; }
+int tablesPerLevel()
+{
+    return kClasses * kContexts;
+}
 
 using progressive_tokens::getVarint;
 using progressive_tokens::putVarint;
@@ -192,7 +195,8 @@ bool ProgressiveTables::hasWeights() const
     return false;
 }
 
-std::shared_ptr<const ProgressiveTables> ProgressiveTables::withWeights(std::vector<PredictorWeights> weights)
+std::shared_ptr<const ProgressiveTables>
+ProgressiveTables::withWeights(std::vector<PredictorWeights> weights)
 {
     std::shared_ptr<ProgressiveTables> t(new ProgressiveTables(static_cast<int>(weights.size())));
     t->weights_ = std::move(weights);
@@ -252,9 +256,8 @@ std::vector<uint8_t> ProgressiveTables::serialize() const
     return out;
 }
 
-std::shared_ptr<const ProgressiveTables> ProgressiveTables::parse(const uint8_t* data, size_t size,
-                                                                  int level_count,
-                                                                  std::string* problem)
+std::shared_ptr<const ProgressiveTables>
+ProgressiveTables::parse(const uint8_t* data, size_t size, int level_count, std::string* problem)
 {
     auto fail = [&](const std::string& what) -> std::shared_ptr<const ProgressiveTables> {
         if (problem)
@@ -270,8 +273,8 @@ std::shared_ptr<const ProgressiveTables> ProgressiveTables::parse(const uint8_t*
     if (data[1] != kVersion)
         return fail("codec tables version is " + std::to_string(data[1]) + ": must be 1");
     if (data[2] != level_count)
-        return fail("codec tables are for " + std::to_string(data[2]) + " levels: the archive has " +
-                    std::to_string(level_count));
+        return fail("codec tables are for " + std::to_string(data[2]) +
+                    " levels: the archive has " + std::to_string(level_count));
     std::shared_ptr<ProgressiveTables> t(new ProgressiveTables(level_count));
     const uint8_t* p = data + 3;
     const uint8_t* end = data + size;

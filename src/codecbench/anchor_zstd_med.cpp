@@ -7,8 +7,8 @@
 //   Algorithm: Principles and Standardization into JPEG-LS", IEEE TIP 9(8), 2000.
 // The median edge detector (MED) predicts from the left (a), upper (b) and upper-left (c)
 // indices; residuals are taken modulo 2^16, zig-zagged and stored as 16-bit little-endian.
-#include "ridge/codecbench/anchor_codec.h"
 #include "ridge/codec/med_predictor.h"
+#include "ridge/codecbench/anchor_codec.h"
 
 #include "uniform_quantizer.h"
 

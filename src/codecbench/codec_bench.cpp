@@ -1,5 +1,5 @@
-#include "ridge/pyramid/patch_context.h"
 #include "ridge/codecbench/codec_bench.h"
+#include "ridge/pyramid/patch_context.h"
 
 #include "ridge/archive/archive_reader.h"
 #include "ridge/codecbench/anchor_codec.h"
@@ -174,11 +174,12 @@ void timeCodecDecode(const archive::ArchiveReader& reader, CodecRow& row)
             const PatchId p = g.patchAt(first + k);
             const uint16_t* parent =
                 codec.needsParent(level)
-                    ? parents[size_t(g.patchIndex(p.parent()) - g.firstPatchIndex(level - 1))].data()
+                    ? parents[size_t(g.patchIndex(p.parent()) - g.firstPatchIndex(level - 1))]
+                          .data()
                     : nullptr;
-            const int status = codec.decode(current[k].data(), blobs[k].data() + offsets[k],
-                                            blobs[k].size() - offsets[k],
-                                            patchContext(g, p, parent));
+            const int status =
+                codec.decode(current[k].data(), blobs[k].data() + offsets[k],
+                             blobs[k].size() - offsets[k], patchContext(g, p, parent));
             if (status != kCodecOk)
                 throw Error("ridge: " + reader.describe(p) + ": " + codecStatusMessage(status));
         }
@@ -190,9 +191,9 @@ void timeCodecDecode(const archive::ArchiveReader& reader, CodecRow& row)
         }
         parents.swap(current);
     }
-    row.codec_decode_mb_per_s = row.codec_decode_seconds > 0
-                                    ? double(row.codec_decode_bytes) / row.codec_decode_seconds / 1e6
-                                    : 0.0;
+    row.codec_decode_mb_per_s = row.codec_decode_seconds > 0 ? double(row.codec_decode_bytes) /
+                                                                   row.codec_decode_seconds / 1e6
+                                                             : 0.0;
 }
 
 // ridge's row: the whole pyramid built and decoded on one thread.

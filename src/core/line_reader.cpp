@@ -79,8 +79,7 @@ std::optional<LineReader::Line> LineReader::next()
             break;
         any = true;
         const char* start = buffer_.data() + begin_;
-        const char* newline =
-            static_cast<const char*>(std::memchr(start, '\n', end_ - begin_));
+        const char* newline = static_cast<const char*>(std::memchr(start, '\n', end_ - begin_));
         const size_t take = newline ? static_cast<size_t>(newline - start) : end_ - begin_;
         // Keep one byte past the limit so that a '\r' before the '\n' can still be dropped.
         const size_t room = max_line_ + 1 - std::min(line.text.size(), max_line_ + 1);

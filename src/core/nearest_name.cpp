@@ -25,8 +25,8 @@ std::size_t editDistance(std::string_view a, std::string_view b)
         current[0] = i;
         for (std::size_t j = 1; j <= n; ++j) {
             const std::size_t substitution = a[i - 1] == b[j - 1] ? 0 : 1;
-            current[j] = std::min({previous[j] + 1, current[j - 1] + 1,
-                                   previous[j - 1] + substitution});
+            current[j] =
+                std::min({previous[j] + 1, current[j - 1] + 1, previous[j - 1] + substitution});
             if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1])
                 current[j] = std::min(current[j], before[j - 2] + 1);
         }
@@ -41,7 +41,8 @@ std::optional<std::string> nearestName(std::string_view name,
 {
     std::string folded(name);
     std::transform(folded.begin(), folded.end(), folded.begin(), lower);
-    const std::size_t allowed = std::min(1 + folded.size() / 4, folded.size() - (folded.empty() ? 0 : 1));
+    const std::size_t allowed =
+        std::min(1 + folded.size() / 4, folded.size() - (folded.empty() ? 0 : 1));
     std::optional<std::string> best;
     std::size_t best_distance = allowed + 1;
     for (const std::string& candidate : candidates) {

@@ -50,8 +50,9 @@ void checkParameter(std::string_view name, double value, ValueRange range)
 void checkParameter(std::string_view name, int64_t value, int64_t lo, int64_t hi)
 {
     if (value < lo || value > hi)
-        throw Error(std::string(name) + " is " + std::to_string(value) + ": must be an integer in [" +
-                    std::to_string(lo) + ", " + std::to_string(hi) + "]");
+        throw Error(std::string(name) + " is " + std::to_string(value) +
+                    ": must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) +
+                    "]");
 }
 
 void checkParameters(std::string_view name, const double* values, int count, ValueRange range)

@@ -14,8 +14,7 @@ Rgb mix(Rgb a, Rgb b, float f)
 
 } // namespace
 
-template <size_t N>
-Rgb ramp(const std::array<Stop, N>& stops, float t)
+template <size_t N> Rgb ramp(const std::array<Stop, N>& stops, float t)
 {
     // NaN falls to the first stop rather than through every comparison.
     t = t >= 0.f ? std::min(t, 1.f) : 0.f;
@@ -29,7 +28,10 @@ Rgb ramp(const std::array<Stop, N>& stops, float t)
 template Rgb ramp(const std::array<Stop, kLandStops.size()>&, float);
 template Rgb ramp(const std::array<Stop, kWaterStops.size()>&, float);
 
-bool isWater(float metres) { return metres <= 0.f; }
+bool isWater(float metres)
+{
+    return metres <= 0.f;
+}
 
 Rgb terrainColour(float metres, bool water, float min_metres, float max_metres)
 {
@@ -46,6 +48,9 @@ Rgb heat(float t)
             channel(1.5f - std::abs(4.f * t - 1.f))};
 }
 
-Rgb levelColour(int level) { return kLevelColours[size_t(std::abs(level) % 8)]; }
+Rgb levelColour(int level)
+{
+    return kLevelColours[size_t(std::abs(level) % 8)];
+}
 
 } // namespace ridge::palette

@@ -93,8 +93,7 @@ void deleteTransformFeedback(GLuint id)
 
 namespace {
 
-template <typename Create>
-GLuint createName(Create create, const char* what)
+template <typename Create> GLuint createName(Create create, const char* what)
 {
     GLuint id = 0;
     create(&id);

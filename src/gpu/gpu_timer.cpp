@@ -61,8 +61,8 @@ void GpuTimer::collect(bool wait) const
         const double wall_ms =
             std::chrono::duration<double, std::milli>(Clock::now() - span.begun).count();
         const double ms = static_cast<double>(stop_ns - start_ns) * 1e-6;
-        last_ms_ = stop_ns >= start_ns && ms <= wall_ms ? ms
-                                                        : std::numeric_limits<double>::quiet_NaN();
+        last_ms_ =
+            stop_ns >= start_ns && ms <= wall_ms ? ms : std::numeric_limits<double>::quiet_NaN();
         --pending_;
     }
 }

@@ -19,12 +19,16 @@ GLint glInteger(GLenum name)
 const char* framebufferStatusName(GLenum status)
 {
     switch (status) {
-    case GL_FRAMEBUFFER_INCOMPLETE_ATTACHMENT: return "GL_FRAMEBUFFER_INCOMPLETE_ATTACHMENT";
+    case GL_FRAMEBUFFER_INCOMPLETE_ATTACHMENT:
+        return "GL_FRAMEBUFFER_INCOMPLETE_ATTACHMENT";
     case GL_FRAMEBUFFER_INCOMPLETE_MISSING_ATTACHMENT:
         return "GL_FRAMEBUFFER_INCOMPLETE_MISSING_ATTACHMENT";
-    case GL_FRAMEBUFFER_UNSUPPORTED: return "GL_FRAMEBUFFER_UNSUPPORTED";
-    case GL_FRAMEBUFFER_INCOMPLETE_MULTISAMPLE: return "GL_FRAMEBUFFER_INCOMPLETE_MULTISAMPLE";
-    default: return "status";
+    case GL_FRAMEBUFFER_UNSUPPORTED:
+        return "GL_FRAMEBUFFER_UNSUPPORTED";
+    case GL_FRAMEBUFFER_INCOMPLETE_MULTISAMPLE:
+        return "GL_FRAMEBUFFER_INCOMPLETE_MULTISAMPLE";
+    default:
+        return "status";
     }
 }
 
@@ -43,17 +47,15 @@ void requireComplete(GLuint fbo, const char* what, int width, int height, int sa
         char size[64];
         std::snprintf(size, sizeof size, "%.2g GiB", gib);
         throw Error("a " + std::to_string(width) + "x" + std::to_string(height) +
-                    " render target with " + std::to_string(samples) +
-                    " sample(s) per pixel (" + size +
-                    " of colour and depth) cannot be allocated by this GL implementation (" +
+                    " render target with " + std::to_string(samples) + " sample(s) per pixel (" +
+                    size + " of colour and depth) cannot be allocated by this GL implementation (" +
                     what + " framebuffer incomplete: " + framebufferStatusName(status) + ", " +
                     code + "): use fewer samples or a smaller size");
     }
 }
 
 // Reverses the row order of `rows` rows of `row_size` elements each, in place.
-template <typename T>
-void flipRows(std::vector<T>& pixels, std::size_t row_size, std::size_t rows)
+template <typename T> void flipRows(std::vector<T>& pixels, std::size_t row_size, std::size_t rows)
 {
     for (std::size_t top = 0, bottom = rows - 1; top < bottom; ++top, --bottom)
         std::swap_ranges(pixels.begin() + top * row_size, pixels.begin() + (top + 1) * row_size,
@@ -68,9 +70,10 @@ RenderTarget::RenderTarget(int width, int height, int samples)
     const GLint max_size =
         std::min(glInteger(GL_MAX_TEXTURE_SIZE), glInteger(GL_MAX_RENDERBUFFER_SIZE));
     if (width <= 0 || height <= 0 || width > max_size || height > max_size)
-        throw Error("render target size " + std::to_string(width) + "x" + std::to_string(height) +
-                    " is outside 1.." + std::to_string(max_size) +
-                    " (GL_MAX_TEXTURE_SIZE and GL_MAX_RENDERBUFFER_SIZE of this GL implementation)");
+        throw Error(
+            "render target size " + std::to_string(width) + "x" + std::to_string(height) +
+            " is outside 1.." + std::to_string(max_size) +
+            " (GL_MAX_TEXTURE_SIZE and GL_MAX_RENDERBUFFER_SIZE of this GL implementation)");
     const GLint max_samples = glInteger(GL_MAX_SAMPLES);
     if (samples < 1 || samples > max_samples)
         throw Error("render target sample count " + std::to_string(samples) + " is outside 1.." +

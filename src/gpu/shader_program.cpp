@@ -110,7 +110,7 @@ std::string programLog(GLuint program)
 
 // Owns a shader object for the duration of a link.
 class Shader {
-public:
+  public:
     explicit Shader(const ShaderStage& stage) : id_(glCreateShader(stage.type))
     {
         if (id_ == 0)
@@ -132,7 +132,7 @@ public:
     Shader& operator=(const Shader&) = delete;
     GLuint id() const { return id_; }
 
-private:
+  private:
     GLuint id_;
 };
 

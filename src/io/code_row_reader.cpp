@@ -29,7 +29,7 @@ struct CodeRowReader::Impl {
     std::unique_ptr<detail::CodeSource> source;
     HeightQuantization quantization;
     bool exact = false;
-    detail::CodeStats stats; // rows read through readRows, each row once
+    detail::CodeStats stats;   // rows read through readRows, each row once
     std::vector<bool> counted; // rows whose samples `stats` holds
     std::vector<int64_t> void_scratch;
     std::optional<double> sea_level;

@@ -39,7 +39,7 @@ struct CodeStats {
 };
 
 class CodeSource {
-public:
+  public:
     virtual ~CodeSource() = default;
 
     // metres = offset + scale * code, scale > 0 (codes are mirrored when z_scale < 0).
@@ -64,7 +64,7 @@ public:
     // codes, exact for exact sources, and what void-filled samples are judged by.
     int32_t seaLevelCode() const;
 
-protected:
+  protected:
     HeightQuantization quantization_;
     bool exact_ = false;
     std::optional<double> sea_level_;

@@ -181,8 +181,8 @@ VerticalDatum resolveVerticalDatum(const std::string& text)
         throw Error(quoted + ": empty; name a vertical datum or give its EPSG code (e.g. "
                              "EPSG:5773 for EGM96 height)");
     if (given.size() > kMaxDatumNameLength)
-        throw Error("vertical_datum: " + std::to_string(given.size()) +
-                    " characters; at most " + std::to_string(kMaxDatumNameLength));
+        throw Error("vertical_datum: " + std::to_string(given.size()) + " characters; at most " +
+                    std::to_string(kMaxDatumNameLength));
     for (const char c : given)
         if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
             throw Error("vertical_datum: contains a control character");
@@ -204,7 +204,8 @@ VerticalDatum resolveVerticalDatum(const std::string& text)
         const PJ_TYPE type = proj_get_type(crs.get());
         if (type != PJ_TYPE_VERTICAL_CRS)
             throw Error(quoted + ": EPSG:" + digits + " (" + nameOf(crs.get()) + ") is a " +
-                        typeName(type) + " CRS, not a vertical one (e.g. EPSG:5773, EGM96 "
+                        typeName(type) +
+                        " CRS, not a vertical one (e.g. EPSG:5773, EGM96 "
                         "height; EPSG:3855, EGM2008 height)");
         datum.name = nameOf(crs.get());
         datum.epsg = code;
@@ -212,8 +213,7 @@ VerticalDatum resolveVerticalDatum(const std::string& text)
     }
     // A name: EPSG's spelling and code when its database knows it as a vertical CRS.
     PJ_TYPE types[] = {PJ_TYPE_VERTICAL_CRS};
-    const List matches(
-        proj_create_from_name(ctx, "EPSG", given.c_str(), types, 1, 0, 0, nullptr));
+    const List matches(proj_create_from_name(ctx, "EPSG", given.c_str(), types, 1, 0, 0, nullptr));
     const int count = matches ? proj_list_get_count(matches.get()) : 0;
     for (int i = 0; i < count; ++i) {
         const Object match(proj_list_get(ctx, matches.get(), i));

@@ -44,7 +44,7 @@ std::optional<DirectLayout> directLayout(const SourceBand& band)
 }
 
 class DirectCodes final : public CodeSource {
-public:
+  public:
     DirectCodes(const SourceBand& band, const DirectLayout& layout)
         : band_(band), layout_(layout), nodata_(nodataPattern(band, layout))
     {
@@ -56,8 +56,8 @@ public:
         // negative z_scale the codes run from the type's maximum down, so that the code ->
         // metre scale stays positive (archives require it).
         const bool mirrored = band.z().scale < 0;
-        code_base_ = mirrored ? layout.type_max - layout.value_shift
-                              : layout.value_shift - layout.type_min;
+        code_base_ =
+            mirrored ? layout.type_max - layout.value_shift : layout.value_shift - layout.type_min;
         code_sign_ = mirrored ? -1 : 1;
         quantization_.scale = std::abs(band.z().scale);
         quantization_.offset = band.z().toMetres(mirrored ? layout.type_max : layout.type_min);
@@ -66,8 +66,8 @@ public:
 
     int stripSampleBytes() const override { return sizeof(uint16_t); }
 
-    void readRows(int y0, int rows, uint16_t* out, std::vector<int64_t>& voids,
-                  CodeStats& stats, uint8_t* water) override
+    void readRows(int y0, int rows, uint16_t* out, std::vector<int64_t>& voids, CodeStats& stats,
+                  uint8_t* water) override
     {
         const int64_t count = int64_t{rows} * band_.width();
         band_.readRows(y0, rows, layout_.buffer_type, out);
@@ -108,7 +108,7 @@ public:
         stats.max_metres = std::max(stats.max_metres, quantization_.toMetres(hi));
     }
 
-private:
+  private:
     // The buffer pattern of the declared nodata value, if a sample can have it.
     static std::optional<uint16_t> nodataPattern(const SourceBand& band, const DirectLayout& layout)
     {

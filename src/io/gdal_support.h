@@ -28,7 +28,7 @@ using DatasetPtr = std::unique_ptr<void, DatasetCloser>;
 // they can be folded into a ridge::Error. Handlers nest (CPLPushErrorHandlerEx is a
 // per-thread stack); keep instances on the stack so that pushes and pops stay LIFO.
 class GdalErrorCapture {
-public:
+  public:
     GdalErrorCapture();
     ~GdalErrorCapture();
     GdalErrorCapture(const GdalErrorCapture&) = delete;
@@ -38,7 +38,7 @@ public:
     // The failures collected so far, joined with "; " (empty when there were none).
     std::string failures() const;
 
-private:
+  private:
     static void CPL_STDCALL handle(CPLErr error_class, CPLErrorNum number, const char* message);
     std::vector<std::string> failures_;
 };
@@ -49,25 +49,25 @@ std::string withGdalDetail(const std::string& problem, const GdalErrorCapture& c
 // Lowers GDAL's global block cache to at most `max_bytes` for the object's lifetime. The
 // cache is process-wide: concurrent ingests in one process share (and restore) one limit.
 class ScopedCacheLimit {
-public:
+  public:
     explicit ScopedCacheLimit(int64_t max_bytes);
     ~ScopedCacheLimit();
     ScopedCacheLimit(const ScopedCacheLimit&) = delete;
     ScopedCacheLimit& operator=(const ScopedCacheLimit&) = delete;
 
-private:
+  private:
     int64_t previous_;
 };
 
 // Sets a GDAL configuration option for this thread only, restoring the previous value.
 class ScopedThreadConfig {
-public:
+  public:
     ScopedThreadConfig(const char* key, const char* value);
     ~ScopedThreadConfig();
     ScopedThreadConfig(const ScopedThreadConfig&) = delete;
     ScopedThreadConfig& operator=(const ScopedThreadConfig&) = delete;
 
-private:
+  private:
     std::string key_;
     std::optional<std::string> previous_;
 };

@@ -76,15 +76,15 @@ GeographicTransform::GeographicTransform(const std::string& crs_wkt, const std::
     if (const char* name = proj_get_name(crs))
         name_ = name;
     PJ* wgs84 = proj_create(s.context, "EPSG:4326");
-    PJ* raw = wgs84 ? proj_create_crs_to_crs_from_pj(s.context, wgs84, crs, nullptr, nullptr)
-                    : nullptr;
+    PJ* raw =
+        wgs84 ? proj_create_crs_to_crs_from_pj(s.context, wgs84, crs, nullptr, nullptr) : nullptr;
     const std::string reason = raw ? std::string() : projError(s.context);
     if (wgs84)
         proj_destroy(wgs84);
     proj_destroy(crs);
     if (!raw)
-        throw Error(what + ": PROJ finds no transformation between WGS 84 and the CRS (" +
-                    reason + ")");
+        throw Error(what + ": PROJ finds no transformation between WGS 84 and the CRS (" + reason +
+                    ")");
     s.transform = proj_normalize_for_visualization(s.context, raw);
     proj_destroy(raw);
     if (!s.transform)

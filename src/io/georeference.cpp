@@ -51,8 +51,8 @@ Spacing geographicSpacing(OGRSpatialReferenceH srs, const std::array<double, 6>&
     const double radians_per_unit = OSRGetAngularUnits(srs, nullptr);
 
     const double centre_lat = gt[3] + gt[4] * (width / 2.0) + gt[5] * (height / 2.0);
-    const double phi = std::clamp(centre_lat * radians_per_unit, -std::numbers::pi / 2,
-                                  std::numbers::pi / 2);
+    const double phi =
+        std::clamp(centre_lat * radians_per_unit, -std::numbers::pi / 2, std::numbers::pi / 2);
     const double s = std::sin(phi);
     const double w = 1.0 - e2 * s * s;
     const double meridian_radius = a * (1.0 - e2) / (w * std::sqrt(w)); // M

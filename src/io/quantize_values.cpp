@@ -74,13 +74,13 @@ double stepFor(const SourceBand& band, double range, double magnitude, int64_t m
     const double needed = roundUpForHumans((range / double(max_code) / 2 + margin) * (1 + 1e-9));
     const double codes_needed = std::ceil(range / (2 * *max_error)) + 1;
     band.fail("height range " + formatNumber(range, 6) + " m needs " +
-              formatNumber(codes_needed, 6) + " codes at max_error " +
-              formatNumber(*max_error, 6) + " but 16 bits hold " + std::to_string(max_code + 1) +
-              "; max_error " + formatNumber(needed, 3) + " or larger would work");
+              formatNumber(codes_needed, 6) + " codes at max_error " + formatNumber(*max_error, 6) +
+              " but 16 bits hold " + std::to_string(max_code + 1) + "; max_error " +
+              formatNumber(needed, 3) + " or larger would work");
 }
 
 class QuantizedCodes final : public CodeSource {
-public:
+  public:
     QuantizedCodes(const SourceBand& band, const std::optional<double>& max_error,
                    const Progress& survey_progress)
         : band_(band)
@@ -113,8 +113,8 @@ public:
 
     int stripSampleBytes() const override { return sizeof(double); }
 
-    void readRows(int y0, int rows, uint16_t* out, std::vector<int64_t>& voids,
-                  CodeStats& stats, uint8_t* water) override
+    void readRows(int y0, int rows, uint16_t* out, std::vector<int64_t>& voids, CodeStats& stats,
+                  uint8_t* water) override
     {
         const size_t count = static_cast<size_t>(rows) * band_.width();
         values_.resize(count);
@@ -153,7 +153,7 @@ public:
             stats.addCodes(lo, hi);
     }
 
-private:
+  private:
     const SourceBand& band_;
     double integer_origin_ = 0.0;
     int64_t max_code_ = kCodeCount - 1;

@@ -27,7 +27,7 @@ constexpr double kSurveyShare = 0.5;
 
 // Records voids in a 1 byte/sample mask (0 = void) allocated at the first void.
 class VoidMask {
-public:
+  public:
     explicit VoidMask(int64_t samples) : samples_(samples) {}
 
     void mark(int64_t index)
@@ -40,7 +40,7 @@ public:
     int64_t count() const { return count_; }
     std::vector<uint8_t>& mask() { return mask_; }
 
-private:
+  private:
     int64_t samples_;
     int64_t count_ = 0;
     std::vector<uint8_t> mask_;

@@ -123,7 +123,8 @@ bool isYes(const char* value)
 bool writableThroughVsi(GDALDriverH d)
 {
     const std::string name = GDALGetDriverShortName(d);
-    return name != "MEM" && name != "VRT" && isYes(GDALGetMetadataItem(d, GDAL_DCAP_RASTER, nullptr)) &&
+    return name != "MEM" && name != "VRT" &&
+           isYes(GDALGetMetadataItem(d, GDAL_DCAP_RASTER, nullptr)) &&
            (isYes(GDALGetMetadataItem(d, GDAL_DCAP_CREATE, nullptr)) ||
             isYes(GDALGetMetadataItem(d, GDAL_DCAP_CREATECOPY, nullptr))) &&
            isYes(GDALGetMetadataItem(d, GDAL_DCAP_VIRTUALIO, nullptr));
@@ -230,8 +231,7 @@ SampleType sampleType(const std::string& name)
     }
     const std::optional<std::string> nearest = nearestName(name, names);
     throw Error("output_type '" + name + "': not a type ridge writes" +
-                (nearest ? "; did you mean '" + *nearest + "'?" : "") + " (" + quoted(names) +
-                ")");
+                (nearest ? "; did you mean '" + *nearest + "'?" : "") + " (" + quoted(names) + ")");
 }
 
 void checkRasterFormat(const RasterFormat& format, const SampleType& type)
@@ -245,16 +245,17 @@ void checkRasterFormat(const RasterFormat& format, const SampleType& type)
                         " driver refuses them: " + capture.joined());
     }
     // NaN is the nodata of floating-point types (GDAL's "-a_nodata nan").
-    const bool nan_for_float = format.nodata_value && std::isnan(*format.nodata_value) && !type.integer;
+    const bool nan_for_float =
+        format.nodata_value && std::isnan(*format.nodata_value) && !type.integer;
     if (format.nodata_value && !nan_for_float && !type.holdsExactly(*format.nodata_value))
         throw Error("nodata_value " + std::to_string(*format.nodata_value) + ": " + type.name +
                     " cannot hold it (" + (type.integer ? "an integer in [" : "a number in [") +
                     std::to_string(type.lo) + ", " + std::to_string(type.hi) + "])");
 }
 
-void writeRaster(const std::string& path, const std::vector<double>& values, int width,
-                 int height, const SampleType& type, const GeoReference& geo,
-                 const RasterFormat& format, const std::vector<std::string>& inputs)
+void writeRaster(const std::string& path, const std::vector<double>& values, int width, int height,
+                 const SampleType& type, const GeoReference& geo, const RasterFormat& format,
+                 const std::vector<std::string>& inputs)
 {
     checkSize(path, width, height);
     if (values.size() != size_t(width) * size_t(height))
@@ -269,8 +270,8 @@ void writeRaster(const std::string& path, const std::vector<double>& values, int
     GdalErrorCapture capture;
     // The source: a MEM band of the output type (GDAL converts the doubles, which the type
     // holds, exactly), with the georeference, the unit and the nodata value.
-    DatasetPtr source(GDALCreate(GDALGetDriverByName("MEM"), "", width, height, 1, gdal_type,
-                                 nullptr));
+    DatasetPtr source(
+        GDALCreate(GDALGetDriverByName("MEM"), "", width, height, 1, gdal_type, nullptr));
     if (!source)
         fail(path, "cannot allocate the raster", capture);
     if (geo.has_geotransform) {
@@ -284,8 +285,8 @@ void writeRaster(const std::string& path, const std::vector<double>& values, int
     GDALSetRasterUnitType(band, "m");
     if (format.nodata_value && GDALSetRasterNoDataValue(band, *format.nodata_value) != CE_None)
         fail(path, "cannot set the nodata value", capture);
-    if (GDALRasterIO(band, GF_Write, 0, 0, width, height, const_cast<double*>(values.data()),
-                     width, height, GDT_Float64, 0, 0) != CE_None)
+    if (GDALRasterIO(band, GF_Write, 0, 0, width, height, const_cast<double*>(values.data()), width,
+                     height, GDT_Float64, 0, 0) != CE_None)
         fail(path, "cannot hold the samples", capture);
 
     // The driver writes into a private /vsimem/ directory; its files are then published.
@@ -314,8 +315,7 @@ void writeRaster(const std::string& path, const std::vector<double>& values, int
         if (file != name)
             refuseOutputOverInput(target, inputs);
         vsi_l_offset size = 0;
-        const GByte* data =
-            VSIGetMemFileBuffer((scratch.path + "/" + file).c_str(), &size, FALSE);
+        const GByte* data = VSIGetMemFileBuffer((scratch.path + "/" + file).c_str(), &size, FALSE);
         if (!data && file == name)
             throw Error(path + ": GDAL's " + format.output_format + " driver wrote no file");
         outputs.push_back(std::make_unique<AtomicOutput>(target));
@@ -342,8 +342,8 @@ void writeGeoTiff(const std::string& path, const float* metres, int width, int h
     options.SetNameValue("COMPRESS", "DEFLATE");
     options.SetNameValue("PREDICTOR", "3"); // floating-point predictor
     options.SetNameValue("BIGTIFF", "IF_SAFER");
-    DatasetPtr ds(GDALCreate(gtiff, output.temporaryPath().c_str(), width, height, 1,
-                             GDT_Float32, options.List()));
+    DatasetPtr ds(GDALCreate(gtiff, output.temporaryPath().c_str(), width, height, 1, GDT_Float32,
+                             options.List()));
     if (!ds)
         fail(path, "cannot create GeoTIFF", capture);
     if (geo.has_geotransform) {
@@ -357,8 +357,8 @@ void writeGeoTiff(const std::string& path, const float* metres, int width, int h
     GDALSetRasterUnitType(band, "m");
     if (nodata && GDALSetRasterNoDataValue(band, *nodata) != CE_None)
         fail(path, "cannot set the nodata value", capture);
-    if (GDALRasterIO(band, GF_Write, 0, 0, width, height, const_cast<float*>(metres), width,
-                     height, GDT_Float32, 0, 0) != CE_None)
+    if (GDALRasterIO(band, GF_Write, 0, 0, width, height, const_cast<float*>(metres), width, height,
+                     GDT_Float32, 0, 0) != CE_None)
         fail(path, "cannot write samples", capture);
     closeChecked(ds, path, capture);
     output.commit();
@@ -379,12 +379,12 @@ void writePng(const std::string& path, const uint8_t* pixels, int width, int hei
 
     // PNG has no Create(), only CreateCopy() from a dataset: wrap the pixels without a copy.
     // The MEM dataset is only read from, so casting away const is safe.
-    DatasetPtr source = detail::wrapInMemDataset(const_cast<uint8_t*>(pixels), GDT_Byte, width,
-                                                 height, channels);
+    DatasetPtr source =
+        detail::wrapInMemDataset(const_cast<uint8_t*>(pixels), GDT_Byte, width, height, channels);
     if (channels == 4)
         GDALSetRasterColorInterpretation(GDALGetRasterBand(source.get(), 4), GCI_AlphaBand);
-    DatasetPtr ds(GDALCreateCopy(png, output.temporaryPath().c_str(), source.get(), FALSE,
-                                 nullptr, nullptr, nullptr));
+    DatasetPtr ds(GDALCreateCopy(png, output.temporaryPath().c_str(), source.get(), FALSE, nullptr,
+                                 nullptr, nullptr));
     if (!ds)
         fail(path, "cannot write PNG", capture);
     closeChecked(ds, path, capture);

@@ -116,8 +116,9 @@ SourceBand::SourceBand(const std::string& path, const IngestOptions& options) : 
         fail("has no raster band" + subdatasetHint(dataset_.get()));
     if (options.band > band_count)
         fail("band " + std::to_string(options.band) + " was asked for, but it has " +
-             (band_count == 1 ? std::string("1 band") : std::to_string(band_count) + " bands (1.." +
-                                                            std::to_string(band_count) + ")"));
+             (band_count == 1
+                  ? std::string("1 band")
+                  : std::to_string(band_count) + " bands (1.." + std::to_string(band_count) + ")"));
     band_number_ = options.band;
     band_ = GDALGetRasterBand(dataset_.get(), band_number_);
     width_ = GDALGetRasterBandXSize(band_);
@@ -180,8 +181,8 @@ SourceBand::SourceBand(const std::string& path, const IngestOptions& options) : 
     // A real mask (internal/external mask or alpha band) is read alongside the data. Masks
     // that GDAL derives from nodata (GMF_NODATA) or that are all valid add nothing.
     const int flags = GDALGetMaskFlags(band_);
-    has_mask_band_ = (flags & (GMF_PER_DATASET | GMF_ALPHA)) != 0 &&
-                     (flags & (GMF_NODATA | GMF_ALL_VALID)) == 0;
+    has_mask_band_ =
+        (flags & (GMF_PER_DATASET | GMF_ALPHA)) != 0 && (flags & (GMF_NODATA | GMF_ALL_VALID)) == 0;
 }
 
 void SourceBand::checkHeightRange(double lo_value, double hi_value, const std::string& what) const
@@ -218,7 +219,8 @@ std::vector<std::string> SourceBand::bandNames() const
     for (int b = 1; b <= count; ++b) {
         GDALRasterBandH band = GDALGetRasterBand(dataset_.get(), b);
         const char* description = band ? GDALGetDescription(band) : nullptr;
-        const GDALColorInterp interp = band ? GDALGetRasterColorInterpretation(band) : GCI_Undefined;
+        const GDALColorInterp interp =
+            band ? GDALGetRasterColorInterpretation(band) : GCI_Undefined;
         if (description && *description)
             names.push_back(description);
         else if (interp != GCI_Undefined)
@@ -292,8 +294,8 @@ void SourceBand::readValues(int y0, int rows, double* out, std::vector<uint8_t>&
         } else if (!std::isfinite(v)) {
             const size_t x = i % width_;
             const size_t y = y0 + i / width_;
-            fail("non-finite value " + formatNumber(v) + " at sample (" + std::to_string(x) +
-                 ", " + std::to_string(y) + ") (x = column, y = row) is not declared nodata");
+            fail("non-finite value " + formatNumber(v) + " at sample (" + std::to_string(x) + ", " +
+                 std::to_string(y) + ") (x = column, y = row) is not declared nodata");
         }
     }
 }

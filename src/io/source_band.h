@@ -28,7 +28,7 @@ std::optional<double> verticalUnitFactor(const std::string& unit);
 void validateOptions(const std::string& path, const IngestOptions& options);
 
 class SourceBand {
-public:
+  public:
     // Opens band options.band read-only. Throws Error("path: ...") when the file cannot be
     // opened, has no raster band or not that one, is smaller than 2x2, or has an unsupported
     // data type.
@@ -81,7 +81,7 @@ public:
     // Throws Error("path: problem[: GDAL's messages]").
     [[noreturn]] void fail(const std::string& problem) const;
 
-private:
+  private:
     std::string path_;
     DatasetPtr dataset_;
     GDALRasterBandH band_ = nullptr;

@@ -126,13 +126,13 @@ void fillPass(const std::string& path, CodeGrid& grid, std::vector<uint8_t>& voi
     CPLErr result;
     {
         const size_t origin = size_t(window.y0) * grid.width + window.x0;
-        DatasetPtr target = wrapInMemDataset(grid.codes.data() + origin, GDT_UInt16,
-                                             window.width(), window.height(), 1, grid.width);
+        DatasetPtr target = wrapInMemDataset(grid.codes.data() + origin, GDT_UInt16, window.width(),
+                                             window.height(), 1, grid.width);
         DatasetPtr mask = wrapInMemDataset(void_mask.data() + origin, GDT_Byte, window.width(),
                                            window.height(), 1, grid.width);
-        result = GDALFillNodata(GDALGetRasterBand(target.get(), 1), GDALGetRasterBand(mask.get(), 1),
-                                search_distance, 0, kSmoothingIterations, options.List(),
-                                &ProgressBridge::call, &bridge);
+        result = GDALFillNodata(
+            GDALGetRasterBand(target.get(), 1), GDALGetRasterBand(mask.get(), 1), search_distance,
+            0, kSmoothingIterations, options.List(), &ProgressBridge::call, &bridge);
         // Closing the MEM datasets flushes anything GDAL still holds in its block cache.
     }
     if (bridge.error)
@@ -145,8 +145,8 @@ void fillPass(const std::string& path, CodeGrid& grid, std::vector<uint8_t>& voi
 
 // Marks the voids of `window` that now hold a code other than `sentinel` as valid; returns
 // the voids that remain.
-VoidExtent acceptFilled(const CodeGrid& grid, std::vector<uint8_t>& void_mask,
-                        const Window& window, uint16_t sentinel)
+VoidExtent acceptFilled(const CodeGrid& grid, std::vector<uint8_t>& void_mask, const Window& window,
+                        uint16_t sentinel)
 {
     VoidExtent remaining;
     for (int y = window.y0; y < window.y1; ++y)

@@ -16,7 +16,7 @@ namespace {
 
 // GDAL's utility option lists are argv-like: a null-terminated array of C strings.
 class Arguments {
-public:
+  public:
     Arguments(std::initializer_list<std::string> args) : strings_(args) {}
     void add(std::string s) { strings_.push_back(std::move(s)); }
     char** argv()
@@ -28,7 +28,7 @@ public:
         return pointers_.data();
     }
 
-private:
+  private:
     std::vector<std::string> strings_;
     std::vector<char*> pointers_;
 };

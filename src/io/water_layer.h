@@ -13,7 +13,7 @@
 namespace ridge::io::detail {
 
 class WaterLayer {
-public:
+  public:
     // Opens `path`: any raster GDAL reads (band 1; a sample is water where it is data and not
     // 0) or any vector dataset OGR reads (every layer; a sample is water where its centre lies
     // inside a polygon, or on a line or point, GDALRasterize's default rule). It is resampled
@@ -30,7 +30,7 @@ public:
 
     const std::string& path() const { return path_; }
 
-private:
+  private:
     void warpRows(int y0, int rows, uint8_t* out);
     void burnRows(int y0, int rows, uint8_t* out);
     std::array<double, 6> stripGeotransform(int y0) const;
@@ -39,8 +39,8 @@ private:
     std::string path_;
     GeoReference grid_;
     int width_ = 0, height_ = 0;
-    DatasetPtr source_;      // as opened
-    DatasetPtr band_one_;    // rasters: a VRT of band 1 (GDALWarp warps every band)
+    DatasetPtr source_;                    // as opened
+    DatasetPtr band_one_;                  // rasters: a VRT of band 1 (GDALWarp warps every band)
     std::vector<std::string> layer_names_; // vectors
     std::vector<float> values_;            // a warped strip
 };

@@ -90,8 +90,8 @@ void PatchQuadtree::visit(PatchId p, const Camera& camera, const Frustum* frustu
         settings.conservative_distance ? visibleDepthBound(camera, b, rho, settings.side_on) : rho;
     const double err_scr = screen_space_error(t.error_gamma, bounds(p).err, depth);
     // The level's sample spacing, the coarser of the two axes.
-    const double spacing = double(geometry().step(p.level)) *
-                           std::max(frame_.spacingX(), frame_.spacingY());
+    const double spacing =
+        double(geometry().step(p.level)) * std::max(frame_.spacingX(), frame_.spacingY());
     const double texel_scr = projectedSampleSpacing(t.gamma, spacing, depth);
     const bool texels_fine = t.texel <= 0.0 || texel_scr <= t.texel;
     if (p.level == geometry().finestLevel() || (err_scr <= t.epsilon && texels_fine)) {

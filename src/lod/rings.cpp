@@ -80,11 +80,12 @@ void RingsSettings::validate(const PyramidGeometry& geometry) const
     const int cells = geometry.cells() / vertex_step;
     const int finest = geometry.finestLevel();
     if (cells < 1 || finest > log2Of(cells))
-        throw Error("patches of " + std::to_string(geometry.patchSize()) + " samples with vertex-step=" +
-                    std::to_string(vertex_step) + " make static grids of " + std::to_string(cells) +
-                    " cells, too few for " + std::to_string(finest + 1) +
-                    " levels: a tile drawn at the root needs " + std::to_string(1 << finest) +
-                    " (build with a larger --patch" + (vertex_step > 1 ? " or use vertex-step=1)" : ")"));
+        throw Error("patches of " + std::to_string(geometry.patchSize()) +
+                    " samples with vertex-step=" + std::to_string(vertex_step) +
+                    " make static grids of " + std::to_string(cells) + " cells, too few for " +
+                    std::to_string(finest + 1) + " levels: a tile drawn at the root needs " +
+                    std::to_string(1 << finest) + " (build with a larger --patch" +
+                    (vertex_step > 1 ? " or use vertex-step=1)" : ")"));
 }
 
 RingsStructure::RingsStructure(const PatchQuadtree& tree, const RingsSettings& settings)
@@ -102,8 +103,8 @@ RingsStructure::RingsStructure(const PatchQuadtree& tree, const RingsSettings& s
     // Any level's surface over a tile lies within Err(P) of the finest data (Err is measured
     // against the finest level), so the finest tile's range widened by the largest Err of its
     // ancestors bounds every level it may draw.
-    auto bounds = std::make_shared<std::vector<std::array<float, 2>>>(size_t(tiles_x_) *
-                                                                      size_t(tiles_y_));
+    auto bounds =
+        std::make_shared<std::vector<std::array<float, 2>>>(size_t(tiles_x_) * size_t(tiles_y_));
     for (int y = 0; y < tiles_y_; ++y)
         for (int x = 0; x < tiles_x_; ++x) {
             const PatchId tile{finest_, x, y};
@@ -174,11 +175,13 @@ Orientation RingsStructure::orientationOf(int x, int y) const
     if (ring == 0)
         return Orientation::Centre;
     if (dy == -ring)
-        return dx == ring ? Orientation::NorthEast
-                          : dx == -ring ? Orientation::NorthWest : Orientation::North;
+        return dx == ring    ? Orientation::NorthEast
+               : dx == -ring ? Orientation::NorthWest
+                             : Orientation::North;
     if (dy == ring)
-        return dx == ring ? Orientation::SouthEast
-                          : dx == -ring ? Orientation::SouthWest : Orientation::South;
+        return dx == ring    ? Orientation::SouthEast
+               : dx == -ring ? Orientation::SouthWest
+                             : Orientation::South;
     return dx > 0 ? Orientation::East : Orientation::West;
 }
 
@@ -376,7 +379,8 @@ void RingsSelector::cover(const Selection& /*desired*/,
         return int8_t(level);
     };
     for (size_t t = 0; t < tiles_.size(); ++t)
-        tiles_[t].level = tiles_[t].visible ? finestResident(t, tiles_[t].desired) : tiles_[t].desired;
+        tiles_[t].level =
+            tiles_[t].visible ? finestResident(t, tiles_[t].desired) : tiles_[t].desired;
     // Lower until every two touching tiles differ by at most one level and every tile that
     // meets a coarser one has that level resident (its stitched edges read it). Levels only
     // fall and the root needs nothing coarser, so this ends.
@@ -410,8 +414,14 @@ void RingsSelector::cover(const Selection& /*desired*/,
             continue;
         lowered_ += ts.level < ts.desired;
         const int x = int(t % size_t(w)), y = int(t / size_t(w));
-        RingTile tile{x, y, ts.ring, ts.level, stitchOf(t, tiles_, false), false,
-                      Orientation::Centre, ts.visibility};
+        RingTile tile{x,
+                      y,
+                      ts.ring,
+                      ts.level,
+                      stitchOf(t, tiles_, false),
+                      false,
+                      Orientation::Centre,
+                      ts.visibility};
         if (atRingLevels(t)) {
             tile.by_table = true;
             if (structure_.outerRingCoarser(ts.ring, coarser_))

@@ -14,13 +14,13 @@
 #include "ridge/pipeline/build_memory.h"
 #include "ridge/pyramid/patch_context.h"
 #include "ridge/pyramid/patch_error.h"
-#include "ridge/pyramid/tessellation_block_errors.h"
 #include "ridge/pyramid/sample_flags.h"
+#include "ridge/pyramid/tessellation_block_errors.h"
 #include "ridge/pyramid/validity_pyramid.h"
 
 #include <algorithm>
-#include <cmath>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <functional>
 #include <nlohmann/json.hpp>
@@ -85,7 +85,8 @@ double codecMaxError(const HeightQuantization& q, const BuildOptions& options)
         throw Error("codec '" + options.codec + "' needs max_error (metres)");
     if (!(*options.max_error >= q.max_error)) // max_error > 0: BuildOptions::validate
         throw Error("max_error " + std::to_string(*options.max_error) +
-                    " m is below the input's own quantization error " + std::to_string(q.max_error) + " m");
+                    " m is below the input's own quantization error " +
+                    std::to_string(q.max_error) + " m");
     return std::min(32767.0, (*options.max_error - q.max_error) / q.scale);
 }
 
@@ -93,8 +94,12 @@ BuildContext makeContext(int width, int height, const HeightQuantization& q,
                          const io::GeoReference& geo, const BuildOptions& options)
 {
     BuildContext ctx{PyramidGeometry(width, height, options.patch_size),
-                     TessellationBlockLayout{options.patch_size, options.block_cells}, nullptr, {}, false,
-                     nullptr, nullptr};
+                     TessellationBlockLayout{options.patch_size, options.block_cells},
+                     nullptr,
+                     {},
+                     false,
+                     nullptr,
+                     nullptr};
     if (!ctx.layout.valid())
         throw Error("block size " + std::to_string(options.block_cells) +
                     " cells must be a power of two >= 2 dividing the patch's " +
@@ -133,30 +138,33 @@ std::string metadataJson(const std::string& source_path, const io::IngestStats& 
 {
     nlohmann::json meta = {
         {"generator", "ridge 0.1.0"},
-        {"source", {{"path", recordedSourceName(source_path)},
-                    {"data_type", stats.data_type},
-                    {"band", options.ingest.band},
-                    {"width", ctx.geometry.width()},
-                    {"height", ctx.geometry.height()},
-                    {"valid_samples", stats.valid_samples},
-                    {"voids_filled", stats.voids_filled},
-                    {"voids_kept", stats.voids_kept},
-                    {"fill_voids", io::voidFillName(options.ingest.fill_voids)},
-                    {"void_fill", "GDALFillNodata (inverse distance weighting, 2 smoothing passes)"},
-                    {"min_metres", stats.min_metres},
-                    {"max_metres", stats.max_metres},
-                    {"exact", stats.exact}}},
-        {"georeference", {{"crs_wkt", geo.crs_wkt},
-                          {"geographic", geo.geographic},
-                          {"vertical_units", geo.vertical_units},
-                          {"spacing_from_user", geo.spacing_from_user}}},
-        {"build", {{"patch_size", options.patch_size},
-                   {"block_cells", options.block_cells},
-                   {"codec", options.codec},
-                   {"block_errors", options.store_block_errors ? "stored" : "derived from decoded heights"},
-                   {"filter", filterName(options.filter)},
-                   {"z_scale", stats.z_scale},
-                   {"z_offset", stats.z_offset}}},
+        {"source",
+         {{"path", recordedSourceName(source_path)},
+          {"data_type", stats.data_type},
+          {"band", options.ingest.band},
+          {"width", ctx.geometry.width()},
+          {"height", ctx.geometry.height()},
+          {"valid_samples", stats.valid_samples},
+          {"voids_filled", stats.voids_filled},
+          {"voids_kept", stats.voids_kept},
+          {"fill_voids", io::voidFillName(options.ingest.fill_voids)},
+          {"void_fill", "GDALFillNodata (inverse distance weighting, 2 smoothing passes)"},
+          {"min_metres", stats.min_metres},
+          {"max_metres", stats.max_metres},
+          {"exact", stats.exact}}},
+        {"georeference",
+         {{"crs_wkt", geo.crs_wkt},
+          {"geographic", geo.geographic},
+          {"vertical_units", geo.vertical_units},
+          {"spacing_from_user", geo.spacing_from_user}}},
+        {"build",
+         {{"patch_size", options.patch_size},
+          {"block_cells", options.block_cells},
+          {"codec", options.codec},
+          {"block_errors", options.store_block_errors ? "stored" : "derived from decoded heights"},
+          {"filter", filterName(options.filter)},
+          {"z_scale", stats.z_scale},
+          {"z_offset", stats.z_offset}}},
     };
     if (geo.has_geotransform)
         meta["georeference"]["geotransform"] = geo.geotransform;
@@ -233,7 +241,8 @@ void trainStage(BuildContext& ctx, const LevelPyramid& pyramid, CodecTrainer& tr
                 parent_codes.resize(codes.size());
                 parent.resize(codes.size());
                 extractPatch(pyramid.level(up.level), n, up, parent_codes.data());
-                ctx.codec->reconstruct(parent_codes.data(), patchContext(g, up, nullptr), parent.data());
+                ctx.codec->reconstruct(parent_codes.data(), patchContext(g, up, nullptr),
+                                       parent.data());
                 parent_ptr = parent.data();
             }
             trainer.observe(codes.data(), patchContext(g, p, parent_ptr));
@@ -284,7 +293,8 @@ EncodedPatch encodePatch(const BuildContext& ctx, const LevelView& level, PatchI
     out.record.err = archive::floatUp(err_appr + ctx.levelBound(id.level));
 
     out.payload.resize(ctx.codec->encodeBound(pctx));
-    const size_t size = ctx.codec->encode(out.payload.data(), out.payload.size(), codes.data(), pctx);
+    const size_t size =
+        ctx.codec->encode(out.payload.data(), out.payload.size(), codes.data(), pctx);
     if (size == 0)
         throw Error("internal error: cannot encode patch");
     out.payload.resize(size);
@@ -360,7 +370,8 @@ void encodeAndWrite(int64_t count, const std::function<EncodedPatch(int64_t)>& m
 
 // Writes every patch of levels [0, last_level] from `pyramid` with the bounds in `errors`.
 void writeLevels(const BuildContext& ctx, const LevelPyramid& pyramid, int last_level,
-                 const PatchErrors& errors, archive::ArchiveWriter& writer, const Progress& progress)
+                 const PatchErrors& errors, archive::ArchiveWriter& writer,
+                 const Progress& progress)
 {
     // Level by level, top-down: a progressive codec codes each patch from its parent's
     // reconstruction, kept for one level (the children of level l are all of level l+1).
@@ -371,21 +382,27 @@ void writeLevels(const BuildContext& ctx, const LevelPyramid& pyramid, int last_
         const int64_t first = g.firstPatchIndex(level);
         const bool keep = ctx.codec->needsParent(level + 1) && level < last_level;
         current.assign(keep ? static_cast<size_t>(g.patchCount(level)) : 0, {});
-        encodeAndWrite(g.patchCount(level), [&](int64_t k) {
-            const int64_t index = first + k;
-            const PatchId p = g.patchAt(index);
-            const PatchSummary summary{errors.min_code[index], errors.max_code[index], errors.err_appr[index]};
-            const uint16_t* parent = nullptr;
-            if (ctx.codec->needsParent(level))
-                parent = parents[g.patchIndex(p.parent()) - g.firstPatchIndex(level - 1)].data();
-            EncodedPatch e = encodePatch(ctx, pyramid.level(level), p, p, summary, parent);
-            if (index % 64 == 63)
-                reportProgress(progress, double(index + 1) / double(count));
-            return e;
-        }, writer, [&](int64_t k, EncodedPatch& e) {
-            if (keep)
-                current[k] = std::move(e.reconstruction);
-        });
+        encodeAndWrite(
+            g.patchCount(level),
+            [&](int64_t k) {
+                const int64_t index = first + k;
+                const PatchId p = g.patchAt(index);
+                const PatchSummary summary{errors.min_code[index], errors.max_code[index],
+                                           errors.err_appr[index]};
+                const uint16_t* parent = nullptr;
+                if (ctx.codec->needsParent(level))
+                    parent =
+                        parents[g.patchIndex(p.parent()) - g.firstPatchIndex(level - 1)].data();
+                EncodedPatch e = encodePatch(ctx, pyramid.level(level), p, p, summary, parent);
+                if (index % 64 == 63)
+                    reportProgress(progress, double(index + 1) / double(count));
+                return e;
+            },
+            writer,
+            [&](int64_t k, EncodedPatch& e) {
+                if (keep)
+                    current[k] = std::move(e.reconstruction);
+            });
         parents.swap(current);
     }
 }
@@ -401,8 +418,8 @@ std::optional<BuildReport> buildStreaming(const std::string& input, const std::s
 {
     const auto start = Clock::now();
     io::CodeRowReader source(input, options.ingest);
-    BuildContext ctx = makeContext(source.width(), source.height(), source.quantization(),
-                                   source.geo(), options);
+    BuildContext ctx =
+        makeContext(source.width(), source.height(), source.quantization(), source.geo(), options);
     const PyramidGeometry& g = ctx.geometry;
     const int finest = g.finestLevel();
     if (finest == 0)
@@ -420,7 +437,8 @@ std::optional<BuildReport> buildStreaming(const std::string& input, const std::s
     // are the finest at even positions, from which every coarser level's flags follow.
     const bool water = source.flagsWater();
     std::vector<uint8_t> strip_flags(water ? strip.size() : 0);
-    SampleFlagsGrid coarse_flags = water ? SampleFlagsGrid(coarse.width, coarse.height) : SampleFlagsGrid();
+    SampleFlagsGrid coarse_flags =
+        water ? SampleFlagsGrid(coarse.width, coarse.height) : SampleFlagsGrid();
 
     const int strips = g.patchesY(finest - 1);
     for (int k = 0; k < strips; ++k) {
@@ -434,23 +452,28 @@ std::optional<BuildReport> buildStreaming(const std::string& input, const std::s
         // 2. The finest patches of the two patch rows in the strip.
         for (int half = 0; half < 2 && 2 * k + half < g.patchesY(finest); ++half) {
             const int py = 2 * k + half;
-            encodeAndWrite(g.patchesX(finest), [&](int64_t x) {
-                PatchSampleFlags flags{PatchSampleFlags::Kind::None, n, {}};
-                if (water)
-                    flags = stripPatchFlags(strip_flags.data(), width, rows, n, int(x), half);
-                return encodePatch(ctx, strip_view, {finest, int(x), half}, {finest, int(x), py},
-                                   {}, nullptr, &flags);
-            }, writer, [&](int64_t x, EncodedPatch& e) {
-                const int64_t index = g.patchIndex({finest, int(x), py});
-                errors.min_code[index] = e.own_min;
-                errors.max_code[index] = e.own_max;
-            });
+            encodeAndWrite(
+                g.patchesX(finest),
+                [&](int64_t x) {
+                    PatchSampleFlags flags{PatchSampleFlags::Kind::None, n, {}};
+                    if (water)
+                        flags = stripPatchFlags(strip_flags.data(), width, rows, n, int(x), half);
+                    return encodePatch(ctx, strip_view, {finest, int(x), half},
+                                       {finest, int(x), py}, {}, nullptr, &flags);
+                },
+                writer,
+                [&](int64_t x, EncodedPatch& e) {
+                    const int64_t index = g.patchIndex({finest, int(x), py});
+                    errors.min_code[index] = e.own_min;
+                    errors.max_code[index] = e.own_max;
+                });
         }
 
         // 3. Level L-1 rows [kC, kC + C]: the strip's even samples (clamped at the edges).
         const int j_end = std::min(k * cells + cells, coarse.height - 1);
         for (int j = k * cells; j <= j_end; ++j) {
-            const uint16_t* src = strip.data() + static_cast<size_t>(std::min(2 * j - y0, rows - 1)) * width;
+            const uint16_t* src =
+                strip.data() + static_cast<size_t>(std::min(2 * j - y0, rows - 1)) * width;
             uint16_t* dst = coarse.codes.data() + static_cast<size_t>(j) * coarse.width;
             for (int i = 0; i < coarse.width; ++i)
                 dst[i] = src[std::min(2 * i, width - 1)];
@@ -463,12 +486,17 @@ std::optional<BuildReport> buildStreaming(const std::string& input, const std::s
 
         // 4. Err_Int of level L-1's patch row k, against the strip.
         const int parent_rows = j_end - k * cells + 1;
-        const LevelView parent_view{coarse.codes.data() + static_cast<size_t>(k) * cells * coarse.width,
-                                    coarse.width, parent_rows, 1, coarse.width, parent_rows};
+        const LevelView parent_view{coarse.codes.data() +
+                                        static_cast<size_t>(k) * cells * coarse.width,
+                                    coarse.width,
+                                    parent_rows,
+                                    1,
+                                    coarse.width,
+                                    parent_rows};
 #pragma omp parallel for schedule(dynamic, 1)
         for (int x = 0; x < g.patchesX(finest - 1); ++x)
-            errors.err_int[g.patchIndex({finest - 1, x, k})] =
-                static_cast<float>(interpolationError(parent_view, strip_view, n, {finest - 1, x, 0}));
+            errors.err_int[g.patchIndex({finest - 1, x, k})] = static_cast<float>(
+                interpolationError(parent_view, strip_view, n, {finest - 1, x, 0}));
         reportProgress(options.progress, 0.8 * double(k + 1) / strips);
     }
 
@@ -508,7 +536,8 @@ BuildReport buildFromRaster(const io::ElevationRaster& raster, const std::string
                                    raster.geo, options);
     const LevelPyramid pyramid(raster.grid, ctx.geometry, options.filter);
     if (!raster.nodata.empty())
-        ctx.validity = std::make_unique<ValidityPyramid>(raster.nodata, ctx.geometry, options.filter);
+        ctx.validity =
+            std::make_unique<ValidityPyramid>(raster.nodata, ctx.geometry, options.filter);
     if (!raster.flags.empty())
         ctx.flags = std::make_unique<SampleFlagsPyramid>(
             SampleFlagsGrid(raster.flags, raster.grid.width, raster.grid.height),

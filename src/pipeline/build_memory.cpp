@@ -127,7 +127,8 @@ BuildMemoryEstimate inMemoryEstimate(const io::RasterProbe& raster, const Pyrami
         uint64_t level_samples = 0;
         for (int l = 0; l <= g.finestLevel(); ++l)
             level_samples += levelSamples(g, l);
-        build.push_back({"kept-nodata mask and validity grids", samples + (2 * level_samples + 7) / 8});
+        build.push_back(
+            {"kept-nodata mask and validity grids", samples + (2 * level_samples + 7) / 8});
     }
     const bool lossy = isLossyCodec(options.codec);
     if (lossy)
@@ -196,8 +197,7 @@ void checkBuildMemory(const std::string& input, const io::RasterProbe& raster,
     throw Error(input + ": " + std::to_string(raster.width) + " x " +
                 std::to_string(raster.height) + " samples need about " + formatBytes(needed) +
                 " to build (" + estimate.describe() + "), but " + formatBytes(limit.bytes) +
-                " are available (" + limit.source +
-                "); raise memory_limit_bytes to override");
+                " are available (" + limit.source + "); raise memory_limit_bytes to override");
 }
 
 } // namespace ridge

@@ -60,14 +60,14 @@ ResolvedCamera resolveCameraPlacement(HeightQuery& query, const CameraPlacement&
         }
         checkParameters("camera position", &position.x, 3, lod::kCameraCoordinateRange);
         if (p.above_ground)
-            position.z += groundAt(query, {position.x, position.y}, "the camera position",
-                                   p.exaggeration);
+            position.z +=
+                groundAt(query, {position.x, position.y}, "the camera position", p.exaggeration);
         checkParameters("camera position", &position.x, 3, lod::kCameraCoordinateRange);
         out.position = position;
         if (p.heading_deg)
             // A point one kilometre ahead: lod::Camera only needs the direction.
-            out.look_at = position + 1000.0 * lod::headingPitchDirection(*p.heading_deg,
-                                                                          *p.pitch_deg);
+            out.look_at =
+                position + 1000.0 * lod::headingPitchDirection(*p.heading_deg, *p.pitch_deg);
     }
     if (p.look_at) {
         checkParameters("look-at point", &p.look_at->x, 3, lod::kCameraCoordinateRange);
@@ -75,9 +75,8 @@ ResolvedCamera resolveCameraPlacement(HeightQuery& query, const CameraPlacement&
     } else if (p.look_at_lonlat) {
         const glm::dvec3 ll = *p.look_at_lonlat;
         const glm::dvec2 local = geo.toLocal({ll.x, ll.y}, PointSpace::LonLat);
-        const double z = std::isnan(ll.z)
-                             ? groundAt(query, local, "the look-at point", p.exaggeration)
-                             : ll.z;
+        const double z =
+            std::isnan(ll.z) ? groundAt(query, local, "the look-at point", p.exaggeration) : ll.z;
         checkParameter("look-at height (m)", z, lod::kCameraCoordinateRange);
         out.look_at = glm::dvec3(local.x, local.y, z);
     }

@@ -62,7 +62,8 @@ std::string describe(const ProjectionWindow& p)
 }
 
 // gdal_translate's -projwin to -srcwin (nearest resampling, GDAL 3.6).
-ExtractWindow projwinToWindow(const ProjectionWindow& p, const std::optional<std::array<double, 6>>& level_gt)
+ExtractWindow projwinToWindow(const ProjectionWindow& p,
+                              const std::optional<std::array<double, 6>>& level_gt)
 {
     if (!level_gt)
         throw Error(describe(p) + ": the archive has no geotransform (its source was not "
@@ -94,7 +95,8 @@ io::SampleType chooseType(const ExtractOptions& options, const std::string& sour
     const std::string heights = "heights [" + formatNumber(*lo) + ", " + formatNumber(*hi) + "] m";
     if (options.output_type) {
         const io::SampleType t = io::sampleType(*options.output_type);
-        if (!(*lo >= t.lo && *hi <= t.hi) || (t.integer && !(std::round(*lo) >= t.lo && std::round(*hi) <= t.hi)))
+        if (!(*lo >= t.lo && *hi <= t.hi) ||
+            (t.integer && !(std::round(*lo) >= t.lo && std::round(*hi) <= t.hi)))
             throw Error("output_type " + t.name + " cannot hold the window's " + heights);
         report.type_reason = "requested";
         return t;
@@ -105,7 +107,8 @@ io::SampleType chooseType(const ExtractOptions& options, const std::string& sour
         for (const double v : values) {
             if (t.integer ? !t.holdsExactly(v) : !(v >= t.lo && v <= t.hi))
                 return false;
-            if (!t.integer && t.name == "Float32" && std::abs(double(float(v)) - v) > q.scale / 1024)
+            if (!t.integer && t.name == "Float32" &&
+                std::abs(double(float(v)) - v) > q.scale / 1024)
                 return false;
         }
         return true;
@@ -128,10 +131,9 @@ io::SampleType chooseType(const ExtractOptions& options, const std::string& sour
     }
     const io::SampleType fallback =
         holds(io::sampleType("Float32")) ? io::sampleType("Float32") : io::sampleType("Float64");
-    report.type_reason =
-        source ? "the source's " + source->name + " cannot hold the " + heights +
-                     (source->integer ? " exactly" : "")
-               : "the source's type '" + source_type + "' is not one ridge writes";
+    report.type_reason = source ? "the source's " + source->name + " cannot hold the " + heights +
+                                      (source->integer ? " exactly" : "")
+                                : "the source's type '" + source_type + "' is not one ridge writes";
     return fallback;
 }
 
@@ -187,8 +189,7 @@ ExtractReport extractLevel(const std::string& archive_path, const std::string& o
     ExtractWindow w = options.window.value_or(ExtractWindow{0, 0, level_w, level_h});
     if (options.projwin)
         w = projwinToWindow(*options.projwin, level_gt);
-    if (w.x < 0 || w.y < 0 || int64_t{w.x} + w.width > level_w ||
-        int64_t{w.y} + w.height > level_h)
+    if (w.x < 0 || w.y < 0 || int64_t{w.x} + w.width > level_w || int64_t{w.y} + w.height > level_h)
         throw Error((options.projwin ? describe(*options.projwin) + " (samples " : "window (") +
                     std::to_string(w.x) + " " + std::to_string(w.y) + " " +
                     std::to_string(w.width) + " " + std::to_string(w.height) +
@@ -222,7 +223,7 @@ ExtractReport extractLevel(const std::string& archive_path, const std::string& o
     report.output_type = type.name;
     for (size_t i = 0; i < metres.size(); ++i) {
         double& v = metres[i];
-        const double stored = type.integer ? std::round(v)
+        const double stored = type.integer             ? std::round(v)
                               : type.name == "Float32" ? double(float(v))
                                                        : v;
         if (isData(i))
@@ -250,15 +251,15 @@ ExtractReport extractLevel(const std::string& archive_path, const std::string& o
         }
         if (clashes)
             throw Error("nodata_value " + formatNumber(*nodata) + " is the height of " +
-                        std::to_string(clashes) + " extracted samples; choose a value no height has");
+                        std::to_string(clashes) +
+                        " extracted samples; choose a value no height has");
     }
     if (level_gt) {
         geo.geotransform = shifted(*level_gt, w.x, w.y);
         report.geotransform = geo.geotransform;
     }
     io::writeRaster(output, metres, grid.width, grid.height, type, geo,
-                    {options.output_format, options.creation_options, nodata},
-                    {archive_path});
+                    {options.output_format, options.creation_options, nodata}, {archive_path});
     reportDone(options.progress); // published: too late to cancel
     return report;
 }

@@ -68,8 +68,8 @@ bool HeightQuery::place(glm::dvec2 point, PointSpace space, HeightSample& out) c
     out.pixel = georeference_.toPixel(point, space);
     out.local = space == PointSpace::Local ? point : georeference_.localOfPixel(out.pixel);
     // The raster is its pixels' area; a NaN-safe test (finite by now anyway).
-    out.on_raster = out.pixel.x >= 0.0 && out.pixel.x <= double(g.width()) &&
-                    out.pixel.y >= 0.0 && out.pixel.y <= double(g.height());
+    out.on_raster = out.pixel.x >= 0.0 && out.pixel.x <= double(g.width()) && out.pixel.y >= 0.0 &&
+                    out.pixel.y <= double(g.height());
     return out.on_raster;
 }
 

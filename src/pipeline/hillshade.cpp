@@ -19,7 +19,10 @@ namespace ridge {
 
 namespace {
 
-uint8_t toByte(double v) { return static_cast<uint8_t>(std::clamp(std::lround(v * 255.0), 0L, 255L)); }
+uint8_t toByte(double v)
+{
+    return static_cast<uint8_t>(std::clamp(std::lround(v * 255.0), 0L, 255L));
+}
 
 } // namespace
 
@@ -32,8 +35,9 @@ void HillshadeOptions::validate() const
 }
 
 std::vector<uint8_t> shadeRelief(const std::vector<float>& metres, int width, int height,
-                                 double spacing_x, double spacing_y, const HillshadeOptions& options,
-                                 const std::vector<uint8_t>& valid, const std::vector<uint8_t>* water)
+                                 double spacing_x, double spacing_y,
+                                 const HillshadeOptions& options, const std::vector<uint8_t>& valid,
+                                 const std::vector<uint8_t>* water)
 {
     options.validate();
     const double spacing[2] = {spacing_x, spacing_y};
@@ -67,7 +71,8 @@ std::vector<uint8_t> shadeRelief(const std::vector<float>& metres, int width, in
     std::vector<uint8_t> pixels(count * channels, 0);
     int cx = 0, cy = 0; // the pixel being shaded
     auto h = [&](int x, int y) {
-        size_t i = static_cast<size_t>(std::clamp(y, 0, height - 1)) * width + std::clamp(x, 0, width - 1);
+        size_t i =
+            static_cast<size_t>(std::clamp(y, 0, height - 1)) * width + std::clamp(x, 0, width - 1);
         if (masked && !valid[i])
             i = static_cast<size_t>(cy) * width + cx;
         return double(metres[i]);
@@ -87,9 +92,9 @@ std::vector<uint8_t> shadeRelief(const std::vector<float>& metres, int width, in
                                 (8 * spacing_y) * options.z_factor;
             const double slope = std::atan(std::hypot(dzdx, dzdy));
             const double aspect = std::atan2(dzdy, -dzdx);
-            const double shade = std::max(0.0, std::cos(zenith) * std::cos(slope) +
-                                                   std::sin(zenith) * std::sin(slope) *
-                                                       std::cos(azimuth - aspect));
+            const double shade =
+                std::max(0.0, std::cos(zenith) * std::cos(slope) +
+                                  std::sin(zenith) * std::sin(slope) * std::cos(azimuth - aspect));
             uint8_t* out = pixels.data() + (static_cast<size_t>(y) * width + x) * channels;
             if (masked)
                 out[3] = 255;
@@ -130,11 +135,14 @@ void writeHillshade(const std::string& archive_path, const std::string& output,
     const std::vector<float> metres = toMetres(grid, reader.quantization());
     const double s = double(g.step(level));
     // Archives of format 4 say where water is; older ones are painted by the height rule.
-    const std::vector<uint8_t> pixels = shadeRelief(
-        metres, grid.width, grid.height, reader.header().spacing_x * s,
-        reader.header().spacing_y * s, options, valid, reader.storesSampleFlags() ? &flags : nullptr);
+    const std::vector<uint8_t> pixels =
+        shadeRelief(metres, grid.width, grid.height, reader.header().spacing_x * s,
+                    reader.header().spacing_y * s, options, valid,
+                    reader.storesSampleFlags() ? &flags : nullptr);
     io::writePng(output, pixels.data(), grid.width, grid.height,
-                 !valid.empty() ? 4 : options.colour ? 3 : 1);
+                 !valid.empty()   ? 4
+                 : options.colour ? 3
+                                  : 1);
     reportDone(options.progress); // published: too late to cancel
 }
 

@@ -105,9 +105,8 @@ ArchiveInfo readArchiveInfo(const std::string& archive_path)
         info.crs_name = crs.name;
         info.epsg = crs.epsg;
         if (!info.vertical_datum && crs.vertical.known())
-            info.vertical_datum = archive::VerticalDatumMetadata{crs.vertical.name,
-                                                                 crs.vertical.epsg,
-                                                                 crs.vertical.origin};
+            info.vertical_datum = archive::VerticalDatumMetadata{
+                crs.vertical.name, crs.vertical.epsg, crs.vertical.origin};
     } catch (const Error& e) {
         info.crs_note = e.what(); // the WKT PROJ cannot read is still printed whole by --json
     }

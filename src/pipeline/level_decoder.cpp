@@ -14,8 +14,8 @@ CodeGrid decodeLevelWindow(const archive::ArchiveReader& reader, int level, int 
 {
     const PyramidGeometry& g = reader.geometry();
     if (level < 0 || level >= g.levelCount())
-        throw Error(reader.path() + ": level " + std::to_string(level) + " does not exist (levels 0.." +
-                    std::to_string(g.levelCount() - 1) + ")");
+        throw Error(reader.path() + ": level " + std::to_string(level) +
+                    " does not exist (levels 0.." + std::to_string(g.levelCount() - 1) + ")");
     if (x0 < 0 || y0 < 0 || width <= 0 || height <= 0 ||
         int64_t{x0} + width > g.levelWidth(level) || int64_t{y0} + height > g.levelHeight(level))
         throw Error(reader.path() + ": window " + std::to_string(x0) + "," + std::to_string(y0) +
@@ -34,10 +34,12 @@ CodeGrid decodeLevelWindow(const archive::ArchiveReader& reader, int level, int 
     grid.codes.resize(static_cast<size_t>(width) * height);
     const int gx = x0 - patches.px0 * cells, gy = y0 - patches.py0 * cells;
     for (int j = 0; j < height; ++j)
-        std::copy_n(patches.grid.codes.data() + static_cast<size_t>(gy + j) * patches.grid.width + gx,
+        std::copy_n(patches.grid.codes.data() + static_cast<size_t>(gy + j) * patches.grid.width +
+                        gx,
                     width, &grid.at(0, j));
     // The window of a per-sample byte plane of `patches`; empty when it is all `uniform`.
-    auto window = [&](const std::vector<uint8_t>& plane, uint8_t uniform, std::vector<uint8_t>& out) {
+    auto window = [&](const std::vector<uint8_t>& plane, uint8_t uniform,
+                      std::vector<uint8_t>& out) {
         out.clear();
         if (plane.empty())
             return;
@@ -106,7 +108,8 @@ DecodedPatches decodePatches(const archive::ArchiveReader& reader, int level, in
             parent.resize(patch.size());
 #pragma omp for schedule(dynamic, 1)
         for (int64_t k = 0; k < int64_t{nx} * ny; ++k) {
-            const PatchId p{level, out.px0 + static_cast<int>(k % nx), out.py0 + static_cast<int>(k / nx)};
+            const PatchId p{level, out.px0 + static_cast<int>(k % nx),
+                            out.py0 + static_cast<int>(k / nx)};
             PatchValidity validity;
             PatchSampleFlags flags;
             try {
@@ -136,7 +139,8 @@ DecodedPatches decodePatches(const archive::ArchiveReader& reader, int level, in
                         plane[static_cast<size_t>(gy + j) * out.grid.width + gx + i] = byteOf(i, j);
             };
             if (!out.valid.empty() && validity.kind != PatchValidity::Kind::AllValid) {
-                writePlane(out.valid, [&](int i, int j) -> uint8_t { return validity.sampleValid(i, j); });
+                writePlane(out.valid,
+                           [&](int i, int j) -> uint8_t { return validity.sampleValid(i, j); });
 #pragma omp atomic write
                 any_invalid = true;
             }

@@ -11,10 +11,14 @@ namespace ridge {
 std::string_view pointSpaceName(PointSpace space)
 {
     switch (space) {
-    case PointSpace::Local: return "local";
-    case PointSpace::Pixel: return "pixel";
-    case PointSpace::Crs: return "crs";
-    case PointSpace::LonLat: return "lonlat";
+    case PointSpace::Local:
+        return "local";
+    case PointSpace::Pixel:
+        return "pixel";
+    case PointSpace::Crs:
+        return "crs";
+    case PointSpace::LonLat:
+        return "lonlat";
     }
     return "?";
 }
@@ -33,7 +37,7 @@ TerrainGeoreference::TerrainGeoreference(const archive::ArchiveReader& reader)
             throw Error(path_ + ": georeference.geotransform has a zero-area pixel (determinant " +
                         formatNumber(det) + "): cannot map coordinates to pixels");
         const double inv = 1.0 / det;
-        inverse_ = {(g[2] * g[3] - g[0] * g[5]) * inv, g[5] * inv, -g[2] * inv,
+        inverse_ = {(g[2] * g[3] - g[0] * g[5]) * inv,  g[5] * inv,  -g[2] * inv,
                     (-g[1] * g[3] + g[0] * g[4]) * inv, -g[4] * inv, g[1] * inv};
         // GDAL inverts a north-up geotransform without the determinant (GDALInvGeoTransform's
         // special case), which rounds differently: 1/gt1 is 1200 where gt5/det is
@@ -90,8 +94,10 @@ glm::dvec2 TerrainGeoreference::toPixel(glm::dvec2 point, PointSpace from) const
         checkParameters(std::string(pointSpaceName(from)) + " point", &point.x, 2,
                         ValueRange::any());
     switch (from) {
-    case PointSpace::Local: break;
-    case PointSpace::Pixel: return point;
+    case PointSpace::Local:
+        break;
+    case PointSpace::Pixel:
+        return point;
     case PointSpace::Crs: {
         const auto p = crsToPixel(point.x, point.y);
         return {p[0], p[1]};
@@ -129,8 +135,10 @@ glm::dvec2 TerrainGeoreference::fromLocal(glm::dvec2 local, PointSpace to) const
     const glm::dvec2 pixel{local.x / frame_.spacingX() + 0.5,
                            height - 0.5 - local.y / frame_.spacingY()};
     switch (to) {
-    case PointSpace::Local: return local;
-    case PointSpace::Pixel: return pixel;
+    case PointSpace::Local:
+        return local;
+    case PointSpace::Pixel:
+        return pixel;
     case PointSpace::Crs: {
         const auto crs = pixelToCrs(pixel.x, pixel.y);
         return {crs[0], crs[1]};

@@ -70,9 +70,8 @@ std::vector<uint8_t> finestFlags(const archive::ArchiveReader& reader, const Dec
 {
     if (!reader.storesSampleFlags())
         return {};
-    return finestPlane(reader, finest, [&](size_t patch, int i, int j) {
-        return finest.flags[patch].at(i, j);
-    });
+    return finestPlane(reader, finest,
+                       [&](size_t patch, int i, int j) { return finest.flags[patch].at(i, j); });
 }
 
 } // namespace verify_detail
@@ -118,7 +117,8 @@ void checkPatchMetadata(const ArchiveReader& reader, PatchId p, const uint16_t* 
     computeTessellationBlockErrors(codes, layout, computed.data());
     for (size_t i = 0; i < computed.size(); ++i) {
         if (stored[i] < computed[i] * q.scale * (1 - 1e-6)) {
-            problems.add(reader.describe(p) + ": stored tessellation block error is below the recomputed one");
+            problems.add(reader.describe(p) +
+                         ": stored tessellation block error is below the recomputed one");
             break;
         }
     }
@@ -269,9 +269,9 @@ VerifyReport verifyArchive(const std::string& archive_path, const VerifyOptions&
         if (const std::string& wkt = reader.metadata().georeference.crs_wkt; !wkt.empty())
             if (const std::string why = io::crsReadProblem(wkt); !why.empty())
                 problems.add(archive_path +
-                             ": metadata: georeference.crs_wkt is not a CRS PROJ can read (" +
-                             why + "): extract cannot write it and longitude/latitude cannot "
-                                   "be converted");
+                             ": metadata: georeference.crs_wkt is not a CRS PROJ can read (" + why +
+                             "): extract cannot write it and longitude/latitude cannot "
+                             "be converted");
 
         // 2. Every patch: checksum, mask, decode, min/max, λ, shared borders.
         const double decode_share = options.source ? 0.3 : 0.9;
@@ -282,7 +282,8 @@ VerifyReport verifyArchive(const std::string& archive_path, const VerifyOptions&
             lr.level = l;
             lr.patches = g.patchCount(l);
             const DecodedLevel* parents = reader.codec().needsParent(l) ? &levels[l - 1] : nullptr;
-            lr.max_err_bound = decodeAndCheckLevel(reader, l, levels[l], parents, failures, problems);
+            lr.max_err_bound =
+                decodeAndCheckLevel(reader, l, levels[l], parents, failures, problems);
             lr.level_bound = reader.levelErrorBound(l);
             report.levels.push_back(lr);
             report.patches_checked += lr.patches;

@@ -60,9 +60,8 @@ std::string describeMask(const PatchValidity& v)
     for (int j = 0; j < c; ++j)
         for (int i = 0; i < c; ++i)
             cells += v.cellDrawable(i, j);
-    return std::to_string(samples) + " of " + std::to_string(int64_t{n} * n) +
-           " samples valid, " + std::to_string(cells) + " of " + std::to_string(int64_t{c} * c) +
-           " cells drawable";
+    return std::to_string(samples) + " of " + std::to_string(int64_t{n} * n) + " samples valid, " +
+           std::to_string(cells) + " of " + std::to_string(int64_t{c} * c) + " cells drawable";
 }
 
 bool sameMask(const PatchValidity& a, const PatchValidity& b)
@@ -105,10 +104,10 @@ void checkErrorBounds(const ArchiveReader& reader, const std::vector<DecodedLeve
             }
             std::vector<uint16_t> samples(static_cast<size_t>(n) * n);
             for (int j = 0; j < n; ++j)
-                std::copy_n(&parent.grid.codes[static_cast<size_t>(p.y * cells + j) *
-                                                   parent.grid.width +
-                                               static_cast<size_t>(p.x) * cells],
-                            n, samples.data() + static_cast<size_t>(j) * n);
+                std::copy_n(
+                    &parent.grid.codes[static_cast<size_t>(p.y * cells + j) * parent.grid.width +
+                                       static_cast<size_t>(p.x) * cells],
+                    n, samples.data() + static_cast<size_t>(j) * n);
             const double err_int_codes = interpolationError(samples.data(), child_view, n, p);
             const double err_int = std::max(0.0, err_int_codes - slack_codes) * scale;
             const double required = err_int + double(worst_child);
@@ -202,8 +201,8 @@ void checkSampleFlagsPyramid(const ArchiveReader& reader, const std::vector<Deco
                                         [](uint8_t f) { return (f & kSampleWater) != 0; });
     if (water != reader.metadata().water.samples)
         problems.add(reader.path() + ": metadata: water.samples is " +
-                     std::to_string(reader.metadata().water.samples) + " but the finest level has " +
-                     std::to_string(water) + " water samples");
+                     std::to_string(reader.metadata().water.samples) +
+                     " but the finest level has " + std::to_string(water) + " water samples");
 }
 
 } // namespace ridge::verify_detail

@@ -88,7 +88,8 @@ void checkValidityPyramid(const archive::ArchiveReader& reader,
 // are not compared), and the finest flags (`finest_flags`, may be empty) against the source:
 // filled exactly on the voids the build filled, and water where the sea level says so (on
 // measured samples; a water layer only adds water, which the source cannot confirm).
-void compareWithSource(const archive::ArchiveReader& reader, const std::vector<DecodedLevel>& levels,
+void compareWithSource(const archive::ArchiveReader& reader,
+                       const std::vector<DecodedLevel>& levels,
                        const std::vector<uint8_t>& finest_valid,
                        const std::vector<uint8_t>& finest_flags, const std::string& source_path,
                        VerifyReport& report, ProblemList& problems, const Progress& progress);

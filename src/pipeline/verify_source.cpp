@@ -42,8 +42,8 @@ std::pair<int, int> patchSpan(int i, bool on_sample, int cells, int patches)
 }
 
 // Whether every patch of `level` in [x0, x1] × [y0, y1] decoded.
-bool decodedAround(const PyramidGeometry& g, int level, const DecodedLevel& decoded, int x0,
-                   int x1, int y0, int y1)
+bool decodedAround(const PyramidGeometry& g, int level, const DecodedLevel& decoded, int x0, int x1,
+                   int y0, int y1)
 {
     for (int y = y0; y <= y1; ++y)
         for (int x = x0; x <= x1; ++x)
@@ -79,8 +79,9 @@ void compareRow(const ArchiveReader& reader, int level, const DecodedLevel& deco
         const int i1 = std::min(i + 1, grid.width - 1);
         const auto [px_lo, px_hi] = patchSpan(i, tx == 0, cells, g.patchesX(level));
         // Only where every patch the surface reads from decoded (a failure is reported once).
-        if (!decodedAround(g, level, decoded, px_lo, std::max(px_hi, std::min(i1 / cells, g.patchesX(level) - 1)),
-                           py_lo, std::max(py_hi, std::min(j1 / cells, g.patchesY(level) - 1))))
+        if (!decodedAround(g, level, decoded, px_lo,
+                           std::max(px_hi, std::min(i1 / cells, g.patchesX(level) - 1)), py_lo,
+                           std::max(py_hi, std::min(j1 / cells, g.patchesY(level) - 1))))
             continue;
         const double top = grid.at(i, j) * (1 - tx) + grid.at(i1, j) * tx;
         const double bottom = grid.at(i, j1) * (1 - tx) + grid.at(i1, j1) * tx;
@@ -175,18 +176,21 @@ void compareVoids(const ArchiveReader& reader, const std::vector<uint8_t>& sourc
     if (over_kept_void)
         problems.add(path + std::to_string(over_kept_void) +
                      " finest samples are valid (drawn, exported as heights) where the source "
-                     "has voids that --fill-voids " + mode + " keeps as nodata");
+                     "has voids that --fill-voids " +
+                     mode + " keeps as nodata");
     if (over_filled_void)
         problems.add(path + std::to_string(over_filled_void) +
                      " finest samples are kept as nodata where the source has voids that "
-                     "--fill-voids " + mode + " fills");
+                     "--fill-voids " +
+                     mode + " fills");
 }
 
 // Filled flags exactly where the build filled a source void (a void the archive keeps valid),
 // water at least where the sea level says so on measured samples, and none beyond it unless a
 // water layer was given (which only it can confirm). `finest_valid` may be empty (all valid).
 void compareFlags(const ArchiveReader& reader, const std::vector<uint8_t>& source_void,
-                  const std::vector<uint8_t>& source_water, const std::vector<uint8_t>& finest_valid,
+                  const std::vector<uint8_t>& source_water,
+                  const std::vector<uint8_t>& finest_valid,
                   const std::vector<uint8_t>& finest_flags, ProblemList& problems)
 {
     const bool layer = reader.metadata().water.layer.has_value();
@@ -287,13 +291,14 @@ void compareWithSource(const ArchiveReader& reader, const std::vector<DecodedLev
         lr.level_violations = t.level_violations;
         if (t.violations)
             problems.add(reader.path() + ": level " + std::to_string(l) + ": " +
-                         std::to_string(t.violations) + " source samples deviate more than their patch's Err(P)");
+                         std::to_string(t.violations) +
+                         " source samples deviate more than their patch's Err(P)");
         if (t.level_violations)
             problems.add(reader.path() + ": level " + std::to_string(l) + ": " +
-                         std::to_string(t.level_violations) + " level samples deviate more than δ_l");
+                         std::to_string(t.level_violations) +
+                         " level samples deviate more than δ_l");
     }
     report.source_checked = true;
 }
-
 
 } // namespace ridge::verify_detail

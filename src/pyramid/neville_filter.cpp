@@ -27,7 +27,9 @@ constexpr float kTaps[5] = {46.f / 64, 16.f / 64, -8.f / 64, 0.f, 1.f / 64}; // 
 template <typename In, typename Out>
 void filterLine(const In* in, int n, int64_t stride, Out* out, int m, int64_t out_stride)
 {
-    auto sample = [&](int64_t k) { return static_cast<float>(in[std::clamp<int64_t>(k, 0, n - 1) * stride]); };
+    auto sample = [&](int64_t k) {
+        return static_cast<float>(in[std::clamp<int64_t>(k, 0, n - 1) * stride]);
+    };
     for (int i = 0; i < m; ++i) {
         const int64_t c = 2 * int64_t{i};
         float v = kTaps[0] * sample(c);

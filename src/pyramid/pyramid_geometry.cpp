@@ -17,7 +17,10 @@ bool isPatchSize(int size)
     return false;
 }
 
-int64_t ceilDiv(int64_t a, int64_t b) { return (a + b - 1) / b; }
+int64_t ceilDiv(int64_t a, int64_t b)
+{
+    return (a + b - 1) / b;
+}
 
 } // namespace
 
@@ -40,8 +43,7 @@ PyramidGeometry::PyramidGeometry(int width, int height, int patch_size)
         first_index_[l + 1] = first_index_[l] + patchCount(l);
 }
 
-PyramidGeometry PyramidGeometry::fromStored(int width, int height, int patch_size,
-                                            int level_count)
+PyramidGeometry PyramidGeometry::fromStored(int width, int height, int patch_size, int level_count)
 {
     PyramidGeometry g(width, height, patch_size);
     if (g.levelCount() != level_count)

@@ -56,8 +56,9 @@ SampleFlagsPyramid::SampleFlagsPyramid(SampleFlagsGrid grid, int base_level,
         grid_.height() != geometry.levelHeight(base_level))
         throw Error("internal error: sample flags of " + std::to_string(grid_.width()) + " x " +
                     std::to_string(grid_.height()) + " samples for level " +
-                    std::to_string(base_level) + " of " + std::to_string(geometry.levelWidth(base_level)) +
-                    " x " + std::to_string(geometry.levelHeight(base_level)));
+                    std::to_string(base_level) + " of " +
+                    std::to_string(geometry.levelWidth(base_level)) + " x " +
+                    std::to_string(geometry.levelHeight(base_level)));
     any_ = grid_.any();
 }
 

@@ -115,7 +115,8 @@ void computeTessellationBlockErrors(const uint16_t* patch, const TessellationBlo
             }
         }
         for (int i = 0; i < blocks * blocks; ++i)
-            out[static_cast<size_t>(i) * levels + d - 1] = static_cast<float>(double(worst[i]) / st);
+            out[static_cast<size_t>(i) * levels + d - 1] =
+                static_cast<float>(double(worst[i]) / st);
     }
 }
 

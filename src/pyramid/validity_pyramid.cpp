@@ -68,7 +68,8 @@ ValidityPyramid::ValidityPyramid(const std::vector<uint8_t>& nodata,
     for (int j = 0; j < H - 1; ++j)
         for (int i = 0; i < W - 1; ++i)
             finest_cells.bits[static_cast<size_t>(j) * (W - 1) + i] =
-                (finest.at(i, j) & finest.at(i + 1, j) & finest.at(i, j + 1) & finest.at(i + 1, j + 1)) != 0;
+                (finest.at(i, j) & finest.at(i + 1, j) & finest.at(i, j + 1) &
+                 finest.at(i + 1, j + 1)) != 0;
     for (int l = L - 1; l >= 0; --l) {
         const Grid& fine = cells_[l + 1];
         Grid& g = cells_[l];
@@ -78,7 +79,8 @@ ValidityPyramid::ValidityPyramid(const std::vector<uint8_t>& nodata,
         for (int j = 0; j < g.height; ++j)
             for (int i = 0; i < g.width; ++i)
                 g.bits[static_cast<size_t>(j) * g.width + i] =
-                    (fine.at(2 * int64_t{i}, 2 * int64_t{j}) & fine.at(2 * int64_t{i} + 1, 2 * int64_t{j}) &
+                    (fine.at(2 * int64_t{i}, 2 * int64_t{j}) &
+                     fine.at(2 * int64_t{i} + 1, 2 * int64_t{j}) &
                      fine.at(2 * int64_t{i}, 2 * int64_t{j} + 1) &
                      fine.at(2 * int64_t{i} + 1, 2 * int64_t{j} + 1)) != 0;
     }

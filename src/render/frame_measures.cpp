@@ -140,8 +140,9 @@ PoppingReport measurePopping(const SampleHeights& before, const SampleHeights& a
             glm::dvec2 xa, xb;
             if (!camera.project(pa, xa) || !camera.project(pb, xb))
                 continue;
-            const bool in_view = (xa.x >= 0 && xa.y >= 0 && xa.x <= vp.width && xa.y <= vp.height) ||
-                                 (xb.x >= 0 && xb.y >= 0 && xb.x <= vp.width && xb.y <= vp.height);
+            const bool in_view =
+                (xa.x >= 0 && xa.y >= 0 && xa.x <= vp.width && xa.y <= vp.height) ||
+                (xb.x >= 0 && xb.y >= 0 && xb.x <= vp.width && xb.y <= vp.height);
             const double depth = glm::dot(pa - camera.position(), camera.forward());
             if (!in_view || depth < camera.nearPlane())
                 continue;

@@ -18,8 +18,8 @@ class GpuJpeg2000Decoder {
 
     // `heights`: a complete GL_TEXTURE_2D_ARRAY of R16UI codes, patch_size² per layer. Call
     // glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT) before sampling the child.
-    void reconstruct(const Jpeg2000Difference& d, int child_index, GLuint heights,
-                     int parent_layer, int child_layer);
+    void reconstruct(const Jpeg2000Difference& d, int child_index, GLuint heights, int parent_layer,
+                     int child_layer);
 
   private:
     int n_;

@@ -23,10 +23,10 @@ class GpuProgressiveDecoder {
     // codes land in `child_layer`; call glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT) before
     // sampling them.
     struct Child {
-        int child_index = 0;       // quadrant in the parent
-        LevelQuantizer quantizer;  // the child level's
+        int child_index = 0;      // quadrant in the parent
+        LevelQuantizer quantizer; // the child level's
         OddPredictor predictor = OddPredictor::Cubic;
-        CodedRegion region;        // the samples the residuals cover (v1: the whole patch)
+        CodedRegion region; // the samples the residuals cover (v1: the whole patch)
         const PredictorWeights* weights = nullptr; // v2's corrections of the level, or none
     };
     void reconstruct(const int32_t* residuals, GLuint heights, int parent_layer, int child_layer,

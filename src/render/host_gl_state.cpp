@@ -20,16 +20,16 @@ constexpr GLenum kTextureBindings[] = {GL_TEXTURE_BINDING_1D, GL_TEXTURE_BINDING
                                        GL_TEXTURE_BINDING_2D_ARRAY};
 // Unpacking parameters ridge's uploads assume at GL's defaults (0, false); alignment is set
 // by each upload and saved with them.
-constexpr GLenum kUnpackParameters[] = {GL_UNPACK_ROW_LENGTH,  GL_UNPACK_IMAGE_HEIGHT,
-                                        GL_UNPACK_SKIP_PIXELS, GL_UNPACK_SKIP_ROWS,
-                                        GL_UNPACK_SKIP_IMAGES, GL_UNPACK_SWAP_BYTES,
-                                        GL_UNPACK_LSB_FIRST};
-constexpr GLenum kSwitches[] = {GL_DEPTH_TEST,         GL_CULL_FACE,          GL_BLEND,
-                                GL_RASTERIZER_DISCARD, GL_POLYGON_OFFSET_FILL, GL_POLYGON_OFFSET_LINE,
-                                GL_POLYGON_OFFSET_POINT};
+constexpr GLenum kUnpackParameters[] = {
+    GL_UNPACK_ROW_LENGTH,  GL_UNPACK_IMAGE_HEIGHT, GL_UNPACK_SKIP_PIXELS, GL_UNPACK_SKIP_ROWS,
+    GL_UNPACK_SKIP_IMAGES, GL_UNPACK_SWAP_BYTES,   GL_UNPACK_LSB_FIRST};
+constexpr GLenum kSwitches[] = {
+    GL_DEPTH_TEST,          GL_CULL_FACE,           GL_BLEND,
+    GL_RASTERIZER_DISCARD,  GL_POLYGON_OFFSET_FILL, GL_POLYGON_OFFSET_LINE,
+    GL_POLYGON_OFFSET_POINT};
 // Switched off while ridge works (it enables what it needs itself).
-constexpr GLenum kOffWhileRidgeWorks[] = {GL_CULL_FACE,          GL_BLEND,
-                                          GL_RASTERIZER_DISCARD, GL_POLYGON_OFFSET_FILL,
+constexpr GLenum kOffWhileRidgeWorks[] = {GL_CULL_FACE,           GL_BLEND,
+                                          GL_RASTERIZER_DISCARD,  GL_POLYGON_OFFSET_FILL,
                                           GL_POLYGON_OFFSET_LINE, GL_POLYGON_OFFSET_POINT};
 
 GLint integer(GLenum name)
@@ -143,13 +143,13 @@ HostGlState::HostGlState(const char* where) : saved_(std::make_unique<Saved>())
         b.format = integerAt(GL_IMAGE_BINDING_FORMAT, i);
     }
     for (GLuint i = 0; i < GLuint(kStorageBindings); ++i)
-        s.storage[i] = bufferBinding(GL_SHADER_STORAGE_BUFFER_BINDING,
-                                     GL_SHADER_STORAGE_BUFFER_START,
-                                     GL_SHADER_STORAGE_BUFFER_SIZE, i);
+        s.storage[i] =
+            bufferBinding(GL_SHADER_STORAGE_BUFFER_BINDING, GL_SHADER_STORAGE_BUFFER_START,
+                          GL_SHADER_STORAGE_BUFFER_SIZE, i);
     s.storage_generic = integer(GL_SHADER_STORAGE_BUFFER_BINDING);
-    s.feedback = bufferBinding(GL_TRANSFORM_FEEDBACK_BUFFER_BINDING,
-                               GL_TRANSFORM_FEEDBACK_BUFFER_START,
-                               GL_TRANSFORM_FEEDBACK_BUFFER_SIZE, 0);
+    s.feedback =
+        bufferBinding(GL_TRANSFORM_FEEDBACK_BUFFER_BINDING, GL_TRANSFORM_FEEDBACK_BUFFER_START,
+                      GL_TRANSFORM_FEEDBACK_BUFFER_SIZE, 0);
     s.feedback_generic = integer(GL_TRANSFORM_FEEDBACK_BUFFER_BINDING);
     s.pack_buffer = integer(GL_PIXEL_PACK_BUFFER_BINDING);
     s.unpack_buffer = integer(GL_PIXEL_UNPACK_BUFFER_BINDING);

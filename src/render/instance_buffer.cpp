@@ -34,7 +34,8 @@ PatchInstances InstanceBuffer::write(TerrainScheme& scheme, const lod::Camera& c
     PatchInstances built;
     if (!scheme.buildInstances(camera, settings, built))
         built = buildPatchInstances(
-            quadtree_, selection, camera.position(), [&](PatchId p) { return residency_.slotOf(p); },
+            quadtree_, selection, camera.position(),
+            [&](PatchId p) { return residency_.slotOf(p); },
             [&](PatchId p) { return scheme.meshDeviation(residency_.slotOf(p)); },
             skirt_margin_ * std::max(k, 1.0) + 1e-6 * z_rel, k);
     scheme.completeInstances(lod_camera, settings, built);

@@ -23,9 +23,9 @@ constexpr std::array<std::array<uint8_t, 5>, 10> kDigits = {{
     {7, 5, 7, 5, 7}, // 8
     {7, 5, 7, 1, 7}, // 9
 }};
-constexpr int kScale = 2;                   // font pixels per glyph bit
+constexpr int kScale = 2; // font pixels per glyph bit
 constexpr int kGlyphW = 3 * kScale, kGlyphH = 5 * kScale;
-constexpr int kSwatch = 12;                 // pixels
+constexpr int kSwatch = 12; // pixels
 constexpr int kRowH = kSwatch + 4;
 constexpr int kMargin = 6;
 
@@ -62,7 +62,10 @@ struct Canvas {
     }
 };
 
-int labelWidth(const std::string& s) { return int(s.size()) * (kGlyphW + kScale); }
+int labelWidth(const std::string& s)
+{
+    return int(s.size()) * (kGlyphW + kScale);
+}
 
 } // namespace
 

@@ -8,8 +8,7 @@ namespace ridge::render {
 
 namespace {
 
-template <size_t N>
-std::vector<float> packStops(const std::array<palette::Stop, N>& stops)
+template <size_t N> std::vector<float> packStops(const std::array<palette::Stop, N>& stops)
 {
     std::vector<float> packed;
     for (const palette::Stop& s : stops)
@@ -26,8 +25,8 @@ void setPaletteUniforms(const gpu::ShaderProgram& program)
     const std::vector<float> water = packStops(palette::kWaterStops);
     glProgramUniform4fv(id, program.uniform("u_land_stops"), GLsizei(palette::kLandStops.size()),
                         land.data());
-    glProgramUniform4fv(id, program.uniform("u_water_stops"),
-                        GLsizei(palette::kWaterStops.size()), water.data());
+    glProgramUniform4fv(id, program.uniform("u_water_stops"), GLsizei(palette::kWaterStops.size()),
+                        water.data());
     std::vector<float> levels;
     for (const palette::Rgb& c : palette::kLevelColours)
         levels.insert(levels.end(), {c.r, c.g, c.b});

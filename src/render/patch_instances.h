@@ -17,7 +17,7 @@ struct GpuPatchInstance {
     int32_t origin[2]; // finest column, row of sample (0, 0) relative to the camera anchor
     int32_t step;      // finest samples per patch cell
     float morph;       // geomorph: t towards the parent's surface (0 for other schemes)
-    int32_t layer; // texture-array slot
+    int32_t layer;     // texture-array slot
     int32_t level;
     float err;         // Err(P), metres
     float skirt_depth; // metres below the patch border

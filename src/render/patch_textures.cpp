@@ -264,8 +264,8 @@ std::vector<uint16_t> PatchTextures::readCodes(int slot) const
 {
     std::vector<uint16_t> codes(size_t(n_) * n_);
     glPixelStorei(GL_PACK_ALIGNMENT, 2);
-    glGetTextureSubImage(heights_.id(), 0, 0, 0, slot, n_, n_, 1, GL_RED_INTEGER,
-                         GL_UNSIGNED_SHORT, GLsizei(codes.size() * sizeof(uint16_t)), codes.data());
+    glGetTextureSubImage(heights_.id(), 0, 0, 0, slot, n_, n_, 1, GL_RED_INTEGER, GL_UNSIGNED_SHORT,
+                         GLsizei(codes.size() * sizeof(uint16_t)), codes.data());
     glPixelStorei(GL_PACK_ALIGNMENT, 4);
     gpu::checkGlError("patch textures: read codes");
     return codes;

@@ -222,7 +222,8 @@ lod::Selection ResidentSet::stream(const lod::Selection& desired, lod::PatchSele
 lod::Selection ResidentSet::cover(lod::Selection selection, lod::PatchSelector& selector) const
 {
     lod::ResidentCover drawn;
-    selector.cover(selection, [&](PatchId p) { return residency_.slotOf(p) >= 0; }, drawn);
+    selector.cover(
+        selection, [&](PatchId p) { return residency_.slotOf(p) >= 0; }, drawn);
     selection.patches = std::move(drawn.patches);
     return selection;
 }

@@ -17,11 +17,7 @@ SchemeInfo ringsScheme();
 const std::vector<SchemeInfo>& schemeRegistry()
 {
     static const std::vector<SchemeInfo> registry = {
-        tessellationScheme(),
-        chunkedScheme(),
-        bruteForceScheme(),
-        geomorphScheme(),
-        ringsScheme(),
+        tessellationScheme(), chunkedScheme(), bruteForceScheme(), geomorphScheme(), ringsScheme(),
     };
     return registry;
 }

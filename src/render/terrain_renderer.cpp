@@ -106,9 +106,8 @@ struct TerrainRenderer::Impl {
     // The triangles of frame.instances (already in the instance buffer) drawn as `frame`.
     CapturedSurface captureInstances(TerrainScheme& scheme, const SchemeFrame& frame)
     {
-        return surface_capture.capture(scheme, frame, [&](const gpu::ShaderProgram& p) {
-            setUniforms(scheme, p, frame);
-        });
+        return surface_capture.capture(
+            scheme, frame, [&](const gpu::ShaderProgram& p) { setUniforms(scheme, p, frame); });
     }
 };
 
@@ -202,7 +201,10 @@ const lod::PatchQuadtree& TerrainRenderer::quadtree() const
     return impl_->quadtree;
 }
 
-int TerrainRenderer::blockCells() const { return impl_->reader.blockLayout().block_cells; }
+int TerrainRenderer::blockCells() const
+{
+    return impl_->reader.blockLayout().block_cells;
+}
 
 const std::vector<std::string>& TerrainRenderer::schemes() const
 {
@@ -290,7 +292,8 @@ FrameStats TerrainRenderer::draw(const lod::Camera& camera, const RenderSettings
 
     // ridge's own frame is reverse-Z; a host's is whatever its projection and convention are.
     const bool greater = !host || host->greater;
-    glClipControl(GL_LOWER_LEFT, !host || host->zero_to_one ? GL_ZERO_TO_ONE : GL_NEGATIVE_ONE_TO_ONE);
+    glClipControl(GL_LOWER_LEFT,
+                  !host || host->zero_to_one ? GL_ZERO_TO_ONE : GL_NEGATIVE_ONE_TO_ONE);
     glDepthMask(GL_TRUE);
     if (s.clear) {
         glClearColor(s.clear_colour.r, s.clear_colour.g, s.clear_colour.b, s.clear_colour.a);

@@ -68,8 +68,8 @@ struct SchemeResources {
 
 // One frame's inputs to a scheme's draw, after selection, residency and instance records.
 struct SchemeFrame {
-    const lod::Camera& camera;     // the camera drawn from
-    const lod::Camera& lod_camera; // the camera LOD decisions are made for (usually the same)
+    const lod::Camera& camera;      // the camera drawn from
+    const lod::Camera& lod_camera;  // the camera LOD decisions are made for (usually the same)
     const RenderSettings& settings; // with the ε actually met
     const PatchInstances& instances;
 };

@@ -123,9 +123,9 @@ RenderBenchReport runRenderBench(const std::string& archive, const RenderBenchOp
         std::vector<uint8_t> background(depth.size());
         for (size_t i = 0; i < depth.size(); ++i)
             background[i] = depth[i] == 0.f; // reverse-Z clears to 0: nothing drawn
-        const render::HoleReport holes = render::countHolePixels(
-            background, camera, renderer.quadtree().frame(), k * root.min_height,
-            k * root.max_height);
+        const render::HoleReport holes =
+            render::countHolePixels(background, camera, renderer.quadtree().frame(),
+                                    k * root.min_height, k * root.max_height);
         f.hole_pixels = holes.hole_pixels;
         f.footprint_pixels = holes.footprint_pixels;
         if (!before.z.empty()) { // ... and with this frame's, as drawn

@@ -276,9 +276,10 @@ std::string formatRenderBenchTable(const std::vector<RenderBenchReport>& reports
         for (const FrameRecord& f : r.frames)
             select.push_back(f.select_ms);
         const FrameStatistics s = frameStatistics(select);
-        out += fmt::format("{:<44} {:>8.1f} {:>8.1f} {:>8.1f} {:>10} {:>11.0f} {:>8.1f} {:>10.3f} {:>7}\n",
-                           name, r.fps_min, r.fps_max, r.fps_median, r.cache_misses,
-                           r.triangles_mean, r.mtri_per_s, s.median, r.frames_coarser);
+        out += fmt::format(
+            "{:<44} {:>8.1f} {:>8.1f} {:>8.1f} {:>10} {:>11.0f} {:>8.1f} {:>10.3f} {:>7}\n", name,
+            r.fps_min, r.fps_max, r.fps_median, r.cache_misses, r.triangles_mean, r.mtri_per_s,
+            s.median, r.frames_coarser);
     }
     return out;
 }

@@ -30,10 +30,13 @@ bool makeContext()
         if (!eglBindAPI(EGL_OPENGL_API) ||
             !eglChooseConfig(display, config_attributes, &config, 1, &count) || count == 0)
             return false;
-        const EGLint context_attributes[] = {EGL_CONTEXT_MAJOR_VERSION, 4,
-                                             EGL_CONTEXT_MINOR_VERSION, 5,
+        const EGLint context_attributes[] = {EGL_CONTEXT_MAJOR_VERSION,
+                                             4,
+                                             EGL_CONTEXT_MINOR_VERSION,
+                                             5,
                                              EGL_CONTEXT_OPENGL_PROFILE_MASK,
-                                             EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+                                             EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                                             EGL_NONE};
         const EGLContext context =
             eglCreateContext(display, config, EGL_NO_CONTEXT, context_attributes);
         if (context == EGL_NO_CONTEXT)
@@ -74,7 +77,10 @@ Vec3 cross(const Vec3& a, const Vec3& b)
     return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
 
-double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+double dot(const Vec3& a, const Vec3& b)
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
 
 } // namespace
 
@@ -83,8 +89,8 @@ Mat4 lookAt(const Vec3& eye, const Vec3& target)
     const Vec3 f = normalize({target[0] - eye[0], target[1] - eye[1], target[2] - eye[2]});
     const Vec3 s = normalize(cross(f, {0.0, 0.0, 1.0}));
     const Vec3 u = cross(s, f);
-    return {s[0], u[0], -f[0], 0.0, s[1], u[1], -f[1], 0.0, s[2], u[2], -f[2], 0.0,
-            -dot(s, eye), -dot(u, eye), dot(f, eye), 1.0};
+    return {s[0], u[0], -f[0], 0.0, s[1],         u[1],         -f[1],       0.0,
+            s[2], u[2], -f[2], 0.0, -dot(s, eye), -dot(u, eye), dot(f, eye), 1.0};
 }
 
 Mat4 perspective(double fov_y_degrees, double aspect, double n, double f,

@@ -75,8 +75,8 @@ const char* nameOf(ridge::DepthConvention c)
                                                     : "ReverseZ";
 }
 
-#define REQUIRE_GL()                                                                              \
-    if (!host::makeContext())                                                                     \
+#define REQUIRE_GL()                                                                               \
+    if (!host::makeContext())                                                                      \
     GTEST_SKIP() << "no OpenGL 4.5 core context through EGL"
 
 TEST(HostScene, HostGeometryIntersectsTheTerrainWithCorrectDepth)
@@ -110,8 +110,8 @@ TEST(HostScene, HostGeometryIntersectsTheTerrainWithCorrectDepth)
         const host::Mat4 projection =
             host::perspective(40.0, double(kWidth) / kHeight, 10.0, 2e5, convention);
         ASSERT_TRUE(host::project(view, projection, kWidth, kHeight, top, gx, gy));
-        ASSERT_TRUE(host::project(view, projection, kWidth, kHeight,
-                                  {top[0], top[1], pole_hi[2]}, tx, ty));
+        ASSERT_TRUE(
+            host::project(view, projection, kWidth, kHeight, {top[0], top[1], pole_hi[2]}, tx, ty));
         ridge::HostView hv;
         hv.view = view;
         hv.projection = projection;
@@ -123,7 +123,8 @@ TEST(HostScene, HostGeometryIntersectsTheTerrainWithCorrectDepth)
         draw.sky = false;
         draw.max_screen_error_px = 1.0;
         for (const bool pole_first : {true, false}) {
-            SCOPED_TRACE(std::string(nameOf(convention)) + (pole_first ? ", pole first" : ", terrain first"));
+            SCOPED_TRACE(std::string(nameOf(convention)) +
+                         (pole_first ? ", pole first" : ", terrain first"));
             target.bind();
             host::beginHostFrame(convention, {0.f, 0.f, 0.f, 1.f});
             if (pole_first)
@@ -518,14 +519,28 @@ TEST(HostScene, ARolledOffCentreHostFrustumIsDrawnToItsCorners)
     const double cy = 0.5 * double(terrain.info().height) * terrain.info().spacing_y;
     const host::Mat4 look = host::lookAt({cx, cy - 1500.0, 9500.0}, {cx, cy, 5400.0});
     const double roll = 35.0 * M_PI / 180.0;
-    const host::Mat4 rotate_eye_z{std::cos(roll), std::sin(roll), 0, 0, -std::sin(roll),
-                                  std::cos(roll), 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+    const host::Mat4 rotate_eye_z{std::cos(roll),
+                                  std::sin(roll),
+                                  0,
+                                  0,
+                                  -std::sin(roll),
+                                  std::cos(roll),
+                                  0,
+                                  0,
+                                  0,
+                                  0,
+                                  1,
+                                  0,
+                                  0,
+                                  0,
+                                  0,
+                                  1};
     ridge::HostView hv;
     hv.view = host::multiply(rotate_eye_z, look);
     hv.projection = host::perspective(50.0, double(kWidth) / kHeight, 5.0, 1e5,
                                       ridge::DepthConvention::ZeroToOne);
-    hv.projection[8] = 0.3;   // off-centre: x_ndc += 0.3 at every depth
-    hv.projection[9] = -0.2;  // and y_ndc −= 0.2
+    hv.projection[8] = 0.3;  // off-centre: x_ndc += 0.3 at every depth
+    hv.projection[9] = -0.2; // and y_ndc −= 0.2
     hv.width = kWidth;
     hv.height = kHeight;
     hv.depth = ridge::DepthConvention::ZeroToOne;
@@ -542,8 +557,9 @@ TEST(HostScene, ARolledOffCentreHostFrustumIsDrawnToItsCorners)
             background += isColour(rgba, x, y, {255, 0, 255});
     EXPECT_EQ(background, 0) << "pixels of the view without terrain";
     // Each corner pixel picks a terrain point, on the ray through it.
-    for (const auto& [x, y] : {std::pair{0.5, 0.5}, std::pair{kWidth - 0.5, 0.5},
-                              std::pair{0.5, kHeight - 0.5}, std::pair{kWidth - 0.5, kHeight - 0.5}})
+    for (const auto& [x, y] :
+         {std::pair{0.5, 0.5}, std::pair{kWidth - 0.5, 0.5}, std::pair{0.5, kHeight - 0.5},
+          std::pair{kWidth - 0.5, kHeight - 0.5}})
         EXPECT_TRUE(renderer.pick(x, y).has_value()) << x << "," << y;
 }
 
@@ -632,9 +648,9 @@ TEST(HostScene, WaitForStreamingHonoursItsTimeout)
     EXPECT_FALSE(renderer.waitForStreaming(0.0));
     const auto t0 = std::chrono::steady_clock::now();
     EXPECT_TRUE(renderer.waitForStreaming(60.0));
-    std::printf("%d patches missing; decoded %.1f ms after draw() returned\n", frame.missing,
-                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
-                    .count());
+    std::printf(
+        "%d patches missing; decoded %.1f ms after draw() returned\n", frame.missing,
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
     EXPECT_TRUE(renderer.waitForStreaming(0.0)); // idle, nothing new requested
     for (int k = 0; k < 200 && frame.missing > 0; ++k) {
         frame = renderer.draw(pose, kWidth, kHeight, draw);

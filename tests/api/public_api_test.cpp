@@ -236,8 +236,7 @@ TEST(PublicApi, KeptNodataHasNoHeight)
     EXPECT_EQ(ridge::build(dataPath("everest_utm44.tif"), filled, p).voids_kept, 0);
     EXPECT_TRUE(ridge::Terrain(filled).height(corner.x, corner.y).has_value());
     p.fill_voids = "some";
-    EXPECT_THROW(ridge::build(dataPath("everest_utm44.tif"), dir.path("x.ridge"), p),
-                 ridge::Error);
+    EXPECT_THROW(ridge::build(dataPath("everest_utm44.tif"), dir.path("x.ridge"), p), ridge::Error);
 }
 
 } // namespace

@@ -56,9 +56,11 @@ TEST(TerrainQueries, BatchesAnswerWhatHeightAnswersInEverySpace)
         for (const auto& p : local) {
             lonlat.push_back(terrain.lonLatFromLocal(p[0], p[1]));
             const double column = p[0] / terrain.info().spacing_x + 0.5;
-            const double line = double(terrain.info().height) - 0.5 - p[1] / terrain.info().spacing_y;
+            const double line =
+                double(terrain.info().height) - 0.5 - p[1] / terrain.info().spacing_y;
             pixel.push_back({column, line});
-            crs.push_back({gt[0] + column * gt[1] + line * gt[2], gt[3] + column * gt[4] + line * gt[5]});
+            crs.push_back(
+                {gt[0] + column * gt[1] + line * gt[2], gt[3] + column * gt[4] + line * gt[5]});
         }
         for (const int level : {-1, 1}) {
             ridge::QueryParameters q;
@@ -109,7 +111,8 @@ TEST(TerrainQueries, NearestIsTheSampleOfThePixelAndNodataIsPerSample)
     const ridge::Terrain terrain(build(dir, "everest_utm44.tif", "lossless")); // kept collar
     const ridge::TerrainInfo& info = terrain.info();
     std::mt19937 rng(7);
-    std::uniform_real_distribution<double> px(0.0, double(info.width)), py(0.0, double(info.height));
+    std::uniform_real_distribution<double> px(0.0, double(info.width)),
+        py(0.0, double(info.height));
     std::vector<std::array<double, 2>> points, centres;
     for (int k = 0; k < 5000; ++k) {
         const double p = px(rng), l = py(rng);
@@ -171,7 +174,8 @@ TEST(TerrainQueries, BadPointsAreReportedAndBadRequestsRefused)
     // No CRS: longitude/latitude are refused for the batch, pixels still answer.
     const std::string png = dir.path("plain.png");
     ASSERT_EQ(ridge::test::runShell("gdal_translate -q -of PNG -ot UInt16 -scale 3000 9000 0 "
-                                    "65535 '" + dataPath("everest_crop.tif") + "' '" + png + "'")
+                                    "65535 '" +
+                                    dataPath("everest_crop.tif") + "' '" + png + "'")
                   .exit_code,
               0);
     std::filesystem::remove(png + ".aux.xml");

@@ -174,10 +174,10 @@ TEST(BenchCli, SeparatesFramesAtFullDetailAndTimesFullDetailAfterEachTeleport)
             test::runRidge("bench '" + arc + "' --path teleport --frames 130 --size 160x90" +
                            streaming + " --json-file '" + json + "'");
         ASSERT_EQ(r.exit_code, 0) << r.output;
-        for (const char* phrase : {"frames at full detail", "frames drawn coarser",
-                                   "time to full detail      start ", "after 2 teleports",
-                                   "scheme frame time", "warm-up (frame 0)",
-                                   "not measured (--popping measures it)"})
+        for (const char* phrase :
+             {"frames at full detail", "frames drawn coarser", "time to full detail      start ",
+              "after 2 teleports", "scheme frame time", "warm-up (frame 0)",
+              "not measured (--popping measures it)"})
             EXPECT_NE(r.output.find(phrase), std::string::npos) << phrase << " in:\n" << r.output;
         std::ifstream in(json);
         const nlohmann::json j = nlohmann::json::parse(in);
@@ -257,8 +257,8 @@ TEST(BenchCli, UploadTimeBudgetFollowsTheFrameTimeUnlessFixed)
     // always goes through; most of a frame's time lets several (a teleport has many waiting).
     EXPECT_EQ(most_uploads[1], 1);
     EXPECT_GT(most_uploads[0], 1);
-    for (const std::string bad : {"--upload-frame-fraction 1", "--upload-frame-fraction nan",
-                                  "--upload-max-ms 0"}) {
+    for (const std::string bad :
+         {"--upload-frame-fraction 1", "--upload-frame-fraction nan", "--upload-max-ms 0"}) {
         const test::CommandResult r = test::runRidge("bench '" + arc + "' --frames 3 " + bad);
         EXPECT_EQ(r.exit_code, 2) << bad << ": " << r.output;
         EXPECT_NE(r.output.find(bad.substr(0, bad.find(' '))), std::string::npos) << r.output;

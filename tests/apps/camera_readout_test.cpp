@@ -42,9 +42,10 @@ TEST(CameraReadout, LabelsEachCoordinateWithItsFrame)
 {
     test::ScratchDir dir;
     const std::string arc = dir.path("utm.ridge");
-    ASSERT_EQ(test::runRidge("build '" + test::dataPath("everest_utm45.tif") + "' -o '" + arc + "' -q")
-                  .exit_code,
-              0);
+    ASSERT_EQ(
+        test::runRidge("build '" + test::dataPath("everest_utm45.tif") + "' -o '" + arc + "' -q")
+            .exit_code,
+        0);
     const archive::ArchiveReader reader(arc);
     const cli::CameraReadout readout(reader);
     const TerrainGeoreference geo(reader);
@@ -73,9 +74,10 @@ TEST(CameraReadout, GeographicAndUngeoreferencedArchives)
 {
     test::ScratchDir dir;
     const std::string arc = dir.path("geo.ridge");
-    ASSERT_EQ(test::runRidge("build '" + test::dataPath("everest_crop.tif") + "' -o '" + arc + "' -q")
-                  .exit_code,
-              0);
+    ASSERT_EQ(
+        test::runRidge("build '" + test::dataPath("everest_crop.tif") + "' -o '" + arc + "' -q")
+            .exit_code,
+        0);
     {
         const archive::ArchiveReader reader(arc);
         const std::vector<std::string> lines =
@@ -86,12 +88,14 @@ TEST(CameraReadout, GeographicAndUngeoreferencedArchives)
     }
     // The same heights as a plain PNG: no geotransform, no CRS.
     const std::string png = dir.path("plain.png");
-    ASSERT_EQ(test::runShell("gdal_translate -q -of PNG -ot UInt16 '" + test::dataPath("everest_crop.tif") +
-                             "' '" + png + "' && rm -f '" + png + ".aux.xml'")
+    ASSERT_EQ(test::runShell("gdal_translate -q -of PNG -ot UInt16 '" +
+                             test::dataPath("everest_crop.tif") + "' '" + png + "' && rm -f '" +
+                             png + ".aux.xml'")
                   .exit_code,
               0);
     const std::string plain = dir.path("plain.ridge");
-    ASSERT_EQ(test::runRidge("build '" + png + "' -o '" + plain + "' -q --spacing 90").exit_code, 0);
+    ASSERT_EQ(test::runRidge("build '" + png + "' -o '" + plain + "' -q --spacing 90").exit_code,
+              0);
     const archive::ArchiveReader reader(plain);
     const std::vector<std::string> lines =
         cli::CameraReadout(reader).positionLines({100.0, 200.0, 5000.0});

@@ -16,10 +16,10 @@
 #include <filesystem>
 #include <map>
 #include <optional>
-#include <tuple>
 #include <regex>
 #include <set>
 #include <string>
+#include <tuple>
 #include <vector>
 
 using namespace ridge;
@@ -111,17 +111,17 @@ TEST(CliEdges, CodecRequirementsAreCheckedBeforeAnyWork)
     };
     for (const Case& c : cases) {
         SCOPED_TRACE(c.args);
-        const test::CommandResult r = test::runShell(
-            "env -u RIDGE_ALLOW_HTJ2K " + std::string(RIDGE_CLI_PATH) + " build " + src +
-            " -o " + inQuotes(out) + " " + c.args);
+        const test::CommandResult r =
+            test::runShell("env -u RIDGE_ALLOW_HTJ2K " + std::string(RIDGE_CLI_PATH) + " build " +
+                           src + " -o " + inQuotes(out) + " " + c.args);
         EXPECT_EQ(r.exit_code, 2) << r.output;
         EXPECT_TRUE(contains(r.output, c.phrase)) << r.output;
         EXPECT_FALSE(contains(r.output, "0...10")) << "work started before the check: " << r.output;
         EXPECT_FALSE(fs::exists(out));
     }
     // What the check lets through builds.
-    const test::CommandResult ok =
-        test::runRidge("build " + src + " -o " + inQuotes(out) + " -q --codec jpeg2000 --max-error 2");
+    const test::CommandResult ok = test::runRidge("build " + src + " -o " + inQuotes(out) +
+                                                  " -q --codec jpeg2000 --max-error 2");
     EXPECT_EQ(ok.exit_code, 0) << ok.output;
 }
 
@@ -133,9 +133,9 @@ TEST(CliEdges, AMultiBandSourceNamesTheBandItReadsAndMinusBChoosesAnother)
     // Three different bands from the real heights: red rising with height, green falling,
     // blue a narrower stretch.
     gdalTranslate(test::dataPath("everest_crop.tif"), jpeg,
-                  {"-of", "JPEG", "-ot", "Byte", "-b", "1", "-b", "1", "-b", "1", "-scale_1",
-                   "3369", "8840", "0", "255", "-scale_2", "3369", "8840", "255", "0", "-scale_3",
-                   "5000", "7000", "0", "255"});
+                  {"-of", "JPEG",     "-ot",      "Byte", "-b",   "1",   "-b",       "1",    "-b",
+                   "1",   "-scale_1", "3369",     "8840", "0",    "255", "-scale_2", "3369", "8840",
+                   "255", "0",        "-scale_3", "5000", "7000", "0",   "255"});
     ASSERT_EQ(GDALGetRasterCount(GDALOpen(jpeg.c_str(), GA_ReadOnly)), 3); // leaks a handle: fine
 
     const std::string first = dir.path("first.ridge");
@@ -159,7 +159,8 @@ TEST(CliEdges, AMultiBandSourceNamesTheBandItReadsAndMinusBChoosesAnother)
     ASSERT_NE(std::pair(r_lo, r_hi), std::pair(g_lo, g_hi)) << "bands 1 and 2 must differ";
     for (const auto& [archive, lo, hi, band] :
          {std::tuple{first, r_lo, r_hi, 1}, std::tuple{second, g_lo, g_hi, 2}}) {
-        const nlohmann::json info = jsonOf(test::runRidgeStdout("info " + inQuotes(archive) + " --json"));
+        const nlohmann::json info =
+            jsonOf(test::runRidgeStdout("info " + inQuotes(archive) + " --json"));
         EXPECT_EQ(info["metadata"]["source"]["min_metres"].get<double>(), lo);
         EXPECT_EQ(info["metadata"]["source"]["max_metres"].get<double>(), hi);
         EXPECT_EQ(info["bands"][0]["band"], band);
@@ -174,17 +175,20 @@ TEST(CliEdges, AMultiBandSourceNamesTheBandItReadsAndMinusBChoosesAnother)
     // threaded-decoding noise ("Bad value 2 for ExtraSamples tag" for every block).
     const std::string tif = dir.path("everest_3band.tif");
     gdalTranslate(test::dataPath("everest_crop.tif"), tif, {"-b", "1", "-b", "1", "-b", "1"});
-    r = test::runRidge("build " + inQuotes(tif) + " -o " + inQuotes(dir.path("tif.ridge")) + " -b 3");
+    r = test::runRidge("build " + inQuotes(tif) + " -o " + inQuotes(dir.path("tif.ridge")) +
+                       " -b 3");
     EXPECT_EQ(r.exit_code, 0) << r.output;
     EXPECT_FALSE(contains(r.output, "ERROR")) << r.output;
 
     // A band the raster lacks: a usage error before any work, naming the count.
-    r = test::runRidge("build " + inQuotes(jpeg) + " -o " + inQuotes(dir.path("x.ridge")) + " -b 4");
+    r = test::runRidge("build " + inQuotes(jpeg) + " -o " + inQuotes(dir.path("x.ridge")) +
+                       " -b 4");
     EXPECT_EQ(r.exit_code, 2) << r.output;
     EXPECT_TRUE(contains(r.output, "-b 4")) << r.output;
     EXPECT_TRUE(contains(r.output, "3 bands")) << r.output;
     EXPECT_FALSE(fs::exists(dir.path("x.ridge")));
-    r = test::runRidge("build " + inQuotes(jpeg) + " -o " + inQuotes(dir.path("x.ridge")) + " -b 0");
+    r = test::runRidge("build " + inQuotes(jpeg) + " -o " + inQuotes(dir.path("x.ridge")) +
+                       " -b 0");
     EXPECT_EQ(r.exit_code, 2) << r.output;
 }
 
@@ -216,15 +220,16 @@ TEST(CliEdges, AFloatSourceStatesItsQuantizationStepAndExtractsToItsOwnType)
 
     const test::CommandResult info = test::runRidge("info " + inQuotes(arc));
     EXPECT_TRUE(contains(info.output, "Float32 heights to a step of 1.79 mm")) << info.output;
-    const nlohmann::json info_json = jsonOf(test::runRidgeStdout("info " + inQuotes(arc) + " --json"));
+    const nlohmann::json info_json =
+        jsonOf(test::runRidgeStdout("info " + inQuotes(arc) + " --json"));
     EXPECT_NEAR(info_json["quantization_step"].get<double>(), step, 1e-9);
     EXPECT_EQ(info_json["exact"], false);
 
     // The source's type by default, each sample within half a step (and Float32's own
     // rounding) of the source.
     const std::string out = dir.path("back.tif");
-    const nlohmann::json extracted = jsonOf(test::runRidgeStdout(
-        "extract " + inQuotes(arc) + " -o " + inQuotes(out) + " --json"));
+    const nlohmann::json extracted = jsonOf(
+        test::runRidgeStdout("extract " + inQuotes(arc) + " -o " + inQuotes(out) + " --json"));
     EXPECT_EQ(extracted["type"], "Float32");
     EXPECT_EQ(extracted["type_reason"], "the source's type");
     const Band back = readBand(out);
@@ -276,19 +281,23 @@ TEST(CliEdges, InfoSaysNoDataBandTypeEpsgAndVerticalDatum)
     const std::string compound = dir.path("compound.tif");
     gdalTranslate(test::dataPath("everest_crop.tif"), compound, {"-a_srs", "EPSG:4326+5773"});
     const std::string cmp = dir.path("compound.ridge");
-    ASSERT_EQ(test::runRidge("build " + inQuotes(compound) + " -o " + inQuotes(cmp) + " -q").exit_code, 0);
+    ASSERT_EQ(
+        test::runRidge("build " + inQuotes(compound) + " -o " + inQuotes(cmp) + " -q").exit_code,
+        0);
     text = test::runRidge("info " + inQuotes(cmp)).output;
     EXPECT_TRUE(contains(text, "Vertical datum: EGM96 height (EPSG:5773), from the source's CRS"))
         << text;
 
     // A name PROJ knows takes its EPSG spelling and code; one it does not is kept as given.
-    ASSERT_EQ(test::runRidge("build " + inQuotes(compound) + " -o " + inQuotes(dir.path("n.ridge")) +
+    ASSERT_EQ(test::runRidge("build " + inQuotes(compound) + " -o " +
+                             inQuotes(dir.path("n.ridge")) +
                              " -q --vertical-datum 'egm2008 height'")
                   .exit_code,
               0);
     EXPECT_TRUE(contains(test::runRidge("info " + inQuotes(dir.path("n.ridge"))).output,
                          "Vertical datum: EGM2008 height (EPSG:3855), from --vertical-datum"));
-    ASSERT_EQ(test::runRidge("build " + inQuotes(compound) + " -o " + inQuotes(dir.path("l.ridge")) +
+    ASSERT_EQ(test::runRidge("build " + inQuotes(compound) + " -o " +
+                             inQuotes(dir.path("l.ridge")) +
                              " -q --vertical-datum 'Khumbu survey datum'")
                   .exit_code,
               0);
@@ -314,7 +323,9 @@ TEST(CliEdges, TheArchiveRecordsTheSourcesNameNotAnAbsolutePath)
     const std::string absolute = test::dataPath("everest_crop.tif");
     ASSERT_TRUE(fs::path(absolute).is_absolute());
     const std::string arc = dir.path("abs.ridge");
-    ASSERT_EQ(test::runRidge("build " + inQuotes(absolute) + " -o " + inQuotes(arc) + " -q").exit_code, 0);
+    ASSERT_EQ(
+        test::runRidge("build " + inQuotes(absolute) + " -o " + inQuotes(arc) + " -q").exit_code,
+        0);
     nlohmann::json j = jsonOf(test::runRidgeStdout("info " + inQuotes(arc) + " --json"));
     EXPECT_EQ(j["metadata"]["source"]["path"], "everest_crop.tif");
     EXPECT_FALSE(contains(test::readFile(arc), fs::path(absolute).parent_path().string()))
@@ -339,14 +350,16 @@ TEST(CliEdges, TheReadmeAndFormatDocStateTheVersionInfoReports)
     test::ScratchDir dir;
     const std::string arc = test::buildEverestWithCli(dir, "v.ridge", "");
     const int written =
-        jsonOf(test::runRidgeStdout("info " + inQuotes(arc) + " --json"))["format_version"].get<int>();
+        jsonOf(test::runRidgeStdout("info " + inQuotes(arc) + " --json"))["format_version"]
+            .get<int>();
     const fs::path root = fs::path(RIDGE_TEST_DATA_DIR).parent_path().parent_path();
     const std::string readme = test::readFile((root / "README.md").string());
     const std::string format = test::readFile((root / "docs/FORMAT.md").string());
     ASSERT_FALSE(readme.empty());
     ASSERT_FALSE(format.empty());
     std::smatch m;
-    ASSERT_TRUE(std::regex_search(readme, m, std::regex(R"(format is versioned \(currently (\d+))")))
+    ASSERT_TRUE(
+        std::regex_search(readme, m, std::regex(R"(format is versioned \(currently (\d+))")))
         << "README's Compatibility section states the current version";
     EXPECT_EQ(std::stoi(m[1]), written);
     ASSERT_TRUE(std::regex_search(format, m, std::regex(R"(Writers write version (\d+))")));

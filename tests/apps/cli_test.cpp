@@ -17,11 +17,12 @@ namespace fs = std::filesystem;
 namespace {
 
 // Writes a small single-band GeoTIFF with GDAL; `nodata` is set when given.
-void writeTiff(const std::string& path, int w, int h, GDALDataType type, const std::vector<double>& values,
-               std::optional<double> nodata = std::nullopt)
+void writeTiff(const std::string& path, int w, int h, GDALDataType type,
+               const std::vector<double>& values, std::optional<double> nodata = std::nullopt)
 {
     GDALAllRegister();
-    GDALDatasetH ds = GDALCreate(GDALGetDriverByName("GTiff"), path.c_str(), w, h, 1, type, nullptr);
+    GDALDatasetH ds =
+        GDALCreate(GDALGetDriverByName("GTiff"), path.c_str(), w, h, 1, type, nullptr);
     ASSERT_NE(ds, nullptr);
     GDALRasterBandH band = GDALGetRasterBand(ds, 1);
     if (nodata)
@@ -32,19 +33,23 @@ void writeTiff(const std::string& path, int w, int h, GDALDataType type, const s
 }
 
 // Every bad input: non-zero exit, a message naming the file, and no output file.
-void expectRejected(const test::ScratchDir& dir, const std::string& input, const std::string& phrase,
-                    const std::string& extra = "", std::string names = "")
+void expectRejected(const test::ScratchDir& dir, const std::string& input,
+                    const std::string& phrase, const std::string& extra = "",
+                    std::string names = "")
 {
     if (names.empty())
         names = input;
     const std::string out = dir.path("out.ridge");
-    const test::CommandResult r = test::runRidge("build '" + input + "' -o '" + out + "' -q " + extra);
+    const test::CommandResult r =
+        test::runRidge("build '" + input + "' -o '" + out + "' -q " + extra);
     EXPECT_NE(r.exit_code, 0) << r.output;
     EXPECT_NE(r.output.find(names), std::string::npos) << r.output;
-    EXPECT_NE(r.output.find(phrase), std::string::npos) << "expected '" << phrase << "' in: " << r.output;
+    EXPECT_NE(r.output.find(phrase), std::string::npos)
+        << "expected '" << phrase << "' in: " << r.output;
     EXPECT_EQ(r.output.find("Segmentation"), std::string::npos);
     for (const auto& entry : fs::directory_iterator(dir.dir()))
-        EXPECT_NE(entry.path().filename().string().rfind("out.ridge", 0), 0u) << "left behind: " << entry.path();
+        EXPECT_NE(entry.path().filename().string().rfind("out.ridge", 0), 0u)
+            << "left behind: " << entry.path();
 }
 
 } // namespace
@@ -85,8 +90,12 @@ TEST(Cli, BuildInfoVerifyExtractHillshadeOnRealTerrain)
     const int w = GDALGetRasterXSize(a), h = GDALGetRasterYSize(a);
     ASSERT_EQ(GDALGetRasterXSize(b), w);
     std::vector<double> va(w * h), vb(w * h);
-    ASSERT_EQ(GDALRasterIO(GDALGetRasterBand(a, 1), GF_Read, 0, 0, w, h, va.data(), w, h, GDT_Float64, 0, 0), CE_None);
-    ASSERT_EQ(GDALRasterIO(GDALGetRasterBand(b, 1), GF_Read, 0, 0, w, h, vb.data(), w, h, GDT_Float64, 0, 0), CE_None);
+    ASSERT_EQ(GDALRasterIO(GDALGetRasterBand(a, 1), GF_Read, 0, 0, w, h, va.data(), w, h,
+                           GDT_Float64, 0, 0),
+              CE_None);
+    ASSERT_EQ(GDALRasterIO(GDALGetRasterBand(b, 1), GF_Read, 0, 0, w, h, vb.data(), w, h,
+                           GDT_Float64, 0, 0),
+              CE_None);
     EXPECT_EQ(va, vb);
     double ga[6], gb[6];
     GDALGetGeoTransform(a, ga);
@@ -96,7 +105,8 @@ TEST(Cli, BuildInfoVerifyExtractHillshadeOnRealTerrain)
     GDALClose(a);
     GDALClose(b);
 
-    // A window of a coarser level: pixel size doubles, centre of pixel (0,0) stays on sample (2x, 2y).
+    // A window of a coarser level: pixel size doubles, centre of pixel (0,0) stays on sample (2x,
+    // 2y).
     const std::string win = dir.path("window.tif");
     r = test::runRidge("extract '" + arc + "' --level 0 --srcwin 10 5 40 30 -o '" + win + "' -q");
     ASSERT_EQ(r.exit_code, 0) << r.output;
@@ -148,8 +158,10 @@ TEST(Cli, BadInputsGetAClearErrorANonZeroExitAndNoOutput)
     std::ofstream(vrt) << "<VRTDataset rasterXSize=\"10\" rasterYSize=\"10\"></VRTDataset>\n";
     expectRejected(dir, vrt, "band");
 
-    expectRejected(dir, test::dataPath("everest_crop.tif"), "not 2^n+1", "--patch 100", "--patch 100");
-    expectRejected(dir, test::dataPath("everest_crop.tif"), "power of two", "--block 6", "--block 6");
+    expectRejected(dir, test::dataPath("everest_crop.tif"), "not 2^n+1", "--patch 100",
+                   "--patch 100");
+    expectRejected(dir, test::dataPath("everest_crop.tif"), "power of two", "--block 6",
+                   "--block 6");
 }
 
 TEST(Cli, VerifyFailsWithExitCodeOneOnACorruptArchive)
@@ -196,8 +208,10 @@ TEST(Cli, AnUnknownCommandOrFlagIsNamedWithTheNearestValidOne)
           Case{"frobnicate", "unknown command 'frobnicate' (ridge --help lists the commands)"},
           Case{"bench a.ridge --frams 3", "ridge bench: unknown option '--frams'; did you mean "
                                           "'--frames'?"},
-          Case{"info a.ridge --jsno", "ridge info: unknown option '--jsno'; did you mean '--json'?"},
-          Case{"build x -o y --z-ofset=3", "unknown option '--z-ofset'; did you mean '--z-offset'?"},
+          Case{"info a.ridge --jsno",
+               "ridge info: unknown option '--jsno'; did you mean '--json'?"},
+          Case{"build x -o y --z-ofset=3",
+               "unknown option '--z-ofset'; did you mean '--z-offset'?"},
           Case{"build x -o y --z-offset -5 --quuux", "ridge build: unknown option '--quuux' ("},
           Case{"extract a.ridge -o x.tif --projwim 1 2 3 4",
                "unknown option '--projwim'; did you mean '--projwin'?"}}) {
@@ -247,10 +261,12 @@ TEST(Cli, OneSpellingPerConceptWithTheOldOnesHidden)
     test::ScratchDir dir;
     const std::string arc = test::buildEverestWithCli(dir, "e.ridge", "--patch 65");
     const std::string a = dir.path("sun.png"), b = dir.path("az.png");
-    ASSERT_EQ(test::runRidge("hillshade '" + arc + "' -o '" + a + "' -q --sun 200,30").exit_code, 0);
-    ASSERT_EQ(test::runRidge("hillshade '" + arc + "' -o '" + b + "' -q --azimuth 200 --altitude 30")
-                  .exit_code,
+    ASSERT_EQ(test::runRidge("hillshade '" + arc + "' -o '" + a + "' -q --sun 200,30").exit_code,
               0);
+    ASSERT_EQ(
+        test::runRidge("hillshade '" + arc + "' -o '" + b + "' -q --azimuth 200 --altitude 30")
+            .exit_code,
+        0);
     EXPECT_TRUE(test::readFile(a) == test::readFile(b));
     const std::string d = dir.path("default.png");
     ASSERT_EQ(test::runRidge("hillshade '" + arc + "' -o '" + d + "' -q").exit_code, 0);
@@ -264,9 +280,9 @@ TEST(Cli, OneSpellingPerConceptWithTheOldOnesHidden)
     struct Hidden {
         std::string command, shown, hidden;
     };
-    for (const Hidden& h : {Hidden{"hillshade", "--sun", "--azimuth"},
-                            Hidden{"bench", "--lod", "--renderer"},
-                            Hidden{"extract", "--srcwin", "--window"}}) {
+    for (const Hidden& h :
+         {Hidden{"hillshade", "--sun", "--azimuth"}, Hidden{"bench", "--lod", "--renderer"},
+          Hidden{"extract", "--srcwin", "--window"}}) {
         const std::string help = test::runRidge(h.command + " --help").output;
         EXPECT_NE(help.find(h.shown), std::string::npos) << help;
         EXPECT_EQ(help.find(h.hidden), std::string::npos) << help;
@@ -285,7 +301,8 @@ TEST(Cli, FillVoidsKeepsTheWarpedCollarAndSaysHowManySamplesItKeptOrFilled)
     ASSERT_EQ(r.exit_code, 0) << r.output;
     EXPECT_NE(r.output.find("5679 voids filled, 0 kept as nodata"), std::string::npos) << r.output;
     // --json says the same (stdout alone is the document).
-    r = test::runRidgeStdout("build '" + src + "' -o '" + dir.path("j.ridge") + "' --patch 33 --json");
+    r = test::runRidgeStdout("build '" + src + "' -o '" + dir.path("j.ridge") +
+                             "' --patch 33 --json");
     ASSERT_EQ(r.exit_code, 0) << r.output;
     const nlohmann::json j = nlohmann::json::parse(r.output);
     EXPECT_EQ(j.at("voids_kept"), 5679);

@@ -138,7 +138,9 @@ std::vector<Craft> crafts()
          },
          "metadata: georeference.geotransform is [0,0,0,0,0,0]: its pixels have zero area"},
         {"tables_on_lossless.ridge",
-         [](ArchiveBytes& a) { test::setCodecTables(a, {'T', 1, 5, 0}); },
+         [](ArchiveBytes& a) {
+             test::setCodecTables(a, {'T', 1, 5, 0});
+         },
          "codec tables region of 4 bytes: the lossless codec has no codec tables"},
     };
 }

@@ -111,8 +111,8 @@ TEST_F(ExtractCli, AnInt16SourceComesBackAsInt16SampleForSample)
     const std::string src = test::dataPath("everest_crop.tif");
     for (const std::string& args : {std::string(), std::string("-ot Int16")}) {
         const std::string out = path("int16.tif");
-        const test::CommandResult r =
-            test::runRidgeStdout("extract " + inQuotes(*lossless_) + " -o " + inQuotes(out) + " --json " + args);
+        const test::CommandResult r = test::runRidgeStdout(
+            "extract " + inQuotes(*lossless_) + " -o " + inQuotes(out) + " --json " + args);
         ASSERT_EQ(r.exit_code, 0) << r.output;
         const nlohmann::json j = nlohmann::json::parse(r.output);
         EXPECT_EQ(j["type"], "Int16");
@@ -138,8 +138,8 @@ TEST_F(ExtractCli, AnInt16SourceComesBackAsInt16SampleForSample)
 TEST_F(ExtractCli, NonIntegerHeightsFallBackToFloat32UnlessAnIntegerTypeIsAsked)
 {
     const std::string out = path("feet.tif");
-    test::CommandResult r = test::runRidgeStdout("extract " + inQuotes(*feet_) + " -o " +
-                                                 inQuotes(out) + " --json");
+    test::CommandResult r =
+        test::runRidgeStdout("extract " + inQuotes(*feet_) + " -o " + inQuotes(out) + " --json");
     ASSERT_EQ(r.exit_code, 0) << r.output;
     nlohmann::json j = nlohmann::json::parse(r.output);
     EXPECT_EQ(j["type"], "Float32");
@@ -267,7 +267,8 @@ TEST_F(ExtractCli, OtherFormatsCreationOptionsAndNodata)
 TEST_F(ExtractCli, BadValuesAreRefusedWithTheDocumentedStatus)
 {
     const std::string out = " -o " + inQuotes(path("out.tif"));
-    expectRefused(out + " -ot Int8", 2, {"--ot Int8: not a type ridge writes; did you mean 'Int16'?"});
+    expectRefused(out + " -ot Int8", 2,
+                  {"--ot Int8: not a type ridge writes; did you mean 'Int16'?"});
     expectRefused(out + " -co COMPRESS", 2, {"--co COMPRESS: expected NAME=VALUE"});
     expectRefused(out + " --projwin 86.8 nan 86.85 27.9", 2, {"--projwin nan:"});
     expectRefused(out + " --srcwin 0 0 0 10", 2, {"--srcwin 0: XSIZE must be an integer"});
@@ -281,15 +282,17 @@ TEST_F(ExtractCli, BadValuesAreRefusedWithTheDocumentedStatus)
                   {"projwin 86.8 27.95 87.5 27.9 (samples 60 60 840 60) reaches outside"});
     expectRefused(out + " --projwin 86.8 27.95 86.8 27.9", 1, {"the window is empty"});
     expectRefused(out + " --projwin 86.85 27.9 86.8 27.95", 1, {"selects no whole pixel"});
-    expectRefused(out + " -of GTIF", 1, {"output_format 'GTIF': no such GDAL driver; did you "
-                                         "mean 'GTiff'?"});
+    expectRefused(out + " -of GTIF", 1,
+                  {"output_format 'GTIF': no such GDAL driver; did you "
+                   "mean 'GTiff'?"});
     expectRefused(out + " -of MEM", 1, {"output_format 'MEM'", "cannot write"});
     expectRefused(" -o " + inQuotes(path("out.png")) + " -of PNG -co BOGUS=1", 1,
                   {"driver PNG does not support creation option BOGUS", "creation_options is -co"});
     expectRefused(" -o " + inQuotes(path("out.png")) + " -of PNG", 1,
                   {"PNG driver doesn't support data type Int16"});
-    expectRefused(out + " -ot Byte", 1, {"output_type Byte cannot hold the window's heights "
-                                         "[3369, 8840] m"});
+    expectRefused(out + " -ot Byte", 1,
+                  {"output_type Byte cannot hold the window's heights "
+                   "[3369, 8840] m"});
     expectRefused(out + " -a_nodata 100000", 1, {"nodata_value", "Int16 cannot hold it"});
     expectRefused(out + " --srcwin 0 0 1 1 -a_nodata 5552", 1,
                   {"nodata_value 5552 is the height of 1 extracted samples"});

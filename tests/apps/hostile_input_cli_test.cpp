@@ -34,7 +34,7 @@ struct CliRun {
 
 // Runs `ridge ARGS` with `input` on stdin (or the file `stdin_path` when given).
 CliRun runBytes(const std::vector<std::string>& args, const std::string& input,
-             const std::string& stdin_path = "")
+                const std::string& stdin_path = "")
 {
     int in[2], out[2], err[2];
     if (::pipe(in) != 0 || ::pipe(out) != 0 || ::pipe(err) != 0)
@@ -109,7 +109,8 @@ CliRun runBytes(const std::vector<std::string>& args, const std::string& input,
 void expectOrderly(const CliRun& r, const std::string& what)
 {
     EXPECT_TRUE(r.exit_code == 0 || r.exit_code == 1 || r.exit_code == 2)
-        << what << ": exit " << r.exit_code << "\n" << r.err;
+        << what << ": exit " << r.exit_code << "\n"
+        << r.err;
     EXPECT_EQ(r.err.find("internal error"), std::string::npos) << what << ": " << r.err;
 }
 
@@ -238,9 +239,9 @@ TEST(HostileInputCli, StdinIsReadInBoundedMemoryAndAFailedReadIsAFailure)
 TEST(HostileInputCli, ACameraPathFileWithoutEndIsRefusedAtItsFirstLine)
 {
     // `bench --path /dev/zero` grew to 5.6 GB before saying "no camera poses in the file".
-    const CliRun r = runBytes({"bench", fixture().archive, "--path", "/dev/zero", "--bytes-per-view",
-                            "--frames", "2"},
-                           "");
+    const CliRun r = runBytes(
+        {"bench", fixture().archive, "--path", "/dev/zero", "--bytes-per-view", "--frames", "2"},
+        "");
     EXPECT_EQ(r.exit_code, 1) << r.err;
     EXPECT_NE(r.err.find("/dev/zero:1: longer than 4096 bytes: not a camera path file"),
               std::string::npos)
@@ -270,9 +271,9 @@ TEST(HostileInputCli, PropertyAnyBytesAsPathsAndStdinGetAnOrderlyAnswer)
         const std::string name = randomBytes(rng, 40, "/");
         if (name == "." || name == "..")
             continue;
-        r = runBytes({"extract", archive, "-o", out.path(name), "--srcwin", "0", "0", "8", "8",
-                      "--json"},
-                     "");
+        r = runBytes(
+            {"extract", archive, "-o", out.path(name), "--srcwin", "0", "0", "8", "8", "--json"},
+            "");
         expectOrderly(r, "extract");
         EXPECT_EQ(r.exit_code, 0) << r.err;
         EXPECT_TRUE(nlohmann::json::accept(r.out)) << r.out;
@@ -284,9 +285,15 @@ TEST(HostileInputCli, PropertyAnyBytesAsPathsAndStdinGetAnOrderlyAnswer)
         const int lines = 1 + int(rng() % 12);
         for (int k = 0; k < lines; ++k) {
             switch (rng() % 4) {
-            case 0: input += std::to_string(rng() % 300) + " " + std::to_string(rng() % 200); break;
-            case 1: input += std::string(4000 + rng() % 200, char('0' + rng() % 10)); break;
-            default: input += randomBytes(rng, 60, "\n"); break;
+            case 0:
+                input += std::to_string(rng() % 300) + " " + std::to_string(rng() % 200);
+                break;
+            case 1:
+                input += std::string(4000 + rng() % 200, char('0' + rng() % 10));
+                break;
+            default:
+                input += randomBytes(rng, 60, "\n");
+                break;
             }
             input += rng() % 5 == 0 ? "\r\n" : "\n";
         }

@@ -621,8 +621,8 @@ TEST(OutputSafety, OutputsOntoAFifoADeviceOrASocketAreRefusedAndLeaveThemAsTheyW
             {device, "it is a character device", [=] { return fs::is_character_file(device); }});
     const std::string link = dir.path("link-to-dev-null");
     fs::create_symlink("/dev/null", link);
-    specials.push_back({link, "it is a symlink to a character device",
-                        [=] { return fs::is_symlink(link); }});
+    specials.push_back(
+        {link, "it is a symlink to a character device", [=] { return fs::is_symlink(link); }});
     const std::string sock = dir.path("socket");
     const int s = ::socket(AF_UNIX, SOCK_STREAM, 0);
     sockaddr_un address{};

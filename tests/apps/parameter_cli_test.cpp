@@ -169,9 +169,9 @@ TEST_F(ParameterCli, AMillionByAMillionRasterIsRefusedWithItsSizeAndTheMemoryItN
     const std::string build = "build " + shellQuoted(vrt) + " -o " + out("ridge") + " -q";
     // A small limit, so that the test does not depend on the machine ...
     expectRefused(build + " --max-memory 64",
-                  {"huge.vrt: 1000000 x 1000000 samples need about ", "GiB to build (streaming: ",
-                   "level L-1 in memory, 466 GiB", "but 64.0 MiB are available",
-                   "memory_limit_bytes is --max-memory"},
+                  {"huge.vrt: 1000000 x 1000000 samples need about ",
+                   "GiB to build (streaming: ", "level L-1 in memory, 466 GiB",
+                   "but 64.0 MiB are available", "memory_limit_bytes is --max-memory"},
                   kFailure);
     // ... and what the machine has.
     expectRefused(build, {"huge.vrt: 1000000 x 1000000 samples need about ", "are available ("},
@@ -185,8 +185,7 @@ TEST_F(ParameterCli, AMillionByAMillionRasterIsRefusedWithItsSizeAndTheMemoryItN
     expectRefused("verify " + arc() + " --source " + shellQuoted(vrt) + " -q",
                   {"huge.vrt: size 1000000x1000000 differs"}, kFailure);
     expectRefused("codec-bench " + shellQuoted(vrt) + " -q",
-                  {"huge.vrt: 1000000 x 1000000 samples need at least ", "to benchmark"},
-                  kFailure);
+                  {"huge.vrt: 1000000 x 1000000 samples need at least ", "to benchmark"}, kFailure);
 }
 
 TEST_F(ParameterCli, HillshadeExtractAndCodecBenchRefuseBadNumbersByFlag)

@@ -83,8 +83,8 @@ TEST(QueryCli, BatchFromStdinEchoesEachPointAndExitsOneForOffRasterPoints)
     std::ostringstream input;
     for (int k = 0; k < 20; ++k)
         input << (k * 37 % w) + 0.5 << " " << (k * 23 % h) + 0.5 << "\n";
-    const test::CommandResult ok = test::runShell(
-        "printf '" + input.str() + "' | " + RIDGE_CLI_PATH + " query --pixel " + quoted(arc));
+    const test::CommandResult ok = test::runShell("printf '" + input.str() + "' | " +
+                                                  RIDGE_CLI_PATH + " query --pixel " + quoted(arc));
     ASSERT_EQ(ok.exit_code, 0) << ok.output;
     std::istringstream lines(ok.output);
     std::string line;
@@ -109,8 +109,7 @@ TEST(QueryCli, BatchFromStdinEchoesEachPointAndExitsOneForOffRasterPoints)
     EXPECT_NE(mixed.output.find("ten 10: error: expected two numbers"), std::string::npos)
         << mixed.output;
     EXPECT_NE(mixed.output.find("20.5 20.5: "), std::string::npos) << mixed.output;
-    EXPECT_NE(mixed.output.find("2 point(s) without a height"), std::string::npos)
-        << mixed.output;
+    EXPECT_NE(mixed.output.find("2 point(s) without a height"), std::string::npos) << mixed.output;
 }
 
 TEST(QueryCli, LonLatCrsAndJsonAgreeWithTheSource)
@@ -124,8 +123,8 @@ TEST(QueryCli, LonLatCrsAndJsonAgreeWithTheSource)
     const double bilinear = 0.6 * src[14 * size_t(w) + 210] + 0.4 * src[15 * size_t(w) + 210];
     const double nearest = src[14 * size_t(w) + 210];
     for (const std::string& flags : {std::string("--lonlat"), std::string("")})
-        for (const std::string& mode : {std::string(""), std::string("-r nearest"),
-                                        std::string("--resampling bilinear")}) {
+        for (const std::string& mode :
+             {std::string(""), std::string("-r nearest"), std::string("--resampling bilinear")}) {
             const test::CommandResult r = runStdout("query " + flags + " " + mode + " --json " +
                                                     quoted(arc) + " 86.925 27.988");
             ASSERT_EQ(r.exit_code, 0) << r.output;
@@ -143,8 +142,7 @@ TEST(QueryCli, LonLatCrsAndJsonAgreeWithTheSource)
     const test::CommandResult cubic = test::runRidge("query -r cubic " + quoted(arc) + " 1 1");
     EXPECT_EQ(cubic.exit_code, 2) << cubic.output; // a usage error, named
     EXPECT_NE(cubic.output.find("cubic"), std::string::npos) << cubic.output;
-    const test::CommandResult off =
-        runStdout("query --lonlat --json " + quoted(arc) + " 80 27.9");
+    const test::CommandResult off = runStdout("query --lonlat --json " + quoted(arc) + " 80 27.9");
     EXPECT_EQ(off.exit_code, 1);
     const nlohmann::json j = nlohmann::json::parse(off.output);
     EXPECT_FALSE(j["points"][0]["on_raster"].get<bool>());
@@ -168,7 +166,8 @@ TEST(InfoCli, CornersAreGdalinfos)
     test::ScratchDir dir;
     for (const std::string source : {"everest_crop.tif", "everest_utm45.tif"}) {
         const std::string arc = buildArchive(dir, source, source + ".ridge");
-        const test::CommandResult gdal = test::runShell("gdalinfo " + quoted(test::dataPath(source)));
+        const test::CommandResult gdal =
+            test::runShell("gdalinfo " + quoted(test::dataPath(source)));
         if (gdal.exit_code != 0)
             GTEST_SKIP() << "gdalinfo is not installed";
         const test::CommandResult ours = test::runRidge("info " + quoted(arc));
@@ -179,7 +178,8 @@ TEST(InfoCli, CornersAreGdalinfos)
 
         const nlohmann::json gj = nlohmann::json::parse(
             test::runShell("gdalinfo -json " + quoted(test::dataPath(source))).output);
-        const nlohmann::json rj = nlohmann::json::parse(runStdout("info --json " + quoted(arc)).output);
+        const nlohmann::json rj =
+            nlohmann::json::parse(runStdout("info --json " + quoted(arc)).output);
         const auto& ring = gj["wgs84Extent"]["coordinates"][0]; // UL, LL, LR, UR
         const char* keys[] = {"upperLeft", "lowerLeft", "lowerRight", "upperRight"};
         for (int k = 0; k < 4; ++k) {
@@ -206,7 +206,8 @@ TEST(RenderCli, AGeographicCameraIsPlacedThroughProj)
     ASSERT_EQ(r.exit_code, 0) << r.output;
     const nlohmann::json j = nlohmann::json::parse(r.output);
     // Column 210 of 3" pixels ≈ 82.03 m apart, row 14.4 of ≈ 92.35 m rows from the north.
-    const nlohmann::json info = nlohmann::json::parse(runStdout("info --json " + quoted(arc)).output);
+    const nlohmann::json info =
+        nlohmann::json::parse(runStdout("info --json " + quoted(arc)).output);
     const double sx = info["spacing_x"].get<double>(), sy = info["spacing_y"].get<double>();
     EXPECT_NEAR(j["camera"][0].get<double>(), 210.0 * sx, 1e-3);
     EXPECT_NEAR(j["camera"][1].get<double>(), (202.0 - 14.4) * sy, 1e-3);
@@ -214,9 +215,9 @@ TEST(RenderCli, AGeographicCameraIsPlacedThroughProj)
     EXPECT_NEAR(j["heading_deg"].get<double>(), -160.0, 1e-9);
     EXPECT_NEAR(j["pitch_deg"].get<double>(), -20.0, 1e-9);
     // Both forms of one thing, or a lon/lat camera without a CRS, are refused by name.
-    const test::CommandResult both = test::runRidge(
-        "render " + quoted(arc) + " -o " + quoted(dir.path("b.png")) +
-        " --camera 1,2,3 --camera-lonlat 86.9,27.9,9000");
+    const test::CommandResult both =
+        test::runRidge("render " + quoted(arc) + " -o " + quoted(dir.path("b.png")) +
+                       " --camera 1,2,3 --camera-lonlat 86.9,27.9,9000");
     EXPECT_NE(both.exit_code, 0);
     EXPECT_NE(both.output.find("--camera-lonlat"), std::string::npos) << both.output;
 }
@@ -224,9 +225,9 @@ TEST(RenderCli, AGeographicCameraIsPlacedThroughProj)
 TEST(QueryCli, NegativeCoordinatesArePositionalNumbersNotFlags)
 {
     test::ScratchDir dir;
-    const test::CommandResult build = test::runRidge(
-        "build " + quoted(test::dataPath("rainier_voids.tif")) + " -o " +
-        quoted(dir.path("r.ridge")) + " -q --patch 33");
+    const test::CommandResult build =
+        test::runRidge("build " + quoted(test::dataPath("rainier_voids.tif")) + " -o " +
+                       quoted(dir.path("r.ridge")) + " -q --patch 33");
     ASSERT_EQ(build.exit_code, 0) << build.output;
     const test::CommandResult r =
         runStdout("query --lonlat --json " + quoted(dir.path("r.ridge")) + " -121.5 46.7");
@@ -278,9 +279,9 @@ TEST(QueryCli, NearestIsGdallocationinfoAtEveryPoint)
             std::fputs(input.c_str(), f);
             std::fclose(f);
         }
-        const test::CommandResult gdal = test::runShell(
-            "gdallocationinfo -valonly -geoloc " + quoted(test::dataPath(source)) + " < " +
-            quoted(points_file));
+        const test::CommandResult gdal =
+            test::runShell("gdallocationinfo -valonly -geoloc " + quoted(test::dataPath(source)) +
+                           " < " + quoted(points_file));
         ASSERT_EQ(gdal.exit_code, 0) << gdal.output;
         const test::CommandResult ours =
             runStdout("query " + quoted(arc) + " < " + quoted(points_file));
@@ -293,8 +294,8 @@ TEST(QueryCli, NearestIsGdallocationinfoAtEveryPoint)
             ASSERT_EQ(o.rfind(in + ": ", 0), 0u) << o;
             double value = NAN;
             ASSERT_EQ(std::sscanf(o.c_str() + in.size() + 2, "%lf m", &value), 1) << o;
-            ASSERT_EQ(value, std::stod(g)) << source << ": " << in << " -> ridge " << o
-                                           << ", gdallocationinfo " << g;
+            ASSERT_EQ(value, std::stod(g))
+                << source << ": " << in << " -> ridge " << o << ", gdallocationinfo " << g;
             ++compared;
         }
         EXPECT_EQ(compared, points) << source;

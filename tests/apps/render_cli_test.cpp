@@ -55,8 +55,8 @@ TEST(RenderCli, RendersAPngOfTheRequestedSizeAndReportsTheFrameAsJson)
     const auto t0 = std::chrono::steady_clock::now();
     const test::CommandResult r =
         test::runRidgeStdout("render '" + arc + "' -o '" + png +
-                       "' --size 400x250 --error 1.5 --camera 2000,-3000,9000 "
-                       "--look-at 12000,9000,5000 --json");
+                             "' --size 400x250 --error 1.5 --camera 2000,-3000,9000 "
+                             "--look-at 12000,9000,5000 --json");
     const double wall_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     ASSERT_EQ(r.exit_code, 0) << r.output;
@@ -167,7 +167,8 @@ TEST(RenderCli, TheDefaultViewFillsTheFrameWithTheTerrain)
         }
     EXPECT_GE(double(terrain) / (double(w) * h), 0.35);
     // Spanning the picture on one axis, clear of its edges.
-    EXPECT_TRUE(x1 - x0 > 0.85 * w || y1 - y0 > 0.85 * h) << x0 << ".." << x1 << " x " << y0 << ".." << y1;
+    EXPECT_TRUE(x1 - x0 > 0.85 * w || y1 - y0 > 0.85 * h)
+        << x0 << ".." << x1 << " x " << y0 << ".." << y1;
     EXPECT_GT(x0, 0);
     EXPECT_GT(y0, 0);
     EXPECT_LT(x1, w - 1);

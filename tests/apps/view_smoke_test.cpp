@@ -159,7 +159,8 @@ TEST(ViewSmoke, TheOverlayIsCompact)
     for (int y = 0; y < a.height; ++y)
         for (int x = 0; x < a.width; ++x) {
             const size_t i = (size_t(y) * a.width + x) * 3;
-            if (a.rgb[i] != b.rgb[i] || a.rgb[i + 1] != b.rgb[i + 1] || a.rgb[i + 2] != b.rgb[i + 2]) {
+            if (a.rgb[i] != b.rgb[i] || a.rgb[i + 1] != b.rgb[i + 1] ||
+                a.rgb[i + 2] != b.rgb[i + 2]) {
                 x0 = std::min(x0, x);
                 x1 = std::max(x1, x);
                 y0 = std::min(y0, y);
@@ -201,6 +202,7 @@ TEST(ViewSmoke, TakesTheModeRenderTakes)
     ASSERT_EQ(a.rgb.size(), b.rgb.size());
     size_t differ = 0;
     for (size_t i = 0; i < a.rgb.size(); i += 3)
-        differ += a.rgb[i] != b.rgb[i] || a.rgb[i + 1] != b.rgb[i + 1] || a.rgb[i + 2] != b.rgb[i + 2];
+        differ +=
+            a.rgb[i] != b.rgb[i] || a.rgb[i + 1] != b.rgb[i + 1] || a.rgb[i + 2] != b.rgb[i + 2];
     EXPECT_GT(differ, a.rgb.size() / 3 / 5) << "the LOD colours should cover the terrain";
 }

@@ -8,7 +8,10 @@ using namespace ridge;
 
 namespace {
 
-std::string coast() { return test::dataPath("sfbay_coast.tif"); }
+std::string coast()
+{
+    return test::dataPath("sfbay_coast.tif");
+}
 
 } // namespace
 
@@ -16,19 +19,21 @@ TEST(WaterCli, InfoStatesTheWaterSamplesAndTheRuleThatMadeThem)
 {
     test::ScratchDir dir;
     const std::string arc = dir.path("coast.ridge");
-    test::CommandResult r = test::runRidge("build '" + coast() + "' -o '" + arc +
-                                           "' --codec progressive --max-error 1 --water '" +
-                                           test::dataPath("crystal_springs_utm10.geojson") + "' -q");
+    test::CommandResult r = test::runRidge(
+        "build '" + coast() + "' -o '" + arc + "' --codec progressive --max-error 1 --water '" +
+        test::dataPath("crystal_springs_utm10.geojson") + "' -q");
     ASSERT_EQ(r.exit_code, 0) << r.output;
     r = test::runRidge("info '" + arc + "'");
     ASSERT_EQ(r.exit_code, 0) << r.output;
     EXPECT_NE(r.output.find("Water: 37293 samples (37.4 %), at or below 0 m, and the layer "),
               std::string::npos)
         << r.output;
-    r = test::runRidge("build '" + coast() + "' -o '" + dir.path("dry.ridge") + "' --sea-level none -q");
+    r = test::runRidge("build '" + coast() + "' -o '" + dir.path("dry.ridge") +
+                       "' --sea-level none -q");
     ASSERT_EQ(r.exit_code, 0) << r.output;
     r = test::runRidge("info '" + dir.path("dry.ridge") + "'");
-    EXPECT_NE(r.output.find("Water: 0 samples (0.0 %), no sea level"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("Water: 0 samples (0.0 %), no sea level"), std::string::npos)
+        << r.output;
 }
 
 TEST(WaterCli, ABadSeaLevelIsAUsageErrorBeforeAnyWork)
@@ -47,8 +52,8 @@ TEST(WaterCli, AMissingWaterLayerFailsNamingItAndLeavesNoOutput)
 {
     test::ScratchDir dir;
     const std::string missing = dir.path("no_such_lakes.shp");
-    const test::CommandResult r = test::runRidge("build '" + coast() + "' -o '" +
-                                                 dir.path("x.ridge") + "' --water '" + missing + "'");
+    const test::CommandResult r = test::runRidge(
+        "build '" + coast() + "' -o '" + dir.path("x.ridge") + "' --water '" + missing + "'");
     EXPECT_EQ(r.exit_code, 1) << r.output;
     EXPECT_NE(r.output.find(missing), std::string::npos) << r.output;
     EXPECT_TRUE(test::namesIn(dir.dir()).empty());
@@ -58,18 +63,25 @@ TEST(WaterCli, TheWaterLayerIsAnInputNoOutputMayReplace)
 {
     test::ScratchDir dir;
     const std::string lake = dir.path("lake.geojson");
-    ASSERT_EQ(test::runShell("cp '" + test::dataPath("crystal_springs_utm10.geojson") + "' '" + lake + "'").exit_code, 0);
+    ASSERT_EQ(test::runShell("cp '" + test::dataPath("crystal_springs_utm10.geojson") + "' '" +
+                             lake + "'")
+                  .exit_code,
+              0);
     const test::CommandResult r =
         test::runRidge("build '" + coast() + "' -o '" + lake + "' --water '" + lake + "'");
     EXPECT_NE(r.exit_code, 0) << r.output;
-    EXPECT_EQ(test::readFile(lake), test::readFile(test::dataPath("crystal_springs_utm10.geojson")));
+    EXPECT_EQ(test::readFile(lake),
+              test::readFile(test::dataPath("crystal_springs_utm10.geojson")));
 }
 
 TEST(WaterCli, QueryMarksWaterAndFilledAnswers)
 {
     test::ScratchDir dir;
     const std::string arc = dir.path("coast.ridge");
-    ASSERT_EQ(test::runRidge("build '" + coast() + "' -o '" + arc + "' --codec progressive --max-error 1 -q").exit_code, 0);
+    ASSERT_EQ(test::runRidge("build '" + coast() + "' -o '" + arc +
+                             "' --codec progressive --max-error 1 -q")
+                  .exit_code,
+              0);
     // Pixel (270.5, 100.5) is the Bay at 0 m, (150.5, 250.5) the peninsula's hills (135 m).
     test::CommandResult r = test::runRidge("query '" + arc + "' --pixel 270.5 100.5");
     ASSERT_EQ(r.exit_code, 0) << r.output;

@@ -227,15 +227,14 @@ TEST(FieldValidation, ReservedHeaderBytesMustBeZero)
             "header reserved bytes 88..95 are not zero (byte " + std::to_string(byte)));
     // Version 3 keeps its codec tables there (below); before, they are reserved.
     for (size_t byte = 140; byte < 156; ++byte)
-        EXPECT_TRUE(refusedNaming(openCrafted(fixtures().lossless,
-                                              [=](ArchiveBytes& a) {
-                                                  a.bytes()[8] = 2; // version 2
-                                                  std::fill(a.bytes().begin() + 140,
-                                                            a.bytes().begin() + 156, 0);
-                                                  a.bytes()[byte] = 0x80;
-                                              }),
-                                  "header reserved bytes 140..155 are not zero (byte " +
-                                      std::to_string(byte)));
+        EXPECT_TRUE(refusedNaming(
+            openCrafted(fixtures().lossless,
+                        [=](ArchiveBytes& a) {
+                            a.bytes()[8] = 2; // version 2
+                            std::fill(a.bytes().begin() + 140, a.bytes().begin() + 156, 0);
+                            a.bytes()[byte] = 0x80;
+                        }),
+            "header reserved bytes 140..155 are not zero (byte " + std::to_string(byte)));
 }
 
 TEST(FieldValidation, CodecTablesMustLieBetweenTheBlobsAndTheMetadataAndMatchTheirChecksum)
@@ -248,9 +247,10 @@ TEST(FieldValidation, CodecTablesMustLieBetweenTheBlobsAndTheMetadataAndMatchThe
             "header fields codec_tables_offset"))
             << byte;
     for (size_t byte = 152; byte < 156; ++byte)
-        EXPECT_NE(openCrafted(fixtures().progressive, [=](ArchiveBytes& a) { a.bytes()[byte] ^= 1; })
-                      .find("codec tables checksum mismatch"),
-                  std::string::npos)
+        EXPECT_NE(
+            openCrafted(fixtures().progressive, [=](ArchiveBytes& a) { a.bytes()[byte] ^= 1; })
+                .find("codec tables checksum mismatch"),
+            std::string::npos)
             << byte;
 }
 

@@ -61,22 +61,30 @@ TEST(ArchiveFormat, HeaderBytesArePinned)
     uint8_t bytes[kHeaderSize];
     serializeHeader(sampleHeader(), bytes);
     EXPECT_EQ(std::memcmp(bytes, "RIDGEARC", 8), 0);
-    auto u32 = [&](size_t o) { uint32_t v; std::memcpy(&v, bytes + o, 4); return v; };
-    auto f64 = [&](size_t o) { double v; std::memcpy(&v, bytes + o, 8); return v; };
-    EXPECT_EQ(u32(8), 4u);     // version
-    EXPECT_EQ(u32(12), 160u);  // header size
-    EXPECT_EQ(u32(16), 301u);  // width
-    EXPECT_EQ(u32(20), 203u);  // height
-    EXPECT_EQ(u32(24), 129u);  // patch size
-    EXPECT_EQ(u32(28), 3u);    // levels
-    EXPECT_EQ(u32(32), 8u);    // block cells
-    EXPECT_EQ(u32(36), 3u);    // block levels
-    EXPECT_EQ(u32(40), 1u);    // codec
+    auto u32 = [&](size_t o) {
+        uint32_t v;
+        std::memcpy(&v, bytes + o, 4);
+        return v;
+    };
+    auto f64 = [&](size_t o) {
+        double v;
+        std::memcpy(&v, bytes + o, 8);
+        return v;
+    };
+    EXPECT_EQ(u32(8), 4u);    // version
+    EXPECT_EQ(u32(12), 160u); // header size
+    EXPECT_EQ(u32(16), 301u); // width
+    EXPECT_EQ(u32(20), 203u); // height
+    EXPECT_EQ(u32(24), 129u); // patch size
+    EXPECT_EQ(u32(28), 3u);   // levels
+    EXPECT_EQ(u32(32), 8u);   // block cells
+    EXPECT_EQ(u32(36), 3u);   // block levels
+    EXPECT_EQ(u32(40), 1u);   // codec
     EXPECT_EQ(f64(56), -32768.0);
     EXPECT_EQ(f64(64), 82.25);
-    EXPECT_EQ(f64(80), 0.0);   // quantization error
-    EXPECT_EQ(f64(88), 0.0);   // reserved
-    EXPECT_EQ(u32(120), 2u);   // metadata size
+    EXPECT_EQ(f64(80), 0.0); // quantization error
+    EXPECT_EQ(f64(88), 0.0); // reserved
+    EXPECT_EQ(u32(120), 2u); // metadata size
     EXPECT_EQ(u32(124), 0x12345678u);
     EXPECT_EQ(u32(136), 0x9abcdef0u);
     uint64_t tables_offset;
@@ -111,10 +119,16 @@ TEST(ArchiveFormat, ParseRejectsBadMagicNewerVersionsAndCorruptHeaders)
     bad[8] = 5;
     EXPECT_NE(parseHeader(bad, h).find("not supported"), std::string::npos);
     for (const uint8_t known : {1, 2, 3, 4}) { // every version this reader knows
-        if (known < 3) // their bytes 140..155 are reserved: zero
-            serializeHeader([] { Header z = sampleHeader(); z.codec_tables_offset = 0;
-                                 z.codec_tables_size = 0; z.codec_tables_crc32 = 0; return z; }(),
-                            bytes);
+        if (known < 3)                         // their bytes 140..155 are reserved: zero
+            serializeHeader(
+                [] {
+                    Header z = sampleHeader();
+                    z.codec_tables_offset = 0;
+                    z.codec_tables_size = 0;
+                    z.codec_tables_crc32 = 0;
+                    return z;
+                }(),
+                bytes);
         else
             serializeHeader(sampleHeader(), bytes);
         std::memcpy(bad, bytes, kHeaderSize);
@@ -205,8 +219,9 @@ TEST(ArchiveReader, RejectsFilesThatAreNotArchives)
 {
     test::ScratchDir dir;
     const std::string path = dir.path("not.ridge");
-    std::ofstream(path) << "this is not a terrain archive, but it is long enough to have a header......"
-                           "...................................................................................";
+    std::ofstream(path)
+        << "this is not a terrain archive, but it is long enough to have a header......"
+           "...................................................................................";
     try {
         ArchiveReader reader(path);
         FAIL() << "opened a text file";

@@ -81,7 +81,8 @@ std::string nested(int depth, const std::string& inner = "")
 void expectRefused(const std::string& message, const std::string& phrase)
 {
     EXPECT_EQ(message.rfind(fixtures().crafted + ": ", 0), 0u) << message;
-    EXPECT_NE(message.find(phrase), std::string::npos) << "expected '" << phrase << "' in: " << message;
+    EXPECT_NE(message.find(phrase), std::string::npos)
+        << "expected '" << phrase << "' in: " << message;
 }
 
 } // namespace
@@ -158,8 +159,8 @@ TEST(HostileRegions, CodecTablesOnACodecWithoutTablesAreRefused)
     // bytes there, and even a real progressive table.
     const std::vector<uint8_t> junk = {'T', 1, 5, 0, 1, 2, 3};
     for (const std::string* archive : {&fixtures().lossless, &fixtures().raw}) {
-        const std::string message = openCrafted(
-            *archive, [&](ArchiveBytes& a) { test::setCodecTables(a, junk); });
+        const std::string message =
+            openCrafted(*archive, [&](ArchiveBytes& a) { test::setCodecTables(a, junk); });
         expectRefused(message, "codec tables region of 7 bytes: the ");
         EXPECT_NE(message.find("codec has no codec tables"), std::string::npos) << message;
     }
@@ -174,11 +175,11 @@ TEST(HostileRegions, CodecTablesOnACodecWithoutTablesAreRefused)
                       "the lossless codec has no codec tables");
     }
     // jpeg2000 refuses them too (its own parameter check), and an empty region stays valid.
-    expectRefused(openCrafted(fixtures().jpeg2000,
-                              [&](ArchiveBytes& a) { test::setCodecTables(a, junk); }),
-                  "codec tables are present: the jpeg2000 codec has none");
-    EXPECT_EQ(openCrafted(fixtures().lossless, [](ArchiveBytes& a) { test::setCodecTables(a, {}); }),
-              "");
+    expectRefused(
+        openCrafted(fixtures().jpeg2000, [&](ArchiveBytes& a) { test::setCodecTables(a, junk); }),
+        "codec tables are present: the jpeg2000 codec has none");
+    EXPECT_EQ(
+        openCrafted(fixtures().lossless, [](ArchiveBytes& a) { test::setCodecTables(a, {}); }), "");
 }
 
 TEST(HostileRegions, RegionSizesBeyondAnyArchivesAreRefusedBeforeTheyAreRead)

@@ -47,13 +47,16 @@ std::string unpack(const std::vector<uint8_t>& bytes, const PatchValidity* valid
 TEST(SampleFlagsStorage, OneByteKindsArePinned)
 {
     EXPECT_EQ(packSampleFlags({PatchSampleFlags::Kind::None, kN, {}}, kN), std::vector<uint8_t>{0});
-    EXPECT_EQ(packSampleFlags({PatchSampleFlags::Kind::AllWater, kN, {}}, kN), std::vector<uint8_t>{1});
-    // Uniform bitmaps are written as their one-byte kinds.
-    EXPECT_EQ(packSampleFlags({PatchSampleFlags::Kind::Mixed, kN, std::vector<uint8_t>(kN * kN, 0)}, kN),
-              std::vector<uint8_t>{0});
-    EXPECT_EQ(packSampleFlags({PatchSampleFlags::Kind::Mixed, kN,
-                               std::vector<uint8_t>(kN * kN, kSampleWater)}, kN),
+    EXPECT_EQ(packSampleFlags({PatchSampleFlags::Kind::AllWater, kN, {}}, kN),
               std::vector<uint8_t>{1});
+    // Uniform bitmaps are written as their one-byte kinds.
+    EXPECT_EQ(
+        packSampleFlags({PatchSampleFlags::Kind::Mixed, kN, std::vector<uint8_t>(kN * kN, 0)}, kN),
+        std::vector<uint8_t>{0});
+    EXPECT_EQ(
+        packSampleFlags(
+            {PatchSampleFlags::Kind::Mixed, kN, std::vector<uint8_t>(kN * kN, kSampleWater)}, kN),
+        std::vector<uint8_t>{1});
 }
 
 TEST(SampleFlagsStorage, BitmapsRoundTripAndStopAtTheirEnd)

@@ -123,7 +123,8 @@ TEST(ValidityMask, EveryFieldIsCheckedAndNamed)
     bad = good;
     bad.push_back(0); // a trailing byte inside frame_size
     bad[1] += 1;
-    EXPECT_NE(problemOf(bad).find("not exactly one zstd frame"), std::string::npos) << problemOf(bad);
+    EXPECT_NE(problemOf(bad).find("not exactly one zstd frame"), std::string::npos)
+        << problemOf(bad);
     bad = good;
     bad[1] -= 1; // a frame cut short
     EXPECT_NE(problemOf(bad), "");
@@ -198,12 +199,15 @@ TEST(ValidityMask, CorruptMasksInAnArchiveAreRefusedNamingTheFileAndPatch)
     const std::string name = crafted + ": " + archive::ArchiveReader::patchName(mixed);
     std::string m = craft(mixed, 0, 9);
     EXPECT_EQ(m.rfind(name + ": validity kind is 9", 0), 0u) << m;
-    m = craft(mixed, 1, uint8_t(reader.readBlob(mixed)[reader.record(mixed).block_errors_size + 1] + 1));
+    m = craft(mixed, 1,
+              uint8_t(reader.readBlob(mixed)[reader.record(mixed).block_errors_size + 1] + 1));
     EXPECT_EQ(m.rfind(name + ": validity frame", 0), 0u) << m;
     // Kind 0 in front of a bitmap: the bitmap's bytes become the sample flags (version 4) and
     // the payload, neither of which they are.
     m = craft(mixed, 0, 0);
-    EXPECT_TRUE(m.rfind(name + ": sample flags", 0) == 0 || m.rfind(name + ": cannot decode", 0) == 0) << m;
+    EXPECT_TRUE(m.rfind(name + ": sample flags", 0) == 0 ||
+                m.rfind(name + ": cannot decode", 0) == 0)
+        << m;
 
     // A mask that decodes but lies (kind 1 on a patch of data) is what verify --source sees.
     test::ArchiveBytes bytes(path);
@@ -215,9 +219,12 @@ TEST(ValidityMask, CorruptMasksInAnArchiveAreRefusedNamingTheFileAndPatch)
     const VerifyReport report = verifyArchive(crafted, v);
     ASSERT_FALSE(report.ok());
     // (Its parents' masks no longer follow from it either: verify says so too.)
-    EXPECT_TRUE(std::any_of(report.problems.begin(), report.problems.end(), [](const std::string& p) {
-        return p.find("kept as nodata where the source") != std::string::npos;
-    })) << report.problems.front();
+    EXPECT_TRUE(std::any_of(report.problems.begin(), report.problems.end(),
+                            [](const std::string& p) {
+                                return p.find("kept as nodata where the source") !=
+                                       std::string::npos;
+                            }))
+        << report.problems.front();
 }
 
 TEST(ValidityMask, TheMetadataCountsAndModeAreCheckedOnOpen)
@@ -247,7 +254,8 @@ TEST(ValidityMask, TheMetadataCountsAndModeAreCheckedOnOpen)
     std::string m = openWith([](nlohmann::json& j) { j["source"]["fill_voids"] = "some"; });
     EXPECT_NE(m.find("source.fill_voids is \"some\""), std::string::npos) << m;
     m = openWith([&](nlohmann::json& j) { j["source"]["voids_kept"] = samples + 1; });
-    EXPECT_NE(m.find("source.voids_kept is " + std::to_string(samples + 1)), std::string::npos) << m;
+    EXPECT_NE(m.find("source.voids_kept is " + std::to_string(samples + 1)), std::string::npos)
+        << m;
     m = openWith([](nlohmann::json& j) { j["source"]["fill_voids"] = "all"; });
     EXPECT_NE(m.find("must be 0"), std::string::npos) << m;
     m = openWith([](nlohmann::json& j) { j["source"].erase("voids_kept"); });

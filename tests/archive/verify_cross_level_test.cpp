@@ -96,7 +96,8 @@ void setMask(ArchiveBytes& a, const archive::ArchiveReader& reader, PatchId p,
 PatchId firstWithKind(const archive::ArchiveReader& reader, int level, PatchValidity::Kind kind)
 {
     const PyramidGeometry& g = reader.geometry();
-    for (int64_t i = g.firstPatchIndex(level); i < g.firstPatchIndex(level) + g.patchCount(level); ++i)
+    for (int64_t i = g.firstPatchIndex(level); i < g.firstPatchIndex(level) + g.patchCount(level);
+         ++i)
         if (reader.readValidity(g.patchAt(i)).kind == kind)
             return g.patchAt(i);
     return {-1, 0, 0};
@@ -127,7 +128,8 @@ TEST(VerifyCrossLevel, EveryArchiveTheFixturesBuildPasses)
     };
     for (const Case& c : cases) {
         SCOPED_TRACE(std::string(c.source) + " " + c.codec);
-        const std::string path = build(dir, "ok.ridge", c.source, c.patch, c.fill, c.filter, c.codec);
+        const std::string path =
+            build(dir, "ok.ridge", c.source, c.patch, c.fill, c.filter, c.codec);
         const VerifyReport plain = verify(path);
         EXPECT_TRUE(plain.ok()) << allProblems(plain);
         const VerifyReport full = verify(path, c.source);
@@ -161,10 +163,9 @@ TEST(VerifyCrossLevel, ACoarseMaskThatDoesNotFollowFromTheFinestLevelIsCaughtFor
             build(dir, "utm.ridge", "everest_utm44.tif", 17, io::VoidFill::Interior, filter);
         const PatchId root{0, 0, 0};
         ASSERT_EQ(archive::ArchiveReader(utm).readValidity(root).kind, PatchValidity::Kind::Mixed);
-        const std::string all = craft(utm, dir.path("all.ridge"),
-                                      [&](ArchiveBytes& a, const archive::ArchiveReader& r) {
-                                          setMask(a, r, root, {0});
-                                      });
+        const std::string all = craft(
+            utm, dir.path("all.ridge"),
+            [&](ArchiveBytes& a, const archive::ArchiveReader& r) { setMask(a, r, root, {0}); });
         const VerifyReport report = verify(all);
         EXPECT_TRUE(anyProblemHas(report, "patch (level 0, x 0, y 0): validity mask (289 of 289"))
             << allProblems(report);
@@ -176,16 +177,14 @@ TEST(VerifyCrossLevel, ValidSamplesOverKeptSourceVoidsAreCaughtWithTheSource)
     // --fill-voids none keeps every void; a finest mask edited to "all valid" claims heights
     // there that extract would export. verify --source compared only the other direction.
     test::ScratchDir dir;
-    const std::string none =
-        build(dir, "none.ridge", "rainier_voids.tif", 17, io::VoidFill::None);
+    const std::string none = build(dir, "none.ridge", "rainier_voids.tif", 17, io::VoidFill::None);
     const archive::ArchiveReader reader(none);
-    const PatchId patch = firstWithKind(reader, reader.geometry().finestLevel(),
-                                        PatchValidity::Kind::Mixed);
+    const PatchId patch =
+        firstWithKind(reader, reader.geometry().finestLevel(), PatchValidity::Kind::Mixed);
     ASSERT_GE(patch.level, 0);
-    const std::string crafted = craft(none, dir.path("crafted.ridge"),
-                                      [&](ArchiveBytes& a, const archive::ArchiveReader& r) {
-                                          setMask(a, r, patch, {0});
-                                      });
+    const std::string crafted =
+        craft(none, dir.path("crafted.ridge"),
+              [&](ArchiveBytes& a, const archive::ArchiveReader& r) { setMask(a, r, patch, {0}); });
     const VerifyReport report = verify(crafted, "rainier_voids.tif");
     EXPECT_TRUE(anyProblemHas(report, "finest samples are valid (drawn, exported as heights) "
                                       "where the source has voids that --fill-voids none keeps"))
@@ -225,8 +224,8 @@ TEST(VerifyCrossLevel, SourceVoidsThatTheFillModeFillsMustNotBeKept)
             for (int j = 0; j < c; ++j)
                 for (int i = 0; i < c; ++i)
                     v.cells[static_cast<size_t>(j) * c + i] =
-                        v.sampleValid(i, j) && v.sampleValid(i + 1, j) &&
-                        v.sampleValid(i, j + 1) && v.sampleValid(i + 1, j + 1);
+                        v.sampleValid(i, j) && v.sampleValid(i + 1, j) && v.sampleValid(i, j + 1) &&
+                        v.sampleValid(i + 1, j + 1);
             if (voids > 0 && voids < n * n) {
                 chosen = {L, x, y};
                 mask = v;
@@ -311,8 +310,8 @@ TEST(VerifyCrossLevel, ACrsThatNothingCanReadIsAProblem)
     // garbage opened everywhere and verify said OK, while extract refused to write it.
     test::ScratchDir dir;
     const std::string path = build(dir, "e.ridge", "everest_crop.tif", 33, io::VoidFill::Interior);
-    const std::string crafted = craft(
-        path, dir.path("crafted.ridge"), [](ArchiveBytes& a, const archive::ArchiveReader&) {
+    const std::string crafted =
+        craft(path, dir.path("crafted.ridge"), [](ArchiveBytes& a, const archive::ArchiveReader&) {
             nlohmann::json j = nlohmann::json::parse(a.metadata());
             j["georeference"]["crs_wkt"] = "GEOGCRS[\"broken";
             a.setMetadata(j.dump());

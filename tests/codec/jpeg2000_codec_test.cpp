@@ -6,8 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <cstdlib>
 #include <cmath>
+#include <cstdlib>
 #include <random>
 #include <string>
 #include <vector>
@@ -57,7 +57,8 @@ struct Errors {
     double rms = 0;
 };
 
-Errors errorsOver(const std::vector<uint16_t>& a, const std::vector<uint16_t>& b, int n, int w, int h)
+Errors errorsOver(const std::vector<uint16_t>& a, const std::vector<uint16_t>& b, int n, int w,
+                  int h)
 {
     Errors e;
     double squares = 0;
@@ -119,13 +120,15 @@ TEST(Jpeg2000Variant, BitsAndNamesRoundTrip)
     }
     EXPECT_FALSE(Jpeg2000Variant::fromBits(16));
     EXPECT_FALSE(Jpeg2000Variant::fromBits(-1));
-    const auto v = Jpeg2000Variant::fromName("jpeg2000,encoding=direct,criterion=rms,library=htj2k");
+    const auto v =
+        Jpeg2000Variant::fromName("jpeg2000,encoding=direct,criterion=rms,library=htj2k");
     ASSERT_TRUE(v);
     EXPECT_EQ(v->encoding, Jpeg2000Encoding::Direct);
     EXPECT_EQ(v->criterion, CompressionCriterion::Rms);
     EXPECT_EQ(v->library, Jpeg2000Library::Htj2k);
     EXPECT_EQ(Jpeg2000Variant::fromName("jpeg2000")->bits(), 0);
-    for (const char* bad : {"jpeg2000,", "jpeg2000,criterion=mse", "jpeg2000x", "jpeg2000,library="})
+    for (const char* bad :
+         {"jpeg2000,", "jpeg2000,criterion=mse", "jpeg2000x", "jpeg2000,library="})
         EXPECT_FALSE(Jpeg2000Variant::fromName(bad)) << bad;
     EXPECT_EQ(*codecIdOf("jpeg2000,criterion=lossless"), CodecId::Jpeg2000);
     EXPECT_TRUE(isLossyCodec("jpeg2000"));
@@ -205,8 +208,8 @@ TEST(Jpeg2000Codec, ProgressiveCodesFewerBytesThanDirect)
     // The paper's Tables 1-2 in miniature: prediction from the parent pays.
     size_t bytes[2] = {0, 0};
     for (int direct = 0; direct < 2; ++direct) {
-        const Jpeg2000Codec codec(2, 2, *Jpeg2000Variant::fromName(
-                                           direct ? "jpeg2000,encoding=direct" : "jpeg2000"));
+        const Jpeg2000Codec codec(
+            2, 2, *Jpeg2000Variant::fromName(direct ? "jpeg2000,encoding=direct" : "jpeg2000"));
         const Family f = codeFamily(codec, 3, 3);
         for (int q = 0; q < 4; ++q)
             bytes[direct] += f.child_payload[q].size();
@@ -242,9 +245,11 @@ TEST(Jpeg2000Codec, SiblingsReconstructIdenticalSharedEdges)
         const Family f = codeFamily(codec, 5, 20);
         for (int y = 0; y < kN; ++y) {
             // child 0's right column is child 1's left column, child 2's of child 3's.
-            EXPECT_EQ(f.child_decoded[0][size_t(y) * kN + kN - 1], f.child_decoded[1][size_t(y) * kN])
+            EXPECT_EQ(f.child_decoded[0][size_t(y) * kN + kN - 1],
+                      f.child_decoded[1][size_t(y) * kN])
                 << name << " row " << y;
-            EXPECT_EQ(f.child_decoded[2][size_t(y) * kN + kN - 1], f.child_decoded[3][size_t(y) * kN])
+            EXPECT_EQ(f.child_decoded[2][size_t(y) * kN + kN - 1],
+                      f.child_decoded[3][size_t(y) * kN])
                 << name;
         }
         for (int x = 0; x < kN; ++x)
@@ -309,8 +314,9 @@ TEST(Jpeg2000Codec, DifferencePlusPredictionIsTheDecode)
     for (int q = 0; q < 4; ++q) {
         const PatchContext ctx{kN, 1, f.parent_decoded.data(), q, 0, 0};
         Jpeg2000Difference d;
-        ASSERT_EQ(codec.decodeDifference(f.child_payload[q].data(), f.child_payload[q].size(), ctx, &d),
-                  kCodecOk);
+        ASSERT_EQ(
+            codec.decodeDifference(f.child_payload[q].data(), f.child_payload[q].size(), ctx, &d),
+            kCodecOk);
         EXPECT_EQ(d.bits, 8);
         std::vector<uint16_t> out(size_t(kN) * kN);
         Jpeg2000Codec::addPrediction(d, ctx, out.data());
@@ -333,10 +339,10 @@ TEST(Jpeg2000Codec, BadPayloadsAreRejected)
         p[at] = value;
         return codec.decode(out.data(), p.data(), p.size(), ctx);
     };
-    EXPECT_EQ(with(0, 'P'), kCodecBadHeader);   // magic
-    EXPECT_EQ(with(1, 2), kCodecBadHeader);     // payload version
-    EXPECT_EQ(with(2, 2), kCodecBadHeader);     // kind
-    EXPECT_EQ(with(3, 0), kCodecBadHeader);     // bits
+    EXPECT_EQ(with(0, 'P'), kCodecBadHeader); // magic
+    EXPECT_EQ(with(1, 2), kCodecBadHeader);   // payload version
+    EXPECT_EQ(with(2, 2), kCodecBadHeader);   // kind
+    EXPECT_EQ(with(3, 0), kCodecBadHeader);   // bits
     EXPECT_EQ(with(3, 17), kCodecBadHeader);
     EXPECT_EQ(with(4, 2), kCodecBadHeader);     // unknown flag
     EXPECT_LT(with(3, 9), 0);                   // bits disagree with the codestream

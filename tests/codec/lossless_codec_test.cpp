@@ -18,7 +18,8 @@ std::vector<uint16_t> terrainPatch(int n, uint32_t seed, int noise)
     std::vector<uint16_t> v(n * n);
     for (int y = 0; y < n; ++y)
         for (int x = 0; x < n; ++x)
-            v[y * n + x] = static_cast<uint16_t>(std::clamp(30000 + 40 * x - 25 * y + jitter(rng), 0, 65535));
+            v[y * n + x] =
+                static_cast<uint16_t>(std::clamp(30000 + 40 * x - 25 * y + jitter(rng), 0, 65535));
     return v;
 }
 
@@ -41,7 +42,9 @@ TEST(LosslessCodec, RoundTripsTerrainExactly)
             const std::vector<uint8_t> payload = encode(*codec, codes, n);
             ASSERT_FALSE(payload.empty());
             std::vector<uint16_t> back(n * n);
-            ASSERT_EQ(codec->decode(back.data(), payload.data(), payload.size(), {n, 0, nullptr, 0}), kCodecOk);
+            ASSERT_EQ(
+                codec->decode(back.data(), payload.data(), payload.size(), {n, 0, nullptr, 0}),
+                kCodecOk);
             EXPECT_EQ(back, codes) << name << " n=" << n;
         }
     }
@@ -59,7 +62,8 @@ TEST(LosslessCodec, RoundTripsExtremeAndRandomCodes)
     codes[1] = 65535;
     const std::vector<uint8_t> payload = encode(codec, codes, 129);
     std::vector<uint16_t> back(codes.size());
-    ASSERT_EQ(codec.decode(back.data(), payload.data(), payload.size(), {129, 0, nullptr, 0}), kCodecOk);
+    ASSERT_EQ(codec.decode(back.data(), payload.data(), payload.size(), {129, 0, nullptr, 0}),
+              kCodecOk);
     EXPECT_EQ(back, codes);
 }
 
@@ -88,9 +92,11 @@ TEST(LosslessCodec, RejectsTrailingBytesAndBadHeaders)
     std::vector<uint16_t> back(codes.size());
     std::vector<uint8_t> longer = payload;
     longer.push_back(0);
-    EXPECT_EQ(codec.decode(back.data(), longer.data(), longer.size(), {33, 0, nullptr, 0}), kCodecTrailingBytes);
+    EXPECT_EQ(codec.decode(back.data(), longer.data(), longer.size(), {33, 0, nullptr, 0}),
+              kCodecTrailingBytes);
     payload[1] = 99; // version from the future
-    EXPECT_EQ(codec.decode(back.data(), payload.data(), payload.size(), {33, 0, nullptr, 0}), kCodecBadHeader);
+    EXPECT_EQ(codec.decode(back.data(), payload.data(), payload.size(), {33, 0, nullptr, 0}),
+              kCodecBadHeader);
 }
 
 TEST(LosslessCodec, RejectsAPayloadOfTheWrongPatchSize)
@@ -99,7 +105,8 @@ TEST(LosslessCodec, RejectsAPayloadOfTheWrongPatchSize)
     const std::vector<uint16_t> codes = terrainPatch(33, 5, 50);
     const std::vector<uint8_t> payload = encode(codec, codes, 33);
     std::vector<uint16_t> back(65 * 65);
-    EXPECT_EQ(codec.decode(back.data(), payload.data(), payload.size(), {65, 0, nullptr, 0}), kCodecCorrupt);
+    EXPECT_EQ(codec.decode(back.data(), payload.data(), payload.size(), {65, 0, nullptr, 0}),
+              kCodecCorrupt);
 }
 
 TEST(LosslessCodec, SurvivesEveryFlippedByteWithoutCrashing)

@@ -24,9 +24,10 @@ std::vector<uint16_t> terrainPatch(int n, uint32_t seed, int noise)
     std::vector<uint16_t> v(static_cast<size_t>(n) * n);
     for (int y = 0; y < n; ++y)
         for (int x = 0; x < n; ++x)
-            v[y * n + x] = static_cast<uint16_t>(std::clamp(
-                30000 + int(900 * std::sin(x * 0.07 + seed) + 600 * std::cos(y * 0.05)) + jitter(rng),
-                0, 65535));
+            v[y * n + x] = static_cast<uint16_t>(
+                std::clamp(30000 + int(900 * std::sin(x * 0.07 + seed) + 600 * std::cos(y * 0.05)) +
+                               jitter(rng),
+                           0, 65535));
     return v;
 }
 
@@ -92,7 +93,8 @@ TEST(Rans, InterleavedLanesRoundTripSymbolsOfSeveralTablesExactly)
 
 TEST(ProgressiveTokens, EveryResidualRoundTripsThroughTokenAndRawBits)
 {
-    for (int32_t d = -progressive_tokens::kMaxMagnitude; d <= progressive_tokens::kMaxMagnitude; ++d) {
+    for (int32_t d = -progressive_tokens::kMaxMagnitude; d <= progressive_tokens::kMaxMagnitude;
+         ++d) {
         const progressive_tokens::Token t = progressive_tokens::tokenize(d);
         ASSERT_GE(t.symbol, 0);
         ASSERT_LT(t.symbol, progressive_tables::kSymbols);
@@ -121,7 +123,9 @@ TEST(ProgressiveTables, FittedTablesRoundTripTheirBytesAndBadBytesAreRejected)
         for (int c = 0; c < progressive_tables::kClasses; ++c)
             for (int x = 0; x < progressive_tables::kContexts; x += 3)
                 for (int i = 0; i < 20000; ++i)
-                    ++counts.at(l, c, x, std::min(int(std::abs(std::normal_distribution<>(0, 1 + x)(rng))) * 2, 70));
+                    ++counts.at(
+                        l, c, x,
+                        std::min(int(std::abs(std::normal_distribution<>(0, 1 + x)(rng))) * 2, 70));
     const auto fitted = ProgressiveTables::fit(counts);
     ASSERT_GT(fitted->storedCount(), 0);
     const std::vector<uint8_t> bytes = fitted->serialize();
@@ -217,7 +221,7 @@ TEST(ProgressiveCodecV2, CodesOnlyTheRegionAndRepeatsItsEdgeBeyond)
     const ProgressiveCodec codec(1, 3);
     const std::vector<uint16_t> root = terrainPatch(n, 3, 20), codes = terrainPatch(n, 4, 20);
     for (const auto& [sx, sy] : {std::pair{33, 33}, std::pair{10, 33}, std::pair{33, 2},
-                                std::pair{5, 7}, std::pair{2, 2}}) {
+                                 std::pair{5, 7}, std::pair{2, 2}}) {
         const PatchContext root_ctx{n, 0, nullptr, 0, sx, sy};
         std::vector<uint16_t> root_drawn(root.size()), decoded(root.size());
         codec.reconstruct(root.data(), root_ctx, root_drawn.data());

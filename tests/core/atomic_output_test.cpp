@@ -21,8 +21,8 @@
 #include <sys/file.h>
 #include <sys/resource.h>
 #include <sys/socket.h>
-#include <sys/un.h>
 #include <sys/stat.h>
+#include <sys/un.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -48,7 +48,10 @@ class NamedTemporaries {
     ~NamedTemporaries() { ::unsetenv("RIDGE_TEST_NAMED_TEMPORARIES"); }
 };
 
-std::vector<std::string> entries(const test::ScratchDir& dir) { return test::namesIn(dir.dir()); }
+std::vector<std::string> entries(const test::ScratchDir& dir)
+{
+    return test::namesIn(dir.dir());
+}
 
 std::vector<std::string> temporaries(const test::ScratchDir& dir, const std::string& final_name)
 {

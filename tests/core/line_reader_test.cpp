@@ -9,8 +9,8 @@
 #include <gtest/gtest.h>
 
 #include <fcntl.h>
-#include <sys/wait.h>
 #include <fstream>
+#include <sys/wait.h>
 #include <unistd.h>
 
 using namespace ridge;

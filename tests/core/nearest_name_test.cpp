@@ -21,8 +21,8 @@ TEST(EditDistance, CountsInsertionsDeletionsSubstitutionsAndSwaps)
 
 TEST(NearestName, SuggestsAPlausibleTypoAndNothingForAStranger)
 {
-    const std::vector<std::string> commands = {"build", "info", "verify", "extract",
-                                               "hillshade", "render", "bench", "view"};
+    const std::vector<std::string> commands = {"build",     "info",   "verify", "extract",
+                                               "hillshade", "render", "bench",  "view"};
     EXPECT_EQ(nearestName("biuld", commands), "build");
     EXPECT_EQ(nearestName("rendr", commands), "render");
     EXPECT_EQ(nearestName("verfiy", commands), "verify");

@@ -22,7 +22,7 @@ GLint glInteger(GLenum name)
 
 // Unsets an environment variable for the scope, restoring the old value afterwards.
 class ScopedUnsetEnv {
-public:
+  public:
     explicit ScopedUnsetEnv(const char* name) : name_(name)
     {
         if (const char* value = std::getenv(name))
@@ -35,7 +35,7 @@ public:
             setenv(name_, old_->c_str(), 1);
     }
 
-private:
+  private:
     const char* name_;
     std::optional<std::string> old_;
 };

@@ -11,7 +11,7 @@
 namespace ridge::gpu::test {
 
 class GpuTest : public ::testing::Test {
-protected:
+  protected:
     void SetUp() override
     {
         try {

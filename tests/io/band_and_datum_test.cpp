@@ -40,8 +40,16 @@ TEST(SourceBand, ReadsTheBandAskedForAndNamesEveryBand)
     test::ScratchDir dir;
     const std::string tif = dir.path("three.tif");
     gdalTranslate(test::dataPath("everest_crop.tif"), tif,
-                  {"-b", "1", "-b", "1", "-b", "1", "-a_nodata", "none", "-scale_2", "3369", "8840",
-                   "0", "1000", "-scale_3", "3369", "8840", "8840", "3369", "-ot", "Int16",
+                  {"-b",           "1",
+                   "-b",           "1",
+                   "-b",           "1",
+                   "-a_nodata",    "none",
+                   "-scale_2",     "3369",
+                   "8840",         "0",
+                   "1000",         "-scale_3",
+                   "3369",         "8840",
+                   "8840",         "3369",
+                   "-ot",          "Int16",
                    "-colorinterp", "gray,undefined,undefined"});
     const io::RasterProbe probe = io::probeRaster(tif);
     // Colour interpretation where GDAL has one, else the band's number.
@@ -117,8 +125,7 @@ TEST(VerticalDatum, FromTheCompoundCrsOrTheUser)
     EXPECT_EQ(local.name, "Khumbu survey datum");
     EXPECT_FALSE(local.epsg.has_value());
 
-    for (const auto& [text, phrase] :
-         std::vector<std::pair<std::string, std::string>>{
+    for (const auto& [text, phrase] : std::vector<std::pair<std::string, std::string>>{
              {"EPSG:4326", "is a geographic CRS, not a vertical one"},
              {"EPSG:32645", "is a projected CRS, not a vertical one"},
              {"999999", "PROJ's database has no EPSG CRS 999999"},

@@ -59,7 +59,8 @@ TEST(CodeRowReader, RowsReadTwiceAreCountedOnce)
     // strip; the archive's metadata (valid_samples) must still count each sample once.
     const std::string path = dataPath("everest_crop.tif");
     CodeRowReader reader(path, {});
-    std::vector<uint16_t> strip(size_t(reader.width()) * 33), whole(size_t(reader.width()) * reader.height());
+    std::vector<uint16_t> strip(size_t(reader.width()) * 33),
+        whole(size_t(reader.width()) * reader.height());
     for (int y0 = 0; y0 + 1 < reader.height(); y0 += 32) {
         const int rows = std::min(33, reader.height() - y0);
         reader.readRows(y0, rows, strip.data());

@@ -6,8 +6,8 @@
 #include "ridge/io/geographic.h"
 
 #include <gdal.h>
-#include <ogr_srs_api.h>
 #include <gtest/gtest.h>
+#include <ogr_srs_api.h>
 
 #include <cmath>
 
@@ -81,13 +81,12 @@ TEST(GeographicTransform, RefusesWhatItCannotConvert)
         io::GeographicTransform("", "a.ridge");
         FAIL();
     } catch (const Error& e) {
-        EXPECT_NE(std::string(e.what()).find("a.ridge: has no CRS"), std::string::npos)
-            << e.what();
+        EXPECT_NE(std::string(e.what()).find("a.ridge: has no CRS"), std::string::npos) << e.what();
     }
     EXPECT_THROW(io::GeographicTransform("not a crs", "a.ridge"), Error);
     const io::GeographicTransform t(wktOf(test::dataPath("everest_utm45.tif")), "u");
-    for (auto [lon, lat] : {std::pair{double(NAN), 10.0}, std::pair{10.0, double(INFINITY)}, std::pair{10.0, 90.5},
-                            std::pair{361.0, 0.0}, std::pair{0.0, -91.0}}) {
+    for (auto [lon, lat] : {std::pair{double(NAN), 10.0}, std::pair{10.0, double(INFINITY)},
+                            std::pair{10.0, 90.5}, std::pair{361.0, 0.0}, std::pair{0.0, -91.0}}) {
         try {
             t.fromLonLat(lon, lat);
             FAIL() << lon << "," << lat;

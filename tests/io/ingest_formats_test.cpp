@@ -399,8 +399,8 @@ std::string translate(const std::string& driver, const std::string& path)
 {
     GDALAllRegister();
     GDALDatasetH src = GDALOpen(test::dataPath("everest_crop.tif").c_str(), GA_ReadOnly);
-    GDALDatasetH out = GDALCreateCopy(GDALGetDriverByName(driver.c_str()), path.c_str(), src,
-                                      FALSE, nullptr, nullptr, nullptr);
+    GDALDatasetH out = GDALCreateCopy(GDALGetDriverByName(driver.c_str()), path.c_str(), src, FALSE,
+                                      nullptr, nullptr, nullptr);
     GDALClose(src);
     if (!out)
         throw std::runtime_error("test: cannot write " + path);
@@ -415,14 +415,16 @@ TEST(Ingest, AsciiGridAndNetcdfGiveTheSameTerrainAsGeoTiff)
 {
     test::ScratchDir dir;
     const ElevationRaster tiff = ingestRaster(test::dataPath("everest_crop.tif"));
-    for (const auto& [driver, name] : {std::pair{"AAIGrid", "everest.asc"}, std::pair{"netCDF", "everest.nc"}}) {
+    for (const auto& [driver, name] :
+         {std::pair{"AAIGrid", "everest.asc"}, std::pair{"netCDF", "everest.nc"}}) {
         const ElevationRaster other = ingestRaster(translate(driver, dir.path(name)));
         ASSERT_EQ(other.grid.width, tiff.grid.width) << driver;
         ASSERT_EQ(other.grid.height, tiff.grid.height) << driver;
         EXPECT_TRUE(other.stats.exact) << driver;
         for (size_t i = 0; i < tiff.grid.codes.size(); ++i)
             ASSERT_EQ(other.quantization.toMetres(other.grid.codes[i]),
-                      tiff.quantization.toMetres(tiff.grid.codes[i])) << driver << " sample " << i;
+                      tiff.quantization.toMetres(tiff.grid.codes[i]))
+                << driver << " sample " << i;
         EXPECT_NEAR(other.geo.spacing_x, tiff.geo.spacing_x, 1e-6 * tiff.geo.spacing_x) << driver;
         EXPECT_NEAR(other.geo.spacing_y, tiff.geo.spacing_y, 1e-6 * tiff.geo.spacing_y) << driver;
     }

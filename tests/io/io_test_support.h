@@ -36,8 +36,8 @@ struct GdalBand {
 inline GdalBand readWithGdal(const std::string& path)
 {
     GDALAllRegister();
-    GDALDatasetH ds = GDALOpenEx(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY, nullptr,
-                                 nullptr, nullptr);
+    GDALDatasetH ds =
+        GDALOpenEx(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY, nullptr, nullptr, nullptr);
     if (!ds)
         throw std::runtime_error("test: cannot open " + path);
     GdalBand out;
@@ -85,8 +85,8 @@ inline void writeTestRaster(const std::string& path, const char* driver, GDALDat
     GDALAllRegister();
     GDALDatasetH mem = GDALCreate(GDALGetDriverByName("MEM"), "", width, height, 1, type, nullptr);
     GDALRasterBandH band = GDALGetRasterBand(mem, 1);
-    if (GDALRasterIO(band, GF_Write, 0, 0, width, height, const_cast<double*>(values.data()),
-                     width, height, GDT_Float64, 0, 0) != CE_None)
+    if (GDALRasterIO(band, GF_Write, 0, 0, width, height, const_cast<double*>(values.data()), width,
+                     height, GDT_Float64, 0, 0) != CE_None)
         throw std::runtime_error("test: cannot fill MEM raster");
     if (setup.nodata)
         GDALSetRasterNoDataValue(band, *setup.nodata);

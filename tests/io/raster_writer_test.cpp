@@ -192,7 +192,8 @@ TEST(Writer, RasterRefusesBadFormatsTypesAndOptionsLeavingNothing)
         EXPECT_EQ(filesIn(dir.dir()), 0u) << phrase;
     };
     refused({"NoSuchDriver", {}, {}}, "Int16", "output_format 'NoSuchDriver': no such GDAL driver");
-    refused({"GTiff", {"COMPRESS=NOPE"}, {}}, "Int16", "creation_options: GDAL's GTiff driver refuses");
+    refused({"GTiff", {"COMPRESS=NOPE"}, {}}, "Int16",
+            "creation_options: GDAL's GTiff driver refuses");
     refused({"GTiff", {"=1"}, {}}, "Int16", "creation_options '=1': expected NAME=VALUE");
     refused({"GTiff", {}, 1e6}, "Int16", "nodata_value");
     refused({"PNG", {}, {}}, "Float32", "PNG driver doesn't support data type Float32");
@@ -208,7 +209,9 @@ TEST(Writer, RasterSideCarOverAnInputIsRefused)
 {
     ScratchDir dir;
     const std::string input = dir.path("out.hdr");
-    { std::ofstream(input) << "precious"; }
+    {
+        std::ofstream(input) << "precious";
+    }
     const std::vector<double> values = ramp(4, 4);
     EXPECT_THROW(writeRaster(dir.path("out.bin"), values, 4, 4, sampleType("Byte"), GeoReference{},
                              {"ENVI", {}, {}}, {input}),

@@ -53,7 +53,8 @@ TEST(ReferenceRaster, AppliesZScaleAndOffsetLikeIngest)
     std::vector<double> rows(size_t(3) * reference.width());
     reference.readRows(7, 3, rows.data());
     for (int i = 0; i < 3 * reference.width(); ++i) {
-        const double code_metres = ingested.quantization.toMetres(ingested.grid.codes[7 * reference.width() + i]);
+        const double code_metres =
+            ingested.quantization.toMetres(ingested.grid.codes[7 * reference.width() + i]);
         ASSERT_NEAR(rows[i], code_metres, 1e-9);
     }
 }

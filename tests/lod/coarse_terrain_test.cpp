@@ -144,7 +144,8 @@ CoarseTerrain mountainTerrain()
             const double x = frame.xOf(std::min(i * step, 256.0));
             const double y = frame.yOf(std::min(j * step, 192.0));
             const double d2 = (x - 15000) * (x - 15000) + (y - 11000) * (y - 11000);
-            const uint16_t h = uint16_t(std::lround(3400 + 5400 * std::exp(-d2 / (2 * 4000.0 * 4000.0))));
+            const uint16_t h =
+                uint16_t(std::lround(3400 + 5400 * std::exp(-d2 / (2 * 4000.0 * 4000.0))));
             codes[size_t(j) * n + i] = h;
             lo = std::min(lo, h);
             hi = std::max(hi, h);
@@ -241,7 +242,8 @@ TEST(CoarseTerrain, TheDefaultCameraFramesTheWholeSurface)
             // centred on both (within a pixel: perspective centres the planes, not the pixels).
             const bool spans_x = lo_x < 0.04 * vp.width + 1 && hi_x > 0.96 * vp.width - 1;
             const bool spans_y = lo_y < 0.04 * vp.height + 1 && hi_y > 0.96 * vp.height - 1;
-            EXPECT_TRUE(spans_x || spans_y) << lo_x << ".." << hi_x << " x " << lo_y << ".." << hi_y;
+            EXPECT_TRUE(spans_x || spans_y)
+                << lo_x << ".." << hi_x << " x " << lo_y << ".." << hi_y;
             EXPECT_NEAR(lo_x + hi_x, vp.width, 0.1 * vp.width);
             EXPECT_NEAR(lo_y + hi_y, vp.height, 0.1 * vp.height);
         }

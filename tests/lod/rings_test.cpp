@@ -84,11 +84,11 @@ TEST(Rings, UpdateRingsRefreshesOnlyTheCellsThatWrap)
     EXPECT_EQ(s.cellsRefreshed(), w * w); // first call: every cell
     s.updateRings(13, 12);                // east neighbour: one column wraps
     EXPECT_EQ(s.cellsRefreshed(), w);
-    s.updateRings(12, 11);                // north-west: a row and a column
+    s.updateRings(12, 11); // north-west: a row and a column
     EXPECT_EQ(s.cellsRefreshed(), 2 * w - 1);
-    s.updateRings(12, 11);                // the same centre: nothing
+    s.updateRings(12, 11); // the same centre: nothing
     EXPECT_EQ(s.cellsRefreshed(), 0);
-    s.updateRings(20, 3);                 // a jump: everything
+    s.updateRings(20, 3); // a jump: everything
     EXPECT_EQ(s.cellsRefreshed(), w * w);
     // Every cell of the window holds its own tile, ring and orientation.
     for (int y = s.centreY() - 3; y <= s.centreY() + 3; ++y)
@@ -116,7 +116,8 @@ TEST(Rings, TheStitchTableIsWhatTheNeighboursLevelsAskFor)
             Selection desired;
             selector.select(t.above(15, 11, 500.0, {0, 0, 0}), settings, desired);
             ResidentCover cover;
-            selector.cover(desired, [](PatchId) { return true; }, cover);
+            selector.cover(
+                desired, [](PatchId) { return true; }, cover);
             int by_table = 0, stitched = 0;
             for (const RingTile& tile : selector.drawnTiles()) {
                 EXPECT_EQ(tile.level, selector.structure().levelOfRing(tile.ring));
@@ -218,9 +219,9 @@ TEST(Rings, CamerasFarOffTheTerrainCentreOnItsEdgeWithoutLeavingTheArray)
     RingsSelector selector(t.tree, RingsSettings{3, 2});
     SelectionSettings settings;
     const double big = 1e12;
-    for (glm::dvec3 pos : {glm::dvec3(-big, -big, 100.0), glm::dvec3(big, big, 1e9),
-                           glm::dvec3(big, -big, -big), glm::dvec3(-big, big, 1.0),
-                           glm::dvec3(9.9e14, 0.0, 10.0)}) {
+    for (glm::dvec3 pos :
+         {glm::dvec3(-big, -big, 100.0), glm::dvec3(big, big, 1e9), glm::dvec3(big, -big, -big),
+          glm::dvec3(-big, big, 1.0), glm::dvec3(9.9e14, 0.0, 10.0)}) {
         const Camera cam(pos, pos + glm::dvec3(1.0, 1.0, -1.0), 60.0, {320, 200}, 1.0, 1e7);
         Selection desired;
         ASSERT_NO_THROW(selector.select(cam, settings, desired));
@@ -228,7 +229,8 @@ TEST(Rings, CamerasFarOffTheTerrainCentreOnItsEdgeWithoutLeavingTheArray)
         EXPECT_TRUE(s.centreX() == 0 || s.centreX() == s.tilesX() - 1);
         EXPECT_TRUE(s.centreY() == 0 || s.centreY() == s.tilesY() - 1);
         ResidentCover cover;
-        selector.cover(desired, [](PatchId p) { return p.level == 0; }, cover);
+        selector.cover(
+            desired, [](PatchId p) { return p.level == 0; }, cover);
         for (const RingTile& tile : selector.drawnTiles())
             EXPECT_EQ(tile.level, 0);
     }

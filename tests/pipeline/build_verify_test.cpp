@@ -33,7 +33,8 @@ std::vector<uint8_t> readFile(const std::string& path)
 
 void writeFile(const std::string& path, const std::vector<uint8_t>& bytes)
 {
-    std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+    std::ofstream(path, std::ios::binary)
+        .write(reinterpret_cast<const char*>(bytes.data()), bytes.size());
 }
 
 } // namespace
@@ -151,11 +152,13 @@ TEST(BuildVerify, FlippedByteAnywhereIsReportedWithThePatchItHits)
         const std::string& problem = v.problems.front();
         EXPECT_NE(problem.find(bad), std::string::npos);
         if (pos >= archive::kHeaderSize && pos < h.metadata_offset) {
-            const auto hit = std::find_if(reader.index().begin(), reader.index().end(), [&](const auto& r) {
-                return pos >= r.offset && pos < r.offset + r.size;
-            });
+            const auto hit =
+                std::find_if(reader.index().begin(), reader.index().end(), [&](const auto& r) {
+                    return pos >= r.offset && pos < r.offset + r.size;
+                });
             ASSERT_NE(hit, reader.index().end());
-            const std::string name = archive::ArchiveReader::patchName({int(hit->level), int(hit->x), int(hit->y)});
+            const std::string name =
+                archive::ArchiveReader::patchName({int(hit->level), int(hit->x), int(hit->y)});
             EXPECT_NE(problem.find(name), std::string::npos) << problem;
             EXPECT_EQ(v.problems.size(), 1u) << "one flipped byte hits one patch";
         }
@@ -220,7 +223,8 @@ TEST(Build, StreamingAndInMemoryBuildsAgreePatchForPatch)
         const std::string in_memory = dir.path("in_memory.ridge");
         const BuildReport s = buildArchive(source, streamed, smallPatches(patch));
         EXPECT_TRUE(s.streamed);
-        const BuildReport m = buildArchive(io::ingestRaster(source), in_memory, smallPatches(patch));
+        const BuildReport m =
+            buildArchive(io::ingestRaster(source), in_memory, smallPatches(patch));
         EXPECT_FALSE(m.streamed);
 
         const archive::ArchiveReader a(streamed), b(in_memory);
@@ -246,7 +250,8 @@ TEST(Build, StreamingAndInMemoryBuildsAgreePatchForPatch)
 TEST(Build, SourcesWithVoidsFallBackToTheInMemoryPathAndFillThem)
 {
     test::ScratchDir dir;
-    const BuildReport r = buildArchive(test::dataPath("rainier_voids.tif"), dir.path("r.ridge"), smallPatches());
+    const BuildReport r =
+        buildArchive(test::dataPath("rainier_voids.tif"), dir.path("r.ridge"), smallPatches());
     EXPECT_FALSE(r.streamed);
     EXPECT_EQ(r.voids_filled, 368);
 }
@@ -272,7 +277,8 @@ TEST(BuildVerify, SourceCheckCatchesAnUnderstatedErrorBound)
     r.err = 1.f;
     r.err_appr = 1.f;
     archive::serializeRecord(r, entry);
-    header.index_crc32 = crc32(bytes.data() + header.index_offset, bytes.size() - header.index_offset);
+    header.index_crc32 =
+        crc32(bytes.data() + header.index_offset, bytes.size() - header.index_offset);
     archive::serializeHeader(header, bytes.data());
     writeFile(out, bytes);
 

@@ -65,7 +65,8 @@ TEST(CameraPlacement, OnAProjectedArchiveHeadingStaysGridNorth)
     const glm::dvec3 d = *c.look_at - *c.position;
     EXPECT_NEAR(d.x, 0.0, 1e-9); // grid north: along +y, whatever the convergence
     EXPECT_GT(d.y, 0.0);
-    const double convergence = query.georeference().convergenceDegrees({c.position->x, c.position->y});
+    const double convergence =
+        query.georeference().convergenceDegrees({c.position->x, c.position->y});
     EXPECT_GT(convergence, 0.02); // west of 87° E: true north is clockwise of grid north
 }
 

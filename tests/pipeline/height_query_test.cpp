@@ -11,8 +11,8 @@
 #include "ridge/pipeline/level_decoder.h"
 
 #include <gdal.h>
-#include <ogr_srs_api.h>
 #include <gtest/gtest.h>
+#include <ogr_srs_api.h>
 
 #include <algorithm>
 #include <cmath>
@@ -132,8 +132,8 @@ TEST(HeightQuery, BetweenSamplesItIsTheBilinearSurfaceOfEveryLevel)
             const double p = px(rng), l = py(rng);
             const HeightSample s = query.sample({p, l}, PointSpace::Pixel, level);
             ASSERT_TRUE(s.on_raster);
-            const double expected = reader.quantization().toMetres(
-                bilinear(grid, (p - 0.5) / step, (l - 0.5) / step));
+            const double expected =
+                reader.quantization().toMetres(bilinear(grid, (p - 0.5) / step, (l - 0.5) / step));
             ASSERT_NEAR(s.height, expected, 1e-9) << "level " << level << " at " << p << "," << l;
         }
         // At the level's own samples, exactly their decoded heights.
@@ -236,8 +236,8 @@ TEST(TerrainGeoreference, LonLatRoundTripsThroughProjOnAProjectedArchive)
             const glm::dvec2 back = geo.toLocal(ll, PointSpace::LonLat);
             worst_m = std::max(worst_m, std::max(std::abs(back.x - x), std::abs(back.y - y)));
             const glm::dvec2 again = geo.fromLocal(back, PointSpace::LonLat);
-            worst_deg = std::max(worst_deg, std::max(std::abs(again.x - ll.x),
-                                                     std::abs(again.y - ll.y)));
+            worst_deg =
+                std::max(worst_deg, std::max(std::abs(again.x - ll.x), std::abs(again.y - ll.y)));
         }
     EXPECT_LT(worst_m, 1e-6);
     EXPECT_LT(worst_deg, 1e-9);
@@ -285,8 +285,8 @@ TEST(HeightQuery, DrawnPatchIsTheSelectionsPatchAtThePoint)
     // Close above the centre looking down at it: the finest level there; far away: coarser.
     const lod::Camera close({centre.x, centre.y - 10, 9500}, {centre.x, centre.y, 0}, 60.0,
                             {1920, 1080}, 1.0, 1e6);
-    const lod::Camera far({centre.x, centre.y - 10, 9e5}, {centre.x, centre.y, 0}, 60.0,
-                          {320, 180}, 1.0, 1e7);
+    const lod::Camera far({centre.x, centre.y - 10, 9e5}, {centre.x, centre.y, 0}, 60.0, {320, 180},
+                          1.0, 1e7);
     const std::optional<lod::SelectedPatch> near_patch = query.drawnPatch(close, settings, centre);
     const std::optional<lod::SelectedPatch> far_patch = query.drawnPatch(far, settings, centre);
     ASSERT_TRUE(near_patch && far_patch);
@@ -314,8 +314,8 @@ std::vector<glm::dvec2> crsPointsOf(const SourceRaster& src, int count, unsigned
     std::vector<glm::dvec2> points;
     for (int k = 0; k < count; ++k) {
         const double p = u(rng) * src.width, l = u(rng) * src.height;
-        points.push_back({src.gt[0] + p * src.gt[1] + l * src.gt[2],
-                          src.gt[3] + p * src.gt[4] + l * src.gt[5]});
+        points.push_back(
+            {src.gt[0] + p * src.gt[1] + l * src.gt[2], src.gt[3] + p * src.gt[4] + l * src.gt[5]});
     }
     for (int i = 0; i < src.width; i += 7)
         for (int j = 0; j < src.height; j += 5)
@@ -381,8 +381,8 @@ TEST(HeightQuery, NearestIsTheSampleGdalReportsAtEveryPoint)
                 continue;
             const double expected = src.values[size_t((*px)[1]) * src.width + size_t((*px)[0])];
             ASSERT_TRUE(one.on_raster && !one.nodata) << name << " point " << k;
-            ASSERT_EQ(one.height, expected) << name << " point " << k << " pixel "
-                                            << (*px)[0] << "," << (*px)[1];
+            ASSERT_EQ(one.height, expected)
+                << name << " point " << k << " pixel " << (*px)[0] << "," << (*px)[1];
             ASSERT_EQ(batch[k].height, expected) << name << " point " << k;
             ++compared;
         }
@@ -405,7 +405,8 @@ TEST(HeightQuery, NearestAtACoarserLevelIsItsNearestDecodedSample)
         const int64_t step = g.step(level);
         for (int k = 0; k < 300; ++k) {
             const glm::dvec2 p(px(rng), py(rng));
-            const HeightSample s = query.sample(p, PointSpace::Pixel, level, QueryResampling::Nearest);
+            const HeightSample s =
+                query.sample(p, PointSpace::Pixel, level, QueryResampling::Nearest);
             // The level sample at the smallest distance along each axis, its position clamped
             // to the last finest sample (pyramid_geometry.h).
             auto nearest = [&](double c, int last, int samples) {
@@ -471,8 +472,8 @@ TEST(HeightQuery, NearestNodataIsExactlyTheSourcesNodataSamples)
 TEST(HeightQuery, BatchAnswersWhatSampleAnswersInInputOrder)
 {
     test::ScratchDir dir;
-    const std::string path = buildFixture(dir, test::dataPath("everest_utm44.tif"), "u.ridge",
-                                          "progressive", 1.0);
+    const std::string path =
+        buildFixture(dir, test::dataPath("everest_utm44.tif"), "u.ridge", "progressive", 1.0);
     HeightQuery batch_query(path, 1), one_query(path);
     const PyramidGeometry& g = one_query.reader().geometry();
     std::mt19937 rng(17);
@@ -518,9 +519,9 @@ TEST(HeightQuery, BatchAnswersWhatSampleAnswersInInputOrder)
             EXPECT_GT(nodata, 100); // the collar
         }
     std::vector<HeightSample> short_out(3);
-    EXPECT_THROW(batch_query.sampleBatch(points, PointSpace::Pixel, -1, QueryResampling::Nearest,
-                                         short_out),
-                 Error);
+    EXPECT_THROW(
+        batch_query.sampleBatch(points, PointSpace::Pixel, -1, QueryResampling::Nearest, short_out),
+        Error);
     EXPECT_THROW(batch_query.sampleBatch(points, PointSpace::Pixel, g.finestLevel() + 1,
                                          QueryResampling::Nearest, std::span<HeightSample>()),
                  Error);

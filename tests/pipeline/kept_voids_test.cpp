@@ -301,8 +301,8 @@ TEST(KeptVoids, VersionOneArchivesStillOpenDecodeAndExportWithoutNodata)
     // Lossless: the finest level is the source window (everest_crop.tif, x 0..39, y 0..29).
     const Source everest = readSource(test::dataPath("everest_crop.tif"));
     std::vector<uint8_t> valid;
-    const CodeGrid grid = decodeLevelWindow(reader, reader.geometry().finestLevel(), 0, 0, 40, 30,
-                                            {}, &valid);
+    const CodeGrid grid =
+        decodeLevelWindow(reader, reader.geometry().finestLevel(), 0, 0, 40, 30, {}, &valid);
     EXPECT_TRUE(valid.empty());
     for (int y = 0; y < 30; ++y)
         for (int x = 0; x < 40; ++x)
@@ -316,9 +316,11 @@ TEST(KeptVoids, ExtractRefusesANodataValueThatIsARealHeight)
 {
     test::ScratchDir dir;
     const std::string archive_path = dir.path("utm.ridge");
-    buildArchive(test::dataPath("everest_utm44.tif"), archive_path, options(io::VoidFill::Interior));
+    buildArchive(test::dataPath("everest_utm44.tif"), archive_path,
+                 options(io::VoidFill::Interior));
     const archive::ArchiveReader reader(archive_path);
-    const CodeGrid grid = decodeLevelWindow(reader, reader.geometry().finestLevel(), 142, 111, 1, 1);
+    const CodeGrid grid =
+        decodeLevelWindow(reader, reader.geometry().finestLevel(), 142, 111, 1, 1);
     ExtractOptions o;
     o.nodata_value = reader.quantization().toMetres(grid.codes[0]);
     try {
@@ -352,14 +354,15 @@ TEST(KeptVoids, FlippedMaskBytesAreReportedWithThePatchTheyHit)
         std::vector<size_t> positions{mask};
         if (mask_end - mask > 1) { // a bitmap: frame_size, then the first, middle, last frame byte
             ++bitmaps;
-            positions.insert(positions.end(), {mask + 1, mask + 4, mask + 5, (mask + 5 + mask_end) / 2,
-                                               mask_end - 1});
+            positions.insert(positions.end(), {mask + 1, mask + 4, mask + 5,
+                                               (mask + 5 + mask_end) / 2, mask_end - 1});
         }
         for (size_t pos : positions) {
             std::vector<uint8_t> flipped = bytes;
             flipped[pos] ^= 0x01;
             std::ofstream(bad, std::ios::binary | std::ios::trunc)
-                .write(reinterpret_cast<const char*>(flipped.data()), std::streamsize(flipped.size()));
+                .write(reinterpret_cast<const char*>(flipped.data()),
+                       std::streamsize(flipped.size()));
             const VerifyReport v = verifyArchive(bad, {});
             ASSERT_FALSE(v.ok()) << "flip at mask byte " << pos << " went unnoticed";
             EXPECT_NE(v.problems.front().find(bad + ": " + archive::ArchiveReader::patchName(p)),

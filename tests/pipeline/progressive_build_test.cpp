@@ -66,7 +66,8 @@ TEST(ProgressiveBuild, StrictBoundOnEverySampleOfEveryLevelForSeveralTilesAndBou
             ASSERT_EQ(decoded.codes.size(), raster.grid.codes.size());
             double worst = 0;
             for (size_t i = 0; i < decoded.codes.size(); ++i)
-                worst = std::max(worst, std::fabs(double(decoded.codes[i]) - raster.grid.codes[i]) * raster.quantization.scale);
+                worst = std::max(worst, std::fabs(double(decoded.codes[i]) - raster.grid.codes[i]) *
+                                            raster.quantization.scale);
             EXPECT_LE(worst, e);
             if (e >= 1.0) {
                 EXPECT_GT(worst, 0.0); // lossy for real: the bound is used, not sidestepped
@@ -97,7 +98,8 @@ TEST(ProgressiveBuild, PaperVariantNevilleLevelsAndStoredBlockErrorsAllVerify)
     buildArchive(source, dir.path("derived.ridge"), progressive(1.0));
     expectEveryBoundHolds(dir.path("stored.ridge"), source);
     const archive::ArchiveReader a(dir.path("stored.ridge")), b(dir.path("derived.ridge"));
-    EXPECT_LT(std::filesystem::file_size(dir.path("derived.ridge")), std::filesystem::file_size(dir.path("stored.ridge")));
+    EXPECT_LT(std::filesystem::file_size(dir.path("derived.ridge")),
+              std::filesystem::file_size(dir.path("stored.ridge")));
     for (int64_t i = 0; i < a.geometry().patchCount(); ++i) {
         const PatchId p = a.geometry().patchAt(i);
         const std::vector<float> sa = a.readBlockErrors(p), sb = b.readBlockErrors(p);
@@ -115,10 +117,12 @@ TEST(ProgressiveBuild, RandomAccessToOnePatchMatchesTheLevelDecode)
     const archive::ArchiveReader reader(out);
     const PyramidGeometry& g = reader.geometry();
     const int level = g.finestLevel(), n = g.patchSize();
-    const DecodedPatches all = decodePatches(reader, level, 0, 0, g.patchesX(level) - 1, g.patchesY(level) - 1);
+    const DecodedPatches all =
+        decodePatches(reader, level, 0, 0, g.patchesX(level) - 1, g.patchesY(level) - 1);
     std::vector<uint16_t> alone(static_cast<size_t>(n) * n), expected(alone.size());
-    for (const PatchId p : {PatchId{level, 0, 0}, PatchId{level, g.patchesX(level) - 1, g.patchesY(level) - 1},
-                            PatchId{level, g.patchesX(level) / 2, 1}}) {
+    for (const PatchId p :
+         {PatchId{level, 0, 0}, PatchId{level, g.patchesX(level) - 1, g.patchesY(level) - 1},
+          PatchId{level, g.patchesX(level) / 2, 1}}) {
         reader.decodePatch(p, alone.data()); // no parent given: the reader decodes the ancestors
         all.copyPatch(p, n, expected.data());
         EXPECT_EQ(alone, expected);

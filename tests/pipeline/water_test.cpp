@@ -74,7 +74,10 @@ std::vector<uint8_t> finestFlags(const std::string& archive)
 }
 
 // Water in the shared palette is blue over green and red; no land colour is.
-bool looksLikeWater(const uint8_t* p) { return p[2] > p[0] + 24 && p[2] > p[1] + 8; }
+bool looksLikeWater(const uint8_t* p)
+{
+    return p[2] > p[0] + 24 && p[2] > p[1] + 8;
+}
 
 } // namespace
 
@@ -159,7 +162,8 @@ TEST(Water, AVectorLayerInAnotherCrsAddsALakeAboveSeaLevel)
     int64_t lake = 0;
     for (size_t k = 0; k < flags.size(); ++k)
         if ((flags[k] & kSampleWater) && source.metres[k] > 0.0) {
-            ASSERT_EQ(source.metres[k], 87.0) << "sample " << k % source.width << ", " << k / source.width;
+            ASSERT_EQ(source.metres[k], 87.0)
+                << "sample " << k % source.width << ", " << k / source.width;
             ++lake;
         }
     EXPECT_GE(lake, 250);
@@ -175,9 +179,9 @@ TEST(Water, ARasterLayerOnAnotherGridIsResampledOntoTheArchives)
     // The lake burnt into a 30 m UTM raster (0 land, 1 water, 255 nodata outside the lake's
     // neighbourhood) by gdal_rasterize: another CRS, another spacing, a smaller extent.
     const std::string lake = dir.path("lake_utm.tif");
-    const test::CommandResult made = test::runShell(
-        "gdal_rasterize -q -burn 1 -init 0 -a_nodata 255 -tr 30 30 -ot Byte " +
-        test::dataPath("crystal_springs_utm10.geojson") + " " + lake);
+    const test::CommandResult made =
+        test::runShell("gdal_rasterize -q -burn 1 -init 0 -a_nodata 255 -tr 30 30 -ot Byte " +
+                       test::dataPath("crystal_springs_utm10.geojson") + " " + lake);
     ASSERT_EQ(made.exit_code, 0) << made.output;
     const Source source = readSource(test::dataPath("sfbay_coast.tif"));
     BuildOptions o = lossy();
@@ -304,8 +308,8 @@ TEST(Water, QueriesReportWaterAndFilledSamplesAsTheArchiveFlagsThem)
     int64_t voids = 0;
     for (int y = 0; y < rainier.height; ++y)
         for (int x = 0; x < rainier.width; ++x) {
-            const HeightSample s = filled.sample({x + 0.5, y + 0.5}, PointSpace::Pixel, -1,
-                                                 QueryResampling::Nearest);
+            const HeightSample s =
+                filled.sample({x + 0.5, y + 0.5}, PointSpace::Pixel, -1, QueryResampling::Nearest);
             ASSERT_EQ(s.filled, std::isnan(rainier.at(x, y))) << x << ", " << y;
             voids += s.filled;
         }
@@ -343,7 +347,8 @@ TEST(Water, VerifyChecksTheFlagsAcrossLevelsAndAgainstTheSource)
     const std::string crafted = dir.path("crafted.ridge");
     bytes.save(crafted);
     const VerifyReport plain = verifyArchive(crafted, {});
-    ASSERT_FALSE(plain.ok()) << "patch (" << land->level << ", " << land->x << ", " << land->y << ")";
+    ASSERT_FALSE(plain.ok()) << "patch (" << land->level << ", " << land->x << ", " << land->y
+                             << ")";
     bool named = false;
     for (const std::string& p : plain.problems)
         named = named || p.find("sample flags (all water) differ") != std::string::npos ||
@@ -393,7 +398,8 @@ TEST(Water, VerifySourceRefutesWaterAndFilledFlagsTheSourceDoesNotSupport)
     BuildOptions fill;
     fill.patch_size = 65;
     fill.ingest.fill_voids = io::VoidFill::All;
-    const std::string rainier = build(dir, "rainier.ridge", fill, test::dataPath("rainier_voids.tif"));
+    const std::string rainier =
+        build(dir, "rainier.ridge", fill, test::dataPath("rainier_voids.tif"));
     VerifyOptions rainier_source;
     rainier_source.source = test::dataPath("rainier_voids.tif");
     const VerifyReport fine = verifyArchive(rainier, rainier_source);
@@ -408,7 +414,8 @@ TEST(Water, VerifySourceRefutesWaterAndFilledFlagsTheSourceDoesNotSupport)
                 holes = PatchId{RL, x, y};
     ASSERT_TRUE(holes.has_value());
     const std::vector<uint8_t> blob = rr.readBlob(*holes);
-    const size_t flags_at = rr.record(*holes).block_errors_size + test::validityMaskSize(blob, rr.record(*holes).block_errors_size);
+    const size_t flags_at = rr.record(*holes).block_errors_size +
+                            test::validityMaskSize(blob, rr.record(*holes).block_errors_size);
     PatchSampleFlags stored;
     size_t stored_size = 0;
     ASSERT_EQ(archive::unpackSampleFlags(blob.data() + flags_at, blob.size() - flags_at,
@@ -423,6 +430,7 @@ TEST(Water, VerifySourceRefutesWaterAndFilledFlagsTheSourceDoesNotSupport)
     const VerifyReport refuted = verifyArchive(crafted_rainier, rainier_source);
     bool filled = false;
     for (const std::string& p : refuted.problems)
-        filled = filled || p.find("flagged filled where the build filled no void, or not") != std::string::npos;
+        filled = filled || p.find("flagged filled where the build filled no void, or not") !=
+                               std::string::npos;
     EXPECT_TRUE(filled) << (refuted.problems.empty() ? "ok" : refuted.problems.front());
 }

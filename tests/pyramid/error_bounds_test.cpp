@@ -33,7 +33,8 @@ double surfaceAt(const std::vector<uint16_t>& patch, int n, double u, double v, 
     case Surface::DiagonalA: // split along (0,0)-(1,1)
         return s >= t ? a + (b - a) * s + (e - b) * t : a + (e - c) * s + (c - a) * t;
     case Surface::DiagonalB: // split along (1,0)-(0,1)
-        return s + t <= 1 ? a + (b - a) * s + (c - a) * t : e + (c - e) * (1 - s) + (b - e) * (1 - t);
+        return s + t <= 1 ? a + (b - a) * s + (c - a) * t
+                          : e + (c - e) * (1 - s) + (b - e) * (1 - t);
     }
     return 0;
 }
@@ -65,7 +66,8 @@ TEST_P(ErrorBounds, ErrApprBoundsTheTrueDeviationFromFullResolution)
         for (int64_t y = y0; y <= y1; ++y)
             for (int64_t x = x0; x <= x1; ++x)
                 for (Surface kind : {Surface::Bilinear, Surface::DiagonalA, Surface::DiagonalB}) {
-                    const double s = surfaceAt(patch, n, double(x - x0) / step, double(y - y0) / step, kind);
+                    const double s =
+                        surfaceAt(patch, n, double(x - x0) / step, double(y - y0) / step, kind);
                     worst = std::max(worst, std::fabs(s - raster.grid.at(int(x), int(y))));
                 }
         ASSERT_LE(worst, errors.err_appr[index] + 1e-6)
@@ -87,9 +89,10 @@ TEST_P(ErrorBounds, ErrApprBoundsTheTrueDeviationFromFullResolution)
     EXPECT_GT(tightest_ratio, 0.5);
 }
 
-INSTANTIATE_TEST_SUITE_P(RealTerrain, ErrorBounds,
-                         ::testing::Combine(::testing::Values("everest_crop.tif", "rainier_voids.tif"),
-                                            ::testing::Values(PyramidFilter::Decimate, PyramidFilter::Neville4)));
+INSTANTIATE_TEST_SUITE_P(
+    RealTerrain, ErrorBounds,
+    ::testing::Combine(::testing::Values("everest_crop.tif", "rainier_voids.tif"),
+                       ::testing::Values(PyramidFilter::Decimate, PyramidFilter::Neville4)));
 
 TEST(PatchErrors, FinestLevelHasZeroApproximationError)
 {
@@ -182,30 +185,44 @@ TEST(TessellationBlockErrors, MatchBruteForceOnRealTerrain)
                                     for (int cx = s * 8; cx < s * 8 + 8; cx += st) {
                                         if (x < cx || x > cx + st || y < cy || y > cy + st)
                                             continue;
-                                        const double P[4][3] = {{double(cx), double(cy), h(cx, cy)},
-                                                                {double(cx + st), double(cy), h(cx + st, cy)},
-                                                                {double(cx), double(cy + st), h(cx, cy + st)},
-                                                                {double(cx + st), double(cy + st), h(cx + st, cy + st)}};
-                                        const int tris[4][3] = {{0, 1, 3}, {0, 3, 2}, {0, 1, 2}, {1, 3, 2}};
+                                        const double P[4][3] = {
+                                            {double(cx), double(cy), h(cx, cy)},
+                                            {double(cx + st), double(cy), h(cx + st, cy)},
+                                            {double(cx), double(cy + st), h(cx, cy + st)},
+                                            {double(cx + st), double(cy + st),
+                                             h(cx + st, cy + st)}};
+                                        const int tris[4][3] = {
+                                            {0, 1, 3}, {0, 3, 2}, {0, 1, 2}, {1, 3, 2}};
                                         for (const auto& tri : tris) {
                                             const double* A = P[tri[0]];
                                             const double* B = P[tri[1]];
                                             const double* C = P[tri[2]];
-                                            const double det = (B[0] - A[0]) * (C[1] - A[1]) - (C[0] - A[0]) * (B[1] - A[1]);
-                                            const double wb = ((x - A[0]) * (C[1] - A[1]) - (C[0] - A[0]) * (y - A[1])) / det;
-                                            const double wc = ((B[0] - A[0]) * (y - A[1]) - (x - A[0]) * (B[1] - A[1])) / det;
+                                            const double det = (B[0] - A[0]) * (C[1] - A[1]) -
+                                                               (C[0] - A[0]) * (B[1] - A[1]);
+                                            const double wb = ((x - A[0]) * (C[1] - A[1]) -
+                                                               (C[0] - A[0]) * (y - A[1])) /
+                                                              det;
+                                            const double wc = ((B[0] - A[0]) * (y - A[1]) -
+                                                               (x - A[0]) * (B[1] - A[1])) /
+                                                              det;
                                             const double wa = 1 - wb - wc;
                                             if (wa < -1e-12 || wb < -1e-12 || wc < -1e-12)
                                                 continue;
-                                            brute = std::max(brute, std::fabs(h(x, y) - (wa * A[2] + wb * B[2] + wc * C[2])));
+                                            brute = std::max(
+                                                brute, std::fabs(h(x, y) - (wa * A[2] + wb * B[2] +
+                                                                            wc * C[2])));
                                         }
-                                        const double u = double(x - cx) / st, v = double(y - cy) / st;
-                                        const double bil = (P[0][2] * (1 - u) + P[1][2] * u) * (1 - v) + (P[2][2] * (1 - u) + P[3][2] * u) * v;
+                                        const double u = double(x - cx) / st,
+                                                     v = double(y - cy) / st;
+                                        const double bil =
+                                            (P[0][2] * (1 - u) + P[1][2] * u) * (1 - v) +
+                                            (P[2][2] * (1 - u) + P[3][2] * u) * v;
                                         brute = std::max(brute, std::fabs(h(x, y) - bil));
                                     }
                             }
                         ASSERT_NEAR(lambda[(r * 4 + s) * 3 + d - 1], brute, 1e-3)
-                            << "patch " << px << "," << py << " block " << r << "," << s << " d " << d;
+                            << "patch " << px << "," << py << " block " << r << "," << s << " d "
+                            << d;
                     }
         }
     }

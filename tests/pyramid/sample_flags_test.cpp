@@ -34,7 +34,8 @@ TEST(SampleFlagsPyramid, CoarseSamplesTakeTheFinestSampleAtTheirClampedPosition)
         const int64_t s = g.step(l);
         for (int64_t j = 0; j < g.levelHeight(l) + 2; ++j)
             for (int64_t i = 0; i < g.levelWidth(l) + 2; ++i) {
-                const int64_t x = std::min<int64_t>(i * s, w - 1), y = std::min<int64_t>(j * s, h - 1);
+                const int64_t x = std::min<int64_t>(i * s, w - 1),
+                              y = std::min<int64_t>(j * s, h - 1);
                 ASSERT_EQ(pyramid.at(l, i, j), finest[size_t(y) * w + size_t(x)])
                     << "level " << l << " sample " << i << ", " << j;
             }
@@ -52,13 +53,15 @@ TEST(SampleFlagsPyramid, AStreamedBuildsLevelAboveTheFinestGivesTheSamePatches)
     std::vector<uint8_t> coarse(size_t(cw) * ch);
     for (int j = 0; j < ch; ++j)
         for (int i = 0; i < cw; ++i)
-            coarse[size_t(j) * cw + i] = finest[size_t(std::min(2 * j, h - 1)) * w + std::min(2 * i, w - 1)];
+            coarse[size_t(j) * cw + i] =
+                finest[size_t(std::min(2 * j, h - 1)) * w + std::min(2 * i, w - 1)];
     const SampleFlagsPyramid from_finest(SampleFlagsGrid(finest, w, h), L, g),
         from_coarse(SampleFlagsGrid(coarse, cw, ch), L - 1, g);
     for (int l = 0; l < L; ++l)
         for (int y = 0; y < g.patchesY(l); ++y)
             for (int x = 0; x < g.patchesX(l); ++x) {
-                const PatchSampleFlags a = from_finest.patch({l, x, y}), b = from_coarse.patch({l, x, y});
+                const PatchSampleFlags a = from_finest.patch({l, x, y}),
+                                       b = from_coarse.patch({l, x, y});
                 EXPECT_EQ(a.kind, b.kind) << l << " " << x << " " << y;
                 EXPECT_EQ(a.flags, b.flags) << l << " " << x << " " << y;
             }

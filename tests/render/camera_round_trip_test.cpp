@@ -78,8 +78,7 @@ TEST(CameraRoundTrip, ThePrintedViewerCameraRendersTheSameView)
         const ResolvedCamera resolved = resolveCameraPlacement(query, parseRenderOptions(printed));
         ASSERT_TRUE(resolved.position && resolved.look_at) << printed;
         EXPECT_EQ(*resolved.position, fly.position()) << printed;
-        const lod::Camera rendered(*resolved.position, *resolved.look_at, 60.0, viewport, 2.0,
-                                   1e5);
+        const lod::Camera rendered(*resolved.position, *resolved.look_at, 60.0, viewport, 2.0, 1e5);
         const lod::Camera viewed = fly.camera(viewport, 60.0, 2.0, 1e5);
         // The fly camera looks at a point 1 m ahead, which rounds to the position's ulp
         // (1.8e-12 m at 12 km): its direction carries ~1e-12 of that, the printed form none.

@@ -104,10 +104,10 @@ StitchedReport checkStitchedWatertight(const render::CapturedSurface& s,
                 float x, y;
                 std::memcpy(&x, &edge.first[0], 4);
                 std::memcpy(&y, &edge.first[1], 4);
-                report.first_problem =
-                    "open edge at column " +
-                    std::to_string(frame.columnOf(x + s.camera_position.x)) + ", row " +
-                    std::to_string(frame.rowOf(y + s.camera_position.y));
+                report.first_problem = "open edge at column " +
+                                       std::to_string(frame.columnOf(x + s.camera_position.x)) +
+                                       ", row " +
+                                       std::to_string(frame.rowOf(y + s.camera_position.y));
             }
         }
         if (count > 2)

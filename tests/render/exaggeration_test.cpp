@@ -54,8 +54,10 @@ class Exaggeration : public ::testing::TestWithParam<std::string> {
         std::uniform_real_distribution<double> u(0.0, 1.0);
         std::vector<lod::Camera> out;
         while (int(out.size()) < count) {
-            const double x = (0.05 + 0.9 * u(rng)) * f.extentX(), y = (0.05 + 0.9 * u(rng)) * f.extentY();
-            const glm::dvec3 pos(x, y, renderer_->groundHeight(x, y, kK) + 40.0 * std::pow(200.0, u(rng)));
+            const double x = (0.05 + 0.9 * u(rng)) * f.extentX(),
+                         y = (0.05 + 0.9 * u(rng)) * f.extentY();
+            const glm::dvec3 pos(
+                x, y, renderer_->groundHeight(x, y, kK) + 40.0 * std::pow(200.0, u(rng)));
             const double tx = u(rng) * f.extentX(), ty = u(rng) * f.extentY();
             const glm::dvec3 at(tx, ty, renderer_->groundHeight(tx, ty, kK));
             if (glm::length(at - pos) < 1.0)
@@ -95,7 +97,8 @@ TEST_P(Exaggeration, TheExaggeratedSurfaceIsWatertightAndWithinEpsilon)
         settings.texel_px = 0.0; // ε alone decides, as the promise is about ε
         settings.exaggeration = kK;
         settings.cull_blocks = false;
-        const test::WatertightReport w = test::checkWatertight(renderer_->capture(camera, settings), frame);
+        const test::WatertightReport w =
+            test::checkWatertight(renderer_->capture(camera, settings), frame);
         EXPECT_EQ(w.open_edges, 0u) << w.first_problem;
         EXPECT_EQ(w.uncovered_seams, 0u) << w.first_problem;
         settings.cull_blocks = true;
@@ -128,7 +131,9 @@ TEST_P(Exaggeration, EveryDrawnVertexIsKTimesTheTrueSurface)
     const double bound = renderer_->quadtree().bounds({0, 0, 0}).err + 1e-3;
     const int w = f.geometry().width(), h = f.geometry().height();
     auto at = [&](int i, int j) {
-        return double(exaggerated_[size_t(std::clamp(j, 0, h - 1)) * w + size_t(std::clamp(i, 0, w - 1))]) / kK;
+        return double(exaggerated_[size_t(std::clamp(j, 0, h - 1)) * w +
+                                   size_t(std::clamp(i, 0, w - 1))]) /
+               kK;
     };
     size_t checked = 0;
     double worst = 0.0;
@@ -150,6 +155,8 @@ TEST_P(Exaggeration, EveryDrawnVertexIsKTimesTheTrueSurface)
 }
 
 INSTANTIATE_TEST_SUITE_P(EveryScheme, Exaggeration, ::testing::ValuesIn(render::lodSchemeNames()),
-                         [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
+                         [](const ::testing::TestParamInfo<std::string>& info) {
+                             return info.param;
+                         });
 
 } // namespace ridge

@@ -52,7 +52,8 @@ Seen expectGpuEqualsCpu(const std::string& path)
         const size_t skip = reader.payloadOffset(p, blob);
         const PatchContext ctx = patchContext(g, p, parent->codes.data());
         Jpeg2000Difference d;
-        EXPECT_EQ(codec->decodeDifference(blob.data() + skip, blob.size() - skip, ctx, &d), kCodecOk);
+        EXPECT_EQ(codec->decodeDifference(blob.data() + skip, blob.size() - skip, ctx, &d),
+                  kCodecOk);
         decoder.reconstruct(d, ctx.child_index, heights.id(), 0, 1);
         glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
         glGetTextureSubImage(heights.id(), 0, 0, 0, 1, n, n, 1, GL_RED_INTEGER, GL_UNSIGNED_SHORT,

@@ -3,11 +3,11 @@
 #include "fixture_archives.h"
 #include "gpu_progressive_decoder.h"
 
-#include "ridge/pyramid/patch_context.h"
 #include "ridge/archive/archive_reader.h"
 #include "ridge/codec/progressive_codec.h"
 #include "ridge/gpu/context.h"
 #include "ridge/pipeline/build.h"
+#include "ridge/pyramid/patch_context.h"
 #include "ridge/stream/patch_loader.h"
 
 #include <gtest/gtest.h>
@@ -99,10 +99,10 @@ TEST(GpuProgressiveDecoder, ReconstructsEveryPatchBitForBitLikeTheCpuDecoder)
     };
     // v2 (whole and clipped regions: the fixture's extent ends inside its last patches), the
     // hybrid schedule (refinements coded), v1 and the paper's variant.
-    for (const Case c : {Case{33, "progressive", 1.0}, Case{65, "progressive", 4.0},
-                         Case{33, "progressive,corrections=0", 1.0},
-                         Case{33, "progressive,nested=2", 1.0}, Case{33, "progressive-v1", 1.0},
-                         Case{33, "progressive-paper", 2.0}}) {
+    for (const Case c :
+         {Case{33, "progressive", 1.0}, Case{65, "progressive", 4.0},
+          Case{33, "progressive,corrections=0", 1.0}, Case{33, "progressive,nested=2", 1.0},
+          Case{33, "progressive-v1", 1.0}, Case{33, "progressive-paper", 2.0}}) {
         expectGpuEqualsCpu(test::buildEverestArchive(dir, c.codec, c.patch, c.error));
     }
 }

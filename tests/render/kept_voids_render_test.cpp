@@ -27,7 +27,8 @@ namespace {
 
 struct PixelCounts {
     size_t outside = 0, outside_drawn = 0; // ground wholly over undrawable cells / past the extent
-    size_t inside = 0, inside_missing = 0; // ground wholly over drawable cells of the coarsest drawn level
+    size_t inside = 0,
+           inside_missing = 0; // ground wholly over drawable cells of the coarsest drawn level
 };
 
 PixelCounts classify(const render::TerrainRenderer& r, const lod::Camera& cam,
@@ -46,7 +47,8 @@ PixelCounts classify(const render::TerrainRenderer& r, const lod::Camera& cam,
     for (int row = 0; row < h; ++row)
         for (int col = 0; col < w; ++col) {
             const double nx = 2.0 * (col + 0.5) / w - 1.0, ny = 1.0 - 2.0 * (row + 0.5) / h;
-            glm::dvec4 a = inv * glm::dvec4(nx, ny, -1.0, 1.0), b = inv * glm::dvec4(nx, ny, 0.5, 1.0);
+            glm::dvec4 a = inv * glm::dvec4(nx, ny, -1.0, 1.0),
+                       b = inv * glm::dvec4(nx, ny, 0.5, 1.0);
             const glm::dvec3 dir = glm::normalize(glm::dvec3(b) / b.w - glm::dvec3(a) / a.w);
             bool all_outside = true, all_inside = true;
             for (int k = 0; k <= 16; ++k) {
@@ -54,8 +56,8 @@ PixelCounts classify(const render::TerrainRenderer& r, const lod::Camera& cam,
                 const double t = (z - cam.position().z) / dir.z;
                 const glm::dvec3 ground = cam.position() + t * dir;
                 const double column = f.columnOf(ground.x), line = f.rowOf(ground.y);
-                const bool in_extent = column >= 0 && line >= 0 && column <= g.width() - 1 &&
-                                       line <= g.height() - 1;
+                const bool in_extent =
+                    column >= 0 && line >= 0 && column <= g.width() - 1 && line <= g.height() - 1;
                 const int64_t i = int64_t(std::floor(column)), j = int64_t(std::floor(line));
                 const bool finest_drawable =
                     in_extent && validity.cellDrawable(g.finestLevel(), i, j);
@@ -117,12 +119,14 @@ TEST(KeptVoidsRender, NoSchemeDrawsNodataAndNoneLeavesAHoleInTheFootprint)
             // Straight down from high above the centre and above each corner's collar, with
             // a narrow field of view: short ground segments per pixel.
             size_t outside = 0, outside_drawn = 0, inside = 0, inside_missing = 0;
-            for (const glm::dvec2 at : {glm::dvec2(0.5, 0.5), glm::dvec2(0.1, 0.1),
-                                        glm::dvec2(0.9, 0.1), glm::dvec2(0.1, 0.9),
-                                        glm::dvec2(0.9, 0.9)}) {
-                const glm::dvec3 target_point(at.x * f.extentX(), at.y * f.extentY(), root.min_height);
+            for (const glm::dvec2 at :
+                 {glm::dvec2(0.5, 0.5), glm::dvec2(0.1, 0.1), glm::dvec2(0.9, 0.1),
+                  glm::dvec2(0.1, 0.9), glm::dvec2(0.9, 0.9)}) {
+                const glm::dvec3 target_point(at.x * f.extentX(), at.y * f.extentY(),
+                                              root.min_height);
                 const double span = at.x == 0.5 ? f.extentX() : 0.3 * f.extentX();
-                const glm::dvec3 eye = target_point + glm::dvec3(1.0, 1.0, 3.0 * span + root.max_height);
+                const glm::dvec3 eye =
+                    target_point + glm::dvec3(1.0, 1.0, 3.0 * span + root.max_height);
                 double near_m, far_m;
                 renderer.clipPlanesFor(eye, near_m, far_m);
                 const lod::Camera cam(eye, target_point, 20.0, vp, near_m, far_m);

@@ -4,8 +4,8 @@
 // and against `ridge hillshade` of the same archive. Before colour came from the patches'
 // height maps (and before the texture-detail criterion), the default view was one patch of
 // 184 triangles coloured by its vertices: the continents were gone.
-#include "test_support.h"
 #include "read_rgb.h"
+#include "test_support.h"
 
 #include "ridge/archive/archive_reader.h"
 #include "ridge/lod/terrain_frame.h"
@@ -27,7 +27,10 @@ using test::readRgb;
 
 // Water in the shared palette is blue over green and red at any light; no land colour is
 // (greens, ochres, browns, greys and snow, even under fog's bluish haze).
-bool looksLikeWater(const uint8_t* p) { return p[2] > p[0] + 24 && p[2] > p[1] + 8; }
+bool looksLikeWater(const uint8_t* p)
+{
+    return p[2] > p[0] + 24 && p[2] > p[1] + 8;
+}
 
 struct Heights {
     int width = 0, height = 0;
@@ -39,7 +42,8 @@ struct Heights {
         const bool land = at(i, j) > 0.f;
         for (int dj = -r; dj <= r; ++dj)
             for (int di = -r; di <= r; ++di) {
-                const int x = std::clamp(i + di, 0, width - 1), y = std::clamp(j + dj, 0, height - 1);
+                const int x = std::clamp(i + di, 0, width - 1),
+                          y = std::clamp(j + dj, 0, height - 1);
                 if ((at(x, y) > 0.f) != land)
                     return false;
             }
@@ -92,7 +96,8 @@ class LandSea : public ::testing::Test {
         const double cx = 0.5 * frame.extentX(), cy = 0.5 * frame.extentY();
         // High enough for the whole globe to fit the frame (half-width over tan of half the
         // horizontal field of view); a hair north of straight down keeps "up" defined.
-        const double h = 0.56 * frame.extentX() / std::tan(std::atan(std::tan(15.0 * M_PI / 180.0) * 640.0 / 360.0));
+        const double h = 0.56 * frame.extentX() /
+                         std::tan(std::atan(std::tan(15.0 * M_PI / 180.0) * 640.0 / 360.0));
         options.camera = glm::dvec3(cx, cy, h);
         options.look_at = glm::dvec3(cx, cy + 1e-3 * h, 0.0);
         const std::string png = scratch_->path(std::string(name) + ".png");

@@ -24,8 +24,8 @@ TEST(PaletteTwin, ShaderAndCppPaintTheSameColoursAtManyHeights)
     std::mt19937 rng(13);
     std::uniform_real_distribution<float> u(0.f, 1.f);
     // Terrains with and without sea: ETOPO-like, a coast from 0 m, an inland massif.
-    const std::array<std::array<float, 2>, 3> ranges = {{{-10376.f, 7833.f}, {0.f, 4300.f},
-                                                          {3369.f, 8840.f}}};
+    const std::array<std::array<float, 2>, 3> ranges = {
+        {{-10376.f, 7833.f}, {0.f, 4300.f}, {3369.f, 8840.f}}};
     std::vector<glm::vec4> cases;
     for (int k = 0; k < 8192; ++k) {
         const auto [lo, hi] = ranges[size_t(k) % ranges.size()];

@@ -119,8 +119,8 @@ TEST(PatchInstances, AFarCameraOverAFineGridKeepsTheAnchorInRange)
     lod::Selection s;
     s.patches.push_back({PatchId{g.finestLevel(), 3, 2}, 0.0, lod::Visibility::Inside});
     const PatchInstances r = buildPatchInstances(
-        t, s, glm::dvec3(1e15, -1e15, 10.0), [](PatchId) { return 0; },
-        [](PatchId) { return 1.0; }, 0.01);
+        t, s, glm::dvec3(1e15, -1e15, 10.0), [](PatchId) { return 0; }, [](PatchId) { return 1.0; },
+        0.01);
     EXPECT_EQ(r.total(), 1u);
 }
 

@@ -32,8 +32,8 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
-#include <optional>
 #include <memory>
+#include <optional>
 #include <random>
 
 namespace ridge {
@@ -47,8 +47,8 @@ struct Fixture {
     std::string name;
     std::string codec;
     int patch_size;
-    double max_error;  // lossy codecs: the codec's bound, metres
-    double z_scale;    // 1: Everest as it is; 0.02: a low-relief terrain (60 m of relief)
+    double max_error; // lossy codecs: the codec's bound, metres
+    double z_scale;   // 1: Everest as it is; 0.02: a low-relief terrain (60 m of relief)
 };
 
 // What the suite draws on, built once per process.
@@ -189,18 +189,17 @@ std::vector<NamedCamera> conformanceCameras(const Scene& s, lod::Viewport vp)
     // Across the east and south borders: from outside, low and oblique, at the last column
     // and row (where coarse levels must still reach).
     const double mid = 0.5 * (root.min_height + root.max_height);
-    out.push_back({"east border",
-                   cameraAt(r, {X + 2000.0, Y * 0.5, root.max_height + 500.0}, {X, Y * 0.5, mid},
-                            vp)});
-    out.push_back({"south border",
-                   cameraAt(r, {X * 0.5, -2000.0, root.max_height + 500.0}, {X * 0.5, 0.0, mid},
-                            vp)});
+    out.push_back({"east border", cameraAt(r, {X + 2000.0, Y * 0.5, root.max_height + 500.0},
+                                           {X, Y * 0.5, mid}, vp)});
+    out.push_back({"south border", cameraAt(r, {X * 0.5, -2000.0, root.max_height + 500.0},
+                                            {X * 0.5, 0.0, mid}, vp)});
     // High, oblique over the whole terrain, and far: only the coarsest levels are drawn.
     out.push_back({"high", cameraAt(r, {X * 0.4, -Y * 0.3, root.max_height + 2.0 * std::max(X, Y)},
                                     {X * 0.5, Y * 0.5, mid}, vp)});
-    out.push_back({"far", cameraAt(r, {X * 0.9 + 8.0 * X, Y * 0.1 - 8.0 * Y,
-                                       root.max_height + 3.0 * std::max(X, Y)},
-                                   {X * 0.9, Y * 0.1, mid}, vp)});
+    out.push_back(
+        {"far",
+         cameraAt(r, {X * 0.9 + 8.0 * X, Y * 0.1 - 8.0 * Y, root.max_height + 3.0 * std::max(X, Y)},
+                  {X * 0.9, Y * 0.1, mid}, vp)});
     return out;
 }
 
@@ -303,8 +302,9 @@ TEST_P(SchemeConformance, LodChangesPopOnlyWhereTheSchemeDoesNotPromiseOtherwise
         for (int k = 0; k < frames; ++k) {
             const double t = double(k) / (frames - 1);
             const glm::dvec3 at(f.extentX() * (0.3 + 0.4 * t), f.extentY() * 0.5, root.min_height);
-            const glm::dvec3 pos = at + glm::dvec3(-0.15 * f.extentX(), -0.1 * f.extentY(),
-                                                   root.max_height - root.min_height + 0.05 * f.extentX());
+            const glm::dvec3 pos =
+                at + glm::dvec3(-0.15 * f.extentX(), -0.1 * f.extentY(),
+                                root.max_height - root.min_height + 0.05 * f.extentX());
             const lod::Camera cam = cameraAt(*s.renderer, pos, at, vp);
             const render::RenderSettings settings = settingsFor(scheme, 2.0, 0.0);
             if (previous) {
@@ -320,8 +320,8 @@ TEST_P(SchemeConformance, LodChangesPopOnlyWhereTheSchemeDoesNotPromiseOtherwise
         }
         std::sort(popping.begin(), popping.end());
         const double max = popping.back(), median = popping[popping.size() / 2];
-        std::printf("[%s] %s: popping per frame median %.4f px, max %.4f px (%s)\n",
-                    scheme.c_str(), fx.name.c_str(), median, max,
+        std::printf("[%s] %s: popping per frame median %.4f px, max %.4f px (%s)\n", scheme.c_str(),
+                    fx.name.c_str(), median, max,
                     promises.pop_free ? "promised pop-free" : "measured only");
         if (promises.pop_free) {
             EXPECT_LE(max, 0.01 + kPromiseSlackPx) << fx.name;
@@ -345,9 +345,9 @@ TEST_P(SchemeConformance, LookingDownNoBackgroundShowsInsideTheFootprint)
             const glm::dvec3 at(f.extentX() * (0.2 + 0.6 * u(rng)),
                                 f.extentY() * (0.2 + 0.6 * u(rng)), root.min_height);
             const double height = (0.2 + u(rng)) * std::max(f.extentX(), f.extentY());
-            const glm::dvec3 pos = at + glm::dvec3(0.3 * height * (u(rng) - 0.5),
-                                                   0.3 * height * (u(rng) - 0.5),
-                                                   height + root.max_height);
+            const glm::dvec3 pos =
+                at + glm::dvec3(0.3 * height * (u(rng) - 0.5), 0.3 * height * (u(rng) - 0.5),
+                                height + root.max_height);
             const lod::Camera cam = cameraAt(*s.renderer, pos, at, vp);
             target.bind();
             s.renderer->draw(cam, settingsFor(scheme, 2.0));
@@ -355,8 +355,8 @@ TEST_P(SchemeConformance, LookingDownNoBackgroundShowsInsideTheFootprint)
             std::vector<uint8_t> background(depth.size());
             for (size_t i = 0; i < depth.size(); ++i)
                 background[i] = depth[i] == 0.f; // reverse-Z clears to 0
-            const render::HoleReport h = render::countHolePixels(background, cam, f,
-                                                                 root.min_height, root.max_height);
+            const render::HoleReport h =
+                render::countHolePixels(background, cam, f, root.min_height, root.max_height);
             footprint += h.footprint_pixels;
             EXPECT_EQ(h.hole_pixels, 0u) << fx.name << " camera " << k << ": first at ("
                                          << h.first_x << ", " << h.first_y << ")";

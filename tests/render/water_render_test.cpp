@@ -3,8 +3,8 @@
 // at exactly 0 m) built lossy within 1 m decodes much of its sea as up to +1 m, which the
 // renderer used to paint as flat green land; and a lake 87 m above the sea, from a vector
 // layer, is water although no height rule could say so.
-#include "test_support.h"
 #include "read_rgb.h"
+#include "test_support.h"
 
 #include "ridge/archive/archive_reader.h"
 #include "ridge/io/raster_source.h"
@@ -21,7 +21,10 @@ using namespace ridge;
 
 namespace {
 
-bool looksLikeWater(const uint8_t* p) { return p[2] > p[0] + 24 && p[2] > p[1] + 8; }
+bool looksLikeWater(const uint8_t* p)
+{
+    return p[2] > p[0] + 24 && p[2] > p[1] + 8;
+}
 
 struct Counts {
     size_t sea = 0, sea_as_water = 0, land = 0, land_as_water = 0, lake = 0, lake_as_water = 0;
@@ -61,7 +64,8 @@ class WaterRender : public ::testing::Test {
             return false;
         for (int dj = -r; dj <= r; ++dj)
             for (int di = -r; di <= r; ++di) {
-                const int x = std::clamp(i + di, 0, width_ - 1), y = std::clamp(j + dj, 0, height_ - 1);
+                const int x = std::clamp(i + di, 0, width_ - 1),
+                          y = std::clamp(j + dj, 0, height_ - 1);
                 if (kind(x, y) != kind(i, j))
                     return false;
             }
@@ -79,7 +83,8 @@ class WaterRender : public ::testing::Test {
         options.fov_y_degrees = 30.0;
         options.settings.scheme = scheme;
         const double cx = 0.5 * frame.extentX(), cy = 0.5 * frame.extentY();
-        const double h = 0.6 * std::max(frame.extentX(), frame.extentY()) / std::tan(15.0 * M_PI / 180.0);
+        const double h =
+            0.6 * std::max(frame.extentX(), frame.extentY()) / std::tan(15.0 * M_PI / 180.0);
         options.camera = glm::dvec3(cx, cy, h);
         options.look_at = glm::dvec3(cx, cy + 1e-3 * h, 0.0);
         const std::string png = scratch_->path(scheme + ".png");

@@ -2,10 +2,10 @@
 
 #include "ridge/codec/progressive_codec.h"
 #include "ridge/core/error.h"
+#include "ridge/lod/chunk_mesh.h"
 #include "ridge/pipeline/build.h"
 #include "ridge/pipeline/level_decoder.h"
 #include "ridge/stream/patch_loader.h"
-#include "ridge/lod/chunk_mesh.h"
 #include "ridge/stream/patch_streamer.h"
 
 #include <gtest/gtest.h>
@@ -274,13 +274,15 @@ TEST(PatchStreamer, RunsTheSchemesPreparationsOnEveryDecodedPatchOnItsWorkers)
         stream::StreamerOptions options;
         auto chunk = [&](PatchId p, const uint16_t* codes) {
             auto out = std::make_shared<ChunkProduct>();
-            out->mesh = lod::buildChunkMesh(codes, n,
-                                            0.5 * reader.record(p).err / reader.quantization().scale,
-                                            g.coveredCellsX(p), g.coveredCellsY(p));
+            out->mesh = lod::buildChunkMesh(
+                codes, n, 0.5 * reader.record(p).err / reader.quantization().scale,
+                g.coveredCellsX(p), g.coveredCellsY(p));
             out->built_on = std::this_thread::get_id();
             return std::shared_ptr<const stream::PatchProduct>(out);
         };
-        auto none = [](PatchId, const uint16_t*) { return std::shared_ptr<const stream::PatchProduct>(); };
+        auto none = [](PatchId, const uint16_t*) {
+            return std::shared_ptr<const stream::PatchProduct>();
+        };
         options.preparations = {none, chunk};
         stream::PatchStreamer streamer(reader, options);
         streamer.beginFrame();

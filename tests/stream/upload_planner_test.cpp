@@ -4,8 +4,8 @@
 #include "allocation_counter.h"
 
 #include "ridge/core/error.h"
-#include "ridge/stream/upload_planner.h"
 #include "ridge/lod/rings.h"
+#include "ridge/stream/upload_planner.h"
 
 #include <gtest/gtest.h>
 
@@ -534,8 +534,7 @@ namespace {
 
 // Frames of `work_ms` each (drawing, the host: everything but uploads), no uploads: the
 // budget after `frames` of them.
-double budgetAfterSteadyFrames(UploadTimeBudget& budget, double& now, double work_ms,
-                               int frames)
+double budgetAfterSteadyFrames(UploadTimeBudget& budget, double& now, double work_ms, int frames)
 {
     double b = 0.0;
     for (int k = 0; k < frames; ++k) {
@@ -672,10 +671,10 @@ TEST(UploadTimeBudget, LetsAStaticViewReachFullDetailInAQuarterOfTheFramesWhenUp
     constexpr double kWorkMs = 150.0, kUploadMs = 10.0;
     for (const bool gpu : {false, true}) {
         struct Run {
-            int frames = 0;           // to full detail
-            double ms = 0.0;          // likewise, simulated
-            double longest_ms = 0.0;  // frame
-            size_t uploads = 0;       // in all
+            int frames = 0;          // to full detail
+            double ms = 0.0;         // likewise, simulated
+            double longest_ms = 0.0; // frame
+            size_t uploads = 0;      // in all
         };
         auto run = [&](double fraction) {
             Simulation sim(kGeometry, 4096, gpu, 2);

@@ -14,7 +14,8 @@
 namespace ridge::test {
 
 // Builds everest_crop.tif into `dir` with `codec` ("lossless", "progressive",
-// "progressive-paper", "raw", "jpeg2000[,...]"); `max_error` in metres for the lossy codecs. Returns the path.
+// "progressive-paper", "raw", "jpeg2000[,...]"); `max_error` in metres for the lossy codecs.
+// Returns the path.
 inline std::string buildEverestArchive(const ScratchDir& dir, const std::string& codec = "lossless",
                                        int patch_size = 33, double max_error = 2.0)
 {

@@ -52,7 +52,8 @@ std::vector<std::string> temporariesIn(const std::filesystem::path& dir)
     std::vector<std::string> names;
     for (const auto& entry : std::filesystem::directory_iterator(dir)) {
         const std::string name = entry.path().filename().string();
-        if (name.find(".ridge-tmp-") != std::string::npos || name.find(".tmp.") != std::string::npos)
+        if (name.find(".ridge-tmp-") != std::string::npos ||
+            name.find(".tmp.") != std::string::npos)
             names.push_back(name);
     }
     return names;

@@ -27,18 +27,18 @@ struct SourceMetadata {
     int64_t voids_filled = 0;  // in [0, width·height]
     int64_t voids_kept = 0;    // kept as nodata; in [0, width·height − voids_filled]
     std::string fill_voids = "all"; // "all", "interior", "none" (version 1: "all", implied)
-    std::string void_fill;     // how voids were filled (free text)
-    std::optional<double> nodata; // the source band's declared nodata value (finite), if any
-    double min_metres = 0.0;   // over the valid samples; finite, <= max_metres
+    std::string void_fill;          // how voids were filled (free text)
+    std::optional<double> nodata;   // the source band's declared nodata value (finite), if any
+    double min_metres = 0.0;        // over the valid samples; finite, <= max_metres
     double max_metres = 0.0;
     bool exact = false; // every valid sample is its code's height (quantization_error 0)
 };
 
 // "georeference.vertical_datum": what the heights are measured from.
 struct VerticalDatumMetadata {
-    std::string name;            // non-empty, e.g. "EGM96 height"
-    std::optional<int> epsg;     // of the vertical CRS, in [1, 2^31 - 1]
-    std::string origin;          // "source CRS" or "--vertical-datum" (free text)
+    std::string name;        // non-empty, e.g. "EGM96 height"
+    std::optional<int> epsg; // of the vertical CRS, in [1, 2^31 - 1]
+    std::string origin;      // "source CRS" or "--vertical-datum" (free text)
 };
 
 // "georeference": where the finest grid sits (GDAL conventions, pixel-is-area).
@@ -47,7 +47,7 @@ struct GeoreferenceMetadata {
     bool geographic = false;    // CRS is lon/lat
     std::string vertical_units; // as the source states them, may be empty
     bool spacing_from_user = false;
-    std::optional<std::array<double, 6>> geotransform; // GDAL order, finite, of the finest grid
+    std::optional<std::array<double, 6>> geotransform;   // GDAL order, finite, of the finest grid
     std::optional<VerticalDatumMetadata> vertical_datum; // absent: unknown
 };
 
@@ -89,7 +89,8 @@ struct ArchiveMetadata {
 // ridge writes is a few KB (the CRS WKT dominates) and three levels deep, and every consumer
 // (messages, `info --json`) then handles any document in bounded time, memory and stack.
 inline constexpr uint32_t kMaxMetadataBytes = 16u << 20;
-inline constexpr int kMaxMetadataDepth = 32; // containers around a value, the document's own included
+inline constexpr int kMaxMetadataDepth =
+    32; // containers around a value, the document's own included
 
 // Parses and checks `json` against `header` (already checked itself). Throws ridge::Error
 // "metadata: WHAT" naming the key: "metadata: not JSON (...)", "metadata: source.width is

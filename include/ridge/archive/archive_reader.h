@@ -120,7 +120,7 @@ class ArchiveReader {
     // the archive derives them (the reconstruction must then derive them from the codes).
     // Returns the samples the residuals cover (ProgressiveCodec::codedRegion).
     CodedRegion decodeResiduals(PatchId p, const std::vector<uint8_t>& blob, int32_t* residuals,
-                         std::vector<float>* block_errors) const;
+                                std::vector<float>* block_errors) const;
     // Reads λ(d) of every block of `p` in metres (see TessellationBlockLayout for the order).
     // Archives built without stored block errors derive them from the decoded heights
     // (exact for what is drawn; costs a decode).

@@ -11,7 +11,7 @@
 namespace ridge::archive {
 
 class ArchiveWriter {
-public:
+  public:
     // `header` must have geometry, codec and quantization fields set; offsets and checksums
     // are filled in by the writer. Throws ridge::Error when the file cannot be created.
     ArchiveWriter(const std::string& path, const Header& header);
@@ -34,13 +34,13 @@ public:
     // blobs; empty = none.
     void setCodecTables(std::vector<uint8_t> tables) { codec_tables_ = std::move(tables); }
 
-    // Writes the codec tables, the metadata, the index and the final header, then publishes the file
-    // atomically. Throws ridge::Error when a patch is missing.
+    // Writes the codec tables, the metadata, the index and the final header, then publishes the
+    // file atomically. Throws ridge::Error when a patch is missing.
     void finish(const std::string& metadata_json);
 
     uint64_t bytesWritten() const { return position_; }
 
-private:
+  private:
     void write(const void* data, size_t size);
 
     AtomicOutput output_;

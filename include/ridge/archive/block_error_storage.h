@@ -14,8 +14,7 @@
 namespace ridge::archive {
 
 // Quantizes λ given in code units (computeTessellationBlockErrors) and compresses them.
-std::vector<uint8_t> packBlockErrors(const float* lambda_codes, size_t count,
-                                     double height_scale);
+std::vector<uint8_t> packBlockErrors(const float* lambda_codes, size_t count, double height_scale);
 
 // Decompresses into `count` metres values (kBlockErrorSaturated becomes +infinity). Returns
 // false when the bytes are not a valid quantum followed by exactly one zstd frame of `count`

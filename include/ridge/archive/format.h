@@ -1,7 +1,8 @@
 #pragma once
 // The .ridge archive, format version 4 (version 3: the same without per-patch sample flags;
-// version 2: also without the codec tables region; version 1: also without validity masks). docs/FORMAT.md is the normative description;
-// this header mirrors it. All integers and floats are little-endian, IEEE-754.
+// version 2: also without the codec tables region; version 1: also without validity masks).
+// docs/FORMAT.md is the normative description; this header mirrors it. All integers and floats are
+// little-endian, IEEE-754.
 //
 //   [header: 160 bytes][patch blobs][codec tables][metadata: UTF-8 JSON][index: 48 B/patch]
 //
@@ -33,19 +34,19 @@ inline constexpr double kMaxCode = 65535;
 
 struct Header {
     uint32_t version = kFormatVersion;
-    uint32_t width = 0;        // valid extent, finest samples
+    uint32_t width = 0; // valid extent, finest samples
     uint32_t height = 0;
-    uint32_t patch_size = 0;   // 2^n + 1
+    uint32_t patch_size = 0; // 2^n + 1
     uint32_t level_count = 0;
     uint32_t block_cells = 0;  // tessellation block size in cells, 2^k
     uint32_t block_levels = 0; // D: λ(d) stored for d = 1..D
     uint32_t codec_id = 0;
     uint32_t filter_id = 0;
-    double height_scale = 1.0;   // metres = height_offset + height_scale * code
+    double height_scale = 1.0; // metres = height_offset + height_scale * code
     double height_offset = 0.0;
-    double spacing_x = 1.0;      // metres between finest samples along x (east)
-    double spacing_y = 1.0;      // along y (south)
-    double quantization_error = 0.0;  // max |metres(code) - source| over valid samples
+    double spacing_x = 1.0;             // metres between finest samples along x (east)
+    double spacing_y = 1.0;             // along y (south)
+    double quantization_error = 0.0;    // max |metres(code) - source| over valid samples
     double codec_param[2] = {0.0, 0.0}; // codec specific (unused by lossless/raw)
     uint64_t metadata_offset = 0;
     uint32_t metadata_size = 0;

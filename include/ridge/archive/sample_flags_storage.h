@@ -25,7 +25,10 @@ namespace ridge::archive {
 std::vector<uint8_t> packSampleFlags(const PatchSampleFlags& flags, int patch_size);
 
 // The one-byte encoding of a patch without flags (kind 0).
-inline std::vector<uint8_t> noSampleFlags() { return {0}; }
+inline std::vector<uint8_t> noSampleFlags()
+{
+    return {0};
+}
 
 // Decodes the flags at data[0 .. size): `size` is what remains of the blob after the validity
 // mask; `consumed` receives their length (the payload starts there). Returns an empty string
@@ -33,6 +36,7 @@ inline std::vector<uint8_t> noSampleFlags() { return {0}; }
 // `validity`, when given, is the patch's validity mask: a sample that is not valid must have
 // no flag (the rule holds at the finest level and, with decimation, at every level).
 std::string unpackSampleFlags(const uint8_t* data, size_t size, int patch_size,
-                              const PatchValidity* validity, PatchSampleFlags& out, size_t& consumed);
+                              const PatchValidity* validity, PatchSampleFlags& out,
+                              size_t& consumed);
 
 } // namespace ridge::archive

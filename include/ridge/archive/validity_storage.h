@@ -24,7 +24,10 @@ std::vector<uint8_t> packValidity(const PatchValidity& validity, int patch_size)
 
 // The one-byte mask of a patch with every sample valid (kind 0): what v2 writers store for
 // sources without kept nodata.
-inline std::vector<uint8_t> allValidMask() { return {0}; }
+inline std::vector<uint8_t> allValidMask()
+{
+    return {0};
+}
 
 // Decodes the mask at data[0 .. size): `size` is what remains of the blob after the block
 // errors; `consumed` receives the mask's length (the payload starts there). Returns an empty

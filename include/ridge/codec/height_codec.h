@@ -18,17 +18,17 @@
 namespace ridge {
 
 enum class CodecId : uint32_t {
-    Raw16 = 0,    // uncompressed little-endian codes (debugging, speed baseline)
-    Lossless = 1, // MED prediction + zstd (default)
+    Raw16 = 0,       // uncompressed little-endian codes (debugging, speed baseline)
+    Lossless = 1,    // MED prediction + zstd (default)
     Progressive = 2, // the paper's progressive L-inf codec, adaptive range coding (lossy)
     Jpeg2000 = 3,    // the JPEG2000 paper's model: D predicted from the parent, JPEG 2000 coded
 };
 
 enum CodecStatus : int {
     kCodecOk = 0,
-    kCodecBadHeader = -1,    // magic/version/parameters do not match
-    kCodecTruncated = -2,    // payload ends early
-    kCodecCorrupt = -3,      // inconsistent content (entropy stream, sizes)
+    kCodecBadHeader = -1,     // magic/version/parameters do not match
+    kCodecTruncated = -2,     // payload ends early
+    kCodecCorrupt = -3,       // inconsistent content (entropy stream, sizes)
     kCodecTrailingBytes = -4, // payload longer than its content
     kCodecNeedsParent = -5,   // a patch below the root decoded without its parent
     kCodecDisabled = -6       // the payload is intact as far as checked, but its decoder is
@@ -38,10 +38,10 @@ enum CodecStatus : int {
 const char* codecStatusMessage(int status);
 
 struct PatchContext {
-    int patch_size = 0;                       // samples per side, 2^n + 1
-    int level = 0;                            // quadtree level of the patch
-    const uint16_t* parent = nullptr;         // parent reconstruction (may be null)
-    int child_index = 0;                      // quadrant within the parent: 0..3 = (x&1)|(y&1)<<1
+    int patch_size = 0;               // samples per side, 2^n + 1
+    int level = 0;                    // quadtree level of the patch
+    const uint16_t* parent = nullptr; // parent reconstruction (may be null)
+    int child_index = 0;              // quadrant within the parent: 0..3 = (x&1)|(y&1)<<1
     // Samples of the patch that cover the level's valid extent (PyramidGeometry::
     // patchSamplesX/Y); 0 = all. A codec may skip the rest (padding): progressive v2 does.
     int samples_x = 0;
@@ -55,7 +55,7 @@ class HeightCodec;
 // code. observe() may be called from several threads at once, with exactly the codes and
 // contexts encode() will see; finish() returns the codec to encode with.
 class CodecTrainer {
-public:
+  public:
     virtual ~CodecTrainer() = default;
     virtual void observe(const uint16_t* codes, const PatchContext& ctx) = 0;
     virtual std::unique_ptr<HeightCodec> finish() = 0;
@@ -74,7 +74,7 @@ struct CodecCapabilities {
 };
 
 class HeightCodec {
-public:
+  public:
     virtual ~HeightCodec() = default;
     virtual CodecId id() const = 0;
     virtual const char* name() const = 0;
@@ -108,9 +108,9 @@ public:
 
 // What a codec needs beyond its id: the pyramid depth and the header's codec parameters.
 struct CodecSettings {
-    int level_count = 1;            // the finest level is level_count - 1
-    double param[2] = {0.0, 0.0};   // codec specific (archive header codec_param)
-    std::vector<uint8_t> tables;    // the archive's codec tables region (may be empty)
+    int level_count = 1;          // the finest level is level_count - 1
+    double param[2] = {0.0, 0.0}; // codec specific (archive header codec_param)
+    std::vector<uint8_t> tables;  // the archive's codec tables region (may be empty)
 };
 
 // Codec by name ("lossless", "raw", "progressive" = progressive v2, "progressive-v1",

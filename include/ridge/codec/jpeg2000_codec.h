@@ -68,10 +68,10 @@ struct Jpeg2000Variant {
 struct Jpeg2000Difference {
     Jpeg2000Encoding kind = Jpeg2000Encoding::Progressive; // Direct: no parent (P = 0)
     int bits = 8;
-    int width = 0, height = 0;         // the coded region; the patch repeats beyond it
-    int32_t d_min = 0;                 // value = d_min + d̂ · step (codes, added to P)
+    int width = 0, height = 0; // the coded region; the patch repeats beyond it
+    int32_t d_min = 0;         // value = d_min + d̂ · step (codes, added to P)
     uint32_t step = 1;
-    std::vector<uint16_t> image;       // d̂, width x height
+    std::vector<uint16_t> image; // d̂, width x height
     // Final values minus the prediction on the patch's four edges (patch_size each; only
     // the region's part is meaningful): top y = 0, bottom y = C-1, left x = 0, right x = C-1.
     std::vector<int32_t> top, bottom, left, right;

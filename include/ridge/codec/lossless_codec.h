@@ -14,7 +14,7 @@
 namespace ridge {
 
 class LosslessCodec final : public HeightCodec {
-public:
+  public:
     explicit LosslessCodec(int zstd_level = 3) : zstd_level_(zstd_level) {}
     CodecId id() const override { return CodecId::Lossless; }
     const char* name() const override { return "lossless"; }
@@ -26,12 +26,12 @@ public:
     int decode(uint16_t* dst, const uint8_t* src, size_t src_size,
                const PatchContext& ctx) const override;
 
-private:
+  private:
     int zstd_level_;
 };
 
 class Raw16Codec final : public HeightCodec {
-public:
+  public:
     CodecId id() const override { return CodecId::Raw16; }
     const char* name() const override { return "raw"; }
     bool lossless() const override { return true; }

@@ -32,7 +32,7 @@ inline constexpr int kMaxLevels = 32;
 
 // Symbol counts [level][class][context][symbol], what the trainer accumulates.
 class SymbolCounts {
-public:
+  public:
     explicit SymbolCounts(int level_count = 0);
     int levelCount() const { return level_count_; }
     uint64_t& at(int level, int cls, int context, int symbol)
@@ -49,23 +49,25 @@ public:
     }
     void merge(const SymbolCounts& other);
 
-private:
+  private:
     static size_t index(int level, int cls, int context)
     {
         return (static_cast<size_t>(level) * progressive_tables::kClasses + cls) *
-                   progressive_tables::kContexts + context;
+                   progressive_tables::kContexts +
+               context;
     }
     int level_count_;
     std::vector<uint64_t> counts_;
 };
 
 class ProgressiveTables {
-public:
+  public:
     // Every table the default.
     static std::shared_ptr<const ProgressiveTables> defaults(int level_count);
     // Default tables with these predictor corrections ([level], level 0 unused; all-zero
     // weights are none).
-    static std::shared_ptr<const ProgressiveTables> withWeights(std::vector<PredictorWeights> weights);
+    static std::shared_ptr<const ProgressiveTables>
+    withWeights(std::vector<PredictorWeights> weights);
     // Tables fitted to `counts`, each stored only where it pays (see above), keeping `base`'s
     // predictor corrections (the counts were taken with them).
     static std::shared_ptr<const ProgressiveTables> fit(const SymbolCounts& counts,
@@ -82,7 +84,8 @@ public:
     const rans::Table& table(int level, int cls, int context) const
     {
         return *index_[(static_cast<size_t>(level) * progressive_tables::kClasses + cls) *
-                           progressive_tables::kContexts + context];
+                           progressive_tables::kContexts +
+                       context];
     }
     int levelCount() const { return level_count_; }
     int storedCount() const { return static_cast<int>(owned_.size()); }
@@ -98,7 +101,7 @@ public:
     // symbol has frequency 0.
     static double cost(const uint64_t* counts, const rans::Table& table);
 
-private:
+  private:
     explicit ProgressiveTables(int level_count);
     int level_count_;
     std::vector<std::unique_ptr<rans::Table>> owned_; // stored tables, in index order

@@ -81,7 +81,7 @@ inline bool getVarint(const uint8_t*& p, const uint8_t* end, uint32_t& v)
 
 // Bits written LSB first into little-endian 64-bit words, read back the same way.
 class BitWriter {
-public:
+  public:
     void put(uint32_t bits, int count)
     {
         if (count == 0)
@@ -105,14 +105,14 @@ public:
         fill_ = 0;
     }
 
-private:
+  private:
     std::vector<uint8_t> bytes_;
     uint64_t acc_ = 0;
     int fill_ = 0;
 };
 
 class BitReader {
-public:
+  public:
     BitReader(const uint8_t* data, size_t size) : p_(data), end_(data + size) {}
     uint32_t get(int count)
     {
@@ -133,7 +133,7 @@ public:
     // True when the stream ended exactly: no overrun, no unread byte, zero padding bits.
     bool finishedExactly() const { return !overrun_ && p_ == end_ && fill_ < 8 && acc_ == 0; }
 
-private:
+  private:
     void refill()
     {
         while (fill_ <= 56 && p_ < end_) {

@@ -30,8 +30,7 @@ constexpr uint32_t kTop = 1u << 24; // renormalise when the range falls below th
 // Adaptive cumulative frequency table over N symbols (2 <= N <= 16).
 // Effective cumulative frequency F(s) = c[s] + s, F(0) = 0, F(N) = kProbTotal, hence every
 // symbol has frequency >= 1 whatever the adaptation did to c.
-template <int N>
-struct AdaptiveCdf {
+template <int N> struct AdaptiveCdf {
     static_assert(N >= 2 && N <= 16);
     static constexpr uint32_t kSpan = kProbTotal - N; // total of the adaptive part
     uint16_t c[N + 1];
@@ -62,11 +61,10 @@ struct AdaptiveCdf {
 };
 
 class Encoder {
-public:
+  public:
     explicit Encoder(std::vector<uint8_t>& out) : out_(out) {}
 
-    template <int N>
-    void encode(AdaptiveCdf<N>& cdf, int s)
+    template <int N> void encode(AdaptiveCdf<N>& cdf, int s)
     {
         const uint32_t r = range_ >> kProbBits;
         const uint32_t lo = cdf.cumulative(s);
@@ -94,7 +92,7 @@ public:
             shiftLow();
     }
 
-private:
+  private:
     void normalize()
     {
         while (range_ < kTop) {
@@ -125,7 +123,7 @@ private:
 };
 
 class Decoder {
-public:
+  public:
     Decoder(const uint8_t* data, size_t size) : p_(data), end_(data + size)
     {
         // The encoder's first byte is its initial cache (always 0).
@@ -135,8 +133,7 @@ public:
             code_ = (code_ << 8) | nextByte();
     }
 
-    template <int N>
-    int decode(AdaptiveCdf<N>& cdf)
+    template <int N> int decode(AdaptiveCdf<N>& cdf)
     {
         const uint64_t r = range_ >> kProbBits;
         if (code_ >= r * kProbTotal) { // only a corrupt stream gets here
@@ -180,7 +177,7 @@ public:
     // Bytes of the stream not consumed (a complete stream is consumed exactly).
     size_t remaining() const { return static_cast<size_t>(end_ - p_); }
 
-private:
+  private:
     uint32_t nextByte()
     {
         if (p_ < end_)

@@ -28,7 +28,7 @@ constexpr int kProbBits = 12;
 constexpr uint32_t kProbScale = 1u << kProbBits;
 constexpr uint32_t kLow = 1u << 16; // L: the lower end of the state interval
 constexpr int kLanes = 4;
-constexpr int kMaxSymbols = 72;     // alphabet bound of every table
+constexpr int kMaxSymbols = 72; // alphabet bound of every table
 
 // One static model: frequencies summing to kProbScale over `symbols` symbols, and the
 // decoder's slot -> symbol lookup.
@@ -56,7 +56,7 @@ struct Table {
 
 // Collects (table, symbol) pairs in coding order, then writes them last to first.
 class Encoder {
-public:
+  public:
     void put(const Table& table, int symbol) { pending_.push_back({&table, symbol}); }
     size_t pending() const { return pending_.size(); }
 
@@ -91,7 +91,7 @@ public:
         pending_.clear();
     }
 
-private:
+  private:
     struct Pending {
         const Table* table;
         int symbol;
@@ -106,7 +106,7 @@ private:
 };
 
 class Decoder {
-public:
+  public:
     Decoder(const uint8_t* data, size_t size) : p_(data), end_(data + size)
     {
         if (size < 4 * kLanes) {
@@ -160,7 +160,7 @@ public:
     }
     bool consumedAll() const { return p_ == end_; }
 
-private:
+  private:
     std::array<uint32_t, kLanes> state_{};
     const uint8_t* p_;
     const uint8_t* end_;

@@ -36,7 +36,8 @@ class AtomicOutput {
   public:
     // Creates the temporary file (and removes dead owners' ones, see above). Throws
     // Error("FINAL: cannot write: REASON") when the directory is missing or not writable,
-    // or FINAL is a directory or a special file ("it is a FIFO: ..."). Cost: one directory scan of the output's directory.
+    // or FINAL is a directory or a special file ("it is a FIFO: ..."). Cost: one directory scan of
+    // the output's directory.
     explicit AtomicOutput(std::string final_path);
     // Without commit(): the temporary file is unlinked (named) or just closed (unnamed).
     ~AtomicOutput();

@@ -53,8 +53,7 @@ inline constexpr std::array<Rgb, 8> kLevelColours = {{
 }};
 
 // Piecewise-linear colour of `stops` at t (clamped to [0, 1]).
-template <std::size_t N>
-Rgb ramp(const std::array<Stop, N>& stops, float t);
+template <std::size_t N> Rgb ramp(const std::array<Stop, N>& stops, float t);
 
 // The shaded mode's albedo (before light) at `metres` on a terrain whose heights span
 // [min_metres, max_metres]: the water ramp where `water` (deeper below 0 m towards the

@@ -18,7 +18,7 @@ namespace ridge::gpu {
 // An EGL context with no window, for tests, batch rendering and benchmarks. It has no default
 // framebuffer: render into a RenderTarget.
 class HeadlessContext {
-public:
+  public:
     // Creates a 4.5 core context and makes it current on this thread. Tries, in order:
     //   1. "EGL device": EGL_EXT_platform_device (NVIDIA headless; Mesa lists a software device),
     //   2. "EGL surfaceless": EGL_MESA_platform_surfaceless,
@@ -41,7 +41,7 @@ public:
 
     struct State; // EGL handles; opaque, defined in src/gpu/headless_context.cpp
 
-private:
+  private:
     explicit HeadlessContext(std::unique_ptr<State> state);
     std::unique_ptr<State> state_;
 };
@@ -49,7 +49,7 @@ private:
 // A GLFW window with a 4.5 core context, current on the creating thread. GLFW requires that
 // windows are created, polled and destroyed on the main thread.
 class WindowContext {
-public:
+  public:
     // `width` x `height` in screen coordinates; `vsync` sets the swap interval to 1 (else 0).
     // Throws ridge::Error when there is no display or the driver offers no GL 4.5 core.
     WindowContext(int width, int height, const std::string& title, bool vsync = true);
@@ -70,7 +70,7 @@ public:
     // GL_RENDERER, read at creation.
     std::string rendererName() const { return renderer_; }
 
-private:
+  private:
     GLFWwindow* window_ = nullptr;
     std::string renderer_;
 };

@@ -19,9 +19,8 @@ namespace detail {
 
 // Owns one name; `Delete` frees it. Name 0 (moved-from) is never passed to GL, so an empty
 // object may be destroyed without a current context.
-template <void (*Delete)(GLuint)>
-class GlName {
-public:
+template <void (*Delete)(GLuint)> class GlName {
+  public:
     GLuint id() const { return id_; }
 
     GlName(const GlName&) = delete;
@@ -36,11 +35,11 @@ public:
         return *this;
     }
 
-protected:
+  protected:
     explicit GlName(GLuint id) : id_(id) {}
     ~GlName() { release(); }
 
-private:
+  private:
     void release()
     {
         if (id_ != 0)
@@ -62,40 +61,40 @@ void deleteTransformFeedback(GLuint id);
 
 // A buffer object with no storage yet (use glNamedBufferStorage/glNamedBufferData).
 class GlBuffer : public detail::GlName<&detail::deleteBuffer> {
-public:
+  public:
     GlBuffer();
 };
 
 // A texture whose target (GL_TEXTURE_2D, GL_TEXTURE_2D_ARRAY, ...) is fixed at creation.
 class GlTexture : public detail::GlName<&detail::deleteTexture> {
-public:
+  public:
     explicit GlTexture(GLenum target);
 };
 
 class GlVertexArray : public detail::GlName<&detail::deleteVertexArray> {
-public:
+  public:
     GlVertexArray();
 };
 
 class GlFramebuffer : public detail::GlName<&detail::deleteFramebuffer> {
-public:
+  public:
     GlFramebuffer();
 };
 
 // A renderbuffer (multisampled render targets).
 class GlRenderbuffer : public detail::GlName<&detail::deleteRenderbuffer> {
-public:
+  public:
     GlRenderbuffer();
 };
 
 // A query object of `target` (GL_TIME_ELAPSED, GL_SAMPLES_PASSED, GL_PRIMITIVES_GENERATED...).
 class GlQuery : public detail::GlName<&detail::deleteQuery> {
-public:
+  public:
     explicit GlQuery(GLenum target);
 };
 
 class GlTransformFeedback : public detail::GlName<&detail::deleteTransformFeedback> {
-public:
+  public:
     GlTransformFeedback();
 };
 

@@ -19,7 +19,7 @@ namespace ridge::gpu {
 // A ring of kRingSize query pairs so that a frame's result can be read a few frames later
 // without stalling. Needs a current GL context for its whole life (see context.h).
 class GpuTimer {
-public:
+  public:
     static constexpr std::size_t kRingSize = 4;
 
     GpuTimer();
@@ -36,7 +36,7 @@ public:
     // milliseconds (for headless single frames); NaN when no span has ended yet.
     double waitMs();
 
-private:
+  private:
     using Clock = std::chrono::steady_clock;
     struct Span {
         GlQuery start{GL_TIMESTAMP};
@@ -47,9 +47,9 @@ private:
     // Reads results of in-flight spans, oldest first; blocks for all of them when `wait`.
     void collect(bool wait) const;
 
-    std::vector<Span> spans_;      // kRingSize query pairs
-    std::size_t next_ = 0;         // slot the next begin() uses
-    bool active_ = false;          // between begin() and end()
+    std::vector<Span> spans_; // kRingSize query pairs
+    std::size_t next_ = 0;    // slot the next begin() uses
+    bool active_ = false;     // between begin() and end()
     // Ended spans whose result is unread: the `pending_` slots just before next_.
     mutable std::size_t pending_ = 0;
     mutable double last_ms_; // NaN until the first result

@@ -10,7 +10,7 @@ namespace ridge::gpu {
 
 // Needs a current GL context for its whole life (see context.h); move-only.
 class RenderTarget {
-public:
+  public:
     // `width` x `height` pixels; `samples` > 1 renders into multisampled renderbuffers that are
     // resolved (blitted) into single-sample textures for readback. Throws ridge::Error for a
     // non-positive size, a size or sample count over the driver's limits, or an incomplete FBO.
@@ -31,7 +31,7 @@ public:
     // The framebuffer to draw into (the multisampled one when samples > 1).
     GLuint framebuffer() const;
 
-private:
+  private:
     void resolve(GLbitfield mask) const; // multisampled -> single-sample, no-op when samples 1
 
     int width_;

@@ -26,7 +26,7 @@ std::string shaderSource(const std::string& name);
 
 // A linked program. Needs a current GL context for its whole life (see context.h); move-only.
 class ShaderProgram {
-public:
+  public:
     ShaderProgram() = default; // owns nothing; id() 0
     // Compiles every stage from shaderSource(file) and links them. A compile error throws
     // ridge::Error whose message has one line per driver message, in the form
@@ -50,7 +50,7 @@ public:
     // glGetUniformLocation, later ones a hash lookup.
     GLint uniform(const char* name) const;
 
-private:
+  private:
     GLuint id_ = 0;
     mutable std::unordered_map<std::string, GLint> uniforms_;
 };

@@ -21,8 +21,8 @@ namespace ridge::io {
 struct GeoReference {
     bool has_geotransform = false;
     std::array<double, 6> geotransform{0, 1, 0, 0, 0, -1}; // GDAL order
-    std::string crs_wkt;        // empty when the source has no CRS
-    bool geographic = false;    // CRS is lon/lat (degrees)
+    std::string crs_wkt;                                   // empty when the source has no CRS
+    bool geographic = false;                               // CRS is lon/lat (degrees)
     std::string vertical_units; // as the source states them ("m", "ft", ...), may be empty
     // Ground sample spacing in metres. Geographic CRS: along the parallel and the meridian at
     // the centre latitude, on the CRS's ellipsoid. Projected: geotransform * linear units.
@@ -101,18 +101,19 @@ struct IngestOptions {
 };
 
 struct IngestStats {
-    std::string data_type;        // GDAL data type name of the band read, e.g. "Int16"
-    int64_t valid_samples = 0;    // samples that were not nodata
-    int64_t voids_filled = 0;     // nodata samples filled from valid neighbours
-    int64_t voids_kept = 0;       // nodata samples kept as nodata (IngestOptions::fill_voids)
+    std::string data_type;     // GDAL data type name of the band read, e.g. "Int16"
+    int64_t valid_samples = 0; // samples that were not nodata
+    int64_t voids_filled = 0;  // nodata samples filled from valid neighbours
+    int64_t voids_kept = 0;    // nodata samples kept as nodata (IngestOptions::fill_voids)
     VoidFill fill_voids = VoidFill::Interior; // the mode that decided between the two
     std::optional<double> nodata; // the band's declared nodata value (source units), if any
     double min_metres = 0.0;      // over valid samples, after z_scale/z_offset
     double max_metres = 0.0;
-    bool exact = false;           // every valid sample is represented exactly by its code
-    double z_scale = 1.0;         // effective metres = value * z_scale + z_offset
+    bool exact = false;   // every valid sample is represented exactly by its code
+    double z_scale = 1.0; // effective metres = value * z_scale + z_offset
     double z_offset = 0.0;
-    int64_t water_samples = 0;    // valid samples flagged water (IngestOptions::sea_level, water_layer)
+    int64_t water_samples =
+        0; // valid samples flagged water (IngestOptions::sea_level, water_layer)
 };
 
 // The finest grid of the pyramid: codes + their metric meaning + where it came from.
@@ -185,7 +186,7 @@ RasterProbe probeRaster(const std::string& path, const IngestOptions& options = 
 // reports how many it met, and callers fall back to ingestRaster when there are any. Same
 // errors as ingestRaster.
 class CodeRowReader {
-public:
+  public:
     CodeRowReader(const std::string& path, const IngestOptions& options);
     ~CodeRowReader();
     CodeRowReader(const CodeRowReader&) = delete;
@@ -209,7 +210,7 @@ public:
     // always 0 (this reader fills nothing).
     IngestStats stats() const;
 
-private:
+  private:
     struct Impl;
     Impl* impl_ = nullptr;
 };
@@ -218,7 +219,7 @@ private:
 // quantization, no void filling; voids are reported as NaN. Uses the same z_scale/z_offset
 // rules as ingestRaster.
 class ReferenceRaster {
-public:
+  public:
     ReferenceRaster(const std::string& path, const IngestOptions& options);
     ~ReferenceRaster();
     ReferenceRaster(const ReferenceRaster&) = delete;
@@ -229,7 +230,7 @@ public:
     // Reads rows [y0, y0 + rows) into out[rows * width()], metres, voids as NaN.
     void readRows(int y0, int rows, double* out);
 
-private:
+  private:
     struct Impl;
     Impl* impl_ = nullptr;
     int width_ = 0;

@@ -57,13 +57,12 @@ void checkRasterFormat(const RasterFormat& format, const SampleType& type);
 // next to `path` only when all are complete, each through ridge::AtomicOutput, the main file
 // last; none may be one of `inputs` (refuseOutputOverInput). The driver writes into GDAL's
 // memory files first, so the output is held in memory once more while it is written.
-void writeRaster(const std::string& path, const std::vector<double>& values, int width,
-                 int height, const SampleType& type, const GeoReference& geo,
-                 const RasterFormat& format, const std::vector<std::string>& inputs);
+void writeRaster(const std::string& path, const std::vector<double>& values, int width, int height,
+                 const SampleType& type, const GeoReference& geo, const RasterFormat& format,
+                 const std::vector<std::string>& inputs);
 
 // Writes an 8-bit PNG with `channels` = 1 (grey), 3 (RGB) or 4 (RGBA), pixels row-major
 // interleaved.
-void writePng(const std::string& path, const uint8_t* pixels, int width, int height,
-              int channels);
+void writePng(const std::string& path, const uint8_t* pixels, int width, int height, int channels);
 
 } // namespace ridge::io

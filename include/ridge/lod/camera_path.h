@@ -34,7 +34,7 @@ struct CameraPathSettings {
     // Longitude°, latitude°, height → terrain frame (pipeline's TerrainGeoreference through
     // PROJ; lod itself knows no CRS). Throws ridge::Error for a point it cannot convert.
     std::function<glm::dvec3(double longitude, double latitude, double height)> from_lon_lat;
-    double speed_mps = 250.0;     // along the path
+    double speed_mps = 250.0; // along the path
     double frame_seconds = 1.0 / 60.0;
     double height_above_ground = 300.0; // flyover, teleport
     int teleport_every = 60;            // frames between jumps (0: never)

@@ -40,7 +40,7 @@ struct SelectionSettings {
     // maps give about one texel per pixel; 0 disables (geometry alone decides).
     static constexpr ValueRange kTexelPxRange = ValueRange::closed(0.0, 1e9);
     double texel_px = 0.0;
-    bool cull = true;        // view-frustum culling of patch boxes
+    bool cull = true; // view-frustum culling of patch boxes
     // ρ in Err_Scr: the box depth bound that holds off-axis (visibleDepthBound), or the
     // paper's distance to the closest box point (false; under-refines at screen corners).
     bool conservative_distance = true;
@@ -106,8 +106,8 @@ class PatchQuadtree {
         double gamma;       // γ (texture detail)
         double error_gamma; // γ · error_scale · exaggeration (Err_Scr)
         double exaggeration;
-        double epsilon;     // pixels
-        double texel;       // pixels; 0 off
+        double epsilon; // pixels
+        double texel;   // pixels; 0 off
     };
     void visit(PatchId p, const Camera& camera, const Frustum* frustum, const Thresholds& t,
                const SelectionSettings& settings, Selection& out) const;

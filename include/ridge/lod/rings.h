@@ -88,7 +88,7 @@ struct RingCell {
     int tile_x = -1, tile_y = -1; // the tile (finest patch) this cell holds; −1: none yet
     int ring = 0;                 // Chebyshev distance to the central patch
     Orientation orientation = Orientation::Centre;
-    bool exists = false;          // inside the terrain
+    bool exists = false;                      // inside the terrain
     float min_height = 0.f, max_height = 0.f; // of the tile's surface at any level it draws
 };
 
@@ -148,9 +148,9 @@ class RingsStructure {
 
 // A tile as one frame draws it.
 struct RingTile {
-    int x = 0, y = 0;  // the tile (finest patch) column and row
+    int x = 0, y = 0; // the tile (finest patch) column and row
     int ring = 0;
-    int level = 0;     // drawn level
+    int level = 0; // drawn level
     // EdgePosition bits (edgeBit): edges and corners whose heights come from level − 1,
     // from the levels of the tiles around it.
     uint8_t stitch = 0;
@@ -201,17 +201,17 @@ class RingsSelector final : public PatchSelector {
     void centreOn(RingsStructure& s, const Camera& camera) const;
     void desire(const RingsStructure& s, const Camera& camera, const SelectionSettings& settings,
                 std::vector<TileState>& tiles, Selection& out) const;
-    void listPatches(const RingsStructure& s, const std::vector<TileState>& tiles,
-                     bool use_desired, int coarser, Selection& out) const;
+    void listPatches(const RingsStructure& s, const std::vector<TileState>& tiles, bool use_desired,
+                     int coarser, Selection& out) const;
     uint8_t stitchOf(size_t t, const std::vector<TileState>& tiles, bool at_desired) const;
     bool atRingLevels(size_t t) const;
     int levelAt(int x, int y, const std::vector<TileState>& tiles, bool desired) const;
 
     const PatchQuadtree& tree_;
     RingsStructure structure_;
-    std::vector<TileState> tiles_;              // tilesX·tilesY
-    int coarser_ = 0;                           // this frame's levels_coarser
-    mutable RingsStructure preview_structure_;  // preview's scratch
+    std::vector<TileState> tiles_;             // tilesX·tilesY
+    int coarser_ = 0;                          // this frame's levels_coarser
+    mutable RingsStructure preview_structure_; // preview's scratch
     mutable std::vector<TileState> preview_tiles_;
     std::vector<RingTile> drawn_;
     Selection cover_patches_; // scratch

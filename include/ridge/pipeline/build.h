@@ -11,9 +11,9 @@
 namespace ridge {
 
 struct BuildOptions {
-    int patch_size = 129;          // 2^n + 1
-    int block_cells = 8;           // tessellation block: 8 cells = 9x9 samples
-    std::string codec = "lossless";  // lossless, raw, progressive
+    int patch_size = 129;           // 2^n + 1
+    int block_cells = 8;            // tessellation block: 8 cells = 9x9 samples
+    std::string codec = "lossless"; // lossless, raw, progressive
     // Lossy codecs (progressive): the end-to-end L-inf bound at the finest level in metres,
     // ingest quantization included; level l gets 2^(L-1-l) times that (delta_l of the paper).
     std::optional<double> max_error;
@@ -21,7 +21,7 @@ struct BuildOptions {
     // Tessellation block errors λ(d) stored in each blob. Off by default: readers derive
     // them exactly from the decoded heights (~10% of a compressed archive saved).
     bool store_block_errors = false;
-    io::IngestOptions ingest;      // spacing, z-scale/offset, max_error (quantization)
+    io::IngestOptions ingest; // spacing, z-scale/offset, max_error (quantization)
     // The memory the build may use, bytes; 0: what the system has available
     // (availableMemory(): MemAvailable, the cgroup limit, RLIMIT_AS, RLIMIT_DATA). A raster
     // whose estimate (pipeline/build_memory.h) exceeds it is refused before anything is
@@ -43,9 +43,9 @@ struct BuildReport {
     int64_t patch_count = 0;
     uint64_t archive_bytes = 0;
     int64_t voids_filled = 0;
-    int64_t voids_kept = 0;         // nodata kept as nodata (BuildOptions::ingest.fill_voids)
+    int64_t voids_kept = 0; // nodata kept as nodata (BuildOptions::ingest.fill_voids)
     double quantization_error = 0.0;
-    bool streamed = false;          // built strip by strip (decimation, no voids)
+    bool streamed = false; // built strip by strip (decimation, no voids)
     double seconds_total = 0.0;
     double seconds_ingest = 0.0;
     double seconds_errors = 0.0;

@@ -26,15 +26,16 @@ struct ProjectionWindow {
 struct ExtractOptions {
     static constexpr int kMaxLevel = 62; // PatchId levels; -1 means the finest
 
-    int level = -1;                        // -1: the finest level
-    std::optional<ExtractWindow> window;   // default: the level's whole valid extent
+    int level = -1;                          // -1: the finest level
+    std::optional<ExtractWindow> window;     // default: the level's whole valid extent
     std::optional<ProjectionWindow> projwin; // instead of `window`
     // GDAL sample type ("Int16", "Float32", ...). Default: the source's (archive metadata
     // source.data_type) when it is a floating-point type whose range holds the heights (they
     // come back to the source's own precision) or an integer type that holds every extracted
-    // height exactly; else Float32 when that gives every code back, else Float64. A type given here is used as asked: integer types round to the
-    // nearest integer (ExtractReport::max_rounding_error says by how much); heights outside the
-    // type's range are refused.
+    // height exactly; else Float32 when that gives every code back, else Float64. A type given here
+    // is used as asked: integer types round to the nearest integer
+    // (ExtractReport::max_rounding_error says by how much); heights outside the type's range are
+    // refused.
     std::optional<std::string> output_type;
     std::string output_format = "GTiff";       // any GDAL driver that can Create or CreateCopy
     std::vector<std::string> creation_options; // "NAME=VALUE", passed to the driver
@@ -62,9 +63,9 @@ struct ExtractReport {
     std::optional<std::array<double, 6>> geotransform; // of the output
 };
 
-// Writes the window of the level in metres, kept nodata as `nodata_value`. The geotransform is the source's, scaled by the
-// level's step and shifted so that every output pixel centre sits on its finest-grid sample's
-// centre (at the finest level: exactly gdal_translate's for the same window).
+// Writes the window of the level in metres, kept nodata as `nodata_value`. The geotransform is the
+// source's, scaled by the level's step and shifted so that every output pixel centre sits on its
+// finest-grid sample's centre (at the finest level: exactly gdal_translate's for the same window).
 // Throws ridge::Error (options are validated first, the format and the window before any
 // decoding); leaves nothing at `output` (or its side-car files) on failure, and refuses an
 // output that is the archive.

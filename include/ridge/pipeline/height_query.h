@@ -8,8 +8,8 @@
 // the exact finest surface: at every sample position the decoded height, within Err(P) =
 // δ_L (codec bound + quantization) of the source; between samples, their bilinear blend. At a
 // coarser level it is the surface a LOD scheme draws when it selects that level there, within
-// Err(P) of every finest sample it covers. `drawnPatch` says which patch (so level) the LOD selection
-// (lod::PatchQuadtree) draws at a point for a given camera and ε.
+// Err(P) of every finest sample it covers. `drawnPatch` says which patch (so level) the LOD
+// selection (lod::PatchQuadtree) draws at a point for a given camera and ε.
 //
 // QueryResampling::Nearest answers the level's sample nearest to the point instead: at the finest
 // level the sample whose GDAL pixel holds it (pixel ⌊P⌋, line ⌊L⌋), as gdallocationinfo does.
@@ -137,8 +137,8 @@ class HeightQuery {
     // (nearest) or the cell and the fractions across it (bilinear).
     struct Location {
         PatchId patch;
-        int u = 0, v = 0;        // sample (nearest) or the cell's first sample (bilinear)
-        double fu = 0, fv = 0;   // bilinear weights across the cell
+        int u = 0, v = 0;      // sample (nearest) or the cell's first sample (bilinear)
+        double fu = 0, fv = 0; // bilinear weights across the cell
     };
     int checkedLevel(int level) const;
     // Sets out.pixel, out.local and out.on_raster from `point`; true when on the raster.

@@ -21,11 +21,11 @@ struct HillshadeOptions {
     static constexpr ValueRange kZFactorRange = ValueRange::openClosed(0.0, 1e6);
     static constexpr int kMaxLevel = 62; // PatchId levels; -1 means the finest
 
-    int level = -1;          // -1: finest level
-    double azimuth = 315.0;  // light from the north-west, degrees clockwise from north
-    double altitude = 45.0;  // degrees above the horizon
-    double z_factor = 1.0;   // vertical exaggeration
-    bool colour = true;      // hypsometric tint under the shading; false = grey like gdaldem
+    int level = -1;         // -1: finest level
+    double azimuth = 315.0; // light from the north-west, degrees clockwise from north
+    double altitude = 45.0; // degrees above the horizon
+    double z_factor = 1.0;  // vertical exaggeration
+    bool colour = true;     // hypsometric tint under the shading; false = grey like gdaldem
     Progress progress;
 
     // Throws ridge::Error naming the first field outside its range above (NaN included).
@@ -41,7 +41,8 @@ struct HillshadeOptions {
 // `water`: null paints water by the height rule of archives without sample flags
 // (palette::isWater); else the pixels where it holds kSampleWater are water (empty: none).
 std::vector<uint8_t> shadeRelief(const std::vector<float>& metres, int width, int height,
-                                 double spacing_x, double spacing_y, const HillshadeOptions& options,
+                                 double spacing_x, double spacing_y,
+                                 const HillshadeOptions& options,
                                  const std::vector<uint8_t>& valid = {},
                                  const std::vector<uint8_t>* water = nullptr);
 

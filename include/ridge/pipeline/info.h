@@ -11,22 +11,22 @@ namespace ridge {
 
 struct LevelInfo {
     int level = 0;
-    int64_t step = 1;           // finest samples between level samples
-    int width = 0, height = 0;  // level samples inside the valid extent
+    int64_t step = 1;          // finest samples between level samples
+    int width = 0, height = 0; // level samples inside the valid extent
     int patches_x = 0, patches_y = 0;
-    uint64_t bytes = 0;         // blob bytes (block errors + payloads)
-    double max_err = 0.0;       // largest Err(P), metres
+    uint64_t bytes = 0;   // blob bytes (block errors + payloads)
+    double max_err = 0.0; // largest Err(P), metres
     double max_err_appr = 0.0;
-    double level_bound = 0.0;   // δ_l, metres
+    double level_bound = 0.0; // δ_l, metres
 };
 
 // A corner (or the centre) of the raster as gdalinfo lists them: pixel/line (0, 0), (0, H),
 // (W, 0), (W, H), (W/2, H/2), in the archive CRS and in WGS 84 longitude/latitude.
 struct CornerInfo {
-    std::string name;           // "Upper Left", "Lower Left", "Upper Right", "Lower Right", "Center"
-    double pixel = 0, line = 0; // GDAL pixel/line
-    double x = 0, y = 0;        // archive CRS (geotransform)
-    bool has_lon_lat = false;   // false without a CRS or where PROJ cannot convert
+    std::string name; // "Upper Left", "Lower Left", "Upper Right", "Lower Right", "Center"
+    double pixel = 0, line = 0;         // GDAL pixel/line
+    double x = 0, y = 0;                // archive CRS (geotransform)
+    bool has_lon_lat = false;           // false without a CRS or where PROJ cannot convert
     double longitude = 0, latitude = 0; // WGS 84, degrees
 };
 
@@ -41,16 +41,16 @@ struct ArchiveInfo {
     double height_scale = 1.0, height_offset = 0.0, quantization_error = 0.0;
     double spacing_x = 1.0, spacing_y = 1.0;
     double min_height = 0.0, max_height = 0.0;
-    std::string metadata_json;  // the archive's metadata document as stored (valid JSON)
+    std::string metadata_json;         // the archive's metadata document as stored (valid JSON)
     archive::ArchiveMetadata metadata; // its fields, checked against the header
     std::vector<LevelInfo> levels;
     std::vector<CornerInfo> corners; // empty without a geotransform
     std::string lon_lat_note;        // why corners have no lon/lat (no CRS, PROJ error), or empty
 
     // The source band as gdalinfo describes it.
-    int band = 1;                    // source.band (1 for archives that predate it)
-    std::string data_type;           // GDAL type name ("Int16", "Float32")
-    std::optional<double> nodata;    // the band's declared nodata value, if finite
+    int band = 1;                 // source.band (1 for archives that predate it)
+    std::string data_type;        // GDAL type name ("Int16", "Float32")
+    std::optional<double> nodata; // the band's declared nodata value, if finite
     // The heights' code step in metres (height_scale) and whether every valid sample is held
     // exactly; non-integer sources (Float32 ...) are quantized to this step.
     double quantization_step = 1.0;

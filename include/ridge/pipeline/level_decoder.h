@@ -50,7 +50,8 @@ CodeGrid decodeLevelWindow(const archive::ArchiveReader& reader, int level, int 
                            std::vector<uint8_t>* flags = nullptr);
 
 // The samples of `level` inside the valid extent (validLevelWidth x validLevelHeight).
-CodeGrid decodeLevel(const archive::ArchiveReader& reader, int level, const Progress& progress = {});
+CodeGrid decodeLevel(const archive::ArchiveReader& reader, int level,
+                     const Progress& progress = {});
 
 // Heights in metres of a decoded grid, row-major (float: what GeoTIFF and shading consume).
 std::vector<float> toMetres(const CodeGrid& grid, const HeightQuantization& quantization);

@@ -26,15 +26,15 @@ struct VerifyOptions {
 struct LevelVerifyReport {
     int level = 0;
     int64_t patches = 0;
-    double max_err_bound = 0.0;     // largest stored Err(P) of the level (metres)
+    double max_err_bound = 0.0; // largest stored Err(P) of the level (metres)
     // Filled with a source:
-    int64_t samples = 0;            // full-resolution samples compared
-    double max_error = 0.0;         // max |surface - source| (metres)
+    int64_t samples = 0;    // full-resolution samples compared
+    double max_error = 0.0; // max |surface - source| (metres)
     double rms_error = 0.0;
-    int64_t bound_violations = 0;   // samples with |surface - source| > Err(P)
-    int64_t level_samples = 0;      // level sample positions compared with the source
-    double max_level_error = 0.0;   // max |decoded - source| at those positions
-    double level_bound = 0.0;       // δ_l
+    int64_t bound_violations = 0; // samples with |surface - source| > Err(P)
+    int64_t level_samples = 0;    // level sample positions compared with the source
+    double max_level_error = 0.0; // max |decoded - source| at those positions
+    double level_bound = 0.0;     // δ_l
     int64_t level_violations = 0;
 };
 
@@ -42,9 +42,9 @@ struct VerifyReport {
     std::vector<std::string> problems; // each names the file and, where it applies, the patch
     std::vector<LevelVerifyReport> levels;
     int64_t patches_checked = 0;
-    int64_t source_voids = 0;          // source samples skipped because they are voids
-    int64_t nodata_samples = 0;        // finest samples the archive keeps as nodata (with a
-                                       // source; each must be a source void, else a problem)
+    int64_t source_voids = 0;   // source samples skipped because they are voids
+    int64_t nodata_samples = 0; // finest samples the archive keeps as nodata (with a
+                                // source; each must be a source void, else a problem)
     bool source_checked = false;
     bool ok() const { return problems.empty(); }
 };

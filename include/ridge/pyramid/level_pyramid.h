@@ -31,7 +31,7 @@ struct LevelView {
     int src_width = 0;
     int src_height = 0;
     int64_t step = 1;
-    int width = 0;  // samples of this level that cover the valid extent
+    int width = 0; // samples of this level that cover the valid extent
     int height = 0;
 
     uint16_t at(int64_t i, int64_t j) const
@@ -43,7 +43,7 @@ struct LevelView {
 };
 
 class LevelPyramid {
-public:
+  public:
     // `finest` must outlive the pyramid and match geometry's width/height.
     LevelPyramid(const CodeGrid& finest, const PyramidGeometry& geometry, PyramidFilter filter);
 
@@ -51,7 +51,7 @@ public:
     const PyramidGeometry& geometry() const { return geometry_; }
     PyramidFilter filter() const { return filter_; }
 
-private:
+  private:
     PyramidGeometry geometry_;
     PyramidFilter filter_;
     std::vector<LevelView> levels_;

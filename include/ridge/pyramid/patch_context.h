@@ -10,7 +10,7 @@ namespace ridge {
 
 inline PatchContext patchContext(const PyramidGeometry& g, PatchId id, const uint16_t* parent)
 {
-    return {g.patchSize(), id.level, parent, id.childIndex(), g.coveredCellsX(id) + 1,
+    return {g.patchSize(),          id.level, parent, id.childIndex(), g.coveredCellsX(id) + 1,
             g.coveredCellsY(id) + 1};
 }
 

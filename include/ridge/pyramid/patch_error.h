@@ -32,8 +32,8 @@ double interpolationError(const uint16_t* parent_samples, const LevelView& child
 
 // Per-patch values for every patch of the pyramid, indexed by geometry.patchIndex().
 struct PatchErrors {
-    std::vector<float> err_int;   // code units; 0 at the finest level
-    std::vector<float> err_appr;  // code units
+    std::vector<float> err_int;  // code units; 0 at the finest level
+    std::vector<float> err_appr; // code units
     // Range of the patch's own samples and of all its descendants' samples, so that a
     // bounding box built from it is safe for hierarchical culling (a decimated parent's own
     // samples can miss a child's peak).

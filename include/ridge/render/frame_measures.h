@@ -43,8 +43,8 @@ SampleHeights surfaceHeightsAtSamples(const CapturedSurface& surface,
                                       const lod::TerrainFrame& frame);
 
 struct PoppingReport {
-    size_t samples = 0;    // finest samples in view covered by both surfaces
-    double max_px = 0.0;   // largest projected vertical displacement, pixels
+    size_t samples = 0;  // finest samples in view covered by both surfaces
+    double max_px = 0.0; // largest projected vertical displacement, pixels
     double max_metres = 0.0;
 };
 

@@ -45,11 +45,11 @@ struct RenderBenchOptions {
 };
 
 struct FrameRecord {
-    double start_ms = 0.0;  // wall time from the first frame's start to this frame's start
-    double frame_ms = 0.0;  // wall time of draw() until the GPU finished it
-    double select_ms = 0.0; // CPU: selection + culling
-    double load_ms = 0.0;   // CPU: residency, uploads (streaming: requests and uploads only)
-    double gpu_ms = 0.0;    // terrain pass, timer query
+    double start_ms = 0.0;         // wall time from the first frame's start to this frame's start
+    double frame_ms = 0.0;         // wall time of draw() until the GPU finished it
+    double select_ms = 0.0;        // CPU: selection + culling
+    double load_ms = 0.0;          // CPU: residency, uploads (streaming: requests and uploads only)
+    double gpu_ms = 0.0;           // terrain pass, timer query
     double upload_budget_ms = 0.0; // streaming: the frame's upload time budget (adaptive)
     uint64_t triangles = 0;
     int patches = 0;
@@ -142,7 +142,7 @@ struct RenderBenchReport {
     // Resident memory after the first tenth of the frames and at the end (a soak is flat
     // when the two agree once the RAM caches are full).
     double rss_early_mib = 0, rss_end_mib = 0;
-    size_t hole_pixels = 0;     // all frames
+    size_t hole_pixels = 0; // all frames
     int frames_with_holes = 0;
     FrameStatistics popping_px; // frames measured with --popping (count 0: not measured)
 };

@@ -5,8 +5,8 @@
 // back into view is not decoded twice. The asynchronous streaming pipeline builds on this.
 //
 // Not thread-safe: one loader per render thread.
-#include "ridge/codec/progressive_reconstruction.h"
 #include "ridge/archive/archive_reader.h"
+#include "ridge/codec/progressive_reconstruction.h"
 #include "ridge/stream/lru_cache.h"
 
 #include <cstdint>
@@ -68,8 +68,7 @@ struct DecodedPatch {
     {
         return sizeof(*this) + codes.size() * sizeof(uint16_t) +
                block_errors.size() * sizeof(float) + drawable_cells.size() +
-               sample_flags.flags.size() +
-               residuals.size() * sizeof(int32_t) +
+               sample_flags.flags.size() + residuals.size() * sizeof(int32_t) +
                residuals16.size() * sizeof(int16_t) + preparedBytes();
     }
     size_t preparedBytes() const

@@ -91,9 +91,9 @@ struct UploadBudget {
 // would be without streaming (plus one upload's overrun), whatever the frame rate. Where
 // frames are short against one upload (a coarse view drawing the root alone, with uploads
 // decoded on the CPU), f·T stays below one upload and one patch a frame goes, as with the
-// fixed budget; the gain is where frames are long (docs/PERF.md, issue 22). The median, not a running mean: one
-// long frame (shader compilation on the first frame, a window drag, an idle host) does not
-// swing the budget, and it adapts within half a window to a real change. Until kMinFrames
+// fixed budget; the gain is where frames are long (docs/PERF.md, issue 22). The median, not a
+// running mean: one long frame (shader compilation on the first frame, a window drag, an idle host)
+// does not swing the budget, and it adapts within half a window to a real change. Until kMinFrames
 // intervals are known, the floor. The floor is the fixed budget (so a fast GPU behaves as
 // before: at 60 Hz a quarter of the frame is the 4 ms floor); the ceiling (a quarter of a
 // second) bounds the stall one frame may take for uploads however slow the frames are.
@@ -245,11 +245,11 @@ class UploadPlanner {
 
     StreamPlan plan_;
     StreamOutcome outcome_;
-    bool open_ = false;        // plan() done, finish() not yet
-    lod::Selection desired_;   // this frame's, for the cover drawn after the uploads
+    bool open_ = false;                      // plan() done, finish() not yet
+    lod::Selection desired_;                 // this frame's, for the cover drawn after the uploads
     lod::PatchSelector* selector_ = nullptr; // this frame's (null: residentCover)
-    lod::ResidentCover cover_; // scratch
-    lod::Selection future_;    // prefetch's preview, capacity kept
+    lod::ResidentCover cover_;               // scratch
+    lod::Selection future_;                  // prefetch's preview, capacity kept
     FrameKeyMap<char> wanted_; // patch index -> wanted this frame (requested unless resident)
     std::vector<StreamRequest> wanted_list_;
     FrameKeyMap<char> needed_; // patch index -> kept resident this frame

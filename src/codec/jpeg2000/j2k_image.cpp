@@ -44,8 +44,9 @@ bool encode(Library library, const int32_t* samples, int width, int height, int 
         *error = "invalid image or rate";
         return false;
     }
-    return library == Library::Htj2k ? encodeHtj2k(samples, width, height, bits, rate, out, error)
-                                     : encodeOpenJpeg(samples, width, height, bits, rate, out, error);
+    return library == Library::Htj2k
+               ? encodeHtj2k(samples, width, height, bits, rate, out, error)
+               : encodeOpenJpeg(samples, width, height, bits, rate, out, error);
 }
 
 namespace {

@@ -42,7 +42,7 @@ struct Coded {
     Jpeg2000Encoding kind = Jpeg2000Encoding::Direct;
     bool reversible = true;
     std::vector<uint8_t> codestream;
-    std::vector<uint8_t> border; // zstd frame of the edge deltas
+    std::vector<uint8_t> border;         // zstd frame of the edge deltas
     std::vector<uint16_t> region_values; // final reconstruction over the region
     size_t bytes() const { return kHeaderSize + border.size() + codestream.size(); }
 };
@@ -50,11 +50,11 @@ struct Coded {
 // The exact region, its prediction and the criterion, fixed for one patch and kind.
 struct PatchProblem {
     Region region;
-    int e = 0;                      // max-abs bound of every sample
-    int edge_e = 0;                 // the edges' bound, floor(E): the same for every patch
+    int e = 0;      // max-abs bound of every sample
+    int edge_e = 0; // the edges' bound, floor(E): the same for every patch
     CompressionCriterion criterion = CompressionCriterion::MaxAbs;
-    double rms_bound = 0;           // E for the RMS criterion
-    std::vector<int32_t> exact;     // heights over the region
+    double rms_bound = 0;       // E for the RMS criterion
+    std::vector<int32_t> exact; // heights over the region
     std::vector<int32_t> prediction;
 };
 
@@ -71,25 +71,32 @@ uint32_t getU32(const uint8_t* p)
 
 ZSTD_CCtx* threadCCtx()
 {
-    thread_local std::unique_ptr<ZSTD_CCtx, size_t (*)(ZSTD_CCtx*)> ctx(ZSTD_createCCtx(), ZSTD_freeCCtx);
+    thread_local std::unique_ptr<ZSTD_CCtx, size_t (*)(ZSTD_CCtx*)> ctx(ZSTD_createCCtx(),
+                                                                        ZSTD_freeCCtx);
     return ctx.get();
 }
 
 ZSTD_DCtx* threadDCtx()
 {
-    thread_local std::unique_ptr<ZSTD_DCtx, size_t (*)(ZSTD_DCtx*)> ctx(ZSTD_createDCtx(), ZSTD_freeDCtx);
+    thread_local std::unique_ptr<ZSTD_DCtx, size_t (*)(ZSTD_DCtx*)> ctx(ZSTD_createDCtx(),
+                                                                        ZSTD_freeDCtx);
     return ctx.get();
 }
 
-uint32_t zigzag(int32_t v) { return (uint32_t(v) << 1) ^ uint32_t(v >> 31); }
-int32_t unzigzag(uint32_t u) { return int32_t(u >> 1) ^ -int32_t(u & 1); }
+uint32_t zigzag(int32_t v)
+{
+    return (uint32_t(v) << 1) ^ uint32_t(v >> 31);
+}
+int32_t unzigzag(uint32_t u)
+{
+    return int32_t(u >> 1) ^ -int32_t(u & 1);
+}
 
 // Final values over the region from the decoded image d̂ (edges from their deltas, or,
 // while encoding, from the exact heights, recording the deltas).
 void reconstructRegion(const PatchProblem* problem, const Region& r, const Quantizer& q,
                        const int32_t* image, const int32_t* prediction, int e,
-                       std::vector<int32_t>* deltas, const int32_t* given_deltas,
-                       uint16_t* values)
+                       std::vector<int32_t>* deltas, const int32_t* given_deltas, uint16_t* values)
 {
     size_t edge = 0;
     const int32_t s = 2 * e + 1;
@@ -101,8 +108,8 @@ void reconstructRegion(const PatchProblem* problem, const Region& r, const Quant
                 values[i] = jpeg2000::clampCode(coded);
                 continue;
             }
-            const int32_t guess = jpeg2000::edgeIndex(
-                int32_t(jpeg2000::clampCode(coded)) - prediction[i], e);
+            const int32_t guess =
+                jpeg2000::edgeIndex(int32_t(jpeg2000::clampCode(coded)) - prediction[i], e);
             int32_t index;
             if (problem) {
                 index = jpeg2000::edgeIndex(problem->exact[i] - prediction[i], e);
@@ -137,7 +144,8 @@ std::vector<uint8_t> packBorder(const std::vector<int32_t>& deltas)
     for (int32_t d : deltas)
         progressive_tokens::putVarint(raw, zigzag(d));
     std::vector<uint8_t> out(ZSTD_compressBound(raw.size()));
-    const size_t n = ZSTD_compressCCtx(threadCCtx(), out.data(), out.size(), raw.data(), raw.size(), 19);
+    const size_t n =
+        ZSTD_compressCCtx(threadCCtx(), out.data(), out.size(), raw.data(), raw.size(), 19);
     if (ZSTD_isError(n))
         throw Error("internal error: zstd failed on a jpeg2000 edge stream");
     out.resize(n);
@@ -218,7 +226,7 @@ bool searchKind(PatchProblem& p, Jpeg2000Encoding kind, const Jpeg2000Variant& v
     // Depth: the paper's (8 for D, 12 direct), more where quantization alone breaks the
     // criterion (a range too wide for the bound's steps).
     const int base = kind == Jpeg2000Encoding::Progressive ? Jpeg2000Variant::kDifferenceBits
-                                                            : Jpeg2000Variant::kDirectBits;
+                                                           : Jpeg2000Variant::kDirectBits;
     std::vector<int32_t> image(n);
     std::vector<uint16_t> values(n);
     std::vector<int32_t> unused;
@@ -267,8 +275,8 @@ bool searchKind(PatchProblem& p, Jpeg2000Encoding kind, const Jpeg2000Variant& v
     return true;
 }
 
-Coded encodeRegion(const uint16_t* codes, const PatchContext& ctx, const Jpeg2000Variant& v,
-                   int e, int edge_e, double criterion_value)
+Coded encodeRegion(const uint16_t* codes, const PatchContext& ctx, const Jpeg2000Variant& v, int e,
+                   int edge_e, double criterion_value)
 {
     PatchProblem p;
     p.region = Region::of(ctx);
@@ -343,7 +351,8 @@ std::optional<Jpeg2000Variant> Jpeg2000Variant::fromName(const std::string& name
             return std::nullopt;
         const std::string key = option.substr(0, eq), value = option.substr(eq + 1);
         if (key == "encoding" && (value == "progressive" || value == "direct"))
-            v.encoding = value == "direct" ? Jpeg2000Encoding::Direct : Jpeg2000Encoding::Progressive;
+            v.encoding =
+                value == "direct" ? Jpeg2000Encoding::Direct : Jpeg2000Encoding::Progressive;
         else if (key == "criterion" && value == "max")
             v.criterion = CompressionCriterion::MaxAbs;
         else if (key == "criterion" && value == "rms")
@@ -417,7 +426,9 @@ size_t Jpeg2000Codec::encodeBound(const PatchContext& ctx) const
 size_t Jpeg2000Codec::encode(uint8_t* dst, size_t dst_capacity, const uint16_t* codes,
                              const PatchContext& ctx) const
 {
-    const PatchContext c = needsParent(ctx.level) ? ctx : PatchContext{ctx.patch_size, ctx.level, nullptr, 0, ctx.samples_x, ctx.samples_y};
+    const PatchContext c =
+        needsParent(ctx.level) ? ctx : PatchContext{ctx.patch_size, ctx.level,    nullptr, 0,
+                                                    ctx.samples_x,  ctx.samples_y};
     if (needsParent(ctx.level) && !ctx.parent)
         throw Error("jpeg2000 codec: a patch below the root needs its parent's reconstruction");
     const Coded coded = encodeRegion(codes, c, variant_, sample_bound_, edge_bound_, criterion_);
@@ -439,7 +450,9 @@ size_t Jpeg2000Codec::encode(uint8_t* dst, size_t dst_capacity, const uint16_t* 
 
 void Jpeg2000Codec::reconstruct(const uint16_t* codes, const PatchContext& ctx, uint16_t* out) const
 {
-    const PatchContext c = needsParent(ctx.level) ? ctx : PatchContext{ctx.patch_size, ctx.level, nullptr, 0, ctx.samples_x, ctx.samples_y};
+    const PatchContext c =
+        needsParent(ctx.level) ? ctx : PatchContext{ctx.patch_size, ctx.level,    nullptr, 0,
+                                                    ctx.samples_x,  ctx.samples_y};
     const Coded coded = encodeRegion(codes, c, variant_, sample_bound_, edge_bound_, criterion_);
     expand(Region::of(ctx), coded.region_values.data(), out);
 }
@@ -449,8 +462,8 @@ int Jpeg2000Codec::decodeDifference(const uint8_t* src, size_t src_size, const P
 {
     if (src_size < kHeaderSize)
         return kCodecTruncated;
-    if (src[0] != kMagic || src[1] != kPayloadVersion || src[2] > 1 || src[3] < 1 ||
-        src[3] > 16 || (src[4] & ~kReversibleFlag))
+    if (src[0] != kMagic || src[1] != kPayloadVersion || src[2] > 1 || src[3] < 1 || src[3] > 16 ||
+        (src[4] & ~kReversibleFlag))
         return kCodecBadHeader;
     const auto kind = Jpeg2000Encoding(src[2]);
     // A patch below the root of a progressive archive may be direct (the fallback), never
@@ -523,15 +536,20 @@ int Jpeg2000Codec::decodeDifference(const uint8_t* src, size_t src_size, const P
                 continue;
             const size_t i = size_t(y) * r.width + x;
             const int32_t d = int32_t(values[i]) - prediction[i];
-            if (y == 0) out->top[x] = d;
-            if (y == n - 1) out->bottom[x] = d;
-            if (x == 0) out->left[y] = d;
-            if (x == n - 1) out->right[y] = d;
+            if (y == 0)
+                out->top[x] = d;
+            if (y == n - 1)
+                out->bottom[x] = d;
+            if (x == 0)
+                out->left[y] = d;
+            if (x == n - 1)
+                out->right[y] = d;
         }
     return kCodecOk;
 }
 
-void Jpeg2000Codec::addPrediction(const Jpeg2000Difference& d, const PatchContext& ctx, uint16_t* dst)
+void Jpeg2000Codec::addPrediction(const Jpeg2000Difference& d, const PatchContext& ctx,
+                                  uint16_t* dst)
 {
     const Region r{ctx.patch_size, d.width, d.height};
     PatchContext pc = ctx;
@@ -548,11 +566,16 @@ void Jpeg2000Codec::addPrediction(const Jpeg2000Difference& d, const PatchContex
         for (int x = 0; x < r.width; ++x) {
             const size_t i = size_t(y) * r.width + x;
             int64_t v;
-            if (y == 0) v = d.top[x];
-            else if (y == n - 1) v = d.bottom[x];
-            else if (x == 0) v = d.left[y];
-            else if (x == n - 1) v = d.right[y];
-            else v = q.dequantize(d.image[i]);
+            if (y == 0)
+                v = d.top[x];
+            else if (y == n - 1)
+                v = d.bottom[x];
+            else if (x == 0)
+                v = d.left[y];
+            else if (x == n - 1)
+                v = d.right[y];
+            else
+                v = q.dequantize(d.image[i]);
             dst[size_t(y) * n + x] = jpeg2000::clampCode(prediction[i] + v);
         }
     jpeg2000::extendRegion(r, dst);

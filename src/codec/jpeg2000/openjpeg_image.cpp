@@ -208,12 +208,13 @@ bool decodeOpenJpeg(const uint8_t* bytes, size_t size, int width, int height, in
     if (!header || !image)
         return fail(error, "bad JPEG 2000 header", first);
     const opj_image_comp_t& c = image->comps[0];
-    if (image->numcomps != 1 || image->x0 != 0 || image->y0 != 0 ||
-        c.w != OPJ_UINT32(width) || c.h != OPJ_UINT32(height) || c.dx != 1 || c.dy != 1 ||
-        c.sgnd != 0 || c.prec != OPJ_UINT32(bits))
-        return fail(error, "the codestream is not one unsigned " + std::to_string(width) + "x" +
-                               std::to_string(height) + " image of " + std::to_string(bits) +
-                               " bits", {});
+    if (image->numcomps != 1 || image->x0 != 0 || image->y0 != 0 || c.w != OPJ_UINT32(width) ||
+        c.h != OPJ_UINT32(height) || c.dx != 1 || c.dy != 1 || c.sgnd != 0 ||
+        c.prec != OPJ_UINT32(bits))
+        return fail(error,
+                    "the codestream is not one unsigned " + std::to_string(width) + "x" +
+                        std::to_string(height) + " image of " + std::to_string(bits) + " bits",
+                    {});
     if (!opj_decode(codec.get(), stream.get(), image.get()) ||
         !opj_end_decompress(codec.get(), stream.get()))
         return fail(error, "JPEG 2000 decode failed", first);

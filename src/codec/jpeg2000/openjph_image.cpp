@@ -184,8 +184,8 @@ bool decodeHtj2k(const uint8_t* bytes, size_t size, int width, int height, int b
         stream.read_headers(&file);
         ojph::param_siz siz = stream.access_siz();
         const ojph::point extent = siz.get_image_extent(), offset = siz.get_image_offset();
-        const ojph::point sub = siz.get_num_components() == 1 ? siz.get_downsampling(0)
-                                                              : ojph::point(0, 0);
+        const ojph::point sub =
+            siz.get_num_components() == 1 ? siz.get_downsampling(0) : ojph::point(0, 0);
         if (siz.get_num_components() != 1 || extent.x != ojph::ui32(width) ||
             extent.y != ojph::ui32(height) || offset.x != 0 || offset.y != 0 || sub.x != 1 ||
             sub.y != 1 || siz.is_signed(0) || siz.get_bit_depth(0) != ojph::ui32(bits)) {

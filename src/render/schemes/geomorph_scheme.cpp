@@ -214,8 +214,8 @@ class GeomorphScheme final : public TerrainScheme {
     size_t upload(const stream::DecodedPatch& patch, int slot) override
     {
         const auto& g = static_cast<const PreparedGeomorph&>(*patch.prepared.at(size_t(product_)));
-        slots_[size_t(slot)] = std::static_pointer_cast<const PreparedGeomorph>(
-            patch.prepared[size_t(product_)]);
+        slots_[size_t(slot)] =
+            std::static_pointer_cast<const PreparedGeomorph>(patch.prepared[size_t(product_)]);
         if (per_frame_ || settings_.layout == GeomorphLayout::Standard)
             return 0; // sent with every frame that draws it
         glNamedBufferSubData(vertices_.id(), slotOffset(slot), GLsizeiptr(g.vertices.size()),
@@ -280,8 +280,8 @@ class GeomorphScheme final : public TerrainScheme {
                 appendFeet(scratch_, settings_.n, stride_);
                 data = scratch_.data();
             }
-            glNamedBufferSubData(vertices_.id(), slotOffset(r.layer), GLsizeiptr(g->vertices.size()),
-                                 data);
+            glNamedBufferSubData(vertices_.id(), slotOffset(r.layer),
+                                 GLsizeiptr(g->vertices.size()), data);
             bytes += g->vertices.size();
         }
         return bytes;
@@ -299,7 +299,8 @@ class GeomorphScheme final : public TerrainScheme {
         glProgramUniform1i(id, program.uniform("u_hemisphere_map"), int(settings_.map));
         // Compact codes become camera-relative drawn metres directly: k·offset − camera z.
         const double k = frame.settings.exaggeration;
-        glProgramUniform1f(id, program.uniform("u_geomorph_height_scale"), float(k * settings_.scale));
+        glProgramUniform1f(id, program.uniform("u_geomorph_height_scale"),
+                           float(k * settings_.scale));
         glProgramUniform1f(id, program.uniform("u_geomorph_height_offset"),
                            float(k * settings_.offset - frame.camera.position().z));
         glBindTextureUnit(3, hemisphere_.id());
@@ -369,7 +370,8 @@ class GeomorphScheme final : public TerrainScheme {
         const GLuint vao = vao_.id();
         glVertexArrayVertexBuffer(vao, 0, vertices_.id(), 0, stride_);
         glVertexArrayElementBuffer(vao, indices_.id());
-        auto attribute = [&](GLuint location, GLint size, GLenum type, GLuint offset, bool integer) {
+        auto attribute = [&](GLuint location, GLint size, GLenum type, GLuint offset,
+                             bool integer) {
             glEnableVertexArrayAttrib(vao, location);
             if (integer)
                 glVertexArrayAttribIFormat(vao, location, size, type, offset);

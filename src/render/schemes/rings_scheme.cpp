@@ -48,8 +48,8 @@ class RingsGrid {
                 const bool horizontal =
                     pos == lod::EdgePosition::Up || pos == lod::EdgePosition::Down;
                 const int along = horizontal ? x : z;
-                vertices.insert(vertices.end(), {int16_t(x), int16_t(z), int16_t(pos),
-                                                 int16_t(along % 2)});
+                vertices.insert(vertices.end(),
+                                {int16_t(x), int16_t(z), int16_t(pos), int16_t(along % 2)});
             }
         std::vector<uint32_t> indices;
         indices.reserve(size_t(cells) * cells * 6);
@@ -209,7 +209,8 @@ class RingsScheme final : public TerrainScheme {
                                  GL_DYNAMIC_STORAGE_BIT);
         }
         if (!records_.empty())
-            glNamedBufferSubData(buffer_.id(), 0, GLsizeiptr(records_.size() * sizeof(RingsTileRecord)),
+            glNamedBufferSubData(buffer_.id(), 0,
+                                 GLsizeiptr(records_.size() * sizeof(RingsTileRecord)),
                                  records_.data());
         return records_.size() * sizeof(RingsTileRecord);
     }
@@ -306,11 +307,12 @@ SchemeInfo ringsScheme()
                                           "samples per vertex along a side: 1, or 2 as the "
                                           "paper's 128² vertices for 256² tiles",
                                           1, 2, 1)},
-        .needs = [](const archive::ArchiveReader& reader, const RendererOptions&,
-                    const SchemeOptions& own) {
-            settingsFor(reader, own);
-            return SchemeNeeds{};
-        },
+        .needs =
+            [](const archive::ArchiveReader& reader, const RendererOptions&,
+               const SchemeOptions& own) {
+                settingsFor(reader, own);
+                return SchemeNeeds{};
+            },
         .make = [](const SchemeResources& r) -> std::unique_ptr<TerrainScheme> {
             return std::make_unique<RingsScheme>(r, settingsFor(r.reader, r.own));
         },

@@ -46,8 +46,8 @@ class TessellationScheme final : public TerrainScheme {
                            int(settings.tessellation_rule));
         // LOD is decided for frame.lod_camera: positions relative to the drawn camera, moved to
         // the LOD camera and projected by it (the same matrix when both are one camera).
-        const glm::dmat4 to_lod_camera = glm::translate(
-            glm::dmat4(1.0), camera.position() - frame.lod_camera.position());
+        const glm::dmat4 to_lod_camera =
+            glm::translate(glm::dmat4(1.0), camera.position() - frame.lod_camera.position());
         setMatrix(program, "u_lod_view_projection",
                   reverseZProjection(frame.lod_camera) * frame.lod_camera.view() * to_lod_camera);
         const glm::dvec3 lod_offset = frame.lod_camera.position() - camera.position();
@@ -97,7 +97,7 @@ class TessellationScheme final : public TerrainScheme {
   private:
     const PatchTextures& textures_;
     int blocks_per_side_, block_cells_;
-    int block_levels_; // D as the shaders use it (<= lod::kMaxBlockLevels)
+    int block_levels_;             // D as the shaders use it (<= lod::kMaxBlockLevels)
     gpu::GlVertexArray empty_vao_; // the tessellator's one vertex per patch primitive is implicit
     SchemePrograms programs_{{{GL_VERTEX_SHADER, "terrain.vert"},
                               {GL_TESS_CONTROL_SHADER, "terrain.tesc"},
