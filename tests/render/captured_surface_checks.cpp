@@ -332,4 +332,28 @@ ScreenErrorReport measureScreenSpaceError(const render::CapturedSurface& s,
     return report;
 }
 
+SeamReport checkSeamsAsPromised(render::TerrainRenderer& renderer, const lod::Camera& camera,
+                                render::RenderSettings settings, const lod::TerrainFrame& frame)
+{
+    SeamReport out;
+    out.stitched = render::lodSchemePromises(settings.scheme).seams ==
+                   render::SchemePromises::Seams::Stitching;
+    settings.cull_blocks = false;
+    if (out.stitched) {
+        settings.cull = false;
+        const StitchedReport w = checkStitchedWatertight(renderer.capture(camera, settings), frame);
+        out.triangles = w.triangles;
+        out.degenerate = w.degenerate;
+        out.problems = w.open_edges + w.overused_edges + (w.triangles <= w.degenerate ? 1 : 0);
+        out.first_problem =
+            w.triangles <= w.degenerate ? "nothing but degenerate triangles" : w.first_problem;
+    } else {
+        const WatertightReport w = checkWatertight(renderer.capture(camera, settings), frame);
+        out.triangles = w.triangles;
+        out.problems = w.open_edges + w.overused_edges + w.uncovered_seams;
+        out.first_problem = w.first_problem;
+    }
+    return out;
+}
+
 } // namespace ridge::test

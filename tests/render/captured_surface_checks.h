@@ -44,6 +44,20 @@ struct StitchedReport {
 StitchedReport checkStitchedWatertight(const render::CapturedSurface& s,
                                        const lod::TerrainFrame& frame);
 
+// The seams of `camera`'s frame checked as `settings.scheme` promises them (SchemePromises::
+// seams): skirts per patch and across seams (checkWatertight), or stitching across every piece
+// (checkStitchedWatertight, drawn without frustum culling: the edge of what the frustum keeps
+// would be open). Block culling is turned off: culled blocks open edges nobody sees.
+struct SeamReport {
+    bool stitched = false;
+    size_t triangles = 0;
+    size_t degenerate = 0; // stitched only
+    size_t problems = 0;   // open, overused and (skirts) uncovered seam positions
+    std::string first_problem;
+};
+SeamReport checkSeamsAsPromised(render::TerrainRenderer& renderer, const lod::Camera& camera,
+                                render::RenderSettings settings, const lod::TerrainFrame& frame);
+
 struct ScreenErrorReport {
     size_t samples = 0;      // full-resolution samples in view that were compared
     double max_px = 0.0;     // largest projected vertical deviation, pixels

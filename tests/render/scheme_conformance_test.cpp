@@ -221,7 +221,6 @@ TEST_P(SchemeConformance, CapturedSurfaceIsWatertightCoveredAndWithinItsPromise)
 {
     const std::string scheme = GetParam();
     const render::SchemePromises promises = render::lodSchemePromises(scheme);
-    const bool stitched = promises.seams == render::SchemePromises::Seams::Stitching;
     const lod::Viewport vp{320, 180};
     for (const Fixture& fx : fixtures()) {
         Scene& s = scene(fx);
@@ -234,29 +233,11 @@ TEST_P(SchemeConformance, CapturedSurfaceIsWatertightCoveredAndWithinItsPromise)
                 const std::string where =
                     fx.name + ", " + nc.kind + " camera, ε " + std::to_string(int(epsilon));
                 render::RenderSettings settings = settingsFor(scheme, epsilon, 0.0);
-                // Watertight over whole patches: culling tessellation blocks outside the view
-                // opens edges nobody sees. Coverage and error below are of the frame as drawn.
-                settings.cull_blocks = false;
-                if (stitched) {
-                    // The whole surface, every piece drawn: stitched seams are checked across
-                    // pieces, and the edge of what the frustum keeps would be open.
-                    settings.cull = false;
-                    const test::StitchedReport w = test::checkStitchedWatertight(
-                        s.renderer->capture(nc.camera, settings), frame);
-                    EXPECT_EQ(w.open_edges, 0u) << where << ": " << w.first_problem;
-                    EXPECT_EQ(w.overused_edges, 0u) << where << ": " << w.first_problem;
-                    EXPECT_GT(w.triangles, w.degenerate) << where;
-                    degenerate += w.degenerate;
-                    triangles += w.triangles;
-                    settings.cull = true;
-                } else {
-                    const test::WatertightReport w =
-                        test::checkWatertight(s.renderer->capture(nc.camera, settings), frame);
-                    EXPECT_EQ(w.open_edges, 0u) << where << ": " << w.first_problem;
-                    EXPECT_EQ(w.overused_edges, 0u) << where << ": " << w.first_problem;
-                    EXPECT_EQ(w.uncovered_seams, 0u) << where << ": " << w.first_problem;
-                }
-                settings.cull_blocks = true;
+                const test::SeamReport w =
+                    test::checkSeamsAsPromised(*s.renderer, nc.camera, settings, frame);
+                EXPECT_EQ(w.problems, 0u) << where << ": " << w.first_problem;
+                degenerate += w.degenerate;
+                triangles += w.triangles;
                 const render::CapturedSurface surface = s.renderer->capture(nc.camera, settings);
                 const test::ScreenErrorReport e =
                     test::measureScreenSpaceError(surface, frame, s.finest, nc.camera);
@@ -275,7 +256,7 @@ TEST_P(SchemeConformance, CapturedSurfaceIsWatertightCoveredAndWithinItsPromise)
         std::printf("[%s] %s: screen-space error at most %.3f ε, p99 %.3f ε (%s; %s)\n",
                     scheme.c_str(), fx.name.c_str(), worst, worst_p99, worst_at.c_str(),
                     promises.screen_space_error ? "promised ≤ ε" : "measured only");
-        if (stitched)
+        if (promises.seams == render::SchemePromises::Seams::Stitching)
             std::printf("[%s] %s: stitched, %zu of %zu captured triangles degenerate\n",
                         scheme.c_str(), fx.name.c_str(), degenerate, triangles);
     }
