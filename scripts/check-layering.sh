@@ -4,7 +4,8 @@
 #   include/ridge/gpu) and the viewer's window code; the GPU layer (ridge/gpu/...) only in the
 #   renderers and the tools that drive them (renderbench), the apps, benchmarks and tests — LOD, culling, error metrics and codecs stay
 #   plain C++ that runs without a GL context; the public headers use only the standard library;
-#   and a LOD scheme's name is spelt only by its own module, its own tests and the registry.
+#   a LOD scheme's name is spelt only by its own module, its own tests and the registry; and a
+#   codec's id only by the codecs' modules.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 status=0
@@ -77,6 +78,12 @@ for module in src/render/schemes/*_scheme.cpp; do
         grep -vE "$scheme_exceptions" || true)
   [[ -z "$bad" ]] || report "scheme '$name' named outside its module, its tests and the registry" "$bad"
 done
+# A codec's id (its module's kNameCodecId) is its own: the rest of ridge reaches codecs through
+# the registry (ridge/codec/codec_registry.h: names, ids, lossiness, options, messages) and the
+# HeightCodec interface, so a codec is its module and one line in src/codec/codec_registry.cpp.
+bad=$(grep -rnE 'k[A-Z][A-Za-z0-9]*CodecId|CodecId *\{ *[0-9]' src apps include bench examples fuzz |
+      grep -vE '^(src/codec/|include/ridge/codec/)' || true)
+[[ -z "$bad" ]] || report "a codec's id used outside the codecs' modules" "$bad"
 # Formatting is the repository's .clang-format, applied by clang-format 14 (Debian 12's; other
 # versions format some constructs differently), so it is checked, not remembered. Fix with
 #   git ls-files '*.cpp' '*.h' | xargs clang-format-14 -i

@@ -6,8 +6,7 @@
 #include "terminal.h"
 #include "usage_error.h"
 
-#include "ridge/codec/height_codec.h"
-#include "ridge/codec/jpeg2000_codec.h"
+#include "ridge/codec/codec_registry.h"
 #include "ridge/core/error.h"
 #include "ridge/core/json_text.h"
 #include "ridge/io/crs_summary.h"
@@ -66,18 +65,15 @@ void Commands::registerBuild(CLI::App& app)
         ->capture_default_str()
         ->check(inIntegerRange("--block", 2, 4096));
     build_
-        ->add_option(
-            "--codec", build_options_.codec,
-            "Patch codec: lossless, raw, progressive (lossy v2, needs --max-error), "
-            "progressive-v1, "
-            "progressive-paper, progressive,nested=K, jpeg2000 (the JPEG2000 paper's model, needs "
-            "--max-error; jpeg2000,encoding=direct, jpeg2000,library=htj2k)")
+        ->add_option("--codec", build_options_.codec,
+                     "Patch codec, NAME[,KEY=VALUE...]:\n" + codecUsage())
         ->capture_default_str();
     build_
         ->add_option("--criterion", criterion_,
-                     "jpeg2000 only: the compression criterion every patch's rate search meets "
-                     "with E = --max-error: max (max-abs error, default), rms (RMS error, with "
-                     "every sample also within 32 E), lossless (D quantized, reversible wavelet)")
+                     "For codecs with a criterion option (jpeg2000): the compression criterion "
+                     "every patch's rate search meets with E = --max-error: max (max-abs error, "
+                     "default), rms (RMS error, with every sample also within 32 E), lossless "
+                     "(D quantized, reversible wavelet)")
         ->check(CLI::IsMember({"max", "rms", "lossless"}));
     build_
         ->add_option_function<std::string>(
@@ -199,24 +195,15 @@ void Commands::validateBuildOptions() const
 io::RasterProbe Commands::checkBuildBeforeWork() const
 {
     const std::string& codec = build_options_.codec;
-    if (!codecIdOf(codec)) {
-        try {
-            makeCodec(codec);
-        } catch (const Error& e) {
-            throw UsageError("--codec " + codec + ": " + e.what());
-        }
-    }
+    if (const std::string problem = codecSpecProblem(codec); !problem.empty())
+        throw UsageError("--codec " + codec + ": " + problem);
     if (isLossyCodec(codec) && !build_options_.ingest.max_error)
         throw UsageError("--codec " + codec +
                          " needs --max-error METRES: the largest height error it may make, "
                          "end to end (e.g. --max-error 1)");
-    const std::optional<Jpeg2000Variant> j2k = Jpeg2000Variant::fromName(codec);
-    const char* allow = std::getenv("RIDGE_ALLOW_HTJ2K");
-    if (j2k && j2k->library == Jpeg2000Library::Htj2k && !(allow && std::string(allow) == "1"))
-        throw UsageError("--codec " + codec +
-                         " needs RIDGE_ALLOW_HTJ2K=1 in the environment: the build decodes "
-                         "every patch it codes, and OpenJPH 0.9 aborts on some malformed "
-                         "codestreams, so HTJ2K is off unless asked for");
+    if (const CodecInfo* info = findCodec(codec); info->unavailable)
+        if (const std::string why = info->unavailable(codec); !why.empty())
+            throw UsageError("--codec " + codec + " " + why);
 
     // The raster's bands, read without a sample (band 1 exists in any raster).
     io::IngestOptions first = build_options_.ingest;
@@ -239,10 +226,14 @@ io::RasterProbe Commands::checkBuildBeforeWork() const
 int Commands::runBuild()
 {
     if (!criterion_.empty()) {
-        if (build_options_.codec.rfind("jpeg2000", 0) != 0)
-            throw UsageError("--criterion applies to --codec jpeg2000 only (the codec is " +
-                             build_options_.codec + ")");
-        build_options_.codec += ",criterion=" + criterion_;
+        // The codec's own option: a codec without one refuses the spec (an unknown codec is
+        // refused below, by its own name).
+        const std::string spec = build_options_.codec + ",criterion=" + criterion_;
+        if (codecSpecProblem(build_options_.codec).empty()) {
+            if (const std::string problem = codecSpecProblem(spec); !problem.empty())
+                throw UsageError("--criterion " + criterion_ + ": " + problem);
+            build_options_.codec = spec;
+        }
     }
     validateBuildOptions();
     checkBuildBeforeWork();

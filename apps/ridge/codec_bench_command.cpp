@@ -3,7 +3,9 @@
 #include "commands.h"
 #include "range_check.h"
 #include "terminal.h"
+#include "usage_error.h"
 
+#include "ridge/codec/codec_registry.h"
 #include "ridge/codecbench/codec_bench.h"
 #include "ridge/core/atomic_output.h"
 #include "ridge/core/file_identity.h"
@@ -31,7 +33,8 @@ void CodecBenchCommand::registerWith(CLI::App& app)
         ->check(inIntegerRange("--tile", 0, codecbench::CodecBenchOptions::kMaxTileSize));
     command_
         ->add_option("--ridge-codec", ridge_codec_,
-                     "ridge's codec for its row (progressive: max_error = bound; lossless)")
+                     "ridge's codec for its row, as build --codec takes it (a lossy codec is "
+                     "built at each bound, a lossless one once per bound)")
         ->capture_default_str();
     command_->add_flag("--json", json_,
                        "Print every number as JSON on stdout (the tables then go to stderr)");
@@ -42,6 +45,8 @@ void CodecBenchCommand::registerWith(CLI::App& app)
 
 int CodecBenchCommand::run()
 {
+    if (const std::string problem = codecSpecProblem(ridge_codec_); !problem.empty())
+        throw UsageError("--ridge-codec " + ridge_codec_ + ": " + problem);
     for (const std::string& out : {json_path_, plot_path_})
         if (!out.empty()) { // before the run, not after it
             refuseOutputOverInput(out, io::datasetFiles(input_));

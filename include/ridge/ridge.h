@@ -46,7 +46,9 @@ using ProgressCallback = std::function<bool(double fraction)>;
 // ---- Building and verifying archives ------------------------------------------------------
 
 struct BuildParameters {
-    std::string codec = "lossless"; // "lossless", "raw", "progressive", "progressive-paper"
+    // A codec spec as `ridge build --codec` takes it, NAME[,KEY=VALUE...] (its --help lists
+    // the registered codecs and their options).
+    std::string codec = "lossless";
     // Lossy codecs: the L∞ bound at the finest level, metres (ingest quantization included).
     std::optional<double> max_error;
     int patch_size = 129;            // samples per patch side, 2^n + 1 (33 .. 4097)

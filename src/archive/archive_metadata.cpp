@@ -1,6 +1,6 @@
 #include "ridge/archive/archive_metadata.h"
 
-#include "ridge/codec/height_codec.h"
+#include "ridge/codec/codec_registry.h"
 #include "ridge/core/error.h"
 #include "ridge/core/parameter_check.h"
 #include "ridge/pyramid/level_pyramid.h"
@@ -294,8 +294,7 @@ BuildMetadata parseBuild(const Section& s, const Header& header)
     m.codec = s.string("codec");
     const std::optional<CodecId> id = codecIdOf(m.codec);
     if (!id)
-        reject(s.path("codec") + " is \"" + m.codec +
-               "\": not a codec name (raw, lossless, progressive, progressive-paper)");
+        reject(s.path("codec") + " is \"" + m.codec + "\": not a codec (" + codecNameList() + ")");
     if (static_cast<uint32_t>(*id) != header.codec_id)
         reject(s.path("codec") + " is \"" + m.codec + "\" (codec id " +
                std::to_string(static_cast<uint32_t>(*id)) + ") but the header's codec_id is " +

@@ -2,6 +2,7 @@
 #include "ridge/pyramid/patch_context.h"
 
 #include "ridge/archive/archive_reader.h"
+#include "ridge/codec/codec_registry.h"
 #include "ridge/codecbench/anchor_codec.h"
 #include "ridge/core/error.h"
 #include "ridge/pipeline/build.h"
@@ -125,11 +126,6 @@ void finishRow(CodecRow& row, const ErrorTally& tally, const CodecBenchReport& r
     row.bound_ok = tally.violations == 0;
 }
 
-bool ridgeCodecIsLossy(const std::string& codec)
-{
-    return codec != "lossless" && codec != "raw";
-}
-
 // The cold-cache bytes of the typical views, on the renderer's own selection (untimed: it
 // reads the index only).
 std::vector<ViewBytesFigure> typicalViewBytes(const archive::ArchiveReader& reader,
@@ -210,7 +206,7 @@ CodecRow runRidge(const io::ElevationRaster& raster, double bound_metres,
     // 1. Build: the timed encode is everything buildArchive does from ingested codes.
     BuildOptions build;
     build.codec = options.ridge_codec;
-    if (ridgeCodecIsLossy(options.ridge_codec))
+    if (isLossyCodec(options.ridge_codec))
         build.max_error = bound_metres;
     build.progress = subProgress(progress, 0.0, 0.8);
     const Clock::time_point encode_start = Clock::now();
@@ -332,6 +328,8 @@ void validate(const CodecBenchOptions& options)
         checkParameter("max_errors[" + std::to_string(k) + "] (metres)", options.max_errors[k],
                        CodecBenchOptions::kMaxErrorRange);
     checkParameter("tile_size", int64_t{options.tile_size}, 0, CodecBenchOptions::kMaxTileSize);
+    if (const std::string problem = codecSpecProblem(options.ridge_codec); !problem.empty())
+        throw Error("ridge_codec " + options.ridge_codec + ": " + problem);
     checkParameter("view_width", int64_t{options.view_width}, 1, CodecBenchOptions::kMaxViewPixels);
     checkParameter("view_height", int64_t{options.view_height}, 1,
                    CodecBenchOptions::kMaxViewPixels);
@@ -403,7 +401,7 @@ CodecBenchReport runCodecBench(const io::ElevationRaster& raster, const CodecBen
     report.codecs.push_back(
         {"ridge " + options.ridge_codec,
          fmt::format("ridge 0.1.0, archive format v{}", archive::kFormatVersion),
-         ridgeCodecIsLossy(options.ridge_codec)
+         isLossyCodec(options.ridge_codec)
              ? "whole pyramid, BuildOptions defaults (patch 129, block 8, decimation), "
                "max_error = E metres end to end"
              : "whole pyramid, BuildOptions defaults (patch 129, block 8, decimation), lossless",

@@ -5,7 +5,6 @@
 #include "ridge/archive/sample_flags_storage.h"
 #include "ridge/archive/validity_storage.h"
 #include "ridge/codec/height_codec.h"
-#include "ridge/codec/progressive_codec.h"
 #include "ridge/core/atomic_output.h"
 #include "ridge/core/error.h"
 #include "ridge/core/file_identity.h"
@@ -188,8 +187,8 @@ std::string metadataJson(const std::string& source_path, const io::IngestStats& 
     if (!options.ingest.water_layer.empty())
         water["layer"] = options.ingest.water_layer;
     meta["water"] = water;
-    if (const auto* progressive = dynamic_cast<const ProgressiveCodec*>(ctx.codec.get()))
-        meta["build"]["codec_variant"] = progressive->variant().describe();
+    if (const std::string variant = ctx.codec->variantDescription(); !variant.empty())
+        meta["build"]["codec_variant"] = variant;
     return jsonText(meta); // any bytes in source.path: invalid UTF-8 becomes U+FFFD
 }
 

@@ -105,9 +105,12 @@ TEST(CliEdges, CodecRequirementsAreCheckedBeforeAnyWork)
         {"--codec progressive", "--max-error"},
         {"--codec progressive-paper", "--max-error"},
         {"--codec jpeg2000 --criterion rms", "--max-error"},
-        {"--codec jpeg2001 --max-error 1", "unknown codec"},
+        {"--codec jpeg2001 --max-error 1", "--codec jpeg2001: not a codec (available: lossless"},
         {"--codec progressive,nested=99 --max-error 1", "--codec progressive,nested=99"},
         {"--codec jpeg2000,library=htj2k --max-error 1", "RIDGE_ALLOW_HTJ2K=1"},
+        {"--codec progressive --criterion rms --max-error 1",
+         "--criterion rms: the progressive codec's options are"},
+        {"--codec lossless,level=9", "--codec lossless,level=9: the lossless codec takes no"},
     };
     for (const Case& c : cases) {
         SCOPED_TRACE(c.args);

@@ -130,7 +130,7 @@ TEST(Jpeg2000Variant, BitsAndNamesRoundTrip)
     for (const char* bad :
          {"jpeg2000,", "jpeg2000,criterion=mse", "jpeg2000x", "jpeg2000,library="})
         EXPECT_FALSE(Jpeg2000Variant::fromName(bad)) << bad;
-    EXPECT_EQ(*codecIdOf("jpeg2000,criterion=lossless"), CodecId::Jpeg2000);
+    EXPECT_EQ(*codecIdOf("jpeg2000,criterion=lossless"), kJpeg2000CodecId);
     EXPECT_TRUE(isLossyCodec("jpeg2000"));
 }
 
@@ -140,29 +140,29 @@ TEST(Jpeg2000Codec, StoredParametersAreValidated)
     CodecSettings s;
     s.level_count = 5;
     codec.storeParameters(s.param);
-    const auto back = makeCodec(CodecId::Jpeg2000, s);
+    const auto back = makeCodec(kJpeg2000CodecId, s);
     ASSERT_TRUE(back);
     EXPECT_EQ(back->levelErrorBound(2), 3 * Jpeg2000Variant::kRmsGuardFactor);
     std::string problem;
     for (double bits : {6.0, 16.0, 1.5, -1.0}) {
         CodecSettings bad = s;
         bad.param[1] = bits;
-        EXPECT_EQ(makeCodec(CodecId::Jpeg2000, bad, &problem), nullptr) << bits;
+        EXPECT_EQ(makeCodec(kJpeg2000CodecId, bad, &problem), nullptr) << bits;
         EXPECT_NE(problem.find("codec_param[1]"), std::string::npos) << problem;
     }
     for (double e : {0.0, -1.0, 40000.0, double(NAN)}) {
         CodecSettings bad = s;
         bad.param[0] = e;
-        EXPECT_EQ(makeCodec(CodecId::Jpeg2000, bad, &problem), nullptr) << e;
+        EXPECT_EQ(makeCodec(kJpeg2000CodecId, bad, &problem), nullptr) << e;
         EXPECT_NE(problem.find("codec_param[0]"), std::string::npos) << problem;
     }
     CodecSettings lossless = s;
     lossless.param[0] = 0;
     lossless.param[1] = Jpeg2000Variant::fromName("jpeg2000,criterion=lossless")->bits();
-    EXPECT_NE(makeCodec(CodecId::Jpeg2000, lossless), nullptr); // E = 0 is exact, allowed
+    EXPECT_NE(makeCodec(kJpeg2000CodecId, lossless), nullptr); // E = 0 is exact, allowed
     CodecSettings tables = s;
     tables.tables = {1, 2, 3};
-    EXPECT_EQ(makeCodec(CodecId::Jpeg2000, tables, &problem), nullptr);
+    EXPECT_EQ(makeCodec(kJpeg2000CodecId, tables, &problem), nullptr);
 }
 
 TEST(Jpeg2000Codec, Htj2kPayloadsAreDecodedOnlyWhenAllowed)

@@ -126,8 +126,8 @@ TEST(LosslessCodec, SurvivesEveryFlippedByteWithoutCrashing)
 
 TEST(CodecRegistry, KnowsItsCodecsByNameAndId)
 {
-    EXPECT_EQ(makeCodec("lossless")->id(), CodecId::Lossless);
-    EXPECT_EQ(makeCodec(CodecId::Raw16)->name(), std::string("raw"));
+    EXPECT_EQ(makeCodec("lossless")->id(), kLosslessCodecId);
+    EXPECT_EQ(makeCodec(kRaw16CodecId)->name(), std::string("raw"));
     EXPECT_THROW(makeCodec("jpeg9000"), Error);
     EXPECT_EQ(makeCodec(static_cast<CodecId>(77)), nullptr);
 }

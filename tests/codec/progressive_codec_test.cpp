@@ -244,7 +244,7 @@ TEST(ProgressiveCodec, SettingsRoundTripThroughTheArchiveHeaderParameters)
         CodecSettings settings;
         settings.level_count = 7;
         codec.storeParameters(settings.param);
-        const std::unique_ptr<HeightCodec> back = makeCodec(CodecId::Progressive, settings);
+        const std::unique_ptr<HeightCodec> back = makeCodec(kProgressiveCodecId, settings);
         ASSERT_NE(back, nullptr) << variant.describe();
         for (int level = 0; level < 7; ++level)
             EXPECT_EQ(back->levelErrorBound(level), codec.levelErrorBound(level));
@@ -255,17 +255,17 @@ TEST(ProgressiveCodec, SettingsRoundTripThroughTheArchiveHeaderParameters)
     settings.param[0] = 5;
     for (const double bits : {1.0, 16.0 + 2, 8.0, 8.0 + 33 * 16, 2.5, -8.0}) {
         settings.param[1] = bits; // reserved bit, v1 with nested levels, v2 with 0 or 33
-        EXPECT_EQ(makeCodec(CodecId::Progressive, settings), nullptr) << bits;
+        EXPECT_EQ(makeCodec(kProgressiveCodecId, settings), nullptr) << bits;
     }
     // The nested schedule: the finest K levels at δ_l0, doubling above.
     const ProgressiveCodec hybrid(3, 6, {OddPredictor::Cubic, true, 2, 2});
     for (int level = 0; level < 6; ++level)
         EXPECT_EQ(hybrid.levelErrorBound(level), level >= 4 ? 3 : 3 << (4 - level)) << level;
     settings.param[1] = 1; // reserved variant bit
-    EXPECT_EQ(makeCodec(CodecId::Progressive, settings), nullptr);
+    EXPECT_EQ(makeCodec(kProgressiveCodecId, settings), nullptr);
     settings.param[1] = 6;
     settings.param[0] = -1;
-    EXPECT_EQ(makeCodec(CodecId::Progressive, settings), nullptr);
+    EXPECT_EQ(makeCodec(kProgressiveCodecId, settings), nullptr);
 }
 
 TEST(ProgressiveCodec, DecodeResidualsIsTheCpuHalfOfDecodeAndRejectsBadPayloads)

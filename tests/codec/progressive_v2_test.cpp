@@ -302,12 +302,12 @@ TEST(ProgressiveCodecV2, TrainedTablesCodeTheirOwnPatchesSmallerAndExactly)
     settings.level_count = 2;
     trained.storeParameters(settings.param);
     settings.tables = trained.storeTables();
-    const std::unique_ptr<HeightCodec> back = makeCodec(CodecId::Progressive, settings);
+    const std::unique_ptr<HeightCodec> back = makeCodec(kProgressiveCodecId, settings);
     ASSERT_NE(back, nullptr);
     EXPECT_EQ(back->storeTables(), settings.tables);
     settings.tables.push_back(0);
     std::string problem;
-    EXPECT_EQ(makeCodec(CodecId::Progressive, settings, &problem), nullptr);
+    EXPECT_EQ(makeCodec(kProgressiveCodecId, settings, &problem), nullptr);
     EXPECT_NE(problem.find("codec tables"), std::string::npos) << problem;
 }
 

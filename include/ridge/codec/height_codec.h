@@ -17,12 +17,9 @@
 
 namespace ridge {
 
-enum class CodecId : uint32_t {
-    Raw16 = 0,       // uncompressed little-endian codes (debugging, speed baseline)
-    Lossless = 1,    // MED prediction + zstd (default)
-    Progressive = 2, // the paper's progressive L-inf codec, adaptive range coding (lossy)
-    Jpeg2000 = 3,    // the JPEG2000 paper's model: D predicted from the parent, JPEG 2000 coded
-};
+// A codec's number in the archive header (codec_id). Each codec's module names its own
+// (ridge/codec/codec_registry.h registers it); nothing else knows the numbers.
+enum class CodecId : uint32_t {};
 
 enum CodecStatus : int {
     kCodecOk = 0,
@@ -97,6 +94,9 @@ class HeightCodec {
     // What decode(encode(codes)) returns, without coding: the heights a renderer will draw,
     // on which the build measures block errors and min/max. Identity for lossless codecs.
     virtual void reconstruct(const uint16_t* codes, const PatchContext& ctx, uint16_t* out) const;
+    // What the archive's metadata records of the codec's variant (build.codec_variant);
+    // empty: nothing beyond its name.
+    virtual std::string variantDescription() const { return {}; }
     // Codec settings stored in the archive header (codec_param), read back by makeCodec.
     virtual void storeParameters(double param[2]) const { param[0] = param[1] = 0.0; }
     // A codec with per-archive tables: a trainer to learn them before encoding (null: the
@@ -113,24 +113,22 @@ struct CodecSettings {
     std::vector<uint8_t> tables;  // the archive's codec tables region (may be empty)
 };
 
-// Codec by name ("lossless", "raw", "progressive" = progressive v2, "progressive-v1",
-// "progressive-paper"); `max_error` is the finest-level bound δ_l0 in codes for lossy
-// codecs (ignored by lossless ones). Variants of v2 for measurement take options after a
-// comma: "progressive,nested=K" (K finest levels share the finest bound; codecNames()
-// lists the names). Throws ridge::Error for an unknown name or invalid settings.
-std::unique_ptr<HeightCodec> makeCodec(const std::string& name, double max_error = 0,
+// The codec a build codes with, by spec (ridge/codec/codec_registry.h: "NAME[,KEY=VALUE...]");
+// `max_error` is the finest-level bound δ_l0 in codes for lossy codecs (ignored by lossless
+// ones). Throws ridge::Error for an unknown name or invalid settings, listing the names.
+std::unique_ptr<HeightCodec> makeCodec(const std::string& spec, double max_error = 0,
                                        int level_count = 1);
-// Codec by stored id and settings; returns null for an unknown id or invalid settings, and
-// then sets *problem (when given) to what is wrong, naming the archive header field:
+// The codec an archive stores, by its header's id and settings; returns null for an unknown
+// id or invalid settings, and then sets *problem (when given) to what is wrong, naming the
+// archive header field:
 //   "codec_id is 7: must be 0 (raw), 1 (lossless), 2 (progressive) or 3 (jpeg2000)"
 //   "codec_param[1] is 3: the progressive codec's variant must be 0, 2, 4 or 6"
-// Each codec validates its own parameters: raw and lossless take none (both exactly 0).
 std::unique_ptr<HeightCodec> makeCodec(CodecId id, const CodecSettings& settings = {},
                                        std::string* problem = nullptr);
-// The id of the codecs makeCodec(name) builds ("progressive-paper" is a variant of the
-// progressive codec); nullopt for an unknown name.
-std::optional<CodecId> codecIdOf(const std::string& name);
-// True when `name` is a codec whose decoded heights differ from its input.
-bool isLossyCodec(const std::string& name);
+// The id of the codec a valid spec names ("progressive-paper" is a variant of the progressive
+// codec); nullopt for an unknown name or invalid options.
+std::optional<CodecId> codecIdOf(const std::string& spec);
+// True when `spec` names a codec whose decoded heights differ from its input.
+bool isLossyCodec(const std::string& spec);
 
 } // namespace ridge

@@ -1,6 +1,6 @@
 #pragma once
 // The compressed multiresolution model of Yusov & Turlapov (the JPEG2000 paper, §3.4) as a
-// patch codec of the .ridge archive (CodecId::Jpeg2000).
+// patch codec of the .ridge archive (codec id 3).
 //
 // Progressive encoding (the paper's): the four children of a patch together cover its
 // H^Coarse at twice the resolution (H^Fine). Each child predicts its part of H^Fine by
@@ -35,6 +35,8 @@
 #include <vector>
 
 namespace ridge {
+
+inline constexpr CodecId kJpeg2000CodecId{3};
 
 enum class Jpeg2000Encoding : uint8_t { Progressive = 0, Direct = 1 };
 // The compression criterion of §3.4.1 (Lossless: the residuals' reversible path, Table 4).
@@ -82,7 +84,7 @@ class Jpeg2000Codec final : public HeightCodec {
     // `criterion_value`: E in codes (> 0 for max-abs and RMS, >= 0 for lossless).
     Jpeg2000Codec(double criterion_value, int level_count, Jpeg2000Variant variant = {});
 
-    CodecId id() const override { return CodecId::Jpeg2000; }
+    CodecId id() const override { return kJpeg2000CodecId; }
     const char* name() const override { return "jpeg2000"; }
     bool lossless() const override { return false; }
     double levelErrorBound(int level) const override;

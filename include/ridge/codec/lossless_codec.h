@@ -13,10 +13,13 @@
 
 namespace ridge {
 
+inline constexpr CodecId kRaw16CodecId{0};
+inline constexpr CodecId kLosslessCodecId{1};
+
 class LosslessCodec final : public HeightCodec {
   public:
     explicit LosslessCodec(int zstd_level = 3) : zstd_level_(zstd_level) {}
-    CodecId id() const override { return CodecId::Lossless; }
+    CodecId id() const override { return kLosslessCodecId; }
     const char* name() const override { return "lossless"; }
     bool lossless() const override { return true; }
     double levelErrorBound(int) const override { return 0.0; }
@@ -32,7 +35,7 @@ class LosslessCodec final : public HeightCodec {
 
 class Raw16Codec final : public HeightCodec {
   public:
-    CodecId id() const override { return CodecId::Raw16; }
+    CodecId id() const override { return kRaw16CodecId; }
     const char* name() const override { return "raw"; }
     bool lossless() const override { return true; }
     double levelErrorBound(int) const override { return 0.0; }

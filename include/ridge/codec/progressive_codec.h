@@ -1,6 +1,6 @@
 #pragma once
 // The progressive L-inf-bounded codec of the hardware-tessellation paper (§4), as a patch
-// codec of the .ridge archive (CodecId::Progressive).
+// codec of the .ridge archive (codec id 2).
 //
 // Level l is quantized with bound δ_l (level_quantizer.h); the coarsest patch is coded
 // directly (MED prediction), every other patch from its parent's reconstruction: refined
@@ -37,6 +37,8 @@
 
 namespace ridge {
 
+inline constexpr CodecId kProgressiveCodecId{2};
+
 struct ProgressiveVariant {
     // v2's default number of levels sharing the finest bound (docs/PERF.md, "nested").
     static constexpr int kDefaultNestedLevels = 32;
@@ -65,7 +67,7 @@ class ProgressiveCodec final : public HeightCodec {
     // `max_error`: δ_l0 >= 0, the finest-level bound in codes; `level_count`: pyramid levels.
     ProgressiveCodec(double max_error, int level_count, ProgressiveVariant variant = {});
 
-    CodecId id() const override { return CodecId::Progressive; }
+    CodecId id() const override { return kProgressiveCodecId; }
     const char* name() const override { return "progressive"; }
     bool lossless() const override { return false; }
     double levelErrorBound(int level) const override;
@@ -77,6 +79,7 @@ class ProgressiveCodec final : public HeightCodec {
     bool needsParent(int level) const override { return level > 0; }
     CodecCapabilities capabilities() const override { return {true, this}; }
     void reconstruct(const uint16_t* codes, const PatchContext& ctx, uint16_t* out) const override;
+    std::string variantDescription() const override { return variant_.describe(); }
     void storeParameters(double param[2]) const override;
     std::unique_ptr<CodecTrainer> trainer() const override;
     std::vector<uint8_t> storeTables() const override;

@@ -13,7 +13,7 @@ namespace ridge {
 struct BuildOptions {
     int patch_size = 129;           // 2^n + 1
     int block_cells = 8;            // tessellation block: 8 cells = 9x9 samples
-    std::string codec = "lossless"; // lossless, raw, progressive
+    std::string codec = "lossless"; // a codec spec (ridge/codec/codec_registry.h)
     // Lossy codecs (progressive): the end-to-end L-inf bound at the finest level in metres,
     // ingest quantization included; level l gets 2^(L-1-l) times that (delta_l of the paper).
     std::optional<double> max_error;

@@ -1,0 +1,56 @@
+#pragma once
+// The registry of patch codecs: a codec is its module under src/codec/ and one line in
+// src/codec/codec_registry.cpp. Names, ids, lossiness, variants, option forms, messages and
+// --help come from here; nothing outside a codec's module switches on its id or its name.
+//
+// A codec is named by a spec, "NAME[,KEY=VALUE...]": its name or one of its aliases (named
+// variants: "progressive-paper"), then options its module parses ("jpeg2000,criterion=rms").
+#include "ridge/codec/height_codec.h"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace ridge {
+
+struct CodecInfo {
+    const char* name;        // as --codec spells it, and as the archive's metadata records it
+    CodecId id;              // the archive header's codec_id: stable, never reused
+    const char* description; // one line for --help
+    // Decoded heights differ from the input: a build needs a bound (--max-error).
+    bool lossy = false;
+    // Other base names the module answers to (its named variants), and the form of its
+    // options after a comma ("" when it takes none), for --help and messages.
+    std::vector<const char*> aliases = {};
+    const char* option_forms = "";
+
+    // Empty when `spec` (whose base is this codec's name or an alias) is valid; otherwise what
+    // is wrong with it, in words that name the option.
+    std::string (*spec_problem)(const std::string& spec) = nullptr;
+    // The codec a build codes with: `spec` valid, `max_error` the finest-level bound δ_l0 in
+    // codes (lossy codecs; > 0 unless the spec says otherwise), `level_count` the pyramid's
+    // depth. Throws ridge::Error for settings it cannot take.
+    std::unique_ptr<HeightCodec> (*from_spec)(const std::string& spec, double max_error,
+                                              int level_count) = nullptr;
+    // The codec an archive stores: null when its settings are invalid, with *problem naming
+    // the archive's field ("codec_param[1] is 3: ...").
+    std::unique_ptr<HeightCodec> (*from_settings)(const CodecSettings& settings,
+                                                  std::string* problem) = nullptr;
+    // Why this process will not build with `spec` although it is valid (empty: it will);
+    // null for codecs that are always available.
+    std::string (*unavailable)(const std::string& spec) = nullptr;
+};
+
+// Every codec, in registration order.
+const std::vector<CodecInfo>& codecRegistry();
+// The codec whose name or alias is `spec`'s base (before the first comma); null for none.
+const CodecInfo* findCodec(const std::string& spec);
+// What is wrong with `spec` (an unknown name, with the names there are; or the codec's own
+// complaint about its options); empty when it is a valid spec.
+std::string codecSpecProblem(const std::string& spec);
+// "lossless, raw, progressive, progressive-v1, ...": every name and alias.
+std::string codecNameList();
+// One line per codec for --help: "NAME: description (also ALIASES; NAME,OPTIONS)".
+std::string codecUsage();
+
+} // namespace ridge
