@@ -12,7 +12,7 @@ seconds=${RIDGE_FUZZ_SECONDS:-30}
 cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
       -DCMAKE_C_COMPILER=clang -DRIDGE_BUILD_FUZZERS=ON -DRIDGE_USE_OPENMP=OFF \
       -DRIDGE_BUILD_TESTS=OFF -DRIDGE_BUILD_BENCH=OFF >/dev/null
-cmake --build build-fuzz -j "$(nproc)" --target fuzz_lossless_decode fuzz_progressive_decode fuzz_jpeg2000_decode fuzz_archive_reader \
+cmake --build build-fuzz -j "$(nproc)" --target fuzz_lossless_decode fuzz_progressive_decode fuzz_jpeg2000_decode fuzz_fractal_decode fuzz_archive_reader \
       fuzz_archive_fields fuzz_render_params
 
 # Seeds: small real archives, and their patch payloads prefixed with the patch-size byte.
@@ -34,10 +34,14 @@ done
 # jpeg2000 (OpenJPEG; HTJ2K is not decoded from untrusted bytes): archives for the field fuzzers, payloads for its decoder.
 ./build/ridge build tests/data/everest_crop.tif -o "$seeds/archive/jpeg2000_17.ridge" -q --patch 17 \
     --codec jpeg2000 --max-error 2
+# fractal: range blocks, domain positions, s, o, edges and corrections to mutate.
+./build/ridge build tests/data/everest_crop.tif -o "$seeds/archive/fractal_17.ridge" -q --patch 17 \
+    --codec fractal --max-error 2
 python3 - "$seeds" <<'PY'
 import struct, sys, glob, os
 seeds = sys.argv[1]
 os.makedirs(seeds + "/progressive", exist_ok=True)
+os.makedirs(seeds + "/fractal", exist_ok=True)
 for path in glob.glob(seeds + "/archive/*.ridge"):
     b = open(path, "rb").read()
     n = struct.unpack_from("<I", b, 24)[0]
@@ -47,12 +51,21 @@ for path in glob.glob(seeds + "/archive/*.ridge"):
         _, _, _, be, off, size, _ = struct.unpack_from("<IIIIQII", b, index + 48 * k)
         lvl = struct.unpack_from("<I", b, index + 48 * k)[0]
         payload = b[off + be: off + size]
-        if payload[:1] == b"\0":  # format v2+: the validity mask of a patch without nodata
+        version = struct.unpack_from("<I", b, 8)[0]
+        if version >= 2:  # the validity mask: kind 0, a patch without nodata (others skipped)
+            if payload[:1] != b"\0":
+                continue
             payload = payload[1:]
+        if version >= 4:  # the sample flags: kind 0 or 1 alone, or kind 2 and its zstd frame
+            skip = 5 + struct.unpack_from("<I", payload, 1)[0] if payload[0] == 2 else 1
+            payload = payload[skip:]
         if payload[:1] == b"J":  # jpeg2000: size, level | quadrant << 1 | HTJ2K << 3
             name = "%s/jpeg2000/%s_%d" % (seeds, os.path.basename(path), k)
             control = min(lvl, 1) | ((lvl and k % 4) << 1) | (8 if "htj2k" in path else 0)
             open(name, "wb").write(bytes([size_byte, control]) + payload)
+        elif payload[:1] == b"F":  # fractal: size, then the payload
+            name = "%s/fractal/%s_%d" % (seeds, os.path.basename(path), k)
+            open(name, "wb").write(bytes([size_byte]) + payload)
         elif payload[:1] == b"P":  # progressive: size, level|quadrant, bound|variant, parent seed
             name = "%s/progressive/%s_%d" % (seeds, os.path.basename(path), k)
             open(name, "wb").write(bytes([size_byte, min(lvl, 3), (6 << 4) | 1, 0]) + payload)
@@ -74,12 +87,13 @@ PY
 
 status=0
 export RIDGE_FUZZ_ARCHIVES=$PWD/$seeds/archive # the archives fuzz_render_params renders
-for target in fuzz_lossless_decode fuzz_progressive_decode fuzz_jpeg2000_decode fuzz_archive_reader \
+for target in fuzz_lossless_decode fuzz_progressive_decode fuzz_jpeg2000_decode fuzz_fractal_decode fuzz_archive_reader \
               fuzz_archive_fields fuzz_render_params; do
   seed_dir=$seeds/payload
   [[ $target == fuzz_archive_reader || $target == fuzz_archive_fields ]] && seed_dir=$seeds/archive
   [[ $target == fuzz_progressive_decode ]] && seed_dir=$seeds/progressive
   [[ $target == fuzz_jpeg2000_decode ]] && seed_dir=$seeds/jpeg2000
+  [[ $target == fuzz_fractal_decode ]] && seed_dir=$seeds/fractal
   [[ $target == fuzz_render_params ]] && seed_dir=$seeds/params
   corpus=build-fuzz/corpus-$target # new inputs go here; the seeds stay as built
   mkdir -p "$corpus"

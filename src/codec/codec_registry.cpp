@@ -13,14 +13,12 @@ CodecInfo losslessCodec();
 CodecInfo rawCodec();
 CodecInfo progressiveCodec();
 CodecInfo jpeg2000Codec();
+CodecInfo fractalCodec();
 
 const std::vector<CodecInfo>& codecRegistry()
 {
     static const std::vector<CodecInfo> registry = {
-        losslessCodec(),
-        rawCodec(),
-        progressiveCodec(),
-        jpeg2000Codec(),
+        losslessCodec(), rawCodec(), progressiveCodec(), jpeg2000Codec(), fractalCodec(),
     };
     return registry;
 }

@@ -1,0 +1,363 @@
+#include "ridge/codec/fractal_codec.h"
+
+#include "pifs.h"
+#include "ridge/codec/progressive_tokens.h"
+#include "ridge/core/error.h"
+
+#include <zstd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+namespace ridge {
+
+namespace {
+
+using fractal::Partition;
+using fractal::Transform;
+// LEB128 varints, as the progressive codec writes its tables.
+using progressive_tokens::getVarint;
+using progressive_tokens::putVarint;
+
+constexpr uint8_t kMagic = 'F';
+constexpr uint8_t kPayloadVersion = 1;
+constexpr size_t kHeaderSize = 14; // magic, version, iterations, flags, u16 E, 2 × u32 sizes
+constexpr int kZstdLevel = 9;
+constexpr size_t kMaxVarint = 4; // getVarint reads values below 2^28
+
+uint32_t zigzag(int32_t v)
+{
+    return (uint32_t(v) << 1) ^ uint32_t(v >> 31);
+}
+
+int32_t unzigzag(uint32_t u)
+{
+    return int32_t(u >> 1) ^ -int32_t(u & 1);
+}
+
+void putU16(uint8_t* p, uint32_t v)
+{
+    p[0] = uint8_t(v);
+    p[1] = uint8_t(v >> 8);
+}
+
+void putU32(uint8_t* p, uint32_t v)
+{
+    for (int k = 0; k < 4; ++k)
+        p[k] = uint8_t(v >> (8 * k));
+}
+
+uint32_t getU32(const uint8_t* p)
+{
+    return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
+}
+
+// The edge samples of an n × n patch, in payload order: top row, bottom row, then the left
+// and right columns without their corners.
+std::vector<size_t> edgeOrder(int n)
+{
+    std::vector<size_t> order;
+    order.reserve(size_t(4 * n - 4));
+    for (int x = 0; x < n; ++x)
+        order.push_back(size_t(x));
+    for (int x = 0; x < n; ++x)
+        order.push_back(size_t(n - 1) * n + x);
+    for (int y = 1; y < n - 1; ++y)
+        order.push_back(size_t(y) * n);
+    for (int y = 1; y < n - 1; ++y)
+        order.push_back(size_t(y) * n + n - 1);
+    return order;
+}
+
+// Upper bounds of each section's uncompressed bytes (a hostile frame claiming more is
+// refused before anything is allocated).
+size_t transformBytesBound(const Partition& p)
+{
+    return size_t(p.rangeCount()) * (2 * kMaxVarint + 1 + kMaxVarint);
+}
+size_t edgeBytesBound(int n)
+{
+    return size_t(4 * n) * kMaxVarint;
+}
+size_t correctionBytesBound(int n)
+{
+    return size_t(n) * n * kMaxVarint;
+}
+
+std::vector<uint8_t> serializeTransforms(const std::vector<Transform>& t, const Partition& p)
+{
+    std::vector<uint8_t> out;
+    for (int ry = 0; ry < p.ranges_per_side; ++ry)
+        for (int rx = 0; rx < p.ranges_per_side; ++rx) {
+            const Transform& r = t[size_t(ry) * p.ranges_per_side + rx];
+            putVarint(out, zigzag(r.domain_x - std::min(rx, p.domains_per_side - 1)));
+            putVarint(out, zigzag(r.domain_y - std::min(ry, p.domains_per_side - 1)));
+        }
+    for (const Transform& r : t)
+        out.push_back(uint8_t(int8_t(r.s)));
+    int32_t previous = 0;
+    for (const Transform& r : t) {
+        putVarint(out, zigzag(r.o - previous));
+        previous = r.o;
+    }
+    return out;
+}
+
+bool parseTransforms(const std::vector<uint8_t>& bytes, const Partition& p,
+                     std::vector<Transform>& t)
+{
+    const uint8_t* at = bytes.data();
+    const uint8_t* end = at + bytes.size();
+    t.assign(size_t(p.rangeCount()), {});
+    for (int ry = 0; ry < p.ranges_per_side; ++ry)
+        for (int rx = 0; rx < p.ranges_per_side; ++rx) {
+            Transform& r = t[size_t(ry) * p.ranges_per_side + rx];
+            uint32_t dx = 0, dy = 0;
+            if (!getVarint(at, end, dx) || !getVarint(at, end, dy))
+                return false;
+            r.domain_x = std::min(rx, p.domains_per_side - 1) + unzigzag(dx);
+            r.domain_y = std::min(ry, p.domains_per_side - 1) + unzigzag(dy);
+            if (r.domain_x < 0 || r.domain_y < 0 || r.domain_x >= p.domains_per_side ||
+                r.domain_y >= p.domains_per_side)
+                return false;
+        }
+    if (size_t(end - at) < t.size())
+        return false;
+    for (Transform& r : t) {
+        r.s = int8_t(*at++);
+        if (r.s < -fractal::kMaxScale || r.s > fractal::kMaxScale)
+            return false;
+    }
+    int64_t o = 0;
+    for (Transform& r : t) {
+        uint32_t d = 0;
+        if (!getVarint(at, end, d))
+            return false;
+        o += unzigzag(d);
+        if (o < -fractal::kMaxOffset || o > fractal::kMaxOffset)
+            return false;
+        r.o = int32_t(o);
+    }
+    return at == end;
+}
+
+std::vector<uint8_t> compress(const std::vector<uint8_t>& raw)
+{
+    std::vector<uint8_t> out(ZSTD_compressBound(raw.size()));
+    const size_t size = ZSTD_compress(out.data(), out.size(), raw.data(), raw.size(), kZstdLevel);
+    if (ZSTD_isError(size))
+        throw Error(std::string("fractal codec: zstd: ") + ZSTD_getErrorName(size));
+    out.resize(size);
+    return out;
+}
+
+// One zstd frame of exactly `size` bytes whose content is at most `limit` bytes.
+int inflate(const uint8_t* src, size_t size, size_t limit, std::vector<uint8_t>& out)
+{
+    const size_t frame = ZSTD_findFrameCompressedSize(src, size);
+    if (ZSTD_isError(frame))
+        return kCodecCorrupt;
+    if (frame != size)
+        return kCodecTrailingBytes;
+    const unsigned long long content = ZSTD_getFrameContentSize(src, size);
+    if (content == ZSTD_CONTENTSIZE_UNKNOWN || content == ZSTD_CONTENTSIZE_ERROR || content > limit)
+        return kCodecCorrupt;
+    out.resize(size_t(content));
+    const size_t got = ZSTD_decompress(out.data(), out.size(), src, size);
+    if (ZSTD_isError(got) || got != out.size())
+        return kCodecCorrupt;
+    return kCodecOk;
+}
+
+// What a payload holds, checked: the transforms, the pinned edge values and the corrections'
+// bytes.
+struct Parsed {
+    int iterations = 0;
+    std::vector<Transform> transforms;
+    std::vector<uint16_t> pinned; // n × n, edge samples only
+    std::vector<uint8_t> pinned_mask;
+    std::vector<uint8_t> corrections;
+};
+
+int parse(const uint8_t* src, size_t size, int n, int bound, Parsed& out)
+{
+    if (size < kHeaderSize)
+        return kCodecTruncated;
+    if (src[0] != kMagic || src[1] != kPayloadVersion || src[2] < 1 ||
+        src[2] > FractalVariant::kMaxIterations || src[3] != 0 ||
+        (uint32_t(src[4]) | uint32_t(src[5]) << 8) != uint32_t(bound))
+        return kCodecBadHeader;
+    out.iterations = src[2];
+    const uint64_t transforms_size = getU32(src + 6), edges_size = getU32(src + 10);
+    if (kHeaderSize + transforms_size + edges_size > size)
+        return kCodecTruncated;
+    const Partition p = Partition::of(n);
+    const uint8_t* at = src + kHeaderSize;
+    std::vector<uint8_t> raw;
+    if (const int s = inflate(at, size_t(transforms_size), transformBytesBound(p), raw); s)
+        return s == kCodecTrailingBytes ? kCodecCorrupt : s;
+    if (!parseTransforms(raw, p, out.transforms))
+        return kCodecCorrupt;
+    at += transforms_size;
+    if (const int s = inflate(at, size_t(edges_size), edgeBytesBound(n), raw); s)
+        return s == kCodecTrailingBytes ? kCodecCorrupt : s;
+    const int32_t step = 2 * bound + 1, top = (65535 + bound) / step;
+    out.pinned.assign(size_t(n) * n, 0);
+    out.pinned_mask.assign(size_t(n) * n, 0);
+    const uint8_t* e = raw.data();
+    const uint8_t* e_end = e + raw.size();
+    int64_t q = 0;
+    for (const size_t i : edgeOrder(n)) {
+        uint32_t d = 0;
+        if (!getVarint(e, e_end, d))
+            return kCodecCorrupt;
+        q += unzigzag(d);
+        if (q < 0 || q > top)
+            return kCodecCorrupt;
+        out.pinned[i] = uint16_t(std::min<int64_t>(q * step, 65535));
+        out.pinned_mask[i] = 1;
+    }
+    if (e != e_end)
+        return kCodecCorrupt;
+    at += edges_size;
+    return inflate(at, size_t(src + size - at), correctionBytesBound(n), out.corrections);
+}
+
+// Adds the corrections to the attractor's interior samples.
+int correct(const std::vector<uint8_t>& bytes, int n, int bound, uint16_t* dst)
+{
+    const int32_t step = 2 * bound + 1;
+    const uint8_t* at = bytes.data();
+    const uint8_t* end = at + bytes.size();
+    for (int y = 1; y < n - 1; ++y)
+        for (int x = 1; x < n - 1; ++x) {
+            uint32_t u = 0;
+            if (!getVarint(at, end, u))
+                return kCodecCorrupt;
+            const int64_t value = int64_t(dst[size_t(y) * n + x]) + int64_t(unzigzag(u)) * step;
+            if (value < -bound || value > 65535 + bound)
+                return kCodecCorrupt;
+            dst[size_t(y) * n + x] = uint16_t(std::clamp<int64_t>(value, 0, 65535));
+        }
+    return at == end ? kCodecOk : kCodecCorrupt;
+}
+
+} // namespace
+
+FractalCodec::FractalCodec(double max_error, int level_count, FractalVariant variant)
+    : variant_(variant)
+{
+    if (!(std::isfinite(max_error) && max_error >= 0 && max_error <= 32767))
+        throw Error("fractal codec: the bound must be a number in [0, 32767] codes (got " +
+                    std::to_string(max_error) + ")");
+    if (level_count < 1 || level_count > 32)
+        throw Error("fractal codec: 1 to 32 levels");
+    if (variant.iterations < 1 || variant.iterations > FractalVariant::kMaxIterations)
+        throw Error("fractal codec: iterations must be 1 to 32");
+    if (variant.search < 0 || variant.search > FractalVariant::kMaxSearch)
+        throw Error("fractal codec: search must be 0 to 1024");
+    bound_ = int(std::floor(max_error));
+}
+
+size_t FractalCodec::encodeBound(const PatchContext& ctx) const
+{
+    const int n = ctx.patch_size;
+    return kHeaderSize + ZSTD_compressBound(transformBytesBound(Partition::of(n))) +
+           ZSTD_compressBound(edgeBytesBound(n)) + ZSTD_compressBound(correctionBytesBound(n));
+}
+
+size_t FractalCodec::encode(uint8_t* dst, size_t dst_capacity, const uint16_t* codes,
+                            const PatchContext& ctx) const
+{
+    const int n = ctx.patch_size;
+    const Partition p = Partition::of(n);
+    const std::vector<Transform> transforms = fractal::encodeTransforms(codes, p, variant_.search);
+
+    // Edges: a function of the exact heights alone, identical in both neighbours.
+    const int32_t step = 2 * bound_ + 1;
+    std::vector<uint16_t> pinned(size_t(n) * n, 0);
+    std::vector<uint8_t> mask(size_t(n) * n, 0), edges;
+    int32_t previous = 0;
+    for (const size_t i : edgeOrder(n)) {
+        const int32_t q = fractal::floorDiv(int32_t(codes[i]) + bound_, step);
+        putVarint(edges, zigzag(q - previous));
+        previous = q;
+        pinned[i] = uint16_t(std::min(q * step, 65535));
+        mask[i] = 1;
+    }
+    // Corrections from the attractor this payload decodes to.
+    std::vector<uint16_t> attractor(size_t(n) * n);
+    fractal::decodeAttractor(transforms, p, variant_.iterations, pinned.data(), mask.data(),
+                             attractor.data());
+    std::vector<uint8_t> corrections;
+    for (int y = 1; y < n - 1; ++y)
+        for (int x = 1; x < n - 1; ++x) {
+            const size_t i = size_t(y) * n + x;
+            putVarint(corrections,
+                      zigzag(fractal::floorDiv(int32_t(codes[i]) - attractor[i] + bound_, step)));
+        }
+
+    const std::vector<uint8_t> t = compress(serializeTransforms(transforms, p)),
+                               e = compress(edges), c = compress(corrections);
+    const size_t total = kHeaderSize + t.size() + e.size() + c.size();
+    if (total > dst_capacity)
+        return 0;
+    dst[0] = kMagic;
+    dst[1] = kPayloadVersion;
+    dst[2] = uint8_t(variant_.iterations);
+    dst[3] = 0;
+    putU16(dst + 4, uint32_t(bound_));
+    putU32(dst + 6, uint32_t(t.size()));
+    putU32(dst + 10, uint32_t(e.size()));
+    uint8_t* at = dst + kHeaderSize;
+    for (const auto* section : {&t, &e, &c}) {
+        std::memcpy(at, section->data(), section->size());
+        at += section->size();
+    }
+    return total;
+}
+
+int FractalCodec::decodeAttractor(uint16_t* dst, const uint8_t* src, size_t src_size,
+                                  const PatchContext& ctx, int iterations) const
+{
+    Parsed parsed;
+    if (const int status = parse(src, src_size, ctx.patch_size, bound_, parsed); status)
+        return status;
+    fractal::decodeAttractor(parsed.transforms, Partition::of(ctx.patch_size), iterations,
+                             parsed.pinned.data(), parsed.pinned_mask.data(), dst);
+    return kCodecOk;
+}
+
+int FractalCodec::decode(uint16_t* dst, const uint8_t* src, size_t src_size,
+                         const PatchContext& ctx) const
+{
+    Parsed parsed;
+    if (const int status = parse(src, src_size, ctx.patch_size, bound_, parsed); status)
+        return status;
+    fractal::decodeAttractor(parsed.transforms, Partition::of(ctx.patch_size), parsed.iterations,
+                             parsed.pinned.data(), parsed.pinned_mask.data(), dst);
+    return correct(parsed.corrections, ctx.patch_size, bound_, dst);
+}
+
+void FractalCodec::reconstruct(const uint16_t* codes, const PatchContext& ctx, uint16_t* out) const
+{
+    std::vector<uint8_t> payload(encodeBound(ctx));
+    const size_t size = encode(payload.data(), payload.size(), codes, ctx);
+    if (size == 0 || decode(out, payload.data(), size, ctx) != kCodecOk)
+        throw Error("internal error: a fractal patch just encoded does not decode");
+}
+
+std::string FractalCodec::variantDescription() const
+{
+    return "bounded, " + std::to_string(variant_.iterations) + " iterations, search " +
+           (variant_.search == 0 ? std::string("all") : std::to_string(variant_.search));
+}
+
+void FractalCodec::storeParameters(double param[2]) const
+{
+    param[0] = bound_;
+    param[1] = variant_.iterations;
+}
+
+} // namespace ridge
