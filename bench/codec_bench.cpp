@@ -8,7 +8,8 @@
 //   v2-no-correct progressive,corrections=0
 // and the entropy half alone (decodeResiduals) for v2, so the reconstruction's share shows;
 // and the jpeg2000 codec (issue 15): progressive with OpenJPEG, with HTJ2K (OpenJPH), and
-// direct with OpenJPEG, all at the max-abs criterion.
+// direct with OpenJPEG, all at the max-abs criterion; and the fractal codec (issue 25), bounded,
+// on the CPU.
 // Target (issue 14): >= 150 MB/s per core for v2. Data directory: $RIDGE_DATA_DIR or
 // ../shared/data; skips without the file.
 #include "ridge/archive/archive_reader.h"
@@ -141,6 +142,11 @@ void BM_DecodeJpeg2000Direct(benchmark::State& s)
     decodeAll(s, "jpeg2000,encoding=direct", false);
 }
 
+void BM_DecodeFractal(benchmark::State& s)
+{
+    decodeAll(s, "fractal", false);
+}
+
 } // namespace
 
 // Argument: the bound in metres.
@@ -151,4 +157,5 @@ BENCHMARK(BM_EntropyOnlyV2)->Arg(1)->Arg(4)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_DecodeJpeg2000)->Arg(1)->Arg(3)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_DecodeJpeg2000Htj2k)->Arg(1)->Arg(3)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_DecodeJpeg2000Direct)->Arg(1)->Arg(3)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_DecodeFractal)->Arg(1)->Arg(4)->Unit(benchmark::kMillisecond);
 BENCHMARK_MAIN();

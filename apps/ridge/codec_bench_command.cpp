@@ -32,9 +32,11 @@ void CodecBenchCommand::registerWith(CLI::App& app)
         ->capture_default_str()
         ->check(inIntegerRange("--tile", 0, codecbench::CodecBenchOptions::kMaxTileSize));
     command_
-        ->add_option("--ridge-codec", ridge_codec_,
-                     "ridge's codec for its row, as build --codec takes it (a lossy codec is "
-                     "built at each bound, a lossless one once per bound)")
+        ->add_option("--ridge-codec", ridge_codecs_,
+                     "ridge's codecs, one row each, as build --codec takes them; repeat for "
+                     "several, or `all` for every lossy codec registered (a lossy codec is built "
+                     "at each bound, a lossless one once per bound)")
+        ->expected(1, 16)
         ->capture_default_str();
     command_->add_flag("--json", json_,
                        "Print every number as JSON on stdout (the tables then go to stderr)");
@@ -45,8 +47,18 @@ void CodecBenchCommand::registerWith(CLI::App& app)
 
 int CodecBenchCommand::run()
 {
-    if (const std::string problem = codecSpecProblem(ridge_codec_); !problem.empty())
-        throw UsageError("--ridge-codec " + ridge_codec_ + ": " + problem);
+    std::vector<std::string> ridge_codecs;
+    for (const std::string& codec : ridge_codecs_) {
+        if (codec == "all") {
+            for (const CodecInfo& c : codecRegistry())
+                if (c.lossy)
+                    ridge_codecs.push_back(c.name);
+            continue;
+        }
+        if (const std::string problem = codecSpecProblem(codec); !problem.empty())
+            throw UsageError("--ridge-codec " + codec + ": " + problem);
+        ridge_codecs.push_back(codec);
+    }
     for (const std::string& out : {json_path_, plot_path_})
         if (!out.empty()) { // before the run, not after it
             refuseOutputOverInput(out, io::datasetFiles(input_));
@@ -55,7 +67,7 @@ int CodecBenchCommand::run()
     codecbench::CodecBenchOptions options;
     options.max_errors = max_errors_;
     options.tile_size = tile_size_;
-    options.ridge_codec = ridge_codec_;
+    options.ridge_codecs = ridge_codecs;
     options.progress = terminalProgress(quiet_);
     const codecbench::CodecBenchReport report = codecbench::runCodecBench(input_, options);
     fmt::print(json_ ? stderr : stdout, "{}", codecbench::formatCodecBenchTable(report));
@@ -67,11 +79,13 @@ int CodecBenchCommand::run()
         codecbench::writeCodecBenchPlot(report, plot_path_);
     int violated = 0;
     for (const codecbench::BoundResult& b : report.bounds)
-        violated += b.rows.front().bound_ok ? 0 : 1;
+        for (const codecbench::CodecRow& row : b.rows)
+            violated += row.scope == "pyramid" && !row.bound_ok ? 1 : 0;
     // ridge's own bound is a promise: missing it is a failure. Anchors that miss theirs are
     // results, reported in the table.
     if (violated) {
-        fmt::print(stderr, "ridge: error: ridge's codec missed its bound at {} of {} bounds\n",
+        fmt::print(stderr,
+                   "ridge: error: ridge's codecs missed their bound {} times over {} bounds\n",
                    violated, report.bounds.size());
         return 1;
     }

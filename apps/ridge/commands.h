@@ -27,9 +27,9 @@ class CodecBenchCommand {
     std::string input_;
     std::vector<double> max_errors_{0.5, 1.0, 4.0, 16.0};
     int tile_size_ = 256;
-    std::string ridge_codec_ = "progressive";
-    bool json_ = false;     // --json: the report on stdout
-    std::string json_path_; // --json-file
+    std::vector<std::string> ridge_codecs_{"progressive"}; // "all": every lossy codec
+    bool json_ = false;                                    // --json: the report on stdout
+    std::string json_path_;                                // --json-file
     std::string plot_path_;
     bool quiet_ = false;
 };

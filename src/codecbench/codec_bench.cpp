@@ -193,20 +193,20 @@ void timeCodecDecode(const archive::ArchiveReader& reader, CodecRow& row)
 }
 
 // ridge's row: the whole pyramid built and decoded on one thread.
-CodecRow runRidge(const io::ElevationRaster& raster, double bound_metres,
+CodecRow runRidge(const io::ElevationRaster& raster, double bound_metres, const std::string& codec,
                   const CodecBenchOptions& options, const CodecBenchReport& report,
                   const Progress& progress)
 {
     CodecRow row;
-    row.codec = "ridge " + options.ridge_codec;
+    row.codec = "ridge " + codec;
     row.scope = "pyramid";
     const ScratchArchive archive(options.scratch_dir);
     const SingleThreadScope single_thread;
 
     // 1. Build: the timed encode is everything buildArchive does from ingested codes.
     BuildOptions build;
-    build.codec = options.ridge_codec;
-    if (isLossyCodec(options.ridge_codec))
+    build.codec = codec;
+    if (isLossyCodec(codec))
         build.max_error = bound_metres;
     build.progress = subProgress(progress, 0.0, 0.8);
     const Clock::time_point encode_start = Clock::now();
@@ -328,8 +328,11 @@ void validate(const CodecBenchOptions& options)
         checkParameter("max_errors[" + std::to_string(k) + "] (metres)", options.max_errors[k],
                        CodecBenchOptions::kMaxErrorRange);
     checkParameter("tile_size", int64_t{options.tile_size}, 0, CodecBenchOptions::kMaxTileSize);
-    if (const std::string problem = codecSpecProblem(options.ridge_codec); !problem.empty())
-        throw Error("ridge_codec " + options.ridge_codec + ": " + problem);
+    if (options.ridge_codecs.empty())
+        throw Error("ridge_codecs: at least one codec is needed");
+    for (const std::string& codec : options.ridge_codecs)
+        if (const std::string problem = codecSpecProblem(codec); !problem.empty())
+            throw Error("ridge_codecs " + codec + ": " + problem);
     checkParameter("view_width", int64_t{options.view_width}, 1, CodecBenchOptions::kMaxViewPixels);
     checkParameter("view_height", int64_t{options.view_height}, 1,
                    CodecBenchOptions::kMaxViewPixels);
@@ -390,7 +393,7 @@ CodecBenchReport runCodecBench(const io::ElevationRaster& raster, const CodecBen
     report.min_code = *lo;
     report.max_code = *hi;
     report.tile_size = options.tile_size;
-    report.ridge_codec = options.ridge_codec;
+    report.ridge_codecs = options.ridge_codecs;
     report.cpu_model = cpuModel();
     report.threads = 1;
     report.view_width = options.view_width;
@@ -398,14 +401,16 @@ CodecBenchReport runCodecBench(const io::ElevationRaster& raster, const CodecBen
     report.view_epsilon_px = options.view_epsilon_px;
     report.view_texel_px = options.view_texel_px;
     const auto anchors = makeAnchorCodecs();
-    report.codecs.push_back(
-        {"ridge " + options.ridge_codec,
-         fmt::format("ridge 0.1.0, archive format v{}", archive::kFormatVersion),
-         isLossyCodec(options.ridge_codec)
-             ? "whole pyramid, BuildOptions defaults (patch 129, block 8, decimation), "
-               "max_error = E metres end to end"
-             : "whole pyramid, BuildOptions defaults (patch 129, block 8, decimation), lossless",
-         true});
+    for (const std::string& codec : options.ridge_codecs)
+        report.codecs.push_back(
+            {"ridge " + codec,
+             fmt::format("ridge 0.1.0, archive format v{}", archive::kFormatVersion),
+             isLossyCodec(codec)
+                 ? "whole pyramid, BuildOptions defaults (patch 129, block 8, decimation), "
+                   "max_error = E metres end to end"
+                 : "whole pyramid, BuildOptions defaults (patch 129, block 8, decimation), "
+                   "lossless",
+             true});
     for (const auto& a : anchors)
         report.codecs.push_back(
             {a->name(), a->libraryVersion(), a->description(), a->guaranteesBound()});
@@ -414,7 +419,8 @@ CodecBenchReport runCodecBench(const io::ElevationRaster& raster, const CodecBen
     const std::vector<Tile> tiles = cutTiles(grid, options.tile_size);
 
     // 3. Each bound: ridge's pyramid, then every anchor on the finest level.
-    const double steps = double(options.max_errors.size() * (anchors.size() + 1));
+    const double steps =
+        double(options.max_errors.size() * (anchors.size() + options.ridge_codecs.size()));
     double step = 0.0;
     const auto stepProgress = [&] {
         const Progress p = subProgress(options.progress, step / steps, (step + 1.0) / steps);
@@ -426,7 +432,8 @@ CodecBenchReport runCodecBench(const io::ElevationRaster& raster, const CodecBen
         result.max_error_metres = bound;
         const double codes = std::floor(bound / raster.quantization.scale + 1e-9);
         result.max_error_codes = int(std::min(codes, 65535.0));
-        result.rows.push_back(runRidge(raster, bound, options, report, stepProgress()));
+        for (const std::string& codec : options.ridge_codecs)
+            result.rows.push_back(runRidge(raster, bound, codec, options, report, stepProgress()));
         for (const auto& a : anchors)
             result.rows.push_back(
                 runAnchor(*a, tiles, result.max_error_codes, report, stepProgress()));

@@ -42,13 +42,13 @@ std::string groupedDigits(uint64_t v)
     return out;
 }
 
-// "ridge bytes fetched per view at 1920×1080, ε = 2 px: near …, mid …, far …" under a bound's
-// table, for ridge's row.
+// "ridge progressive: bytes fetched per view at 1920×1080, ε = 2 px: near …, mid …, far …"
+// under a bound's table, for each of ridge's rows.
 std::string formatViewBytes(const CodecBenchReport& r, const CodecRow& row)
 {
     if (row.view_bytes.empty())
         return {};
-    std::string out = fmt::format("ridge bytes fetched per view at {}×{}, ε = {:g} px",
+    std::string out = fmt::format("{}: bytes fetched per view at {}×{}, ε = {:g} px", row.codec,
                                   r.view_width, r.view_height, r.view_epsilon_px);
     for (size_t k = 0; k < row.view_bytes.size(); ++k) {
         const ViewBytesFigure& v = row.view_bytes[k];
@@ -149,7 +149,7 @@ std::string formatCodecBenchJson(const CodecBenchReport& r)
                   {"min_metres", r.minMetres()},
                   {"max_metres", r.maxMetres()}};
     j["tile_size"] = r.tile_size;
-    j["ridge_codec"] = r.ridge_codec;
+    j["ridge_codecs"] = r.ridge_codecs;
     j["machine"] = {{"cpu_model", r.cpu_model}, {"threads", r.threads}};
     j["views"] = {{"width", r.view_width},
                   {"height", r.view_height},

@@ -1,5 +1,6 @@
 // The bench driver on the fixture with ridge's lossless codec: every row present and checked,
 // the same integer bound for every anchor, and reports that name everything they compare.
+#include "ridge/codec/codec_registry.h"
 #include "ridge/codecbench/codec_bench.h"
 #include "ridge/core/error.h"
 #include "ridge/io/raster_source.h"
@@ -33,7 +34,7 @@ CodecBenchOptions losslessOptions(const test::ScratchDir& dir, std::vector<doubl
     CodecBenchOptions options;
     options.max_errors = std::move(bounds);
     options.tile_size = 64;
-    options.ridge_codec = "lossless";
+    options.ridge_codecs = {"lossless"};
     options.scratch_dir = dir.dir().string();
     return options;
 }
@@ -89,7 +90,7 @@ TEST(CodecBench, ProgressiveRidgeRowKeepsItsEndToEndBound)
 {
     test::ScratchDir dir;
     CodecBenchOptions options = losslessOptions(dir, {1.0, 4.0});
-    options.ridge_codec = "progressive";
+    options.ridge_codecs = {"progressive"};
     const CodecBenchReport r = runCodecBench(everest(), options);
     for (const BoundResult& b : r.bounds) {
         const CodecRow& ridge_row = b.rows.front();
@@ -109,6 +110,32 @@ TEST(CodecBench, ProgressiveRidgeRowKeepsItsEndToEndBound)
     EXPECT_LE(r.bounds[1].rows.front().bytes, r.bounds[0].rows.front().bytes);
 }
 
+TEST(CodecBench, EveryRegisteredLossyCodecGetsItsOwnRidgeRowWithinTheBound)
+{
+    // The rows come from the registry: each lossy codec, built at each bound, before the
+    // anchors, in the order asked for.
+    test::ScratchDir dir;
+    CodecBenchOptions options = losslessOptions(dir, {4.0});
+    options.ridge_codecs.clear();
+    for (const ridge::CodecInfo& c : codecRegistry())
+        if (c.lossy)
+            options.ridge_codecs.push_back(c.name);
+    ASSERT_GE(options.ridge_codecs.size(), 2u);
+    const CodecBenchReport r = runCodecBench(everest(), options);
+    ASSERT_EQ(r.bounds.size(), 1u);
+    for (size_t k = 0; k < options.ridge_codecs.size(); ++k) {
+        const CodecRow& row = r.bounds[0].rows[k];
+        EXPECT_EQ(row.codec, "ridge " + options.ridge_codecs[k]);
+        EXPECT_EQ(row.scope, "pyramid");
+        EXPECT_TRUE(row.bound_ok) << row.codec << ": " << row.max_error_metres;
+        EXPECT_LE(row.max_error_metres, 4.0 + 1e-9) << row.codec;
+    }
+    EXPECT_NE(r.bounds[0].rows[options.ridge_codecs.size()].scope, "pyramid")
+        << "the anchors follow";
+    options.ridge_codecs = {"progressive", "jpeg2001"};
+    EXPECT_THROW(runCodecBench(everest(), options), Error);
+}
+
 TEST(CodecBench, TableAndJsonNameEveryCodecAndSayWhatRidgeCounts)
 {
     test::ScratchDir dir;
@@ -119,7 +146,7 @@ TEST(CodecBench, TableAndJsonNameEveryCodecAndSayWhatRidgeCounts)
     EXPECT_NE(table.find("ridge lossless"), std::string::npos);
     EXPECT_NE(table.find("every coarser level"), std::string::npos) << "footnote on ridge's scope";
     EXPECT_EQ(table.find("VIOLATED"), std::string::npos) << table;
-    EXPECT_NE(table.find("ridge bytes fetched per view at 1920×1080, ε = 2 px: near "),
+    EXPECT_NE(table.find("ridge lossless: bytes fetched per view at 1920×1080, ε = 2 px: near "),
               std::string::npos)
         << table;
 

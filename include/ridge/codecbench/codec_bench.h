@@ -37,9 +37,10 @@ struct CodecBenchOptions {
     // Anchors' tile side in samples (edge tiles are smaller), at most kMaxTileSize; 0 = the
     // whole grid as one tile.
     int tile_size = 256;
-    // ridge's codec for its row. A lossy codec ("progressive") is built with
-    // BuildOptions::max_error = E; "lossless" and "raw" are built without it, once per bound.
-    std::string ridge_codec = "progressive";
+    // ridge's codecs, one row each (before the anchors'), as `ridge build --codec` spells them
+    // (ridge/codec/codec_registry.h), at least one. A lossy codec is built with
+    // BuildOptions::max_error = E; a lossless one without it, once per bound.
+    std::vector<std::string> ridge_codecs{"progressive"};
     // Directory for ridge's temporary archive; empty = the system temporary directory.
     std::string scratch_dir;
     // Bytes fetched per view (ridge/stream/view_bytes.h) for ridge's row: the typical near,
@@ -98,7 +99,8 @@ struct CodecRow {
 struct BoundResult {
     double max_error_metres = 0.0; // E, ridge's end-to-end bound
     int max_error_codes = 0;       // e, every anchor's bound
-    std::vector<CodecRow> rows;    // ridge first, then the anchors in makeAnchorCodecs() order
+    std::vector<CodecRow>
+        rows; // ridge's codecs first, then the anchors in makeAnchorCodecs() order
 };
 
 // A codec as the report describes it.
@@ -117,7 +119,7 @@ struct CodecBenchReport {
     uint16_t min_code = 0; // of the ingested finest level
     uint16_t max_code = 0;
     int tile_size = 0; // as requested (0 = whole grid)
-    std::string ridge_codec;
+    std::vector<std::string> ridge_codecs;
     std::string cpu_model; // /proc/cpuinfo "model name", "unknown" when absent
     int threads = 1;       // threads every codec ran on
     int view_width = 0;    // CodecBenchOptions::view_* as run
