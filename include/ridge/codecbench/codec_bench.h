@@ -1,5 +1,5 @@
 #pragma once
-// `ridge codec-bench`: ridge's codec against the strongest error-bounded anchor codecs
+// `ridge codec-bench`: ridge's codecs against the strongest error-bounded anchor codecs
 // (anchor_codec.h) on the same raster and the same L-inf bound.
 //
 // For every bound E (metres) the bench
