@@ -8,6 +8,8 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <cstdlib>
+#include <memory>
 #include <vector>
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
@@ -36,6 +38,22 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
             if (d % (2 * bound + 1) != 0 && out[i] != 0 && out[i] != 65535)
                 __builtin_trap();
         }
+    }
+    // The GPU decoder's CPU half: refuses or accepts exactly what decode() parses (decode may
+    // refuse more: it checks the corrections against the attractor), with every field in range.
+    std::shared_ptr<const ridge::GpuPayload> gpu;
+    const int gpu_status = codec.decodeForGpu(payload, payload_size, ctx, &gpu);
+    if (gpu_status > 0 || (status == ridge::kCodecOk && gpu_status != ridge::kCodecOk))
+        __builtin_trap();
+    if (gpu_status == ridge::kCodecOk) {
+        const auto& f = static_cast<const ridge::FractalPayload&>(*gpu);
+        const int ranges = (n + 3) / 4;
+        if (f.transforms.size() != size_t(ranges) * ranges * 4 || f.samples.size() != out.size())
+            __builtin_trap();
+        for (size_t r = 0; r < f.transforms.size(); r += 4)
+            if (f.transforms[r] < 0 || f.transforms[r] >= ranges - 1 || f.transforms[r + 1] < 0 ||
+                f.transforms[r + 1] >= ranges - 1 || std::abs(f.transforms[r + 2]) > 24)
+                __builtin_trap();
     }
     return 0;
 }

@@ -238,8 +238,14 @@ inline void addStreamingOptions(CLI::App& command, render::RendererOptions& opti
         ->check(inRange("--upload-max-ms", stream::UploadTimeSettings::kCeilingMsRange));
     command.add_flag_callback(
         "--cpu-decode", [&options] { options.gpu_reconstruction = false; },
-        "Decode progressive patches wholly on the CPU (default: entropy decoding on the CPU, "
-        "reconstruction on the GPU)");
+        "Decode patches wholly on the CPU (default: codecs with a GPU half — progressive, "
+        "jpeg2000, fractal — entropy-decode on the CPU and finish on the GPU)");
+    command
+        .add_option("--refine-steps", options.refine_steps_per_frame,
+                    "Base incremental (fractal): iterations a frame that refine resident "
+                    "patches decoded with fewer for their distance; 0: decode fully on arrival")
+        ->capture_default_str()
+        ->check(CLI::Range(0, Options::kMaxRefineStepsPerFrame));
     command.add_flag_callback(
         "--no-streaming", [&options] { options.streaming = false; },
         "Load every patch before drawing the frame that needs it (stalls)");

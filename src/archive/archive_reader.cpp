@@ -366,31 +366,35 @@ void ArchiveReader::decodeBlob(PatchId p, const std::vector<uint8_t>& blob, uint
         *block_errors = deriveBlockErrors(codes);
 }
 
-bool ArchiveReader::decodesResiduals(int level) const
+bool ArchiveReader::decodesOnGpu(int level) const
 {
-    return level > 0 && codec_->capabilities().gpu_reconstruction != nullptr;
+    return codec_->capabilities().gpu.decodes(level);
 }
 
-CodedRegion ArchiveReader::decodeResiduals(PatchId p, const std::vector<uint8_t>& blob,
-                                           int32_t* residuals,
-                                           std::vector<float>* block_errors) const
+std::shared_ptr<const GpuPayload>
+ArchiveReader::decodeForGpu(PatchId p, const std::vector<uint8_t>& blob, const uint16_t* parent,
+                            std::vector<float>* block_errors) const
 {
-    const ProgressiveCodec* progressive = codec_->capabilities().gpu_reconstruction;
-    if (!progressive || p.level == 0)
-        throw Error(describe(p) + ": not decodable as residuals");
+    const GpuDecoding gpu = codec_->capabilities().gpu;
+    if (!gpu.decodes(p.level))
+        throw Error(describe(p) + ": internal error: the codec does not decode it on the GPU");
     const PatchRecord& r = record(p);
     const size_t payload = payloadOffset(p, blob, nullptr);
     if (block_errors) {
         block_errors->clear();
-        if (r.block_errors_size > 0)
+        if (r.block_errors_size > 0 && !gpu.refinable)
             *block_errors = unpackBlockErrorsOf(p, blob);
     }
-    const PatchContext ctx = patchContext(geometry_, p, nullptr);
+    if (gpu.cpu_half_reads_parent && p.level > 0 && !parent)
+        throw Error(describe(p) + ": internal error: no parent to decode from");
+    const PatchContext ctx = patchContext(geometry_, p, parent);
+    std::shared_ptr<const GpuPayload> out;
     const int status =
-        progressive->decodeResiduals(blob.data() + payload, blob.size() - payload, ctx, residuals);
-    if (status != kCodecOk)
-        throw Error(describe(p) + ": cannot decode: " + codecStatusMessage(status));
-    return progressive->codedRegion(ctx);
+        codec_->decodeForGpu(blob.data() + payload, blob.size() - payload, ctx, &out);
+    if (status != kCodecOk || !out)
+        throw Error(describe(p) + ": cannot decode: " +
+                    codecStatusMessage(status != kCodecOk ? status : kCodecCorrupt));
+    return out;
 }
 
 std::vector<float> ArchiveReader::deriveBlockErrors(const uint16_t* codes) const

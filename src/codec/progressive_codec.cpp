@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cstring>
 #include <functional>
+#include <limits>
 #include <mutex>
 #include <vector>
 
@@ -275,6 +276,40 @@ int ProgressiveCodec::decodeResiduals(const uint8_t* src, size_t src_size, const
     if (!validContext(ctx) || ctx.level == 0)
         return kCodecBadHeader;
     return entropyDecode(src, src_size, ctx, residuals);
+}
+
+int ProgressiveCodec::decodeForGpu(const uint8_t* src, size_t src_size, const PatchContext& ctx,
+                                   std::shared_ptr<const GpuPayload>* out) const
+{
+    if (!validContext(ctx))
+        return kCodecBadHeader;
+    std::vector<int32_t> wide(size_t(ctx.patch_size) * size_t(ctx.patch_size));
+    if (const int status = decodeResiduals(src, src_size, ctx, wide.data()); status != kCodecOk)
+        return status;
+    auto payload = std::make_shared<ProgressiveResiduals>();
+    payload->assign(std::move(wide));
+    payload->region = codedRegion(ctx);
+    *out = std::move(payload);
+    return kCodecOk;
+}
+
+void ProgressiveResiduals::assign(std::vector<int32_t> values)
+{
+    const bool narrow = std::all_of(values.begin(), values.end(), [](int32_t v) {
+        return v >= std::numeric_limits<int16_t>::min() && v <= std::numeric_limits<int16_t>::max();
+    });
+    residuals16.clear();
+    residuals32.clear();
+    if (narrow)
+        residuals16.assign(values.begin(), values.end());
+    else
+        residuals32 = std::move(values);
+}
+
+std::vector<int32_t> ProgressiveResiduals::wide() const
+{
+    return residuals32.empty() ? std::vector<int32_t>(residuals16.begin(), residuals16.end())
+                               : residuals32;
 }
 
 int ProgressiveCodec::decode(uint16_t* dst, const uint8_t* src, size_t src_size,

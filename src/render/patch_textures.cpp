@@ -15,23 +15,25 @@ bool PatchTextures::waterMaps(const archive::ArchiveReader& reader)
 }
 
 double PatchTextures::bytesPerSlot(int patch_size, const TessellationBlockLayout& layout,
-                                   bool water_maps)
+                                   bool water_maps, const HeightCodec* gpu_codec)
 {
+    const GpuDecoderInfo* decoder = gpu_codec ? findGpuDecoder(*gpu_codec) : nullptr;
+    const double decoder_bytes = decoder ? decoder->bytes_per_slot(patch_size) : 0.0;
     const double n = patch_size;
     const double blocks = double(layout.blocksPerSide());
     // Heights R16UI and normals RGBA8 (n²), block errors RGBA32F, the kept-nodata cell mask
     // R8UI ((n−1)², allocated for every slot) and its flag, the water map R8UI (n², only for
     // archives with water).
     return n * n * (2.0 + 4.0 + (water_maps ? 1.0 : 0.0)) + blocks * blocks * 16.0 +
-           (n - 1) * (n - 1) + 1.0;
+           (n - 1) * (n - 1) + 1.0 + decoder_bytes;
 }
 
 int PatchTextures::slotCount(const archive::ArchiveReader& reader, double scheme_slot_bytes,
-                             double vram_budget_mb, int max_slots)
+                             double vram_budget_mb, int max_slots, const HeightCodec* gpu_codec)
 {
     const int n = reader.geometry().patchSize();
     const double bytes_per_slot =
-        bytesPerSlot(n, reader.blockLayout(), waterMaps(reader)) + scheme_slot_bytes;
+        bytesPerSlot(n, reader.blockLayout(), waterMaps(reader), gpu_codec) + scheme_slot_bytes;
     GLint max_layers = 256;
     glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &max_layers);
     const double by_budget = std::floor(vram_budget_mb * 1024.0 * 1024.0 / bytes_per_slot);
@@ -51,9 +53,9 @@ int PatchTextures::slotCount(const archive::ArchiveReader& reader, double scheme
 
 PatchTextures::PatchTextures(int patch_size, const TessellationBlockLayout& layout, int levels,
                              int slots, const HeightQuantization& quantization,
-                             const ProgressiveCodec* progressive, bool water_maps)
+                             const HeightCodec* gpu_codec, bool water_maps)
     : n_(patch_size), layout_(layout), levels_(levels), quantization_(quantization),
-      progressive_(progressive), lambda_max_(size_t(slots), 0.f), lambda_cap_(size_t(slots), 0.f),
+      lambda_max_(size_t(slots), 0.f), lambda_cap_(size_t(slots), 0.f),
       generation_(size_t(slots), 0), masked_(size_t(slots), 0)
 {
     const int B = layout_.blocksPerSide();
@@ -86,8 +88,12 @@ PatchTextures::PatchTextures(int patch_size, const TessellationBlockLayout& layo
                          nullptr, GL_DYNAMIC_STORAGE_BIT);
     gpu::checkGlError("patch textures: texture arrays");
     normal_program_ = gpu::ShaderProgram({{GL_COMPUTE_SHADER, "patch_normals.comp"}});
-    if (progressive_) {
-        decoder_ = std::make_unique<GpuProgressiveDecoder>(n_);
+    if (gpu_codec) {
+        const GpuDecoderInfo* decoder = findGpuDecoder(*gpu_codec);
+        if (!decoder)
+            throw Error(std::string("internal error: no GPU decoder for the ") + gpu_codec->name() +
+                        " codec");
+        decoder_ = decoder->make(*gpu_codec, n_, slots);
         block_error_program_ = gpu::ShaderProgram({{GL_COMPUTE_SHADER, "block_errors.comp"}});
     }
 }
@@ -165,45 +171,53 @@ void PatchTextures::upload(const stream::DecodedPatch& patch, int slot, float la
     uploadMasks(patch, slot);
 }
 
-void PatchTextures::reconstruct(const stream::DecodedPatch& patch, int parent_slot, int slot,
-                                float lambda_cap)
+void PatchTextures::decodeOnGpu(const stream::DecodedPatch& patch, int parent_slot, int slot,
+                                int steps, float lambda_cap)
 {
     ++generation_[size_t(slot)];
     uploadMasks(patch, slot);
     const PatchId p = patch.id;
-    const GpuProgressiveDecoder::Child child{p.childIndex(), progressive_->quantizer(p.level),
-                                             progressive_->variant().predictor,
-                                             patch.residual_region, progressive_->weights(p.level)};
-    if (patch.residuals.empty())
-        decoder_->reconstruct(patch.residuals16.data(), heights_.id(), parent_slot, slot, child);
-    else
-        decoder_->reconstruct(patch.residuals.data(), heights_.id(), parent_slot, slot, child);
-    // The passes below (and children reconstructed later in this batch) read the codes.
+    decoder_->decode(*patch.gpu_payload,
+                     {heights_.id(), slot, parent_slot, p.childIndex(), p.level}, steps);
+    // The passes below (and children decoded later in this batch) read the codes.
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-    if (!patch.block_errors.empty()) {
+    if (!patch.block_errors.empty())
         uploadBlockErrors(patch, slot, lambda_cap);
-    } else {
-        const uint32_t zero = 0;
-        glNamedBufferSubData(lambda_max_bits_.id(), GLintptr(slot) * GLintptr(sizeof(uint32_t)),
-                             sizeof(uint32_t), &zero);
-        block_error_program_.use();
-        glBindTextureUnit(0, heights_.id());
-        glBindImageTexture(2, block_errors_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, lambda_max_bits_.id());
-        glUniform1i(block_error_program_.uniform("u_layer"), slot);
-        glUniform1i(block_error_program_.uniform("u_n"), n_);
-        glUniform1i(block_error_program_.uniform("u_block_cells"), layout_.block_cells);
-        glUniform1i(block_error_program_.uniform("u_blocks_per_side"), layout_.blocksPerSide());
-        glUniform1i(block_error_program_.uniform("u_levels"), levels_);
-        glUniform1d(block_error_program_.uniform("u_height_scale"), quantization_.scale);
-        const GLuint groups = GLuint(layout_.blocksPerSide() + 7) / 8;
-        glDispatchCompute(groups, groups, 1);
-        // Until the readback: the height range bounds λ.
-        lambda_max_[size_t(slot)] = lambda_cap;
-        lambda_cap_[size_t(slot)] = lambda_cap;
-        derived_in_batch_.push_back({slot, generation_[size_t(slot)]});
-    }
-    gpu::checkGlError("patch textures: reconstruct");
+    else
+        deriveBlockErrors(slot, lambda_cap);
+    gpu::checkGlError("patch textures: GPU decode");
+}
+
+void PatchTextures::refine(PatchId p, int slot, int steps, float lambda_cap)
+{
+    ++generation_[size_t(slot)];
+    decoder_->refine({heights_.id(), slot, -1, p.childIndex(), p.level}, steps);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    deriveBlockErrors(slot, lambda_cap);
+    gpu::checkGlError("patch textures: refine");
+}
+
+void PatchTextures::deriveBlockErrors(int slot, float lambda_cap)
+{
+    const uint32_t zero = 0;
+    glNamedBufferSubData(lambda_max_bits_.id(), GLintptr(slot) * GLintptr(sizeof(uint32_t)),
+                         sizeof(uint32_t), &zero);
+    block_error_program_.use();
+    glBindTextureUnit(0, heights_.id());
+    glBindImageTexture(2, block_errors_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, lambda_max_bits_.id());
+    glUniform1i(block_error_program_.uniform("u_layer"), slot);
+    glUniform1i(block_error_program_.uniform("u_n"), n_);
+    glUniform1i(block_error_program_.uniform("u_block_cells"), layout_.block_cells);
+    glUniform1i(block_error_program_.uniform("u_blocks_per_side"), layout_.blocksPerSide());
+    glUniform1i(block_error_program_.uniform("u_levels"), levels_);
+    glUniform1d(block_error_program_.uniform("u_height_scale"), quantization_.scale);
+    const GLuint groups = GLuint(layout_.blocksPerSide() + 7) / 8;
+    glDispatchCompute(groups, groups, 1);
+    // Until the readback: the height range bounds λ.
+    lambda_max_[size_t(slot)] = lambda_cap;
+    lambda_cap_[size_t(slot)] = lambda_cap;
+    derived_in_batch_.push_back({slot, generation_[size_t(slot)]});
 }
 
 size_t PatchTextures::uploadBytes(const stream::DecodedPatch& patch) const
@@ -216,9 +230,8 @@ size_t PatchTextures::uploadBytes(const stream::DecodedPatch& patch) const
     const size_t mask = (patch.drawable_cells.empty() ? 0 : patch.drawable_cells.size() + 1) +
                         patch.sample_flags.flags.size() +
                         (patch.sample_flags.kind == PatchSampleFlags::Kind::AllWater ? 1 : 0);
-    if (patch.needsGpuReconstruction())
-        return patch.residuals.size() * sizeof(int32_t) +
-               patch.residuals16.size() * sizeof(int16_t) + lambda + mask;
+    if (patch.decodesOnGpu())
+        return patch.gpu_payload->uploadBytes() + lambda + mask;
     return patch.codes.size() * sizeof(uint16_t) + lambda + mask;
 }
 

@@ -4,19 +4,19 @@
 // computed on the GPU when a patch becomes resident) and tessellation block errors (RGBA32F,
 // λ^(1..4) per block), one layer per slot.
 //
-// A patch arrives either as codes decoded on the CPU (upload) or as progressive-codec
-// residuals that the GPU reconstructs from its parent's layer (reconstruct); λ is then
+// A patch arrives either as codes decoded on the CPU (upload) or as its codec's CPU half,
+// which the codec's GPU decoder finishes (decodeOnGpu; decoders/gpu_patch_decoder.h), maybe
+// from its parent's layer, maybe partially and refined in place later (refine); λ is then
 // derived on the GPU too unless the archive stores it. Normal maps are computed from the
 // height layers once a batch is written (computeNormals).
 #include "ridge/archive/archive_reader.h"
-#include "ridge/codec/progressive_codec.h"
 #include "ridge/core/height_grid.h"
 #include "ridge/gpu/gl_objects.h"
 #include "ridge/gpu/shader_program.h"
 #include "ridge/pyramid/tessellation_block_errors.h"
 #include "ridge/stream/patch_loader.h"
 
-#include "gpu_progressive_decoder.h"
+#include "decoders/gpu_patch_decoder.h"
 
 #include <array>
 #include <memory>
@@ -31,22 +31,25 @@ class PatchTextures {
     // bitmaps (archive sample flags with any water sample).
     static bool waterMaps(const archive::ArchiveReader& reader);
     // Texture memory one slot takes, bytes (what the constructor allocates per slot).
+    // `gpu_codec`: the codec whose GPU decoder the slots serve (its per-slot state), or null.
     static double bytesPerSlot(int patch_size, const TessellationBlockLayout& layout,
-                               bool water_maps);
+                               bool water_maps, const HeightCodec* gpu_codec = nullptr);
     // Slots for resident patches of `reader`: at most `max_slots`, at most what
     // `vram_budget_mb` holds at bytesPerSlot plus `scheme_slot_bytes` (what the schemes keep
     // per slot) and at most the GL limit on array layers. At least 4, so that raising ε always
     // finds a selection that fits: throws ridge::Error naming the archive otherwise.
     static int slotCount(const archive::ArchiveReader& reader, double scheme_slot_bytes,
-                         double vram_budget_mb, int max_slots);
+                         double vram_budget_mb, int max_slots,
+                         const HeightCodec* gpu_codec = nullptr);
 
     // Needs a current GL 4.5 context. `levels` is D as the shaders use it (<= 4).
-    // `progressive`: the archive's codec when patches may arrive as residuals, else null.
+    // `gpu_codec`: the archive's codec when patches may arrive as its CPU half (decodeForGpu),
+    // else null; it must have a registered GPU decoder.
     // `water_maps`: patches may carry water bitmaps (archive sample flags), which then take
     // n² bytes per slot; else a single layer is allocated and never written.
     PatchTextures(int patch_size, const TessellationBlockLayout& layout, int levels, int slots,
-                  const HeightQuantization& quantization,
-                  const ProgressiveCodec* progressive = nullptr, bool water_maps = false);
+                  const HeightQuantization& quantization, const HeightCodec* gpu_codec = nullptr,
+                  bool water_maps = false);
     ~PatchTextures();
     PatchTextures(const PatchTextures&) = delete;
     PatchTextures& operator=(const PatchTextures&) = delete;
@@ -54,18 +57,22 @@ class PatchTextures {
     // Uploads `patch` (codes and λ) into `slot`. `lambda_cap` bounds λ (the patch's height
     // range): what lambdaMax reports.
     void upload(const stream::DecodedPatch& patch, int slot, float lambda_cap);
-    // Reconstructs `patch` (needsGpuReconstruction) into `slot` from the codes in
-    // `parent_slot` and derives λ unless the patch carries it. Until a derived λ's readback
-    // arrives (collect), lambdaMax reports `lambda_cap`.
-    void reconstruct(const stream::DecodedPatch& patch, int parent_slot, int slot,
+    // Decodes `patch` (decodesOnGpu) into `slot` with the codec's GPU decoder, from the codes
+    // in `parent_slot` when the codec reads its parent (−1 otherwise), applying `steps` of a
+    // refinable codec's steps, and derives λ unless the patch carries it. Until a derived λ's
+    // readback arrives (collect), lambdaMax reports `lambda_cap`.
+    void decodeOnGpu(const stream::DecodedPatch& patch, int parent_slot, int slot, int steps,
                      float lambda_cap);
+    // Refines the patch `p` in `slot` (decoded by a refinable codec) to `steps` and derives its
+    // λ again; its normal map follows in computeNormals.
+    void refine(PatchId p, int slot, int steps, float lambda_cap);
     // The normal map of the patch in `slot` from the height layers: its own and, for the ring
     // one sample beyond its border, its same-level neighbours' in `neighbour_slots` (west,
     // east, north, south; −1 extrapolates). `cell_metres` is the cell size along i and j.
     // The heights it reads must be written (uploads of the batch done).
     void computeNormals(int slot, const std::array<int, 4>& neighbour_slots, double cell_metres_i,
                         double cell_metres_j);
-    // What upload() or reconstruct() sends for `patch`, bytes: the per-frame budget plans
+    // What upload() or decodeOnGpu() sends for `patch`, bytes: the per-frame budget plans
     // with it and FrameStats counts it.
     size_t uploadBytes(const stream::DecodedPatch& patch) const;
     // Makes uploads visible to the draws that follow (one barrier per batch of uploads) and
@@ -93,12 +100,13 @@ class PatchTextures {
     // (1: cell mask, 2: water bitmap, 4: all water; terrain.frag): a patch without nodata or
     // water sends nothing but a one-byte flag reset when its slot held such a patch.
     void uploadMasks(const stream::DecodedPatch& patch, int slot);
+    // λ of the codes in `slot` on the GPU (block_errors.comp), read back at collect().
+    void deriveBlockErrors(int slot, float lambda_cap);
 
     int n_;
     TessellationBlockLayout layout_;
     int levels_;
     HeightQuantization quantization_;
-    const ProgressiveCodec* progressive_;
     std::vector<float> lambda_max_;
     std::vector<float> lambda_cap_;
     std::vector<uint32_t> generation_; // per slot: bumps on every upload
@@ -113,7 +121,7 @@ class PatchTextures {
     gpu::GlBuffer lambda_max_bits_; // per slot, written by block_errors.comp
     gpu::ShaderProgram normal_program_;
     gpu::ShaderProgram block_error_program_;
-    std::unique_ptr<GpuProgressiveDecoder> decoder_;
+    std::unique_ptr<GpuPatchDecoder> decoder_;
     // λ maxima derived on the GPU, waiting for their fence.
     struct PendingSlot {
         int slot;

@@ -3,10 +3,12 @@
 #include "ridge/core/error.h"
 #include "ridge/lod/edge_tessellation.h"
 #include "ridge/lod/resident_cover.h"
+#include "ridge/stream/refinement.h"
 
 #include <algorithm>
 #include <array>
 #include <exception>
+#include <limits>
 
 namespace ridge::render {
 namespace {
@@ -16,16 +18,20 @@ double millisecondsSince(std::chrono::steady_clock::time_point t0)
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// The codec's GPU reconstruction, unless a drawable scheme needs codes on the CPU.
-const ProgressiveCodec* gpuCodec(const archive::ArchiveReader& reader,
-                                 const RendererOptions& options, const SchemePlan& plan)
+} // namespace
+
+// The codec whose GPU decoder finishes the patches it decodes on the GPU, unless a drawable
+// scheme needs codes on the CPU (or --cpu-decode).
+const HeightCodec* ResidentSet::gpuDecodedCodec(const archive::ArchiveReader& reader,
+                                                const RendererOptions& options,
+                                                const SchemePlan& plan)
 {
-    return options.streaming && options.gpu_reconstruction && !plan.codes_on_cpu
-               ? reader.codec().capabilities().gpu_reconstruction
+    const HeightCodec& codec = reader.codec();
+    return options.streaming && options.gpu_reconstruction && !plan.codes_on_cpu &&
+                   codec.capabilities().gpu.first_level >= 0 && findGpuDecoder(codec)
+               ? &codec
                : nullptr;
 }
-
-} // namespace
 
 ResidentSet::ResidentSet(const archive::ArchiveReader& reader, const lod::PatchQuadtree& quadtree,
                          const RendererOptions& options, int slots, const SchemePlan& plan)
@@ -35,14 +41,14 @@ ResidentSet::ResidentSet(const archive::ArchiveReader& reader, const lod::PatchQ
           {options.upload_budget_ms, options.upload_frame_fraction, options.upload_budget_max_ms})
 {
     const TessellationBlockLayout layout = reader.blockLayout();
-    const ProgressiveCodec* gpu_codec = gpuCodec(reader, options, plan);
+    const HeightCodec* gpu_codec = gpuDecodedCodec(reader, options, plan);
     textures_ = std::make_unique<PatchTextures>(
         reader.geometry().patchSize(), layout, std::min(layout.levels(), lod::kMaxBlockLevels),
         slots, reader.quantization(), gpu_codec, PatchTextures::waterMaps(reader));
     if (options.streaming) {
         stream::StreamerOptions so = stream::StreamerOptions::forRamBudget(
             size_t(options.ram_budget_mb * 1024.0 * 1024.0), options.io_threads);
-        so.residuals_for_gpu = gpu_codec != nullptr;
+        so.gpu_decode = gpu_codec != nullptr;
         so.preparations = plan.preparations;
         streamer_ = std::make_unique<stream::PatchStreamer>(reader, so);
     }
@@ -64,25 +70,91 @@ void ResidentSet::start(Schemes& schemes)
     planner_ = std::make_unique<stream::UploadPlanner>(reader_.geometry(), residency_);
 }
 
-// Makes `patch` resident in `slot`: codes are uploaded, residuals reconstructed on the GPU
-// from the parent's slot. Slots in `pending_slots` are assigned this frame but not yet
-// written: their content must not be read. Returns the bytes sent. The normal map follows in
-// computeNormals.
+// Makes `patch` resident in `slot`: codes are uploaded, or the codec's GPU decoder finishes
+// its CPU half (from the parent's slot when the codec reads it). Slots in `pending_slots` are
+// assigned this frame but not yet written: their content must not be read. Returns the bytes sent.
+// The normal map follows in computeNormals.
 size_t ResidentSet::uploadPatch(const stream::DecodedPatch& patch, int slot,
                                 const std::unordered_set<int>& pending_slots)
 {
     const PatchId p = patch.id;
     const lod::PatchBounds& bounds = quadtree_.bounds(p);
     const float lambda_cap = bounds.max_height - bounds.min_height;
-    if (!patch.needsGpuReconstruction()) {
+    if (!patch.decodesOnGpu()) {
         textures_->upload(patch, slot, lambda_cap);
         return textures_->uploadBytes(patch) + schemes_->upload(patch, slot);
     }
-    const int parent_slot = residency_.slotOf(p.parent());
-    if (parent_slot < 0 || pending_slots.count(parent_slot))
-        throw Error(reader_.describe(p) + ": internal: parent not resident for GPU reconstruction");
-    textures_->reconstruct(patch, parent_slot, slot, lambda_cap);
+    int parent_slot = -1;
+    if (readsParent(p)) {
+        parent_slot = residency_.slotOf(p.parent());
+        if (parent_slot < 0 || pending_slots.count(parent_slot))
+            throw Error(reader_.describe(p) + ": internal: parent not resident for GPU decoding");
+    }
+    textures_->decodeOnGpu(patch, parent_slot, slot, stepsFor(patch, slot), lambda_cap);
+    ++gpu_decoded_;
     return textures_->uploadBytes(patch);
+}
+
+int ResidentSet::stepsFor(const stream::DecodedPatch& patch, int slot)
+{
+    const auto* refinable = dynamic_cast<const RefinablePayload*>(patch.gpu_payload.get());
+    if (!refinable)
+        return std::numeric_limits<int>::max();
+    if (slot_steps_.empty())
+        slot_steps_.resize(size_t(residency_.capacity()));
+    SlotSteps& s = slot_steps_[size_t(slot)];
+    const int full = refinable->fullSteps();
+    s.bounds.assign(size_t(full) + 1, 0.0);
+    for (int k = 0; k <= full; ++k)
+        s.bounds[size_t(k)] = refinable->stepBound(k);
+    s.steps = full;
+    if (options_.refine_steps_per_frame > 0) {
+        const auto it = view_.find(reader_.geometry().patchIndex(patch.id));
+        if (it != view_.end())
+            s.steps = stream::stepsForView(*refinable, reader_.quantization().scale,
+                                           quadtree_.bounds(patch.id).err, it->second.screen_error,
+                                           view_epsilon_px_);
+    }
+    return s.steps;
+}
+
+bool ResidentSet::refine(const lod::Selection& desired, FrameStats& stats)
+{
+    if (slot_steps_.empty() || options_.refine_steps_per_frame <= 0)
+        return false;
+    std::vector<const lod::SelectedPatch*> order;
+    for (const lod::SelectedPatch& s : desired.patches)
+        order.push_back(&s);
+    std::sort(order.begin(), order.end(),
+              [](const auto* a, const auto* b) { return a->screen_error > b->screen_error; });
+    int budget = options_.refine_steps_per_frame;
+    for (const lod::SelectedPatch* s : order) {
+        if (budget <= 0)
+            break;
+        const int slot = residency_.slotOf(s->id);
+        if (slot < 0 || slot_steps_[size_t(slot)].bounds.empty())
+            continue;
+        SlotSteps& steps = slot_steps_[size_t(slot)];
+        const int wanted =
+            stream::stepsForView(steps, reader_.quantization().scale, quadtree_.bounds(s->id).err,
+                                 s->screen_error, desired.epsilon_px);
+        if (wanted <= steps.steps)
+            continue;
+        const int to = std::min(wanted, steps.steps + budget);
+        const lod::PatchBounds& b = quadtree_.bounds(s->id);
+        textures_->refine(s->id, slot, to, b.max_height - b.min_height);
+        budget -= to - steps.steps;
+        stats.refine_steps += to - steps.steps;
+        ++stats.refined;
+        steps.steps = to;
+        computeNormals(s->id, {});
+    }
+    return stats.refined > 0;
+}
+
+bool ResidentSet::readsParent(PatchId p) const
+{
+    return p.level > 0 && reader_.codec().capabilities().gpu.parent_resident;
 }
 
 size_t ResidentSet::plannedUploadBytes(const stream::DecodedPatch& patch) const
@@ -166,12 +238,18 @@ lod::Selection ResidentSet::stream(const lod::Selection& desired, lod::PatchSele
     // Each streamed frame's time budget follows the frame time (stream::UploadTimeBudget).
     stats.upload_budget_ms = upload_time_.beginFrame(millisecondsSince(epoch_));
     streamer_->beginFrame();
+    view_.clear();
+    view_epsilon_px_ = desired.epsilon_px;
+    if (options_.refine_steps_per_frame > 0 && reader_.codec().capabilities().gpu.refinable)
+        for (const lod::SelectedPatch& s : desired.patches)
+            view_.emplace(reader_.geometry().patchIndex(s.id), s);
     for (auto& patch : streamer_->takeReady())
         arrived_.push_back(std::move(patch));
     arrived_descriptions_.clear();
     for (size_t k = 0; k < arrived_.size(); ++k)
-        arrived_descriptions_.push_back({arrived_[k]->id, plannedUploadBytes(*arrived_[k]),
-                                         arrived_[k]->needsGpuReconstruction(), k});
+        arrived_descriptions_.push_back(
+            {arrived_[k]->id, plannedUploadBytes(*arrived_[k]),
+             arrived_[k]->decodesOnGpu() && readsParent(arrived_[k]->id), k});
     const stream::StreamPlan& plan = planner_->plan(
         desired, arrived_descriptions_,
         {size_t(options_.upload_budget_mb * 1024.0 * 1024.0), options_.uploads_per_frame},
@@ -186,6 +264,7 @@ lod::Selection ResidentSet::stream(const lod::Selection& desired, lod::PatchSele
     // Coarse first (the plan's order), so that a parent uploaded this frame is written before
     // its children.
     const auto t0 = std::chrono::steady_clock::now();
+    const int gpu_decoded_before = gpu_decoded_;
     size_t done = 0;
     std::exception_ptr failure;
     try {
@@ -206,14 +285,15 @@ lod::Selection ResidentSet::stream(const lod::Selection& desired, lod::PatchSele
     if (failure)
         std::rethrow_exception(failure);
     upload_time_.endFrame(upload_ms);
+    const bool refined = refine(desired, stats);
     waiting_.clear();
     for (size_t h : outcome.waiting)
         waiting_.push_back(std::move(arrived_[h]));
     arrived_.swap(waiting_);
-    if (done > 0)
+    if (done > 0 || refined)
         textures_->finishUploads();
     stats.loaded = outcome.uploaded;
-    stats.reconstructed = outcome.reconstructed;
+    stats.reconstructed = gpu_decoded_ - gpu_decoded_before;
     stats.missing = outcome.missing;
     stats.resident = residency_.residentCount();
     return outcome.drawn;

@@ -23,6 +23,7 @@
 
 #include <chrono>
 #include <memory>
+#include <unordered_map>
 #include <unordered_set>
 #include <vector>
 
@@ -30,6 +31,12 @@ namespace ridge::render {
 
 class ResidentSet {
   public:
+    // The codec whose patches streaming decodes on the GPU (its registered GPU decoder), or
+    // null: a drawable scheme needs codes on the CPU, --cpu-decode, no streaming, or the codec
+    // has no GPU half.
+    static const HeightCodec* gpuDecodedCodec(const archive::ArchiveReader& reader,
+                                              const RendererOptions& options,
+                                              const SchemePlan& plan);
     // `slots` texture-array layers for the schemes of `plan`; the arguments must outlive this.
     // Streaming starts with start().
     ResidentSet(const archive::ArchiveReader& reader, const lod::PatchQuadtree& quadtree,
@@ -79,13 +86,35 @@ class ResidentSet {
     // What uploading `patch` will send, at most (the per-frame budget plans with it).
     size_t plannedUploadBytes(const stream::DecodedPatch& patch) const;
     void computeNormals(PatchId p, const std::unordered_set<int>& pending);
+    // Whether the GPU decode of `p` reads its parent's slot.
+    bool readsParent(PatchId p) const;
+    // Base incremental: the steps to decode `patch` with for this frame's view (all of them
+    // unless its codec is refinable and refinement is on), recorded for its slot.
+    int stepsFor(const stream::DecodedPatch& patch, int slot);
+    // Refines resident patches of `desired` decoded with fewer steps than the view now wants,
+    // within the per-frame step budget (most visible first); returns whether any was.
+    bool refine(const lod::Selection& desired, FrameStats& stats);
+
+    // A slot's refinable patch: the bound of each step count (codes) and what it has.
+    struct SlotSteps final : RefinablePayload {
+        std::vector<double> bounds; // k = 0..full
+        int steps = 0;
+        int fullSteps() const override { return int(bounds.size()) - 1; }
+        double stepBound(int k) const override { return bounds[size_t(k)]; }
+    };
 
     const archive::ArchiveReader& reader_;
     const lod::PatchQuadtree& quadtree_;
     const RendererOptions& options_;
     Schemes* schemes_ = nullptr; // from start()
     lod::PatchResidency residency_;
-    uint64_t frame_ = 0; // residency's clock (synchronous frames)
+    uint64_t frame_ = 0;  // residency's clock (synchronous frames)
+    int gpu_decoded_ = 0; // patches decoded on the GPU since construction
+    // Base incremental: per slot, its refinable patch's steps (empty bounds: none), and this
+    // frame's desired patches by index (their Err_Scr decides the steps).
+    std::vector<SlotSteps> slot_steps_;
+    std::unordered_map<int64_t, lod::SelectedPatch> view_;
+    double view_epsilon_px_ = 0.0;
     stream::PatchLoader loader_;
     std::unique_ptr<PatchTextures> textures_;
     // Streaming mode: decoded patches arrive from the streamer's workers and wait here for an

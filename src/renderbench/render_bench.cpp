@@ -109,6 +109,8 @@ RenderBenchReport runRenderBench(const std::string& archive, const RenderBenchOp
         f.missing = s.missing;
         f.loaded = s.loaded;
         f.reconstructed = s.reconstructed;
+        f.refined = s.refined;
+        f.refine_steps = s.refine_steps;
         f.epsilon_px = s.epsilon_px;
         f.coarser = s.coarser;
         f.cache_hits = s.cache_hits;

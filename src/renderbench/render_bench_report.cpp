@@ -319,6 +319,8 @@ std::string formatRenderBenchJson(const RenderBenchReport& r)
                           {"missing", f.missing},
                           {"loaded", f.loaded},
                           {"reconstructed", f.reconstructed},
+                          {"refined", f.refined},
+                          {"refine_steps", f.refine_steps},
                           {"epsilon_px", f.epsilon_px},
                           {"coarser", f.coarser},
                           {"cache_hits", f.cache_hits},

@@ -3,7 +3,6 @@
 #include "ridge/core/error.h"
 
 #include <algorithm>
-#include <limits>
 
 namespace ridge::stream {
 
@@ -23,30 +22,11 @@ void DecodedPatch::setDrawableCells(const PatchValidity& validity)
     }
 }
 
-void DecodedPatch::setResiduals(std::vector<int32_t> values)
-{
-    const bool narrow = std::all_of(values.begin(), values.end(), [](int32_t v) {
-        return v >= std::numeric_limits<int16_t>::min() && v <= std::numeric_limits<int16_t>::max();
-    });
-    residuals16.clear();
-    residuals.clear();
-    if (narrow)
-        residuals16.assign(values.begin(), values.end());
-    else
-        residuals = std::move(values);
-}
-
 void prepareProducts(DecodedPatch& patch, const std::vector<PatchPreparation>& preparations)
 {
     patch.prepared.clear();
     for (const PatchPreparation& prepare : preparations)
         patch.prepared.push_back(prepare(patch.id, patch.codes.data()));
-}
-
-std::vector<int32_t> DecodedPatch::residualsWide() const
-{
-    return residuals.empty() ? std::vector<int32_t>(residuals16.begin(), residuals16.end())
-                             : residuals;
 }
 
 PatchLoader::PatchLoader(const archive::ArchiveReader& reader, size_t cache_patches,

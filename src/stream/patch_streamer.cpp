@@ -180,19 +180,22 @@ PatchStreamer::Blob PatchStreamer::blobLocked(PatchId p, std::unique_lock<std::m
     return blob;
 }
 
-// Decodes `p` from its blob, unlocking around the decoding itself: to residuals when the GPU
-// reconstructs it, else to codes with its ancestors first when the codec predicts from them.
-// Two workers may decode a shared ancestor twice; the cache keeps one.
-std::shared_ptr<const DecodedPatch> PatchStreamer::decodeLocked(PatchId p,
-                                                                std::unique_lock<std::mutex>& lock)
+// Decodes `p` from its blob, unlocking around the decoding itself: to the codec's CPU half
+// when the GPU finishes it, else to codes with its ancestors first when the codec predicts from
+// them. Two workers may decode a shared ancestor twice; the cache keeps one. `codes`: decoded to
+// codes whatever the GPU could do (an ancestor a CPU half reads).
+std::shared_ptr<const DecodedPatch>
+PatchStreamer::decodeLocked(PatchId p, std::unique_lock<std::mutex>& lock, bool codes)
 {
     const int64_t key = reader_.geometry().patchIndex(p);
-    if (auto hit = findCacheLocked(key))
+    if (auto hit = findCacheLocked(key); hit && (!codes || !hit->codes.empty()))
         return hit;
-    const bool residuals = options_.residuals_for_gpu && reader_.decodesResiduals(p.level);
+    const GpuDecoding gpu = reader_.codec().capabilities().gpu;
+    const bool on_gpu = !codes && options_.gpu_decode && reader_.decodesOnGpu(p.level);
     std::shared_ptr<const DecodedPatch> parent;
-    if (!residuals && p.level > 0 && reader_.codec().needsParent(p.level))
-        parent = decodeLocked(p.parent(), lock);
+    if (p.level > 0 && reader_.codec().needsParent(p.level) &&
+        (!on_gpu || gpu.cpu_half_reads_parent))
+        parent = decodeLocked(p.parent(), lock, true);
     bool had_blob = false;
     const Blob blob = blobLocked(p, lock, &had_blob);
     lock.unlock();
@@ -200,11 +203,9 @@ std::shared_ptr<const DecodedPatch> PatchStreamer::decodeLocked(PatchId p,
     out->id = p;
     const size_t samples = size_t(reader_.geometry().patchSize()) * reader_.geometry().patchSize();
     try {
-        if (residuals) {
-            std::vector<int32_t> wide(samples);
-            out->residual_region =
-                reader_.decodeResiduals(p, *blob, wide.data(), &out->block_errors);
-            out->setResiduals(std::move(wide));
+        if (on_gpu) {
+            out->gpu_payload = reader_.decodeForGpu(
+                p, *blob, parent ? parent->codes.data() : nullptr, &out->block_errors);
             PatchValidity validity;
             reader_.payloadOffset(p, *blob, &validity, &out->sample_flags);
             out->setDrawableCells(validity);

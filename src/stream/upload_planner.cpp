@@ -175,7 +175,7 @@ void UploadPlanner::keepParentsOfWaiting(std::span<const ArrivedPatch> arrived)
 {
     for (size_t pos : order_) {
         const ArrivedPatch& a = arrived[pos];
-        if (a.needs_gpu_reconstruction && wanted_.contains(geometry_.patchIndex(a.id)) &&
+        if (a.needs_parent_resident && wanted_.contains(geometry_.patchIndex(a.id)) &&
             !resident(a.id) && resident(a.id.parent()) &&
             needed_list_.size() < size_t(residency_.capacity()))
             need(a.id.parent());
@@ -186,7 +186,7 @@ void UploadPlanner::keepParentsOfWaiting(std::span<const ArrivedPatch> arrived)
 // kept this frame (not evicted by this frame's uploads), or be uploaded before it.
 bool UploadPlanner::parentReady(const ArrivedPatch& a) const
 {
-    if (!a.needs_gpu_reconstruction)
+    if (!a.needs_parent_resident)
         return true;
     const int64_t parent = geometry_.patchIndex(a.id.parent());
     return uploading_.contains(parent) || (needed_.contains(parent) && resident(a.id.parent()));
@@ -215,8 +215,7 @@ void UploadPlanner::chooseUploads(std::span<const ArrivedPatch> arrived, const U
             planned_bytes += a.upload_bytes;
             need(a.id);
             uploading_.insert(key, 1);
-            plan_.uploads.push_back(
-                {a.id, -1, a.upload_bytes, a.needs_gpu_reconstruction, a.handle});
+            plan_.uploads.push_back({a.id, -1, a.upload_bytes, a.needs_parent_resident, a.handle});
         } else {
             outcome_.waiting.push_back(a.handle);
         }
@@ -309,7 +308,7 @@ const StreamOutcome& UploadPlanner::finish(size_t done)
     outcome_.uploaded = int(done);
     outcome_.reconstructed = 0;
     for (size_t k = 0; k < done; ++k)
-        outcome_.reconstructed += plan_.uploads[k].needs_gpu_reconstruction;
+        outcome_.reconstructed += plan_.uploads[k].needs_parent_resident;
     // Assigned but never written: free the slots, offer the patches again next frame.
     for (size_t k = done; k < plan_.uploads.size(); ++k) {
         residency_.release(plan_.uploads[k].id);

@@ -160,8 +160,29 @@ TEST(FractalCodec, AStoredPayloadDecodesToTheSameCodesForever)
     EXPECT_EQ(checksum, kAttractorChecksum) << "the integer decoder changed";
     ASSERT_EQ(codec.decode(decoded.data(), kPayload.data(), kPayload.size(), ctx), kCodecOk);
     EXPECT_LE(maxError(decoded, codes), 2);
-    // The encoder still writes it (zstd's output is Debian 12's libzstd's).
-    EXPECT_EQ(encode(codec, codes, ctx), kPayload);
+    // The encoder writes version 2: the same header and sections (zstd's output is Debian
+    // 12's libzstd's) with the bound of each partial decode between them, and it decodes the
+    // same.
+    const std::vector<uint8_t> v2 = encode(codec, codes, ctx);
+    ASSERT_EQ(v2.size(), kPayload.size() + 16);
+    EXPECT_EQ(v2[1], 2);
+    EXPECT_TRUE(std::equal(kPayload.begin() + 2, kPayload.begin() + 14, v2.begin() + 2));
+    EXPECT_TRUE(std::equal(kPayload.begin() + 14, kPayload.end(), v2.begin() + 30));
+    const std::vector<uint8_t> table(v2.begin() + 14, v2.begin() + 30);
+    EXPECT_EQ(table, (std::vector<uint8_t>{80, 2, 138, 1, 174, 0, 52, 0, 19, 0, 7, 0, 2, 0, 1, 0}))
+        << "max |partial_k − full| for k = 0..7: 592, 394, 174, 52, 19, 7, 2, 1 codes";
+    std::vector<uint16_t> again(codes.size());
+    ASSERT_EQ(codec.decode(again.data(), v2.data(), v2.size(), ctx), kCodecOk);
+    EXPECT_EQ(again, decoded);
+    // Every partial decode is within its stored bound of the full one.
+    for (int k = 0; k <= 8; ++k) {
+        ASSERT_EQ(codec.decodePartial(again.data(), v2.data(), v2.size(), ctx, k), kCodecOk);
+        const int bound = k == 8 ? 0 : table[size_t(2 * k)] | table[size_t(2 * k + 1)] << 8;
+        EXPECT_LE(maxError(again, decoded), bound) << k << " iterations";
+        if (k == 7) {
+            EXPECT_EQ(maxError(again, decoded), bound) << "the bound is the measured maximum";
+        }
+    }
 }
 
 TEST(FractalCodec, BadPayloadsAreRefusedAndNeverReadOutside)
@@ -178,7 +199,7 @@ TEST(FractalCodec, BadPayloadsAreRefusedAndNeverReadOutside)
     EXPECT_EQ(codec.decode(out.data(), longer.data(), longer.size(), ctx), kCodecTrailingBytes);
     // Header fields: magic, version, iterations 0 and 33, flags, a bound other than the codec's.
     for (const auto& [at, value] : std::vector<std::pair<size_t, uint8_t>>{
-             {0, 'G'}, {1, 2}, {2, 0}, {2, 33}, {3, 1}, {4, 4}}) {
+             {0, 'G'}, {1, 3}, {1, 0}, {2, 0}, {2, 33}, {3, 1}, {4, 4}}) {
         std::vector<uint8_t> bad = good;
         bad[at] = value;
         EXPECT_EQ(codec.decode(out.data(), bad.data(), bad.size(), ctx), kCodecBadHeader)

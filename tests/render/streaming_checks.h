@@ -2,6 +2,7 @@
 // What the streaming tests share (streaming_test.cpp and the schemes' own tests): a scene
 // with its own context, a fast fly-over, and the check that drawn patches tile the extent.
 #include "fixture_archives.h"
+#include "ridge/codec/codec_registry.h"
 
 #include "ridge/gpu/context.h"
 #include "ridge/render/terrain_renderer.h"
@@ -41,6 +42,21 @@ struct StreamingScene {
         reader = std::make_unique<archive::ArchiveReader>(test::buildEverestArchive(dir, codec));
     }
 };
+
+// The registered codecs whose patches may be decoded on the GPU (a GPU half, declared by the
+// codec): the streaming tests run each of them, naming none.
+inline std::vector<std::string> gpuDecodedCodecs()
+{
+    std::vector<std::string> names;
+    for (const CodecInfo& c : codecRegistry()) {
+        if (!c.lossy || (c.unavailable && !c.unavailable(c.name).empty()))
+            continue;
+        const auto codec = makeCodec(c.name, 1.0, 5);
+        if (codec->capabilities().gpu.first_level >= 0)
+            names.push_back(c.name);
+    }
+    return names;
+}
 
 // A low, fast fly-over from the south-west corner to the north-east one.
 inline lod::Camera flyover(const render::TerrainRenderer& r, int frame, int frames)

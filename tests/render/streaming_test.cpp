@@ -2,6 +2,8 @@
 // to full detail once the workers are done.
 #include "captured_surface_checks.h"
 #include "fixture_archives.h"
+#include "patch_textures.h"
+#include "resident_set.h"
 #include "streaming_checks.h"
 
 #include "ridge/gpu/context.h"
@@ -26,13 +28,24 @@ using test::StreamingScene;
 
 TEST(Streaming, AFastFlyOverUnderATinyBudgetNeverShowsAHoleAndStaysWithinBudget)
 {
-    for (const char* codec : {"lossless", "progressive"})
+    // Codes uploaded (lossless), and every codec decoded on the GPU.
+    std::vector<std::string> codecs = test::gpuDecodedCodecs();
+    codecs.insert(codecs.begin(), "lossless");
+    for (const std::string& codec_name : codecs)
         for (const int prefetch : {0, 20}) {
+            const char* codec = codec_name.c_str();
             StreamingScene scene(codec);
             render::RendererOptions options;
             options.prefetch_frames = prefetch;
             options.streaming = true;
-            options.vram_budget_mb = 24 * 7815.0 / (1024 * 1024); // 24 slots of 33² patches
+            // 24 slots of 33² patches (and of the GPU decoder's state).
+            const render::SchemePlan plan = render::planSchemes(*scene.reader, options);
+            options.vram_budget_mb =
+                24 *
+                render::PatchTextures::bytesPerSlot(
+                    33, scene.reader->blockLayout(), false,
+                    render::ResidentSet::gpuDecodedCodec(*scene.reader, options, plan)) /
+                (1024 * 1024);
             options.ram_budget_mb = 0.25;
             options.uploads_per_frame = 3;
             render::TerrainRenderer renderer(*scene.reader, options);
@@ -138,6 +151,7 @@ void expectResidentDataIsTheCpuDecoding(const archive::ArchiveReader& reader, bo
     render::RendererOptions options;
     options.streaming = true;
     options.gpu_reconstruction = gpu;
+    options.refine_steps_per_frame = 0; // refinable codecs decode fully: the CPU's codes
     render::TerrainRenderer renderer(reader, options);
     gpu::RenderTarget target(320, 180, 1);
     target.bind();
@@ -149,7 +163,7 @@ void expectResidentDataIsTheCpuDecoding(const archive::ArchiveReader& reader, bo
         stats = renderer.draw(cam, {});
         reconstructed += stats.reconstructed;
     }
-    ASSERT_EQ(stats.missing, 0) << what;
+    ASSERT_EQ(stats.missing, 0) << what << " " << renderer.streamingError();
     if (gpu)
         EXPECT_GT(reconstructed, 10) << what << ": the GPU path must be the one taken";
     else
@@ -188,20 +202,82 @@ void expectResidentDataIsTheCpuDecoding(const archive::ArchiveReader& reader, bo
 
 TEST(Streaming, GpuReconstructionLeavesTheCpuDecodersCodesAndBlockErrorsResident)
 {
-    StreamingScene scene("progressive");
-    expectResidentDataIsTheCpuDecoding(*scene.reader, true, "progressive, λ derived on the GPU");
-    expectResidentDataIsTheCpuDecoding(*scene.reader, false, "progressive, decoded on the CPU");
+    for (const std::string& codec : test::gpuDecodedCodecs()) {
+        StreamingScene scene(codec);
+        expectResidentDataIsTheCpuDecoding(*scene.reader, true,
+                                           (codec + ", λ derived on the GPU").c_str());
+        expectResidentDataIsTheCpuDecoding(*scene.reader, false,
+                                           (codec + ", decoded on the CPU").c_str());
+    }
     // λ stored in the archive: uploaded, not derived.
+    auto context = gpu::HeadlessContext::create();
+    test::ScratchDir dir;
     BuildOptions build;
     build.patch_size = 33;
     build.codec = "progressive";
     build.max_error = 2.0;
     build.store_block_errors = true;
     build.progress = {};
-    const std::string stored = scene.dir.path("stored.ridge");
+    const std::string stored = dir.path("stored.ridge");
     buildArchive(test::dataPath("everest_crop.tif"), stored, build);
     const archive::ArchiveReader reader(stored);
     expectResidentDataIsTheCpuDecoding(reader, true, "progressive, λ stored");
+}
+
+// The fractal-rings paper's "Base incremental", for every refinable codec: from afar, patches
+// are decoded with fewer steps than their full decode (what is drawn differs from it); as the
+// camera comes down to the terrain, resident patches are refined in place within the per-frame
+// step budget.
+TEST(Streaming, BaseIncrementalDecodesFarPatchesPartiallyAndRefinesThemAsTheViewerApproaches)
+{
+    size_t tested = 0;
+    for (const std::string& codec : test::gpuDecodedCodecs()) {
+        if (!makeCodec(codec, 1.0, 5)->capabilities().gpu.refinable)
+            continue;
+        ++tested;
+        StreamingScene scene(codec);
+        render::RendererOptions options;
+        options.streaming = true;
+        options.refine_steps_per_frame = 8;
+        render::TerrainRenderer renderer(*scene.reader, options);
+        gpu::RenderTarget target(320, 180, 1);
+        target.bind();
+        render::RenderSettings settings;
+        settings.epsilon_px = 4.0;
+        const lod::TerrainFrame& f = renderer.quadtree().frame();
+        const auto camera = [&](double height) {
+            const double x = f.extentX() * 0.5, y = f.extentY() * 0.5;
+            const double ground = renderer.groundHeight(x, y);
+            const glm::dvec3 pos(x - 0.3 * height, y - 0.3 * height, ground + height);
+            double near_m, far_m;
+            renderer.clipPlanesFor(pos, near_m, far_m);
+            return lod::Camera(pos, glm::dvec3(x, y, ground), 60.0, {320, 180}, near_m, far_m);
+        };
+        // Far: everything resident, then count the patches drawn from a partial decode.
+        const lod::Camera far = camera(60000.0);
+        render::FrameStats stats = renderer.draw(far, settings);
+        for (int k = 0; k < 60 && stats.missing > 0; ++k) {
+            renderer.waitForStreaming();
+            stats = renderer.draw(far, settings);
+        }
+        ASSERT_EQ(stats.missing, 0) << codec;
+        stream::PatchLoader cpu(*scene.reader);
+        size_t partial = 0;
+        for (PatchId p : renderer.lastDrawnPatches())
+            partial += renderer.residentCodes(p) != cpu.load(p)->codes;
+        EXPECT_GT(partial, 0u) << codec << ": far patches decoded with fewer steps";
+        // Down to the terrain: refinement in place, never more steps a frame than the budget.
+        int refined = 0;
+        for (int k = 0; k <= 40; ++k) {
+            renderer.waitForStreaming();
+            stats = renderer.draw(camera(60000.0 * std::pow(0.85, k)), settings);
+            EXPECT_LE(stats.refine_steps, 8) << codec << " frame " << k;
+            refined += stats.refined;
+        }
+        EXPECT_GT(refined, 0) << codec << ": resident patches refined as the viewer approached";
+        EXPECT_TRUE(renderer.streamingError().empty()) << renderer.streamingError();
+    }
+    EXPECT_GT(tested, 0u) << "a refinable codec is registered";
 }
 
 TEST(Streaming, TheUploadByteBudgetLimitsEachFrameButNeverStopsProgress)

@@ -7,9 +7,11 @@
 #include "ridge/pipeline/level_decoder.h"
 #include "ridge/stream/patch_loader.h"
 #include "ridge/stream/patch_streamer.h"
+#include "ridge/stream/refinement.h"
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -181,7 +183,7 @@ TEST(PatchStreamer, DeliversResidualsForTheGpuThatReconstructToTheCpuDecoding)
     const auto* codec = dynamic_cast<const ProgressiveCodec*>(&reader.codec());
     ASSERT_NE(codec, nullptr);
     stream::StreamerOptions options = stream::StreamerOptions::forRamBudget(64 << 20, 2);
-    options.residuals_for_gpu = true;
+    options.gpu_decode = true;
     stream::PatchStreamer streamer(reader, options);
     stream::PatchLoader loader(reader);
     const PyramidGeometry& g = reader.geometry();
@@ -200,20 +202,22 @@ TEST(PatchStreamer, DeliversResidualsForTheGpuThatReconstructToTheCpuDecoding)
             EXPECT_EQ(patch->codes, expected->codes) << "the root is decoded on the CPU";
             continue;
         }
-        ASSERT_TRUE(patch->needsGpuReconstruction());
+        ASSERT_TRUE(patch->decodesOnGpu());
         EXPECT_TRUE(patch->block_errors.empty()) << "λ derived: the GPU derives it";
+        const auto* residuals = dynamic_cast<const ProgressiveResiduals*>(patch->gpu_payload.get());
+        ASSERT_NE(residuals, nullptr) << "the progressive codec's CPU half";
         // The CPU reconstruction of the delivered residuals gives the CPU decoder's codes.
         const PatchId p = patch->id;
         const LevelQuantizer quant = codec->quantizer(p.level);
         const auto parent = loader.load(p.parent());
         for (size_t k = 0; k < q.size(); ++k)
             parent_q[k] = quant.quantize(parent->codes[k]);
-        EXPECT_NE(patch->residuals.empty(), patch->residuals16.empty()) << "one storage";
-        narrow += !patch->residuals16.empty();
-        reconstructChild(patch->residualsWide().data(), parent_q.data(), p.childIndex(), n,
-                         patch->residual_region, codec->variant().predictor, q.data(),
+        EXPECT_NE(residuals->residuals32.empty(), residuals->residuals16.empty()) << "one storage";
+        narrow += !residuals->residuals16.empty();
+        reconstructChild(residuals->wide().data(), parent_q.data(), p.childIndex(), n,
+                         residuals->region, codec->variant().predictor, q.data(),
                          codec->weights(p.level));
-        replicateBeyond(q.data(), n, patch->residual_region);
+        replicateBeyond(q.data(), n, residuals->region);
         size_t differing = 0;
         for (size_t k = 0; k < q.size(); ++k)
             differing += quant.reconstruct(q[k]) != expected->codes[k];
@@ -311,20 +315,23 @@ TEST(PatchStreamer, RunsTheSchemesPreparationsOnEveryDecodedPatchOnItsWorkers)
     }
 }
 
-TEST(DecodedPatch, HoldsResidualsIn16BitsWhenEveryOneFits)
+TEST(DecodedPatch, CountsItsGpuPayloadWhichHoldsResidualsIn16BitsWhenEveryOneFits)
 {
+    auto r = std::make_shared<ProgressiveResiduals>();
+    r->assign({-32768, 0, 32767});
+    EXPECT_EQ(r->residuals16, (std::vector<int16_t>{-32768, 0, 32767}));
+    EXPECT_TRUE(r->residuals32.empty());
+    EXPECT_EQ(r->wide(), (std::vector<int32_t>{-32768, 0, 32767}));
     stream::DecodedPatch p;
-    p.setResiduals({-32768, 0, 32767});
-    EXPECT_EQ(p.residuals16, (std::vector<int16_t>{-32768, 0, 32767}));
-    EXPECT_TRUE(p.residuals.empty());
-    EXPECT_TRUE(p.needsGpuReconstruction());
-    EXPECT_EQ(p.residualsWide(), (std::vector<int32_t>{-32768, 0, 32767}));
+    p.gpu_payload = r;
+    EXPECT_TRUE(p.decodesOnGpu());
     const size_t narrow_bytes = p.bytes();
-    p.setResiduals({-32768, 0, 32768});
-    EXPECT_TRUE(p.residuals16.empty());
-    EXPECT_EQ(p.residuals, (std::vector<int32_t>{-32768, 0, 32768}));
-    EXPECT_EQ(p.residualsWide(), p.residuals);
+    r->assign({-32768, 0, 32768});
+    EXPECT_TRUE(r->residuals16.empty());
+    EXPECT_EQ(r->residuals32, (std::vector<int32_t>{-32768, 0, 32768}));
+    EXPECT_EQ(r->wide(), r->residuals32);
     EXPECT_EQ(p.bytes(), narrow_bytes + 3 * 2);
+    EXPECT_EQ(r->uploadBytes(), 3u * 4u);
 }
 
 TEST(LruCache, EvictsTheLeastRecentlyUsedBeyondItsWeightButKeepsTheMinimumEntries)
@@ -344,4 +351,35 @@ TEST(LruCache, EvictsTheLeastRecentlyUsedBeyondItsWeightButKeepsTheMinimumEntrie
     EXPECT_EQ(cache.weight(), 540u);
     cache.insert(4, 41, 1); // present: kept as is
     EXPECT_EQ(*cache.find(4), 40);
+}
+
+namespace {
+
+// A refinable payload with given bounds per step count (codes).
+struct Steps final : RefinablePayload {
+    std::vector<double> bounds;
+    int fullSteps() const override { return int(bounds.size()) - 1; }
+    double stepBound(int k) const override { return bounds[size_t(k)]; }
+};
+
+} // namespace
+
+TEST(Refinement, TheFewestStepsWhoseAddedErrorKeepsThePatchWithinEpsilon)
+{
+    Steps s;
+    s.bounds = {400, 100, 30, 12, 5, 0};
+    // Err(P) = 2 m seen as 1 px: 0.5 px a metre; ε = 4 px leaves 3 px = 6 m; 1 code = 0.5 m.
+    EXPECT_EQ(stream::stepsForView(s, 0.5, 2.0, 1.0, 4.0), 3);  // 12 codes = 6 m
+    EXPECT_EQ(stream::stepsForView(s, 0.5, 2.0, 0.01, 4.0), 0); // far: even 400 codes fit
+    EXPECT_EQ(stream::stepsForView(s, 0.5, 2.0, 3.99, 4.0), 5); // no slack: all steps
+    // No view to judge by: the full decode.
+    EXPECT_EQ(stream::stepsForView(s, 0.5, 0.0, 1.0, 4.0), 5);
+    EXPECT_EQ(stream::stepsForView(s, 0.5, 2.0, 0.0, 4.0), 5);
+    EXPECT_EQ(stream::stepsForView(s, 0.5, 2.0, std::nan(""), 4.0), 5);
+    // A bound that is not monotone: the first count that fits.
+    s.bounds = {400, 5, 30, 0};
+    EXPECT_EQ(stream::stepsForView(s, 0.5, 2.0, 1.0, 4.0), 1);
+    // No bound stored for partial decodes (infinite): all steps.
+    s.bounds = {INFINITY, INFINITY, 0};
+    EXPECT_EQ(stream::stepsForView(s, 0.5, 2.0, 0.01, 4.0), 2);
 }

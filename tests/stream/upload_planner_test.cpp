@@ -233,7 +233,7 @@ class Simulation {
     void upload(const PlannedUpload& u)
     {
         // GPU reconstruction reads the parent's slot: it must hold the parent now.
-        if (u.needs_gpu_reconstruction) {
+        if (u.needs_parent_resident) {
             EXPECT_TRUE(written(u.id.parent()))
                 << "patch (" << u.id.level << "," << u.id.x << "," << u.id.y
                 << ") reconstructed without its parent resident";

@@ -25,7 +25,6 @@
 #include "ridge/archive/archive_metadata.h"
 #include "ridge/archive/format.h"
 #include "ridge/codec/height_codec.h"
-#include "ridge/codec/progressive_reconstruction.h"
 #include "ridge/core/height_grid.h"
 #include "ridge/pyramid/level_pyramid.h"
 #include "ridge/pyramid/sample_flags.h"
@@ -111,16 +110,18 @@ class ArchiveReader {
     // Whether they carry sample flags (format version >= 4).
     bool storesSampleFlags() const { return header_.version >= kFirstVersionWithSampleFlags; }
 
-    // The paper's CPU/GPU split of decoding: true when patches of `level` can be decoded as
-    // residuals (CPU, no parent needed) that a reconstruction on the GPU turns into codes
-    // (the progressive codec below its root).
-    bool decodesResiduals(int level) const;
-    // The CPU half for such a patch: residuals[patch_size²] from its blob (ProgressiveCodec::
-    // decodeResiduals). `block_errors` receives the stored λ(d) in metres, or is cleared when
-    // the archive derives them (the reconstruction must then derive them from the codes).
-    // Returns the samples the residuals cover (ProgressiveCodec::codedRegion).
-    CodedRegion decodeResiduals(PatchId p, const std::vector<uint8_t>& blob, int32_t* residuals,
-                                std::vector<float>* block_errors) const;
+    // Decoding split between CPU and GPU (the codec's capabilities().gpu): true when
+    // patches of `level` have a CPU half (decodeForGpu) that the codec's GPU decoder finishes.
+    bool decodesOnGpu(int level) const;
+    // The CPU half for such a patch, from its blob (HeightCodec::decodeForGpu). `block_errors`
+    // receives the stored λ(d) in metres, or is cleared when the GPU must derive them: when the
+    // archive does not store them, and for a refinable codec (a partial decode's λ is not the
+    // stored one). `parent`: the parent's codes, required when the codec's CPU half reads
+    // them (GpuDecoding::cpu_half_reads_parent) below the root. Throws ridge::Error naming the
+    // patch for a corrupt blob.
+    std::shared_ptr<const GpuPayload> decodeForGpu(PatchId p, const std::vector<uint8_t>& blob,
+                                                   const uint16_t* parent,
+                                                   std::vector<float>* block_errors) const;
     // Reads λ(d) of every block of `p` in metres (see TessellationBlockLayout for the order).
     // Archives built without stored block errors derive them from the decoded heights
     // (exact for what is drawn; costs a decode).

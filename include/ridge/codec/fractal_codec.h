@@ -14,10 +14,11 @@
 // Decoding is integer arithmetic throughout, so any decoder that follows pifs.h reproduces it
 // bit for bit.
 //
-// Payload (docs/FORMAT.md, "fractal"): u8 'F', u8 1, u8 iterations (1..32), u8 flags (0),
-// u16 E, u32 transforms_size, u32 edges_size, then three zstd frames: the transforms (per
-// range block, raster order: zigzag varints of the domain position less the range's, then
-// every s_q as a byte, then zigzag varint differences of o), the edges (zigzag varint
+// Payload (docs/FORMAT.md, "fractal"): u8 'F', u8 2, u8 iterations N (1..32), u8 flags (0),
+// u16 E, u32 transforms_size, u32 edges_size, u16 × N the bound of each partial decode (k = 0..
+// N−1 iterations: max |partial_k − full| in codes; version 1 has none), then three zstd frames: the
+// transforms (per range block, raster order: zigzag varints of the domain position less the
+// range's, then every s_q as a byte, then zigzag varint differences of o), the edges (zigzag varint
 // differences of q_e: top row, bottom row, left then right column without corners) and, to
 // the end, the corrections (zigzag varints, interior samples in raster order).
 #include "ridge/codec/height_codec.h"
@@ -25,6 +26,31 @@
 namespace ridge {
 
 inline constexpr CodecId kFractalCodecId{4};
+
+// The CPU half for the GPU decoder (decodeForGpu): what the paper keeps in a texture, per range
+// block, and what ridge adds for its bound. Refinable: the GPU may apply k < N iterations and
+// more later (Base incremental); stepBound(k) is what that adds to the patch's error.
+struct FractalPayload final : GpuPayload, RefinablePayload {
+    int iterations = 0; // N: what decode() applies
+    int32_t step = 1;   // 2E + 1: a correction's unit
+    // 4 per range block, raster order: domain x, domain y (domain grid), s_q, o (codes).
+    std::vector<int32_t> transforms;
+    // n × n: the pinned value (codes) of each edge sample, the correction q of every other.
+    std::vector<int32_t> samples;
+    std::vector<uint16_t> step_bounds; // codes, k = 0..N−1; empty for a version 1 payload
+
+    int fullSteps() const override { return iterations; }
+    // Infinite for k < N of a version 1 payload (no bound stored: decode fully).
+    double stepBound(int steps) const override;
+    size_t uploadBytes() const override
+    {
+        return (transforms.size() + samples.size()) * sizeof(int32_t);
+    }
+    size_t bytes() const override
+    {
+        return sizeof(*this) + uploadBytes() + step_bounds.size() * sizeof(uint16_t);
+    }
+};
 
 struct FractalVariant {
     static constexpr int kDefaultIterations = 8; // the paper's: converged after 8
@@ -52,6 +78,10 @@ class FractalCodec final : public HeightCodec {
     int decode(uint16_t* dst, const uint8_t* src, size_t src_size,
                const PatchContext& ctx) const override;
     void reconstruct(const uint16_t* codes, const PatchContext& ctx, uint16_t* out) const override;
+    // Every level decodes on the GPU, by itself (no parent), and may be refined in place.
+    CodecCapabilities capabilities() const override { return {false, {0, false, true}}; }
+    int decodeForGpu(const uint8_t* src, size_t src_size, const PatchContext& ctx,
+                     std::shared_ptr<const GpuPayload>* out) const override;
     std::string variantDescription() const override;
     void storeParameters(double param[2]) const override;
 
@@ -59,6 +89,11 @@ class FractalCodec final : public HeightCodec {
     // that stops early draws, for the iterations-against-error curve.
     int decodeAttractor(uint16_t* dst, const uint8_t* src, size_t src_size, const PatchContext& ctx,
                         int iterations) const;
+    // What a decoder that stops after `iterations` (clamped to 0..N) draws: that iterate plus
+    // the corrections, clamped to codes; decode() at N. Within E + stepBound(iterations) of the
+    // patch (FractalPayload).
+    int decodePartial(uint16_t* dst, const uint8_t* src, size_t src_size, const PatchContext& ctx,
+                      int iterations) const;
 
     const FractalVariant& variant() const { return variant_; }
     int bound() const { return bound_; }

@@ -45,7 +45,6 @@ struct PatchContext {
     int samples_y = 0;
 };
 
-class ProgressiveCodec;
 class HeightCodec;
 
 // Learns a codec's per-archive statistics (entropy tables) from the patches it is about to
@@ -58,16 +57,51 @@ class CodecTrainer {
     virtual std::unique_ptr<HeightCodec> finish() = 0;
 };
 
+// What one patch's CPU half of a GPU decode hands the GPU (HeightCodec::decodeForGpu): an
+// object of the codec's own type that only the GPU decoder registered for that codec reads
+// (ridge_render's GPU decoder registry). The stream carries it without knowing what it is.
+struct GpuPayload {
+    virtual ~GpuPayload() = default;
+    virtual size_t bytes() const = 0;       // RAM held, for the decoded-patch cache's budget
+    virtual size_t uploadBytes() const = 0; // what the GPU decoder sends for it
+};
+
+// How a codec's patches are decoded on the GPU, declared by the codec so that the streamer,
+// the planner and the renderer never find it out by its type.
+struct GpuDecoding {
+    // The coarsest level whose patches decodeForGpu serves (−1: the codec has no GPU half).
+    int first_level = -1;
+    // Levels below the root read their parent's resident codes (the progressive codec's
+    // residuals, the JPEG 2000 residual add): the planner makes the parent resident first.
+    bool parent_resident = false;
+    // A resident patch may be drawn from a partial decode and refined in place later (the
+    // fractal codec: fewer iterations of T); decodeForGpu's payload then says what each step
+    // costs in error (GpuPayload subclasses of such codecs implement RefinablePayload).
+    bool refinable = false;
+    // The CPU half itself reads the parent's codes below the root (the JPEG 2000 codec
+    // resolves its exact edges against the prediction): loaders decode ancestors to codes
+    // on the CPU first, and the patch is finished on the GPU.
+    bool cpu_half_reads_parent = false;
+    bool decodes(int level) const { return first_level >= 0 && level >= first_level; }
+};
+
+// The payload of a refinable codec: its steps (iterations) and the bound each leaves.
+struct RefinablePayload {
+    virtual ~RefinablePayload() = default;
+    // Steps of a full decode (what decode() applies).
+    virtual int fullSteps() const = 0;
+    // Bound on |decode after `steps` − full decode|, codes, for 0 <= steps <= fullSteps()
+    // (0 at fullSteps()): what a partial decode adds to the patch's error bound.
+    virtual double stepBound(int steps) const = 0;
+};
+
 // What a codec lets the stream and the renderer do with its patches, declared by the codec
 // (so that nothing finds it out by its type).
 struct CodecCapabilities {
     // Decoding a patch below the root needs its parent's reconstruction (needsParent), so
     // loaders decode ancestors first and keep them.
     bool needs_ancestors = false;
-    // Patches below the root can be entropy-decoded to residuals on the CPU and reconstructed
-    // on the GPU from the resident parent (the hardware-tessellation paper's split); the
-    // codec whose residuals and level quantizers the GPU pass uses. Null: codes only.
-    const ProgressiveCodec* gpu_reconstruction = nullptr;
+    GpuDecoding gpu;
 };
 
 class HeightCodec {
@@ -91,6 +125,15 @@ class HeightCodec {
     // True when a patch of `level` decodes only with ctx.parent (progressive coding).
     virtual bool needsParent(int /*level*/) const { return false; }
     virtual CodecCapabilities capabilities() const { return {}; }
+    // The CPU half of decoding a patch on the GPU (capabilities().gpu.decodes(ctx.level)):
+    // parses and entropy-decodes the payload into what the codec's GPU decoder finishes.
+    // Returns kCodecOk or a negative CodecStatus; the default has no GPU half.
+    virtual int decodeForGpu(const uint8_t* /*src*/, size_t /*src_size*/,
+                             const PatchContext& /*ctx*/,
+                             std::shared_ptr<const GpuPayload>* /*out*/) const
+    {
+        return kCodecBadHeader;
+    }
     // What decode(encode(codes)) returns, without coding: the heights a renderer will draw,
     // on which the build measures block errors and min/max. Identity for lossless codecs.
     virtual void reconstruct(const uint16_t* codes, const PatchContext& ctx, uint16_t* out) const;

@@ -66,8 +66,9 @@ struct Jpeg2000Variant {
 };
 
 // What one patch decodes to before the prediction is added: the n-bit image as coded, its
-// dequantization, and the edge samples' values (for the GPU residual add, §4).
-struct Jpeg2000Difference {
+// dequantization, and the edge samples' values: the CPU half of the GPU residual add (§4),
+// what decodeForGpu hands ridge_render's GPU decoder.
+struct Jpeg2000Difference final : GpuPayload {
     Jpeg2000Encoding kind = Jpeg2000Encoding::Progressive; // Direct: no parent (P = 0)
     int bits = 8;
     int width = 0, height = 0; // the coded region; the patch repeats beyond it
@@ -77,6 +78,18 @@ struct Jpeg2000Difference {
     // Final values minus the prediction on the patch's four edges (patch_size each; only
     // the region's part is meaningful): top y = 0, bottom y = C-1, left x = 0, right x = C-1.
     std::vector<int32_t> top, bottom, left, right;
+
+    size_t bytes() const override
+    {
+        return sizeof(*this) + image.size() * sizeof(uint16_t) +
+               (top.size() + bottom.size() + left.size() + right.size()) * sizeof(int32_t);
+    }
+    // D̂ in 8 bits a sample (16 beyond 8 bits) and the edges.
+    size_t uploadBytes() const override
+    {
+        return image.size() * (bits <= 8 ? 1 : 2) +
+               (top.size() + bottom.size() + left.size() + right.size()) * sizeof(int32_t);
+    }
 };
 
 class Jpeg2000Codec final : public HeightCodec {
@@ -95,6 +108,8 @@ class Jpeg2000Codec final : public HeightCodec {
                const PatchContext& ctx) const override;
     bool needsParent(int level) const override;
     CodecCapabilities capabilities() const override;
+    int decodeForGpu(const uint8_t* src, size_t src_size, const PatchContext& ctx,
+                     std::shared_ptr<const GpuPayload>* out) const override;
     void reconstruct(const uint16_t* codes, const PatchContext& ctx, uint16_t* out) const override;
     void storeParameters(double param[2]) const override;
 

@@ -39,6 +39,26 @@ namespace ridge {
 
 inline constexpr CodecId kProgressiveCodecId{2};
 
+// The CPU half's output for the GPU (decodeForGpu, a patch below the root): the entropy-
+// decoded residual grid that the GPU turns into codes from the parent's resident codes, in 16
+// bits a sample when every one fits (quantised prediction errors nearly always do: it halves
+// what a patch holds in the decoded cache and sends), else in 32.
+struct ProgressiveResiduals final : GpuPayload {
+    std::vector<int16_t> residuals16;
+    std::vector<int32_t> residuals32;
+    CodedRegion region; // the samples the residuals cover; the rest repeats them
+
+    // Stores `values` in 16 bits when every one fits, else in 32.
+    void assign(std::vector<int32_t> values);
+    // The residuals in 32 bits, however they are stored.
+    std::vector<int32_t> wide() const;
+    size_t uploadBytes() const override
+    {
+        return residuals16.size() * sizeof(int16_t) + residuals32.size() * sizeof(int32_t);
+    }
+    size_t bytes() const override { return sizeof(*this) + uploadBytes(); }
+};
+
 struct ProgressiveVariant {
     // v2's default number of levels sharing the finest bound (docs/PERF.md, "nested").
     static constexpr int kDefaultNestedLevels = 32;
@@ -77,7 +97,11 @@ class ProgressiveCodec final : public HeightCodec {
     int decode(uint16_t* dst, const uint8_t* src, size_t src_size,
                const PatchContext& ctx) const override;
     bool needsParent(int level) const override { return level > 0; }
-    CodecCapabilities capabilities() const override { return {true, this}; }
+    // The paper's split: patches below the root entropy-decode on the CPU and refine +
+    // predict + add on the GPU from the parent's resident codes.
+    CodecCapabilities capabilities() const override { return {true, {1, true, false}}; }
+    int decodeForGpu(const uint8_t* src, size_t src_size, const PatchContext& ctx,
+                     std::shared_ptr<const GpuPayload>* out) const override;
     void reconstruct(const uint16_t* codes, const PatchContext& ctx, uint16_t* out) const override;
     std::string variantDescription() const override { return variant_.describe(); }
     void storeParameters(double param[2]) const override;

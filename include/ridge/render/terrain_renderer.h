@@ -144,7 +144,11 @@ struct FrameStats {
     uint64_t bytes_uploaded = 0;
     int cache_hits = 0;    // requests served by the decoded-patch cache
     int cache_misses = 0;  // patches that had to be decoded
-    int reconstructed = 0; // of `loaded`, patches reconstructed on the GPU
+    int reconstructed = 0; // of `loaded`, patches decoded on the GPU
+    // Base incremental (refinable codecs, the fractal codec): resident patches refined in
+    // place this frame, and the steps (iterations) that took.
+    int refined = 0;
+    int refine_steps = 0;
 };
 
 // Triangles as the tessellator produced them, captured with transform feedback.
@@ -214,11 +218,19 @@ struct RendererOptions {
     double upload_budget_ms = 4.0;
     double upload_frame_fraction = 0.25;
     double upload_budget_max_ms = 250.0;
-    // Streaming with the progressive codec: the paper's split of decoding. Workers only
-    // entropy-decode; the GPU refines the resident parent, adds the predictions and residuals
-    // and derives λ (unless stored) and the normal map in compute passes. Parents of patches
-    // waiting to be reconstructed are kept resident. Off: workers decode to codes.
+    // Streaming with a codec that has a GPU half (HeightCodec::capabilities().gpu: progressive,
+    // jpeg2000, fractal): workers run the CPU half only (entropy decoding, parsing); the
+    // codec's GPU decoder finishes the patch (from the resident parent when the codec reads
+    // it) and λ (unless stored) and the normal map are derived in compute passes. Parents of
+    // patches waiting for them are kept resident. Off (--cpu-decode): workers decode to codes.
     bool gpu_reconstruction = true;
+    // Base incremental (the fractal-rings paper, §8), for refinable codecs decoded on the GPU:
+    // a patch is first decoded with the fewest steps that keep it within ε for the view
+    // (stream::stepsForView), and refined in place as the viewer approaches, at most this many
+    // steps (iterations over one patch) a frame. 0: every patch decoded fully on arrival (the
+    // paper's "Base").
+    static constexpr int kMaxRefineStepsPerFrame = 1 << 16;
+    int refine_steps_per_frame = 64;
     // Streaming: also request what the camera will see this many frames ahead at its current
     // velocity (after everything the current frame needs). 0 disables prefetching.
     int prefetch_frames = 20;

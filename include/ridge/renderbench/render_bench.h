@@ -56,6 +56,8 @@ struct FrameRecord {
     int missing = 0; // drawn by an ancestor while streaming
     int loaded = 0;
     int reconstructed = 0; // of `loaded`, on the GPU
+    int refined = 0;       // resident patches refined in place (Base incremental)
+    int refine_steps = 0;  // iterations that took
     double epsilon_px = 0; // ε met
     bool coarser = false;  // drawn above the requested ε: the view needed more slots
     int cache_hits = 0, cache_misses = 0; // decoded-patch cache

@@ -6,7 +6,6 @@
 //
 // Not thread-safe: one loader per render thread.
 #include "ridge/archive/archive_reader.h"
-#include "ridge/codec/progressive_reconstruction.h"
 #include "ridge/stream/lru_cache.h"
 
 #include <cstdint>
@@ -38,38 +37,25 @@ struct DecodedPatch {
     // Water and filled samples (archive sample flags, format version 4): kind None costs
     // nothing, AllWater nothing either, Mixed patch_size² bytes.
     PatchSampleFlags sample_flags;
-    // The paper's CPU/GPU split (PatchStreamer with residuals_for_gpu): instead of codes, the
-    // entropy-decoded residuals[patch_size^2] that the GPU turns into codes from the parent's
-    // resident codes. block_errors is then empty when the archive derives λ (the GPU derives
-    // it after reconstructing).
-    // Stored in 16 bits a sample when every one fits (quantised prediction errors nearly
-    // always do: it halves what a residual patch holds in the decoded cache), else in 32.
-    std::vector<int16_t> residuals16;
-    std::vector<int32_t> residuals;
-    // The samples the residuals cover (ProgressiveCodec::codedRegion); the rest repeats them.
-    CodedRegion residual_region;
+    // Decoding split between CPU and GPU (PatchStreamer with gpu_decode): instead of codes,
+    // the CPU half's output (ArchiveReader::decodeForGpu), which the codec's GPU decoder turns
+    // into codes. block_errors is then empty when the GPU derives λ after decoding.
+    std::shared_ptr<const GpuPayload> gpu_payload;
     // One product per preparation the loader or streamer was given, in their order, built by
     // the worker that decoded the codes so that the render thread only uploads them. Empty
-    // for residual patches (no codes on the CPU).
+    // for patches decoded on the GPU (no codes on the CPU).
     std::vector<std::shared_ptr<const PatchProduct>> prepared;
 
     // Sets drawable_cells from a decoded validity mask.
     void setDrawableCells(const PatchValidity& validity);
 
-    bool needsGpuReconstruction() const
-    {
-        return codes.empty() && (!residuals.empty() || !residuals16.empty());
-    }
-    // Stores `values` as residuals16 when every one fits in 16 bits, else as residuals.
-    void setResiduals(std::vector<int32_t> values);
-    // The residuals in 32 bits, however they are stored.
-    std::vector<int32_t> residualsWide() const;
+    bool decodesOnGpu() const { return codes.empty() && gpu_payload != nullptr; }
     size_t bytes() const
     {
         return sizeof(*this) + codes.size() * sizeof(uint16_t) +
                block_errors.size() * sizeof(float) + drawable_cells.size() +
-               sample_flags.flags.size() + residuals.size() * sizeof(int32_t) +
-               residuals16.size() * sizeof(int16_t) + preparedBytes();
+               sample_flags.flags.size() + (gpu_payload ? gpu_payload->bytes() : 0) +
+               preparedBytes();
     }
     size_t preparedBytes() const
     {

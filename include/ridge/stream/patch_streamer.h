@@ -6,8 +6,9 @@
 //      compressed patches, bounded in bytes (LRU);
 //   2. a decode pool entropy-decodes cached blobs into a RAM cache of decoded patches,
 //      bounded in bytes (LRU) — either to codes (ancestors first for predictive codecs) or,
-//      with residuals_for_gpu, to the progressive codec's residuals, which the renderer
-//      reconstructs on the GPU from the resident parent (hardware-tessellation paper,
+//      with gpu_decode, to the codec's CPU half (HeightCodec::decodeForGpu: the progressive
+//      codec's residuals, the JPEG 2000 difference layer, the fractal transforms), which the
+//      renderer's GPU decoder for the codec finishes (hardware-tessellation paper,
 //      "Implementation Details");
 //   3. the render thread calls request() for the patches it wants (each frame, with a
 //      priority: larger first) and takeReady() for what is decoded since.
@@ -36,9 +37,9 @@ struct StreamerOptions {
     size_t decoded_cache_bytes = size_t(192) << 20;   // decode results
     int io_threads = 1;
     int decode_threads = 2;
-    // Deliver progressive patches below the root as residuals for GPU reconstruction
-    // (DecodedPatch::residuals) instead of decoding them to codes on the CPU.
-    bool residuals_for_gpu = false;
+    // Deliver the patches the codec decodes on the GPU (ArchiveReader::decodesOnGpu) as its
+    // CPU half (DecodedPatch::gpu_payload) instead of decoding them to codes on the CPU.
+    bool gpu_decode = false;
     // Run by the decode workers on every patch they decode to codes (DecodedPatch::prepared):
     // what the renderer's LOD schemes derive from codes, built off the render thread.
     std::vector<PatchPreparation> preparations;
@@ -53,7 +54,7 @@ struct StreamerStats {
     uint64_t cancelled = 0;       // stale requests dropped
     uint64_t decoded = 0;         // patches decoded by the pool (ancestors included)
     uint64_t bytes_read = 0;      // blob bytes read from the archive
-    uint64_t bytes_decoded = 0;   // bytes of decode results (codes or residuals, λ)
+    uint64_t bytes_decoded = 0;   // bytes of decode results (codes or GPU payloads, λ)
     uint64_t cache_hits = 0;      // requests served from the decoded cache
     uint64_t compressed_hits = 0; // decodes that found their blob in the compressed cache
     size_t cache_bytes = 0;       // decoded patches held now
@@ -104,7 +105,8 @@ class PatchStreamer {
     void finishLocked(int64_t key);
     void failLocked(int64_t key, const std::string& message);
     Blob blobLocked(PatchId p, std::unique_lock<std::mutex>& lock, bool* cached = nullptr);
-    std::shared_ptr<const DecodedPatch> decodeLocked(PatchId p, std::unique_lock<std::mutex>& lock);
+    std::shared_ptr<const DecodedPatch> decodeLocked(PatchId p, std::unique_lock<std::mutex>& lock,
+                                                     bool codes = false);
     std::shared_ptr<const DecodedPatch> findCacheLocked(int64_t key);
 
     const archive::ArchiveReader& reader_;

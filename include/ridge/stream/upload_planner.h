@@ -28,8 +28,8 @@
 //   - uploads: arrived patches still wanted, coarse first (a parent is written before its
 //     children), within the byte and count budgets (at least one when one is ready) and the
 //     free slots, and (the executor's part) within a time budget that follows the frame time
-//     (UploadTimeBudget); a patch reconstructed on the GPU only once its parent is resident
-//     and kept, or uploaded earlier in the same plan.
+//     (UploadTimeBudget); a patch whose GPU decoder reads its parent only once the parent is
+//     resident and kept, or uploaded earlier in the same plan.
 //
 // No allocation per frame once the vectors have grown to the frame's sizes: members are
 // cleared, not rebuilt, and per-frame sets are FrameKeyMaps (generation-stamped open
@@ -54,9 +54,10 @@ namespace ridge::stream {
 // A decoded patch waiting on the CPU for its upload, as the planner sees it.
 struct ArrivedPatch {
     PatchId id;
-    size_t upload_bytes = 0;               // what uploading it sends, at most
-    bool needs_gpu_reconstruction = false; // refined on the GPU from its resident parent
-    size_t handle = 0;                     // the caller's: where the patch is in its list
+    size_t upload_bytes = 0; // what uploading it sends, at most
+    // Its GPU decoder reads the parent's resident codes (GpuDecoding::parent_resident).
+    bool needs_parent_resident = false;
+    size_t handle = 0; // the caller's: where the patch is in its list
 };
 
 // PatchStreamer::request(id, priority): a larger priority is served first.
@@ -155,7 +156,7 @@ struct PlannedUpload {
     PatchId id;
     int slot = 0; // the texture-array slot to write, from lod::PatchResidency::update
     size_t upload_bytes = 0;
-    bool needs_gpu_reconstruction = false;
+    bool needs_parent_resident = false;
     size_t handle = 0; // ArrivedPatch::handle
 };
 
@@ -175,7 +176,7 @@ struct StreamOutcome {
     std::vector<size_t> waiting; // handles of arrived patches to offer again next frame
     int missing = 0;             // desired patches drawn by an ancestor
     int uploaded = 0;            // uploads done
-    int reconstructed = 0;       // of those, reconstructed on the GPU
+    int reconstructed = 0;       // of those, decoded on the GPU from their parent's slot
 };
 
 // Coarse before fine, then by rank (SelectedPatch::rank, Err_Scr for the quadtree walk):

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 namespace ridge {
 
@@ -21,8 +22,9 @@ using progressive_tokens::getVarint;
 using progressive_tokens::putVarint;
 
 constexpr uint8_t kMagic = 'F';
-constexpr uint8_t kPayloadVersion = 1;
-constexpr size_t kHeaderSize = 14; // magic, version, iterations, flags, u16 E, 2 × u32 sizes
+constexpr uint8_t kPayloadVersion = 2; // 1: without the bound per iteration count
+constexpr size_t kHeaderSize = 14;     // magic, version, iterations, flags, u16 E, 2 × u32 sizes
+// v2: then u16 × iterations, the bound of each partial decode (stepBounds).
 constexpr int kZstdLevel = 9;
 constexpr size_t kMaxVarint = 4; // getVarint reads values below 2^28
 
@@ -178,22 +180,28 @@ struct Parsed {
     std::vector<uint16_t> pinned; // n × n, edge samples only
     std::vector<uint8_t> pinned_mask;
     std::vector<uint8_t> corrections;
+    std::vector<uint16_t> step_bounds; // k = 0..iterations−1; empty in a v1 payload
 };
 
 int parse(const uint8_t* src, size_t size, int n, int bound, Parsed& out)
 {
     if (size < kHeaderSize)
         return kCodecTruncated;
-    if (src[0] != kMagic || src[1] != kPayloadVersion || src[2] < 1 ||
+    if (src[0] != kMagic || (src[1] != 1 && src[1] != kPayloadVersion) || src[2] < 1 ||
         src[2] > FractalVariant::kMaxIterations || src[3] != 0 ||
         (uint32_t(src[4]) | uint32_t(src[5]) << 8) != uint32_t(bound))
         return kCodecBadHeader;
     out.iterations = src[2];
     const uint64_t transforms_size = getU32(src + 6), edges_size = getU32(src + 10);
-    if (kHeaderSize + transforms_size + edges_size > size)
+    const size_t table_size = src[1] == 1 ? 0 : size_t(2) * out.iterations;
+    if (kHeaderSize + table_size + transforms_size + edges_size > size)
         return kCodecTruncated;
     const Partition p = Partition::of(n);
     const uint8_t* at = src + kHeaderSize;
+    out.step_bounds.clear();
+    for (size_t k = 0; k < table_size; k += 2)
+        out.step_bounds.push_back(uint16_t(at[k] | at[k + 1] << 8));
+    at += table_size;
     std::vector<uint8_t> raw;
     if (const int s = inflate(at, size_t(transforms_size), transformBytesBound(p), raw); s)
         return s == kCodecTrailingBytes ? kCodecCorrupt : s;
@@ -224,8 +232,10 @@ int parse(const uint8_t* src, size_t size, int n, int bound, Parsed& out)
     return inflate(at, size_t(src + size - at), correctionBytesBound(n), out.corrections);
 }
 
-// Adds the corrections to the attractor's interior samples.
-int correct(const std::vector<uint8_t>& bytes, int n, int bound, uint16_t* dst)
+// Adds the corrections to the attractor's interior samples. `checked`: a value the bound
+// cannot explain (beyond [−E, 65535 + E]) is corruption; a partial decode (fewer iterations
+// than the payload's) only clamps, as the GPU decoder does.
+int correct(const std::vector<uint8_t>& bytes, int n, int bound, uint16_t* dst, bool checked = true)
 {
     const int32_t step = 2 * bound + 1;
     const uint8_t* at = bytes.data();
@@ -236,7 +246,7 @@ int correct(const std::vector<uint8_t>& bytes, int n, int bound, uint16_t* dst)
             if (!getVarint(at, end, u))
                 return kCodecCorrupt;
             const int64_t value = int64_t(dst[size_t(y) * n + x]) + int64_t(unzigzag(u)) * step;
-            if (value < -bound || value > 65535 + bound)
+            if (checked && (value < -bound || value > 65535 + bound))
                 return kCodecCorrupt;
             dst[size_t(y) * n + x] = uint16_t(std::clamp<int64_t>(value, 0, 65535));
         }
@@ -263,7 +273,8 @@ FractalCodec::FractalCodec(double max_error, int level_count, FractalVariant var
 size_t FractalCodec::encodeBound(const PatchContext& ctx) const
 {
     const int n = ctx.patch_size;
-    return kHeaderSize + ZSTD_compressBound(transformBytesBound(Partition::of(n))) +
+    return kHeaderSize + 2 * size_t(FractalVariant::kMaxIterations) +
+           ZSTD_compressBound(transformBytesBound(Partition::of(n))) +
            ZSTD_compressBound(edgeBytesBound(n)) + ZSTD_compressBound(correctionBytesBound(n));
 }
 
@@ -286,21 +297,39 @@ size_t FractalCodec::encode(uint8_t* dst, size_t dst_capacity, const uint16_t* c
         pinned[i] = uint16_t(std::min(q * step, 65535));
         mask[i] = 1;
     }
-    // Corrections from the attractor this payload decodes to.
-    std::vector<uint16_t> attractor(size_t(n) * n);
-    fractal::decodeAttractor(transforms, p, variant_.iterations, pinned.data(), mask.data(),
-                             attractor.data());
+    // Corrections from the attractor this payload decodes to, and what stopping after k < N
+    // iterations adds to the error: max |partial_k − full| (the corrections are added to every
+    // iterate, so only the interior moves).
+    const int iterations = variant_.iterations;
+    std::vector<std::vector<uint16_t>> iterates;
+    fractal::decodeIterates(
+        transforms, p, iterations, pinned.data(), mask.data(),
+        [&](int, const uint16_t* image) { iterates.emplace_back(image, image + size_t(n) * n); });
+    const std::vector<uint16_t>& attractor = iterates.back();
     std::vector<uint8_t> corrections;
+    std::vector<int32_t> q(size_t(n) * n, 0);
     for (int y = 1; y < n - 1; ++y)
         for (int x = 1; x < n - 1; ++x) {
             const size_t i = size_t(y) * n + x;
-            putVarint(corrections,
-                      zigzag(fractal::floorDiv(int32_t(codes[i]) - attractor[i] + bound_, step)));
+            q[i] = fractal::floorDiv(int32_t(codes[i]) - attractor[i] + bound_, step);
+            putVarint(corrections, zigzag(q[i]));
         }
+    const auto corrected = [&](const std::vector<uint16_t>& a, size_t i) {
+        return std::clamp(int64_t(a[i]) + int64_t(q[i]) * step, int64_t{0}, int64_t{65535});
+    };
+    std::vector<uint16_t> step_bounds(size_t(iterations), 0);
+    for (int k = 0; k < iterations; ++k) {
+        int64_t worst = 0;
+        for (size_t i = 0; i < q.size(); ++i)
+            worst = std::max(worst,
+                             std::abs(corrected(iterates[size_t(k)], i) - corrected(attractor, i)));
+        step_bounds[size_t(k)] = uint16_t(worst);
+    }
 
     const std::vector<uint8_t> t = compress(serializeTransforms(transforms, p)),
                                e = compress(edges), c = compress(corrections);
-    const size_t total = kHeaderSize + t.size() + e.size() + c.size();
+    const size_t table_size = 2 * step_bounds.size();
+    const size_t total = kHeaderSize + table_size + t.size() + e.size() + c.size();
     if (total > dst_capacity)
         return 0;
     dst[0] = kMagic;
@@ -311,6 +340,10 @@ size_t FractalCodec::encode(uint8_t* dst, size_t dst_capacity, const uint16_t* c
     putU32(dst + 6, uint32_t(t.size()));
     putU32(dst + 10, uint32_t(e.size()));
     uint8_t* at = dst + kHeaderSize;
+    for (const uint16_t b : step_bounds) {
+        putU16(at, b);
+        at += 2;
+    }
     for (const auto* section : {&t, &e, &c}) {
         std::memcpy(at, section->data(), section->size());
         at += section->size();
@@ -338,6 +371,65 @@ int FractalCodec::decode(uint16_t* dst, const uint8_t* src, size_t src_size,
     fractal::decodeAttractor(parsed.transforms, Partition::of(ctx.patch_size), parsed.iterations,
                              parsed.pinned.data(), parsed.pinned_mask.data(), dst);
     return correct(parsed.corrections, ctx.patch_size, bound_, dst);
+}
+
+int FractalCodec::decodePartial(uint16_t* dst, const uint8_t* src, size_t src_size,
+                                const PatchContext& ctx, int iterations) const
+{
+    Parsed parsed;
+    if (const int status = parse(src, src_size, ctx.patch_size, bound_, parsed); status)
+        return status;
+    const int k = std::clamp(iterations, 0, parsed.iterations);
+    fractal::decodeAttractor(parsed.transforms, Partition::of(ctx.patch_size), k,
+                             parsed.pinned.data(), parsed.pinned_mask.data(), dst);
+    return correct(parsed.corrections, ctx.patch_size, bound_, dst, k == parsed.iterations);
+}
+
+int FractalCodec::decodeForGpu(const uint8_t* src, size_t src_size, const PatchContext& ctx,
+                               std::shared_ptr<const GpuPayload>* out) const
+{
+    const int n = ctx.patch_size;
+    Parsed parsed;
+    if (const int status = parse(src, src_size, n, bound_, parsed); status)
+        return status;
+    auto payload = std::make_shared<FractalPayload>();
+    payload->iterations = parsed.iterations;
+    payload->step = 2 * bound_ + 1;
+    payload->transforms.reserve(parsed.transforms.size() * 4);
+    for (const Transform& t : parsed.transforms)
+        payload->transforms.insert(payload->transforms.end(), {t.domain_x, t.domain_y, t.s, t.o});
+    payload->samples.assign(size_t(n) * n, 0);
+    for (size_t i = 0; i < payload->samples.size(); ++i)
+        if (parsed.pinned_mask[i])
+            payload->samples[i] = parsed.pinned[i];
+    const uint8_t* at = parsed.corrections.data();
+    const uint8_t* end = at + parsed.corrections.size();
+    for (int y = 1; y < n - 1; ++y)
+        for (int x = 1; x < n - 1; ++x) {
+            uint32_t u = 0;
+            if (!getVarint(at, end, u))
+                return kCodecCorrupt;
+            // A correction beyond what any 16-bit sample needs is corruption (and would
+            // overflow the GPU's 32-bit arithmetic).
+            const int32_t q = unzigzag(u);
+            if (int64_t(std::abs(int64_t(q))) * payload->step > 65535 + 2 * int64_t(payload->step))
+                return kCodecCorrupt;
+            payload->samples[size_t(y) * n + x] = q;
+        }
+    if (at != end)
+        return kCodecCorrupt;
+    payload->step_bounds = std::move(parsed.step_bounds);
+    *out = std::move(payload);
+    return kCodecOk;
+}
+
+double FractalPayload::stepBound(int steps) const
+{
+    if (steps >= iterations)
+        return 0.0;
+    if (steps < 0 || step_bounds.size() != size_t(iterations))
+        return std::numeric_limits<double>::infinity(); // v1: no bound for a partial decode
+    return step_bounds[size_t(steps)];
 }
 
 void FractalCodec::reconstruct(const uint16_t* codes, const PatchContext& ctx, uint16_t* out) const

@@ -121,8 +121,20 @@ std::vector<Transform> encodeTransforms(const uint16_t* codes, const Partition& 
 void decodeAttractor(const std::vector<Transform>& transforms, const Partition& p, int iterations,
                      const uint16_t* pinned, const uint8_t* pinned_mask, uint16_t* out)
 {
+    decodeIterates(transforms, p, iterations, pinned, pinned_mask,
+                   [&](int i, const uint16_t* codes) {
+                       if (i == iterations)
+                           std::copy_n(codes, size_t(p.n) * p.n, out);
+                   });
+}
+
+void decodeIterates(const std::vector<Transform>& transforms, const Partition& p, int iterations,
+                    const uint16_t* pinned, const uint8_t* pinned_mask,
+                    const std::function<void(int, const uint16_t*)>& each)
+{
     const int m = p.side;
     std::vector<int32_t> f(size_t(m) * m), next(size_t(m) * m);
+    std::vector<uint16_t> codes(size_t(p.n) * p.n);
     const auto pin = [&](std::vector<int32_t>& image) {
         if (!pinned)
             return;
@@ -131,6 +143,14 @@ void decodeAttractor(const std::vector<Transform>& transforms, const Partition& 
                 if (pinned_mask[size_t(y) * p.n + x])
                     image[size_t(y) * m + x] = int32_t(pinned[size_t(y) * p.n + x])
                                                << kFractionBits;
+    };
+    const auto emit = [&](int i) {
+        for (int y = 0; y < p.n; ++y)
+            for (int x = 0; x < p.n; ++x)
+                codes[size_t(y) * p.n + x] = uint16_t(std::min(
+                    floorDiv(f[size_t(y) * m + x] + (1 << (kFractionBits - 1)), 1 << kFractionBits),
+                    65535));
+        each(i, codes.data());
     };
     // f_0: each range block at its fixed point o / (1 − s).
     for (int ry = 0; ry < p.ranges_per_side; ++ry)
@@ -144,6 +164,7 @@ void decodeAttractor(const std::vector<Transform>& transforms, const Partition& 
                             value);
         }
     pin(f);
+    emit(0);
     // f_{i+1} = T f_i: p = s · (mean of 2 × 2 of D) + o, in 1/16 code.
     for (int i = 0; i < iterations; ++i) {
         for (int ry = 0; ry < p.ranges_per_side; ++ry)
@@ -162,12 +183,8 @@ void decodeAttractor(const std::vector<Transform>& transforms, const Partition& 
             }
         f.swap(next);
         pin(f);
+        emit(i + 1);
     }
-    for (int y = 0; y < p.n; ++y)
-        for (int x = 0; x < p.n; ++x)
-            out[size_t(y) * p.n + x] = uint16_t(std::min(
-                floorDiv(f[size_t(y) * m + x] + (1 << (kFractionBits - 1)), 1 << kFractionBits),
-                65535));
 }
 
 } // namespace ridge::fractal

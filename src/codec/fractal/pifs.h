@@ -14,6 +14,7 @@
 // iteration near the patch instead of at 0. Samples given as pinned (the patch's edges, which
 // neighbouring patches share) are reset to their values after every iteration.
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 namespace ridge::fractal {
@@ -63,5 +64,11 @@ std::vector<Transform> encodeTransforms(const uint16_t* codes, const Partition& 
 // parser).
 void decodeAttractor(const std::vector<Transform>& transforms, const Partition& p, int iterations,
                      const uint16_t* pinned, const uint8_t* pinned_mask, uint16_t* out);
+// The same, calling `each(i, codes)` with the image after i = 0..iterations applications (n × n
+// codes, valid during the call): every iterate from one decode (the encoder's bound per
+// iteration count).
+void decodeIterates(const std::vector<Transform>& transforms, const Partition& p, int iterations,
+                    const uint16_t* pinned, const uint8_t* pinned_mask,
+                    const std::function<void(int, const uint16_t*)>& each);
 
 } // namespace ridge::fractal

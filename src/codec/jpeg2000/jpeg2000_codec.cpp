@@ -404,9 +404,22 @@ bool Jpeg2000Codec::needsParent(int level) const
     return level > 0 && variant_.encoding == Jpeg2000Encoding::Progressive;
 }
 
+// Every patch decodes on the GPU (§4): the residual add from the parent's resident codes,
+// or from 0 for the root and direct patches.
 CodecCapabilities Jpeg2000Codec::capabilities() const
 {
-    return {variant_.encoding == Jpeg2000Encoding::Progressive, nullptr};
+    const bool progressive = variant_.encoding == Jpeg2000Encoding::Progressive;
+    return {progressive, {0, progressive, false, progressive}};
+}
+
+int Jpeg2000Codec::decodeForGpu(const uint8_t* src, size_t src_size, const PatchContext& ctx,
+                                std::shared_ptr<const GpuPayload>* out) const
+{
+    auto d = std::make_shared<Jpeg2000Difference>();
+    if (const int status = decodeDifference(src, src_size, ctx, d.get()); status != kCodecOk)
+        return status;
+    *out = std::move(d);
+    return kCodecOk;
 }
 
 void Jpeg2000Codec::storeParameters(double param[2]) const

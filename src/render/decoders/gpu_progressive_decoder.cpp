@@ -1,5 +1,9 @@
 #include "gpu_progressive_decoder.h"
 
+#include "gpu_patch_decoder.h"
+#include "ridge/codec/progressive_codec.h"
+#include "ridge/core/error.h"
+
 namespace ridge::render {
 
 GpuProgressiveDecoder::GpuProgressiveDecoder(int patch_size)
@@ -64,6 +68,53 @@ void GpuProgressiveDecoder::run(int residual_bits, GLuint heights, int parent_la
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     }
     gpu::checkGlError("progressive decoder: reconstruct");
+}
+
+} // namespace ridge::render
+
+namespace ridge::render {
+namespace {
+
+// The registry's face of the decoder: the child's quantizer and predictor from the codec.
+class ProgressiveGpuDecoder final : public GpuPatchDecoder {
+  public:
+    ProgressiveGpuDecoder(const ProgressiveCodec& codec, int patch_size)
+        : codec_(codec), decoder_(patch_size)
+    {
+    }
+
+    void decode(const GpuPayload& payload, const Target& t, int) override
+    {
+        const auto& r = static_cast<const ProgressiveResiduals&>(payload);
+        const GpuProgressiveDecoder::Child child{t.child_index, codec_.quantizer(t.level),
+                                                 codec_.variant().predictor, r.region,
+                                                 codec_.weights(t.level)};
+        if (r.residuals32.empty())
+            decoder_.reconstruct(r.residuals16.data(), t.heights, t.parent_layer, t.layer, child);
+        else
+            decoder_.reconstruct(r.residuals32.data(), t.heights, t.parent_layer, t.layer, child);
+    }
+
+  private:
+    const ProgressiveCodec& codec_;
+    GpuProgressiveDecoder decoder_;
+};
+
+} // namespace
+
+GpuDecoderInfo progressiveGpuDecoder()
+{
+    return {
+        .codec = "progressive",
+        .make = [](const HeightCodec& codec, int patch_size,
+                   int) -> std::unique_ptr<GpuPatchDecoder> {
+            const auto* progressive = dynamic_cast<const ProgressiveCodec*>(&codec);
+            if (!progressive)
+                throw Error("internal error: the progressive GPU decoder given another codec");
+            return std::make_unique<ProgressiveGpuDecoder>(*progressive, patch_size);
+        },
+        .bytes_per_slot = [](int) { return 0.0; },
+    };
 }
 
 } // namespace ridge::render

@@ -1,7 +1,7 @@
 // The GPU reconstruction of the progressive codec equals the CPU decoder, bit for bit, on
 // every patch of real archives (both predictors, two patch sizes).
+#include "decoders/gpu_progressive_decoder.h"
 #include "fixture_archives.h"
-#include "gpu_progressive_decoder.h"
 
 #include "ridge/archive/archive_reader.h"
 #include "ridge/codec/progressive_codec.h"

@@ -1,5 +1,8 @@
 #include "gpu_jpeg2000_decoder.h"
 
+#include "gpu_patch_decoder.h"
+#include "ridge/core/error.h"
+
 namespace ridge::render {
 
 GpuJpeg2000Decoder::GpuJpeg2000Decoder(int patch_size)
@@ -50,6 +53,41 @@ void GpuJpeg2000Decoder::reconstruct(const Jpeg2000Difference& d, int child_inde
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, edges_.id());
     glDispatchCompute(GLuint(n_ + 7) / 8, GLuint(n_ + 7) / 8, 1);
     gpu::checkGlError("jpeg2000 decoder: residual add");
+}
+
+} // namespace ridge::render
+
+namespace ridge::render {
+namespace {
+
+class Jpeg2000GpuDecoder final : public GpuPatchDecoder {
+  public:
+    explicit Jpeg2000GpuDecoder(int patch_size) : decoder_(patch_size) {}
+
+    void decode(const GpuPayload& payload, const Target& t, int) override
+    {
+        decoder_.reconstruct(static_cast<const Jpeg2000Difference&>(payload), t.child_index,
+                             t.heights, t.parent_layer, t.layer);
+    }
+
+  private:
+    GpuJpeg2000Decoder decoder_;
+};
+
+} // namespace
+
+GpuDecoderInfo jpeg2000GpuDecoder()
+{
+    return {
+        .codec = "jpeg2000",
+        .make = [](const HeightCodec& codec, int patch_size,
+                   int) -> std::unique_ptr<GpuPatchDecoder> {
+            if (!dynamic_cast<const Jpeg2000Codec*>(&codec))
+                throw Error("internal error: the jpeg2000 GPU decoder given another codec");
+            return std::make_unique<Jpeg2000GpuDecoder>(patch_size);
+        },
+        .bytes_per_slot = [](int) { return 0.0; },
+    };
 }
 
 } // namespace ridge::render

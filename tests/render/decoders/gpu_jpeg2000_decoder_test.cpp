@@ -1,8 +1,8 @@
 // The GPU residual add of the jpeg2000 codec (the JPEG2000 paper's §4) equals the CPU decoder,
 // bit for bit, on every patch below the root of real archives: 8-bit difference layers (R8),
 // wider ones (R16), direct patches, clipped regions at the fixture's edge.
+#include "decoders/gpu_jpeg2000_decoder.h"
 #include "fixture_archives.h"
-#include "gpu_jpeg2000_decoder.h"
 
 #include "ridge/archive/archive_reader.h"
 #include "ridge/codec/jpeg2000_codec.h"

@@ -5,7 +5,7 @@
 // which adds it, scaled, to the bilinear prediction from the parent's codes in one layer of a
 // height-map array and writes the child's codes into another. Bit-identical to
 // Jpeg2000Codec::decode (tests/render/gpu_jpeg2000_decoder_test.cpp). Needs a current GL 4.5
-// context. Not yet driven by the streamer: archives of this codec stream CPU-decoded codes.
+// context. The streamer drives it through the GPU decoder registry (gpu_patch_decoder.h).
 #include "ridge/codec/jpeg2000_codec.h"
 #include "ridge/gpu/gl_objects.h"
 #include "ridge/gpu/shader_program.h"
