@@ -34,8 +34,10 @@ void CodecBenchCommand::registerWith(CLI::App& app)
     command_
         ->add_option("--ridge-codec", ridge_codecs_,
                      "ridge's codecs, one row each, as build --codec takes them; repeat for "
-                     "several, or `all` for every lossy codec registered (a lossy codec is built "
-                     "at each bound, a lossless one once per bound)")
+                     "several, or `all` for every lossy codec registered and the variants it "
+                     "asks to be compared (a lossy codec is built at each bound, a lossless one "
+                     "once per bound; a mode without a bound, fractal,mode=paper, codes the "
+                     "anchors' tiles and its errors are measured)")
         ->expected(1, 16)
         ->capture_default_str();
     command_->add_flag("--json", json_,
@@ -51,8 +53,11 @@ int CodecBenchCommand::run()
     for (const std::string& codec : ridge_codecs_) {
         if (codec == "all") {
             for (const CodecInfo& c : codecRegistry())
-                if (c.lossy)
+                if (c.lossy) {
                     ridge_codecs.push_back(c.name);
+                    ridge_codecs.insert(ridge_codecs.end(), c.bench_variants.begin(),
+                                        c.bench_variants.end());
+                }
             continue;
         }
         if (const std::string problem = codecSpecProblem(codec); !problem.empty())

@@ -126,4 +126,37 @@ std::unique_ptr<HeightCodec> makeCodec(CodecId id, const CodecSettings& settings
     return nullptr;
 }
 
+bool forEachSpecOption(const std::string& spec, std::string_view base,
+                       const std::function<bool(const std::string&, const std::string&)>& option)
+{
+    if (spec.rfind(base, 0) != 0)
+        return false;
+    if (spec.size() == base.size())
+        return true;
+    if (spec[base.size()] != ',')
+        return false;
+    size_t at = base.size() + 1;
+    while (at <= spec.size()) {
+        const size_t comma = std::min(spec.find(',', at), spec.size());
+        const std::string item = spec.substr(at, comma - at);
+        const size_t eq = item.find('=');
+        if (eq == std::string::npos || !option(item.substr(0, eq), item.substr(eq + 1)))
+            return false;
+        at = comma + 1;
+    }
+    return true;
+}
+
+std::optional<int> specNumber(const std::string& value, int lo, int hi)
+{
+    // At most 9 digits: std::stoi never overflows.
+    if (value.empty() || value.size() > 9 ||
+        value.find_first_not_of("0123456789") != std::string::npos)
+        return std::nullopt;
+    const int number = std::stoi(value);
+    if (number < lo || number > hi)
+        return std::nullopt;
+    return number;
+}
+
 } // namespace ridge

@@ -22,31 +22,24 @@ std::optional<ProgressiveVariant> variantOf(const std::string& spec)
         return ProgressiveVariant::v1();
     if (spec == "progressive-paper")
         return ProgressiveVariant::paper();
-    const std::string prefix = "progressive,";
-    if (spec.rfind(prefix, 0) != 0)
+    if (spec.rfind("progressive,", 0) != 0)
         return std::nullopt;
     ProgressiveVariant v;
-    size_t at = prefix.size();
-    while (at <= spec.size()) {
-        const size_t comma = std::min(spec.find(',', at), spec.size());
-        const std::string option = spec.substr(at, comma - at);
-        const size_t eq = option.find('=');
-        if (eq == std::string::npos)
-            return std::nullopt;
-        const std::string key = option.substr(0, eq), value = option.substr(eq + 1);
-        if (value.empty() || value.size() > 2 ||
-            value.find_first_not_of("0123456789") != std::string::npos)
-            return std::nullopt;
-        const int number = std::stoi(value);
-        if (key == "nested" && number >= 1 && number <= 32)
-            v.nested_levels = number;
-        else if (key == "corrections" && number <= 1)
-            v.corrections = number == 1;
-        else
-            return std::nullopt;
-        at = comma + 1;
-    }
-    return v;
+    const bool valid =
+        forEachSpecOption(spec, "progressive", [&](const auto& key, const auto& value) {
+            if (key == "nested") {
+                const auto k = specNumber(value, 1, 32);
+                v.nested_levels = k.value_or(0);
+                return k.has_value();
+            }
+            if (key == "corrections") {
+                const auto c = specNumber(value, 0, 1);
+                v.corrections = c == 1;
+                return c.has_value();
+            }
+            return false;
+        });
+    return valid ? std::optional(v) : std::nullopt;
 }
 
 constexpr const char* kOptionForms = "nested=K (1..32 finest levels at the finest bound), "

@@ -27,6 +27,8 @@ std::string formatPsnr(double psnr)
 
 std::string formatBound(const CodecRow& row)
 {
+    if (!row.bounded)
+        return fmt::format("none ({} samples beyond E)", row.violations);
     return row.bound_ok ? "ok" : fmt::format("VIOLATED ({} samples)", row.violations);
 }
 
@@ -196,7 +198,8 @@ std::string formatCodecBenchJson(const CodecBenchReport& r)
                             {"codec_decode_bytes", row.codec_decode_bytes},
                             {"codec_decode_mb_per_s", row.codec_decode_mb_per_s},
                             {"violations", row.violations},
-                            {"bound_ok", row.bound_ok}});
+                            {"bound_ok", row.bound_ok},
+                            {"bounded", row.bounded}});
             if (!row.view_bytes.empty()) {
                 nlohmann::json views = nlohmann::json::object();
                 for (const ViewBytesFigure& v : row.view_bytes)

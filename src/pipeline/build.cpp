@@ -104,6 +104,12 @@ BuildContext makeContext(int width, int height, const HeightQuantization& q,
                     " cells must be a power of two >= 2 dividing the patch's " +
                     std::to_string(options.patch_size - 1) + " cells");
     ctx.codec = makeCodec(options.codec, codecMaxError(q, options), ctx.geometry.levelCount());
+    // Err(P), the selection and the skirts rest on a bound: a codec mode without one (the
+    // fractal paper's) is for codec-bench, not for archives.
+    if (!std::isfinite(ctx.codec->levelErrorBound(ctx.geometry.finestLevel())))
+        throw Error("codec '" + options.codec +
+                    "' bounds no error (the paper's mode): an archive needs a bound for Err(P); "
+                    "ridge codec-bench --ridge-codec '" + options.codec + "' measures it");
     ctx.store_block_errors = options.store_block_errors;
     archive::Header& h = ctx.header;
     h.width = static_cast<uint32_t>(width);

@@ -1,6 +1,8 @@
 // `ridge bench` as a user runs it: figures for every frame, a plot, and clear errors.
 #include "test_support.h"
 
+#include "ridge/codec/codec_registry.h"
+#include "ridge/codec/height_codec.h"
 #include "ridge/render/terrain_renderer.h"
 
 #include <gtest/gtest.h>
@@ -87,6 +89,32 @@ TEST(BenchCli, TablePrintsTheFractalRingsRowsForEveryRendererWithAndWithoutCulli
         for (const std::string& row : {scheme + "  ", scheme + " without frustum"})
             EXPECT_NE(r.output.find(row), std::string::npos) << row << " in:\n" << r.output;
     EXPECT_NE(r.output.find("cache miss"), std::string::npos);
+}
+
+TEST(BenchCli, TableAddsTheBaseIncrementalRowsForAnArchiveThatRefinesInPlace)
+{
+    // The fractal-rings paper's last row: streamed, decoded on the GPU, far patches with fewer
+    // iterations refined as they near; schemes that need codes on the CPU say why they have no
+    // such row. Every registered codec that refines in place gets it.
+    test::ScratchDir dir;
+    size_t tested = 0;
+    for (const ridge::CodecInfo& c : codecRegistry()) {
+        if (!c.lossy || !makeCodec(c.name, 1.0, 5)->capabilities().gpu.refinable)
+            continue;
+        ++tested;
+        const std::string arc = test::buildEverestWithCli(
+            dir, std::string(c.name) + ".ridge",
+            std::string("--patch 33 --codec ") + c.name + " --max-error 4");
+        const test::CommandResult r = test::runRidge(
+            "bench '" + arc + "' --table --frames 8 --size 160x90 --json-file '" +
+            dir.path(std::string(c.name) + ".json") + "'");
+        ASSERT_EQ(r.exit_code, 0) << r.output;
+        size_t rows = 0;
+        for (const std::string& scheme : render::lodSchemeNames())
+            rows += r.output.find(scheme + " incremental") != std::string::npos;
+        EXPECT_GT(rows, 0u) << r.output;
+    }
+    EXPECT_GT(tested, 0u);
 }
 
 TEST(BenchCli, StreamingFramesAccountForTheirTrafficWithTheGpuOrTheCpuDecoding)

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <random>
 #include <vector>
 
@@ -213,4 +214,36 @@ TEST(FractalCodec, BadPayloadsAreRefusedAndNeverReadOutside)
         const int status = codec.decode(out.data(), bad.data(), bad.size(), ctx);
         EXPECT_LE(status, 0);
     }
+}
+
+TEST(FractalCodec, ThePapersModeSendsTheTransformsAloneAndPromisesNoBound)
+{
+    const std::vector<uint16_t> codes = terrain(33, 33, 11, 30);
+    const PatchContext ctx{33, 1, nullptr, 0, 0, 0};
+    FractalVariant paper_variant;
+    paper_variant.paper = true;
+    const FractalCodec paper(0.0, 2, paper_variant), bounded(3.0, 2);
+    EXPECT_FALSE(std::isfinite(paper.levelErrorBound(1)));
+    const std::vector<uint8_t> p = encode(paper, codes, ctx), b = encode(bounded, codes, ctx);
+    EXPECT_EQ(p[3], 1) << "the paper's flag";
+    EXPECT_LT(p.size(), b.size()) << "no edges, no corrections";
+    // Decodes to the attractor itself, iterated without pinning.
+    std::vector<uint16_t> out(codes.size()), attractor(codes.size());
+    ASSERT_EQ(paper.decode(out.data(), p.data(), p.size(), ctx), kCodecOk);
+    ASSERT_EQ(paper.decodeAttractor(attractor.data(), p.data(), p.size(), ctx, 8), kCodecOk);
+    EXPECT_EQ(out, attractor);
+    EXPECT_GT(maxError(out, codes), 3) << "nothing holds it within a bound";
+    // Neither mode decodes the other's payloads.
+    EXPECT_EQ(bounded.decode(out.data(), p.data(), p.size(), ctx), kCodecBadHeader);
+    EXPECT_EQ(paper.decode(out.data(), b.data(), b.size(), ctx), kCodecBadHeader);
+    // The GPU's payload: nothing pinned, no corrections.
+    std::shared_ptr<const GpuPayload> gpu;
+    ASSERT_EQ(paper.decodeForGpu(p.data(), p.size(), ctx, &gpu), kCodecOk);
+    const auto& f = static_cast<const FractalPayload&>(*gpu);
+    EXPECT_FALSE(f.pinned);
+    EXPECT_TRUE(std::all_of(f.samples.begin(), f.samples.end(), [](int32_t v) { return v == 0; }));
+    // Bytes after the transforms are refused.
+    std::vector<uint8_t> longer = p;
+    longer.push_back(0);
+    EXPECT_LT(paper.decode(out.data(), longer.data(), longer.size(), ctx), 0);
 }

@@ -136,6 +136,34 @@ TEST(CodecBench, EveryRegisteredLossyCodecGetsItsOwnRidgeRowWithinTheBound)
     EXPECT_THROW(runCodecBench(everest(), options), Error);
 }
 
+TEST(CodecBench, AVariantWithoutABoundCodesTheTilesAndReportsItsMeasuredErrors)
+{
+    // The variants the registry asks codec-bench to compare (the fractal paper's mode): no
+    // archive can hold them, so each anchor tile is one patch; max error, RMSE and PSNR are
+    // what was measured, never a bound.
+    test::ScratchDir dir;
+    CodecBenchOptions options = losslessOptions(dir, {4.0});
+    options.ridge_codecs.clear();
+    for (const ridge::CodecInfo& c : codecRegistry())
+        for (const char* v : c.bench_variants)
+            options.ridge_codecs.push_back(v);
+    ASSERT_FALSE(options.ridge_codecs.empty());
+    const CodecBenchReport r = runCodecBench(everest(), options);
+    for (size_t k = 0; k < options.ridge_codecs.size(); ++k) {
+        const CodecRow& row = r.bounds[0].rows[k];
+        EXPECT_FALSE(row.bounded) << row.codec;
+        EXPECT_EQ(row.scope, "tiles, no bound");
+        EXPECT_GT(row.bytes, 0u);
+        EXPECT_GT(row.max_error_metres, 4.0) << row.codec << ": the paper's codec has no bound";
+        EXPECT_GT(row.rmse_metres, 0.0);
+        EXPECT_TRUE(std::isfinite(row.psnr_db));
+        EXPECT_GT(row.violations, 0);
+    }
+    const std::string table = formatCodecBenchTable(r);
+    EXPECT_NE(table.find("none ("), std::string::npos) << table;
+    EXPECT_EQ(table.find("VIOLATED"), std::string::npos) << "a mode without a bound violates none";
+}
+
 TEST(CodecBench, TableAndJsonNameEveryCodecAndSayWhatRidgeCounts)
 {
     test::ScratchDir dir;

@@ -7,8 +7,11 @@
 // variants: "progressive-paper"), then options its module parses ("jpeg2000,criterion=rms").
 #include "ridge/codec/height_codec.h"
 
+#include <functional>
 #include <memory>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace ridge {
@@ -39,6 +42,9 @@ struct CodecInfo {
     // Why this process will not build with `spec` although it is valid (empty: it will);
     // null for codecs that are always available.
     std::string (*unavailable)(const std::string& spec) = nullptr;
+    // Variants `ridge codec-bench --ridge-codec all` runs beside the base name (a mode an
+    // archive cannot hold but the comparison needs: the fractal paper's, without a bound).
+    std::vector<const char*> bench_variants = {};
 };
 
 // Every codec, in registration order.
@@ -52,5 +58,13 @@ std::string codecSpecProblem(const std::string& spec);
 std::string codecNameList();
 // One line per codec for --help: "NAME: description (also ALIASES; NAME,OPTIONS)".
 std::string codecUsage();
+
+// For a codec module's spec parser: calls `option(key, value)` for each ",KEY=VALUE" after
+// `base` ("BASE" alone has none), in order. False when `spec` is not `base` followed by
+// nothing or by a comma, when an option has no '=', or when `option` refuses one.
+bool forEachSpecOption(const std::string& spec, std::string_view base,
+                       const std::function<bool(const std::string&, const std::string&)>& option);
+// `value` as a whole number in [lo, hi] (decimal digits only, no sign); nullopt otherwise.
+std::optional<int> specNumber(const std::string& value, int lo, int hi);
 
 } // namespace ridge

@@ -14,7 +14,8 @@
 // Decoding is integer arithmetic throughout, so any decoder that follows pifs.h reproduces it
 // bit for bit.
 //
-// Payload (docs/FORMAT.md, "fractal"): u8 'F', u8 2, u8 iterations N (1..32), u8 flags (0),
+// Payload (docs/FORMAT.md, "fractal"): u8 'F', u8 2, u8 iterations N (1..32), u8 flags (0, or
+// 1 for the paper's mode: E = 0, no edges, no corrections),
 // u16 E, u32 transforms_size, u32 edges_size, u16 × N the bound of each partial decode (k = 0..
 // N−1 iterations: max |partial_k − full| in codes; version 1 has none), then three zstd frames: the
 // transforms (per range block, raster order: zigzag varints of the domain position less the
@@ -33,6 +34,7 @@ inline constexpr CodecId kFractalCodecId{4};
 struct FractalPayload final : GpuPayload, RefinablePayload {
     int iterations = 0; // N: what decode() applies
     int32_t step = 1;   // 2E + 1: a correction's unit
+    bool pinned = true; // bounded mode: edges pinned, corrections added (paper mode: neither)
     // 4 per range block, raster order: domain x, domain y (domain grid), s_q, o (codes).
     std::vector<int32_t> transforms;
     // n × n: the pinned value (codes) of each edge sample, the correction q of every other.
@@ -61,6 +63,9 @@ struct FractalVariant {
     // Encoder only: domain blocks searched within this many domain positions of the range
     // block's own (0: all of the patch, the paper's full codebook search).
     int search = kDefaultSearch;
+    // The paper's codec as published: transforms only — no pinned edges, no corrections, no
+    // bound (levelErrorBound is infinite; codec-bench measures it, archives refuse it).
+    bool paper = false;
 };
 
 class FractalCodec final : public HeightCodec {
@@ -71,7 +76,7 @@ class FractalCodec final : public HeightCodec {
     CodecId id() const override { return kFractalCodecId; }
     const char* name() const override { return "fractal"; }
     bool lossless() const override { return false; }
-    double levelErrorBound(int) const override { return bound_; }
+    double levelErrorBound(int) const override;
     size_t encodeBound(const PatchContext& ctx) const override;
     size_t encode(uint8_t* dst, size_t dst_capacity, const uint16_t* codes,
                   const PatchContext& ctx) const override;

@@ -91,6 +91,7 @@ struct CodecRow {
     double codec_decode_mb_per_s = 0.0;
     int64_t violations = 0; // finest-level samples outside the bound
     bool bound_ok = true;
+    bool bounded = true; // false: a codec mode without a bound (errors measured, not promised)
     // ridge's row only (empty for anchors, which have no pyramid to select from): near, mid,
     // far at CodecBenchReport::view_*.
     std::vector<ViewBytesFigure> view_bytes;

@@ -141,6 +141,7 @@ struct RenderBenchReport {
     double triangles_mean = 0;
     uint64_t bytes_read = 0, bytes_decoded = 0, bytes_uploaded = 0; // all frames
     int reconstructed = 0;                                          // patches, on the GPU
+    int refined = 0, refine_steps = 0; // Base incremental: refinements in place, their steps
     // Resident memory after the first tenth of the frames and at the end (a soak is flat
     // when the two agree once the RAM caches are full).
     double rss_early_mib = 0, rss_end_mib = 0;

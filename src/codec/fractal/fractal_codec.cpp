@@ -27,6 +27,7 @@ constexpr size_t kHeaderSize = 14;     // magic, version, iterations, flags, u16
 // v2: then u16 × iterations, the bound of each partial decode (stepBounds).
 constexpr int kZstdLevel = 9;
 constexpr size_t kMaxVarint = 4; // getVarint reads values below 2^28
+constexpr uint8_t kPaperFlag = 1; // the paper's mode: transforms alone
 
 uint32_t zigzag(int32_t v)
 {
@@ -183,13 +184,14 @@ struct Parsed {
     std::vector<uint16_t> step_bounds; // k = 0..iterations−1; empty in a v1 payload
 };
 
-int parse(const uint8_t* src, size_t size, int n, int bound, Parsed& out)
+int parse(const uint8_t* src, size_t size, int n, int bound, bool paper, Parsed& out)
 {
     if (size < kHeaderSize)
         return kCodecTruncated;
     if (src[0] != kMagic || (src[1] != 1 && src[1] != kPayloadVersion) || src[2] < 1 ||
-        src[2] > FractalVariant::kMaxIterations || src[3] != 0 ||
-        (uint32_t(src[4]) | uint32_t(src[5]) << 8) != uint32_t(bound))
+        src[2] > FractalVariant::kMaxIterations || src[3] != (paper ? kPaperFlag : 0) ||
+        (uint32_t(src[4]) | uint32_t(src[5]) << 8) != uint32_t(bound) ||
+        (paper && src[1] == 1))
         return kCodecBadHeader;
     out.iterations = src[2];
     const uint64_t transforms_size = getU32(src + 6), edges_size = getU32(src + 10);
@@ -208,6 +210,12 @@ int parse(const uint8_t* src, size_t size, int n, int bound, Parsed& out)
     if (!parseTransforms(raw, p, out.transforms))
         return kCodecCorrupt;
     at += transforms_size;
+    if (paper) { // transforms alone: nothing pinned, nothing to correct
+        out.pinned.clear();
+        out.pinned_mask.clear();
+        out.corrections.clear();
+        return edges_size == 0 && at == src + size ? kCodecOk : kCodecCorrupt;
+    }
     if (const int s = inflate(at, size_t(edges_size), edgeBytesBound(n), raw); s)
         return s == kCodecTrailingBytes ? kCodecCorrupt : s;
     const int32_t step = 2 * bound + 1, top = (65535 + bound) / step;
@@ -253,6 +261,15 @@ int correct(const std::vector<uint8_t>& bytes, int n, int bound, uint16_t* dst, 
     return at == end ? kCodecOk : kCodecCorrupt;
 }
 
+// The image after `iterations` of T, edges pinned unless the payload is the paper's mode.
+void iterate(const Parsed& parsed, int n, int iterations, uint16_t* dst)
+{
+    const bool pinned = !parsed.pinned.empty();
+    fractal::decodeAttractor(parsed.transforms, Partition::of(n), iterations,
+                             pinned ? parsed.pinned.data() : nullptr,
+                             pinned ? parsed.pinned_mask.data() : nullptr, dst);
+}
+
 } // namespace
 
 FractalCodec::FractalCodec(double max_error, int level_count, FractalVariant variant)
@@ -267,7 +284,12 @@ FractalCodec::FractalCodec(double max_error, int level_count, FractalVariant var
         throw Error("fractal codec: iterations must be 1 to 32");
     if (variant.search < 0 || variant.search > FractalVariant::kMaxSearch)
         throw Error("fractal codec: search must be 0 to 1024");
-    bound_ = int(std::floor(max_error));
+    bound_ = variant.paper ? 0 : int(std::floor(max_error));
+}
+
+double FractalCodec::levelErrorBound(int) const
+{
+    return variant_.paper ? std::numeric_limits<double>::infinity() : double(bound_);
 }
 
 size_t FractalCodec::encodeBound(const PatchContext& ctx) const
@@ -285,12 +307,14 @@ size_t FractalCodec::encode(uint8_t* dst, size_t dst_capacity, const uint16_t* c
     const Partition p = Partition::of(n);
     const std::vector<Transform> transforms = fractal::encodeTransforms(codes, p, variant_.search);
 
-    // Edges: a function of the exact heights alone, identical in both neighbours.
+    // Edges: a function of the exact heights alone, identical in both neighbours (none in
+    // the paper's mode, which sends the transforms alone).
+    const bool paper = variant_.paper;
     const int32_t step = 2 * bound_ + 1;
     std::vector<uint16_t> pinned(size_t(n) * n, 0);
     std::vector<uint8_t> mask(size_t(n) * n, 0), edges;
     int32_t previous = 0;
-    for (const size_t i : edgeOrder(n)) {
+    for (const size_t i : paper ? std::vector<size_t>() : edgeOrder(n)) {
         const int32_t q = fractal::floorDiv(int32_t(codes[i]) + bound_, step);
         putVarint(edges, zigzag(q - previous));
         previous = q;
@@ -303,12 +327,12 @@ size_t FractalCodec::encode(uint8_t* dst, size_t dst_capacity, const uint16_t* c
     const int iterations = variant_.iterations;
     std::vector<std::vector<uint16_t>> iterates;
     fractal::decodeIterates(
-        transforms, p, iterations, pinned.data(), mask.data(),
+        transforms, p, iterations, paper ? nullptr : pinned.data(), paper ? nullptr : mask.data(),
         [&](int, const uint16_t* image) { iterates.emplace_back(image, image + size_t(n) * n); });
     const std::vector<uint16_t>& attractor = iterates.back();
     std::vector<uint8_t> corrections;
     std::vector<int32_t> q(size_t(n) * n, 0);
-    for (int y = 1; y < n - 1; ++y)
+    for (int y = 1; y < n - 1 && !paper; ++y)
         for (int x = 1; x < n - 1; ++x) {
             const size_t i = size_t(y) * n + x;
             q[i] = fractal::floorDiv(int32_t(codes[i]) - attractor[i] + bound_, step);
@@ -327,7 +351,8 @@ size_t FractalCodec::encode(uint8_t* dst, size_t dst_capacity, const uint16_t* c
     }
 
     const std::vector<uint8_t> t = compress(serializeTransforms(transforms, p)),
-                               e = compress(edges), c = compress(corrections);
+                               e = paper ? std::vector<uint8_t>() : compress(edges),
+                               c = paper ? std::vector<uint8_t>() : compress(corrections);
     const size_t table_size = 2 * step_bounds.size();
     const size_t total = kHeaderSize + table_size + t.size() + e.size() + c.size();
     if (total > dst_capacity)
@@ -335,7 +360,7 @@ size_t FractalCodec::encode(uint8_t* dst, size_t dst_capacity, const uint16_t* c
     dst[0] = kMagic;
     dst[1] = kPayloadVersion;
     dst[2] = uint8_t(variant_.iterations);
-    dst[3] = 0;
+    dst[3] = paper ? kPaperFlag : 0;
     putU16(dst + 4, uint32_t(bound_));
     putU32(dst + 6, uint32_t(t.size()));
     putU32(dst + 10, uint32_t(e.size()));
@@ -355,10 +380,9 @@ int FractalCodec::decodeAttractor(uint16_t* dst, const uint8_t* src, size_t src_
                                   const PatchContext& ctx, int iterations) const
 {
     Parsed parsed;
-    if (const int status = parse(src, src_size, ctx.patch_size, bound_, parsed); status)
+    if (const int status = parse(src, src_size, ctx.patch_size, bound_, variant_.paper, parsed); status)
         return status;
-    fractal::decodeAttractor(parsed.transforms, Partition::of(ctx.patch_size), iterations,
-                             parsed.pinned.data(), parsed.pinned_mask.data(), dst);
+    iterate(parsed, ctx.patch_size, iterations, dst);
     return kCodecOk;
 }
 
@@ -366,23 +390,23 @@ int FractalCodec::decode(uint16_t* dst, const uint8_t* src, size_t src_size,
                          const PatchContext& ctx) const
 {
     Parsed parsed;
-    if (const int status = parse(src, src_size, ctx.patch_size, bound_, parsed); status)
+    if (const int status = parse(src, src_size, ctx.patch_size, bound_, variant_.paper, parsed); status)
         return status;
-    fractal::decodeAttractor(parsed.transforms, Partition::of(ctx.patch_size), parsed.iterations,
-                             parsed.pinned.data(), parsed.pinned_mask.data(), dst);
-    return correct(parsed.corrections, ctx.patch_size, bound_, dst);
+    iterate(parsed, ctx.patch_size, parsed.iterations, dst);
+    return variant_.paper ? kCodecOk : correct(parsed.corrections, ctx.patch_size, bound_, dst);
 }
 
 int FractalCodec::decodePartial(uint16_t* dst, const uint8_t* src, size_t src_size,
                                 const PatchContext& ctx, int iterations) const
 {
     Parsed parsed;
-    if (const int status = parse(src, src_size, ctx.patch_size, bound_, parsed); status)
+    if (const int status = parse(src, src_size, ctx.patch_size, bound_, variant_.paper, parsed); status)
         return status;
     const int k = std::clamp(iterations, 0, parsed.iterations);
-    fractal::decodeAttractor(parsed.transforms, Partition::of(ctx.patch_size), k,
-                             parsed.pinned.data(), parsed.pinned_mask.data(), dst);
-    return correct(parsed.corrections, ctx.patch_size, bound_, dst, k == parsed.iterations);
+    iterate(parsed, ctx.patch_size, k, dst);
+    return variant_.paper ? kCodecOk
+                          : correct(parsed.corrections, ctx.patch_size, bound_, dst,
+                                    k == parsed.iterations);
 }
 
 int FractalCodec::decodeForGpu(const uint8_t* src, size_t src_size, const PatchContext& ctx,
@@ -390,15 +414,21 @@ int FractalCodec::decodeForGpu(const uint8_t* src, size_t src_size, const PatchC
 {
     const int n = ctx.patch_size;
     Parsed parsed;
-    if (const int status = parse(src, src_size, n, bound_, parsed); status)
+    if (const int status = parse(src, src_size, n, bound_, variant_.paper, parsed); status)
         return status;
     auto payload = std::make_shared<FractalPayload>();
     payload->iterations = parsed.iterations;
     payload->step = 2 * bound_ + 1;
+    payload->pinned = !variant_.paper;
+    payload->step_bounds = std::move(parsed.step_bounds);
     payload->transforms.reserve(parsed.transforms.size() * 4);
     for (const Transform& t : parsed.transforms)
         payload->transforms.insert(payload->transforms.end(), {t.domain_x, t.domain_y, t.s, t.o});
     payload->samples.assign(size_t(n) * n, 0);
+    if (variant_.paper) {
+        *out = std::move(payload);
+        return kCodecOk;
+    }
     for (size_t i = 0; i < payload->samples.size(); ++i)
         if (parsed.pinned_mask[i])
             payload->samples[i] = parsed.pinned[i];
@@ -418,7 +448,6 @@ int FractalCodec::decodeForGpu(const uint8_t* src, size_t src_size, const PatchC
         }
     if (at != end)
         return kCodecCorrupt;
-    payload->step_bounds = std::move(parsed.step_bounds);
     *out = std::move(payload);
     return kCodecOk;
 }
@@ -442,7 +471,7 @@ void FractalCodec::reconstruct(const uint16_t* codes, const PatchContext& ctx, u
 
 std::string FractalCodec::variantDescription() const
 {
-    return "bounded, " + std::to_string(variant_.iterations) + " iterations, search " +
+    return std::string(variant_.paper ? "the paper's (no bound), " : "bounded, ") + std::to_string(variant_.iterations) + " iterations, search " +
            (variant_.search == 0 ? std::string("all") : std::to_string(variant_.search));
 }
 

@@ -13,40 +13,31 @@ namespace {
 
 constexpr const char* kOptionForms =
     "iterations=N (1..32 applications of T when decoding, default 8), search=R (0..1024 "
-    "domain positions around each range block, 0 = the whole patch; default 8)";
+    "domain positions around each range block, 0 = the whole patch; default 8), "
+    "mode=bounded|paper (paper: the transforms alone, no bound — codec-bench only)";
 
-// "fractal[,iterations=N][,search=R]"; nullopt for anything else.
+// "fractal[,iterations=N][,search=R][,mode=bounded|paper]"; nullopt for anything else.
 std::optional<FractalVariant> variantOf(const std::string& spec)
 {
-    const std::string base = "fractal";
-    if (spec.rfind(base, 0) != 0)
-        return std::nullopt;
     FractalVariant v;
-    if (spec.size() == base.size())
-        return v;
-    if (spec[base.size()] != ',')
-        return std::nullopt;
-    size_t at = base.size() + 1;
-    while (at <= spec.size()) {
-        const size_t comma = std::min(spec.find(',', at), spec.size());
-        const std::string option = spec.substr(at, comma - at);
-        const size_t eq = option.find('=');
-        if (eq == std::string::npos)
-            return std::nullopt;
-        const std::string key = option.substr(0, eq), value = option.substr(eq + 1);
-        if (value.empty() || value.size() > 4 ||
-            value.find_first_not_of("0123456789") != std::string::npos)
-            return std::nullopt;
-        const int number = std::stoi(value);
-        if (key == "iterations" && number >= 1 && number <= FractalVariant::kMaxIterations)
-            v.iterations = number;
-        else if (key == "search" && number <= FractalVariant::kMaxSearch)
-            v.search = number;
-        else
-            return std::nullopt;
-        at = comma + 1;
-    }
-    return v;
+    const bool valid = forEachSpecOption(spec, "fractal", [&](const auto& key, const auto& value) {
+        if (key == "mode" && (value == "paper" || value == "bounded")) {
+            v.paper = value == "paper";
+            return true;
+        }
+        if (key == "iterations") {
+            const auto n = specNumber(value, 1, FractalVariant::kMaxIterations);
+            v.iterations = n.value_or(0);
+            return n.has_value();
+        }
+        if (key == "search") {
+            const auto r = specNumber(value, 0, FractalVariant::kMaxSearch);
+            v.search = r.value_or(0);
+            return r.has_value();
+        }
+        return false;
+    });
+    return valid ? std::optional(v) : std::nullopt;
 }
 
 // param[0] = the bound E in whole codes, param[1] = iterations; no codec tables.
@@ -100,6 +91,7 @@ CodecInfo fractalCodec()
             v.iterations = int(settings.param[1]);
             return std::make_unique<FractalCodec>(settings.param[0], settings.level_count, v);
         },
+        .bench_variants = {"fractal,mode=paper"},
     };
 }
 

@@ -4,6 +4,7 @@
 
 #include "difference_layer.h"
 #include "j2k_image.h"
+#include "ridge/codec/codec_registry.h"
 #include "ridge/codec/progressive_tokens.h"
 #include "ridge/core/error.h"
 
@@ -334,22 +335,8 @@ std::optional<Jpeg2000Variant> Jpeg2000Variant::fromBits(int bits)
 
 std::optional<Jpeg2000Variant> Jpeg2000Variant::fromName(const std::string& name)
 {
-    const std::string base = "jpeg2000";
-    if (name.rfind(base, 0) != 0)
-        return std::nullopt;
     Jpeg2000Variant v;
-    if (name.size() == base.size())
-        return v;
-    if (name[base.size()] != ',')
-        return std::nullopt;
-    size_t at = base.size() + 1;
-    while (at <= name.size()) {
-        const size_t comma = std::min(name.find(',', at), name.size());
-        const std::string option = name.substr(at, comma - at);
-        const size_t eq = option.find('=');
-        if (eq == std::string::npos)
-            return std::nullopt;
-        const std::string key = option.substr(0, eq), value = option.substr(eq + 1);
+    const bool valid = forEachSpecOption(name, "jpeg2000", [&](const auto& key, const auto& value) {
         if (key == "encoding" && (value == "progressive" || value == "direct"))
             v.encoding =
                 value == "direct" ? Jpeg2000Encoding::Direct : Jpeg2000Encoding::Progressive;
@@ -362,10 +349,10 @@ std::optional<Jpeg2000Variant> Jpeg2000Variant::fromName(const std::string& name
         else if (key == "library" && (value == "openjpeg" || value == "htj2k"))
             v.library = value == "htj2k" ? Jpeg2000Library::Htj2k : Jpeg2000Library::OpenJpeg;
         else
-            return std::nullopt;
-        at = comma + 1;
-    }
-    return v;
+            return false;
+        return true;
+    });
+    return valid ? std::optional(v) : std::nullopt;
 }
 
 std::string Jpeg2000Variant::describe() const

@@ -17,7 +17,7 @@ int paddedSide(int n)
 GpuFractalDecoder::GpuFractalDecoder(int patch_size, int slots)
     : n_(patch_size), m_(paddedSide(patch_size)), ranges_(m_ / 4),
       program_({{GL_COMPUTE_SHADER, "fractal_iterate.comp"}}), steps_(size_t(slots), 0),
-      full_steps_(size_t(slots), 0), step_unit_(size_t(slots), 1)
+      full_steps_(size_t(slots), 0), step_unit_(size_t(slots), 1), pinned_(size_t(slots), 1)
 {
     const auto ints = [](size_t count) { return GLsizeiptr(count * sizeof(int32_t)); };
     const size_t s = size_t(slots);
@@ -48,6 +48,7 @@ void GpuFractalDecoder::decode(const GpuPayload& payload, const Target& t, int s
                          GLsizeiptr(sample_ints * sizeof(int32_t)), f.samples.data());
     full_steps_[slot] = f.iterations;
     step_unit_[slot] = f.step;
+    pinned_[slot] = f.pinned ? 1 : 0;
     steps_[slot] = 0;
     iterate(t, -1, std::clamp(steps, 0, f.iterations));
 }
@@ -70,7 +71,7 @@ void GpuFractalDecoder::iterate(const Target& t, int from, int to)
     glUniform1i(program_.uniform("u_ranges"), ranges_);
     glUniform1i(program_.uniform("u_slot"), t.layer);
     glUniform1i(program_.uniform("u_layer"), t.layer);
-    glUniform1i(program_.uniform("u_pinned"), 1);
+    glUniform1i(program_.uniform("u_pinned"), pinned_[slot]);
     glUniform1i(program_.uniform("u_step"), step_unit_[slot]);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, state_.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, transforms_.id());

@@ -36,7 +36,7 @@ class GpuFractalDecoder final : public GpuPatchDecoder {
     int n_, m_, ranges_;
     gpu::GlBuffer state_, transforms_, samples_, scratch_;
     gpu::ShaderProgram program_;
-    std::vector<int> steps_, full_steps_, step_unit_;
+    std::vector<int> steps_, full_steps_, step_unit_, pinned_;
 };
 
 } // namespace ridge::render

@@ -113,3 +113,45 @@ TEST(GpuFractalDecoder, IterationsEqualTheCpuDecoderOnEveryPatchOfThreeRealArchi
         EXPECT_GT(s.partial_differs, 0u) << source << ": partial decodes differ from the full one";
     }
 }
+
+TEST(GpuFractalDecoder, ThePapersModeIteratesUnpinnedBitForBitLikeTheCpu)
+{
+    // No archive holds the paper's mode (it bounds nothing): its payloads, coded from real
+    // patches, decode on the GPU as on the CPU at every iteration count.
+    auto context = gpu::HeadlessContext::create();
+    test::ScratchDir dir;
+    const archive::ArchiveReader reader(buildFractal(dir, "everest_crop.tif", 33, 2.0));
+    const PyramidGeometry& g = reader.geometry();
+    const int n = g.patchSize();
+    FractalVariant v;
+    v.paper = true;
+    const FractalCodec paper(0.0, g.levelCount(), v);
+    render::GpuFractalDecoder decoder(n, 1);
+    gpu::GlTexture heights(GL_TEXTURE_2D_ARRAY);
+    glTextureStorage3D(heights.id(), 1, GL_R16UI, n, n, 1);
+    glPixelStorei(GL_PACK_ALIGNMENT, 2);
+    std::vector<uint16_t> codes(size_t(n) * n), cpu(codes.size()), got(codes.size());
+    size_t differing = 0, patches = 0;
+    for (int64_t i = 0; i < g.patchCount(); i += 3) {
+        const PatchId p = g.patchAt(i);
+        reader.decodePatch(p, codes.data());
+        const PatchContext ctx = patchContext(g, p, nullptr);
+        std::vector<uint8_t> payload(paper.encodeBound(ctx));
+        payload.resize(paper.encode(payload.data(), payload.size(), codes.data(), ctx));
+        std::shared_ptr<const GpuPayload> gpu_payload;
+        ASSERT_EQ(paper.decodeForGpu(payload.data(), payload.size(), ctx, &gpu_payload), kCodecOk);
+        for (const int k : {0, 3, 8}) {
+            decoder.decode(*gpu_payload, {heights.id(), 0, -1, 0, p.level}, k);
+            ASSERT_EQ(paper.decodePartial(cpu.data(), payload.data(), payload.size(), ctx, k),
+                      kCodecOk);
+            glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
+            glGetTextureSubImage(heights.id(), 0, 0, 0, 0, n, n, 1, GL_RED_INTEGER,
+                                 GL_UNSIGNED_SHORT, GLsizei(got.size() * 2), got.data());
+            for (size_t s = 0; s < got.size(); ++s)
+                differing += got[s] != cpu[s];
+        }
+        ++patches;
+    }
+    EXPECT_GT(patches, 5u);
+    EXPECT_EQ(differing, 0u);
+}
