@@ -143,8 +143,8 @@ int BenchCommand::run()
                     if (r.reconstructed > 0)
                         reports.push_back(std::move(r));
                     else
-                        refused += fmt::format("{} incremental: not run: it decodes on the CPU\n",
-                                               scheme);
+                        refused +=
+                            fmt::format("{} incremental: not run: it decodes on the CPU\n", scheme);
                 } catch (const Error& e) {
                     refused += fmt::format("{} incremental: not run: {}\n", scheme, e.what());
                 }

@@ -349,7 +349,8 @@ CodecRow runRidgeTiles(const std::string& spec, const std::vector<Tile>& tiles, 
         const int status = codec->decode(decoded.data(), payload.data(), size, ctx);
         row.decode_seconds += secondsSince(start);
         if (status != kCodecOk)
-            throw Error("ridge " + spec + ": a tile does not decode: " + codecStatusMessage(status));
+            throw Error("ridge " + spec +
+                        ": a tile does not decode: " + codecStatusMessage(status));
         row.decode_bytes += uint64_t(t.codes.size()) * 2;
         region.resize(t.codes.size());
         for (int y = 0; y < t.height; ++y)
@@ -492,11 +493,10 @@ CodecBenchReport runCodecBench(const io::ElevationRaster& raster, const CodecBen
         const double codes = std::floor(bound / raster.quantization.scale + 1e-9);
         result.max_error_codes = int(std::min(codes, 65535.0));
         for (const std::string& codec : options.ridge_codecs)
-            result.rows.push_back(unboundedCodec(codec)
-                                      ? runRidgeTiles(codec, tiles, result.max_error_codes, report,
-                                                      stepProgress())
-                                      : runRidge(raster, bound, codec, options, report,
-                                                 stepProgress()));
+            result.rows.push_back(
+                unboundedCodec(codec)
+                    ? runRidgeTiles(codec, tiles, result.max_error_codes, report, stepProgress())
+                    : runRidge(raster, bound, codec, options, report, stepProgress()));
         for (const auto& a : anchors)
             result.rows.push_back(
                 runAnchor(*a, tiles, result.max_error_codes, report, stepProgress()));

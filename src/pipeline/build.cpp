@@ -109,7 +109,8 @@ BuildContext makeContext(int width, int height, const HeightQuantization& q,
     if (!std::isfinite(ctx.codec->levelErrorBound(ctx.geometry.finestLevel())))
         throw Error("codec '" + options.codec +
                     "' bounds no error (the paper's mode): an archive needs a bound for Err(P); "
-                    "ridge codec-bench --ridge-codec '" + options.codec + "' measures it");
+                    "ridge codec-bench --ridge-codec '" +
+                    options.codec + "' measures it");
     ctx.store_block_errors = options.store_block_errors;
     archive::Header& h = ctx.header;
     h.width = static_cast<uint32_t>(width);

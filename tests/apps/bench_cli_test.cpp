@@ -102,12 +102,12 @@ TEST(BenchCli, TableAddsTheBaseIncrementalRowsForAnArchiveThatRefinesInPlace)
         if (!c.lossy || !makeCodec(c.name, 1.0, 5)->capabilities().gpu.refinable)
             continue;
         ++tested;
-        const std::string arc = test::buildEverestWithCli(
-            dir, std::string(c.name) + ".ridge",
-            std::string("--patch 33 --codec ") + c.name + " --max-error 4");
-        const test::CommandResult r = test::runRidge(
-            "bench '" + arc + "' --table --frames 8 --size 160x90 --json-file '" +
-            dir.path(std::string(c.name) + ".json") + "'");
+        const std::string arc = test::buildEverestWithCli(dir, std::string(c.name) + ".ridge",
+                                                          std::string("--patch 33 --codec ") +
+                                                              c.name + " --max-error 4");
+        const test::CommandResult r =
+            test::runRidge("bench '" + arc + "' --table --frames 8 --size 160x90 --json-file '" +
+                           dir.path(std::string(c.name) + ".json") + "'");
         ASSERT_EQ(r.exit_code, 0) << r.output;
         size_t rows = 0;
         for (const std::string& scheme : render::lodSchemeNames())

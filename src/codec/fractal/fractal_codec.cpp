@@ -26,7 +26,7 @@ constexpr uint8_t kPayloadVersion = 2; // 1: without the bound per iteration cou
 constexpr size_t kHeaderSize = 14;     // magic, version, iterations, flags, u16 E, 2 × u32 sizes
 // v2: then u16 × iterations, the bound of each partial decode (stepBounds).
 constexpr int kZstdLevel = 9;
-constexpr size_t kMaxVarint = 4; // getVarint reads values below 2^28
+constexpr size_t kMaxVarint = 4;  // getVarint reads values below 2^28
 constexpr uint8_t kPaperFlag = 1; // the paper's mode: transforms alone
 
 uint32_t zigzag(int32_t v)
@@ -190,8 +190,7 @@ int parse(const uint8_t* src, size_t size, int n, int bound, bool paper, Parsed&
         return kCodecTruncated;
     if (src[0] != kMagic || (src[1] != 1 && src[1] != kPayloadVersion) || src[2] < 1 ||
         src[2] > FractalVariant::kMaxIterations || src[3] != (paper ? kPaperFlag : 0) ||
-        (uint32_t(src[4]) | uint32_t(src[5]) << 8) != uint32_t(bound) ||
-        (paper && src[1] == 1))
+        (uint32_t(src[4]) | uint32_t(src[5]) << 8) != uint32_t(bound) || (paper && src[1] == 1))
         return kCodecBadHeader;
     out.iterations = src[2];
     const uint64_t transforms_size = getU32(src + 6), edges_size = getU32(src + 10);
@@ -380,7 +379,8 @@ int FractalCodec::decodeAttractor(uint16_t* dst, const uint8_t* src, size_t src_
                                   const PatchContext& ctx, int iterations) const
 {
     Parsed parsed;
-    if (const int status = parse(src, src_size, ctx.patch_size, bound_, variant_.paper, parsed); status)
+    if (const int status = parse(src, src_size, ctx.patch_size, bound_, variant_.paper, parsed);
+        status)
         return status;
     iterate(parsed, ctx.patch_size, iterations, dst);
     return kCodecOk;
@@ -390,7 +390,8 @@ int FractalCodec::decode(uint16_t* dst, const uint8_t* src, size_t src_size,
                          const PatchContext& ctx) const
 {
     Parsed parsed;
-    if (const int status = parse(src, src_size, ctx.patch_size, bound_, variant_.paper, parsed); status)
+    if (const int status = parse(src, src_size, ctx.patch_size, bound_, variant_.paper, parsed);
+        status)
         return status;
     iterate(parsed, ctx.patch_size, parsed.iterations, dst);
     return variant_.paper ? kCodecOk : correct(parsed.corrections, ctx.patch_size, bound_, dst);
@@ -400,13 +401,14 @@ int FractalCodec::decodePartial(uint16_t* dst, const uint8_t* src, size_t src_si
                                 const PatchContext& ctx, int iterations) const
 {
     Parsed parsed;
-    if (const int status = parse(src, src_size, ctx.patch_size, bound_, variant_.paper, parsed); status)
+    if (const int status = parse(src, src_size, ctx.patch_size, bound_, variant_.paper, parsed);
+        status)
         return status;
     const int k = std::clamp(iterations, 0, parsed.iterations);
     iterate(parsed, ctx.patch_size, k, dst);
-    return variant_.paper ? kCodecOk
-                          : correct(parsed.corrections, ctx.patch_size, bound_, dst,
-                                    k == parsed.iterations);
+    return variant_.paper
+               ? kCodecOk
+               : correct(parsed.corrections, ctx.patch_size, bound_, dst, k == parsed.iterations);
 }
 
 int FractalCodec::decodeForGpu(const uint8_t* src, size_t src_size, const PatchContext& ctx,
@@ -471,7 +473,8 @@ void FractalCodec::reconstruct(const uint16_t* codes, const PatchContext& ctx, u
 
 std::string FractalCodec::variantDescription() const
 {
-    return std::string(variant_.paper ? "the paper's (no bound), " : "bounded, ") + std::to_string(variant_.iterations) + " iterations, search " +
+    return std::string(variant_.paper ? "the paper's (no bound), " : "bounded, ") +
+           std::to_string(variant_.iterations) + " iterations, search " +
            (variant_.search == 0 ? std::string("all") : std::to_string(variant_.search));
 }
 
