@@ -22,7 +22,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
     const int bound = int(payload[4] | payload[5] << 8);
     if (bound > 32767)
         return 0;
-    const ridge::FractalCodec codec(bound, 2);
+    // Flags byte 1 is the paper's mode (transforms alone): decoded by a codec in that mode.
+    ridge::FractalVariant variant;
+    variant.paper = payload[3] == 1;
+    const ridge::FractalCodec codec(bound, 2, variant);
     const ridge::PatchContext ctx{n, 1, nullptr, 0, 0, 0};
     std::vector<uint16_t> out(size_t(n) * n), attractor(out.size());
     const int status = codec.decode(out.data(), payload, payload_size, ctx);
@@ -35,7 +38,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
         // Edges are the attractor's pinned values; interior samples differ by whole steps.
         for (size_t i = 0; i < out.size(); ++i) {
             const int d = int(out[i]) - int(attractor[i]);
-            if (d % (2 * bound + 1) != 0 && out[i] != 0 && out[i] != 65535)
+            if (variant.paper ? d != 0
+                              : (d % (2 * bound + 1) != 0 && out[i] != 0 && out[i] != 65535))
                 __builtin_trap();
         }
     }

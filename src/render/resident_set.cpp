@@ -81,6 +81,8 @@ size_t ResidentSet::uploadPatch(const stream::DecodedPatch& patch, int slot,
     const lod::PatchBounds& bounds = quadtree_.bounds(p);
     const float lambda_cap = bounds.max_height - bounds.min_height;
     if (!patch.decodesOnGpu()) {
+        if (!slot_steps_.empty())
+            slot_steps_[size_t(slot)].bounds.clear(); // codes: nothing to refine
         textures_->upload(patch, slot, lambda_cap);
         return textures_->uploadBytes(patch) + schemes_->upload(patch, slot);
     }

@@ -123,7 +123,9 @@ TEST(Streaming, FullDetailMatchesTheSynchronousRenderer)
     target.bind();
     const lod::Camera cam = flyover(a, 20, 60);
     render::FrameStats stats = a.draw(cam, {});
-    for (int k = 0; k < 50 && stats.missing > 0; ++k) {
+    // At least one upload a frame, more within the time budget: on a loaded machine the
+    // budget admits one, so the bound is in frames, generous (a converged run stops early).
+    for (int k = 0; k < 400 && stats.missing > 0; ++k) {
         a.waitForStreaming();
         stats = a.draw(cam, {});
     }
@@ -158,7 +160,7 @@ void expectResidentDataIsTheCpuDecoding(const archive::ArchiveReader& reader, bo
     const lod::Camera cam = flyover(renderer, 25, 60);
     render::FrameStats stats = renderer.draw(cam, {});
     int reconstructed = stats.reconstructed;
-    for (int k = 0; k < 60 && stats.missing > 0; ++k) {
+    for (int k = 0; k < 400 && stats.missing > 0; ++k) {
         renderer.waitForStreaming();
         stats = renderer.draw(cam, {});
         reconstructed += stats.reconstructed;
@@ -256,7 +258,7 @@ TEST(Streaming, BaseIncrementalDecodesFarPatchesPartiallyAndRefinesThemAsTheView
         // Far: everything resident, then count the patches drawn from a partial decode.
         const lod::Camera far = camera(60000.0);
         render::FrameStats stats = renderer.draw(far, settings);
-        for (int k = 0; k < 60 && stats.missing > 0; ++k) {
+        for (int k = 0; k < 400 && stats.missing > 0; ++k) {
             renderer.waitForStreaming();
             stats = renderer.draw(far, settings);
         }
