@@ -131,8 +131,6 @@ bool ResidentSet::refine(const lod::Selection& desired, FrameStats& stats)
               [](const auto* a, const auto* b) { return a->screen_error > b->screen_error; });
     int budget = options_.refine_steps_per_frame;
     for (const lod::SelectedPatch* s : order) {
-        if (budget <= 0)
-            break;
         const int slot = residency_.slotOf(s->id);
         if (slot < 0 || slot_steps_[size_t(slot)].bounds.empty())
             continue;
@@ -142,6 +140,10 @@ bool ResidentSet::refine(const lod::Selection& desired, FrameStats& stats)
                                  s->screen_error, desired.epsilon_px);
         if (wanted <= steps.steps)
             continue;
+        if (budget <= 0) {
+            ++stats.under_refined;
+            continue;
+        }
         const int to = std::min(wanted, steps.steps + budget);
         const lod::PatchBounds& b = quadtree_.bounds(s->id);
         textures_->refine(s->id, slot, to, b.max_height - b.min_height);
@@ -149,6 +151,7 @@ bool ResidentSet::refine(const lod::Selection& desired, FrameStats& stats)
         stats.refine_steps += to - steps.steps;
         ++stats.refined;
         steps.steps = to;
+        stats.under_refined += to < wanted;
         computeNormals(s->id, {});
     }
     return stats.refined > 0;

@@ -111,6 +111,7 @@ RenderBenchReport runRenderBench(const std::string& archive, const RenderBenchOp
         f.reconstructed = s.reconstructed;
         f.refined = s.refined;
         f.refine_steps = s.refine_steps;
+        f.under_refined = s.under_refined;
         f.epsilon_px = s.epsilon_px;
         f.coarser = s.coarser;
         f.cache_hits = s.cache_hits;

@@ -121,6 +121,7 @@ void summariseRenderBench(RenderBenchReport& r)
         r.reconstructed += f.reconstructed;
         r.refined += f.refined;
         r.refine_steps += f.refine_steps;
+        r.frames_under_refined += f.under_refined > 0;
     }
     r.frames_coarser = int(r.frames.size()) - r.frames_full_detail;
     r.warmup_ms = r.frames.front().frame_ms;
@@ -248,6 +249,8 @@ std::string formatRenderBenchSummary(const RenderBenchReport& r)
         "  resident memory          {:.1f} MiB after {} frames, {:.1f} MiB at the end\n"
         "  read / decoded / upload  {:.1f} / {:.1f} / {:.1f} MiB ({} patches "
         "reconstructed on the GPU)\n"
+        "  refined in place         {} patches, {} iterations; {} frames drew a patch short "
+        "of its iterations\n"
         "  hole pixels              {} in {} frames\n"
         "  popping                  {}\n",
         r.archive, r.options.scheme, r.options.path.kind, r.frames.size(), r.options.viewport.width,
@@ -260,7 +263,8 @@ std::string formatRenderBenchSummary(const RenderBenchReport& r)
         describe(r.all_ms, "ms", 1), r.frames_over_twice_median, budget, r.mtri_per_s,
         r.select_ms_max, mib(r.ram_cache_bytes), r.rss_early_mib, r.frames.size() / 10 + 1,
         r.rss_end_mib, mib(r.bytes_read), mib(r.bytes_decoded), mib(r.bytes_uploaded),
-        r.reconstructed, r.hole_pixels, r.frames_with_holes,
+        r.reconstructed, r.refined, r.refine_steps, r.frames_under_refined, r.hole_pixels,
+        r.frames_with_holes,
         r.popping_px.count == 0 ? std::string("not measured (--popping measures it)")
                                 : describe(r.popping_px, "px", 3));
 }
@@ -326,6 +330,7 @@ std::string formatRenderBenchJson(const RenderBenchReport& r)
                           {"reconstructed", f.reconstructed},
                           {"refined", f.refined},
                           {"refine_steps", f.refine_steps},
+                          {"under_refined", f.under_refined},
                           {"epsilon_px", f.epsilon_px},
                           {"coarser", f.coarser},
                           {"cache_hits", f.cache_hits},
@@ -403,6 +408,7 @@ std::string formatRenderBenchJson(const RenderBenchReport& r)
           {"reconstructed", r.reconstructed},
           {"refined", r.refined},
           {"refine_steps", r.refine_steps},
+          {"frames_under_refined", r.frames_under_refined},
           {"rss_early_mib", r.rss_early_mib},
           {"rss_end_mib", r.rss_end_mib},
           {"mtri_per_s", r.mtri_per_s},

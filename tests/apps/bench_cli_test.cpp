@@ -63,7 +63,9 @@ TEST(BenchCli, BadInputsGetAClearErrorAndANonZeroExit)
           Case{"--path '" + dir.path("missing.txt") + "'", "missing.txt"},
           Case{"--renderer fancy",
                "--lod fancy: not a LOD scheme; expected one of " + render::lodSchemeList()},
-          Case{"--size 0x0", "--size"},
+          Case{"--size 0x0", "--size"}, Case{"--refine-steps -1", "--refine-steps"},
+          Case{"--refine-steps 1e9", "--refine-steps"},
+          Case{"--refine-steps nan", "--refine-steps"},
           // Unwritable outputs are caught before the run (PLplot would exit() after it).
           Case{"--plot '" + dir.path("no/such/dir/p.png") + "'", "p.png: cannot write"},
           Case{"--json-file '" + dir.path("no/such/dir/f.json") + "'", "f.json: cannot write"}}) {

@@ -149,6 +149,9 @@ struct FrameStats {
     // place this frame, and the steps (iterations) that took.
     int refined = 0;
     int refine_steps = 0;
+    // Desired patches drawn this frame with fewer steps than the view wants (the per-frame
+    // budget ran out): each exceeds ε by at most its stored partial bound until refined.
+    int under_refined = 0;
 };
 
 // Triangles as the tessellator produced them, captured with transform feedback.

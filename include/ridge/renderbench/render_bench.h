@@ -58,6 +58,7 @@ struct FrameRecord {
     int reconstructed = 0; // of `loaded`, on the GPU
     int refined = 0;       // resident patches refined in place (Base incremental)
     int refine_steps = 0;  // iterations that took
+    int under_refined = 0; // drawn with fewer iterations than the view wants (budget spent)
     double epsilon_px = 0; // ε met
     bool coarser = false;  // drawn above the requested ε: the view needed more slots
     int cache_hits = 0, cache_misses = 0; // decoded-patch cache
@@ -142,6 +143,7 @@ struct RenderBenchReport {
     uint64_t bytes_read = 0, bytes_decoded = 0, bytes_uploaded = 0; // all frames
     int reconstructed = 0;                                          // patches, on the GPU
     int refined = 0, refine_steps = 0; // Base incremental: refinements in place, their steps
+    int frames_under_refined = 0;      // frames with a patch drawn short of its iterations
     // Resident memory after the first tenth of the frames and at the end (a soak is flat
     // when the two agree once the RAM caches are full).
     double rss_early_mib = 0, rss_end_mib = 0;
