@@ -389,12 +389,8 @@ int FractalCodec::decodeAttractor(uint16_t* dst, const uint8_t* src, size_t src_
 int FractalCodec::decode(uint16_t* dst, const uint8_t* src, size_t src_size,
                          const PatchContext& ctx) const
 {
-    Parsed parsed;
-    if (const int status = parse(src, src_size, ctx.patch_size, bound_, variant_.paper, parsed);
-        status)
-        return status;
-    iterate(parsed, ctx.patch_size, parsed.iterations, dst);
-    return variant_.paper ? kCodecOk : correct(parsed.corrections, ctx.patch_size, bound_, dst);
+    // Every iteration the payload asks for: the full decode, corrections range-checked.
+    return decodePartial(dst, src, src_size, ctx, FractalVariant::kMaxIterations);
 }
 
 int FractalCodec::decodePartial(uint16_t* dst, const uint8_t* src, size_t src_size,
