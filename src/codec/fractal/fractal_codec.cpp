@@ -369,6 +369,8 @@ size_t FractalCodec::encode(uint8_t* dst, size_t dst_capacity, const uint16_t* c
         at += 2;
     }
     for (const auto* section : {&t, &e, &c}) {
+        if (section->empty())
+            continue; // the paper's mode has no edges or corrections (and data() may be null)
         std::memcpy(at, section->data(), section->size());
         at += section->size();
     }
