@@ -90,7 +90,8 @@ int BenchCommand::run()
     options.scheme = renderer_; // a spec, checked by --lod's validator
     options.path.kind = path_;
     // "lonlat" poses in a path file: WGS 84 through the archive's CRS (PROJ).
-    auto geo = std::make_shared<const TerrainGeoreference>(archive::ArchiveReader(archive_));
+    const archive::ArchiveReader reader(archive_);
+    auto geo = std::make_shared<const TerrainGeoreference>(reader);
     if (geo->hasCrs())
         options.path.from_lon_lat = [geo](double lon, double lat, double height) {
             const glm::dvec2 local = geo->toLocal({lon, lat}, PointSpace::LonLat);
@@ -131,7 +132,7 @@ int BenchCommand::run()
         // (the fractal codec): each scheme streamed with GPU decoding, far patches decoded with
         // fewer iterations and refined as the camera approaches. Schemes that need codes on
         // the CPU decode fully there: no row.
-        if (archive::ArchiveReader(archive_).codec().capabilities().gpu.refinable)
+        if (reader.codec().capabilities().gpu.refinable)
             for (const std::string& scheme : render::lodSchemeNames()) {
                 renderbench::RenderBenchOptions o = options;
                 o.scheme = scheme;

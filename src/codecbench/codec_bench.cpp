@@ -459,18 +459,23 @@ CodecBenchReport runCodecBench(const io::ElevationRaster& raster, const CodecBen
     report.view_epsilon_px = options.view_epsilon_px;
     report.view_texel_px = options.view_texel_px;
     const auto anchors = makeAnchorCodecs();
+    // Which of ridge's codecs have no bound (their rows code tiles), decided once.
+    std::vector<bool> unbounded;
     for (const std::string& codec : options.ridge_codecs)
+        unbounded.push_back(unboundedCodec(codec));
+    for (size_t k = 0; k < options.ridge_codecs.size(); ++k) {
+        const std::string& codec = options.ridge_codecs[k];
         report.codecs.push_back(
             {"ridge " + codec,
              fmt::format("ridge 0.1.0, archive format v{}", archive::kFormatVersion),
-             unboundedCodec(codec)
-                 ? "the anchors' tiles, one patch each, no bound (its errors are measured)"
+             unbounded[k] ? "the anchors' tiles, one patch each, no bound (its errors are measured)"
              : isLossyCodec(codec)
                  ? "whole pyramid, BuildOptions defaults (patch 129, block 8, decimation), "
                    "max_error = E metres end to end"
                  : "whole pyramid, BuildOptions defaults (patch 129, block 8, decimation), "
                    "lossless",
-             !unboundedCodec(codec)});
+             !unbounded[k]});
+    }
     for (const auto& a : anchors)
         report.codecs.push_back(
             {a->name(), a->libraryVersion(), a->description(), a->guaranteesBound()});
@@ -492,11 +497,13 @@ CodecBenchReport runCodecBench(const io::ElevationRaster& raster, const CodecBen
         result.max_error_metres = bound;
         const double codes = std::floor(bound / raster.quantization.scale + 1e-9);
         result.max_error_codes = int(std::min(codes, 65535.0));
-        for (const std::string& codec : options.ridge_codecs)
+        for (size_t k = 0; k < options.ridge_codecs.size(); ++k) {
+            const std::string& codec = options.ridge_codecs[k];
             result.rows.push_back(
-                unboundedCodec(codec)
+                unbounded[k]
                     ? runRidgeTiles(codec, tiles, result.max_error_codes, report, stepProgress())
                     : runRidge(raster, bound, codec, options, report, stepProgress()));
+        }
         for (const auto& a : anchors)
             result.rows.push_back(
                 runAnchor(*a, tiles, result.max_error_codes, report, stepProgress()));

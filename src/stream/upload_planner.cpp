@@ -306,9 +306,6 @@ const StreamOutcome& UploadPlanner::finish(size_t done)
                     std::to_string(plan_.uploads.size()));
     open_ = false;
     outcome_.uploaded = int(done);
-    outcome_.reconstructed = 0;
-    for (size_t k = 0; k < done; ++k)
-        outcome_.reconstructed += plan_.uploads[k].needs_parent_resident;
     // Assigned but never written: free the slots, offer the patches again next frame.
     for (size_t k = done; k < plan_.uploads.size(); ++k) {
         residency_.release(plan_.uploads[k].id);

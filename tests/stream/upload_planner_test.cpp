@@ -147,6 +147,8 @@ class Simulation {
         report.not_done = plan.uploads.size() - done;
         std::vector<size_t> dropped = plan.dropped;
 
+        for (size_t k = 0; k < done; ++k)
+            report.reconstructed += plan.uploads[k].needs_parent_resident;
         counter.emplace();
         const StreamOutcome& outcome = planner_.finish(done);
         report.allocations += counter->count();
@@ -157,7 +159,6 @@ class Simulation {
         checkCover(outcome.drawn, desired);
         report.missing = outcome.missing;
         report.drawn = outcome.drawn.patches.size();
-        report.reconstructed = outcome.reconstructed;
         std::vector<PatchId> kept;
         for (size_t h : outcome.waiting)
             kept.push_back(arrived_[h]);

@@ -176,7 +176,6 @@ struct StreamOutcome {
     std::vector<size_t> waiting; // handles of arrived patches to offer again next frame
     int missing = 0;             // desired patches drawn by an ancestor
     int uploaded = 0;            // uploads done
-    int reconstructed = 0;       // of those, decoded on the GPU from their parent's slot
 };
 
 // Coarse before fine, then by rank (SelectedPatch::rank, Err_Scr for the quadtree walk):

@@ -55,9 +55,6 @@ void GpuJpeg2000Decoder::reconstruct(const Jpeg2000Difference& d, int child_inde
     gpu::checkGlError("jpeg2000 decoder: residual add");
 }
 
-} // namespace ridge::render
-
-namespace ridge::render {
 namespace {
 
 class Jpeg2000GpuDecoder final : public GpuPatchDecoder {

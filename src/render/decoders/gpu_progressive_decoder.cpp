@@ -70,9 +70,6 @@ void GpuProgressiveDecoder::run(int residual_bits, GLuint heights, int parent_la
     gpu::checkGlError("progressive decoder: reconstruct");
 }
 
-} // namespace ridge::render
-
-namespace ridge::render {
 namespace {
 
 // The registry's face of the decoder: the child's quantizer and predictor from the codec.
