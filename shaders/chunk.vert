@@ -39,9 +39,10 @@ void main() {
     int C = u_patch_cells, n = C + 1;
     bool foot = gl_VertexID >= n * n;
     ivec2 sample_ij = foot ? ringSample(gl_VertexID - n * n, C) : ivec2(gl_VertexID % n, gl_VertexID / n);
-    precise vec3 position = samplePosition(p, sample_ij);
+    vec3 up;
+    precise vec3 position = samplePosition(p, sample_ij, up);
     if (foot)
-        position.z = position.z - p.skirt_depth;
+        position = lowered(position, up, p.skirt_depth);
     v.position = position;
     v.texcoord = vec3((vec2(sample_ij) + 0.5) / float(n), float(p.layer));
     v.cell = vec2(sample_ij);

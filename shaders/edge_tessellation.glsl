@@ -8,21 +8,23 @@ uniform int u_tessellation_rule; // lod::TessellationRule: 0 conservative, 1 the
 uniform mat4 u_lod_view_projection;
 uniform vec3 u_lod_camera;
 
-// Projected length in pixels of the vertical segment of `len` metres centred at `c`.
-float projectedVerticalSegment(vec3 c, float len) {
+// Projected length in pixels of the segment of `len` metres along the local up `up` (the
+// height's direction: +z on a plane) centred at `c`.
+float projectedVerticalSegment(vec3 c, vec3 up, float len) {
     // precise: both blocks of a shared edge must get the same answer at every call site.
-    precise vec4 lo = u_lod_view_projection * vec4(c - vec3(0.0, 0.0, 0.5 * len), 1.0);
-    precise vec4 hi = u_lod_view_projection * vec4(c + vec3(0.0, 0.0, 0.5 * len), 1.0);
+    precise vec4 lo = u_lod_view_projection * vec4(c - up * (0.5 * len), 1.0);
+    precise vec4 hi = u_lod_view_projection * vec4(c + up * (0.5 * len), 1.0);
     if (lo.w <= 1e-6 || hi.w <= 1e-6)
         return 1e30;
     precise float pixels = length((hi.xy / hi.w - lo.xy / lo.w) * 0.5 * u_viewport);
     return pixels;
 }
 
-// d = arg max_d proj(e_c ± Λ_e^(d)/2 · e_z) < ε, 0 when no simplification fits.
-int edgeSimplification(vec3 centre, vec4 edge_errors) {
+// d = arg max_d proj(e_c ± Λ_e^(d)/2 · e_z) < ε, 0 when no simplification fits; e_z is the
+// local up at the point (`up`).
+int edgeSimplification(vec3 centre, vec3 up, vec4 edge_errors) {
     for (int d = u_block_levels; d >= 1; --d)
-        if (projectedVerticalSegment(centre, edge_errors[d - 1]) < u_epsilon)
+        if (projectedVerticalSegment(centre, up, edge_errors[d - 1]) < u_epsilon)
             return d;
     return 0;
 }
@@ -46,24 +48,27 @@ vec3 nearestPointOfSegment(vec3 a, vec3 b) {
 // their inner ones samples within λ^(d) of it, so a sample under one is within 2λ^(d) + Err(P)
 // (one Λ^(d) did 1.14 ε on the renderer test's cameras). Only the edge's own samples enter, so
 // both blocks of a shared edge (and a block and its skirt) agree.
-int edgeSimplification(vec3 a, vec3 centre, vec3 b, vec4 edge_errors) {
+// `up` is the local up at the edge's centre sample (the edge is short against the Earth's
+// radius: its direction differs by less than the segment's own rounding elsewhere).
+int edgeSimplification(vec3 a, vec3 centre, vec3 b, vec3 up, vec4 edge_errors) {
     if (u_tessellation_rule == 1)
-        return edgeSimplification(centre, edge_errors);
+        return edgeSimplification(centre, up, edge_errors);
     vec4 e = 2.0 * edge_errors;
-    int d = min(edgeSimplification(a, e), edgeSimplification(b, e));
-    d = min(d, edgeSimplification(centre, e));
-    return min(d, edgeSimplification(nearestPointOfSegment(a, b), e));
+    int d = min(edgeSimplification(a, up, e), edgeSimplification(b, up, e));
+    d = min(d, edgeSimplification(centre, up, e));
+    return min(d, edgeSimplification(nearestPointOfSegment(a, b), up, e));
 }
 
 // Conservative d of a block's interior with its own Λ^(d): the most demanding of its corners,
 // its centre sample and the point of its footprint box [lo, hi] nearest the camera, which is
 // nearer than any sample of the block (a vertical segment projects longer the nearer it is,
 // except seen end-on from above, where it is short anyway).
-int interiorSimplification(vec3 corners[4], vec3 centre, vec3 lo, vec3 hi, vec4 errors) {
-    int d = edgeSimplification(clamp(u_lod_camera, lo, hi), errors);
-    d = min(d, edgeSimplification(centre, errors));
+int interiorSimplification(vec3 corners[4], vec3 centre, vec3 up, vec3 lo, vec3 hi,
+                           vec4 errors) {
+    int d = edgeSimplification(clamp(u_lod_camera, lo, hi), up, errors);
+    d = min(d, edgeSimplification(centre, up, errors));
     for (int k = 0; k < 4; ++k)
-        d = min(d, edgeSimplification(corners[k], errors));
+        d = min(d, edgeSimplification(corners[k], up, errors));
     return d;
 }
 
@@ -76,7 +81,8 @@ vec4 blockErrors(PatchInstance p, ivec2 block_sr) {
 // Tessellation factor b / 2^d of the block edge from sample a to sample b (both integer,
 // b − a along one axis, |b − a| = u_block_cells). `errors` is max Λ of the blocks sharing it.
 float edgeFactor(PatchInstance p, ivec2 a, ivec2 b, vec4 errors) {
-    vec3 centre = samplePosition(p, (a + b) / 2);
-    return float(u_block_cells >>
-                 edgeSimplification(samplePosition(p, a), centre, samplePosition(p, b), errors));
+    vec3 up;
+    vec3 centre = samplePosition(p, (a + b) / 2, up);
+    return float(u_block_cells >> edgeSimplification(samplePosition(p, a), centre,
+                                                     samplePosition(p, b), up, errors));
 }

@@ -56,25 +56,32 @@ void main() {
     bool foot = local >= n * n;
     ivec2 sample_ij = foot ? ringSample(local - n * n, C) : ivec2(local % n, local / n);
     precise vec3 position;
+    vec3 up = vec3(0.0, 0.0, 1.0);
     if (u_layout == 2) {
-        // The sample from the block record and the two bytes: x, y exactly as every scheme's
-        // samplePosition (bit-identical seams), z morphed between the two codes.
+        // The sample from the block record and the two bytes: placed exactly as every
+        // scheme's samplePosition (bit-identical seams), the height morphed between the codes.
         ivec2 s = geomorphCompactSample(a_block_coord, u_geomorph_block);
-        position.xy = vec2(p.origin + s * p.step) * u_spacing + u_anchor_offset;
-        position.z = geomorphMix(geomorphMetres(float(a_heights.x)),
-                                 geomorphMetres(float(a_heights.y)), p.morph);
+        precise float z = geomorphMix(geomorphMetres(float(a_heights.x)),
+                                      geomorphMetres(float(a_heights.y)), p.morph);
+        position = framePoint(p.origin + s * p.step, z, up);
         v.texcoord = vec3(a_normal_index, -1.0);
     } else {
-        precise vec2 origin = vec2(p.origin) * u_spacing + u_anchor_offset;
-        position.xy = origin + a_position.xy;
         precise float z = u_layout == 1 ? geomorphMix(a_position.z, a_target, p.morph)
                                         : a_position.z;
         // The CPU's vertices are in metres above code 0; the drawn space is k times that.
-        position.z = z * u_exaggeration + u_height_offset;
+        precise float dh = z * u_exaggeration + u_height_offset;
+        if (u_surface == 0) {
+            precise vec2 origin = vec2(p.origin) * u_spacing + u_anchor_offset;
+            position.xy = origin + a_position.xy;
+            position.z = dh;
+        } else {
+            // The CPU's x, y are plane metres; on the globe the sample places the vertex.
+            position = framePoint(p.origin + sample_ij * p.step, dh, up);
+        }
         v.texcoord = vec3(a_normal.xy, -2.0 - a_normal.z);
     }
     if (foot)
-        position.z = position.z - p.skirt_depth;
+        position = lowered(position, up, p.skirt_depth);
     v.position = position;
     v.cell = vec2(sample_ij);
     v.level = p.level;

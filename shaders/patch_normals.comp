@@ -14,6 +14,7 @@ uniform int u_layer;
 uniform int u_size;           // samples per side
 uniform vec2 u_cell_metres;   // metres per cell along i (east) and j (south)
 uniform float u_height_scale; // metres per code
+uniform vec2 u_latitude;      // globe: latitude of row 0 and per row, radians; (0, 0) on a plane
 uniform ivec4 u_neighbour_layers; // west, east, north, south; −1 when not resident
 
 float code(ivec2 ij, int layer) { return float(texelFetch(u_heights, ivec3(ij, layer), 0).r); }
@@ -43,7 +44,12 @@ void main() {
     ivec2 ij = ivec2(gl_GlobalInvocationID.xy);
     if (ij.x >= u_size || ij.y >= u_size)
         return;
-    float dzdi = (h(ij + ivec2(1, 0)) - h(ij - ivec2(1, 0))) / (2.0 * u_cell_metres.x);
+    // On the globe a cell along a parallel is cos φ of the equator's (a floor keeps the pole
+    // rows, where it vanishes, finite: their slope along i is meaningless anyway).
+    float cell_i = u_cell_metres.x;
+    if (u_latitude.y != 0.0)
+        cell_i *= max(cos(u_latitude.x + float(ij.y) * u_latitude.y), 1e-3);
+    float dzdi = (h(ij + ivec2(1, 0)) - h(ij - ivec2(1, 0))) / (2.0 * cell_i);
     float dzdj = (h(ij + ivec2(0, 1)) - h(ij - ivec2(0, 1))) / (2.0 * u_cell_metres.y);
     // j grows southwards: dz/dy(north) = −dz/dj.
     vec3 n = normalize(vec3(-dzdi, dzdj, 1.0));

@@ -63,10 +63,10 @@ void main() {
             g.y -= 1;
     }
     ivec2 own = t.sample_offset + g * u_vertex_step;
-    precise vec2 xy = vec2(p.origin + g * p.step) * u_spacing + u_anchor_offset;
     precise float z = stitched ? sampleHeight(t.coarse_layer, t.coarse_offset + (g * u_vertex_step) / 2)
                                : sampleHeight(p.layer, own);
-    precise vec3 position = vec3(xy, z);
+    vec3 up;
+    precise vec3 position = framePoint(p.origin + g * p.step, z, up);
     v.position = position;
     v.texcoord = vec3((vec2(own) + 0.5) / float(u_patch_cells + 1), float(p.layer));
     v.cell = vec2(own);

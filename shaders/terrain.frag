@@ -33,7 +33,7 @@ uniform int u_water_from_height;
 
 uniform int u_mode;             // 0 shaded, 1 LOD level colours, 2 tessellation-factor heat map, 3 flat colour
 uniform vec3 u_flat_colour;     // mode 3 (wireframe overlay)
-uniform vec3 u_sun_direction;   // unit, towards the sun, terrain frame
+uniform vec3 u_sun_direction;   // unit, towards the sun, terrain frame (ECEF on the globe)
 uniform vec2 u_height_range;    // camera-relative z of the terrain's min and max
 uniform float u_sea_level;      // camera-relative z of 0 m
 uniform vec3 u_fog_colour;
@@ -113,12 +113,15 @@ void main() {
     // Skirts take the normal and height of the border sample above them (their cell and
     // texcoord are the border's), so that a step between two levels reads as part of the
     // slope, and a skirt hanging through 0 m is not painted as sea.
+    // Normals are local (east, north, up); on the globe the frame turns with the fragment.
+    mat3 basis = localBasis(v.position);
     vec3 n = surfaceNormal();
     if (v.skirt == 2) {
         // A wall is a flat vertical face: its own normal, towards the viewer.
         n = normalize(cross(dFdx(v.position), dFdy(v.position)));
         if (dot(n, v.position) > 0.0)
             n = -n;
+        n = transpose(basis) * n;
     }
     float slope = 1.0 - n.z; // 0 flat .. 1 vertical
     vec3 albedo;
@@ -141,7 +144,7 @@ void main() {
             albedo = mix(albedo, vec3(0.42, 0.39, 0.36), smoothstep(0.25, 0.55, slope) * (1.0 - step(0.9, t)));
         }
     }
-    float sun = max(dot(n, u_sun_direction), 0.0);
+    float sun = max(dot(n, transpose(basis) * u_sun_direction), 0.0);
     float sky = 0.5 + 0.5 * n.z;
     vec3 colour = albedo * (0.78 * sun + 0.30 * sky);
     if (u_fog_density > 0.0) {

@@ -27,14 +27,43 @@ void cull() {
     gl_TessLevelInner[1] = 0.0;
 }
 
-// Frustum test of the footprint from sample a to sample b (inclusive) over the patch's height
-// range, extended `below` metres down for skirts. Invisible blocks are not tessellated;
-// their neighbours' shared edges do not depend on it, so nothing visible can crack.
+uniform float u_bulge_per_rad2; // globe: (a²/b)/8 (+1%): the ellipsoid's rise over a chord
+
+// The box around the footprint from sample a to sample b (inclusive) over the patch's height
+// range, extended `below` metres down for skirts. On a plane its corners; on the globe the
+// corners at both heights, widened by how far the ellipsoid bulges between them.
+void blockBox(PatchInstance p, ivec2 a, ivec2 b, float below, out vec3 lo, out vec3 hi) {
+    if (u_surface == 0) {
+        vec2 pa = samplePosition(p, a).xy, pb = samplePosition(p, b).xy;
+        lo = vec3(min(pa, pb), p.min_z - below);
+        hi = vec3(max(pa, pb), p.max_z);
+        return;
+    }
+    lo = vec3(1e30);
+    hi = vec3(-1e30);
+    vec3 up;
+    for (int k = 0; k < 4; ++k) {
+        ivec2 s = ivec2((k & 1) != 0 ? b.x : a.x, (k & 2) != 0 ? b.y : a.y);
+        ivec2 delta = p.origin + s * p.step;
+        vec3 bottom = framePoint(delta, p.min_z - below, up);
+        vec3 top = framePoint(delta, p.max_z, up);
+        lo = min(lo, min(bottom, top));
+        hi = max(hi, max(bottom, top));
+    }
+    vec2 angles = vec2(b - a) * float(p.step) * u_angle_step;
+    vec3 bulge = vec3(u_bulge_per_rad2 * dot(angles, angles));
+    lo -= bulge;
+    hi += bulge;
+}
+
+// Frustum test of that box. Invisible blocks are not tessellated; their neighbours' shared
+// edges do not depend on it, so nothing visible can crack.
 bool blockInvisible(PatchInstance p, ivec2 a, ivec2 b, float below) {
     if (u_cull_blocks == 0)
         return false;
-    vec2 pa = samplePosition(p, a).xy, pb = samplePosition(p, b).xy;
-    return outsideFrustum(vec3(min(pa, pb), p.min_z - below), vec3(max(pa, pb), p.max_z));
+    vec3 lo, hi;
+    blockBox(p, a, b, below, lo, hi);
+    return outsideFrustum(lo, hi);
 }
 
 in flat int v_primitive[];
@@ -84,13 +113,13 @@ void main() {
             // Conservative: the interior meets ε by its own test, and is at least as fine as
             // its finest edge, so that the tessellator's transition triangles only ever step
             // from a finer interior to a coarser edge. Only this block reads it: no crack.
-            vec2 lo = samplePosition(p, s0).xy, hi = samplePosition(p, s0 + ivec2(b)).xy;
+            vec3 lo, hi, up;
+            blockBox(p, s0, s0 + ivec2(b), 0.0, lo, hi);
             vec3 corners[4] = vec3[4](samplePosition(p, s0), samplePosition(p, s0 + ivec2(b, 0)),
                                       samplePosition(p, s0 + ivec2(0, b)),
                                       samplePosition(p, s0 + ivec2(b)));
-            int d = interiorSimplification(corners, samplePosition(p, s0 + ivec2(b / 2)),
-                                           vec3(min(lo, hi), p.min_z), vec3(max(lo, hi), p.max_z),
-                                           own);
+            vec3 centre = samplePosition(p, s0 + ivec2(b / 2), up);
+            int d = interiorSimplification(corners, centre, up, lo, hi, own);
             inner = max(float(b >> d), max(max(f_left, f_top), max(f_right, f_bottom)));
         }
         gl_TessLevelInner[0] = inner;

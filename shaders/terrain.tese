@@ -38,14 +38,15 @@ void main() {
                             : tc_start + ivec2(round(gl_TessCoord.xy * float(b)));
     // One code path and `precise` (no contraction into FMAs that could differ between call
     // sites): a vertex shared by a block and a skirt, or by two blocks, is bit-identical.
-    precise vec3 position = samplePosition(p, sample_ij);
+    vec3 up;
+    precise vec3 position = samplePosition(p, sample_ij, up);
     if (skirt) {
-        // v = 0 on the patch border, 1 at the skirt's foot, skirt_depth below (exactly at
-        // v = 1: feet of neighbouring segments must be bit-identical).
+        // v = 0 on the patch border, 1 at the skirt's foot, skirt_depth below along the local
+        // up (exactly at v = 1: feet of neighbouring segments must be bit-identical).
         if (gl_TessCoord.y >= 1.0)
-            position.z = position.z - p.skirt_depth;
+            position = lowered(position, up, p.skirt_depth);
         else if (gl_TessCoord.y > 0.0)
-            position.z = position.z - p.skirt_depth * gl_TessCoord.y;
+            position = lowered(position, up, p.skirt_depth * gl_TessCoord.y);
     }
     float n = float(u_patch_cells + 1);
     v.position = position;

@@ -63,6 +63,8 @@ bool before(Corner a, Corner b) {
         return a.cell.x < b.cell.x;
     if (a.cell.y != b.cell.y)
         return a.cell.y < b.cell.y;
+    if (a.foot != b.foot)
+        return a.foot > b.foot; // a skirt's foot before its top (the plane's lower z first)
     return a.position.z < b.position.z;
 }
 
@@ -182,8 +184,8 @@ void main() {
         if (!on_line)
             continue;
         Corner a_foot = a, b_foot = b;
-        a_foot.position.z = a.position.z - p.skirt_depth;
-        b_foot.position.z = b.position.z - p.skirt_depth;
+        a_foot.position = lowered(a.position, worldUp(a.position), p.skirt_depth);
+        b_foot.position = lowered(b.position, worldUp(b.position), p.skirt_depth);
         a_foot.foot = 2;
         b_foot.foot = 2;
         a.foot = 1;

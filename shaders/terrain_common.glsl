@@ -1,6 +1,9 @@
 // Shared by every stage of the terrain program: per-patch instance data and frame uniforms.
-// Positions are camera-relative metres in the terrain frame (x east, y north, z up), so
-// floats stay precise however far the camera is from the origin.
+// Positions are camera-relative metres in the terrain frame (lod/terrain_frame.h): on a plane
+// x east, y north, z up; on the ellipsoid Earth-centred, Earth-fixed axes. No coordinate of
+// Earth scale reaches the GPU: a vertex is its finest-grid offset from the anchor sample
+// (the one nearest the camera, integers) mapped through the frame, so floats stay precise
+// near the camera wherever it is, and a sample has the same position in every patch.
 
 struct PatchInstance {
     ivec2 origin;       // finest-grid column, row of patch sample (0, 0), relative to u_anchor
@@ -12,8 +15,8 @@ struct PatchInstance {
     float skirt_depth;  // metres the skirts hang below the patch border
     vec2 valid_extent;  // level cells of the surface along i, j: ends on the last finest column
                         // and row, possibly inside a cell; >= C: not clipped on that side
-    float min_z;        // camera-relative bounds of the patch's heights (and descendants')
-    float max_z;
+    float min_z;        // the patch's heights (and descendants') less the reference height
+    float max_z;        // (the camera's z on a plane, its height above the ellipsoid on a globe)
 };
 
 layout(std430, binding = 0) readonly buffer PatchInstances { PatchInstance instances[]; };
@@ -24,7 +27,7 @@ uniform vec2 u_anchor_offset;   // camera-relative x, y of the anchor sample (th
 uniform vec2 u_viewport;        // pixels
 uniform float u_epsilon;        // ε, pixels
 uniform float u_height_scale;   // drawn metres per code: the archive's times u_exaggeration
-uniform float u_height_offset;  // k·offset − camera z: camera-relative drawn metres of code 0
+uniform float u_height_offset;  // k·offset − reference height: drawn metres of code 0 relative to it
 uniform float u_exaggeration;   // k: vertical exaggeration (1: true heights); the camera,
                                 // instance bounds, Err(P) and skirts are in the k-scaled space
 uniform int u_patch_cells;      // C = 2^n
@@ -34,9 +37,105 @@ uniform int u_block_levels;     // D
 uniform int u_cull_blocks;      // 1: drop tessellation blocks outside the view frustum
 uniform vec4 u_frustum[6];      // camera-relative planes (n, d), n·p + d >= 0 inside
 
+// The globe (u_surface 1): lod::ellipsoidOffset's algebra from the camera's own geodetic
+// position (λa, φa, h_ref), formed in double on the CPU (FrameUniforms): offsets are the
+// integer sample offset from the anchor sample less the camera's fraction of a sample.
+uniform int u_surface;           // lod::Surface: 0 plane, 1 ellipsoid
+uniform vec4 u_anchor_trig;      // cos φa, sin φa, cos λa, sin λa of the camera
+uniform vec2 u_angle_step;       // radians per finest column (Δλ) and row (Δφ)
+uniform vec2 u_anchor_fraction;  // the camera's column, row less the anchor sample's, in [−½, ½]
+uniform vec4 u_anchor_radii;     // N_a + h_ref, N_a(1 − e²) + h_ref, √(1 − e² sin² φa), e²
+uniform float u_semi_major;      // a
+uniform int u_wrap_columns;      // columns in 360° when the grid wraps, else 0
+uniform ivec2 u_anchor_sample;   // finest column, row of the anchor sample
+uniform ivec2 u_pole_rows;       // rows on the north and the south pole, −1 when none
+uniform vec3 u_camera_world;     // the camera in ECEF, metres (directions only: ~0.5 m)
+uniform float u_polar_ratio;     // 1 / (1 − e²)
+
 layout(binding = 0) uniform usampler2DArray u_heights;     // codes, one layer per patch
 layout(binding = 1) uniform sampler2DArray u_normals;      // unit normals, xyz
 layout(binding = 2) uniform sampler2DArray u_block_errors; // λ(1..D) metres per block
+
+// Wraps a column offset into [−w/2, w/2) on a grid that goes round the Earth, so that a
+// sample and its copy one period away (the antimeridian column) are the same vertex.
+int wrapColumnOffset(int dx) {
+    if (u_wrap_columns <= 0)
+        return dx;
+    int w = u_wrap_columns, half_w = w / 2;
+    int m = dx + half_w;
+    int q = m >= 0 ? m / w : -((w - 1 - m) / w); // floor(m / w) without a negative %
+    return m - q * w - half_w;
+}
+
+// The point at finest-grid offset `delta` from the anchor sample and `dh` metres above the
+// reference height, relative to the camera, and the local up there. On the ellipsoid every
+// term of the difference to the camera scales with the offsets (lod/ellipsoid.cpp,
+// ellipsoidOffset), so a vertex a kilometre from the camera is exact to a tenth of a
+// millimetre.
+vec3 framePoint(ivec2 delta, float dh, out vec3 up) {
+    if (u_surface == 0) {
+        up = vec3(0.0, 0.0, 1.0);
+        precise vec2 xy = vec2(delta) * u_spacing + u_anchor_offset;
+        return vec3(xy, dh);
+    }
+    delta.x = wrapColumnOffset(delta.x);
+    precise float dl = (float(delta.x) - u_anchor_fraction.x) * u_angle_step.x;
+    precise float dp = (float(delta.y) - u_anchor_fraction.y) * u_angle_step.y;
+    float cpa = u_anchor_trig.x, spa = u_anchor_trig.y, cla = u_anchor_trig.z, sla = u_anchor_trig.w;
+    precise float hp = sin(0.5 * dp), hl = sin(0.5 * dl);
+    precise float d_cos_phi = cpa * (-2.0 * hp * hp) - spa * sin(dp);
+    precise float d_sin_phi = spa * (-2.0 * hp * hp) + cpa * sin(dp);
+    precise float d_cos_l = cla * (-2.0 * hl * hl) - sla * sin(dl);
+    precise float d_sin_l = sla * (-2.0 * hl * hl) + cla * sin(dl);
+    precise float cos_phi = cpa + d_cos_phi, sin_phi = spa + d_sin_phi;
+    float e2 = u_anchor_radii.w, swa = u_anchor_radii.z;
+    precise float d_w = -e2 * d_sin_phi * (sin_phi + spa);
+    precise float sw = sqrt(swa * swa + d_w);
+    precise float d_n = u_semi_major * -d_w / (sw * swa * (sw + swa));
+    float r_a = u_anchor_radii.x, rz_a = u_anchor_radii.y;
+    precise float u_a = r_a * cpa;
+    int row = u_anchor_sample.y + delta.y;
+    precise vec3 d;
+    if (row == u_pole_rows.x || row == u_pole_rows.y) {
+        // On the axis whatever the longitude: every vertex of a pole row is one point.
+        d.xy = -u_a * vec2(cla, sla);
+        up = vec3(0.0, 0.0, row == u_pole_rows.x ? 1.0 : -1.0);
+    } else {
+        precise float d_u = (d_n + dh) * cos_phi + r_a * d_cos_phi;
+        d.x = d_u * (cla + d_cos_l) + u_a * d_cos_l;
+        d.y = d_u * (sla + d_sin_l) + u_a * d_sin_l;
+        up = vec3(cos_phi * (cla + d_cos_l), cos_phi * (sla + d_sin_l), sin_phi);
+    }
+    d.z = (d_n * (1.0 - e2) + dh) * sin_phi + rz_a * d_sin_phi;
+    return d; // the camera is the anchor: d is camera-relative already
+}
+
+// The local up at a camera-relative point, from the point alone (for directions: walls,
+// shading); +z on a plane.
+vec3 worldUp(vec3 position) {
+    if (u_surface == 0)
+        return vec3(0.0, 0.0, 1.0);
+    vec3 p = position + u_camera_world;
+    return normalize(vec3(p.xy, p.z * u_polar_ratio));
+}
+
+// Local east, north, up at a camera-relative point (the world axes on a plane).
+mat3 localBasis(vec3 position) {
+    if (u_surface == 0)
+        return mat3(1.0);
+    vec3 up = worldUp(position);
+    vec3 east = cross(vec3(0.0, 0.0, 1.0), up);
+    east = dot(east, east) > 1e-12 ? normalize(east) : vec3(1.0, 0.0, 0.0); // at a pole
+    return mat3(east, cross(up, east), up);
+}
+
+// `position` lowered by `depth` metres along the local up (skirts, walls).
+vec3 lowered(vec3 position, vec3 up, float depth) {
+    if (u_surface == 0)
+        return vec3(position.xy, position.z - depth);
+    precise vec3 p = position - depth * up;
+    return p;
+}
 
 float sampleHeight(int layer, ivec2 sample_ij) {
     precise float z = u_height_offset + u_height_scale * float(texelFetch(u_heights, ivec3(sample_ij, layer), 0).r);
@@ -47,8 +146,11 @@ float sampleHeight(int layer, ivec2 sample_ij) {
 // coordinates (integers relative to the anchor near the camera), never on the patch, so
 // vertices on a seam are bit-identical in every patch that has them; heights come from each
 // patch's own map (equal on seams between patches of one level).
-vec3 samplePosition(PatchInstance p, ivec2 sample_ij) {
-    precise vec2 xy = vec2(p.origin + sample_ij * p.step) * u_spacing + u_anchor_offset;
+vec3 samplePosition(PatchInstance p, ivec2 sample_ij, out vec3 up) {
     precise float z = sampleHeight(p.layer, sample_ij);
-    return vec3(xy, z);
+    return framePoint(p.origin + sample_ij * p.step, z, up);
+}
+vec3 samplePosition(PatchInstance p, ivec2 sample_ij) {
+    vec3 up;
+    return samplePosition(p, sample_ij, up);
 }

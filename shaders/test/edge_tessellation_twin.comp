@@ -18,7 +18,8 @@ void main() {
     if (i >= u_case_count)
         return;
     vec4 errors = cases[4 * i + 3];
-    simplification[i] = ivec2(edgeSimplification(cases[4 * i + 1].xyz, errors),
+    const vec3 up = vec3(0.0, 0.0, 1.0); // the plane's: the C++ twin measures along +z
+    simplification[i] = ivec2(edgeSimplification(cases[4 * i + 1].xyz, up, errors),
                               edgeSimplification(cases[4 * i].xyz, cases[4 * i + 1].xyz,
-                                                 cases[4 * i + 2].xyz, errors));
+                                                 cases[4 * i + 2].xyz, up, errors));
 }

@@ -10,7 +10,7 @@
 namespace ridge::lod {
 
 Camera::Camera(glm::dvec3 position, glm::dvec3 look_at, double fov_y_degrees, Viewport viewport,
-               double near_m, double far_m)
+               double near_m, double far_m, glm::dvec3 world_up)
     : position_(position), fov_y_(glm::radians(fov_y_degrees)), viewport_(viewport), near_(near_m),
       far_(far_m)
 {
@@ -27,11 +27,18 @@ Camera::Camera(glm::dvec3 position, glm::dvec3 look_at, double fov_y_degrees, Vi
     if (!(far_m > near_m))
         throw Error("camera: the far plane (" + formatNumber(far_m) +
                     " m) must lie beyond the near plane (" + formatNumber(near_m) + " m)");
+    checkParameters("camera world up", &world_up.x, 3, ValueRange::closed(-1.0, 1.0));
+    if (std::abs(glm::length(world_up) - 1.0) > 1e-6)
+        throw Error("camera: the world up direction must be a unit vector");
+    world_up_ = world_up;
     forward_ = glm::normalize(dir);
-    // Looking straight up or down: any horizontal right vector will do.
-    glm::dvec3 r = glm::cross(forward_, glm::dvec3(0.0, 0.0, 1.0));
-    if (glm::length(r) < 1e-9)
-        r = glm::dvec3(1.0, 0.0, 0.0);
+    // Looking straight up or down: any right vector across the up direction will do.
+    glm::dvec3 r = glm::cross(forward_, world_up);
+    if (glm::length(r) < 1e-9) {
+        r = glm::cross(glm::dvec3(0.0, 1.0, 0.0), world_up);
+        if (glm::length(r) < 1e-9)
+            r = glm::dvec3(1.0, 0.0, 0.0);
+    }
     right_ = glm::normalize(r);
     up_ = glm::cross(right_, forward_);
 }

@@ -23,7 +23,12 @@ Frustum::Frustum(const Camera& camera)
 Visibility Frustum::classify(const Box& box) const
 {
     Visibility result = Visibility::Inside;
-    for (const glm::dvec4& pl : planes_) {
+    for (const glm::dvec4& world_plane : planes_) {
+        // An oriented box: the plane in the box's own frame, where it is axis-aligned.
+        const glm::dvec4 pl =
+            box.oriented ? glm::dvec4(box.directionToLocal(glm::dvec3(world_plane)),
+                                      world_plane.w + glm::dot(glm::dvec3(world_plane), box.origin))
+                         : world_plane;
         const glm::dvec3 n(pl);
         const glm::dvec3 p_vertex(n.x >= 0 ? box.max.x : box.min.x,
                                   n.y >= 0 ? box.max.y : box.min.y,

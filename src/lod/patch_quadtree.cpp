@@ -19,13 +19,17 @@ PatchQuadtree::PatchQuadtree(TerrainFrame frame, std::vector<PatchBounds> bounds
 
 PatchQuadtree PatchQuadtree::fromArchive(const archive::ArchiveReader& reader)
 {
+    const archive::Header& h = reader.header();
+    return fromArchive(reader, TerrainFrame(reader.geometry(), h.spacing_x, h.spacing_y));
+}
+
+PatchQuadtree PatchQuadtree::fromArchive(const archive::ArchiveReader& reader, TerrainFrame frame)
+{
     std::vector<PatchBounds> bounds;
     bounds.reserve(reader.index().size());
     for (const archive::PatchRecord& r : reader.index())
         bounds.push_back({r.min_height, r.max_height, r.err});
-    const archive::Header& h = reader.header();
-    return PatchQuadtree(TerrainFrame(reader.geometry(), h.spacing_x, h.spacing_y),
-                         std::move(bounds));
+    return PatchQuadtree(std::move(frame), std::move(bounds));
 }
 
 Box PatchQuadtree::box(PatchId p, double exaggeration) const

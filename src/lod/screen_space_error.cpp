@@ -18,7 +18,8 @@ double screenSpaceErrorFactor(const Camera& camera)
 
 double distanceToBox(glm::dvec3 c, const Box& box)
 {
-    return glm::length(c - glm::clamp(c, box.min, box.max));
+    const glm::dvec3 q = box.toLocal(c); // lengths are the same in the box's frame
+    return glm::length(q - glm::clamp(q, box.min, box.max));
 }
 
 double visibleDepthBound(const Camera& camera, const Box& box, double rho, bool side_on)
@@ -26,10 +27,10 @@ double visibleDepthBound(const Camera& camera, const Box& box, double rho, bool 
     const double tx = std::tan(camera.fovX() * 0.5), ty = std::tan(camera.fovY() * 0.5);
     const double cos_max = 1.0 / std::sqrt(1.0 + tx * tx + ty * ty);
     // Nearest depth along the view axis: the box corner furthest against forward (n-vertex).
-    const glm::dvec3 f = camera.forward();
+    const glm::dvec3 f = box.directionToLocal(camera.forward());
     const glm::dvec3 n(f.x >= 0 ? box.min.x : box.max.x, f.y >= 0 ? box.min.y : box.max.y,
                        f.z >= 0 ? box.min.z : box.max.z);
-    const double w_min = glm::dot(n - camera.position(), f);
+    const double w_min = glm::dot(n - box.toLocal(camera.position()), f);
     // r/w² <= 1/(cos θ_max · w) for a visible point (see the header): the extra cos θ_max
     // covers errors seen side-on near the screen's corners (1.09 ε without it).
     return (side_on ? cos_max : 1.0) * std::max(rho * cos_max, w_min);

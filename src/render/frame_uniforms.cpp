@@ -8,6 +8,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
+#include <cmath>
 
 namespace ridge::render {
 
@@ -37,29 +38,71 @@ void FrameUniforms::setGeometry(const gpu::ShaderProgram& program, const lod::Ca
                        float(-frame.spacingY()));
     glProgramUniform2f(id, program.uniform("u_anchor_offset"), float(anchor.x_rel),
                        float(anchor.y_rel));
+    setSurface(program, anchor);
     // Exaggeration k: the drawn heights are k times the archive's (the camera is in that space).
     const double k = settings.exaggeration;
     const HeightQuantization& quantization = reader_.quantization();
     glProgramUniform1f(id, program.uniform("u_height_scale"), float(k * quantization.scale));
     glProgramUniform1f(id, program.uniform("u_height_offset"),
-                       float(k * quantization.offset - camera.position().z));
+                       float(k * quantization.offset - anchor.height));
     glProgramUniform1f(id, program.uniform("u_exaggeration"), float(k));
     glProgramUniform1i(id, program.uniform("u_patch_cells"), reader_.geometry().patchSize() - 1);
     glProgramUniform1i(id, program.uniform("u_block_cells"), reader_.blockLayout().block_cells);
+}
+
+void FrameUniforms::setSurface(const gpu::ShaderProgram& program, const CameraAnchor& anchor) const
+{
+    const GLuint id = program.id();
+    const lod::TerrainFrame& frame = quadtree_.frame();
+    glProgramUniform1i(id, program.uniform("u_surface"), frame.onEllipsoid() ? 1 : 0);
+    if (!frame.onEllipsoid())
+        return;
+    // Everything of Earth scale is formed here in double; the GPU adds offsets to it.
+    const lod::GeodeticGrid& g = frame.geodetic();
+    const double lat = anchor.latitude, lon = anchor.longitude;
+    const double e2 = g.ellipsoid.e2();
+    const double w = 1.0 - e2 * std::sin(lat) * std::sin(lat);
+    const double n = g.ellipsoid.a / std::sqrt(w);
+    glProgramUniform4f(id, program.uniform("u_anchor_trig"), float(std::cos(lat)),
+                       float(std::sin(lat)), float(std::cos(lon)), float(std::sin(lon)));
+    glProgramUniform2f(id, program.uniform("u_angle_step"), float(g.dlon), float(g.dlat));
+    glProgramUniform2f(id, program.uniform("u_anchor_fraction"), float(anchor.column_fraction),
+                       float(anchor.row_fraction));
+    glProgramUniform4f(id, program.uniform("u_anchor_radii"), float(n + anchor.height),
+                       float(n * (1.0 - e2) + anchor.height), float(std::sqrt(w)), float(e2));
+    glProgramUniform1f(id, program.uniform("u_semi_major"), float(g.ellipsoid.a));
+    glProgramUniform1i(id, program.uniform("u_wrap_columns"), int(g.wrap_columns));
+    glProgramUniform2i(id, program.uniform("u_anchor_sample"), int(anchor.column), int(anchor.row));
+    const int last = frame.geometry().height() - 1;
+    glProgramUniform2i(id, program.uniform("u_pole_rows"),
+                       frame.poleRow(0.0) ? (g.dlat < 0 ? 0 : last) : -1,
+                       frame.poleRow(double(last)) ? (g.dlat < 0 ? last : 0) : -1);
+    const glm::dvec3 c = anchor.camera;
+    glProgramUniform3f(id, program.uniform("u_camera_world"), float(c.x), float(c.y), float(c.z));
+    glProgramUniform1f(id, program.uniform("u_polar_ratio"), float(1.0 / (1.0 - e2)));
+    glProgramUniform1f(id, program.uniform("u_bulge_per_rad2"),
+                       float(1.01 * g.ellipsoid.maxCurvatureRadius() / 8.0));
 }
 
 void FrameUniforms::setShading(const gpu::ShaderProgram& program, const lod::Camera& camera,
                                const RenderSettings& settings) const
 {
     const GLuint id = program.id();
-    const glm::dvec3 sun = glm::normalize(settings.sun_direction);
+    const lod::TerrainFrame& frame = quadtree_.frame();
+    glm::dvec3 sun = glm::normalize(settings.sun_direction);
+    const double reference = frame.referenceHeight(camera.position());
+    if (frame.onEllipsoid()) {
+        // The sun is given in the local frame (east, north, up) under the camera and is
+        // that direction everywhere (at infinity): ECEF here, like the fragments' normals.
+        const glm::dvec3 g = frame.gridOf(camera.position());
+        sun = glm::normalize(frame.basisAt(g.x, g.y).matrix() * sun);
+    }
     glProgramUniform3f(id, program.uniform("u_sun_direction"), float(sun.x), float(sun.y),
                        float(sun.z));
     const double k = settings.exaggeration;
-    glProgramUniform2f(id, program.uniform("u_height_range"),
-                       float(k * min_height_ - camera.position().z),
-                       float(k * max_height_ - camera.position().z));
-    glProgramUniform1f(id, program.uniform("u_sea_level"), float(-camera.position().z));
+    glProgramUniform2f(id, program.uniform("u_height_range"), float(k * min_height_ - reference),
+                       float(k * max_height_ - reference));
+    glProgramUniform1f(id, program.uniform("u_sea_level"), float(-reference));
     // Archives before format v4 store no water: the palette's old rule, heights <= 0 m.
     glProgramUniform1i(id, program.uniform("u_water_from_height"),
                        reader_.storesSampleFlags() ? 0 : 1);

@@ -5,6 +5,8 @@
 // of terrain.frag for the drawing ones. Uniforms that only one scheme's shaders read are that
 // scheme's (TerrainScheme::setUniforms: the tessellation scheme's LOD camera, ε, block
 // culling).
+#include "patch_instances.h"
+
 #include "ridge/archive/archive_reader.h"
 #include "ridge/gpu/shader_program.h"
 #include "ridge/lod/camera.h"
@@ -33,6 +35,9 @@ class FrameUniforms {
                     const RenderSettings& settings) const;
 
   private:
+    // The frame's surface and, on a globe, the anchor's geodetic terms (framePoint).
+    void setSurface(const gpu::ShaderProgram& program, const CameraAnchor& anchor) const;
+
     const archive::ArchiveReader& reader_;
     const lod::PatchQuadtree& quadtree_;
     float min_height_ = 0.f, max_height_ = 0.f; // terrain frame, metres

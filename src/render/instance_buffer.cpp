@@ -29,8 +29,9 @@ PatchInstances InstanceBuffer::write(TerrainScheme& scheme, const lod::Camera& c
     // from far above, its foot rounds onto its top and the seam it closes opens (found when
     // the texture-detail criterion split flat sea into levels seen from 760 km).
     const double k = settings.exaggeration;
-    const double z_rel = std::max(std::abs(camera.position().z - k * double(min_height_)),
-                                  std::abs(camera.position().z - k * double(max_height_)));
+    const double reference = quadtree_.frame().referenceHeight(camera.position());
+    const double z_rel = std::max(std::abs(reference - k * double(min_height_)),
+                                  std::abs(reference - k * double(max_height_)));
     PatchInstances built;
     if (!scheme.buildInstances(camera, settings, built))
         built = buildPatchInstances(

@@ -15,13 +15,29 @@ CameraAnchor cameraAnchor(const lod::TerrainFrame& frame, glm::dvec3 camera_posi
     // over a millimetre grid is 1e18 samples out). Such an anchor is still a sample, so seams
     // stay bit-identical; only the precision near a camera that far out is lost.
     constexpr double kReach = 0x1p40;
+    CameraAnchor a;
+    a.camera = camera_position;
+    if (frame.onEllipsoid()) {
+        // The sample nearest the camera (its column in the first period of a wrapping grid,
+        // or the period nearest the grid): offsets from it stay within 2^24, which floats
+        // hold exactly, for any grid of fewer than 2^22 samples a side.
+        const glm::dvec3 g = frame.gridOf(camera_position);
+        a.column = int64_t(std::llround(g.x));
+        a.row = int64_t(std::llround(g.y));
+        a.column_fraction = g.x - double(a.column);
+        a.row_fraction = g.y - double(a.row);
+        a.longitude = frame.longitudeOf(g.x);
+        a.latitude = frame.geodetic().lat0 + g.y * frame.geodetic().dlat;
+        a.height = g.z;
+        return a;
+    }
     const double column = std::clamp(frame.columnOf(camera_position.x), -kReach, kReach);
     const double row = std::clamp(frame.rowOf(camera_position.y), -kReach, kReach);
-    CameraAnchor a;
     a.column = int64_t(std::llround(column));
     a.row = int64_t(std::llround(row));
     a.x_rel = frame.xOf(double(a.column)) - camera_position.x;
     a.y_rel = frame.yOf(double(a.row)) - camera_position.y;
+    a.height = camera_position.z;
     return a;
 }
 
@@ -69,8 +85,8 @@ PatchInstances buildPatchInstances(const lod::PatchQuadtree& tree, const lod::Se
         // Rounded up: the shaders' Λ must not understate the exaggerated Err(P).
         r.err = k == 1.0 ? b.err : std::nextafter(float(k * double(b.err)), INFINITY);
         r.skirt_depth = float(depths[i]);
-        r.min_z = float(k * double(b.min_height) - camera_position.z);
-        r.max_z = float(k * double(b.max_height) - camera_position.z);
+        r.min_z = float(k * double(b.min_height) - anchor.height);
+        r.max_z = float(k * double(b.max_height) - anchor.height);
         // Exact while a patch spans < 2^24 finest samples (the fraction is a multiple of 1/step);
         // beyond, rounded to float like the shader's cell coordinates it is compared with.
         r.valid_extent[0] = float(g.validExtentX(p));

@@ -29,12 +29,19 @@ struct GpuPatchInstance {
 };
 static_assert(sizeof(GpuPatchInstance) == 48, "must match the std430 layout of PatchInstance");
 
-// The finest sample nearest the camera. Vertex x, y are integers relative to it times the
-// spacing plus its camera-relative offset (shaders/terrain_common.glsl), so they depend only
+// The finest sample nearest the camera. Vertices are placed by their integer offset from it
+// through the terrain frame (shaders/terrain_common.glsl's framePoint), so they depend only
 // on the sample, never on the patch, and are exact where it matters: near the camera.
 struct CameraAnchor {
     int64_t column = 0, row = 0;
-    double x_rel = 0.0, y_rel = 0.0; // camera-relative x, y of the anchor sample
+    double x_rel = 0.0, y_rel = 0.0; // plane: camera-relative x, y of the anchor sample
+    // Heights reach the GPU relative to this (TerrainFrame::referenceHeight of the camera).
+    double height = 0.0;
+    // Globe: the camera's column and row less the anchor sample's (within ±½), and its
+    // longitude and latitude (radians): positions are offsets from the camera itself.
+    double column_fraction = 0.0, row_fraction = 0.0;
+    double longitude = 0.0, latitude = 0.0;
+    glm::dvec3 camera{0.0}; // the camera position it was formed for
 };
 CameraAnchor cameraAnchor(const lod::TerrainFrame& frame, glm::dvec3 camera_position);
 

@@ -144,7 +144,8 @@ void PatchTextures::uploadMasks(const stream::DecodedPatch& patch, int slot)
 }
 
 void PatchTextures::computeNormals(int slot, const std::array<int, 4>& neighbours,
-                                   double cell_metres_i, double cell_metres_j)
+                                   double cell_metres_i, double cell_metres_j, double latitude0,
+                                   double latitude_step)
 {
     normal_program_.use();
     glBindTextureUnit(0, heights_.id());
@@ -154,6 +155,7 @@ void PatchTextures::computeNormals(int slot, const std::array<int, 4>& neighbour
     glUniform2f(normal_program_.uniform("u_cell_metres"), float(cell_metres_i),
                 float(cell_metres_j));
     glUniform1f(normal_program_.uniform("u_height_scale"), float(quantization_.scale));
+    glUniform2f(normal_program_.uniform("u_latitude"), float(latitude0), float(latitude_step));
     glUniform4i(normal_program_.uniform("u_neighbour_layers"), neighbours[0], neighbours[1],
                 neighbours[2], neighbours[3]);
     glDispatchCompute(GLuint(n_ + 7) / 8, GLuint(n_ + 7) / 8, 1);

@@ -68,10 +68,12 @@ class PatchTextures {
     void refine(PatchId p, int slot, int steps, float lambda_cap);
     // The normal map of the patch in `slot` from the height layers: its own and, for the ring
     // one sample beyond its border, its same-level neighbours' in `neighbour_slots` (west,
-    // east, north, south; −1 extrapolates). `cell_metres` is the cell size along i and j.
+    // east, north, south; −1 extrapolates). `cell_metres` is the cell size along i and j; on
+    // a globe (`latitude_step` ≠ 0) the one along i is taken at the equator and shrinks with
+    // the cosine of the latitude of each row, row j at latitude0 + j·latitude_step (radians).
     // The heights it reads must be written (uploads of the batch done).
     void computeNormals(int slot, const std::array<int, 4>& neighbour_slots, double cell_metres_i,
-                        double cell_metres_j);
+                        double cell_metres_j, double latitude0 = 0.0, double latitude_step = 0.0);
     // What upload() or decodeOnGpu() sends for `patch`, bytes: the per-frame budget plans
     // with it and FrameStats counts it.
     size_t uploadBytes(const stream::DecodedPatch& patch) const;

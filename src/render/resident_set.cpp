@@ -192,6 +192,17 @@ void ResidentSet::computeNormals(PatchId p, const std::unordered_set<int>& pendi
                 neighbours[k] = writtenSlot(sides[k]);
         }
         const double step = double(g.step(q.level));
+        const lod::TerrainFrame& frame = quadtree_.frame();
+        if (frame.onEllipsoid()) {
+            // Metres per cell on the ellipsoid: along a parallel they shrink with cos φ.
+            const lod::GeodeticGrid& geo = frame.geodetic();
+            const double row0 = double(q.y) * g.cells() * step;
+            textures_->computeNormals(residency_.slotOf(q), neighbours,
+                                      step * geo.dlon * geo.ellipsoid.a,
+                                      step * std::abs(geo.dlat) * geo.ellipsoid.a,
+                                      frame.latitudeOf(row0), step * geo.dlat);
+            return;
+        }
         textures_->computeNormals(residency_.slotOf(q), neighbours,
                                   step * reader_.header().spacing_x,
                                   step * reader_.header().spacing_y);

@@ -113,7 +113,7 @@ struct TerrainRenderer::Impl {
 
 TerrainRenderer::Impl::Impl(const archive::ArchiveReader& r, const RendererOptions& o)
     : reader(r), options(o), plan(planSchemes(r, options)),
-      quadtree(lod::PatchQuadtree::fromArchive(r)),
+      quadtree(lod::PatchQuadtree::fromArchive(r, lod::terrainFrameOf(r, o.frame, r.path()))),
       slots(PatchTextures::slotCount(r, plan.slot_bytes, options.vram_budget_mb,
                                      options.max_resident_patches,
                                      ResidentSet::gpuDecodedCodec(r, options, plan))),

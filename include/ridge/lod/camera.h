@@ -1,5 +1,7 @@
 #pragma once
-// A perspective camera in the terrain frame (z up), and the matrices renderers derive from it.
+// A perspective camera in the terrain frame, and the matrices renderers derive from it. Its
+// "up" is the world's +z on a plane frame and the local up under the camera on a globe
+// (TerrainFrame::upAt): the horizon stays level either way.
 //
 // Matrices are camera-relative: `view()` rotates only, so the world is translated by −position
 // in double precision before anything becomes float. `viewProjection()` maps a
@@ -33,13 +35,15 @@ class Camera {
     // within kCameraCoordinateRange and different; viewport sides in [1, kMaxViewportPixels].
     // Throws ridge::Error naming the parameter otherwise (NaN and infinities included): every
     // renderer, culling test and error metric downstream relies on a finite camera.
+    // `world_up` is the direction the camera keeps upright (unit; the plane's +z by default).
     Camera(glm::dvec3 position, glm::dvec3 look_at, double fov_y_degrees, Viewport viewport,
-           double near_m, double far_m);
+           double near_m, double far_m, glm::dvec3 world_up = glm::dvec3(0.0, 0.0, 1.0));
 
     glm::dvec3 position() const { return position_; }
-    glm::dvec3 forward() const { return forward_; } // unit
-    glm::dvec3 right() const { return right_; }     // unit
-    glm::dvec3 up() const { return up_; }           // unit, completes the right-handed basis
+    glm::dvec3 forward() const { return forward_; }  // unit
+    glm::dvec3 right() const { return right_; }      // unit
+    glm::dvec3 up() const { return up_; }            // unit, completes the right-handed basis
+    glm::dvec3 worldUp() const { return world_up_; } // unit, what the camera keeps upright
     Viewport viewport() const { return viewport_; }
     double fovY() const { return fov_y_; } // radians
     double fovX() const;                   // radians
@@ -59,6 +63,7 @@ class Camera {
     glm::dvec3 forward_{0.0, 1.0, 0.0};
     glm::dvec3 right_{1.0, 0.0, 0.0};
     glm::dvec3 up_{0.0, 0.0, 1.0};
+    glm::dvec3 world_up_{0.0, 0.0, 1.0};
     double fov_y_ = 1.0471975511965976; // 60°
     Viewport viewport_;
     double near_ = 1.0;

@@ -89,7 +89,9 @@ class PatchQuadtree {
   public:
     // `bounds` indexed by geometry().patchIndex(p).
     PatchQuadtree(TerrainFrame frame, std::vector<PatchBounds> bounds);
+    // The index's bounds in the archive's plane frame, or in `frame` (lod::terrainFrameOf).
     static PatchQuadtree fromArchive(const archive::ArchiveReader& reader);
+    static PatchQuadtree fromArchive(const archive::ArchiveReader& reader, TerrainFrame frame);
 
     const TerrainFrame& frame() const { return frame_; }
     const PyramidGeometry& geometry() const { return frame_.geometry(); }

@@ -1,40 +1,85 @@
 #pragma once
-// The archive's local metric frame, in which cameras are given and patches are placed.
+// The terrain frame: the one place that maps a finest-grid sample (column, row) at a height to
+// the world in which cameras are given, culling and error metrics are measured and positions
+// are formed (relative to the camera) for the GPU. Two surfaces:
 //
-//   x = column · spacing_x                 metres east of the first column
-//   y = (height − 1 − row) · spacing_y     metres north of the last (southern) row
-//   z = metres                              elevation, as decoded (offset + scale · code)
+//   Plane      the archive's local metric frame (every archive before the globe):
+//                x = column · spacing_x   metres east of the first column
+//                y = (height − 1 − row) · spacing_y   metres north of the last (southern) row
+//                z = metres, as decoded (offset + scale · code)
+//              right-handed east-north-up, origin at the south-west corner at sea level;
+//   Ellipsoid  Earth-centred, Earth-fixed metres on the reference ellipsoid (WGS 84): sample
+//              (c, r) at longitude λ0 + c·Δλ, latitude φ0 + r·Δφ (a north-up geographic
+//              grid), heights along the ellipsoid's normal (lod/ellipsoid.h). A grid whose
+//              columns span 360° wraps (wrapColumns()); rows at ±90° are the poles.
 //
-// A right-handed east-north-up frame whose origin is the south-west corner sample at sea
-// level, so that every valid sample has x, y >= 0. Doubles on the CPU: renderers subtract the
-// camera position before converting to float (camera-relative rendering, no jitter far from
-// the origin).
+// Doubles on the CPU: renderers subtract the camera position before converting to float
+// (camera-relative rendering, no jitter far from the origin).
+#include "ridge/lod/ellipsoid.h"
 #include "ridge/pyramid/pyramid_geometry.h"
 
+#include <glm/mat3x3.hpp>
 #include <glm/vec3.hpp>
+
+#include <cstdint>
+#include <string_view>
 
 namespace ridge::lod {
 
-// An axis-aligned box in the terrain frame.
+// A box: axis-aligned in the world (a plane frame's patches), or oriented (a globe's): then
+// [min, max] is in the local frame `axes` (orthonormal columns) centred at `origin`, i.e. the
+// world points origin + axes · q for q in [min, max].
 struct Box {
     glm::dvec3 min{0.0};
     glm::dvec3 max{0.0};
-    glm::dvec3 centre() const { return (min + max) * 0.5; }
+    bool oriented = false;
+    glm::dvec3 origin{0.0};
+    glm::dmat3 axes{1.0};
+
+    glm::dvec3 centre() const; // world
+    // World point / direction in the box's own coordinates (the identity when axis-aligned).
+    glm::dvec3 toLocal(glm::dvec3 world) const;
+    glm::dvec3 directionToLocal(glm::dvec3 world) const;
+};
+
+enum class Surface { Plane, Ellipsoid };
+// "plane", "ellipsoid".
+std::string_view surfaceName(Surface s);
+
+// Where the samples of a globe frame lie on the ellipsoid: a north-up geographic grid.
+struct GeodeticGrid {
+    double lon0 = 0.0, lat0 = 0.0; // radians, finest sample (0, 0)
+    double dlon = 0.0;             // radians per column, > 0 (east)
+    double dlat = 0.0;             // radians per row, < 0 (rows go south)
+    // The grid's columns in 360° when they wrap around the Earth (column c and c + period are
+    // the same meridian), else 0. Set only when the period is a whole number of columns.
+    int64_t wrap_columns = 0;
+    Ellipsoid ellipsoid;
 };
 
 class TerrainFrame {
   public:
     TerrainFrame() = default;
+    // A plane frame.
     TerrainFrame(const PyramidGeometry& geometry, double spacing_x, double spacing_y)
         : geometry_(geometry), spacing_x_(spacing_x), spacing_y_(spacing_y)
     {
     }
+    // A globe frame over `grid`; spacing_x/y are its largest ground spacings (metres), which
+    // the texel criterion and the normal maps use.
+    static TerrainFrame ellipsoid(const PyramidGeometry& geometry, double spacing_x,
+                                  double spacing_y, const GeodeticGrid& grid);
 
     const PyramidGeometry& geometry() const { return geometry_; }
+    Surface surface() const { return surface_; }
+    bool onEllipsoid() const { return surface_ == Surface::Ellipsoid; }
+    const GeodeticGrid& geodetic() const { return grid_; }
     double spacingX() const { return spacing_x_; }
     double spacingY() const { return spacing_y_; }
 
-    // Terrain frame x, y of a finest-grid sample (column, row); fractional samples allowed.
+    // Plane-frame x, y of a finest-grid sample (column, row); fractional samples allowed.
+    // On a globe they are the grid's metric coordinates (spacings at the largest scale), which
+    // fog, extents and the legacy local point space still use.
     double xOf(double column) const { return column * spacing_x_; }
     double yOf(double row) const { return (geometry_.height() - 1 - row) * spacing_y_; }
     double columnOf(double x) const { return x / spacing_x_; }
@@ -44,14 +89,39 @@ class TerrainFrame {
     double extentX() const { return (geometry_.width() - 1) * spacing_x_; }
     double extentY() const { return (geometry_.height() - 1) * spacing_y_; }
 
-    // Footprint of patch `p` clipped to the valid extent, with heights [min_z, max_z].
+    // Globe: longitude, latitude (radians) of a column, row; latitudes are clamped to ±π/2.
+    double longitudeOf(double column) const { return grid_.lon0 + column * grid_.dlon; }
+    double latitudeOf(double row) const;
+    // Globe: whether `row` lies on a pole (its latitude is ±90° to a millionth of a row).
+    bool poleRow(double row) const;
+
+    // The world point of sample (column, row) at `height` metres (drawn space: heights times
+    // the exaggeration where the caller draws exaggerated), and the local up there (unit).
+    glm::dvec3 worldOf(double column, double row, double height) const;
+    glm::dvec3 upAt(double column, double row) const;
+    // Local east, north, up at a sample (the plane's are the world axes).
+    EnuBasis basisAt(double column, double row) const;
+    // Inverse of worldOf: (column, row, height). Globe columns are taken in the period that
+    // starts at column 0 − ½ (wrapping grids) or the nearest to the grid's centre.
+    glm::dvec3 gridOf(glm::dvec3 world) const;
+    // The height the GPU's heights are relative to for a camera at `world`: its z on a plane,
+    // its height above the ellipsoid on a globe (so that heights near the camera are small).
+    double referenceHeight(glm::dvec3 world) const { return gridOf(world).z; }
+
+    // A conservative bound of patch `p` clipped to the valid extent, with heights
+    // [min_z, max_z]: axis-aligned on a plane; on a globe oriented along the local axes at the
+    // patch's centre and bounding the curved surface between its samples too.
     // The clip matters for culling and distances: the padding beyond the extent is not drawn.
     Box patchBox(PatchId p, double min_z, double max_z) const;
 
   private:
+    Box ellipsoidPatchBox(PatchId p, double min_z, double max_z) const;
+
     PyramidGeometry geometry_;
     double spacing_x_ = 1.0;
     double spacing_y_ = 1.0;
+    Surface surface_ = Surface::Plane;
+    GeodeticGrid grid_;
 };
 
 } // namespace ridge::lod

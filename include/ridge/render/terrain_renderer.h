@@ -10,6 +10,7 @@
 // (glClipControl zero-to-one, cleared to 0, GL_GREATER), set and restored by draw().
 #include "ridge/archive/archive_reader.h"
 #include "ridge/core/parameter_check.h"
+#include "ridge/lod/archive_frame.h"
 #include "ridge/lod/camera.h"
 #include "ridge/lod/edge_tessellation.h"
 #include "ridge/lod/patch_quadtree.h"
@@ -188,6 +189,12 @@ struct RendererOptions {
     // on the CPU turns GPU reconstruction off for all. Empty: every registered scheme, with
     // its default options, whose needs cost nothing: those that do not need codes on the CPU.
     std::vector<std::string> schemes;
+
+    // The terrain frame (lod/archive_frame.h): the plane, or the WGS 84 ellipsoid (auto puts
+    // a raster that goes round the Earth there). The plane by default until the globe's
+    // cameras (default view, clip planes, ground heights) are in: TerrainRenderer's camera
+    // helpers measure the plane.
+    lod::FrameChoice frame = lod::FrameChoice::Plane;
 
     // Texture-array slots: at most this many, at most what `vram_budget_mb` holds (heights,
     // normals and block errors of one patch per slot) and at most the GL implementation's

@@ -297,12 +297,14 @@ class GeomorphScheme final : public TerrainScheme {
         const GLuint id = program.id();
         glProgramUniform1i(id, program.uniform("u_layout"), int(settings_.layout));
         glProgramUniform1i(id, program.uniform("u_hemisphere_map"), int(settings_.map));
-        // Compact codes become camera-relative drawn metres directly: k·offset − camera z.
+        // Compact codes become drawn metres relative to the reference height directly:
+        // k·offset − camera z on a plane (TerrainFrame::referenceHeight).
         const double k = frame.settings.exaggeration;
         glProgramUniform1f(id, program.uniform("u_geomorph_height_scale"),
                            float(k * settings_.scale));
         glProgramUniform1f(id, program.uniform("u_geomorph_height_offset"),
-                           float(k * settings_.offset - frame.camera.position().z));
+                           float(k * settings_.offset -
+                                 quadtree_.frame().referenceHeight(frame.camera.position())));
         glBindTextureUnit(3, hemisphere_.id());
     }
 

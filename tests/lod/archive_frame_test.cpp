@@ -1,0 +1,111 @@
+// Which frame an archive is drawn in (lod/archive_frame.h): the whole-globe fixture goes on the
+// ellipsoid by itself, wrapping at 360° with both poles; a small geographic tile only when
+// asked; and every archive that cannot lie on the ellipsoid is refused with a message that
+// names it and says why — never a frame with NaNs in it.
+#include "error_expectations.h"
+#include "gdal_translate.h"
+#include "test_support.h"
+
+#include "ridge/archive/archive_reader.h"
+#include "ridge/lod/archive_frame.h"
+#include "ridge/pipeline/build.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+
+namespace ridge::lod {
+namespace {
+
+class ArchiveFrame : public ::testing::Test {
+  protected:
+    static void SetUpTestSuite() { scratch_ = new test::ScratchDir(); }
+    static void TearDownTestSuite() { delete scratch_; }
+
+    // `tif` (in tests/data, or made in the scratch directory) built losslessly.
+    static std::string build(const std::string& tif, const std::string& name)
+    {
+        const std::string out = scratch_->path(name + ".ridge");
+        BuildOptions options;
+        options.patch_size = 17;
+        options.progress = {};
+        buildArchive(tif, out, options);
+        return out;
+    }
+    // everest_crop.tif with its corners moved to (west, north) .. (east, south), degrees.
+    static std::string moved(const std::string& name, std::vector<std::string> ullr)
+    {
+        const std::string tif = scratch_->path(name + ".tif");
+        ullr.insert(ullr.begin(), "-a_ullr");
+        test::gdalTranslate(test::dataPath("everest_crop.tif"), tif, ullr);
+        return build(tif, name);
+    }
+
+    static test::ScratchDir* scratch_;
+};
+
+test::ScratchDir* ArchiveFrame::scratch_ = nullptr;
+
+TEST_F(ArchiveFrame, TheWholeGlobeGoesOnTheEllipsoidWrappingWithBothPoles)
+{
+    const archive::ArchiveReader reader(build(test::dataPath("etopo5_globe_181x91.tif"), "globe"));
+    const TerrainFrame f = terrainFrameOf(reader, FrameChoice::Auto, reader.path());
+    ASSERT_TRUE(f.onEllipsoid());
+    EXPECT_EQ(f.geodetic().wrap_columns, 180);
+    EXPECT_DOUBLE_EQ(f.geodetic().dlon, 2.0 * std::numbers::pi / 180.0);
+    EXPECT_TRUE(f.poleRow(0.0));
+    EXPECT_TRUE(f.poleRow(90.0));
+    // Column 180 repeats column 0 one turn on: the same points.
+    EXPECT_LT(glm::length(f.worldOf(180.0, 40.0, 0.0) - f.worldOf(0.0, 40.0, 0.0)), 1e-6);
+    // The plane when asked.
+    EXPECT_FALSE(terrainFrameOf(reader, FrameChoice::Plane, reader.path()).onEllipsoid());
+}
+
+TEST_F(ArchiveFrame, ASmallGeographicTileStaysOnItsPlaneUnlessAsked)
+{
+    const archive::ArchiveReader reader(build(test::dataPath("everest_crop.tif"), "everest"));
+    EXPECT_FALSE(terrainFrameOf(reader, FrameChoice::Auto, reader.path()).onEllipsoid());
+    const TerrainFrame f = terrainFrameOf(reader, FrameChoice::Ellipsoid, reader.path());
+    ASSERT_TRUE(f.onEllipsoid());
+    EXPECT_EQ(f.geodetic().wrap_columns, 0);
+    // Sample (0, 0) is GDAL pixel (0, 0)'s centre: 86.75°E, 28.0°N (3″ pixels).
+    EXPECT_NEAR(f.longitudeOf(0.0) * 180.0 / std::numbers::pi, 86.749583333 + 0.5 / 1200.0, 1e-9);
+    EXPECT_NEAR(f.latitudeOf(0.0) * 180.0 / std::numbers::pi, 28.000416667 - 0.5 / 1200.0, 1e-9);
+    // Plane spacings keep their meaning: ground metres of a sample step, the largest.
+    EXPECT_NEAR(f.spacingX(), 81.9, 0.5);
+    EXPECT_NEAR(f.spacingY(), 93.0, 0.5);
+}
+
+TEST_F(ArchiveFrame, WhatCannotLieOnTheEllipsoidIsRefusedByName)
+{
+    auto refused = [](const std::string& path, const std::string& phrase) {
+        const archive::ArchiveReader reader(path);
+        test::expectError([&] { terrainFrameOf(reader, FrameChoice::Ellipsoid, path); }, phrase);
+        test::expectError([&] { terrainFrameOf(reader, FrameChoice::Ellipsoid, path); }, path);
+        // auto falls back to the plane, the frame such an archive has always had.
+        EXPECT_FALSE(terrainFrameOf(reader, FrameChoice::Auto, path).onEllipsoid());
+    };
+    refused(build(test::dataPath("everest_utm45.tif"), "utm"), "projected");
+    refused(moved("beyond_pole", {"86.75", "95.0", "87.0", "94.83"}), "beyond the pole");
+    refused(moved("too_wide", {"0", "28", "400", "27.83"}), "more than the 360°");
+    refused(moved("south_up", {"86.75", "27.83", "87.0", "28.0"}), "north-up");
+
+    // A geotransform without a CRS: an ASCII grid whose .prj is gone.
+    const std::string no_crs = scratch_->path("no_crs.asc");
+    test::gdalTranslate(test::dataPath("everest_crop.tif"), no_crs, {"-of", "AAIGrid"});
+    std::filesystem::remove(scratch_->path("no_crs.prj"));
+    std::filesystem::remove(no_crs + ".aux.xml");
+    refused(build(no_crs, "no_crs"), "no CRS");
+}
+
+TEST(FrameChoiceNames, RoundTrip)
+{
+    for (FrameChoice c : {FrameChoice::Auto, FrameChoice::Plane, FrameChoice::Ellipsoid})
+        EXPECT_EQ(parseFrameChoice(frameChoiceName(c)), c);
+    EXPECT_FALSE(parseFrameChoice("globe").has_value());
+}
+
+} // namespace
+} // namespace ridge::lod
