@@ -74,8 +74,14 @@ int interiorSimplification(vec3 corners[4], vec3 centre, vec3 up, vec3 lo, vec3 
 
 // Λ^(d) = λ^(d) + Err(P) of block (s, r) of patch `p`, in the drawn (exaggerated) space: λ is
 // stored in metres, p.err is exaggerated already.
+// On the globe Λ^(d) also holds the sagitta of an edge 2^d cells long (TerrainFrame::chordSag):
+// the simplified triangles' straight edges pass below the curved surface.
 vec4 blockErrors(PatchInstance p, ivec2 block_sr) {
-    return texelFetch(u_block_errors, ivec3(block_sr, p.layer), 0) * u_exaggeration + vec4(p.err);
+    vec4 lambda = texelFetch(u_block_errors, ivec3(block_sr, p.layer), 0) * u_exaggeration + vec4(p.err);
+    if (u_surface == 0)
+        return lambda;
+    vec2 cell = float(p.step) * u_angle_step;
+    return lambda + vec4(4.0, 16.0, 64.0, 256.0) * (u_bulge_per_rad2 * dot(cell, cell));
 }
 
 // Tessellation factor b / 2^d of the block edge from sample a to sample b (both integer,

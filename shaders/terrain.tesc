@@ -27,8 +27,6 @@ void cull() {
     gl_TessLevelInner[1] = 0.0;
 }
 
-uniform float u_bulge_per_rad2; // globe: (a²/b)/8 (+1%): the ellipsoid's rise over a chord
-
 // The box around the footprint from sample a to sample b (inclusive) over the patch's height
 // range, extended `below` metres down for skirts. On a plane its corners; on the globe the
 // corners at both heights, widened by how far the ellipsoid bulges between them.

@@ -68,8 +68,11 @@ bool before(Corner a, Corner b) {
     return a.position.z < b.position.z;
 }
 
-// The point of edge a-b on the line cell[axis] = limit, the same whichever way round.
-Corner cut(Corner a, Corner b, int axis, float limit) {
+// The point of edge a-b on the line cell[axis] = limit, the same whichever way round. On the
+// globe a line of rows on a pole is the pole itself: the cut is the pole vertex (its height the
+// sample past the line's, the pole row edge-extended), bit for bit what finer patches that
+// have the pole row as samples draw there, so the cap closes on one point.
+Corner cut(PatchInstance p, Corner a, Corner b, int axis, float limit) {
     if (before(b, a)) {
         Corner t = a;
         a = b;
@@ -82,6 +85,16 @@ Corner cut(Corner a, Corner b, int axis, float limit) {
     c.cell = mix(a.cell, b.cell, t);
     c.cell[axis] = limit;
     c.foot = (a.foot == 2 && b.foot == 2) ? 2 : max(a.foot, b.foot);
+    if (u_surface == 1 && axis == 1 && a.foot == 0 && b.foot == 0) {
+        int row_delta = p.origin.y + int(round(limit * float(p.step)));
+        int row = u_anchor_sample.y + row_delta;
+        if (row == u_pole_rows.x || row == u_pole_rows.y) {
+            Corner beyond = a.cell[axis] > limit ? a : b;
+            vec3 up;
+            c.position = framePoint(ivec2(0, row_delta),
+                                    sampleHeight(p.layer, ivec2(round(beyond.cell))), up);
+        }
+    }
     return c;
 }
 
@@ -133,7 +146,7 @@ void main() {
             if (a_in)
                 push(next, n, a);
             if (a_in != b_in)
-                push(next, n, cut(a, b, axis, limit));
+                push(next, n, cut(p, a, b, axis, limit));
         }
         // A cut that lands on a corner repeats it; repeated corners would make degenerate
         // triangles that count an edge twice.

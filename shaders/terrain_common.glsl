@@ -51,6 +51,7 @@ uniform ivec2 u_anchor_sample;   // finest column, row of the anchor sample
 uniform ivec2 u_pole_rows;       // rows on the north and the south pole, −1 when none
 uniform vec3 u_camera_world;     // the camera in ECEF, metres (directions only: ~0.5 m)
 uniform float u_polar_ratio;     // 1 / (1 − e²)
+uniform float u_bulge_per_rad2;  // (a²/b)/8 (+1%): a chord's sagitta per radian² (chordSag)
 
 layout(binding = 0) uniform usampler2DArray u_heights;     // codes, one layer per patch
 layout(binding = 1) uniform sampler2DArray u_normals;      // unit normals, xyz

@@ -12,6 +12,8 @@
 
 #include <fmt/core.h>
 
+#include <numbers>
+
 #include <memory>
 
 namespace ridge::cli {
@@ -49,6 +51,7 @@ void BenchCommand::registerWith(CLI::App& app)
     addTexelSizeOption(*command_, texel_px_);
     addExaggerationOption(*command_, exaggeration_);
     addStreamingOptions(*command_, renderer_options_);
+    addFrameOption(*command_, frame_);
     addLodRuleOptions(*command_, rules_);
     command_->add_flag("--popping", popping_,
                        "Measure popping per frame (the surface's displacement from LOD changes "
@@ -87,12 +90,21 @@ int BenchCommand::run()
     std::FILE* human = json_ ? stderr : stdout;
     renderbench::RenderBenchOptions options;
     options.renderer = renderer_options_;
+    options.renderer.frame = parseFrameChoice(frame_);
     options.scheme = renderer_; // a spec, checked by --lod's validator
     options.path.kind = path_;
-    // "lonlat" poses in a path file: WGS 84 through the archive's CRS (PROJ).
+    // "lonlat" poses in a path file: WGS 84 through the archive's CRS (PROJ) on a plane,
+    // on the globe straight onto its ellipsoid.
     const archive::ArchiveReader reader(archive_);
     auto geo = std::make_shared<const TerrainGeoreference>(reader);
-    if (geo->hasCrs())
+    const lod::TerrainFrame frame = lod::terrainFrameOf(reader, options.renderer.frame, archive_);
+    if (frame.onEllipsoid())
+        options.path.from_lon_lat = [geo, frame](double lon, double lat, double height) {
+            (void)geo->toLocal({lon, lat}, PointSpace::LonLat); // ranges checked by name
+            constexpr double kDeg = std::numbers::pi / 180.0;
+            return lod::geodeticToEcef(frame.geodetic().ellipsoid, lon * kDeg, lat * kDeg, height);
+        };
+    else if (geo->hasCrs())
         options.path.from_lon_lat = [geo](double lon, double lat, double height) {
             const glm::dvec2 local = geo->toLocal({lon, lat}, PointSpace::LonLat);
             return glm::dvec3(local.x, local.y, height);

@@ -50,7 +50,8 @@ class BenchCommand {
     int frames_ = 600;
     std::string size_ = "1920x1080";
     double error_ = 2.0;
-    double exaggeration_ = 1.0; // --exaggeration
+    std::string frame_ = "auto"; // --frame
+    double exaggeration_ = 1.0;  // --exaggeration
     double texel_px_ = render::RenderSettings{}.texel_px;
     render::RendererOptions renderer_options_ = render::RendererOptions::streamingDefaults();
     bool no_cull_ = false;
@@ -92,7 +93,8 @@ class RenderCommand {
     int samples_ = 4;
     std::vector<double> sun_{315.0, 45.0};
     double vram_mb_ = 256.0;
-    double exaggeration_ = 1.0; // --exaggeration
+    std::string frame_ = "auto"; // --frame
+    double exaggeration_ = 1.0;  // --exaggeration
     bool json_ = false;
     bool quiet_ = false;
 };

@@ -4,6 +4,7 @@
 #include "usage_error.h"
 
 #include "ridge/core/error.h"
+#include "ridge/lod/archive_frame.h"
 #include "ridge/lod/camera_orientation.h"
 #include "ridge/pipeline/camera_placement.h"
 #include "ridge/render/headless_render.h"
@@ -160,6 +161,30 @@ inline void addModeOption(CLI::App& command, std::string& mode)
                 return {};
             },
             "shaded|lod|tess"));
+}
+
+// --frame: the terrain frame (lod/archive_frame.h).
+inline lod::FrameChoice parseFrameChoice(const std::string& text)
+{
+    if (const std::optional<lod::FrameChoice> c = lod::parseFrameChoice(text))
+        return *c;
+    throw UsageError("--frame " + text + ": expected auto, plane or ellipsoid");
+}
+
+inline void addFrameOption(CLI::App& command, std::string& frame)
+{
+    command
+        .add_option("--frame", frame,
+                    "Terrain frame: plane (the raster's own metric plane), ellipsoid (WGS 84: "
+                    "a georeferenced lon/lat raster on the globe) or auto (the ellipsoid for a "
+                    "raster that goes round the Earth, else the plane)")
+        ->capture_default_str()
+        ->check(CLI::Validator(
+            [](std::string& text) -> std::string {
+                parseFrameChoice(text); // throws UsageError naming --frame
+                return {};
+            },
+            "auto|plane|ellipsoid"));
 }
 
 // A --lod spec, "NAME[,KEY=VALUE...]": a registered scheme (render::lodSchemeNames()) and

@@ -11,6 +11,8 @@
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
+#include <glm/matrix.hpp>
+
 #include <cmath>
 #include <cstdio>
 
@@ -64,6 +66,7 @@ void RenderCommand::registerWith(CLI::App& app)
         ->capture_default_str()
         ->check(inRange("--vram", render::RendererOptions::kVramBudgetMbRange));
     addExaggerationOption(*command_, exaggeration_);
+    addFrameOption(*command_, frame_);
     command_->add_flag("--json", json_, "Print the camera and frame statistics as JSON");
     command_->add_flag("-q,--quiet", quiet_, "Print nothing on success");
 }
@@ -73,9 +76,13 @@ int RenderCommand::run()
     render::HeadlessRenderOptions options;
     CameraPlacement placement = camera_args_.placement();
     placement.exaggeration = exaggeration_;
+    options.frame = parseFrameChoice(frame_);
+    // The frame the renderer will draw in: cameras are given and reported in it.
+    const lod::TerrainFrame frame =
+        lod::terrainFrameOf(archive::ArchiveReader(archive_), options.frame, archive_);
     if (!placement.empty()) {
         HeightQuery query(archive_); // GL-free: PROJ and the ground height under the camera
-        const ResolvedCamera camera = resolveCameraPlacement(query, placement);
+        const ResolvedCamera camera = resolveCameraPlacement(query, placement, &frame);
         options.camera = camera.position;
         options.look_at = camera.look_at;
     }
@@ -97,12 +104,17 @@ int RenderCommand::run()
     options.settings.exaggeration = exaggeration_;
     const render::HeadlessRenderResult r = render::renderToPng(archive_, options, output_);
     const glm::dvec3 p = r.camera.position(), f = r.camera.forward();
-    const lod::HeadingPitch angles = lod::headingPitchOf(f);
+    // Heading and pitch in the local frame at the camera (true north and the horizon there
+    // on a globe).
+    const glm::dvec3 grid = frame.gridOf(p);
+    const lod::HeadingPitch angles =
+        lod::headingPitchOf(glm::transpose(frame.basisAt(grid.x, grid.y).matrix()) * f);
     if (json_) {
         nlohmann::json j = {{"output", output_},
                             {"gl_renderer", r.gl_renderer},
                             {"camera", {p.x, p.y, p.z}},
                             {"forward", {f.x, f.y, f.z}},
+                            {"frame", std::string(lod::surfaceName(frame.surface()))},
                             {"heading_deg", angles.heading_deg},
                             {"pitch_deg", angles.pitch_deg},
                             {"fov_y_degrees", fov_},

@@ -564,6 +564,9 @@ int ViewCommand::run()
 {
     const lod::Viewport size = parseSize(size_);
     renderer_options_.schemes = lod_;
+    // The fly camera, its ground clamp and orbit work on the plane; the globe's navigation
+    // is not in yet.
+    renderer_options_.frame = lod::FrameChoice::Plane;
     try {
         renderer_options_.validate(); // each --lod checked already; a scheme given twice
     } catch (const Error& e) {

@@ -239,6 +239,8 @@ Renderer::Renderer(const std::string& archive_path, const RendererParameters& pa
     options.ram_budget_mb = parameters.ram_budget_mb;
     options.streaming = parameters.streaming;
     options.schemes = parameters.schemes;
+    // The public API's poses, ground heights and picks are in the plane's local metres.
+    options.frame = lod::FrameChoice::Plane;
     options.validate();
     render::HostGlState state("Renderer::Renderer");
     impl_ = std::make_unique<Impl>(archive_path, options);

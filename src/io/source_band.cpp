@@ -6,11 +6,15 @@
 #include "ridge/core/parameter_check.h"
 
 #include <cpl_string.h>
+#include <gdal_vrt.h>
+#include <ogr_srs_api.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cfloat>
 #include <cmath>
+#include <numbers>
 
 namespace ridge::io::detail {
 
@@ -111,6 +115,9 @@ SourceBand::SourceBand(const std::string& path, const IngestOptions& options) : 
         open();
     }
 
+    if (GDALGetRasterCount(dataset_.get()) >= 1)
+        appendWrapColumn();
+
     const int band_count = GDALGetRasterCount(dataset_.get());
     if (band_count < 1)
         fail("has no raster band" + subdatasetHint(dataset_.get()));
@@ -183,6 +190,66 @@ SourceBand::SourceBand(const std::string& path, const IngestOptions& options) : 
     const int flags = GDALGetMaskFlags(band_);
     has_mask_band_ =
         (flags & (GMF_PER_DATASET | GMF_ALPHA)) != 0 && (flags & (GMF_NODATA | GMF_ALL_VALID)) == 0;
+}
+
+void SourceBand::appendWrapColumn()
+{
+    GDALDatasetH ds = dataset_.get();
+    const int w = GDALGetRasterXSize(ds), h = GDALGetRasterYSize(ds);
+    std::array<double, 6> gt{};
+    OGRSpatialReferenceH srs = GDALGetSpatialRef(ds);
+    if (!srs || !OSRIsGeographic(srs) || GDALGetGeoTransform(ds, gt.data()) != CE_None)
+        return;
+    if (gt[2] != 0.0 || gt[4] != 0.0 || !(gt[1] > 0.0) || w < 2)
+        return;
+    const double degrees = gt[1] * OSRGetAngularUnits(srs, nullptr) * 180.0 / std::numbers::pi;
+    const double period = 360.0 / degrees;
+    // A whole turn to 5% of a column (ETOPO5 states 0.0833341° for 5'), without the repeated
+    // column already (w == period + 1 closes by itself).
+    if (std::abs(period - std::round(period)) > 0.05 || w != int64_t(std::round(period)))
+        return;
+    // A real mask would not follow into the VRT: such rasters keep their open seam.
+    for (int b = 1; b <= GDALGetRasterCount(ds); ++b) {
+        const int flags = GDALGetMaskFlags(GDALGetRasterBand(ds, b));
+        if ((flags & (GMF_PER_DATASET | GMF_ALPHA)) != 0 &&
+            (flags & (GMF_NODATA | GMF_ALL_VALID)) == 0)
+            return;
+    }
+    DatasetPtr vrt(VRTCreate(w + 1, h));
+    if (!vrt)
+        return;
+    GDALSetGeoTransform(vrt.get(), gt.data());
+    GDALSetSpatialRef(vrt.get(), srs);
+    for (int b = 1; b <= GDALGetRasterCount(ds); ++b) {
+        GDALRasterBandH src = GDALGetRasterBand(ds, b);
+        if (GDALAddBand(vrt.get(), GDALGetRasterDataType(src), nullptr) != CE_None)
+            fail("cannot repeat column 0 after the last one (VRT band)");
+        GDALRasterBandH dst = GDALGetRasterBand(vrt.get(), b);
+        int has = 0;
+        const double nodata = GDALGetRasterNoDataValue(src, &has);
+        if (has)
+            GDALSetRasterNoDataValue(dst, nodata);
+        const double scale = GDALGetRasterScale(src, &has);
+        if (has)
+            GDALSetRasterScale(dst, scale);
+        const double offset = GDALGetRasterOffset(src, &has);
+        if (has)
+            GDALSetRasterOffset(dst, offset);
+        if (const char* unit = GDALGetRasterUnitType(src))
+            GDALSetRasterUnitType(dst, unit);
+        GDALSetDescription(dst, GDALGetDescription(src));
+        GDALSetRasterColorInterpretation(dst, GDALGetRasterColorInterpretation(src));
+        if (const char* pixel_type = GDALGetMetadataItem(src, "PIXELTYPE", "IMAGE_STRUCTURE"))
+            GDALSetMetadataItem(dst, "PIXELTYPE", pixel_type, "IMAGE_STRUCTURE");
+        auto* sourced = static_cast<VRTSourcedRasterBandH>(dst);
+        if (VRTAddSimpleSource(sourced, src, 0, 0, w, h, 0, 0, w, h, "near", VRT_NODATA_UNSET) !=
+                CE_None ||
+            VRTAddSimpleSource(sourced, src, 0, 0, 1, h, w, 0, 1, h, "near", VRT_NODATA_UNSET) !=
+                CE_None)
+            fail("cannot repeat column 0 after the last one (VRT source)");
+    }
+    wrapped_source_ = std::move(dataset_);
+    dataset_ = std::move(vrt);
 }
 
 void SourceBand::checkHeightRange(double lo_value, double hi_value, const std::string& what) const

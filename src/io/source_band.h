@@ -35,6 +35,9 @@ class SourceBand {
     SourceBand(const std::string& path, const IngestOptions& options);
 
     const std::string& path() const { return path_; }
+    // Whether the source's columns span 360° of longitude and column 0 was appended after its
+    // last column, so that the grid closes around the Earth (width() counts it).
+    bool wrapsAround() const { return wrapped_source_ != nullptr; }
     GDALDatasetH dataset() const { return dataset_.get(); }
     GDALRasterBandH band() const { return band_; }
     int bandNumber() const { return band_number_; } // 1-based
@@ -82,7 +85,13 @@ class SourceBand {
     [[noreturn]] void fail(const std::string& problem) const;
 
   private:
+    // The wrap (wrapsAround): run once the dataset is open, before its bands are read.
+    void appendWrapColumn();
+
     std::string path_;
+    // A raster that goes round the Earth is read through a VRT (dataset_) with column 0
+    // repeated after its last column; the source stays open under it (closed after it).
+    DatasetPtr wrapped_source_;
     DatasetPtr dataset_;
     GDALRasterBandH band_ = nullptr;
     int band_number_ = 1;

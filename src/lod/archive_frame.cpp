@@ -20,7 +20,6 @@ constexpr double kWrapTolerance = 0.05;
 
 struct GeographicGrid {
     GeodeticGrid grid;
-    double spacing_x = 0.0, spacing_y = 0.0;
 };
 
 // The ellipsoid grid of a geographic archive, or why there is none.
@@ -52,7 +51,7 @@ GeographicGrid geographicGrid(const archive::ArchiveReader& reader, const std::s
         throw Error(prefix + "its samples reach latitude " +
                     formatNumber(lat_north > 90.0 ? lat_north : lat_south) + "°, beyond the pole");
     const double span = (w - 1) * gt[1];
-    if (span > 360.0 + 1e-6 * gt[1])
+    if (span > 360.0 + kWrapTolerance * gt[1]) // ETOPO5's 5' are stated a little wide
         throw Error(prefix + "its samples span " + formatNumber(span) +
                     "° of longitude, more than the 360° around the Earth");
 
@@ -86,14 +85,6 @@ GeographicGrid geographicGrid(const archive::ArchiveReader& reader, const std::s
         grid.wrap_columns = int64_t(whole);
         grid.dlon = 2.0 * std::numbers::pi / whole; // exactly a whole turn
     }
-    // Largest ground spacings: along a parallel at the latitude nearest the equator.
-    const double nearest_equator = (lat_north >= 0.0 && lat_south <= 0.0)
-                                       ? 0.0
-                                       : std::min(std::abs(lat_north), std::abs(lat_south));
-    const Ellipsoid& e = grid.ellipsoid;
-    out.spacing_x = e.primeVertical(nearest_equator * kDegree) *
-                    std::cos(nearest_equator * kDegree) * grid.dlon;
-    out.spacing_y = e.maxCurvatureRadius() * std::abs(grid.dlat);
     return out;
 }
 
@@ -123,6 +114,9 @@ std::optional<FrameChoice> parseFrameChoice(std::string_view name)
 TerrainFrame terrainFrameOf(const archive::ArchiveReader& reader, FrameChoice choice,
                             const std::string& what)
 {
+    // The header's spacings (ground metres of a sample step at the raster's centre) keep
+    // their meaning on a globe: the grid's metric coordinates that the local point space,
+    // the texel criterion and extents use are the plane's.
     const archive::Header& h = reader.header();
     TerrainFrame plane(reader.geometry(), h.spacing_x, h.spacing_y);
     if (choice == FrameChoice::Plane)
@@ -134,13 +128,13 @@ TerrainFrame terrainFrameOf(const archive::ArchiveReader& reader, FrameChoice ch
             const GeographicGrid g = geographicGrid(reader, what);
             if (g.grid.wrap_columns == 0)
                 return plane;
-            return TerrainFrame::ellipsoid(reader.geometry(), g.spacing_x, g.spacing_y, g.grid);
+            return TerrainFrame::ellipsoid(reader.geometry(), h.spacing_x, h.spacing_y, g.grid);
         } catch (const Error&) {
             return plane;
         }
     }
     const GeographicGrid g = geographicGrid(reader, what);
-    return TerrainFrame::ellipsoid(reader.geometry(), g.spacing_x, g.spacing_y, g.grid);
+    return TerrainFrame::ellipsoid(reader.geometry(), h.spacing_x, h.spacing_y, g.grid);
 }
 
 } // namespace ridge::lod

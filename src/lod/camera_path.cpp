@@ -47,11 +47,16 @@ CameraPose orbit(const TerrainFrame& f, double min_h, double max_h, const Camera
 constexpr size_t kMaxCameraPathLineBytes = 4096;
 constexpr uint64_t kMaxCameraPathFileBytes = 64u << 20;
 
-std::vector<CameraPose> fromFile(const std::string& path, const CameraPathSettings& settings)
+struct FilePose {
+    CameraPose pose;
+    bool lon_lat = false; // given as longitude/latitude (placed by from_lon_lat already)
+};
+
+std::vector<FilePose> fromFile(const std::string& path, const CameraPathSettings& settings)
 {
     // Bounded: a pose is a short line, a path a few MB (/dev/zero is one endless line).
     LineReader in(path, kMaxCameraPathLineBytes, kMaxCameraPathFileBytes);
-    std::vector<CameraPose> poses;
+    std::vector<FilePose> poses;
     while (const std::optional<LineReader::Line> read = in.next()) {
         const std::string& line = read->text;
         const int64_t number = read->number;
@@ -94,7 +99,7 @@ std::vector<CameraPose> fromFile(const std::string& path, const CameraPathSettin
         if (glm::length(p.look_at - p.position) <= 0.0)
             throw Error(path + ":" + std::to_string(number) +
                         ": the camera looks at its own position");
-        poses.push_back(p);
+        poses.push_back({p, lon_lat});
     }
     if (poses.empty())
         throw Error(path + ": no camera poses in the file");
@@ -121,10 +126,21 @@ std::vector<CameraPose> makeCameraPath(const TerrainFrame& frame, double min_hei
     const double heights[2] = {min_height, max_height};
     checkParameters("terrain height range (m)", heights, 2, ValueRange::any());
     std::vector<CameraPose> out;
+    // On a globe the paths run in the grid's metric coordinates (x, y as on the plane, z a
+    // height) and are placed through the frame; lon/lat poses come placed already.
+    auto placed = [&frame](CameraPose p, bool already) {
+        if (!frame.onEllipsoid() || already)
+            return p;
+        for (glm::dvec3* q : {&p.position, &p.look_at})
+            *q = frame.worldOf(frame.columnOf(q->x), frame.rowOf(q->y), q->z);
+        return p;
+    };
     if (s.kind != "flyover" && s.kind != "orbit" && s.kind != "teleport") {
-        const std::vector<CameraPose> file = fromFile(s.kind, s);
-        for (int k = 0; k < frames; ++k)
-            out.push_back(file[size_t(k) % file.size()]);
+        const std::vector<FilePose> file = fromFile(s.kind, s);
+        for (int k = 0; k < frames; ++k) {
+            const FilePose& f = file[size_t(k) % file.size()];
+            out.push_back(placed(f.pose, f.lon_lat));
+        }
         return out;
     }
     std::mt19937 rng(12345); // teleports: the same jumps every run
@@ -133,12 +149,12 @@ std::vector<CameraPose> makeCameraPath(const TerrainFrame& frame, double min_hei
     for (int k = 0; k < frames; ++k) {
         const double distance = s.speed_mps * s.frame_seconds * k;
         if (s.kind == "orbit") {
-            out.push_back(orbit(frame, min_height, max_height, s, distance));
+            out.push_back(placed(orbit(frame, min_height, max_height, s, distance), false));
             continue;
         }
         if (s.kind == "teleport" && s.teleport_every > 0 && k % s.teleport_every == 0)
             offset = u(rng) * 4.0 * (frame.extentX() + frame.extentY());
-        out.push_back(flyover(frame, ground, s, distance + offset));
+        out.push_back(placed(flyover(frame, ground, s, distance + offset), false));
     }
     return out;
 }

@@ -72,14 +72,31 @@ CoarseTerrain::CoarseTerrain(TerrainFrame frame, Box root_box, std::vector<uint1
                     " codes, expected " + std::to_string(n_) + "x" + std::to_string(n_));
     checkParameter("terrain spacing x (m)", frame_.spacingX(), ValueRange::positive());
     checkParameter("terrain spacing y (m)", frame_.spacingY(), ValueRange::positive());
+    min_height_ = box_.min.z;
+    max_height_ = box_.max.z;
+}
+
+CoarseTerrain::CoarseTerrain(TerrainFrame frame, double min_height, double max_height,
+                             std::vector<uint16_t> root_codes, HeightQuantization quantization)
+    : CoarseTerrain(frame, frame.patchBox(PatchId{0, 0, 0}, min_height, max_height),
+                    std::move(root_codes), quantization)
+{
+    min_height_ = min_height;
+    max_height_ = max_height;
 }
 
 CoarseTerrain CoarseTerrain::exaggerated(double exaggeration) const
 {
     checkParameter("exaggeration", exaggeration, SelectionSettings::kExaggerationRange);
     CoarseTerrain out = *this;
-    out.box_.min.z = exaggeration * box_.min.z;
-    out.box_.max.z = exaggeration * box_.max.z;
+    out.min_height_ = exaggeration * min_height_;
+    out.max_height_ = exaggeration * max_height_;
+    if (box_.oriented) {
+        out.box_ = frame_.patchBox(PatchId{0, 0, 0}, out.min_height_, out.max_height_);
+    } else {
+        out.box_.min.z = exaggeration * box_.min.z;
+        out.box_.max.z = exaggeration * box_.max.z;
+    }
     // k · (offset + scale · code): the ground scales with the heights, exactly.
     out.quantization_.offset = exaggeration * quantization_.offset;
     out.quantization_.scale = exaggeration * quantization_.scale;
@@ -90,10 +107,22 @@ double CoarseTerrain::groundHeight(double x, double y) const
 {
     const double point[2] = {x, y};
     checkParameters("ground point (x, y)", point, 2, ValueRange::any());
+    return groundAt(frame_.columnOf(x), frame_.rowOf(y));
+}
+
+double CoarseTerrain::groundUnder(glm::dvec3 world) const
+{
+    checkParameters("ground point", &world.x, 3, ValueRange::any());
+    const glm::dvec3 g = frame_.gridOf(world);
+    return groundAt(g.x, g.y);
+}
+
+double CoarseTerrain::groundAt(double column, double row) const
+{
     const double step = double(frame_.geometry().step(0));
     // Level-0 sample coordinates; ±inf for huge finite x, y over a small spacing, which clamps.
-    const double i = clampToSamples(frame_.columnOf(x) / step, n_ - 1);
-    const double j = clampToSamples(frame_.rowOf(y) / step, n_ - 1);
+    const double i = clampToSamples(column / step, n_ - 1);
+    const double j = clampToSamples(row / step, n_ - 1);
     const int i0 = std::min(int(i), n_ - 2), j0 = std::min(int(j), n_ - 2);
     const double fx = i - i0, fy = j - j0;
     auto code = [&](int a, int b) { return double(codes_[size_t(b) * size_t(n_) + size_t(a)]); };
@@ -105,7 +134,9 @@ double CoarseTerrain::groundHeight(double x, double y) const
 void CoarseTerrain::clipPlanesFor(glm::dvec3 position, double& near_m, double& far_m) const
 {
     checkParameters("camera position", &position.x, 3, kCameraCoordinateRange);
-    const double above = position.z - groundHeight(position.x, position.y);
+    const glm::dvec3 grid = frame_.gridOf(position);
+    const double above = frame_.onEllipsoid() ? grid.z - groundAt(grid.x, grid.y)
+                                              : position.z - groundHeight(position.x, position.y);
     const double to_box = distanceToBox(position, box_);
     // Reverse-Z float depth keeps precision for a small near plane; it only has to stay in
     // front of the closest surface.
@@ -115,7 +146,8 @@ void CoarseTerrain::clipPlanesFor(glm::dvec3 position, double& near_m, double& f
         const glm::dvec3 corner((k & 1) ? box_.max.x : box_.min.x,
                                 (k & 2) ? box_.max.y : box_.min.y,
                                 (k & 4) ? box_.max.z : box_.min.z);
-        farthest = std::max(farthest, glm::length(corner - position));
+        const glm::dvec3 world = box_.oriented ? box_.origin + box_.axes * corner : corner;
+        farthest = std::max(farthest, glm::length(world - position));
     }
     far_m = std::max(farthest * 1.5, near_m * 2.0);
 }
@@ -138,6 +170,10 @@ std::vector<glm::dvec3> CoarseTerrain::surfaceSamples() const
     samples.reserve(columns.size() * rows.size());
     for (const double row : rows)
         for (const double column : columns) {
+            if (frame_.onEllipsoid()) {
+                samples.push_back(frame_.worldOf(column, row, groundAt(column, row)));
+                continue;
+            }
             const double x = frame_.xOf(column), y = frame_.yOf(row);
             samples.emplace_back(x, y, groundHeight(x, y));
         }
@@ -151,13 +187,25 @@ Camera CoarseTerrain::defaultCamera(Viewport viewport, double fov_y_degrees) con
     const Camera probe(glm::dvec3(0.0, 0.0, 1.0), glm::dvec3(0.0), fov_y_degrees, viewport, 1.0,
                        2.0); // throws for a viewport Camera refuses
 
-    // The direction: from the south-south-west, 35° above the horizon.
+    // The direction, in the local frame at the terrain's centre (the world axes on a plane):
+    // from the south-south-west, 35° above the horizon; straight down, north up, over a
+    // globe frame that spans more than 60° (a continent or the whole Earth).
+    const PyramidGeometry& g = frame_.geometry();
+    const double centre_column = 0.5 * (g.width() - 1), centre_row = 0.5 * (g.height() - 1);
+    const EnuBasis local = frame_.basisAt(centre_column, centre_row);
+    const bool from_above =
+        frame_.onEllipsoid() &&
+        std::max((g.width() - 1) * frame_.geodetic().dlon,
+                 (g.height() - 1) * std::abs(frame_.geodetic().dlat)) > std::numbers::pi / 3;
     const double azimuth = 200.0 * std::numbers::pi / 180.0;
-    const double elevation = 35.0 * std::numbers::pi / 180.0;
-    const glm::dvec3 forward(-std::sin(azimuth) * std::cos(elevation),
-                             -std::cos(azimuth) * std::cos(elevation), -std::sin(elevation));
-    // The basis Camera derives from a forward vector (camera.cpp): right = forward × z.
-    const glm::dvec3 right = glm::normalize(glm::cross(forward, glm::dvec3(0.0, 0.0, 1.0)));
+    const double elevation = from_above ? std::numbers::pi / 2 : 35.0 * std::numbers::pi / 180.0;
+    const glm::dvec3 forward =
+        local.matrix() * glm::dvec3(-std::sin(azimuth) * std::cos(elevation),
+                                    -std::cos(azimuth) * std::cos(elevation), -std::sin(elevation));
+    // The basis Camera derives from a forward vector and its world up (camera.cpp):
+    // right = forward × up; north is that up when looking straight down.
+    const glm::dvec3 world_up = from_above ? local.north : local.up;
+    const glm::dvec3 right = glm::normalize(glm::cross(forward, world_up));
     const glm::dvec3 up = glm::cross(right, forward);
 
     // The position: the nearest from which every sample of the surface lies inside the picture
@@ -193,7 +241,8 @@ Camera CoarseTerrain::defaultCamera(Viewport viewport, double fov_y_degrees) con
     const double depth = std::max(glm::dot(centre - position, forward), 1.0);
     double near_m = 1.0, far_m = 1e6;
     clipPlanesFor(position, near_m, far_m);
-    return Camera(position, position + forward * depth, fov_y_degrees, viewport, near_m, far_m);
+    return Camera(position, position + forward * depth, fov_y_degrees, viewport, near_m, far_m,
+                  world_up);
 }
 
 } // namespace ridge::lod

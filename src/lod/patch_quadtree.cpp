@@ -46,6 +46,7 @@ void SelectionSettings::validate() const
     checkParameter("error_scale", error_scale, kErrorScaleRange);
     checkParameter("texel_px", texel_px, kTexelPxRange);
     checkParameter("exaggeration", exaggeration, kExaggerationRange);
+    checkParameter("straight_cells", straight_cells, kStraightCellsRange);
     if (max_patches < 1)
         throw Error("max_patches is 0: must be at least 1 (the root alone always fits)");
 }
@@ -54,6 +55,10 @@ Selection PatchQuadtree::select(const Camera& camera, const SelectionSettings& s
 {
     settings.validate();
     const Frustum frustum(camera);
+    // Behind the Earth (a globe frame covering it; inactive otherwise).
+    const HorizonOccluder horizon(frame_, camera.position(),
+                                  settings.exaggeration * double(bounds({0, 0, 0}).min_height));
+    const HorizonOccluder* occluder = settings.cull && horizon.active() ? &horizon : nullptr;
     const double gamma = screenSpaceErrorFactor(camera);
     double epsilon = settings.epsilon_px, texel = settings.texel_px;
     for (;;) {
@@ -62,7 +67,7 @@ Selection PatchQuadtree::select(const Camera& camera, const SelectionSettings& s
         s.texel_px = texel;
         // Err_Scr is linear in Err(P): scaling γ scales every patch's error (the chunks'
         // simplification, the exaggerated heights).
-        visit(PatchId{0, 0, 0}, camera, settings.cull ? &frustum : nullptr,
+        visit(PatchId{0, 0, 0}, camera, settings.cull ? &frustum : nullptr, occluder,
               {gamma, gamma * settings.error_scale * settings.exaggeration, settings.exaggeration,
                epsilon, texel},
               settings, s);
@@ -76,8 +81,8 @@ Selection PatchQuadtree::select(const Camera& camera, const SelectionSettings& s
 }
 
 void PatchQuadtree::visit(PatchId p, const Camera& camera, const Frustum* frustum,
-                          const Thresholds& t, const SelectionSettings& settings,
-                          Selection& out) const
+                          const HorizonOccluder* horizon, const Thresholds& t,
+                          const SelectionSettings& settings, Selection& out) const
 {
     ++out.visited;
     const Box b = box(p, t.exaggeration);
@@ -89,10 +94,18 @@ void PatchQuadtree::visit(PatchId p, const Camera& camera, const Frustum* frustu
             return;
         }
     }
+    if (horizon && horizon->hides(b)) {
+        ++out.culled;
+        return;
+    }
     const double rho = distanceToBox(camera.position(), b);
     const double depth =
         settings.conservative_distance ? visibleDepthBound(camera, b, rho, settings.side_on) : rho;
-    const double err_scr = screen_space_error(t.error_gamma, bounds(p).err, depth);
+    // On a globe the patch's straight cells also pass below the curved surface (0 on a plane).
+    const double err = double(bounds(p).err) +
+                       frame_.chordSag(settings.straight_cells * double(geometry().step(p.level))) /
+                           t.exaggeration;
+    const double err_scr = screen_space_error(t.error_gamma, err, depth);
     // The level's sample spacing, the coarser of the two axes.
     const double spacing =
         double(geometry().step(p.level)) * std::max(frame_.spacingX(), frame_.spacingY());
@@ -105,7 +118,7 @@ void PatchQuadtree::visit(PatchId p, const Camera& camera, const Frustum* frustu
     for (int k = 0; k < 4; ++k) {
         const PatchId child{p.level + 1, 2 * p.x + (k & 1), 2 * p.y + (k >> 1)};
         if (geometry().exists(child))
-            visit(child, camera, frustum, t, settings, out);
+            visit(child, camera, frustum, horizon, t, settings, out);
     }
 }
 

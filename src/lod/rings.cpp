@@ -223,8 +223,11 @@ void RingsSelector::centreOn(RingsStructure& s, const Camera& camera) const
     // position — centres on the nearest edge tile; the array is never indexed outside).
     const TerrainFrame& f = tree_.frame();
     const double span = double(tree_.geometry().cells());
-    const double column = f.columnOf(camera.position().x) / span;
-    const double row = f.rowOf(camera.position().y) / span;
+    // Grid coordinates under the camera through the frame (the plane's x, y; on a globe the
+    // point below it on the ellipsoid).
+    const glm::dvec3 grid = f.gridOf(camera.position());
+    const double column = grid.x / span;
+    const double row = grid.y / span;
     auto tileIndex = [](double v, int count) {
         if (!(v >= 0.0))
             return 0; // negative or NaN

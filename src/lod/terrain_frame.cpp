@@ -108,6 +108,42 @@ glm::dvec3 TerrainFrame::gridOf(glm::dvec3 world) const
     return {column, (g.latitude - grid_.lat0) / grid_.dlat, g.height};
 }
 
+namespace {
+
+// (1 − cos(θ/2)) for an arc θ ≥ 0, the chord's sagitta per unit radius; θ beyond a half turn
+// is taken as one (a chord cannot sag more than the radius).
+double sagPerRadius(double theta)
+{
+    const double s = std::sin(0.5 * std::min(theta, std::numbers::pi) * 0.5);
+    return 2.0 * s * s;
+}
+
+} // namespace
+
+double TerrainFrame::chordSag(double samples) const
+{
+    if (!onEllipsoid())
+        return 0.0;
+    return 1.01 * grid_.ellipsoid.maxCurvatureRadius() *
+           (sagPerRadius(samples * grid_.dlon) + sagPerRadius(samples * std::abs(grid_.dlat)));
+}
+
+double TerrainFrame::edgeSag(double samples) const
+{
+    if (!onEllipsoid())
+        return 0.0;
+    return 1.01 * grid_.ellipsoid.maxCurvatureRadius() *
+           sagPerRadius(samples * std::max(grid_.dlon, std::abs(grid_.dlat)));
+}
+
+glm::dvec3 TerrainFrame::upThrough(glm::dvec3 world) const
+{
+    if (!onEllipsoid())
+        return {0.0, 0.0, 1.0};
+    const Geodetic g = ecefToGeodetic(grid_.ellipsoid, world);
+    return geodeticUp(g.longitude, g.latitude);
+}
+
 Box TerrainFrame::patchBox(PatchId p, double min_z, double max_z) const
 {
     if (onEllipsoid())

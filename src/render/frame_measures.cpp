@@ -11,8 +11,78 @@
 
 namespace ridge::render {
 
+namespace {
+
+// Where a ray from `origin` along unit `dir` first meets the sphere of radius `r` about the
+// Earth's centre; false when it misses (or the sphere is behind).
+bool raySphere(glm::dvec3 origin, glm::dvec3 dir, double r, glm::dvec3& hit)
+{
+    const double b = glm::dot(origin, dir), c = glm::dot(origin, origin) - r * r;
+    const double disc = b * b - c;
+    if (disc < 0.0)
+        return false;
+    const double t = -b - std::sqrt(disc);
+    if (t <= 0.0)
+        return false;
+    hit = origin + t * dir;
+    return true;
+}
+
+// The globe's judgement: from outside the sphere that holds all the terrain (a + max), a ray
+// that meets the sphere inside all of it (b + min: within the ellipsoid at the lowest height
+// everywhere) must cross the surface, where the grid covers both points (a sample in from its
+// edges; a wrapping grid has no east and west edge), unless it grazes the limb.
+HoleReport countGlobeHolePixels(const std::vector<uint8_t>& background, const lod::Camera& camera,
+                                const lod::TerrainFrame& frame, double min_height,
+                                double max_height, double limb_pixels)
+{
+    const lod::Viewport vp = camera.viewport();
+    HoleReport report;
+    const glm::dvec3 pos = camera.position();
+    const glm::dmat4 inverse = glm::inverse(camera.viewProjection());
+    const lod::Ellipsoid& e = frame.geodetic().ellipsoid;
+    const double outer = e.a + max_height + 1.0, inner = e.b() + min_height - 1.0;
+    if (glm::length(pos) <= outer || inner <= 0.0)
+        return report;
+    const PyramidGeometry& g = frame.geometry();
+    const bool wraps = frame.geodetic().wrap_columns > 0;
+    const double pixel_angle = 2.0 * std::tan(0.5 * camera.fovY()) / vp.height;
+    auto covered = [&](glm::dvec3 p) {
+        const glm::dvec3 q = frame.gridOf(p);
+        const bool rows = (frame.poleRow(0.0) || q.y > 1.0) &&
+                          (frame.poleRow(double(g.height() - 1)) || q.y < g.height() - 2.0);
+        return rows && (wraps || (q.x > 1.0 && q.x < g.width() - 2.0));
+    };
+    for (int y = 0; y < vp.height; ++y)
+        for (int x = 0; x < vp.width; ++x) {
+            const glm::dvec4 ndc((x + 0.5) / vp.width * 2 - 1, 1 - (y + 0.5) / vp.height * 2, 1.0,
+                                 1.0);
+            const glm::dvec4 far_point = inverse * ndc;
+            const glm::dvec3 dir = glm::normalize(glm::dvec3(far_point) / far_point.w);
+            glm::dvec3 in_hit, out_hit;
+            // Near the limb the drawn globe's edge may fall short of the true one by what ε
+            // allows: a ray is judged when it passes at least `limb` pixels inside the inner
+            // sphere's silhouette (its closest approach to the centre that far within).
+            const double closest = glm::length(pos - glm::dot(pos, dir) * dir);
+            if (closest > inner - limb_pixels * pixel_angle * glm::length(pos))
+                continue;
+            if (!raySphere(pos, dir, inner, in_hit) || !raySphere(pos, dir, outer, out_hit) ||
+                !covered(in_hit) || !covered(out_hit))
+                continue;
+            ++report.footprint_pixels;
+            if (background[size_t(y) * vp.width + x] && report.hole_pixels++ == 0) {
+                report.first_x = x;
+                report.first_y = y;
+            }
+        }
+    return report;
+}
+
+} // namespace
+
 HoleReport countHolePixels(const std::vector<uint8_t>& background, const lod::Camera& camera,
-                           const lod::TerrainFrame& frame, double min_height, double max_height)
+                           const lod::TerrainFrame& frame, double min_height, double max_height,
+                           double limb_px)
 {
     const lod::Viewport vp = camera.viewport();
     if (background.size() != size_t(vp.width) * vp.height)
@@ -20,6 +90,8 @@ HoleReport countHolePixels(const std::vector<uint8_t>& background, const lod::Ca
     HoleReport report;
     const glm::dvec3 pos = camera.position();
     const glm::dmat4 inverse = glm::inverse(camera.viewProjection());
+    if (frame.onEllipsoid())
+        return countGlobeHolePixels(background, camera, frame, min_height, max_height, limb_px);
     const double sx = frame.spacingX(), sy = frame.spacingY();
     auto inside = [&](glm::dvec3 p) {
         return p.x > sx && p.y > sy && p.x < frame.extentX() - sx && p.y < frame.extentY() - sy;

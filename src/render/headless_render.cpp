@@ -47,17 +47,18 @@ lod::Camera cameraFor(const TerrainRenderer& renderer, const HeadlessRenderOptio
     glm::dvec3 target;
     if (options.look_at) {
         target = *options.look_at;
+    } else if (const lod::TerrainFrame& f = renderer.quadtree().frame(); f.onEllipsoid()) {
+        // The ground at the grid's centre.
+        const double c = 0.5 * (f.geometry().width() - 1), r = 0.5 * (f.geometry().height() - 1);
+        target = f.worldOf(c, r, renderer.groundUnder(f.worldOf(c, r, 0.0), k));
     } else {
-        const lod::TerrainFrame& f = renderer.quadtree().frame();
         const double x = 0.5 * f.extentX(), y = 0.5 * f.extentY();
         target = glm::dvec3(x, y, renderer.groundHeight(x, y, k));
     }
     if (glm::length(target - *options.camera) <= 0.0)
         throw Error("render: the camera and the look-at point coincide");
-    double near_m = 1.0, far_m = 1e6;
-    renderer.clipPlanesFor(*options.camera, near_m, far_m, k);
-    return lod::Camera(*options.camera, target, options.fov_y_degrees, options.viewport, near_m,
-                       far_m);
+    return renderer.cameraLookingAt(*options.camera, target, options.fov_y_degrees,
+                                    options.viewport, k);
 }
 
 HeadlessRenderResult renderToPng(const std::string& archive_path,
@@ -72,6 +73,7 @@ HeadlessRenderResult renderToPng(const std::string& archive_path,
     ro.synchronous_stats = true;
     ro.vram_budget_mb = options.vram_budget_mb;
     ro.schemes = {options.scheme_spec.empty() ? options.settings.scheme : options.scheme_spec};
+    ro.frame = options.frame;
     TerrainRenderer renderer(reader, ro);
     HeadlessRenderResult result{cameraFor(renderer, options), {}, context->rendererName()};
     const gpu::RenderTarget target(options.viewport.width, options.viewport.height,

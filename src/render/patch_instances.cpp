@@ -68,7 +68,18 @@ PatchInstances buildPatchInstances(const lod::PatchQuadtree& tree, const lod::Se
         out.patches.push_back(entry.second);
     const std::vector<double> depths = lod::skirtDepths(
         tree, out.patches,
-        [&](PatchId p) { return k * (double(tree.bounds(p).err) + lambda_max(p)); }, skirt_margin);
+        [&](PatchId p) {
+            // On a globe two neighbours' borders drawn at different spacings part by up to
+            // the sag of the longer straight edge (at most the patch's side); 0 on a plane.
+            // Capped at half the polar radius: a skirt must not reach through to the far side.
+            const lod::TerrainFrame& f = tree.frame();
+            const double sag = f.onEllipsoid()
+                                   ? std::min(f.edgeSag(double(g.step(p.level)) * g.cells()),
+                                              0.5 * f.geodetic().ellipsoid.b())
+                                   : 0.0;
+            return k * (double(tree.bounds(p).err) + lambda_max(p)) + sag;
+        },
+        skirt_margin);
 
     const CameraAnchor anchor = cameraAnchor(tree.frame(), camera_position);
     out.records.reserve(order.size());

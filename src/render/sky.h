@@ -19,8 +19,11 @@ class Sky {
 
     // Draws the sky for `view_projection` (camera-relative terrain frame → clip) with depth
     // testing off and no depth written (the cleared depth stays the far value); leaves depth
-    // writes on and the depth test off.
-    void draw(const glm::dmat4& view_projection) const;
+    // writes on and the depth test off. `up`: the local up at the camera (+z on a plane);
+    // `altitude`: the camera's height, metres — the sky turns to the black of space between
+    // 20 and 120 km (a globe seen from orbit).
+    void draw(const glm::dmat4& view_projection, glm::dvec3 up = glm::dvec3(0.0, 0.0, 1.0),
+              double altitude = 0.0) const;
 
   private:
     gpu::ShaderProgram program_;

@@ -118,8 +118,9 @@ TerrainRenderer::Impl::Impl(const archive::ArchiveReader& r, const RendererOptio
                                      options.max_resident_patches,
                                      ResidentSet::gpuDecodedCodec(r, options, plan))),
       resident(r, quadtree, options, slots, plan),
-      coarse(quadtree.frame(), quadtree.box(PatchId{0, 0, 0}),
-             resident.load(PatchId{0, 0, 0})->codes, r.quantization()),
+      coarse(quadtree.frame(), quadtree.bounds(PatchId{0, 0, 0}).min_height,
+             quadtree.bounds(PatchId{0, 0, 0}).max_height, resident.load(PatchId{0, 0, 0})->codes,
+             r.quantization()),
       // The shared pieces; each scheme gets its own options and product (Schemes::get).
       schemes(plan, SchemeResources{r, quadtree, options, kSharedOnly, resident.textures(),
                                     resident.residency(), slots, -1}),
@@ -132,6 +133,12 @@ lod::Selection TerrainRenderer::Impl::prepare(TerrainScheme& scheme, const lod::
                                               const RenderSettings& settings, FrameStats& stats,
                                               bool frozen)
 {
+    if (const lod::TerrainFrame& f = quadtree.frame();
+        f.onEllipsoid() && f.geodetic().wrap_columns > 0 &&
+        !lodSchemePromises(settings.scheme).wrapping_globe)
+        throw Error("the " + settings.scheme +
+                    " scheme cannot draw a globe that goes round the Earth yet (" + reader.path() +
+                    "): choose another --lod, or --frame plane");
     resident.textures().collect(); // λ maxima derived on the GPU in earlier frames
     auto t0 = std::chrono::steady_clock::now();
     lod::SelectionSettings ss;
@@ -304,8 +311,11 @@ FrameStats TerrainRenderer::draw(const lod::Camera& camera, const RenderSettings
     glDisable(GL_CULL_FACE);
     const glm::dmat4 view_projection =
         host ? host->view_projection : reverseZProjection(camera) * camera.view();
-    if (s.sky && s.clear)
-        m.sky.draw(view_projection);
+    if (s.sky && s.clear) {
+        const lod::TerrainFrame& f = m.quadtree.frame();
+        const glm::dvec3 grid = f.gridOf(camera.position());
+        m.sky.draw(view_projection, f.upThrough(camera.position()), f.onEllipsoid() ? grid.z : 0.0);
+    }
 
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(greater ? GL_GREATER : GL_LESS);
@@ -383,6 +393,23 @@ double TerrainRenderer::groundHeight(double x, double y, double exaggeration) co
 {
     checkParameter("exaggeration", exaggeration, RenderSettings::kExaggerationRange);
     return exaggeration * impl_->coarse.groundHeight(x, y);
+}
+
+double TerrainRenderer::groundUnder(glm::dvec3 world, double exaggeration) const
+{
+    checkParameter("exaggeration", exaggeration, RenderSettings::kExaggerationRange);
+    return exaggeration * impl_->coarse.groundUnder(world);
+}
+
+lod::Camera TerrainRenderer::cameraLookingAt(glm::dvec3 position, glm::dvec3 look_at,
+                                             double fov_y_degrees, lod::Viewport viewport,
+                                             double exaggeration) const
+{
+    checkParameters("camera position", &position.x, 3, lod::kCameraCoordinateRange);
+    double near_m = 1.0, far_m = 1e6;
+    clipPlanesFor(position, near_m, far_m, exaggeration);
+    return lod::Camera(position, look_at, fov_y_degrees, viewport, near_m, far_m,
+                       impl_->quadtree.frame().upThrough(position));
 }
 
 void TerrainRenderer::clipPlanesFor(glm::dvec3 position, double& near_m, double& far_m,

@@ -80,9 +80,8 @@ RenderBenchReport runRenderBench(const std::string& archive, const RenderBenchOp
     std::optional<lod::Camera> previous; // the popping metric's previous LOD state
     std::optional<std::chrono::steady_clock::time_point> first_start; // of frame 0's draw
     for (const lod::CameraPose& pose : path) {
-        double near_m = 1.0, far_m = 1e6;
-        renderer.clipPlanesFor(pose.position, near_m, far_m, k);
-        const lod::Camera camera(pose.position, pose.look_at, 60.0, o.viewport, near_m, far_m);
+        const lod::Camera camera =
+            renderer.cameraLookingAt(pose.position, pose.look_at, 60.0, o.viewport, k);
         // The popping metric's first half, before this frame changes anything: this camera
         // drawn with the previous frame's LOD state (its LOD camera and resident patches).
         render::SampleHeights before;

@@ -4,6 +4,7 @@
 // patch — samples, the curved surface between them, the poles and the wrap included.
 #include "ridge/lod/ellipsoid.h"
 #include "ridge/lod/frustum.h"
+#include "ridge/lod/horizon.h"
 #include "ridge/lod/screen_space_error.h"
 #include "ridge/lod/terrain_frame.h"
 
@@ -11,6 +12,7 @@
 
 #include <glm/geometric.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -162,6 +164,42 @@ TEST(TerrainFrameEllipsoid, GridOfInvertsWorldOfAndWrapsTheColumns)
     EXPECT_EQ(f.worldOf(0.0, 0.0, 7.0), f.worldOf(77.0, 0.0, 7.0));
     EXPECT_EQ(f.worldOf(3.0, 90.0, 7.0), f.worldOf(140.0, 90.0, 7.0));
     EXPECT_TRUE(f.poleRow(0.0) && f.poleRow(90.0) && !f.poleRow(1.0));
+}
+
+TEST(HorizonOccluder, HidesOnlyWhatTheEarthHides)
+{
+    const TerrainFrame f = globe(181, 91, 0.0, 90.0, 2.0, 180);
+    const Ellipsoid e = f.geodetic().ellipsoid;
+    const glm::dvec3 camera(3.0 * e.a, 1e5, 2e5);
+    const HorizonOccluder h(f, camera, -9000.0);
+    ASSERT_TRUE(h.active());
+    EXPECT_TRUE(h.hides(glm::dvec3(-e.a, 0.0, 0.0))); // the far side
+    EXPECT_FALSE(h.hides(glm::dvec3(e.a, 0.0, 0.0))); // below the camera
+    // Never a point whose segment to the camera misses the occluding sphere.
+    const double r = e.b() - 9000.0 - 1.0;
+    std::mt19937 rng(2);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    int hidden = 0;
+    for (int i = 0; i < 100000; ++i) {
+        const glm::dvec3 x = (e.b() - 9000.0 + 20000.0 * (0.5 + 0.5 * u(rng))) *
+                             glm::normalize(glm::dvec3(u(rng), u(rng), u(rng)));
+        if (!h.hides(x))
+            continue;
+        ++hidden;
+        const glm::dvec3 d = x - camera;
+        const double t = std::clamp(-glm::dot(camera, d) / glm::dot(d, d), 0.0, 1.0);
+        ASSERT_LT(glm::length(camera + t * d), r + 1e-6) << "a visible point was hidden";
+    }
+    EXPECT_GT(hidden, 30000); // about half of the shell
+    // Boxes: a far-side patch goes, the one under the camera stays.
+    const PyramidGeometry& g = f.geometry();
+    const int L = g.finestLevel();
+    EXPECT_TRUE(h.hides(f.patchBox({L, 5, 2}, -9000.0, 6000.0)));  // around 180°
+    EXPECT_FALSE(h.hides(f.patchBox({L, 0, 2}, -9000.0, 6000.0))); // around 0°..32°
+    // A plane, or a globe that does not cover the Earth, hides nothing.
+    EXPECT_FALSE(HorizonOccluder(TerrainFrame(g, 1.0, 1.0), camera, 0.0).active());
+    EXPECT_FALSE(
+        HorizonOccluder(globe(301, 203, 0.0, 89.96, 3.0 / 3600.0, 0), camera, 0.0).active());
 }
 
 } // namespace

@@ -1,5 +1,7 @@
 #include "captured_surface_checks.h"
 
+#include "ridge/lod/horizon.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -19,6 +21,28 @@ VertexKey keyOf(const render::CapturedVertex& v)
     std::memcpy(&k[1], &v.y, 4);
     std::memcpy(&k[2], &v.z, 4);
     return k;
+}
+
+// Finest-grid column, row and height of a captured vertex: through the frame's inverse on a
+// globe; on a plane the local x, y as before (z is left camera-relative there: the callers
+// only compare heights of one capture).
+glm::dvec3 gridOfVertex(float x, float y, float z, const render::CapturedSurface& s,
+                        const lod::TerrainFrame& frame)
+{
+    if (frame.onEllipsoid())
+        return frame.gridOf(s.camera_position + glm::dvec3(x, y, z));
+    return {frame.columnOf(x + s.camera_position.x), frame.rowOf(y + s.camera_position.y),
+            double(z)};
+}
+
+glm::dvec3 gridOfKey(const VertexKey& k, const render::CapturedSurface& s,
+                     const lod::TerrainFrame& frame)
+{
+    float x, y, z;
+    std::memcpy(&x, &k[0], 4);
+    std::memcpy(&y, &k[1], 4);
+    std::memcpy(&z, &k[2], 4);
+    return gridOfVertex(x, y, z, s, frame);
 }
 
 struct Footprint {
@@ -53,15 +77,8 @@ bool onOuterBorder(const VertexKey& a, const VertexKey& b, const render::Capture
 {
     const double last_column = frame.geometry().width() - 1,
                  last_row = frame.geometry().height() - 1;
-    float ax, ay, bx, by;
-    std::memcpy(&ax, &a[0], 4);
-    std::memcpy(&ay, &a[1], 4);
-    std::memcpy(&bx, &b[0], 4);
-    std::memcpy(&by, &b[1], 4);
-    const double ca = frame.columnOf(ax + s.camera_position.x),
-                 cb = frame.columnOf(bx + s.camera_position.x);
-    const double ra = frame.rowOf(ay + s.camera_position.y),
-                 rb = frame.rowOf(by + s.camera_position.y);
+    const glm::dvec3 ga = gridOfKey(a, s, frame), gb = gridOfKey(b, s, frame);
+    const double ca = ga.x, cb = gb.x, ra = ga.y, rb = gb.y;
     auto both = [](double u, double v, double line) {
         return std::abs(u - line) < 1e-3 && std::abs(v - line) < 1e-3;
     };
@@ -101,13 +118,9 @@ StitchedReport checkStitchedWatertight(const render::CapturedSurface& s,
         if (count == 1 && !foot && !onOuterBorder(edge.first, edge.second, s, frame)) {
             ++report.open_edges;
             if (report.first_problem.empty()) {
-                float x, y;
-                std::memcpy(&x, &edge.first[0], 4);
-                std::memcpy(&y, &edge.first[1], 4);
-                report.first_problem = "open edge at column " +
-                                       std::to_string(frame.columnOf(x + s.camera_position.x)) +
-                                       ", row " +
-                                       std::to_string(frame.rowOf(y + s.camera_position.y));
+                const glm::dvec3 g = gridOfKey(edge.first, s, frame);
+                report.first_problem =
+                    "open edge at column " + std::to_string(g.x) + ", row " + std::to_string(g.y);
             }
         }
         if (count > 2)
@@ -126,9 +139,17 @@ WatertightReport checkWatertight(const render::CapturedSurface& s, const lod::Te
     std::vector<std::vector<glm::dvec3>> border(instances);
     const size_t triangles = s.vertices.size() / 3;
     report.triangles = triangles;
+    // On a globe every vertex of a pole row is one point: the triangles of the polar cells
+    // have two identical corners, cover nothing (the rasteriser drops them) and are left out.
+    auto degenerate = [&](const render::CapturedVertex* v) {
+        const VertexKey k0 = keyOf(v[0]), k1 = keyOf(v[1]), k2 = keyOf(v[2]);
+        return frame.onEllipsoid() && (k0 == k1 || k1 == k2 || k0 == k2);
+    };
     for (size_t t = 0; t < triangles; ++t) {
         const render::CapturedVertex* v = &s.vertices[3 * t];
         const size_t inst = size_t(v[0].instance);
+        if (degenerate(v))
+            continue;
         if (v[0].skirt)
             ++report.skirt_triangles;
         for (int e = 0; e < 3; ++e) {
@@ -149,15 +170,15 @@ WatertightReport checkWatertight(const render::CapturedSurface& s, const lod::Te
     const double last_column = frame.geometry().width() - 1,
                  last_row = frame.geometry().height() - 1;
     auto onOuterBorder = [&](const VertexKey& a, const VertexKey& b) {
-        float ax, ay, bx, by;
-        std::memcpy(&ax, &a[0], 4);
-        std::memcpy(&ay, &a[1], 4);
-        std::memcpy(&bx, &b[0], 4);
-        std::memcpy(&by, &b[1], 4);
-        const double ca = frame.columnOf(ax + s.camera_position.x),
-                     cb = frame.columnOf(bx + s.camera_position.x);
-        const double ra = frame.rowOf(ay + s.camera_position.y),
-                     rb = frame.rowOf(by + s.camera_position.y);
+        const glm::dvec3 ga = gridOfKey(a, s, frame), gb = gridOfKey(b, s, frame);
+        const double ca = ga.x, cb = gb.x, ra = ga.y, rb = gb.y;
+        // Globe: edges into a pole are not followed (a pole vertex has no column; the cap's
+        // closure is checked by the pixels, GlobeConformance's no-background test).
+        auto atPole = [&](double r) {
+            return std::abs(r - std::round(r)) < 1e-3 && frame.poleRow(std::round(r));
+        };
+        if (frame.onEllipsoid() && (atPole(ra) || atPole(rb)))
+            return true;
         auto both = [](double u, double v, double line) {
             return std::abs(u - line) < 1e-3 && std::abs(v - line) < 1e-3;
         };
@@ -170,9 +191,14 @@ WatertightReport checkWatertight(const render::CapturedSurface& s, const lod::Te
                 foot_vertices[i].count(edge.first) && foot_vertices[i].count(edge.second);
             if (count == 1 && !foot && !onOuterBorder(edge.first, edge.second)) {
                 ++report.open_edges;
-                if (report.first_problem.empty())
+                if (report.first_problem.empty()) {
+                    const glm::dvec3 a = gridOfKey(edge.first, s, frame),
+                                     b = gridOfKey(edge.second, s, frame);
                     report.first_problem =
-                        "open edge in " + archive::ArchiveReader::patchName(s.patches[i]);
+                        "open edge in " + archive::ArchiveReader::patchName(s.patches[i]) +
+                        " from column " + std::to_string(a.x) + ", row " + std::to_string(a.y) +
+                        " to column " + std::to_string(b.x) + ", row " + std::to_string(b.y);
+                }
             }
             if (count > 2) {
                 ++report.overused_edges;
@@ -182,13 +208,12 @@ WatertightReport checkWatertight(const render::CapturedSurface& s, const lod::Te
     // Border profiles from skirt triangles whose vertex is also a surface vertex.
     for (size_t t = 0; t < triangles; ++t) {
         const render::CapturedVertex* v = &s.vertices[3 * t];
-        if (!v[0].skirt)
+        if (!v[0].skirt || degenerate(v))
             continue;
         const size_t inst = size_t(v[0].instance);
         for (int e = 0; e < 3; ++e)
             if (surface_vertices[inst].count(keyOf(v[e])))
-                border[inst].push_back({frame.columnOf(v[e].x + s.camera_position.x),
-                                        frame.rowOf(v[e].y + s.camera_position.y), double(v[e].z)});
+                border[inst].push_back(gridOfVertex(v[e].x, v[e].y, v[e].z, s, frame));
     }
 
     const PyramidGeometry& g = frame.geometry();
@@ -283,9 +308,31 @@ ScreenErrorReport measureScreenSpaceError(const render::CapturedSurface& s,
             const double r = std::round(u);
             return std::abs(u - r) < 1e-3 ? r : u;
         };
-        for (int k = 0; k < 3; ++k)
+        glm::dvec3 world[3]; // globe: the drawn triangle's corners
+        for (int k = 0; k < 3; ++k) {
+            if (frame.onEllipsoid()) {
+                world[k] = c + glm::dvec3(v[k].x, v[k].y, v[k].z);
+                const glm::dvec3 g = frame.gridOf(world[k]);
+                q[k] = {snap(g.x), snap(g.y), g.z};
+                continue;
+            }
             q[k] = {snap(frame.columnOf(v[k].x + c.x)), snap(frame.rowOf(v[k].y + c.y)),
                     double(v[k].z) + c.z};
+        }
+        if (frame.onEllipsoid()) {
+            // A pole vertex has no column of its own (every one is the same point): such
+            // triangles are not measured, nor the pole rows' samples below.
+            if (frame.poleRow(q[0].y) || frame.poleRow(q[1].y) || frame.poleRow(q[2].y))
+                continue;
+            // A triangle on the wrap seam: its columns in one period.
+            const double period = double(frame.geodetic().wrap_columns);
+            if (period > 0 &&
+                std::max({q[0].x, q[1].x, q[2].x}) - std::min({q[0].x, q[1].x, q[2].x}) >
+                    0.5 * period)
+                for (glm::dvec3& p : q)
+                    if (p.x < 0.5 * period)
+                        p.x += period;
+        }
         const double det =
             (q[1].y - q[2].y) * (q[0].x - q[2].x) + (q[2].x - q[1].x) * (q[0].y - q[2].y);
         if (std::abs(det) < 1e-12)
@@ -306,22 +353,40 @@ ScreenErrorReport measureScreenSpaceError(const render::CapturedSurface& s,
                 covered[size_t(r) * W + col] = 1;
                 const double z_lod = l0 * q[0].z + l1 * q[1].z + l2 * q[2].z;
                 const double z_true = finest[size_t(r) * W + col];
-                const glm::dvec3 p_true(frame.xOf(col), frame.yOf(r), z_true),
+                glm::dvec3 p_true(frame.xOf(col), frame.yOf(r), z_true),
                     p_lod(p_true.x, p_true.y, z_lod);
+                if (frame.onEllipsoid()) {
+                    // The flat triangle's point over the sample, against the sample itself:
+                    // the chord's sag below the curved surface is error too.
+                    p_true = frame.worldOf(col, r, z_true);
+                    p_lod = l0 * world[0] + l1 * world[1] + l2 * world[2];
+                }
                 glm::dvec2 a, b;
                 if (!inView(p_true, a) || !camera.project(p_lod, b))
                     continue;
                 ++report.samples;
                 deviations.push_back(glm::length(a - b));
                 report.max_px = std::max(report.max_px, glm::length(a - b));
-                report.max_metres = std::max(report.max_metres, std::abs(z_lod - z_true));
+                report.max_metres =
+                    std::max(report.max_metres, frame.onEllipsoid() ? glm::length(p_lod - p_true)
+                                                                    : std::abs(z_lod - z_true));
             }
     }
+    const lod::HorizonOccluder horizon(frame, camera.position(),
+                                       double(*std::min_element(finest.begin(), finest.end())));
     for (int r = 0; r < H; ++r)
         for (int col = 0; col < W; ++col) {
             glm::dvec2 px;
+            const double z = finest[size_t(r) * W + col];
+            if (frame.onEllipsoid() && frame.poleRow(r))
+                continue;
+            // Behind the Earth: culled with reason (lod::HorizonOccluder), not uncovered.
+            if (horizon.hides(frame.worldOf(col, r, z)))
+                continue;
             if (!covered[size_t(r) * W + col] &&
-                inView({frame.xOf(col), frame.yOf(r), finest[size_t(r) * W + col]}, px))
+                inView(frame.onEllipsoid() ? frame.worldOf(col, r, z)
+                                           : glm::dvec3(frame.xOf(col), frame.yOf(r), z),
+                       px))
                 ++report.uncovered;
         }
     if (!deviations.empty()) {

@@ -8,6 +8,7 @@
 #include "test_support.h"
 
 #include "ridge/archive/archive_reader.h"
+#include "ridge/lod/archive_frame.h"
 #include "ridge/lod/terrain_frame.h"
 #include "ridge/pipeline/build.h"
 #include "ridge/pipeline/hillshade.h"
@@ -16,6 +17,8 @@
 
 #include <gdal_priv.h>
 #include <gtest/gtest.h>
+
+#include <glm/geometric.hpp>
 
 #include <cstdio>
 
@@ -82,24 +85,29 @@ class LandSea : public ::testing::Test {
     // Renders from above the centre, looking down; `settings` as given (the defaults unless
     // a test changes them). Compares the pixel under every finest sample away from the coast.
     // `coast` is how far (finest samples) from the coastline a sample must be to count.
+    // On the ellipsoid (`surface`) the view is the default camera's, the whole Earth from
+    // above the grid's centre; a sample counts when it faces the camera well inside the limb.
     static Agreement renderAgreement(const render::RenderSettings& settings, const char* name,
                                      render::HeadlessRenderResult* result_out = nullptr,
-                                     int coast = 2)
+                                     int coast = 2,
+                                     lod::FrameChoice surface = lod::FrameChoice::Plane)
     {
         const archive::ArchiveReader reader(archive_);
-        const lod::TerrainFrame frame(reader.geometry(), reader.header().spacing_x,
-                                      reader.header().spacing_y);
+        const lod::TerrainFrame frame = lod::terrainFrameOf(reader, surface, archive_);
         render::HeadlessRenderOptions options;
         options.viewport = {640, 360};
         options.fov_y_degrees = 30.0;
         options.settings = settings;
-        const double cx = 0.5 * frame.extentX(), cy = 0.5 * frame.extentY();
-        // High enough for the whole globe to fit the frame (half-width over tan of half the
-        // horizontal field of view); a hair north of straight down keeps "up" defined.
-        const double h = 0.56 * frame.extentX() /
-                         std::tan(std::atan(std::tan(15.0 * M_PI / 180.0) * 640.0 / 360.0));
-        options.camera = glm::dvec3(cx, cy, h);
-        options.look_at = glm::dvec3(cx, cy + 1e-3 * h, 0.0);
+        options.frame = surface;
+        if (!frame.onEllipsoid()) {
+            const double cx = 0.5 * frame.extentX(), cy = 0.5 * frame.extentY();
+            // High enough for the whole map to fit the frame (half-width over tan of half the
+            // horizontal field of view); a hair north of straight down keeps "up" defined.
+            const double h = 0.56 * frame.extentX() /
+                             std::tan(std::atan(std::tan(15.0 * M_PI / 180.0) * 640.0 / 360.0));
+            options.camera = glm::dvec3(cx, cy, h);
+            options.look_at = glm::dvec3(cx, cy + 1e-3 * h, 0.0);
+        }
         const std::string png = scratch_->path(std::string(name) + ".png");
         const render::HeadlessRenderResult result = render::renderToPng(archive_, options, png);
         if (result_out)
@@ -112,8 +120,13 @@ class LandSea : public ::testing::Test {
             for (int i = 0; i < heights_.width; ++i) {
                 if (!heights_.awayFromCoast(i, j, coast))
                     continue;
+                const glm::dvec3 world = frame.worldOf(i, j, heights_.at(i, j));
+                if (frame.onEllipsoid() &&
+                    glm::dot(glm::normalize(result.camera.position() - world), frame.upAt(i, j)) <
+                        0.3)
+                    continue; // beyond the horizon, or too near the limb to classify
                 glm::dvec2 pixel;
-                if (!result.camera.project({frame.xOf(i), frame.yOf(j), heights_.at(i, j)}, pixel))
+                if (!result.camera.project(world, pixel))
                     continue;
                 const int px = int(pixel.x), py = int(pixel.y);
                 if (px < 0 || py < 0 || px >= w || py >= hgt)
@@ -171,6 +184,21 @@ TEST_F(LandSea, DefaultRenderShowsTheContinentsTheHillshadeShows)
     EXPECT_GT(a.compared, 50000u) << "the globe must fill the frame";
     EXPECT_GE(a.percent(), 95.0);
     EXPECT_EQ(a.water_over_land, 0u) << "no water where the height under it is > 0";
+}
+
+TEST_F(LandSea, TheGlobeShowsTheContinentsTheHillshadeShows)
+{
+    // The same archive on the WGS 84 ellipsoid (auto: its columns go round the Earth), seen
+    // by the default camera: the whole Earth from above the grid's centre (the Pacific).
+    render::HeadlessRenderResult result;
+    const Agreement a = renderAgreement({}, "globe", &result, 2, lod::FrameChoice::Auto);
+    std::printf("globe, default camera: %d patches, %llu triangles; land/sea agreement %.2f %% "
+                "of %zu samples away from coasts, %zu water pixels over land\n",
+                result.stats.patches, static_cast<unsigned long long>(result.stats.triangles),
+                a.percent(), a.compared, a.water_over_land);
+    EXPECT_GT(a.compared, 15000u) << "a hemisphere must fill the frame";
+    EXPECT_GE(a.percent(), 95.0);
+    EXPECT_EQ(a.water_over_land, 0u);
 }
 
 TEST_F(LandSea, GeometryAloneStillColoursByTheDrawnPatchesMaps)

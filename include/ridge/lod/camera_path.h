@@ -28,8 +28,10 @@ struct CameraPathSettings {
     static constexpr int kMaxFrames = 100000000;
 
     // flyover, orbit, teleport, or a file of poses, one a line: "x y z lx ly lz" in the
-    // terrain frame, or "lonlat LON LAT H LLON LLAT LH" (WGS 84 degrees, metres in the
-    // terrain's vertical datum, absolute), which needs from_lon_lat.
+    // terrain frame's local metres, or "lonlat LON LAT H LLON LLAT LH" (WGS 84 degrees,
+    // metres in the terrain's vertical datum, absolute), which needs from_lon_lat. On a
+    // globe frame, local x, y are the grid's metric coordinates and z a height, placed
+    // through the frame (TerrainFrame::worldOf), and from_lon_lat gives world points.
     std::string kind = "flyover";
     // Longitude°, latitude°, height → terrain frame (pipeline's TerrainGeoreference through
     // PROJ; lod itself knows no CRS). Throws ridge::Error for a point it cannot convert.

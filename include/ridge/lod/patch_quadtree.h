@@ -8,6 +8,7 @@
 // a partition. Plain C++: no GL, cheap (a few µs per hundred patches), thread-compatible.
 #include "ridge/lod/camera.h"
 #include "ridge/lod/frustum.h"
+#include "ridge/lod/horizon.h"
 #include "ridge/lod/terrain_frame.h"
 
 #include <cstdint>
@@ -40,7 +41,7 @@ struct SelectionSettings {
     // maps give about one texel per pixel; 0 disables (geometry alone decides).
     static constexpr ValueRange kTexelPxRange = ValueRange::closed(0.0, 1e9);
     double texel_px = 0.0;
-    bool cull = true; // view-frustum culling of patch boxes
+    bool cull = true; // view-frustum (and, on a whole-Earth globe, horizon) culling of boxes
     // ρ in Err_Scr: the box depth bound that holds off-axis (visibleDepthBound), or the
     // paper's distance to the closest box point (false; under-refines at screen corners).
     bool conservative_distance = true;
@@ -52,6 +53,12 @@ struct SelectionSettings {
     // The drawn mesh's vertical error as a multiple of Err(P): 1 for meshes of the patch's
     // own samples; 1 + k for Ulrich's chunks simplified to k·Err(P) (lod/chunk_mesh.h).
     double error_scale = 1.0;
+    // The longest straight cell the drawn mesh makes, in the patch level's cells: on a globe
+    // its sag below the curved surface (TerrainFrame::chordSag) is added to Err(P). 1 for
+    // meshes of the patch's own samples (the tessellator accounts for its coarser blocks
+    // itself); a simplified chunk's may span the patch.
+    static constexpr ValueRange kStraightCellsRange = ValueRange::closed(1.0, 1e9);
+    double straight_cells = 1.0;
     // Vertical exaggeration: the terrain is drawn with every height multiplied by this factor
     // (the camera lives in that space), so selection measures boxes and Err(P) there too —
     // Err_Scr of the exaggerated surface is exaggeration · Err_Scr, and ε holds on what is
@@ -111,7 +118,8 @@ class PatchQuadtree {
         double epsilon; // pixels
         double texel;   // pixels; 0 off
     };
-    void visit(PatchId p, const Camera& camera, const Frustum* frustum, const Thresholds& t,
+    void visit(PatchId p, const Camera& camera, const Frustum* frustum,
+               const HorizonOccluder* horizon, const Thresholds& t,
                const SelectionSettings& settings, Selection& out) const;
 
     TerrainFrame frame_;

@@ -65,8 +65,9 @@ class TerrainFrame {
         : geometry_(geometry), spacing_x_(spacing_x), spacing_y_(spacing_y)
     {
     }
-    // A globe frame over `grid`; spacing_x/y are its largest ground spacings (metres), which
-    // the texel criterion and the normal maps use.
+    // A globe frame over `grid`; spacing_x/y are ground metres of a sample step at the grid's
+    // centre (the archive header's), which the plane-metric coordinates (xOf, columnOf), the
+    // texel criterion and extents use.
     static TerrainFrame ellipsoid(const PyramidGeometry& geometry, double spacing_x,
                                   double spacing_y, const GeodeticGrid& grid);
 
@@ -107,6 +108,19 @@ class TerrainFrame {
     // The height the GPU's heights are relative to for a camera at `world`: its z on a plane,
     // its height above the ellipsoid on a globe (so that heights near the camera are small).
     double referenceHeight(glm::dvec3 world) const { return gridOf(world).z; }
+    // The local up through a world point: +z on a plane, the ellipsoid's normal on a globe
+    // (what a camera there keeps upright).
+    glm::dvec3 upThrough(glm::dvec3 world) const;
+
+    // How far a straight cell `samples` finest samples a side may pass below the ellipsoid's
+    // curved surface: the sagitta of its edges along the meridian and the parallel, summed,
+    // each at most (a²/b)(1 − cos(θ/2)) for the edge's angle θ (≈ (a²/b)θ²/8), +1%; 0 on a
+    // plane. A mesh drawn with cells that large is that much further from the surface than
+    // its heights alone say, so the globe adds it to Err(P) (and the tessellator to Λ^(d)).
+    double chordSag(double samples) const;
+    // The same for one straight edge `samples` long along the grid's coarser axis: how far two
+    // neighbours' borders drawn at different spacings may part (skirts).
+    double edgeSag(double samples) const;
 
     // A conservative bound of patch `p` clipped to the valid extent, with heights
     // [min_z, max_z]: axis-aligned on a plane; on a globe oriented along the local axes at the

@@ -8,6 +8,7 @@
 // default; `above_ground` makes the position's height relative to the finest surface under it
 // (HeightQuery). A look-at point given as longitude/latitude without a height looks at the
 // finest surface there. Longitude/latitude go through PROJ (TerrainGeoreference), WGS 84.
+#include "ridge/lod/terrain_frame.h"
 #include "ridge/pipeline/height_query.h"
 
 #include <glm/vec3.hpp>
@@ -47,6 +48,12 @@ struct ResolvedCamera {
 // above_ground without a position), for coordinates off the ranges (lod::Camera's,
 // longitude/latitude's, heading/pitch's), for a lon/lat position off the raster when its
 // height is above the ground, and for an archive without the CRS a lon/lat form needs.
-ResolvedCamera resolveCameraPlacement(HeightQuery& query, const CameraPlacement& placement);
+// `frame`: the frame the camera is for (the renderer's); without one, or on a plane, the
+// query's own plane frame. On a globe (lod::TerrainFrame::onEllipsoid) the result is in its
+// world (ECEF): longitude/latitude are WGS 84 on its ellipsoid, heights above it; local
+// x, y are the plane's metric grid coordinates mapped through the frame, z a height; heading
+// is clockwise from true north and pitch above the local horizon at the camera.
+ResolvedCamera resolveCameraPlacement(HeightQuery& query, const CameraPlacement& placement,
+                                      const lod::TerrainFrame* frame = nullptr);
 
 } // namespace ridge

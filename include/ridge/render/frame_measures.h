@@ -27,9 +27,15 @@ struct HoleReport {
 // its ray crosses the whole slab of heights [min_height, max_height] (terrain frame, metres)
 // downwards inside the terrain's extent, less one sample at each border: such a ray must hit
 // the continuous surface. Rays that graze the slab or leave the extent are not judged (no
-// false holes; a hole seen only at a grazing angle is missed).
+// false holes; a hole seen only at a grazing angle is missed). On a globe frame: from outside
+// the sphere that holds all the terrain, a ray that meets the sphere inside all of it, both
+// points where the grid covers the Earth.
+// `limb_px` (globe): rays passing within this many pixels of the inner sphere's silhouette are
+// not judged — the drawn globe's edge may fall short of the true one by what ε allows there
+// (twice the ε met is safe).
 HoleReport countHolePixels(const std::vector<uint8_t>& background, const lod::Camera& camera,
-                           const lod::TerrainFrame& frame, double min_height, double max_height);
+                           const lod::TerrainFrame& frame, double min_height, double max_height,
+                           double limb_px = 4.0);
 
 // The height of a captured surface (skirts excluded) at every finest sample it covers,
 // terrain frame metres, NaN elsewhere, over the window of finest samples its triangles span

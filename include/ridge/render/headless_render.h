@@ -27,6 +27,8 @@ struct HeadlessRenderOptions {
     // The scheme's own options: a spec of settings.scheme, "NAME[,KEY=VALUE...]"
     // (RendererOptions::schemes). Empty: settings.scheme with its module's defaults.
     std::string scheme_spec;
+    // The terrain frame (RendererOptions::frame): the camera above is in it.
+    lod::FrameChoice frame = lod::FrameChoice::Auto;
 
     // Throws ridge::Error naming the first field outside its range: camera and look-at within
     // lod::kCameraCoordinateRange, the field of view, image sides in [1, kMaxImageSide],

@@ -57,6 +57,9 @@ struct SchemePromises {
     // A change of LOD (all of it resident) moves no drawn point visibly: geomorphing.
     // Arrivals while streaming are not LOD changes.
     bool pop_free = false;
+    // Draws a globe whose columns go round the Earth (lod::GeodeticGrid::wrap_columns): its
+    // selection wraps too. A scheme without it refuses such a frame by name.
+    bool wrapping_globe = true;
 };
 // Scheme `name`'s promises; throws ridge::Error for a name that is not registered.
 SchemePromises lodSchemePromises(const std::string& name);
@@ -190,11 +193,9 @@ struct RendererOptions {
     // its default options, whose needs cost nothing: those that do not need codes on the CPU.
     std::vector<std::string> schemes;
 
-    // The terrain frame (lod/archive_frame.h): the plane, or the WGS 84 ellipsoid (auto puts
-    // a raster that goes round the Earth there). The plane by default until the globe's
-    // cameras (default view, clip planes, ground heights) are in: TerrainRenderer's camera
-    // helpers measure the plane.
-    lod::FrameChoice frame = lod::FrameChoice::Plane;
+    // The terrain frame (lod/archive_frame.h): the plane, or the WGS 84 ellipsoid; auto puts
+    // a raster that goes round the Earth on the ellipsoid and keeps the rest on the plane.
+    lod::FrameChoice frame = lod::FrameChoice::Auto;
 
     // Texture-array slots: at most this many, at most what `vram_budget_mb` holds (heights,
     // normals and block errors of one patch per slot) and at most the GL implementation's
@@ -356,6 +357,13 @@ class TerrainRenderer {
     // (x, y), bilinearly (cheap, for cameras); points off the terrain take its nearest border
     // point.
     double groundHeight(double x, double y, double exaggeration = 1.0) const;
+    // The same under a world point of the frame (on a globe: along the ellipsoid's normal
+    // through it), metres above the plane's zero or the ellipsoid.
+    double groundUnder(glm::dvec3 world, double exaggeration = 1.0) const;
+    // A camera at `position` looking at `look_at`, with this terrain's clip planes and the
+    // frame's up through `position` (the plane's +z, the ellipsoid's normal on a globe).
+    lod::Camera cameraLookingAt(glm::dvec3 position, glm::dvec3 look_at, double fov_y_degrees,
+                                lod::Viewport viewport, double exaggeration = 1.0) const;
 
   private:
     struct Impl;

@@ -70,8 +70,12 @@ class ChunkedScheme final : public TerrainScheme {
 
     void adjustSelection(const RenderSettings&, lod::SelectionSettings& s) const override
     {
-        if (meshes_)
+        if (meshes_) {
             s.error_scale = 1.0 + tolerance_; // the chunk drops up to tolerance·Err(P) more
+            // A simplified chunk's triangles may span the whole patch: on a globe they sag
+            // below the curved surface by as much as a cell that large.
+            s.straight_cells = double(n_ - 1);
+        }
     }
 
     size_t upload(const stream::DecodedPatch& patch, int slot) override

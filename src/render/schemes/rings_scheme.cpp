@@ -316,9 +316,13 @@ SchemeInfo ringsScheme()
         .make = [](const SchemeResources& r) -> std::unique_ptr<TerrainScheme> {
             return std::make_unique<RingsScheme>(r, settingsFor(r.reader, r.own));
         },
+        // The ring structure measures rings in tile indices: on a grid that wraps around
+        // the Earth the tiles beyond the seam would be the farthest ring (and a period is not
+        // a whole number of tiles in general).
         .promises = {.screen_space_error = false,
                      .seams = SchemePromises::Seams::Stitching,
-                     .pop_free = false},
+                     .pop_free = false,
+                     .wrapping_globe = false},
     };
 }
 
