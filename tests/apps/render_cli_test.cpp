@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <vector>
@@ -172,4 +173,59 @@ TEST(RenderCli, TheDefaultViewFillsTheFrameWithTheTerrain)
     EXPECT_GT(x0, 0);
     EXPECT_GT(y0, 0);
     EXPECT_LT(x1, w - 1);
+}
+
+// The globe from the command line (issue 26): a raster that goes round the Earth renders on the
+// ellipsoid by default and says so; cameras given in longitude/latitude, below the ellipsoid
+// and at the Earth's centre render without a NaN reaching the picture's numbers; a frame that
+// cannot be had is refused by name, with exit status 2 for a malformed --frame.
+TEST(RenderCli, TheGlobeRendersOnTheEllipsoidAndRefusesWhatCannotLieOnIt)
+{
+    test::ScratchDir dir;
+    const std::string globe = dir.path("globe.ridge");
+    const test::CommandResult b =
+        test::runRidge("build " + quoted(test::dataPath("etopo5_globe_181x91.tif")) + " -o " +
+                       quoted(globe) + " --patch 17 -q");
+    ASSERT_EQ(b.exit_code, 0) << b.output;
+    auto render = [&](const std::string& args) {
+        return test::runRidge("render " + quoted(globe) + " -o " + quoted(dir.path("g.png")) +
+                              " --size 96x64 --json " + args);
+    };
+    {
+        const test::CommandResult r = render("");
+        ASSERT_EQ(r.exit_code, 0) << r.output;
+        const nlohmann::json j = nlohmann::json::parse(r.output);
+        EXPECT_EQ(j["frame"], "ellipsoid");
+        // The default camera is far out, the whole Earth in view (a sphere of 6,378 km fits
+        // a 60° field from a / sin 30° = 12,756 km of the centre), looking straight down.
+        const double d =
+            std::hypot(double(j["camera"][0]), double(j["camera"][1]), double(j["camera"][2]));
+        EXPECT_GT(d, 1.2756e7);
+        EXPECT_LT(d, 2.0e7);
+        EXPECT_NEAR(double(j["pitch_deg"]), -90.0, 1.0);
+    }
+    EXPECT_EQ(nlohmann::json::parse(render("--frame plane").output)["frame"], "plane");
+    for (const std::string camera :
+         {"--camera-lonlat 0,45,-1000 --look-at-lonlat 10,45",         // below the ellipsoid
+          "--camera-lonlat 0,90,-6356752.314245 --look-at-lonlat 0,0", // the Earth's centre
+          "--camera-lonlat 179.9,-89.9,500 --heading 45 --pitch -10"}) {
+        const test::CommandResult r = render(camera);
+        ASSERT_EQ(r.exit_code, 0) << camera << ": " << r.output;
+        EXPECT_EQ(r.output.find("nan"), std::string::npos) << camera << ": " << r.output;
+        EXPECT_EQ(r.output.find("null"), std::string::npos) << camera << ": " << r.output;
+    }
+    const test::CommandResult bad = render("--frame globe");
+    EXPECT_EQ(bad.exit_code, 2) << bad.output;
+    EXPECT_NE(bad.output.find("--frame"), std::string::npos) << bad.output;
+    // A projected archive cannot lie on the ellipsoid yet: said with its name.
+    const std::string utm = dir.path("utm.ridge");
+    ASSERT_EQ(test::runRidge("build " + quoted(test::dataPath("everest_utm45.tif")) + " -o " +
+                             quoted(utm) + " -q")
+                  .exit_code,
+              0);
+    const test::CommandResult projected = test::runRidge(
+        "render " + quoted(utm) + " -o " + quoted(dir.path("u.png")) + " --frame ellipsoid");
+    EXPECT_EQ(projected.exit_code, 1) << projected.output;
+    EXPECT_NE(projected.output.find("utm.ridge"), std::string::npos) << projected.output;
+    EXPECT_NE(projected.output.find("projected"), std::string::npos) << projected.output;
 }
