@@ -18,12 +18,8 @@ constexpr double kDegree = std::numbers::pi / 180.0;
 // (ETOPO5's file states 0.0833341° for 5', 0.04 of a column short over 4320 columns).
 constexpr double kWrapTolerance = 0.05;
 
-struct GeographicGrid {
-    GeodeticGrid grid;
-};
-
 // The ellipsoid grid of a geographic archive, or why there is none.
-GeographicGrid geographicGrid(const archive::ArchiveReader& reader, const std::string& what)
+GeodeticGrid geographicGrid(const archive::ArchiveReader& reader, const std::string& what)
 {
     const archive::GeoreferenceMetadata& geo = reader.metadata().georeference;
     const std::string prefix = what + ": cannot lie on the ellipsoid: ";
@@ -73,8 +69,7 @@ GeographicGrid geographicGrid(const archive::ArchiveReader& reader, const std::s
                     "WGS 84 (the centre moves by " +
                     formatNumber(shift_lon) + "°, " + formatNumber(shift_lat) + "°)");
 
-    GeographicGrid out;
-    GeodeticGrid& grid = out.grid;
+    GeodeticGrid grid;
     grid.lon0 = (x0 + shift_lon) * kDegree;
     grid.lat0 = std::min(90.0, std::max(-90.0, y0 + shift_lat)) * kDegree;
     grid.dlon = gt[1] * kDegree;
@@ -85,7 +80,7 @@ GeographicGrid geographicGrid(const archive::ArchiveReader& reader, const std::s
         grid.wrap_columns = int64_t(whole);
         grid.dlon = 2.0 * std::numbers::pi / whole; // exactly a whole turn
     }
-    return out;
+    return grid;
 }
 
 } // namespace
@@ -121,20 +116,21 @@ TerrainFrame terrainFrameOf(const archive::ArchiveReader& reader, FrameChoice ch
     TerrainFrame plane(reader.geometry(), h.spacing_x, h.spacing_y);
     if (choice == FrameChoice::Plane)
         return plane;
+    GeodeticGrid grid;
     if (choice == FrameChoice::Auto) {
         // The globe when the raster goes round it; anything else keeps the plane it was
         // always drawn on.
         try {
-            const GeographicGrid g = geographicGrid(reader, what);
-            if (g.grid.wrap_columns == 0)
-                return plane;
-            return TerrainFrame::ellipsoid(reader.geometry(), h.spacing_x, h.spacing_y, g.grid);
+            grid = geographicGrid(reader, what);
         } catch (const Error&) {
             return plane;
         }
+        if (grid.wrap_columns == 0)
+            return plane;
+    } else {
+        grid = geographicGrid(reader, what);
     }
-    const GeographicGrid g = geographicGrid(reader, what);
-    return TerrainFrame::ellipsoid(reader.geometry(), h.spacing_x, h.spacing_y, g.grid);
+    return TerrainFrame::ellipsoid(reader.geometry(), h.spacing_x, h.spacing_y, grid);
 }
 
 } // namespace ridge::lod

@@ -28,46 +28,23 @@ bool raySphere(glm::dvec3 origin, glm::dvec3 dir, double r, glm::dvec3& hit)
     return true;
 }
 
-// The globe's judgement: from outside the sphere that holds all the terrain (a + max), a ray
-// that meets the sphere inside all of it (b + min: within the ellipsoid at the lowest height
-// everywhere) must cross the surface, where the grid covers both points (a sample in from its
-// edges; a wrapping grid has no east and west edge), unless it grazes the limb.
-HoleReport countGlobeHolePixels(const std::vector<uint8_t>& background, const lod::Camera& camera,
-                                const lod::TerrainFrame& frame, double min_height,
-                                double max_height, double limb_pixels)
+// The pixels of `camera`'s viewport whose ray (a unit direction from the camera) `judged`
+// says must meet the terrain, and those of them `background` shows as holes.
+template <class Judged>
+HoleReport countOverFootprint(const std::vector<uint8_t>& background, const lod::Camera& camera,
+                              Judged&& judged)
 {
     const lod::Viewport vp = camera.viewport();
-    HoleReport report;
-    const glm::dvec3 pos = camera.position();
     const glm::dmat4 inverse = glm::inverse(camera.viewProjection());
-    const lod::Ellipsoid& e = frame.geodetic().ellipsoid;
-    const double outer = e.a + max_height + 1.0, inner = e.b() + min_height - 1.0;
-    if (glm::length(pos) <= outer || inner <= 0.0)
-        return report;
-    const PyramidGeometry& g = frame.geometry();
-    const bool wraps = frame.geodetic().wrap_columns > 0;
-    const double pixel_angle = 2.0 * std::tan(0.5 * camera.fovY()) / vp.height;
-    auto covered = [&](glm::dvec3 p) {
-        const glm::dvec3 q = frame.gridOf(p);
-        const bool rows = (frame.poleRow(0.0) || q.y > 1.0) &&
-                          (frame.poleRow(double(g.height() - 1)) || q.y < g.height() - 2.0);
-        return rows && (wraps || (q.x > 1.0 && q.x < g.width() - 2.0));
-    };
+    HoleReport report;
     for (int y = 0; y < vp.height; ++y)
         for (int x = 0; x < vp.width; ++x) {
             const glm::dvec4 ndc((x + 0.5) / vp.width * 2 - 1, 1 - (y + 0.5) / vp.height * 2, 1.0,
                                  1.0);
             const glm::dvec4 far_point = inverse * ndc;
+            // viewProjection() is camera-relative: the unprojected point is a direction.
             const glm::dvec3 dir = glm::normalize(glm::dvec3(far_point) / far_point.w);
-            glm::dvec3 in_hit, out_hit;
-            // Near the limb the drawn globe's edge may fall short of the true one by what ε
-            // allows: a ray is judged when it passes at least `limb` pixels inside the inner
-            // sphere's silhouette (its closest approach to the centre that far within).
-            const double closest = glm::length(pos - glm::dot(pos, dir) * dir);
-            if (closest > inner - limb_pixels * pixel_angle * glm::length(pos))
-                continue;
-            if (!raySphere(pos, dir, inner, in_hit) || !raySphere(pos, dir, outer, out_hit) ||
-                !covered(in_hit) || !covered(out_hit))
+            if (!judged(dir))
                 continue;
             ++report.footprint_pixels;
             if (background[size_t(y) * vp.width + x] && report.hole_pixels++ == 0) {
@@ -76,6 +53,41 @@ HoleReport countGlobeHolePixels(const std::vector<uint8_t>& background, const lo
             }
         }
     return report;
+}
+
+// The globe's judgement: from outside the sphere that holds all the terrain (a + max), a ray
+// that meets the sphere inside all of it (b + min: within the ellipsoid at the lowest height
+// everywhere) must cross the surface, where the grid covers both points (a sample in from its
+// edges; a wrapping grid has no east and west edge), unless it grazes the limb.
+HoleReport countGlobeHolePixels(const std::vector<uint8_t>& background, const lod::Camera& camera,
+                                const lod::TerrainFrame& frame, double min_height,
+                                double max_height, double limb_pixels)
+{
+    const glm::dvec3 pos = camera.position();
+    const lod::Ellipsoid& e = frame.geodetic().ellipsoid;
+    const double outer = e.a + max_height + 1.0, inner = e.b() + min_height - 1.0;
+    if (glm::length(pos) <= outer || inner <= 0.0)
+        return {};
+    const PyramidGeometry& g = frame.geometry();
+    const bool wraps = frame.geodetic().wrap_columns > 0;
+    const double pixel_angle = 2.0 * std::tan(0.5 * camera.fovY()) / camera.viewport().height;
+    auto covered = [&](glm::dvec3 p) {
+        const glm::dvec3 q = frame.gridOf(p);
+        const bool rows = (frame.poleRow(0.0) || q.y > 1.0) &&
+                          (frame.poleRow(double(g.height() - 1)) || q.y < g.height() - 2.0);
+        return rows && (wraps || (q.x > 1.0 && q.x < g.width() - 2.0));
+    };
+    return countOverFootprint(background, camera, [&](glm::dvec3 dir) {
+        // Near the limb the drawn globe's edge may fall short of the true one by what ε
+        // allows: a ray is judged when it passes at least `limb_pixels` inside the inner
+        // sphere's silhouette (its closest approach to the centre that far within).
+        const double closest = glm::length(pos - glm::dot(pos, dir) * dir);
+        if (closest > inner - limb_pixels * pixel_angle * glm::length(pos))
+            return false;
+        glm::dvec3 in_hit, out_hit;
+        return raySphere(pos, dir, inner, in_hit) && raySphere(pos, dir, outer, out_hit) &&
+               covered(in_hit) && covered(out_hit);
+    });
 }
 
 } // namespace
@@ -87,36 +99,21 @@ HoleReport countHolePixels(const std::vector<uint8_t>& background, const lod::Ca
     const lod::Viewport vp = camera.viewport();
     if (background.size() != size_t(vp.width) * vp.height)
         throw Error("countHolePixels: the background mask is not the camera's viewport");
-    HoleReport report;
-    const glm::dvec3 pos = camera.position();
-    const glm::dmat4 inverse = glm::inverse(camera.viewProjection());
     if (frame.onEllipsoid())
         return countGlobeHolePixels(background, camera, frame, min_height, max_height, limb_px);
+    const glm::dvec3 pos = camera.position();
     const double sx = frame.spacingX(), sy = frame.spacingY();
     auto inside = [&](glm::dvec3 p) {
         return p.x > sx && p.y > sy && p.x < frame.extentX() - sx && p.y < frame.extentY() - sy;
     };
-    for (int y = 0; y < vp.height; ++y)
-        for (int x = 0; x < vp.width; ++x) {
-            const glm::dvec4 ndc((x + 0.5) / vp.width * 2 - 1, 1 - (y + 0.5) / vp.height * 2, 1.0,
-                                 1.0);
-            const glm::dvec4 far_point = inverse * ndc;
-            // viewProjection() is camera-relative: the unprojected point is a direction.
-            const glm::dvec3 dir = glm::normalize(glm::dvec3(far_point) / far_point.w);
-            if (!(dir.z < 0))
-                continue;
-            auto at = [&](double z) { return pos + dir * ((z - pos.z) / dir.z); };
-            // A camera inside the slab may stand under a ridge: its rays are not judged.
-            if (pos.z < max_height + 1.0 || !inside(at(max_height + 1.0)) ||
-                !inside(at(min_height - 1.0)))
-                continue;
-            ++report.footprint_pixels;
-            if (background[size_t(y) * vp.width + x] && report.hole_pixels++ == 0) {
-                report.first_x = x;
-                report.first_y = y;
-            }
-        }
-    return report;
+    return countOverFootprint(background, camera, [&](glm::dvec3 dir) {
+        if (!(dir.z < 0))
+            return false;
+        auto at = [&](double z) { return pos + dir * ((z - pos.z) / dir.z); };
+        // A camera inside the slab may stand under a ridge: its rays are not judged.
+        return !(pos.z < max_height + 1.0 || !inside(at(max_height + 1.0)) ||
+                 !inside(at(min_height - 1.0)));
+    });
 }
 
 float SampleHeights::at(int column, int row) const
