@@ -173,6 +173,17 @@ void Commands::registerBuild(CLI::App& app)
             "EPSG code of a vertical CRS (EPSG:5773 EGM96 height, EPSG:3855 EGM2008 height) or "
             "a name (default: the vertical part of the source's CRS, if it has one)")
         ->type_name("NAME_OR_EPSG");
+    // gdalwarp's names: the target is always the ellipsoid, the default follows the datum.
+    CLI::Option* vshift = build_->add_flag_callback(
+        "--vshift", [&ingest] { ingest.vertical_shift = io::VerticalShift::Ellipsoid; },
+        "Shift heights above a geoid to heights above the ellipsoid through PROJ (h = H + N; "
+        "default when the heights' vertical datum is a registered vertical CRS such as "
+        "EPSG:5773 EGM96 height); an error when the datum is unknown or its grid is missing");
+    build_
+        ->add_flag_callback(
+            "--novshift", [&ingest] { ingest.vertical_shift = io::VerticalShift::None; },
+            "Keep the heights as the source gives them, whatever their vertical datum")
+        ->excludes(vshift);
     build_->add_flag("--json", json_, "Print the build's figures as JSON on stdout");
     addCommonFlags(build_, quiet_);
 }

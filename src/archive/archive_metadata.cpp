@@ -313,6 +313,17 @@ BuildMetadata parseBuild(const Section& s, const Header& header)
     m.codec_max_error = s.optionalNumber("codec_max_error", ValueRange::nonNegative());
     m.codec_variant = s.optionalString("codec_variant");
     m.block_errors = s.optionalString("block_errors");
+    if (s.find("vertical_shift")) {
+        const Section shift = s.section("vertical_shift");
+        VerticalShiftMetadata v;
+        v.from = shift.string("from");
+        if (v.from.empty())
+            reject(shift.path("from") + " is \"\": must name the source's vertical CRS");
+        v.from_epsg =
+            static_cast<int>(shift.integer("from_epsg", 1, std::numeric_limits<int>::max()));
+        v.operation = shift.string("operation");
+        m.vertical_shift = v;
+    }
     return m;
 }
 

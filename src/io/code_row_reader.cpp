@@ -40,6 +40,7 @@ struct CodeRowReader::Impl {
     Impl(const std::string& path, const IngestOptions& options) : band(path, options)
     {
         geo = detail::readGeoReference(band.dataset(), band.width(), band.height(), options);
+        band.describeHeights(geo);
         band.checkSpacing(geo);
         geo.vertical_units = band.verticalUnits();
     }

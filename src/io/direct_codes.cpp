@@ -133,6 +133,9 @@ class DirectCodes final : public CodeSource {
 
 bool hasDirectCodes(const SourceBand& band)
 {
+    // Shifted heights are no longer the stored integers.
+    if (band.geoidShift())
+        return false;
     return directLayout(band).has_value();
 }
 

@@ -33,15 +33,22 @@ ValueSurvey survey(const SourceBand& band, const Progress& progress)
     const int strip_rows = band.stripRows(kStripBytes, sizeof(double));
     std::vector<double> strip(static_cast<size_t>(strip_rows) * width);
     std::vector<uint8_t> mask_scratch;
+    std::vector<double> undulations;
+    // A geoid shift adds N in metres; in stored units that is N / z_scale (never 0).
+    const double per_metre = 1.0 / band.z().scale;
+    s.integral = band.geoidShift() == nullptr;
     for (int y0 = 0; y0 < height; y0 += strip_rows) {
         const int rows = std::min(strip_rows, height - y0);
         band.readValues(y0, rows, strip.data(), mask_scratch);
+        band.readUndulations(y0, rows, undulations);
         for (size_t i = 0; i < static_cast<size_t>(rows) * width; ++i) {
-            const double v = strip[i];
+            double v = strip[i];
             if (std::isnan(v)) {
                 ++s.voids;
                 continue;
             }
+            if (!undulations.empty())
+                v += undulations[i] * per_metre;
             ++s.valid;
             s.min_value = std::min(s.min_value, v);
             s.max_value = std::max(s.max_value, v);
@@ -119,6 +126,7 @@ class QuantizedCodes final : public CodeSource {
         const size_t count = static_cast<size_t>(rows) * band_.width();
         values_.resize(count);
         band_.readValues(y0, rows, values_.data(), mask_scratch_);
+        band_.readUndulations(y0, rows, undulations_);
         const ZTransform& z = band_.z();
         const HeightQuantization& q = quantization_;
         uint16_t lo = UINT16_MAX;
@@ -131,9 +139,12 @@ class QuantizedCodes final : public CodeSource {
                     water[i] = 0;
                 continue;
             }
-            const double m = z.toMetres(v);
-            if (water) // the source's value, not its code: a 0 m sea quantized to +1 mm is sea
-                water[i] = sea_level_ && m <= *sea_level_;
+            const double source_metres = z.toMetres(v);
+            // The source's value, not its code: a 0 m sea quantized to +1 mm is sea; and
+            // before a geoid shift, since sea level is the geoid's business.
+            if (water)
+                water[i] = sea_level_ && source_metres <= *sea_level_;
+            const double m = undulations_.empty() ? source_metres : source_metres + undulations_[i];
             uint16_t code;
             if (exact_) {
                 code = static_cast<uint16_t>(std::abs(v - integer_origin_));
@@ -158,6 +169,7 @@ class QuantizedCodes final : public CodeSource {
     double integer_origin_ = 0.0;
     int64_t max_code_ = kCodeCount - 1;
     std::vector<double> values_;
+    std::vector<double> undulations_;
     std::vector<uint8_t> mask_scratch_;
 };
 

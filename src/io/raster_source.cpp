@@ -90,6 +90,7 @@ ElevationRaster ingestRaster(const std::string& path, const IngestOptions& optio
     ElevationRaster raster;
     raster.source_path = path;
     raster.geo = detail::readGeoReference(band.dataset(), band.width(), band.height(), options);
+    band.describeHeights(raster.geo);
     band.checkSpacing(raster.geo);
     raster.geo.vertical_units = band.verticalUnits();
 
@@ -200,12 +201,13 @@ RasterProbe probeRaster(const std::string& path, const IngestOptions& options)
 struct ReferenceRaster::Impl {
     detail::SourceBand band;
     std::vector<uint8_t> mask_scratch;
+    std::vector<double> undulations;
 };
 
 ReferenceRaster::ReferenceRaster(const std::string& path, const IngestOptions& options)
 {
     detail::GdalErrorCapture capture;
-    auto impl = std::make_unique<Impl>(Impl{detail::SourceBand(path, options), {}});
+    auto impl = std::make_unique<Impl>(Impl{detail::SourceBand(path, options), {}, {}});
     width_ = impl->band.width();
     height_ = impl->band.height();
     impl_ = impl.release();
@@ -217,7 +219,7 @@ ReferenceRaster::~ReferenceRaster()
     delete impl_;
 }
 
-void ReferenceRaster::readRows(int y0, int rows, double* out)
+void ReferenceRaster::readRows(int y0, int rows, double* out, double* source_heights)
 {
     if (y0 < 0 || rows < 0 || rows > height_ - y0)
         impl_->band.fail("rows " + std::to_string(y0) + "+" + std::to_string(rows) +
@@ -225,10 +227,17 @@ void ReferenceRaster::readRows(int y0, int rows, double* out)
     if (rows == 0)
         return;
     impl_->band.readValues(y0, rows, out, impl_->mask_scratch);
+    impl_->band.readUndulations(y0, rows, impl_->undulations);
+    const std::vector<double>& n = impl_->undulations;
     const detail::ZTransform& z = impl_->band.z();
     const size_t count = static_cast<size_t>(rows) * width_;
-    for (size_t i = 0; i < count; ++i)
+    for (size_t i = 0; i < count; ++i) {
         out[i] = z.toMetres(out[i]); // NaN voids stay NaN
+        if (source_heights)
+            source_heights[i] = out[i];
+        if (!n.empty())
+            out[i] += n[i];
+    }
 }
 
 } // namespace ridge::io

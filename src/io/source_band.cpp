@@ -1,5 +1,6 @@
 #include "source_band.h"
 
+#include "georeference.h"
 #include "number_format.h"
 
 #include "ridge/core/error.h"
@@ -190,6 +191,34 @@ SourceBand::SourceBand(const std::string& path, const IngestOptions& options) : 
     const int flags = GDALGetMaskFlags(band_);
     has_mask_band_ =
         (flags & (GMF_PER_DATASET | GMF_ALPHA)) != 0 && (flags & (GMF_NODATA | GMF_ALL_VALID)) == 0;
+
+    const GeoReference geo = readGeoReference(dataset_.get(), width_, height_, options);
+    if (wantsGeoidShift(options.vertical_shift, geo.vertical_datum)) {
+        if (!geo.has_geotransform)
+            fail("its heights cannot be shifted to the ellipsoid: it has no geotransform "
+                 "(--novshift keeps them as they are)");
+        geoid_shift_ =
+            std::make_unique<GeoidShift>(path_, geo.crs_wkt, geo.vertical_datum, geo.geotransform);
+    }
+}
+
+SourceBand::~SourceBand() = default;
+
+void SourceBand::describeHeights(GeoReference& geo) const
+{
+    if (!geoid_shift_)
+        return;
+    geo.vertical_shift = GeoReference::Shift{geoid_shift_->from(), geoid_shift_->operation()};
+    geo.vertical_datum = VerticalDatum{geoid_shift_->target(), std::nullopt,
+                                       geoid_shift_->from().describe() + " shifted through " +
+                                           geoid_shift_->operation()};
+}
+
+void SourceBand::readUndulations(int y0, int rows, std::vector<double>& out) const
+{
+    out.assign(geoid_shift_ ? static_cast<size_t>(rows) * width_ : 0, 0.0);
+    if (geoid_shift_)
+        geoid_shift_->undulations(y0, rows, width_, out.data());
 }
 
 void SourceBand::appendWrapColumn()

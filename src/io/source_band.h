@@ -3,6 +3,7 @@
 // and ReferenceRaster see it: opened and
 // validated, with one definition of "void", one z_scale/z_offset rule and one strip reader.
 #include "gdal_support.h"
+#include "geoid_shift.h"
 
 #include "ridge/io/raster_source.h"
 
@@ -33,6 +34,8 @@ class SourceBand {
     // opened, has no raster band or not that one, is smaller than 2x2, or has an unsupported
     // data type.
     SourceBand(const std::string& path, const IngestOptions& options);
+    ~SourceBand();
+    SourceBand(SourceBand&&) = default;
 
     const std::string& path() const { return path_; }
     // Whether the source's columns span 360° of longitude and column 0 was appended after its
@@ -73,6 +76,15 @@ class SourceBand {
     // `mask_scratch` is reused between calls to hold the mask strip.
     void readValues(int y0, int rows, double* out, std::vector<uint8_t>& mask_scratch) const;
 
+    // Heights above a geoid become heights above the ellipsoid (IngestOptions::vertical_shift):
+    // the shift, or null when the heights stay as the source gives them.
+    const GeoidShift* geoidShift() const { return geoid_shift_.get(); }
+    // N (metres) at rows [y0, y0 + rows) into out[rows * width()]: heights in metres plus N
+    // are above the ellipsoid. Empty when there is no shift.
+    void readUndulations(int y0, int rows, std::vector<double>& out) const;
+    // Records a shift in `geo` (vertical_shift set, vertical_datum the ellipsoid).
+    void describeHeights(GeoReference& geo) const;
+
     // Throws Error naming the file, z_scale, z_offset and both ranges unless z() maps stored
     // values [lo_value, hi_value] to heights within ±kMaxAbsHeightMetres. `what` says what
     // the values are ("the Int16 type's values", "its values").
@@ -105,6 +117,7 @@ class SourceBand {
     std::string vertical_units_;
     std::optional<double> nodata_;
     bool has_mask_band_ = false;
+    std::unique_ptr<GeoidShift> geoid_shift_;
 };
 
 } // namespace ridge::io::detail

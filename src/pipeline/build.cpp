@@ -180,6 +180,12 @@ std::string metadataJson(const std::string& source_path, const io::IngestStats& 
         if (geo.vertical_datum.epsg)
             datum["epsg"] = *geo.vertical_datum.epsg;
     }
+    if (geo.vertical_shift) {
+        const io::VerticalDatum& from = geo.vertical_shift->from;
+        meta["build"]["vertical_shift"] = {{"from", from.name},
+                                           {"from_epsg", from.epsg.value_or(0)},
+                                           {"operation", geo.vertical_shift->operation}};
+    }
     // JSON has no NaN: a NaN nodata (float rasters) is recorded as absent, and extract then
     // writes NaN anyway.
     if (stats.nodata && std::isfinite(*stats.nodata))

@@ -232,6 +232,12 @@ void compareWithSource(const ArchiveReader& reader, const std::vector<DecodedLev
     options.z_scale = reader.metadata().build.z_scale;
     options.z_offset = reader.metadata().build.z_offset;
     options.band = reader.metadata().source.band.value_or(1); // the band the archive was built from
+    // Heights shifted to the ellipsoid at build are compared shifted the same way.
+    options.vertical_shift = io::VerticalShift::None;
+    if (const auto& shift = reader.metadata().build.vertical_shift) {
+        options.vertical_shift = io::VerticalShift::Ellipsoid;
+        options.vertical_datum = "EPSG:" + std::to_string(shift->from_epsg);
+    }
     io::ReferenceRaster source(source_path, options);
     const PyramidGeometry& g = reader.geometry();
     if (source.width() != g.width() || source.height() != g.height()) {
@@ -249,13 +255,14 @@ void compareWithSource(const ArchiveReader& reader, const std::vector<DecodedLev
     const std::optional<double> sea_level = reader.metadata().water.sea_level;
     constexpr int kStrip = 128;
     std::vector<double> strip(static_cast<size_t>(kStrip) * g.width());
+    std::vector<double> source_heights(strip.size()); // before a vertical shift: for water
     for (int y0 = 0; y0 < g.height(); y0 += kStrip) {
         const int rows = std::min(kStrip, g.height() - y0);
-        source.readRows(y0, rows, strip.data());
+        source.readRows(y0, rows, strip.data(), source_heights.data());
         const size_t first = static_cast<size_t>(y0) * g.width();
         for (size_t k = 0; k < static_cast<size_t>(rows) * g.width(); ++k) {
             source_void[first + k] = std::isnan(strip[k]) ? 1 : 0;
-            source_water[first + k] = sea_level && strip[k] <= *sea_level; // NaN: false
+            source_water[first + k] = sea_level && source_heights[k] <= *sea_level; // NaN: no
             report.source_voids += source_void[first + k];
             if (!finest_valid.empty())
                 report.nodata_samples += finest_valid[first + k] == 0;

@@ -268,7 +268,7 @@ TEST(CliEdges, InfoSaysNoDataBandTypeEpsgAndVerticalDatum)
 
     const std::string utm = dir.path("utm.ridge");
     ASSERT_EQ(test::runRidge("build " + inQuotes(test::dataPath("everest_utm45.tif")) + " -o " +
-                             inQuotes(utm) + " -q --vertical-datum EPSG:3855")
+                             inQuotes(utm) + " -q --vertical-datum EPSG:3855 --novshift")
                   .exit_code,
               0);
     text = test::runRidge("info " + inQuotes(utm)).output;
@@ -285,16 +285,31 @@ TEST(CliEdges, InfoSaysNoDataBandTypeEpsgAndVerticalDatum)
     gdalTranslate(test::dataPath("everest_crop.tif"), compound, {"-a_srs", "EPSG:4326+5773"});
     const std::string cmp = dir.path("compound.ridge");
     ASSERT_EQ(
-        test::runRidge("build " + inQuotes(compound) + " -o " + inQuotes(cmp) + " -q").exit_code,
+        test::runRidge("build " + inQuotes(compound) + " -o " + inQuotes(cmp) + " -q --novshift")
+            .exit_code,
         0);
     text = test::runRidge("info " + inQuotes(cmp)).output;
     EXPECT_TRUE(contains(text, "Vertical datum: EGM96 height (EPSG:5773), from the source's CRS"))
         << text;
+    // ... and by default its heights move to the ellipsoid (tests/io/geoid_shift_test.cpp).
+    const std::string shifted = dir.path("shifted.ridge");
+    ASSERT_EQ(test::runRidge("build " + inQuotes(compound) + " -o " + inQuotes(shifted) + " -q")
+                  .exit_code,
+              0);
+    text = test::runRidge("info " + inQuotes(shifted)).output;
+    EXPECT_TRUE(contains(text, "Vertical datum: WGS 84 ellipsoidal height, from EGM96 height "
+                               "(EPSG:5773) shifted through"))
+        << text;
+    // verify --source shifts the source as the build did: every bound holds (N is about
+    // −29 m at Everest, 700 times the archive's quantization error).
+    const test::CommandResult verified =
+        test::runRidge("verify " + inQuotes(shifted) + " --source " + inQuotes(compound));
+    EXPECT_EQ(verified.exit_code, 0) << verified.output;
 
     // A name PROJ knows takes its EPSG spelling and code; one it does not is kept as given.
     ASSERT_EQ(test::runRidge("build " + inQuotes(compound) + " -o " +
                              inQuotes(dir.path("n.ridge")) +
-                             " -q --vertical-datum 'egm2008 height'")
+                             " -q --vertical-datum 'egm2008 height' --novshift")
                   .exit_code,
               0);
     EXPECT_TRUE(contains(test::runRidge("info " + inQuotes(dir.path("n.ridge"))).output,

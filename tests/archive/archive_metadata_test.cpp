@@ -8,6 +8,7 @@
 #include "ridge/core/error.h"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 using namespace ridge;
 
@@ -56,4 +57,39 @@ TEST(ArchiveMetadata, ParsingChecksAgainstTheHeaderItIsGiven)
         EXPECT_EQ(std::string(e.what()),
                   "metadata: source.width is 301 but the header's width is 300");
     }
+}
+
+// build.vertical_shift (heights shifted from a geoid to the ellipsoid): parsed with its
+// types, refused by field when a value is out of range.
+TEST(ArchiveMetadata, VerticalShiftIsParsedAndChecked)
+{
+    test::ScratchDir dir;
+    const archive::ArchiveReader reader(test::buildEverestArchive(dir, "lossless"));
+    EXPECT_FALSE(reader.metadata().build.vertical_shift.has_value());
+    nlohmann::json j = nlohmann::json::parse(reader.metadataJson());
+    const auto parse = [&] { return archive::parseArchiveMetadata(j.dump(), reader.header()); };
+    j["build"]["vertical_shift"] = {
+        {"from", "EGM96 height"}, {"from_epsg", 5773}, {"operation", "WGS 84 to EGM96 height"}};
+    const archive::ArchiveMetadata m = parse();
+    ASSERT_TRUE(m.build.vertical_shift.has_value());
+    EXPECT_EQ(m.build.vertical_shift->from, "EGM96 height");
+    EXPECT_EQ(m.build.vertical_shift->from_epsg, 5773);
+    EXPECT_EQ(m.build.vertical_shift->operation, "WGS 84 to EGM96 height");
+
+    const auto refusal = [&] {
+        try {
+            parse();
+        } catch (const Error& e) {
+            return std::string(e.what());
+        }
+        return std::string("accepted");
+    };
+    j["build"]["vertical_shift"]["from_epsg"] = 0;
+    EXPECT_NE(refusal().find("build.vertical_shift.from_epsg is 0"), std::string::npos)
+        << refusal();
+    j["build"]["vertical_shift"]["from_epsg"] = 5773;
+    j["build"]["vertical_shift"]["from"] = "";
+    EXPECT_NE(refusal().find("build.vertical_shift.from is \"\""), std::string::npos) << refusal();
+    j["build"]["vertical_shift"] = "EGM96";
+    EXPECT_NE(refusal().find("build.vertical_shift"), std::string::npos) << refusal();
 }

@@ -98,13 +98,14 @@ TEST(VerticalDatum, FromTheCompoundCrsOrTheUser)
     test::ScratchDir dir;
     const std::string compound = dir.path("compound.tif");
     gdalTranslate(test::dataPath("everest_crop.tif"), compound, {"-a_srs", "EPSG:4326+5773"});
-    io::ElevationRaster r = io::ingestRaster(compound);
+    io::IngestOptions options;
+    options.vertical_shift = io::VerticalShift::None; // the datum as stated, heights kept
+    io::ElevationRaster r = io::ingestRaster(compound, options);
     EXPECT_EQ(r.geo.vertical_datum.name, "EGM96 height");
     EXPECT_EQ(r.geo.vertical_datum.epsg, 5773);
     EXPECT_EQ(r.geo.vertical_datum.origin, "source CRS");
     EXPECT_EQ(r.geo.vertical_datum.describe(), "EGM96 height (EPSG:5773)");
 
-    io::IngestOptions options;
     options.vertical_datum = "EPSG:3855";
     r = io::ingestRaster(compound, options);
     EXPECT_EQ(r.geo.vertical_datum.name, "EGM2008 height");

@@ -51,6 +51,14 @@ struct GeoreferenceMetadata {
     std::optional<VerticalDatumMetadata> vertical_datum; // absent: unknown
 };
 
+// "build.vertical_shift": the source's heights were above a geoid and were shifted to the
+// ellipsoid at build (io::VerticalShift); verify --source shifts the source alike.
+struct VerticalShiftMetadata {
+    std::string from;      // the source's vertical CRS ("EGM96 height"), non-empty
+    int from_epsg = 0;     // its EPSG code, in [1, 2^31 - 1]
+    std::string operation; // PROJ's name of the transformation (free text)
+};
+
 // "build": the options the archive was built with.
 struct BuildMetadata {
     int patch_size = 0;   // == header patch_size
@@ -63,6 +71,7 @@ struct BuildMetadata {
     std::optional<double> codec_max_error;    // metres, finite >= 0 (lossy codecs' --max-error)
     std::optional<std::string> codec_variant; // free text (progressive codecs)
     std::optional<std::string> block_errors;  // free text: stored or derived
+    std::optional<VerticalShiftMetadata> vertical_shift; // absent: heights as the source's
 };
 
 // "water" (version 4): how the build decided the water flags (pyramid/sample_flags.h).

@@ -31,8 +31,15 @@ struct GeoReference {
     double spacing_y = 1.0;
     bool spacing_from_user = false;
     // What the heights are measured from: IngestOptions::vertical_datum when given, else the
-    // vertical part of the source's CRS (compound CRSs), else unknown.
+    // vertical part of the source's CRS (compound CRSs), else unknown. After a vertical
+    // shift: the ellipsoid ("WGS 84 ellipsoidal height", origin "vertical shift").
     VerticalDatum vertical_datum;
+    // Set when the heights were shifted from a geoid to the ellipsoid (VerticalShift).
+    struct Shift {
+        VerticalDatum from;    // the source's datum (always with an EPSG code)
+        std::string operation; // PROJ's name of the transformation
+    };
+    std::optional<Shift> vertical_shift;
 };
 
 // Which nodata samples become terrain (`ridge build --fill-voids`).
@@ -47,6 +54,15 @@ enum class VoidFill { All, Interior, None };
 const char* voidFillName(VoidFill mode); // "all", "interior", "none"
 // Throws ridge::Error("fill_voids is 'X': must be all, interior or none").
 VoidFill parseVoidFill(const std::string& name);
+
+// Whether heights above a geoid become heights above the ellipsoid (`ridge build --vshift`,
+// `--novshift`, after gdalwarp's options): h = H + N through PROJ's transformation and grid
+// (src/io/geoid_shift.h).
+//  Auto:      when the heights' vertical datum (IngestOptions::vertical_datum, else the
+//             source's compound CRS) is a registered vertical CRS (EGM96 height, EPSG:5773).
+//  Ellipsoid: always; a source whose datum is unknown or unregistered is an error.
+//  None:      never; heights stay as the source gives them.
+enum class VerticalShift { Auto, Ellipsoid, None };
 
 struct IngestOptions {
     // The ranges validate() enforces. Spacings and max_error are positive and no larger than
@@ -69,6 +85,7 @@ struct IngestOptions {
     // or a name (resolveVerticalDatum). Replaces what the source's CRS says; unset: the
     // source's CRS's vertical part, if any.
     std::optional<std::string> vertical_datum;
+    VerticalShift vertical_shift = VerticalShift::Auto;
 
     // Ground spacing (metres) for rasters without georeferencing. Ignored when the raster
     // is georeferenced, unless force_spacing is set.
@@ -227,8 +244,10 @@ class ReferenceRaster {
 
     int width() const { return width_; }
     int height() const { return height_; }
-    // Reads rows [y0, y0 + rows) into out[rows * width()], metres, voids as NaN.
-    void readRows(int y0, int rows, double* out);
+    // Reads rows [y0, y0 + rows) into out[rows * width()], metres, voids as NaN; shifted to
+    // the ellipsoid under options.vertical_shift as the build was. `source_heights`, when
+    // given, receives the heights before that shift (what the water rule judges).
+    void readRows(int y0, int rows, double* out, double* source_heights = nullptr);
 
   private:
     struct Impl;
