@@ -11,7 +11,8 @@
 // finite (checked); no crash, no out-of-bounds access, no UB.
 //
 // The archives: every *.ridge in $RIDGE_FUZZ_ARCHIVES (scripts/fuzz.sh builds them from
-// tests/data), opened once.
+// tests/data, the globe fixture among them: its cameras then run in ECEF, from inside the
+// Earth and its centre to far past the Moon), opened once.
 #include "render_cpu_frame.h"
 
 #include "ridge/archive/archive_reader.h"

@@ -1,10 +1,11 @@
 #pragma once
 // The CPU half of rendering a frame, as TerrainRenderer does it before any GL call, for the
-// fuzz targets: patch quadtree from the index, ground height, clip planes and default camera
-// from the root patch (lod::CoarseTerrain), LOD selection, slot residency with the root
-// pinned, synchronous patch loading, the streaming cover (missing patches drawn by resident
-// ancestors), Ulrich's chunk meshes and the instance records of the draw; and scheme rings'
-// own selection (lod::RingsSelector: updateRings, its streaming cover).
+// fuzz targets: the terrain frame the renderer picks by default (a plane, or the WGS 84
+// ellipsoid for a raster that goes round the Earth), patch quadtree from the index, ground height,
+// clip planes and default camera from the root patch (lod::CoarseTerrain), LOD selection, slot
+// residency with the root pinned, synchronous patch loading, the streaming cover (missing patches
+// drawn by resident ancestors), Ulrich's chunk meshes and the instance records of the draw; and
+// scheme rings' own selection (lod::RingsSelector: updateRings, its streaming cover).
 //
 // Properties checked (a failure traps, so libFuzzer reports it): every selected patch exists,
 // the ε met is at least the one asked for, the cover holds only resident patches and every
@@ -13,6 +14,7 @@
 
 #include "ridge/archive/archive_reader.h"
 #include "ridge/core/error.h"
+#include "ridge/lod/archive_frame.h"
 #include "ridge/lod/chunk_mesh.h"
 #include "ridge/lod/coarse_terrain.h"
 #include "ridge/lod/patch_quadtree.h"
@@ -49,9 +51,11 @@ struct CpuRenderer {
     uint64_t frame = 0;
 
     explicit CpuRenderer(const archive::ArchiveReader& r)
-        : reader(r), tree(lod::PatchQuadtree::fromArchive(r)), loader(r, 64),
-          residency(r.geometry(), kSlots),
-          coarse(tree.frame(), tree.box(PatchId{0, 0, 0}), loader.load(PatchId{0, 0, 0})->codes,
+        : reader(r), tree(lod::PatchQuadtree::fromArchive(
+                         r, lod::terrainFrameOf(r, lod::FrameChoice::Auto, r.path()))),
+          loader(r, 64), residency(r.geometry(), kSlots),
+          coarse(tree.frame(), tree.bounds(PatchId{0, 0, 0}).min_height,
+                 tree.bounds(PatchId{0, 0, 0}).max_height, loader.load(PatchId{0, 0, 0})->codes,
                  r.quantization())
     {
     }

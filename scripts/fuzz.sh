@@ -27,6 +27,8 @@ done
 ./build/ridge build tests/data/rainier_voids.tif -o "$seeds/archive/rainier_none_17.ridge" -q --patch 17 \
   --fill-voids none
 cp tests/data/v1_everest_40x30.ridge "$seeds/archive/" # format v1
+# The whole Earth (2°, a wrap column, both poles): the renderer's CPU side on the ellipsoid.
+./build/ridge build tests/data/etopo5_globe_181x91.tif -o "$seeds/archive/globe_17.ridge" -q --patch 17
 for e in 1 4; do
   ./build/ridge build tests/data/everest_crop.tif -o "$seeds/archive/progressive_e${e}_17.ridge" -q --patch 17 \
       --codec progressive --max-error $e
