@@ -68,10 +68,20 @@ bool before(Corner a, Corner b) {
     return a.position.z < b.position.z;
 }
 
+// Whether corner c is a vertex of a pole row (every one of which is the pole) on the globe.
+bool onPole(PatchInstance p, Corner c) {
+    if (u_surface != 1 || c.cell.y != round(c.cell.y))
+        return false;
+    int row = u_anchor_sample.y + p.origin.y + int(round(c.cell.y * float(p.step)));
+    return row == u_pole_rows.x || row == u_pole_rows.y;
+}
+
 // The point of edge a-b on the line cell[axis] = limit, the same whichever way round. On the
 // globe a line of rows on a pole is the pole itself: the cut is the pole vertex (its height the
 // sample past the line's, the pole row edge-extended), bit for bit what finer patches that
-// have the pole row as samples draw there, so the cap closes on one point.
+// have the pole row as samples draw there, so the cap closes on one point. And an edge from a
+// pole runs along its other end's meridian: it meets the meridian of a column cut only at the
+// pole, so that is the cut.
 Corner cut(PatchInstance p, Corner a, Corner b, int axis, float limit) {
     if (before(b, a)) {
         Corner t = a;
@@ -85,7 +95,13 @@ Corner cut(PatchInstance p, Corner a, Corner b, int axis, float limit) {
     c.cell = mix(a.cell, b.cell, t);
     c.cell[axis] = limit;
     c.foot = (a.foot == 2 && b.foot == 2) ? 2 : max(a.foot, b.foot);
-    if (u_surface == 1 && axis == 1 && a.foot == 0 && b.foot == 0) {
+    if (axis == 0 && (onPole(p, a) || onPole(p, b))) {
+        c.position = onPole(p, a) ? a.position : b.position;
+        return c;
+    }
+    // Along the surface, a skirt's top line or its foot line (not across a skirt: its
+    // vertical edges never cross a row line).
+    if (u_surface == 1 && axis == 1 && a.foot == b.foot) {
         int row_delta = p.origin.y + int(round(limit * float(p.step)));
         int row = u_anchor_sample.y + row_delta;
         if (row == u_pole_rows.x || row == u_pole_rows.y) {
@@ -93,6 +109,9 @@ Corner cut(PatchInstance p, Corner a, Corner b, int axis, float limit) {
             vec3 up;
             c.position = framePoint(ivec2(0, row_delta),
                                     sampleHeight(p.layer, ivec2(round(beyond.cell))), up);
+            // A skirt's foot line: the pole lowered as the skirts' feet are, along its up.
+            if (a.foot == 2)
+                c.position = lowered(c.position, up, p.skirt_depth);
         }
     }
     return c;

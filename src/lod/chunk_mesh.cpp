@@ -38,9 +38,21 @@ int64_t cross(Point o, Point a, Point b)
 
 class ChunkBuilder {
   public:
-    ChunkBuilder(const uint16_t* codes, int n, int valid_x, int valid_y)
-        : codes_(codes), n_(n), valid_x_(valid_x), valid_y_(valid_y)
+    ChunkBuilder(const uint16_t* codes, int n, int valid_x, int valid_y, const ChunkSag& sag)
+        : codes_(codes), n_(n), valid_x_(valid_x), valid_y_(valid_y), sag_(sag)
     {
+    }
+
+    // The globe's sag of a flat triangle as large as t (0 without a sag): what it adds to
+    // the heights' deviation. Non-decreasing in the size, so E stays nested.
+    double sagOf(const Triangle& t) const
+    {
+        if (!sag_)
+            return 0.0;
+        const int extent = std::max(
+            std::max({t.apex.x, t.left.x, t.right.x}) - std::min({t.apex.x, t.left.x, t.right.x}),
+            std::max({t.apex.y, t.left.y, t.right.y}) - std::min({t.apex.y, t.left.y, t.right.y}));
+        return sag_(extent);
     }
 
     double height(Point p) const { return codes_[size_t(p.y) * n_ + p.x]; }
@@ -121,7 +133,7 @@ class ChunkBuilder {
         for (size_t d = depths.size() - 1; d-- > 0;) // leaves split nothing
             for (const Triangle& t : depths[d]) {
                 double& em = e[vertex(t.midpoint())];
-                em = std::max(em, deviation(t));
+                em = std::max(em, deviation(t) + sagOf(t));
                 for (const Triangle& c : t.children())
                     if (!c.leaf())
                         em = std::max(em, e[vertex(c.midpoint())]);
@@ -147,6 +159,7 @@ class ChunkBuilder {
     const uint16_t* codes_;
     int n_;
     int valid_x_, valid_y_; // samples beyond these are padding
+    const ChunkSag& sag_;
 };
 
 // Sample k of the border ring (the order of shaders/chunk.vert's skirt feet).
@@ -168,7 +181,8 @@ ChunkMesh buildChunkMesh(const uint16_t* codes, int n, double tolerance)
     return buildChunkMesh(codes, n, tolerance, n - 1, n - 1);
 }
 
-ChunkMesh buildChunkMesh(const uint16_t* codes, int n, double tolerance, int valid_x, int valid_y)
+ChunkMesh buildChunkMesh(const uint16_t* codes, int n, double tolerance, int valid_x, int valid_y,
+                         const ChunkSag& sag)
 {
     const int c = n - 1;
     if (c < 1 || (c & (c - 1)) != 0)
@@ -177,7 +191,7 @@ ChunkMesh buildChunkMesh(const uint16_t* codes, int n, double tolerance, int val
         throw Error("chunk mesh: the tolerance must be >= 0");
     if (valid_x < 0 || valid_x > c || valid_y < 0 || valid_y > c)
         throw Error("chunk mesh: the valid extent must lie within the patch");
-    ChunkBuilder builder(codes, n, valid_x, valid_y);
+    ChunkBuilder builder(codes, n, valid_x, valid_y, sag);
     const Point nw{0, 0}, ne{c, 0}, se{c, c}, sw{0, c};
     const std::array<Triangle, 2> roots{Triangle{ne, nw, se}, Triangle{sw, se, nw}};
     const std::vector<double> e = builder.nestedErrors(roots);

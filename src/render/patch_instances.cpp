@@ -95,7 +95,13 @@ PatchInstances buildPatchInstances(const lod::PatchQuadtree& tree, const lod::Se
         r.level = p.level;
         // Rounded up: the shaders' Λ must not understate the exaggerated Err(P).
         r.err = k == 1.0 ? b.err : std::nextafter(float(k * double(b.err)), INFINITY);
-        r.skirt_depth = float(depths[i]);
+        // On a globe the sum of two sags may pass half the polar radius; a foot that deep
+        // would reach the polar axis, where the normal's foot crosses to the far meridian and
+        // the clip shader's meridian cuts lose their meaning. A gap between neighbours is
+        // never that large (the sag of a 90° chord is 1,870 km).
+        r.skirt_depth = float(tree.frame().onEllipsoid()
+                                  ? std::min(depths[i], 0.5 * tree.frame().geodetic().ellipsoid.b())
+                                  : depths[i]);
         r.min_z = float(k * double(b.min_height) - anchor.height);
         r.max_z = float(k * double(b.max_height) - anchor.height);
         // Exact while a patch spans < 2^24 finest samples (the fraction is a multiple of 1/step);

@@ -172,6 +172,54 @@ TEST(ChunkMesh, SimplifiesAsFarAsTheToleranceLets)
               buildChunkMesh(rough.data(), n, 0.0).surface_indices / 2);
 }
 
+// On a globe a flat triangle sags below the curved surface by more the larger it is: with a
+// sag, no triangle stays larger than the tolerance lets (a plane of heights no longer makes
+// two triangles), the mesh still conforms (it tiles the patch with no T-junction), and no
+// sag gives the plane's mesh back.
+TEST(ChunkMesh, OnAGlobeNoTriangleSagsPastTheTolerance)
+{
+    const int n = 33, c = n - 1;
+    std::vector<uint16_t> plane(size_t(n) * n);
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x)
+            plane[size_t(y) * n + x] = uint16_t(100 + 3 * x + 2 * y);
+    const ChunkSag sag = [](int cells) { return 0.5 * cells * cells; }; // ∝ chord², codes
+    EXPECT_EQ(buildChunkMesh(plane.data(), n, 0.0, c, c, {}).surface_indices, 6u);
+    for (const double tolerance : {0.0, 2.0, 8.0, 32.0, 2000.0}) {
+        const ChunkMesh m = buildChunkMesh(plane.data(), n, tolerance, c, c, sag);
+        int64_t area2 = 0;
+        std::map<std::pair<uint32_t, uint32_t>, int> edges;
+        for (uint32_t t = 0; t < m.surface_indices; t += 3) {
+            const Xy p[3] = {xyOf(m.indices[t], n), xyOf(m.indices[t + 1], n),
+                             xyOf(m.indices[t + 2], n)};
+            area2 += cross(p[0], p[1], p[2]);
+            const int extent =
+                std::max(std::max({p[0].x, p[1].x, p[2].x}) - std::min({p[0].x, p[1].x, p[2].x}),
+                         std::max({p[0].y, p[1].y, p[2].y}) - std::min({p[0].y, p[1].y, p[2].y}));
+            // A half cell (extent 1) cannot split further; anything larger sags within τ.
+            EXPECT_TRUE(extent == 1 || sag(extent) <= tolerance)
+                << "extent " << extent << " at τ " << tolerance;
+            for (int e = 0; e < 3; ++e) {
+                uint32_t a = m.indices[t + e], b = m.indices[t + (e + 1) % 3];
+                if (b < a)
+                    std::swap(a, b);
+                ++edges[{a, b}];
+            }
+        }
+        EXPECT_EQ(area2, 2 * int64_t(c) * c) << "the triangles tile the patch";
+        for (const auto& [edge, count] : edges) {
+            const Xy a = xyOf(edge.first, n), b = xyOf(edge.second, n);
+            const bool border =
+                (a.x == b.x && (a.x == 0 || a.x == c)) || (a.y == b.y && (a.y == 0 || a.y == c));
+            EXPECT_EQ(count, border ? 1 : 2) << "no T-junction at τ " << tolerance;
+        }
+        if (tolerance >= sag(c))
+            EXPECT_EQ(m.surface_indices, 6u);
+        else
+            EXPECT_GT(m.surface_indices, 6u);
+    }
+}
+
 TEST(ChunkMesh, NoTriangleCrossesTheValidExtentAndOnlyValidSamplesCount)
 {
     // A patch past the terrain's east or south border: samples beyond (vx, vy) are padding.

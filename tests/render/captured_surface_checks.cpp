@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstring>
 #include <map>
+#include <numbers>
 #include <set>
 
 namespace ridge::test {
@@ -70,6 +71,47 @@ double heightAt(const SeamProfile& profile, double t)
     return lo->second + f * (it->second - lo->second);
 }
 
+// Globe: whether a captured vertex lies on the polar axis (a pole row's vertex, or a skirt
+// foot or wall foot under one), from its ECEF position rather than through gridOf, which
+// loses its way for skirt feet thousands of kilometres deep. The tolerance is the float
+// precision of camera-relative coordinates (about 1e-6 of the distances involved); the
+// nearest other sample is a whole grid step from the axis.
+bool onPoleAxis(const VertexKey& k, const render::CapturedSurface& s,
+                const lod::TerrainFrame& frame)
+{
+    if (!frame.onEllipsoid())
+        return false;
+    float x, y, z;
+    std::memcpy(&x, &k[0], 4);
+    std::memcpy(&y, &k[1], 4);
+    std::memcpy(&z, &k[2], 4);
+    const glm::dvec3 relative(x, y, z);
+    const glm::dvec3 world = s.camera_position + relative;
+    const double tolerance = 1e-6 * (glm::length(s.camera_position) + glm::length(relative)) + 0.01;
+    return std::hypot(world.x, world.y) < tolerance;
+}
+
+// Globe: the finest-grid column of a captured vertex's meridian. On a grid that goes round
+// the Earth its edge meridian is column 0 and column W − 1 alike, and is given as 0.
+double columnOfLongitude(const VertexKey& k, const render::CapturedSurface& s,
+                         const lod::TerrainFrame& frame)
+{
+    float x, y, z;
+    std::memcpy(&x, &k[0], 4);
+    std::memcpy(&y, &k[1], 4);
+    std::memcpy(&z, &k[2], 4);
+    const glm::dvec3 world = s.camera_position + glm::dvec3(x, y, z);
+    const lod::GeodeticGrid& g = frame.geodetic();
+    const double turn = 2.0 * std::numbers::pi;
+    double lon = std::remainder(std::atan2(world.y, world.x) - g.lon0, turn); // (−π, π]
+    if (lon < -1e-9)
+        lon += turn;
+    double column = lon / g.dlon;
+    if (g.wrap_columns > 0 && std::abs(column - double(g.wrap_columns)) < 1e-3)
+        column = 0.0;
+    return column;
+}
+
 // The terrain's outer border x = 0, x = W − 1, y = 0, y = H − 1 (finest samples): open by
 // nature. Only edges lying on it are exempt.
 bool onOuterBorder(const VertexKey& a, const VertexKey& b, const render::CapturedSurface& s,
@@ -84,6 +126,45 @@ bool onOuterBorder(const VertexKey& a, const VertexKey& b, const render::Capture
     };
     return both(ca, cb, 0.0) || both(ca, cb, last_column) || both(ra, rb, 0.0) ||
            both(ra, rb, last_row);
+}
+
+// The samples a fan triangle into a pole covers, marked. In grid terms the pole is a whole
+// row, so the triangle (pole, A, B) is the region between that row and the segment A-B:
+// at each column from A's to B's (across the wrap seam B is taken one period on, and the
+// samples wrap back), the rows from the pole to the segment, inclusive.
+void markPoleBand(const glm::dvec3 q[3], const lod::TerrainFrame& frame,
+                  std::vector<uint8_t>& covered)
+{
+    const int W = frame.geometry().width(), H = frame.geometry().height();
+    double pole_row = 0.0;
+    glm::dvec2 a{}, b{};
+    int n = 0;
+    for (int k = 0; k < 3; ++k) {
+        if (frame.poleRow(q[k].y))
+            pole_row = q[k].y;
+        else
+            (n++ == 0 ? a : b) = glm::dvec2(q[k]);
+    }
+    if (a.x > b.x)
+        std::swap(a, b);
+    const int64_t period = frame.geodetic().wrap_columns;
+    if (period > 0 && b.x - a.x > 0.5 * double(period)) {
+        std::swap(a, b);
+        b.x += double(period);
+    }
+    for (int c = int(std::ceil(a.x - 1e-6)); c <= int(std::floor(b.x + 1e-6)); ++c) {
+        const double t = b.x > a.x ? (c - a.x) / (b.x - a.x) : 0.0;
+        const double edge_row = a.y + t * (b.y - a.y);
+        const int r0 = int(std::ceil(std::min(pole_row, edge_row) - 1e-6));
+        const int r1 = int(std::floor(std::max(pole_row, edge_row) + 1e-6));
+        const int col = period > 0 ? int(((int64_t(c) % period) + period) % period) : c;
+        for (int r = std::max(0, r0); r <= std::min(H - 1, r1); ++r) {
+            if (col >= 0 && col < W)
+                covered[size_t(r) * W + col] = 1;
+            if (period > 0 && col == 0)
+                covered[size_t(r) * W + size_t(period)] = 1; // the repeated column
+        }
+    }
 }
 
 } // namespace
@@ -169,19 +250,35 @@ WatertightReport checkWatertight(const render::CapturedSurface& s, const lod::Te
     // samples miss the last column) shows its open side.
     const double last_column = frame.geometry().width() - 1,
                  last_row = frame.geometry().height() - 1;
-    auto onOuterBorder = [&](const VertexKey& a, const VertexKey& b) {
+    auto onOuterBorder = [&](const VertexKey& a, const VertexKey& b, size_t instance) {
         const glm::dvec3 ga = gridOfKey(a, s, frame), gb = gridOfKey(b, s, frame);
-        const double ca = ga.x, cb = gb.x, ra = ga.y, rb = gb.y;
+        double ca = ga.x, cb = gb.x;
+        const double ra = ga.y, rb = gb.y;
         // Globe: edges into a pole are not followed (a pole vertex has no column; the cap's
         // closure is checked by the pixels, GlobeConformance's no-background test).
-        auto atPole = [&](double r) {
-            return std::abs(r - std::round(r)) < 1e-3 && frame.poleRow(std::round(r));
-        };
-        if (frame.onEllipsoid() && (atPole(ra) || atPole(rb)))
+        if (onPoleAxis(a, s, frame) || onPoleAxis(b, s, frame))
             return true;
+        if (frame.onEllipsoid()) {
+            // Columns from the longitude alone: a skirt or wall foot lies on its top's normal,
+            // which stays in the top's meridian plane however deep (gridOf's latitude and
+            // height do not survive thousands of kilometres down, the longitude does).
+            ca = columnOfLongitude(a, s, frame);
+            cb = columnOfLongitude(b, s, frame);
+        }
         auto both = [](double u, double v, double line) {
             return std::abs(u - line) < 1e-3 && std::abs(v - line) < 1e-3;
         };
+        // A skirt's side cut at a globe's edge meridian: the clip shader cuts in cell terms,
+        // linearly between vertices on both sides, and thousands of kilometres down such a
+        // point strays from the meridian plane by up to a column (a surface edge keeps the
+        // tight test).
+        if (const double period = double(frame.geodetic().wrap_columns);
+            frame.onEllipsoid() && period > 0 &&
+            !(surface_vertices[instance].count(a) && surface_vertices[instance].count(b))) {
+            auto fromEdgeMeridian = [&](double c) { return std::min(c, period - c); };
+            if (fromEdgeMeridian(ca) < 1.0 && fromEdgeMeridian(cb) < 1.0)
+                return true;
+        }
         return both(ca, cb, 0.0) || both(ca, cb, last_column) || both(ra, rb, 0.0) ||
                both(ra, rb, last_row);
     };
@@ -189,7 +286,7 @@ WatertightReport checkWatertight(const render::CapturedSurface& s, const lod::Te
         for (const auto& [edge, count] : edges[i]) {
             const bool foot =
                 foot_vertices[i].count(edge.first) && foot_vertices[i].count(edge.second);
-            if (count == 1 && !foot && !onOuterBorder(edge.first, edge.second)) {
+            if (count == 1 && !foot && !onOuterBorder(edge.first, edge.second, i)) {
                 ++report.open_edges;
                 if (report.first_problem.empty()) {
                     const glm::dvec3 a = gridOfKey(edge.first, s, frame),
@@ -197,11 +294,27 @@ WatertightReport checkWatertight(const render::CapturedSurface& s, const lod::Te
                     report.first_problem =
                         "open edge in " + archive::ArchiveReader::patchName(s.patches[i]) +
                         " from column " + std::to_string(a.x) + ", row " + std::to_string(a.y) +
-                        " to column " + std::to_string(b.x) + ", row " + std::to_string(b.y);
+                        ", h " + std::to_string(a.z) + " to column " + std::to_string(b.x) +
+                        ", row " + std::to_string(b.y) + ", h " + std::to_string(b.z);
                 }
             }
-            if (count > 2) {
+            // Every vertex of a pole row is one point, and every skirt foot under it one
+            // point of the polar axis: the cap's cells and the skirts of both sides of a
+            // polar patch all meet on that segment (a line, not a fold that could hide a gap).
+            const bool polar_axis =
+                onPoleAxis(edge.first, s, frame) && onPoleAxis(edge.second, s, frame);
+            if (count > 2 && !polar_axis) {
                 ++report.overused_edges;
+                if (report.first_problem.empty()) {
+                    const glm::dvec3 a = gridOfKey(edge.first, s, frame),
+                                     b = gridOfKey(edge.second, s, frame);
+                    report.first_problem = "edge used " + std::to_string(count) + " times in " +
+                                           archive::ArchiveReader::patchName(s.patches[i]) +
+                                           " from column " + std::to_string(a.x) + ", row " +
+                                           std::to_string(a.y) + ", h " + std::to_string(a.z) +
+                                           " to column " + std::to_string(b.x) + ", row " +
+                                           std::to_string(b.y) + ", h " + std::to_string(b.z);
+                }
             }
         }
     }
@@ -321,8 +434,14 @@ ScreenErrorReport measureScreenSpaceError(const render::CapturedSurface& s,
         }
         if (frame.onEllipsoid()) {
             // A pole vertex has no column of its own (every one is the same point): such
-            // triangles are not measured, nor the pole rows' samples below.
-            if (frame.poleRow(q[0].y) || frame.poleRow(q[1].y) || frame.poleRow(q[2].y))
+            // triangles are not measured, nor the pole rows' samples below. What they cover
+            // is: in grid terms a fan triangle (pole, A, B) is the band from A's and B's
+            // columns up to the pole row.
+            const int at_pole = int(frame.poleRow(q[0].y)) + int(frame.poleRow(q[1].y)) +
+                                int(frame.poleRow(q[2].y));
+            if (at_pole == 1)
+                markPoleBand(q, frame, covered);
+            if (at_pole > 0)
                 continue;
             // A triangle on the wrap seam: its columns in one period.
             const double period = double(frame.geodetic().wrap_columns);
@@ -333,6 +452,10 @@ ScreenErrorReport measureScreenSpaceError(const render::CapturedSurface& s,
                     if (p.x < 0.5 * period)
                         p.x += period;
         }
+        // A sample on a shared edge must fall inside one of its two triangles: barycentric
+        // slack for the corners' grid positions, which near a pole carry the float error of
+        // camera-relative positions magnified by 1 / cos φ.
+        const double kInside = frame.onEllipsoid() ? 1e-4 : 1e-6;
         const double det =
             (q[1].y - q[2].y) * (q[0].x - q[2].x) + (q[2].x - q[1].x) * (q[0].y - q[2].y);
         if (std::abs(det) < 1e-12)
@@ -348,7 +471,7 @@ ScreenErrorReport measureScreenSpaceError(const render::CapturedSurface& s,
                 const double l1 =
                     ((q[2].y - q[0].y) * (col - q[2].x) + (q[0].x - q[2].x) * (r - q[2].y)) / det;
                 const double l2 = 1.0 - l0 - l1;
-                if (l0 < -1e-6 || l1 < -1e-6 || l2 < -1e-6)
+                if (l0 < -kInside || l1 < -kInside || l2 < -kInside)
                     continue;
                 covered[size_t(r) * W + col] = 1;
                 const double z_lod = l0 * q[0].z + l1 * q[1].z + l2 * q[2].z;

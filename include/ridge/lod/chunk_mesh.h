@@ -11,6 +11,7 @@
 // hierarchy, the mesh has no T-junction; because E(m) bounds the triangle's own deviation,
 // every sample lies within τ of the mesh.
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 namespace ridge::lod {
@@ -35,7 +36,16 @@ struct ChunkMesh {
 // and no triangle crosses those lines, so nothing drawn rests on unmeasured padding. The
 // renderer's clipping shader then cuts at the border itself, computing each cut point from its
 // edge's endpoints alone: the mesh has no T-junction, so clipped chunks stay watertight.
+//
+// On a globe a flat triangle also sags below the curved surface, by more the larger it is:
+// `sag(cells)`, when given, is that sag (codes) for a triangle within a square of `cells`
+// cells, non-decreasing, and it counts towards τ with the heights' deviation. A chunk then
+// never joins samples a quarter of the Earth apart in one flat triangle (whose chord would lie
+// thousands of kilometres inside it, or be a degenerate line through the poles).
+// max_deviation stays the heights' alone (the skirts add the patch's sag themselves).
+using ChunkSag = std::function<double(int cells)>;
 ChunkMesh buildChunkMesh(const uint16_t* codes, int n, double tolerance);
-ChunkMesh buildChunkMesh(const uint16_t* codes, int n, double tolerance, int valid_x, int valid_y);
+ChunkMesh buildChunkMesh(const uint16_t* codes, int n, double tolerance, int valid_x, int valid_y,
+                         const ChunkSag& sag = {});
 
 } // namespace ridge::lod

@@ -9,6 +9,7 @@
 #include "../scheme_programs.h"
 #include "../terrain_scheme.h"
 
+#include "ridge/lod/archive_frame.h"
 #include "ridge/lod/chunk_mesh.h"
 
 namespace ridge::render {
@@ -44,16 +45,25 @@ struct PreparedChunk final : stream::PatchProduct {
 };
 
 // The chunk of patch `p` from its decoded codes: simplified to tolerance·Err(P), within the
-// patch's valid extent.
+// patch's valid extent. On a globe a triangle's sag below the curved surface beyond that of
+// one cell (which the selection counts for every scheme: straight_cells 1) counts towards
+// the tolerance too.
 std::shared_ptr<const stream::PatchProduct> prepareChunk(const archive::ArchiveReader& reader,
+                                                         const lod::TerrainFrame& frame,
                                                          double tolerance, PatchId p,
                                                          const uint16_t* codes)
 {
     const PyramidGeometry& g = reader.geometry();
+    const double scale = reader.quantization().scale;
+    const double step = double(g.step(p.level));
+    lod::ChunkSag sag;
+    if (frame.onEllipsoid())
+        sag = [&frame, step, scale](int cells) {
+            return (frame.chordSag(cells * step) - frame.chordSag(step)) / scale;
+        };
     auto out = std::make_shared<PreparedChunk>();
-    out->mesh = lod::buildChunkMesh(codes, g.patchSize(),
-                                    tolerance * reader.record(p).err / reader.quantization().scale,
-                                    g.coveredCellsX(p), g.coveredCellsY(p));
+    out->mesh = lod::buildChunkMesh(codes, g.patchSize(), tolerance * reader.record(p).err / scale,
+                                    g.coveredCellsX(p), g.coveredCellsY(p), sag);
     return out;
 }
 
@@ -70,12 +80,10 @@ class ChunkedScheme final : public TerrainScheme {
 
     void adjustSelection(const RenderSettings&, lod::SelectionSettings& s) const override
     {
-        if (meshes_) {
-            s.error_scale = 1.0 + tolerance_; // the chunk drops up to tolerance·Err(P) more
-            // A simplified chunk's triangles may span the whole patch: on a globe they sag
-            // below the curved surface by as much as a cell that large.
-            s.straight_cells = double(n_ - 1);
-        }
+        // The chunk drops up to tolerance·Err(P) more, its triangles' sag on a globe beyond
+        // one cell's included (prepareChunk); one cell's sag is the selection's own.
+        if (meshes_)
+            s.error_scale = 1.0 + tolerance_;
     }
 
     size_t upload(const stream::DecodedPatch& patch, int slot) override
@@ -161,7 +169,7 @@ class ChunkedScheme final : public TerrainScheme {
     SchemePrograms programs_{{{GL_VERTEX_SHADER, "chunk.vert"}}};
 };
 
-SchemeNeeds chunkedNeeds(const archive::ArchiveReader& reader, const RendererOptions&,
+SchemeNeeds chunkedNeeds(const archive::ArchiveReader& reader, const RendererOptions& options,
                          const SchemeOptions& own)
 {
     SchemeNeeds needs;
@@ -172,8 +180,10 @@ SchemeNeeds chunkedNeeds(const archive::ArchiveReader& reader, const RendererOpt
     needs.codes_on_cpu = true;
     needs.slot_bytes = double(worstChunkMeshBytes(reader.geometry().patchSize()));
     const double tolerance = own.number(kTolerance);
-    needs.preparation = [&reader, tolerance](PatchId p, const uint16_t* codes) {
-        return prepareChunk(reader, tolerance, p, codes);
+    // The renderer's frame (TerrainRenderer picks it alike): whether chunks sag.
+    const lod::TerrainFrame frame = lod::terrainFrameOf(reader, options.frame, reader.path());
+    needs.preparation = [&reader, frame, tolerance](PatchId p, const uint16_t* codes) {
+        return prepareChunk(reader, frame, tolerance, p, codes);
     };
     return needs;
 }
