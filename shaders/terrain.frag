@@ -37,7 +37,10 @@ uniform vec3 u_sun_direction;   // unit, towards the sun, terrain frame (ECEF on
 uniform vec2 u_height_range;    // camera-relative z of the terrain's min and max
 uniform float u_sea_level;      // camera-relative z of 0 m
 uniform vec3 u_fog_colour;
-uniform float u_fog_density;    // per metre; 0 disables fog
+uniform float u_fog_density;    // per metre (at sea level on the globe); 0 disables fog
+// Globe: the air's scale height (metres; 0 on the plane, whose fog is uniform). The fog then
+// follows the air the ray crosses, thinning with altitude (exponential height fog).
+uniform float u_fog_scale_height;
 uniform int u_block_cells_f;    // b, for the heat map
 
 out vec4 frag_colour;
@@ -148,8 +151,21 @@ void main() {
     float sky = 0.5 + 0.5 * n.z;
     vec3 colour = albedo * (0.78 * sun + 0.30 * sky);
     if (u_fog_density > 0.0) {
-        float fog = 1.0 - exp(-u_fog_density * length(v.position));
-        colour = mix(colour, u_fog_colour, fog);
+        float distance = length(v.position);
+        float depth = u_fog_density * distance; // optical depth, uniform air
+        if (u_fog_scale_height > 0.0) {
+            // Density ∝ exp(−h / H) along the straight ray from the camera (altitude −u_sea_level
+            // in drawn metres) to the fragment: τ = β0 L H (e^(−hc/H) − e^(−hf/H)) / (hf − hc),
+            // and β0 L e^(−hc/H) for a level ray.
+            float H = u_fog_scale_height;
+            float hc = -u_sea_level;                            // the camera's, drawn metres
+            float hf = textureMetres(v.cell) * u_exaggeration; // the fragment's
+            float dh = hf - hc;
+            float ec = exp(-hc / H), ef = exp(-hf / H);
+            depth = abs(dh) > 1.0 ? u_fog_density * distance * H * (ec - ef) / dh
+                                  : u_fog_density * distance * ec;
+        }
+        colour = mix(colour, u_fog_colour, 1.0 - exp(-depth));
     }
     frag_colour = vec4(pow(colour, vec3(1.0 / 1.1)), 1.0);
 }

@@ -106,13 +106,19 @@ void FrameUniforms::setShading(const gpu::ShaderProgram& program, const lod::Cam
     // Archives before format v4 store no water: the palette's old rule, heights <= 0 m.
     glProgramUniform1i(id, program.uniform("u_water_from_height"),
                        reader_.storesSampleFlags() ? 0 : 1);
-    // Fog fades to the sky's horizon and thickens over the terrain's own size: a tenth of the
-    // light lost across it.
+    // Fog fades to the sky's horizon. On a plane it thickens over the terrain's own size: a
+    // tenth of the light lost across it. On the globe it is the air's: densest at sea level
+    // (a 150 km visibility, 1/e) and thinning with altitude over the scale height, so the
+    // Earth seen from orbit keeps a faint haze that thickens towards the limb, and a low view
+    // fades into the distance.
     const double extent = std::max(quadtree_.frame().extentX(), quadtree_.frame().extentY());
+    const double density =
+        frame.onEllipsoid() ? kSeaLevelFogPerMetre : 0.105 / std::max(extent, 1.0);
     glProgramUniform3f(id, program.uniform("u_fog_colour"), kHorizonColour.r, kHorizonColour.g,
                        kHorizonColour.b);
-    glProgramUniform1f(id, program.uniform("u_fog_density"),
-                       settings.fog ? float(0.105 / std::max(extent, 1.0)) : 0.f);
+    glProgramUniform1f(id, program.uniform("u_fog_density"), settings.fog ? float(density) : 0.f);
+    glProgramUniform1f(id, program.uniform("u_fog_scale_height"),
+                       frame.onEllipsoid() ? float(kAirScaleHeightMetres) : 0.f);
     glProgramUniform1i(id, program.uniform("u_block_cells_f"), reader_.blockLayout().block_cells);
     glProgramUniform3f(id, program.uniform("u_flat_colour"), 0.05f, 0.05f, 0.08f);
     setPaletteUniforms(program);

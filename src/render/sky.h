@@ -11,6 +11,10 @@
 namespace ridge::render {
 
 inline const glm::vec3 kHorizonColour(0.78f, 0.84f, 0.90f);
+// The globe's aerial haze (terrain.frag): extinction at sea level, 1/e over 150 km (a clear
+// day's visibility), falling with altitude over the air's scale height.
+inline constexpr double kSeaLevelFogPerMetre = 1.0 / 150e3;
+inline constexpr double kAirScaleHeightMetres = 8000.0;
 inline const glm::vec3 kZenithColour(0.30f, 0.48f, 0.75f);
 
 class Sky {

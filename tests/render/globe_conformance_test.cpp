@@ -19,8 +19,11 @@
 #include "ridge/render/frame_measures.h"
 #include "ridge/render/terrain_renderer.h"
 
+#include <glm/exponential.hpp>
+#include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <memory>
 #include <numbers>
@@ -170,6 +173,86 @@ TEST_P(GlobeConformance, CapturedSurfaceStaysWithinItsPromiseAndIsWatertight)
                 scheme.c_str(), worst,
                 promises.screen_space_error ? "promised ≤ ε" : "measured only", samples, problems,
                 uncovered);
+}
+
+// The globe's haze is the air's: thin from orbit looking down, thick where a low view looks
+// far across the ground (a uniform fog tuned to the Earth's size, as on the plane, leaves
+// both alike, next to nothing). Measured as how far fog moves each terrain pixel's colour
+// towards the fog's, in [0, 1].
+TEST(GlobeFog, ThinsWithAltitudeAndThickensWithTheAirCrossed)
+{
+    const auto context = gpu::HeadlessContext::create();
+    test::ScratchDir dir;
+    const std::string path = dir.path("globe.ridge");
+    BuildOptions build;
+    build.patch_size = 17;
+    build.progress = {};
+    buildArchive(test::dataPath("etopo5_globe_181x91.tif"), path, build);
+    const archive::ArchiveReader reader(path);
+    render::TerrainRenderer renderer(reader, render::RendererOptions{});
+    ASSERT_TRUE(renderer.quadtree().frame().onEllipsoid());
+    const lod::Viewport vp{160, 120};
+    gpu::RenderTarget target(vp.width, vp.height, 1);
+    const lod::Ellipsoid e = renderer.quadtree().frame().geodetic().ellipsoid;
+    auto cameraAt = [&](double lon, double lat, double h, double at_lon, double at_lat) {
+        const glm::dvec3 ground = lod::geodeticToEcef(e, at_lon * kDeg, at_lat * kDeg, 0.0);
+        const glm::dvec3 at =
+            lod::geodeticToEcef(e, at_lon * kDeg, at_lat * kDeg, renderer.groundUnder(ground));
+        return renderer.cameraLookingAt(lod::geodeticToEcef(e, lon * kDeg, lat * kDeg, h), at, 60.0,
+                                        vp);
+    };
+    // Per terrain pixel row (0 at the top): the mean fog share of its terrain pixels.
+    auto fogByRow = [&](const lod::Camera& cam) {
+        std::vector<std::vector<uint8_t>> rgba;
+        std::vector<float> depth;
+        for (const bool fog : {false, true}) {
+            render::RenderSettings s;
+            s.fog = fog;
+            target.bind();
+            renderer.draw(cam, s);
+            rgba.push_back(target.readRgba());
+            depth = target.readDepth();
+        }
+        const glm::dvec3 haze = glm::dvec3(0.78, 0.84, 0.90) * 255.0; // render::kHorizonColour
+        std::vector<double> share(size_t(vp.height), -1.0);
+        for (int y = 0; y < vp.height; ++y) {
+            double sum = 0.0;
+            int count = 0;
+            for (int x = 0; x < vp.width; ++x) {
+                const size_t i = size_t(y) * vp.width + x;
+                if (depth[i] == 0.f)
+                    continue; // sky or space
+                const glm::dvec3 off(rgba[0][4 * i], rgba[0][4 * i + 1], rgba[0][4 * i + 2]);
+                const glm::dvec3 on(rgba[1][4 * i], rgba[1][4 * i + 1], rgba[1][4 * i + 2]);
+                const double span =
+                    glm::length(glm::pow(haze / 255.0, glm::dvec3(1 / 1.1)) * 255.0 - off);
+                if (span < 20.0)
+                    continue; // terrain already the fog's colour: nothing to measure
+                sum += std::min(1.0, glm::length(on - off) / span);
+                ++count;
+            }
+            if (count > vp.width / 4)
+                share[size_t(y)] = sum / count;
+        }
+        return share;
+    };
+    // From 20,000 km straight down at the Pacific: a faint haze.
+    const std::vector<double> orbit = fogByRow(cameraAt(-160.0, 0.0, 2.0e7, -160.0, 0.0));
+    EXPECT_LT(orbit[size_t(vp.height / 2)], 0.15) << "looking straight down from orbit";
+    // 3 km over the Pacific, looking 150 km north: the far ground under the horizon fades.
+    const std::vector<double> low = fogByRow(cameraAt(-160.0, 0.0, 3000.0, -160.0, 1.35));
+    double far = -1.0, near = -1.0;
+    for (size_t y = 0; y < low.size(); ++y)
+        if (low[y] >= 0.0) {
+            if (far < 0.0)
+                far = low[y]; // the first terrain row from the top: the farthest ground
+            near = low[y];    // the last: the nearest
+        }
+    ASSERT_GE(far, 0.0) << "the low view shows ground";
+    EXPECT_GT(far, 0.5) << "ground ~200 km away through sea-level air";
+    EXPECT_LT(near, far);
+    std::printf("globe fog share: orbit %.3f (centre), low view far %.3f, near %.3f\n",
+                orbit[size_t(vp.height / 2)], far, near);
 }
 
 TEST_P(GlobeConformance, NoBackgroundShowsInsideTheGlobesFootprint)
