@@ -9,7 +9,9 @@
 #include "terminal.h"
 
 #include "ridge/core/error.h"
+#include "ridge/lod/archive_frame.h"
 #include "ridge/lod/camera_path.h"
+#include "ridge/lod/ellipsoid.h"
 
 #include <fmt/core.h>
 
@@ -166,6 +168,8 @@ class Viewer {
         options.viewport = viewport;
         options.settings.exaggeration = settings_.exaggeration;
         fly_ = render::FlyCamera::from(render::cameraFor(renderer_, options));
+        if (const lod::TerrainFrame& f = renderer_.quadtree().frame(); f.onEllipsoid())
+            fly_.followEllipsoid(f.geodetic().ellipsoid); // true north, the local horizon
         // The speed follows the height above the ground (updateCamera), from the first frame.
         fly_.setSpeed(CameraReadout::flySpeed(heightAboveGround(), speed_rate_));
         glfwSetWindowUserPointer(window_.window(), &pending_);
@@ -346,19 +350,25 @@ class Viewer {
         }
 
         fly_.update(in, dt);
-        if (clamp_to_ground_) {
-            glm::dvec3 p = fly_.position();
-            p.z = std::max(p.z, renderer_.groundHeight(p.x, p.y, settings_.exaggeration) + 2.0);
-            fly_.setPosition(p);
-        }
+        // No tunnelling: never closer than 2 m above the drawn ground (along the local up).
+        if (clamp_to_ground_)
+            if (const double above = heightAboveGround(); above < 2.0)
+                liftBy(2.0 - above);
     }
 
-    // Metres between the camera and the level-0 surface under it (negative below it).
+    // Metres between the camera and the level-0 surface under it (negative below it), along
+    // the local up: z on a plane, the height above the ellipsoid on a globe.
     double heightAboveGround() const
     {
         const glm::dvec3 p = fly_.position();
+        const lod::TerrainFrame& frame = renderer_.quadtree().frame();
+        if (frame.onEllipsoid())
+            return frame.gridOf(p).z - renderer_.groundUnder(p, settings_.exaggeration);
         return p.z - renderer_.groundHeight(p.x, p.y, settings_.exaggeration);
     }
+
+    // Moves the camera `metres` along the local up.
+    void liftBy(double metres) { fly_.setPosition(fly_.position() + fly_.up() * metres); }
 
     // A compact panel in the top-left corner: frame rate, the camera in each of its frames and
     // the speed; statistics, settings and keys in sections that start closed. The title bar's
@@ -385,11 +395,19 @@ class Viewer {
         }
         ImGui::PushTextWrapPos(wrap);
         const glm::dvec3 p = fly_.position();
-        for (const std::string& line : readout_.positionLines(p))
-            ImGui::TextUnformatted(line.c_str());
+        if (const lod::TerrainFrame& f = renderer_.quadtree().frame(); f.onEllipsoid()) {
+            // ECEF, and WGS 84 longitude, latitude and height above the ellipsoid.
+            const lod::Geodetic g = lod::ecefToGeodetic(f.geodetic().ellipsoid, p);
+            ImGui::Text("ECEF: x %.1f, y %.1f, z %.1f m", p.x, p.y, p.z);
+            ImGui::Text("WGS 84: %.6f°, %.6f°, %.1f m above the ellipsoid",
+                        g.longitude * kDegreesPerRadian, g.latitude * kDegreesPerRadian, g.height);
+        } else {
+            for (const std::string& line : readout_.positionLines(p))
+                ImGui::TextUnformatted(line.c_str());
+        }
         ImGui::Text("%.0f m above ground, speed %.0f m/s", heightAboveGround(), fly_.speed());
-        ImGui::Text("heading %.1f° from grid north, pitch %.1f°", fly_.yaw() * kDegreesPerRadian,
-                    fly_.pitch() * kDegreesPerRadian);
+        ImGui::Text("heading %.1f° from %s north, pitch %.1f°", fly_.yaw() * kDegreesPerRadian,
+                    fly_.onEllipsoid() ? "true" : "grid", fly_.pitch() * kDegreesPerRadian);
         if (stats_.missing > 0)
             ImGui::Text("streaming: %d patches to come", stats_.missing);
         const std::string stream_error = renderer_.streamingError();
@@ -431,9 +449,7 @@ class Viewer {
                                    ImGuiSliderFlags_Logarithmic)) {
                 const double above = heightAboveGround();
                 settings_.exaggeration = std::clamp(double(k), 0.1, 20.0);
-                glm::dvec3 p = fly_.position();
-                p.z = renderer_.groundHeight(p.x, p.y, settings_.exaggeration) + above;
-                fly_.setPosition(p);
+                liftBy(above - heightAboveGround());
             }
             float rate = float(speed_rate_);
             if (ImGui::SliderFloat(
@@ -558,15 +574,14 @@ void ViewCommand::registerWith(CLI::App& app)
     // For scripts, docs and bug reports: the last frame, overlay included. Hidden (empty group)
     // to keep the user-facing help short.
     command_->add_option("--screenshot", screenshot_, "Write the last frame as a PNG")->group("");
+    addFrameOption(*command_, frame_);
 }
 
 int ViewCommand::run()
 {
     const lod::Viewport size = parseSize(size_);
     renderer_options_.schemes = lod_;
-    // The fly camera, its ground clamp and orbit work on the plane; the globe's navigation
-    // is not in yet.
-    renderer_options_.frame = lod::FrameChoice::Plane;
+    renderer_options_.frame = parseFrameChoice(frame_);
     try {
         renderer_options_.validate(); // each --lod checked already; a scheme given twice
     } catch (const Error& e) {
@@ -591,7 +606,10 @@ int ViewCommand::run()
     if (CameraPlacement placement = camera_args_.placement(); !placement.empty()) {
         HeightQuery query(archive_);
         placement.exaggeration = exaggeration_;
-        start = resolveCameraPlacement(query, placement);
+        // In the frame the renderer will draw in (ECEF on the globe), as `ridge render` does.
+        const lod::TerrainFrame frame =
+            lod::terrainFrameOf(reader, renderer_options_.frame, archive_);
+        start = resolveCameraPlacement(query, placement, &frame);
     }
     std::unique_ptr<gpu::WindowContext> window;
     try {

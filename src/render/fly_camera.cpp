@@ -23,11 +23,32 @@ FlyCamera::FlyCamera(glm::dvec3 position, double yaw, double pitch, double speed
 
 FlyCamera FlyCamera::from(const lod::Camera& camera, double speed_mps)
 {
-    const glm::dvec3 f = camera.forward();
+    FlyCamera fly(camera.position(), 0.0, 0.0, speed_mps);
+    fly.lookAlong(camera.forward());
+    return fly;
+}
+
+void FlyCamera::followEllipsoid(const lod::Ellipsoid& ellipsoid)
+{
+    const glm::dvec3 f = forward();
+    ellipsoid_ = ellipsoid;
+    lookAlong(f);
+}
+
+glm::dmat3 FlyCamera::localBasis() const
+{
+    if (!ellipsoid_)
+        return glm::dmat3(1.0);
+    const lod::Geodetic g = lod::ecefToGeodetic(*ellipsoid_, position_);
+    return lod::enuBasis(g.longitude, g.latitude).matrix();
+}
+
+void FlyCamera::lookAlong(glm::dvec3 world_direction)
+{
     // Inverse of forward(): the heading from north towards east, the elevation above the
-    // horizon (f is unit; clamp guards asin against rounding just past ±1).
-    return FlyCamera(camera.position(), std::atan2(f.x, f.y), std::asin(std::clamp(f.z, -1.0, 1.0)),
-                     speed_mps);
+    // horizon (clamp guards asin against rounding just past ±1).
+    const glm::dvec3 f = glm::normalize(glm::transpose(localBasis()) * world_direction);
+    setAngles(std::atan2(f.x, f.y), std::asin(std::clamp(f.z, -1.0, 1.0)));
 }
 
 void FlyCamera::setAngles(double yaw, double pitch)
@@ -74,13 +95,18 @@ void FlyCamera::setSensitivity(double radians_per_pixel)
 glm::dvec3 FlyCamera::forward() const
 {
     const double c = std::cos(pitch_);
-    return {std::sin(yaw_) * c, std::cos(yaw_) * c, std::sin(pitch_)};
+    return localBasis() * glm::dvec3(std::sin(yaw_) * c, std::cos(yaw_) * c, std::sin(pitch_));
 }
 
 glm::dvec3 FlyCamera::right() const
 {
-    // forward × z, normalised; independent of pitch, so strafing stays horizontal.
-    return {std::cos(yaw_), -std::sin(yaw_), 0.0};
+    // forward × up, normalised; independent of pitch, so strafing stays level.
+    return localBasis() * glm::dvec3(std::cos(yaw_), -std::sin(yaw_), 0.0);
+}
+
+glm::dvec3 FlyCamera::up() const
+{
+    return localBasis()[2];
 }
 
 void FlyCamera::update(const FlyInput& in, double dt_seconds)
@@ -96,7 +122,7 @@ void FlyCamera::update(const FlyInput& in, double dt_seconds)
     glm::dvec3 direction(0.0);
     direction += forward() * double(int(in.forward) - int(in.back));
     direction += right() * double(int(in.right) - int(in.left));
-    direction.z += double(int(in.up) - int(in.down));
+    direction += up() * double(int(in.up) - int(in.down));
     const double length = glm::length(direction);
     if (length < 1e-12 || dt == 0.0)
         return;
@@ -104,6 +130,8 @@ void FlyCamera::update(const FlyInput& in, double dt_seconds)
     // A metre inside the camera range, so that camera()'s look-at point a metre ahead is too.
     const double limit = lod::kCameraCoordinateRange.hi - 1.0;
     // Capped so that a huge dt cannot make an infinite step (and inf · 0 = NaN components).
+    // On a globe the angles are local: kept across the move, so that a level flight stays
+    // level over the curve.
     position_ += direction / length * std::min(speed * dt, 4.0 * limit);
     position_ = glm::clamp(position_, glm::dvec3(-limit), glm::dvec3(limit));
 }
@@ -113,7 +141,7 @@ lod::Camera FlyCamera::camera(lod::Viewport viewport, double fov_y_deg, double n
 {
     // Camera wants a look-at point; one metre ahead keeps its subtraction exact enough at any
     // position a terrain reaches (|position| ≪ 2^52 m).
-    return lod::Camera(position_, position_ + forward(), fov_y_deg, viewport, near_m, far_m);
+    return lod::Camera(position_, position_ + forward(), fov_y_deg, viewport, near_m, far_m, up());
 }
 
 } // namespace ridge::render

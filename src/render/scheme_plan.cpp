@@ -3,6 +3,7 @@
 #include "terrain_scheme.h"
 
 #include "ridge/core/error.h"
+#include "ridge/lod/archive_frame.h"
 
 #include <algorithm>
 
@@ -23,7 +24,12 @@ SchemePlan planSchemes(const archive::ArchiveReader& reader, const RendererOptio
             out.preparations.push_back(needs.preparation);
     };
     if (options.schemes.empty()) {
+        // Schemes by default: those that can draw this archive in the frame it gets.
+        const lod::TerrainFrame frame = lod::terrainFrameOf(reader, options.frame, reader.path());
+        const bool wrapping_globe = frame.onEllipsoid() && frame.geodetic().wrap_columns > 0;
         for (const SchemeInfo& info : schemeRegistry()) {
+            if (wrapping_globe && !info.promises.wrapping_globe)
+                continue; // rings, until its ring grid wraps
             SchemeOptions own = parseSchemeSpec(info.name);
             SchemeNeeds needs;
             try {

@@ -206,3 +206,44 @@ TEST(ViewSmoke, TakesTheModeRenderTakes)
             a.rgb[i] != b.rgb[i] || a.rgb[i + 1] != b.rgb[i + 1] || a.rgb[i + 2] != b.rgb[i + 2];
     EXPECT_GT(differ, a.rgb.size() / 3 / 5) << "the LOD colours should cover the terrain";
 }
+
+// The globe in the viewer: a raster that goes round the Earth opens on the ellipsoid (auto,
+// as in `ridge render`), from the default camera that frames the whole Earth, and from a
+// geographic camera low over the ground; --frame plane still flattens it.
+TEST(ViewSmoke, FliesTheGlobeOnTheEllipsoid)
+{
+    if (!haveXvfbRun())
+        GTEST_SKIP()
+            << "xvfb-run is not installed (apt-get install xvfb): cannot open a window here";
+    test::ScratchDir dir;
+    const std::string arc = dir.path("globe.ridge");
+    ASSERT_EQ(test::runRidge("build '" + test::dataPath("etopo5_globe_181x91.tif") + "' -o '" +
+                             arc + "' -q --patch 17")
+                  .exit_code,
+              0);
+    const std::string orbit = dir.path("orbit.png");
+    test::CommandResult r = viewShot(arc, orbit, "--no-overlay");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    // The whole Earth in the middle of the window, space (black) in its corners.
+    const Picture p = readPicture(orbit);
+    ASSERT_EQ(p.width, 1280);
+    auto rgbAt = [&](int x, int y) {
+        const uint8_t* c = &p.rgb[(size_t(y) * p.width + x) * 3];
+        return int(c[0]) + int(c[1]) + int(c[2]);
+    };
+    EXPECT_GT(rgbAt(640, 360), 60) << "the globe at the centre";
+    EXPECT_LT(rgbAt(5, 5), 30) << "space in the corner";
+
+    // Low over the Himalaya looking north: ground below the horizon, sky above.
+    const std::string low = dir.path("low.png");
+    r = viewShot(arc, low, "--no-overlay --camera-lonlat 86,26,3000 --heading 0 --pitch -5");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const Picture q = readPicture(low);
+    ASSERT_EQ(q.width, 1280);
+    const uint8_t* sky = &q.rgb[(size_t(20) * q.width + 640) * 3];
+    const uint8_t* ground = &q.rgb[(size_t(700) * q.width + 640) * 3];
+    EXPECT_GT(int(sky[2]), int(sky[0]) + 30) << "blue sky at the top";
+    const int sky_minus_ground =
+        std::abs(sky[0] - ground[0]) + std::abs(sky[1] - ground[1]) + std::abs(sky[2] - ground[2]);
+    EXPECT_GT(sky_minus_ground, 30) << "terrain at the bottom";
+}

@@ -1,6 +1,8 @@
 // FlyCamera: the viewer's movement rules, without a window.
 #include "ridge/render/fly_camera.h"
 
+#include "ridge/lod/ellipsoid.h"
+
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
@@ -138,4 +140,67 @@ TEST(FlyCamera, StrafingAndClimbingIgnorePitchAndDiagonalsKeepTheSpeed)
     in.forward = in.back = in.left = in.right = in.up = in.down = true; // all cancel
     cam.update(in, 1.0);
     expectNear(cam.position(), {0.0, 0.0, 0.0});
+}
+
+// On the globe the angles are local: yaw from true north, pitch above the local horizon,
+// re-taken under the camera as it moves, and the camera upright to the local up.
+TEST(FlyCamera, OnTheEllipsoidAnglesAreLocalAndLevelFlightFollowsTheCurve)
+{
+    const ridge::lod::Ellipsoid e;
+    const double h0 = 1000.0;
+    // Over the equator at the prime meridian, looking north along the ground.
+    FlyCamera fly(ridge::lod::geodeticToEcef(e, 0.0, 0.0, h0), 0.0, 0.0, 1000.0);
+    fly.followEllipsoid(e); // keeps the plane-style view (world +y: local east here)
+    ASSERT_TRUE(fly.onEllipsoid());
+    EXPECT_NEAR(degrees(fly.yaw()), 90.0, 1e-9);
+    fly.update(FlyInput{.mouse_dx = -fly.yaw() / fly.sensitivity()}, 0.0); // turn to north
+    expectNear(fly.forward(), {0.0, 0.0, 1.0}); // local north there is ECEF +z
+    expectNear(fly.up(), {1.0, 0.0, 0.0});
+    expectNear(fly.right(), {0.0, 1.0, 0.0}); // east: ECEF +y
+    EXPECT_NEAR(fly.yaw(), 0.0, 1e-12);
+    EXPECT_NEAR(fly.pitch(), 0.0, 1e-12);
+    const ridge::lod::Camera cam = fly.camera({64, 64}, 60.0, 1.0, 1e7);
+    expectNear(cam.worldUp(), fly.up());
+
+    // 1,000 km north in 1 km steps: the camera stays level over the curve (a plane-style
+    // straight line would climb 78 km), keeps heading north, and ends 9° further north.
+    FlyInput forward;
+    forward.forward = true;
+    for (int i = 0; i < 1000; ++i)
+        fly.update(forward, 1.0);
+    const ridge::lod::Geodetic g = ridge::lod::ecefToGeodetic(e, fly.position());
+    EXPECT_LT(std::abs(g.height - h0), 100.0) << "height after 1,000 km: " << g.height;
+    EXPECT_NEAR(degrees(g.latitude), 9.04, 0.05);
+    EXPECT_NEAR(degrees(g.longitude), 0.0, 1e-9);
+    EXPECT_NEAR(fly.yaw(), 0.0, 1e-12);
+
+    // Climbing goes along the local up: 500 m higher, same place.
+    FlyInput climb;
+    climb.up = true;
+    fly.setSpeed(500.0);
+    fly.update(climb, 1.0);
+    const ridge::lod::Geodetic h = ridge::lod::ecefToGeodetic(e, fly.position());
+    EXPECT_NEAR(h.height - g.height, 500.0, 1e-6);
+    EXPECT_NEAR(h.latitude, g.latitude, 1e-12);
+
+    // Turning right by a quarter turn faces local east.
+    fly.update(FlyInput{.mouse_dx = (kPi / 2) / fly.sensitivity()}, 0.0);
+    EXPECT_NEAR(degrees(fly.yaw()), 90.0, 1e-9);
+    const glm::dvec3 east = glm::normalize(glm::cross(glm::dvec3(0, 0, 1), fly.up()));
+    expectNear(fly.forward(), east, 1e-9);
+}
+
+// Following the ellipsoid keeps the view direction: yaw and pitch are re-expressed locally.
+TEST(FlyCamera, FollowingTheEllipsoidKeepsTheViewDirection)
+{
+    const ridge::lod::Ellipsoid e;
+    const glm::dvec3 p = ridge::lod::geodeticToEcef(e, 1.5, 0.7, 3000.0);
+    const glm::dvec3 target = ridge::lod::geodeticToEcef(e, 1.52, 0.71, 0.0);
+    const ridge::lod::Camera cam(p, target, 60.0, {64, 64}, 1.0, 1e7);
+    FlyCamera fly = FlyCamera::from(cam);
+    const glm::dvec3 before = fly.forward();
+    fly.followEllipsoid(e);
+    expectNear(fly.forward(), before, 1e-9);
+    EXPECT_LT(fly.pitch(), 0.0) << "the target lies below the local horizon";
+    EXPECT_GT(fly.yaw(), 0.0) << "and east of north";
 }

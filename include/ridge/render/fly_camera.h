@@ -7,9 +7,18 @@
 // heading in radians: 0 looks north (+y), +π/2 looks east (+x). Pitch is the angle above the
 // horizon in radians, kept within ±kMaxPitch so the view never becomes vertical (the camera's
 // right vector is derived from forward × z, which degenerates there).
+//
+// On a globe (followEllipsoid) the same angles are taken in the local east, north, up under
+// the camera, recomputed as it moves: yaw from true north, pitch above the local horizon,
+// strafing level, E and Q along the local up, and the camera kept upright to that up. Flying
+// "straight" then follows the Earth's curve at a constant heading, as an aircraft does.
 #include "ridge/lod/camera.h"
+#include "ridge/lod/ellipsoid.h"
 
+#include <glm/mat3x3.hpp>
 #include <glm/vec3.hpp>
+
+#include <optional>
 
 namespace ridge::render {
 
@@ -49,6 +58,13 @@ class FlyCamera {
     // Starts where `camera` is, looking where it looks (pitch clamped), at `speed_mps`.
     static FlyCamera from(const lod::Camera& camera, double speed_mps = 100.0);
 
+    // From now on, angles and moves are in the local frame of `ellipsoid` under the camera
+    // (ECEF positions); the view direction is kept (yaw and pitch re-expressed locally).
+    void followEllipsoid(const lod::Ellipsoid& ellipsoid);
+    bool onEllipsoid() const { return ellipsoid_.has_value(); }
+    // Local east, north, up at the camera (the world axes on a plane).
+    glm::dmat3 localBasis() const;
+
     // Applies mouse look (mouse deltas × sensitivity), then speed steps, then moves for
     // `dt_seconds` (≥ 0; negative is treated as 0). Opposing keys cancel; a diagonal moves at
     // the same speed as a straight line. The caller bounds dt if a stalled frame should not
@@ -59,9 +75,11 @@ class FlyCamera {
     // The render camera at the current pose; near/far in metres, 0 < near < far.
     lod::Camera camera(lod::Viewport viewport, double fov_y_deg, double near_m, double far_m) const;
 
-    // Unit view direction, and the unit horizontal vector to its right (forward × z).
+    // Unit view direction, the unit horizontal vector to its right (forward × up) and the
+    // local up, in the world.
     glm::dvec3 forward() const;
     glm::dvec3 right() const;
+    glm::dvec3 up() const;
 
     glm::dvec3 position() const { return position_; }
     void setPosition(glm::dvec3 position);  // within lod::kCameraCoordinateRange
@@ -80,7 +98,11 @@ class FlyCamera {
   private:
     void setAngles(double yaw, double pitch);
 
+    // Yaw and pitch from a world direction in the local basis at the current position.
+    void lookAlong(glm::dvec3 world_direction);
+
     glm::dvec3 position_{0.0};
+    std::optional<lod::Ellipsoid> ellipsoid_;
     double yaw_ = 0.0;
     double pitch_ = 0.0;
     double speed_ = 100.0;
