@@ -1,5 +1,7 @@
 #include "ridge/pipeline/terrain_georeference.h"
 
+#include "ridge/lod/archive_frame.h"
+
 #include "ridge/core/error.h"
 #include "ridge/core/parameter_check.h"
 
@@ -54,6 +56,25 @@ TerrainGeoreference::TerrainGeoreference(const archive::ArchiveReader& reader)
             transform_error_ = e.what(); // Local, Pixel and Crs still work
         }
     }
+    // A raster that goes round the Earth: the globe's rule for its period, so that a query at
+    // −155° finds what is drawn at 205° on a 0..360° grid.
+    if (geographic_) {
+        try {
+            const lod::TerrainFrame globe =
+                lod::terrainFrameOf(reader, lod::FrameChoice::Ellipsoid, path_);
+            wrap_columns_ = double(globe.geodetic().wrap_columns);
+        } catch (const Error&) {
+            wrap_columns_ = 0.0; // not a north-up grid the globe takes: no wrap
+        }
+    }
+}
+
+glm::dvec2 TerrainGeoreference::wrapped(glm::dvec2 pixel) const
+{
+    if (wrap_columns_ > 0.0) // into [0.5, period + 0.5): sample centres 0 .. period
+        pixel.x =
+            0.5 + (pixel.x - 0.5) - wrap_columns_ * std::floor((pixel.x - 0.5) / wrap_columns_);
+    return pixel;
 }
 
 const io::GeographicTransform& TerrainGeoreference::geographic() const
@@ -100,12 +121,12 @@ glm::dvec2 TerrainGeoreference::toPixel(glm::dvec2 point, PointSpace from) const
         return point;
     case PointSpace::Crs: {
         const auto p = crsToPixel(point.x, point.y);
-        return {p[0], p[1]};
+        return wrapped({p[0], p[1]});
     }
     case PointSpace::LonLat: {
         const auto crs = geographic().fromLonLat(point.x, point.y);
         const auto p = crsToPixel(crs[0], crs[1]);
-        return {p[0], p[1]};
+        return wrapped({p[0], p[1]});
     }
     }
     return {point.x / frame_.spacingX() + 0.5,

@@ -170,6 +170,35 @@ TEST(HeightQuery, OffRasterPointsAreReportedNotThrown)
     EXPECT_THROW(query.sample({86.9, 95.0}, PointSpace::LonLat), Error);
 }
 
+// A grid that goes round the Earth (the 2° globe fixture, 0..360° with column 0 repeated):
+// a longitude in any period reads what is drawn there, across the antimeridian and the
+// grid's own edge meridian; a regional grid does not wrap.
+TEST(HeightQuery, LongitudesWrapOnAGridThatGoesRoundTheEarth)
+{
+    test::ScratchDir dir;
+    const std::string path =
+        buildFixture(dir, test::dataPath("etopo5_globe_181x91.tif"), "globe.ridge");
+    HeightQuery query(path);
+    for (const glm::dvec2 p : {glm::dvec2(-150.0, 20.0), glm::dvec2(-179.0, -30.0),
+                               glm::dvec2(-1.0, 50.0), glm::dvec2(-0.5, 0.0)}) {
+        const HeightSample west = query.sample(p, PointSpace::LonLat);
+        const HeightSample east = query.sample({p.x + 360.0, p.y}, PointSpace::LonLat);
+        ASSERT_TRUE(west.on_raster) << p.x << ", " << p.y;
+        ASSERT_TRUE(east.on_raster) << p.x + 360.0 << ", " << p.y;
+        EXPECT_EQ(west.height, east.height) << p.x << ", " << p.y;
+    }
+    // On a sample (a 2° grid: −150° is column 105 of 0..360°), the sample itself.
+    const HeightSample at = query.sample({-150.0, 20.0}, PointSpace::LonLat);
+    const HeightSample pixel = query.sample({105.5, 35.5}, PointSpace::Pixel);
+    EXPECT_EQ(at.height, pixel.height);
+
+    // Everest's crop is regional: west of it is off the raster, not wrapped round.
+    const std::string crop = buildFixture(dir, test::dataPath("everest_crop.tif"), "e.ridge");
+    HeightQuery regional(crop);
+    EXPECT_FALSE(regional.sample({86.925 - 360.0, 27.988}, PointSpace::LonLat).on_raster);
+    EXPECT_TRUE(regional.sample({86.925, 27.988}, PointSpace::LonLat).on_raster);
+}
+
 TEST(TerrainGeoreference, EverySpaceAgreesWithGdalsGeotransform)
 {
     test::ScratchDir dir;

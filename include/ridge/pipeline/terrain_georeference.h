@@ -50,6 +50,8 @@ class TerrainGeoreference {
     glm::dvec2 fromLocal(glm::dvec2 local, PointSpace to) const;
     // The same through pixel/line, the geotransform's own space: a pixel/line given is used
     // as is (sample centres stay exact), a CRS point goes through the inverse geotransform.
+    // On a geographic grid that goes round the Earth (a 0..360° ETOPO-like raster, its column
+    // 0 repeated at 360°) a longitude or CRS x in any period lands in the grid's own.
     glm::dvec2 toPixel(glm::dvec2 point, PointSpace from) const;
     glm::dvec2 localOfPixel(glm::dvec2 pixel) const;
 
@@ -62,6 +64,8 @@ class TerrainGeoreference {
     const io::GeographicTransform& geographic() const;
     std::array<double, 2> pixelToCrs(double pixel, double line) const;
     std::array<double, 2> crsToPixel(double x, double y) const;
+    // A pixel x of a grid that goes round the Earth taken into its first period.
+    glm::dvec2 wrapped(glm::dvec2 pixel) const;
 
     std::string path_;
     lod::TerrainFrame frame_;
@@ -71,6 +75,7 @@ class TerrainGeoreference {
     bool geographic_ = false;
     std::optional<io::GeographicTransform> transform_; // when a CRS and geotransform exist
     std::string transform_error_;                      // why transform_ is missing
+    double wrap_columns_ = 0.0; // columns in 360° when the grid goes round the Earth, else 0
 };
 
 } // namespace ridge
