@@ -1,6 +1,8 @@
 // GL-free: selection on the CPU over the archive's index; nothing here touches the GPU layer.
 #include "ridge/renderbench/view_bytes_bench.h"
 
+#include "ridge/lod/archive_frame.h"
+
 #include "ridge/archive/archive_reader.h"
 #include "ridge/core/atomic_output.h"
 #include "ridge/core/file_identity.h"
@@ -17,14 +19,16 @@
 namespace ridge::renderbench {
 namespace {
 
-// The renderer's camera-placement terrain (TerrainRenderer builds the same from the root).
+// The renderer's camera-placement terrain (TerrainRenderer builds the same from the root,
+// with the root's box made by the frame: oriented on a globe).
 lod::CoarseTerrain coarseTerrainOf(const archive::ArchiveReader& reader,
                                    const lod::PatchQuadtree& quadtree)
 {
     const int n = reader.geometry().patchSize();
     std::vector<uint16_t> root(size_t(n) * size_t(n));
     reader.decodePatch(PatchId{0, 0, 0}, root.data()); // the root needs no parent
-    return lod::CoarseTerrain(quadtree.frame(), quadtree.box(PatchId{0, 0, 0}), std::move(root),
+    const lod::PatchBounds& b = quadtree.bounds(PatchId{0, 0, 0});
+    return lod::CoarseTerrain(quadtree.frame(), b.min_height, b.max_height, std::move(root),
                               reader.quantization());
 }
 
@@ -67,7 +71,9 @@ ViewBytesBenchReport runViewBytesBench(const std::string& archive, const RenderB
     r.codec = reader.codec().name();
     for (const archive::PatchRecord& rec : reader.index())
         r.archive_blob_bytes += rec.size;
-    const lod::PatchQuadtree quadtree = lod::PatchQuadtree::fromArchive(reader);
+    // The frame the renderer would draw in (--frame): the same selection, on the globe too.
+    const lod::PatchQuadtree quadtree = lod::PatchQuadtree::fromArchive(
+        reader, lod::terrainFrameOf(reader, o.renderer.frame, archive));
     const lod::CoarseTerrain coarse = coarseTerrainOf(reader, quadtree);
     const lod::PatchBounds& root = quadtree.bounds(PatchId{0, 0, 0});
     const std::vector<lod::CameraPose> path = lod::makeCameraPath(
@@ -81,7 +87,9 @@ ViewBytesBenchReport runViewBytesBench(const std::string& archive, const RenderB
     for (const lod::CameraPose& pose : path) {
         double near_m = 1.0, far_m = 1e6;
         coarse.clipPlanesFor(pose.position, near_m, far_m);
-        const lod::Camera camera(pose.position, pose.look_at, 60.0, o.viewport, near_m, far_m);
+        // Upright to the local up, as TerrainRenderer::cameraLookingAt keeps it.
+        const lod::Camera camera(pose.position, pose.look_at, 60.0, o.viewport, near_m, far_m,
+                                 quadtree.frame().upThrough(pose.position));
         const lod::Selection selection = quadtree.select(camera, settings);
         r.counts_ancestors = reader.codec().capabilities().needs_ancestors;
         const std::vector<PatchId> fetched =

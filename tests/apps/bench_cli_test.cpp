@@ -6,6 +6,8 @@
 #include "ridge/render/terrain_renderer.h"
 
 #include <gtest/gtest.h>
+
+#include <map>
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
@@ -188,6 +190,39 @@ TEST(BenchCli, BytesPerViewReportsEveryFramesColdCacheBytesWithoutRendering)
         EXPECT_GE(s["path_bytes"].get<uint64_t>(), largest);
         EXPECT_LE(s["path_bytes"].get<uint64_t>(), j["archive_blob_bytes"].get<uint64_t>());
     }
+}
+
+// --bytes-per-view selects in the frame the renderer draws in: on the globe fixture (auto:
+// the ellipsoid) the path's cameras are ECEF, thousands of kilometres from the Earth's centre,
+// and every frame reads patches; --frame plane flattens it again (and runs as before).
+TEST(BenchCli, BytesPerViewRunsOnTheGlobe)
+{
+    test::ScratchDir dir;
+    const std::string arc = dir.path("globe.ridge");
+    ASSERT_EQ(test::runRidge("build '" + test::dataPath("etopo5_globe_181x91.tif") + "' -o '" +
+                             arc + "' -q --patch 17")
+                  .exit_code,
+              0);
+    std::map<std::string, std::vector<double>> first_camera;
+    for (const std::string frame : {"auto", "plane"}) {
+        const test::CommandResult r = test::runRidgeStdout(
+            "bench '" + arc + "' --bytes-per-view --path orbit --frames 5 --json --frame " + frame);
+        ASSERT_EQ(r.exit_code, 0) << r.output;
+        const nlohmann::json j = nlohmann::json::parse(r.output);
+        ASSERT_EQ(j["frames"].size(), 5u);
+        for (const auto& f : j["frames"]) {
+            EXPECT_GT(f["bytes"].get<uint64_t>(), 0u) << frame;
+            const std::vector<double> p = f["position"];
+            const double from_centre = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+            if (frame == "auto") {
+                EXPECT_GT(from_centre, 6.3e6) << "ECEF, above the ellipsoid";
+            }
+        }
+        first_camera[frame] = j["frames"][0]["position"].get<std::vector<double>>();
+    }
+    // The two frames place the path differently: --frame reaches the selection.
+    const std::vector<double>&a = first_camera["auto"], &b = first_camera["plane"];
+    EXPECT_GT(std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]), 1000.0);
 }
 
 // The summary and JSON separate frames at full detail from frames drawn coarser and time full
