@@ -132,9 +132,27 @@ bool sampleTriangle(const CapturedVertex* v, glm::dvec3 c, const lod::TerrainFra
 {
     if (v[0].skirt || v[1].skirt || v[2].skirt)
         return false;
-    for (int k = 0; k < 3; ++k)
-        q[k] = {std::round(frame.columnOf(v[k].x + c.x)), std::round(frame.rowOf(v[k].y + c.y)),
-                double(v[k].z) + c.z};
+    if (!frame.onEllipsoid()) {
+        for (int k = 0; k < 3; ++k)
+            q[k] = {std::round(frame.columnOf(v[k].x + c.x)), std::round(frame.rowOf(v[k].y + c.y)),
+                    double(v[k].z) + c.z};
+        return true;
+    }
+    // The globe: grid positions through the frame's inverse (z is filled per sample by the
+    // caller from the drawn point). A pole vertex has no column: its triangles are left out.
+    for (int k = 0; k < 3; ++k) {
+        const glm::dvec3 g = frame.gridOf(c + glm::dvec3(v[k].x, v[k].y, v[k].z));
+        q[k] = {std::round(g.x), std::round(g.y), g.z};
+        if (frame.poleRow(q[k].y))
+            return false;
+    }
+    // Across a wrapping grid's edge meridian: all corners in one period.
+    if (const double period = double(frame.geodetic().wrap_columns);
+        period > 0 &&
+        std::max({q[0].x, q[1].x, q[2].x}) - std::min({q[0].x, q[1].x, q[2].x}) > 0.5 * period)
+        for (int k = 0; k < 3; ++k)
+            if (q[k].x < 0.5 * period)
+                q[k].x += period;
     return true;
 }
 
@@ -183,7 +201,19 @@ SampleHeights surfaceHeightsAtSamples(const CapturedSurface& s, const lod::Terra
                 const double l2 = 1.0 - l0 - l1;
                 if (l0 < -1e-6 || l1 < -1e-6 || l2 < -1e-6)
                     continue;
-                const float z = float(l0 * q[0].z + l1 * q[1].z + l2 * q[2].z);
+                float z = float(l0 * q[0].z + l1 * q[1].z + l2 * q[2].z);
+                if (frame.onEllipsoid()) {
+                    // The flat triangle's point over the sample, its height along the normal
+                    // (the chord's sag included, as drawn).
+                    const CapturedVertex* v = &s.vertices[t];
+                    glm::dvec3 drawn(0.0);
+                    const double l[3] = {l0, l1, l2};
+                    for (int k = 0; k < 3; ++k)
+                        drawn += l[k] * glm::dvec3(v[k].x, v[k].y, v[k].z);
+                    z = float(frame.gridOf(c + drawn).z);
+                }
+                if (col >= W)
+                    continue; // past a wrapping grid's last column: its copy at the start
                 float& h = out.z[size_t(r - out.y0) * size_t(out.width) + size_t(col - out.x0)];
                 // Seams between levels cover a sample twice: the upper surface is what shows.
                 h = std::isnan(h) ? z : std::max(h, z);
@@ -205,7 +235,10 @@ PoppingReport measurePopping(const SampleHeights& before, const SampleHeights& a
             const float a = before.at(col, r), b = after.at(col, r);
             if (std::isnan(a) || std::isnan(b))
                 continue;
-            const glm::dvec3 pa(frame.xOf(col), frame.yOf(r), a), pb(pa.x, pa.y, b);
+            const glm::dvec3 pa = frame.onEllipsoid() ? frame.worldOf(col, r, a)
+                                                      : glm::dvec3(frame.xOf(col), frame.yOf(r), a);
+            const glm::dvec3 pb =
+                frame.onEllipsoid() ? frame.worldOf(col, r, b) : glm::dvec3(pa.x, pa.y, b);
             glm::dvec2 xa, xb;
             if (!camera.project(pa, xa) || !camera.project(pb, xb))
                 continue;
