@@ -198,11 +198,8 @@ TEST(BenchCli, BytesPerViewReportsEveryFramesColdCacheBytesWithoutRendering)
 TEST(BenchCli, BytesPerViewRunsOnTheGlobe)
 {
     test::ScratchDir dir;
-    const std::string arc = dir.path("globe.ridge");
-    ASSERT_EQ(test::runRidge("build '" + test::dataPath("etopo5_globe_181x91.tif") + "' -o '" +
-                             arc + "' -q --patch 17")
-                  .exit_code,
-              0);
+    const std::string arc =
+        test::buildWithCli(dir, "etopo5_globe_181x91.tif", "globe.ridge", "--patch 17");
     std::map<std::string, std::vector<double>> first_camera;
     for (const std::string frame : {"auto", "plane"}) {
         const test::CommandResult r = test::runRidgeStdout(

@@ -216,11 +216,8 @@ TEST(ViewSmoke, FliesTheGlobeOnTheEllipsoid)
         GTEST_SKIP()
             << "xvfb-run is not installed (apt-get install xvfb): cannot open a window here";
     test::ScratchDir dir;
-    const std::string arc = dir.path("globe.ridge");
-    ASSERT_EQ(test::runRidge("build '" + test::dataPath("etopo5_globe_181x91.tif") + "' -o '" +
-                             arc + "' -q --patch 17")
-                  .exit_code,
-              0);
+    const std::string arc =
+        test::buildWithCli(dir, "etopo5_globe_181x91.tif", "globe.ridge", "--patch 17");
     const std::string orbit = dir.path("orbit.png");
     test::CommandResult r = viewShot(arc, orbit, "--no-overlay");
     ASSERT_EQ(r.exit_code, 0) << r.output;

@@ -97,11 +97,17 @@ CommandResult runRidgeStdout(const std::string& args)
 std::string buildEverestWithCli(const ScratchDir& dir, const std::string& name,
                                 const std::string& args)
 {
+    return buildWithCli(dir, "everest_crop.tif", name, args);
+}
+
+std::string buildWithCli(const ScratchDir& dir, const std::string& data_file,
+                         const std::string& name, const std::string& args)
+{
     const std::string arc = dir.path(name);
     const CommandResult r =
-        runRidge("build '" + dataPath("everest_crop.tif") + "' -o '" + arc + "' -q " + args);
+        runRidge("build '" + dataPath(data_file) + "' -o '" + arc + "' -q " + args);
     if (r.exit_code != 0)
-        throw std::runtime_error("ridge build " + args + " failed: " + r.output);
+        throw std::runtime_error("ridge build " + data_file + " " + args + " failed: " + r.output);
     return arc;
 }
 #endif

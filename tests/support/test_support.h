@@ -52,5 +52,8 @@ CommandResult runRidgeStdout(const std::string& args);
 // test) with the command's output when the build fails. NEEDS_CLI, as runRidge.
 std::string buildEverestWithCli(const ScratchDir& dir, const std::string& name,
                                 const std::string& args);
+// The same for any fixture of tests/data (`data_file`, e.g. "etopo5_globe_181x91.tif").
+std::string buildWithCli(const ScratchDir& dir, const std::string& data_file,
+                         const std::string& name, const std::string& args);
 
 } // namespace ridge::test
