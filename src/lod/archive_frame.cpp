@@ -18,8 +18,11 @@ constexpr double kDegree = std::numbers::pi / 180.0;
 // (ETOPO5's file states 0.0833341° for 5', 0.04 of a column short over 4320 columns).
 constexpr double kWrapTolerance = 0.05;
 
-// The ellipsoid grid of a geographic archive, or why there is none.
-GeodeticGrid geographicGrid(const archive::ArchiveReader& reader, const std::string& what)
+// The ellipsoid grid of a geographic archive, or why there is none. With `only_wrapping`, a
+// grid that does not go round the Earth comes back with wrap_columns 0 before PROJ is asked
+// for its datum (auto keeps such rasters on the plane; PROJ's database costs tens of MB).
+GeodeticGrid geographicGrid(const archive::ArchiveReader& reader, const std::string& what,
+                            bool only_wrapping)
 {
     const archive::GeoreferenceMetadata& geo = reader.metadata().georeference;
     const std::string prefix = what + ": cannot lie on the ellipsoid: ";
@@ -51,6 +54,10 @@ GeodeticGrid geographicGrid(const archive::ArchiveReader& reader, const std::str
         throw Error(prefix + "its samples span " + formatNumber(span) +
                     "° of longitude, more than the 360° around the Earth");
 
+    const int64_t wrap = wrapColumnsOf(reader);
+    if (only_wrapping && wrap == 0)
+        return GeodeticGrid{};
+
     // The datum: WGS 84 longitude and latitude of the centre sample through PROJ; the
     // difference to the CRS's own is a shift of metres, the same across the raster.
     const double xc = x0 + 0.5 * (w - 1) * gt[1], yc = y0 + 0.5 * (h - 1) * gt[5];
@@ -74,16 +81,31 @@ GeodeticGrid geographicGrid(const archive::ArchiveReader& reader, const std::str
     grid.lat0 = std::min(90.0, std::max(-90.0, y0 + shift_lat)) * kDegree;
     grid.dlon = gt[1] * kDegree;
     grid.dlat = gt[5] * kDegree;
-    const double period = 360.0 / gt[1];
-    const double whole = std::round(period);
-    if (std::abs(period - whole) <= kWrapTolerance && (w == whole || w == whole + 1)) {
-        grid.wrap_columns = int64_t(whole);
-        grid.dlon = 2.0 * std::numbers::pi / whole; // exactly a whole turn
+    if (wrap > 0) {
+        grid.wrap_columns = wrap;
+        grid.dlon = 2.0 * std::numbers::pi / double(wrap); // exactly a whole turn
     }
     return grid;
 }
 
 } // namespace
+
+int64_t wrapColumnsOf(const archive::ArchiveReader& reader)
+{
+    const archive::GeoreferenceMetadata& geo = reader.metadata().georeference;
+    if (!geo.geotransform || geo.crs_wkt.empty() || !geo.geographic)
+        return 0;
+    const std::array<double, 6>& gt = *geo.geotransform;
+    if (gt[2] != 0.0 || gt[4] != 0.0 || !(gt[1] > 0.0) || !(gt[5] < 0.0))
+        return 0;
+    const int64_t w = reader.geometry().width();
+    const double period = 360.0 / gt[1];
+    const double whole = std::round(period);
+    if (std::abs(period - whole) <= kWrapTolerance &&
+        (w == int64_t(whole) || w == int64_t(whole) + 1))
+        return int64_t(whole);
+    return 0;
+}
 
 std::string_view frameChoiceName(FrameChoice c)
 {
@@ -121,14 +143,14 @@ TerrainFrame terrainFrameOf(const archive::ArchiveReader& reader, FrameChoice ch
         // The globe when the raster goes round it; anything else keeps the plane it was
         // always drawn on.
         try {
-            grid = geographicGrid(reader, what);
+            grid = geographicGrid(reader, what, true);
         } catch (const Error&) {
             return plane;
         }
         if (grid.wrap_columns == 0)
             return plane;
     } else {
-        grid = geographicGrid(reader, what);
+        grid = geographicGrid(reader, what, false);
     }
     return TerrainFrame::ellipsoid(reader.geometry(), h.spacing_x, h.spacing_y, grid);
 }

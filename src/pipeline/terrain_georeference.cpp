@@ -58,15 +58,8 @@ TerrainGeoreference::TerrainGeoreference(const archive::ArchiveReader& reader)
     }
     // A raster that goes round the Earth: the globe's rule for its period, so that a query at
     // −155° finds what is drawn at 205° on a 0..360° grid.
-    if (geographic_) {
-        try {
-            const lod::TerrainFrame globe =
-                lod::terrainFrameOf(reader, lod::FrameChoice::Ellipsoid, path_);
-            wrap_columns_ = double(globe.geodetic().wrap_columns);
-        } catch (const Error&) {
-            wrap_columns_ = 0.0; // not a north-up grid the globe takes: no wrap
-        }
-    }
+    if (geographic_)
+        wrap_columns_ = double(lod::wrapColumnsOf(reader));
 }
 
 glm::dvec2 TerrainGeoreference::wrapped(glm::dvec2 pixel) const

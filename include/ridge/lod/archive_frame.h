@@ -4,6 +4,7 @@
 // ellipsoid. PROJ (through io) turns the archive's datum into WGS 84.
 #include "ridge/lod/terrain_frame.h"
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -23,6 +24,11 @@ enum class FrameChoice {
 std::string_view frameChoiceName(FrameChoice c);
 // nullopt for anything else.
 std::optional<FrameChoice> parseFrameChoice(std::string_view name);
+
+// The columns in 360° when `reader`'s grid goes round the Earth (geographic, north-up, its
+// columns spanning a whole turn, column 0 repeated or not), else 0. The rule terrainFrameOf
+// wraps by, without PROJ (the datum's shift of metres does not change the period).
+int64_t wrapColumnsOf(const archive::ArchiveReader& reader);
 
 // The frame of `reader` under `choice`. Throws ridge::Error naming `what` (the archive's
 // path) when the ellipsoid is asked for and the archive cannot lie on it: no geotransform or
