@@ -22,7 +22,6 @@ struct ListDeleter {
     void operator()(PJ_OBJ_LIST* l) const { proj_list_destroy(l); }
 };
 struct FactoryDeleter {
-    PJ_CONTEXT* context;
     void operator()(PJ_OPERATION_FACTORY_CONTEXT* f) const
     {
         proj_operation_factory_context_destroy(f);
@@ -49,7 +48,7 @@ List operations(PJ_CONTEXT* ctx, const PJ* source, const PJ* target,
                 PROJ_GRID_AVAILABILITY_USE grids)
 {
     std::unique_ptr<PJ_OPERATION_FACTORY_CONTEXT, FactoryDeleter> factory(
-        proj_create_operation_factory_context(ctx, nullptr), FactoryDeleter{ctx});
+        proj_create_operation_factory_context(ctx, nullptr));
     if (!factory)
         return nullptr;
     proj_operation_factory_context_set_grid_availability_use(ctx, factory.get(), grids);

@@ -15,9 +15,9 @@
 
 namespace ridge::io::detail {
 
-// Whether the heights of a source with CRS `crs_wkt` and vertical datum `datum` are shifted
-// to the ellipsoid under `mode`: Ellipsoid always (a source without a known, registered
-// datum is an error then), None never, Auto when the datum is a registered vertical CRS.
+// Whether heights above vertical datum `datum` are shifted to the ellipsoid under `mode`: Ellipsoid
+// always (a source without a known, registered datum is an error then), None never, Auto when the
+// datum is a registered vertical CRS.
 bool wantsGeoidShift(VerticalShift mode, const VerticalDatum& datum);
 
 class GeoidShift {

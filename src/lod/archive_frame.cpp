@@ -18,11 +18,8 @@ constexpr double kDegree = std::numbers::pi / 180.0;
 // (ETOPO5's file states 0.0833341° for 5', 0.04 of a column short over 4320 columns).
 constexpr double kWrapTolerance = 0.05;
 
-// The ellipsoid grid of a geographic archive, or why there is none. With `only_wrapping`, a
-// grid that does not go round the Earth comes back with wrap_columns 0 before PROJ is asked
-// for its datum (auto keeps such rasters on the plane; PROJ's database costs tens of MB).
-GeodeticGrid geographicGrid(const archive::ArchiveReader& reader, const std::string& what,
-                            bool only_wrapping)
+// The ellipsoid grid of a geographic archive, or why there is none.
+GeodeticGrid geographicGrid(const archive::ArchiveReader& reader, const std::string& what)
 {
     const archive::GeoreferenceMetadata& geo = reader.metadata().georeference;
     const std::string prefix = what + ": cannot lie on the ellipsoid: ";
@@ -54,10 +51,6 @@ GeodeticGrid geographicGrid(const archive::ArchiveReader& reader, const std::str
         throw Error(prefix + "its samples span " + formatNumber(span) +
                     "° of longitude, more than the 360° around the Earth");
 
-    const int64_t wrap = wrapColumnsOf(reader);
-    if (only_wrapping && wrap == 0)
-        return GeodeticGrid{};
-
     // The datum: WGS 84 longitude and latitude of the centre sample through PROJ; the
     // difference to the CRS's own is a shift of metres, the same across the raster.
     const double xc = x0 + 0.5 * (w - 1) * gt[1], yc = y0 + 0.5 * (h - 1) * gt[5];
@@ -81,7 +74,7 @@ GeodeticGrid geographicGrid(const archive::ArchiveReader& reader, const std::str
     grid.lat0 = std::min(90.0, std::max(-90.0, y0 + shift_lat)) * kDegree;
     grid.dlon = gt[1] * kDegree;
     grid.dlat = gt[5] * kDegree;
-    if (wrap > 0) {
+    if (const int64_t wrap = wrapColumnsOf(reader); wrap > 0) {
         grid.wrap_columns = wrap;
         grid.dlon = 2.0 * std::numbers::pi / double(wrap); // exactly a whole turn
     }
@@ -140,17 +133,17 @@ TerrainFrame terrainFrameOf(const archive::ArchiveReader& reader, FrameChoice ch
         return plane;
     GeodeticGrid grid;
     if (choice == FrameChoice::Auto) {
-        // The globe when the raster goes round it; anything else keeps the plane it was
-        // always drawn on.
+        // The globe when the raster goes round it, decided before PROJ's database is opened
+        // (tens of MB); anything else keeps the plane it was always drawn on.
+        if (wrapColumnsOf(reader) == 0)
+            return plane;
         try {
-            grid = geographicGrid(reader, what, true);
+            grid = geographicGrid(reader, what);
         } catch (const Error&) {
             return plane;
         }
-        if (grid.wrap_columns == 0)
-            return plane;
     } else {
-        grid = geographicGrid(reader, what, false);
+        grid = geographicGrid(reader, what);
     }
     return TerrainFrame::ellipsoid(reader.geometry(), h.spacing_x, h.spacing_y, grid);
 }

@@ -71,12 +71,10 @@ PatchInstances buildPatchInstances(const lod::PatchQuadtree& tree, const lod::Se
         [&](PatchId p) {
             // On a globe two neighbours' borders drawn at different spacings part by up to
             // the sag of the longer straight edge (at most the patch's side); 0 on a plane.
-            // Capped at half the polar radius: a skirt must not reach through to the far side.
+            // (The depth this sums to is capped below.)
             const lod::TerrainFrame& f = tree.frame();
-            const double sag = f.onEllipsoid()
-                                   ? std::min(f.edgeSag(double(g.step(p.level)) * g.cells()),
-                                              0.5 * f.geodetic().ellipsoid.b())
-                                   : 0.0;
+            const double sag =
+                f.onEllipsoid() ? f.edgeSag(double(g.step(p.level)) * g.cells()) : 0.0;
             return k * (double(tree.bounds(p).err) + lambda_max(p)) + sag;
         },
         skirt_margin);
@@ -95,8 +93,8 @@ PatchInstances buildPatchInstances(const lod::PatchQuadtree& tree, const lod::Se
         r.level = p.level;
         // Rounded up: the shaders' Λ must not understate the exaggerated Err(P).
         r.err = k == 1.0 ? b.err : std::nextafter(float(k * double(b.err)), INFINITY);
-        // On a globe the sum of two sags may pass half the polar radius; a foot that deep
-        // would reach the polar axis, where the normal's foot crosses to the far meridian and
+        // On a globe the depth is capped at half the polar radius: a foot deeper would reach
+        // the polar axis, where the normal's foot crosses to the far meridian and
         // the clip shader's meridian cuts lose their meaning. A gap between neighbours is
         // never that large (the sag of a 90° chord is 1,870 km).
         r.skirt_depth = float(tree.frame().onEllipsoid()
