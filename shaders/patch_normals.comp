@@ -16,6 +16,36 @@ uniform vec2 u_cell_metres;   // metres per cell along i (east) and j (south)
 uniform float u_height_scale; // metres per code
 uniform vec2 u_latitude;      // globe: latitude of row 0 and per row, radians; (0, 0) on a plane
 uniform ivec4 u_neighbour_layers; // west, east, north, south; −1 when not resident
+// A projected grid on the globe (u_projected 1): normals in east, north, up, from the grid's
+// tangents ∂S/∂c, ∂S/∂r at each sample, evaluated on the lattice (absolute: float S is good
+// to ~0.5 m, its tangents to a few 1e-4 rad) and taken in the local east and north there
+// (the meridian convergence, which turns through a whole circle round a pole in the grid).
+uniform int u_projected;
+uniform ivec2 u_patch_origin;  // finest column, row of the patch's sample (0, 0)
+uniform int u_patch_step;      // finest samples per cell
+uniform ivec2 u_lattice_first; // finest column, row of lattice node (0, 0)
+uniform int u_lattice_step;    // finest samples between nodes h
+uniform ivec2 u_lattice_nodes; // nodes along c and r
+uniform float u_polar_ratio;   // 1 / (1 − e²)
+layout(binding = 10) uniform sampler2DArray u_lattice; // S, h·S_c, h·S_r, h²·S_cr
+
+#include "projected_lattice.glsl"
+
+// East and north metres of one finest column (xy) and one row (zw) at finest sample `cr`.
+vec4 gridAxes(ivec2 cr) {
+    vec2 t;
+    ivec2 node = latticeCell(cr - u_lattice_first, u_lattice_step, ivec2(0), u_lattice_nodes, t);
+    vec4 wu = hermiteWeights(t.x), wv = hermiteWeights(t.y);
+    vec3 s = latticeSum(u_lattice, node, wu, wv);
+    float node_step = float(u_lattice_step);
+    vec3 s_c = latticeSum(u_lattice, node, hermiteSlopes(t.x), wv) / node_step;
+    vec3 s_r = latticeSum(u_lattice, node, wu, hermiteSlopes(t.y)) / node_step;
+    vec3 up = normalize(vec3(s.xy, s.z * u_polar_ratio));
+    vec3 east = vec3(-up.y, up.x, 0.0); // z × up
+    east = dot(east, east) > 1e-20 ? normalize(east) : vec3(1.0, 0.0, 0.0); // at a pole
+    vec3 north = cross(up, east);
+    return vec4(dot(s_c, east), dot(s_c, north), dot(s_r, east), dot(s_r, north));
+}
 
 float code(ivec2 ij, int layer) { return float(texelFetch(u_heights, ivec3(ij, layer), 0).r); }
 
@@ -44,6 +74,17 @@ void main() {
     ivec2 ij = ivec2(gl_GlobalInvocationID.xy);
     if (ij.x >= u_size || ij.y >= u_size)
         return;
+    if (u_projected != 0) {
+        // Tangents along i and j in east, north, up; their cross product points down (j runs
+        // against north on a north-up grid), hence the flip to the upper side.
+        vec4 axes = gridAxes(u_patch_origin + ij * u_patch_step);
+        float step = float(u_patch_step);
+        vec3 ti = vec3(axes.xy * step, 0.5 * (h(ij + ivec2(1, 0)) - h(ij - ivec2(1, 0))));
+        vec3 tj = vec3(axes.zw * step, 0.5 * (h(ij + ivec2(0, 1)) - h(ij - ivec2(0, 1))));
+        vec3 n = normalize(cross(ti, tj));
+        imageStore(u_normal_image, ivec3(ij, u_layer), vec4(n.z < 0.0 ? -n : n, 0.0));
+        return;
+    }
     // On the globe a cell along a parallel is cos φ of the equator's (a floor keeps the pole
     // rows, where it vanishes, finite: their slope along i is meaningless anyway).
     float cell_i = u_cell_metres.x;

@@ -40,7 +40,7 @@ uniform vec4 u_frustum[6];      // camera-relative planes (n, d), n·p + d >= 0 
 // The globe (u_surface 1): lod::ellipsoidOffset's algebra from the camera's own geodetic
 // position (λa, φa, h_ref), formed in double on the CPU (FrameUniforms): offsets are the
 // integer sample offset from the anchor sample less the camera's fraction of a sample.
-uniform int u_surface;           // lod::Surface: 0 plane, 1 ellipsoid
+uniform int u_surface;           // 0 plane, 1 geographic grid on the ellipsoid, 2 projected grid
 uniform vec4 u_anchor_trig;      // cos φa, sin φa, cos λa, sin λa of the camera
 uniform vec2 u_angle_step;       // radians per finest column (Δλ) and row (Δφ)
 uniform vec2 u_anchor_fraction;  // the camera's column, row less the anchor sample's, in [−½, ½]
@@ -52,6 +52,24 @@ uniform ivec2 u_pole_rows;       // rows on the north and the south pole, −1 w
 uniform vec3 u_camera_world;     // the camera in ECEF, metres (directions only: ~0.5 m)
 uniform float u_polar_ratio;     // 1 / (1 − e²)
 uniform float u_bulge_per_rad2;  // (a²/b)/8 (+1%): a chord's sagitta per radian² (chordSag)
+
+// A projected grid on the globe (u_surface 2): S(c, r), the ellipsoid point under a sample,
+// is a bicubic Hermite surface over a lattice of nodes (lod/projected_grid.h), sent relative
+// to lattice node L near the camera (ProjectedLattice): per node the residual
+// S − S_L − J·(node − L) and its derivatives, J = ∂S/∂(c, r) at L. Near the camera both J·d
+// and the residual are small, so floats keep their relative precision there.
+uniform int u_lattice_step;      // samples between nodes h (a power of two)
+uniform ivec2 u_lattice_nodes;   // nodes along c and r
+uniform ivec2 u_lattice_node;    // node L's index
+uniform ivec2 u_lattice_delta;   // the anchor sample less node L's sample
+uniform vec3 u_lattice_s_c;      // J: ∂S/∂c and ∂S/∂r at L, metres per sample
+uniform vec3 u_lattice_s_r;
+uniform vec3 u_lattice_base;     // S_L + h_ref·n_L − camera, formed in double
+uniform vec3 u_lattice_normal;   // n_L, the ellipsoid's normal at S_L
+uniform float u_lattice_m_norm;  // |M·S_L|, M = diag(1, 1, 1/(1 − e²)) (n ∝ M·S)
+uniform float u_reference_height; // h_ref: heights reach the GPU relative to it
+layout(binding = 9) uniform sampler2DArray u_lattice; // RGBA32F, layers: R, h·R_c, h·R_r, h²·R_cr
+#include "projected_lattice.glsl"
 
 layout(binding = 0) uniform usampler2DArray u_heights;     // codes, one layer per patch
 layout(binding = 1) uniform sampler2DArray u_normals;      // unit normals, xyz
@@ -68,6 +86,30 @@ int wrapColumnOffset(int dx) {
     return m - q * w - half_w;
 }
 
+// S(anchor + delta) − S_L on a projected grid: J·d plus the lattice's residual surface.
+vec3 projectedSurfaceOffset(ivec2 delta) {
+    ivec2 d = delta + u_lattice_delta; // samples from node L
+    vec2 t;
+    ivec2 node = latticeCell(d, u_lattice_step, u_lattice_node, u_lattice_nodes, t);
+    precise vec3 r = latticeSum(u_lattice, node, hermiteWeights(t.x), hermiteWeights(t.y));
+    precise vec3 ds = u_lattice_s_c * float(d.x) + u_lattice_s_r * float(d.y) + r;
+    return ds;
+}
+
+// framePoint on a projected grid: S + (h_ref + dh)·n(S) − camera, every term small near the
+// camera. n = M·S / |M·S|; its change from n_L is formed from M·ΔS alone (1/√(1 + q) − 1
+// written without cancellation), so h_ref·(n − n_L) keeps its precision too.
+vec3 projectedFramePoint(ivec2 delta, float dh, out vec3 up) {
+    precise vec3 ds = projectedSurfaceOffset(delta);
+    precise vec3 dm = vec3(ds.xy, ds.z * u_polar_ratio) / u_lattice_m_norm;
+    precise float q = 2.0 * dot(u_lattice_normal, dm) + dot(dm, dm);
+    precise float s = sqrt(1.0 + q);
+    precise vec3 dn = (dm - u_lattice_normal * (q / (1.0 + s))) / s;
+    up = u_lattice_normal + dn;
+    precise vec3 p = u_lattice_base + ds + u_reference_height * dn + dh * up;
+    return p;
+}
+
 // The point at finest-grid offset `delta` from the anchor sample and `dh` metres above the
 // reference height, relative to the camera, and the local up there. On the ellipsoid every
 // term of the difference to the camera scales with the offsets (lod/ellipsoid.cpp,
@@ -79,6 +121,8 @@ vec3 framePoint(ivec2 delta, float dh, out vec3 up) {
         precise vec2 xy = vec2(delta) * u_spacing + u_anchor_offset;
         return vec3(xy, dh);
     }
+    if (u_surface == 2)
+        return projectedFramePoint(delta, dh, up);
     delta.x = wrapColumnOffset(delta.x);
     precise float dl = (float(delta.x) - u_anchor_fraction.x) * u_angle_step.x;
     precise float dp = (float(delta.y) - u_anchor_fraction.y) * u_angle_step.y;

@@ -176,8 +176,9 @@ inline void addFrameOption(CLI::App& command, std::string& frame)
     command
         .add_option("--frame", frame,
                     "Terrain frame: plane (the raster's own metric plane), ellipsoid (WGS 84: "
-                    "a georeferenced lon/lat raster on the globe) or auto (the ellipsoid for a "
-                    "raster that goes round the Earth, else the plane)")
+                    "a georeferenced raster, lon/lat or projected, on the globe in its place) or "
+                    "auto (the ellipsoid for a raster that goes round the Earth, else the "
+                    "plane)")
         ->capture_default_str()
         ->check(CLI::Validator(
             [](std::string& text) -> std::string {

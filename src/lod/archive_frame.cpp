@@ -6,6 +6,7 @@
 #include "ridge/io/geographic.h"
 
 #include <cmath>
+#include <memory>
 #include <numbers>
 
 namespace ridge::lod {
@@ -26,9 +27,6 @@ GeodeticGrid geographicGrid(const archive::ArchiveReader& reader, const std::str
     if (!geo.geotransform || geo.crs_wkt.empty())
         throw Error(prefix + "it has no " + (geo.geotransform ? "CRS" : "geotransform") +
                     " (build it from a georeferenced raster)");
-    if (!geo.geographic)
-        throw Error(prefix + "its CRS is projected; only geographic (longitude/latitude) "
-                             "rasters are placed on the globe so far");
     const std::array<double, 6>& gt = *geo.geotransform;
     if (gt[2] != 0.0 || gt[4] != 0.0)
         throw Error(prefix + "its grid is rotated (geotransform terms 2 and 4 not 0)");
@@ -79,6 +77,49 @@ GeodeticGrid geographicGrid(const archive::ArchiveReader& reader, const std::str
         grid.dlon = 2.0 * std::numbers::pi / double(wrap); // exactly a whole turn
     }
     return grid;
+}
+
+// The globe frame of a projected archive: PROJ's map from its grid to WGS 84 longitude and
+// latitude, sampled into a lattice the frame and the shaders interpolate (lod/projected_grid.h).
+TerrainFrame projectedFrame(const archive::ArchiveReader& reader, const std::string& what)
+{
+    const archive::GeoreferenceMetadata& geo = reader.metadata().georeference;
+    const std::string prefix = what + ": cannot lie on the ellipsoid: ";
+    if (!geo.geotransform || geo.crs_wkt.empty())
+        throw Error(prefix + "it has no " + (geo.geotransform ? "CRS" : "geotransform") +
+                    " (build it from a georeferenced raster)");
+    const std::array<double, 6> gt = *geo.geotransform;
+    std::optional<io::GeographicTransform> transform;
+    try {
+        transform.emplace(geo.crs_wkt, what);
+    } catch (const Error& e) {
+        throw Error(prefix + e.what());
+    }
+    // Sample centres (pixel-is-area: pixel/line + ½), through the full affine geotransform.
+    auto toGeodetic = [&](double c, double r) -> std::optional<std::array<double, 2>> {
+        const double x = gt[0] + (c + 0.5) * gt[1] + (r + 0.5) * gt[2];
+        const double y = gt[3] + (c + 0.5) * gt[4] + (r + 0.5) * gt[5];
+        try {
+            const std::array<double, 2> lonlat = transform->toLonLat(x, y);
+            return std::array<double, 2>{lonlat[0] * kDegree, lonlat[1] * kDegree};
+        } catch (const Error&) {
+            return std::nullopt;
+        }
+    };
+    const PyramidGeometry& g = reader.geometry();
+    LatticeRequest request;
+    request.columns_end = request.rows_end = double(g.cells()) * double(g.step(0));
+    request.last_column = g.width() - 1;
+    request.last_row = g.height() - 1;
+    std::shared_ptr<const ProjectedGrid> grid;
+    try {
+        grid = std::make_shared<const ProjectedGrid>(
+            ProjectedGrid::build(Ellipsoid::wgs84(), request, toGeodetic));
+    } catch (const Error& e) {
+        throw Error(prefix + transform->crsName() + ": " + e.what());
+    }
+    const archive::Header& h = reader.header();
+    return TerrainFrame::projected(g, h.spacing_x, h.spacing_y, std::move(grid));
 }
 
 } // namespace
@@ -142,6 +183,9 @@ TerrainFrame terrainFrameOf(const archive::ArchiveReader& reader, FrameChoice ch
         } catch (const Error&) {
             return plane;
         }
+    } else if (const archive::GeoreferenceMetadata& geo = reader.metadata().georeference;
+               geo.geotransform && !geo.crs_wkt.empty() && !geo.geographic) {
+        return projectedFrame(reader, what);
     } else {
         grid = geographicGrid(reader, what);
     }

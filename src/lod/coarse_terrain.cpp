@@ -193,10 +193,9 @@ Camera CoarseTerrain::defaultCamera(Viewport viewport, double fov_y_degrees) con
     const PyramidGeometry& g = frame_.geometry();
     const double centre_column = 0.5 * (g.width() - 1), centre_row = 0.5 * (g.height() - 1);
     const EnuBasis local = frame_.basisAt(centre_column, centre_row);
-    const bool from_above =
-        frame_.onEllipsoid() &&
-        std::max((g.width() - 1) * frame_.geodetic().dlon,
-                 (g.height() - 1) * std::abs(frame_.geodetic().dlat)) > std::numbers::pi / 3;
+    const bool from_above = frame_.onEllipsoid() &&
+                            std::max((g.width() - 1) * frame_.columnAngle(),
+                                     (g.height() - 1) * frame_.rowAngle()) > std::numbers::pi / 3;
     const double azimuth = 200.0 * std::numbers::pi / 180.0;
     const double elevation = from_above ? std::numbers::pi / 2 : 35.0 * std::numbers::pi / 180.0;
     const glm::dvec3 forward =

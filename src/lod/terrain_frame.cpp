@@ -58,6 +58,34 @@ TerrainFrame TerrainFrame::ellipsoid(const PyramidGeometry& geometry, double spa
     return f;
 }
 
+TerrainFrame TerrainFrame::projected(const PyramidGeometry& geometry, double spacing_x,
+                                     double spacing_y, std::shared_ptr<const ProjectedGrid> grid)
+{
+    TerrainFrame f(geometry, spacing_x, spacing_y);
+    f.surface_ = Surface::Ellipsoid;
+    f.grid_.ellipsoid = grid->ellipsoid();
+    f.projected_ = std::move(grid);
+    return f;
+}
+
+double TerrainFrame::columnAngle() const
+{
+    if (!projected_)
+        return grid_.dlon;
+    // Ground metres over the smallest radius of curvature (b²/a) bound the angle the surface
+    // turns through; the sagitta formulas then stay bounds (lod/ellipsoid.h).
+    const Ellipsoid& e = grid_.ellipsoid;
+    return projected_->columnMetresBound() * e.a / (e.b() * e.b());
+}
+
+double TerrainFrame::rowAngle() const
+{
+    if (!projected_)
+        return std::abs(grid_.dlat);
+    const Ellipsoid& e = grid_.ellipsoid;
+    return projected_->rowMetresBound() * e.a / (e.b() * e.b());
+}
+
 double TerrainFrame::latitudeOf(double row) const
 {
     return std::clamp(grid_.lat0 + row * grid_.dlat, -kPi / 2, kPi / 2);
@@ -65,6 +93,8 @@ double TerrainFrame::latitudeOf(double row) const
 
 bool TerrainFrame::poleRow(double row) const
 {
+    if (!onEllipsoid() || projected_)
+        return false;
     return std::abs(grid_.lat0 + row * grid_.dlat) >= kPi / 2 - 1e-6 * std::abs(grid_.dlat);
 }
 
@@ -72,6 +102,10 @@ glm::dvec3 TerrainFrame::worldOf(double column, double row, double height) const
 {
     if (!onEllipsoid())
         return {xOf(column), yOf(row), height};
+    if (projected_) {
+        const glm::dvec3 s = projected_->surfaceAt(column, row);
+        return s + height * projected_->normalThrough(s);
+    }
     const double lat =
         poleRow(row) ? std::copysign(kPi / 2, grid_.lat0 + row * grid_.dlat) : latitudeOf(row);
     return geodeticToEcef(grid_.ellipsoid, longitudeOf(column), lat, height);
@@ -86,6 +120,14 @@ EnuBasis TerrainFrame::basisAt(double column, double row) const
 {
     if (!onEllipsoid())
         return {};
+    if (projected_) {
+        EnuBasis b;
+        b.up = projected_->normalThrough(projected_->surfaceAt(column, row));
+        const glm::dvec3 east = glm::cross(glm::dvec3(0.0, 0.0, 1.0), b.up);
+        b.east = glm::dot(east, east) > 1e-24 ? glm::normalize(east) : glm::dvec3(1.0, 0.0, 0.0);
+        b.north = glm::cross(b.up, b.east);
+        return b;
+    }
     const double lat =
         poleRow(row) ? std::copysign(kPi / 2, grid_.lat0 + row * grid_.dlat) : latitudeOf(row);
     return enuBasis(longitudeOf(column), lat);
@@ -96,6 +138,10 @@ glm::dvec3 TerrainFrame::gridOf(glm::dvec3 world) const
     if (!onEllipsoid())
         return {columnOf(world.x), rowOf(world.y), world.z};
     const Geodetic g = ecefToGeodetic(grid_.ellipsoid, world);
+    if (projected_) {
+        const glm::dvec2 q = projected_->gridOf(world);
+        return {q.x, q.y, g.height};
+    }
     double column = (g.longitude - grid_.lon0) / grid_.dlon;
     const double period = 2.0 * kPi / grid_.dlon;
     if (grid_.wrap_columns > 0) {
@@ -125,7 +171,7 @@ double TerrainFrame::chordSag(double samples) const
     if (!onEllipsoid())
         return 0.0;
     return 1.01 * grid_.ellipsoid.maxCurvatureRadius() *
-           (sagPerRadius(samples * grid_.dlon) + sagPerRadius(samples * std::abs(grid_.dlat)));
+           (sagPerRadius(samples * columnAngle()) + sagPerRadius(samples * rowAngle()));
 }
 
 double TerrainFrame::edgeSag(double samples) const
@@ -133,7 +179,7 @@ double TerrainFrame::edgeSag(double samples) const
     if (!onEllipsoid())
         return 0.0;
     return 1.01 * grid_.ellipsoid.maxCurvatureRadius() *
-           sagPerRadius(samples * std::max(grid_.dlon, std::abs(grid_.dlat)));
+           sagPerRadius(samples * std::max(columnAngle(), rowAngle()));
 }
 
 glm::dvec3 TerrainFrame::upThrough(glm::dvec3 world) const
@@ -169,7 +215,7 @@ Box TerrainFrame::ellipsoidPatchBox(PatchId p, double min_z, double max_z) const
     // The surface at height 0: the hull of a grid of its points, plus the sagitta of the
     // ellipsoid between them — for a bilinear patch of points on it, at most
     // (Δλ² + Δφ²)/8 times its largest radius of curvature (the cross term is bilinear).
-    const double lon_span = (c1 - c0) * grid_.dlon, lat_span = (r1 - r0) * std::abs(grid_.dlat);
+    const double lon_span = (c1 - c0) * columnAngle(), lat_span = (r1 - r0) * rowAngle();
     const int nu = std::max(2, int(std::ceil(lon_span / kMaxBoundStep)));
     const int nv = std::max(2, int(std::ceil(lat_span / kMaxBoundStep)));
     glm::dvec3 lo(INFINITY), hi(-INFINITY);

@@ -25,6 +25,8 @@ FrameUniforms::FrameUniforms(const archive::ArchiveReader& reader,
     const lod::PatchBounds& root = quadtree.bounds(PatchId{0, 0, 0});
     min_height_ = root.min_height;
     max_height_ = root.max_height;
+    if (const lod::ProjectedGrid* grid = quadtree.frame().projectedGrid())
+        lattice_ = std::make_unique<ProjectedLattice>(*grid);
 }
 
 void FrameUniforms::setGeometry(const gpu::ShaderProgram& program, const lod::Camera& camera,
@@ -54,34 +56,43 @@ void FrameUniforms::setSurface(const gpu::ShaderProgram& program, const CameraAn
 {
     const GLuint id = program.id();
     const lod::TerrainFrame& frame = quadtree_.frame();
-    glProgramUniform1i(id, program.uniform("u_surface"), frame.onEllipsoid() ? 1 : 0);
+    glProgramUniform1i(id, program.uniform("u_surface"),
+                       !frame.onEllipsoid()    ? 0
+                       : frame.projectedGrid() ? 2
+                                               : 1);
     if (!frame.onEllipsoid())
         return;
     // Everything of Earth scale is formed here in double; the GPU adds offsets to it.
     const lod::GeodeticGrid& g = frame.geodetic();
-    const double lat = anchor.latitude, lon = anchor.longitude;
     const double e2 = g.ellipsoid.e2();
-    const double w = 1.0 - e2 * std::sin(lat) * std::sin(lat);
-    const double n = g.ellipsoid.a / std::sqrt(w);
-    glProgramUniform4f(id, program.uniform("u_anchor_trig"), float(std::cos(lat)),
-                       float(std::sin(lat)), float(std::cos(lon)), float(std::sin(lon)));
-    glProgramUniform2f(id, program.uniform("u_angle_step"), float(g.dlon), float(g.dlat));
-    glProgramUniform2f(id, program.uniform("u_anchor_fraction"), float(anchor.column_fraction),
-                       float(anchor.row_fraction));
-    glProgramUniform4f(id, program.uniform("u_anchor_radii"), float(n + anchor.height),
-                       float(n * (1.0 - e2) + anchor.height), float(std::sqrt(w)), float(e2));
-    glProgramUniform1f(id, program.uniform("u_semi_major"), float(g.ellipsoid.a));
-    glProgramUniform1i(id, program.uniform("u_wrap_columns"), int(g.wrap_columns));
-    glProgramUniform2i(id, program.uniform("u_anchor_sample"), int(anchor.column), int(anchor.row));
-    const int last = frame.geometry().height() - 1;
-    glProgramUniform2i(id, program.uniform("u_pole_rows"),
-                       frame.poleRow(0.0) ? (g.dlat < 0 ? 0 : last) : -1,
-                       frame.poleRow(double(last)) ? (g.dlat < 0 ? last : 0) : -1);
     const glm::dvec3 c = anchor.camera;
     glProgramUniform3f(id, program.uniform("u_camera_world"), float(c.x), float(c.y), float(c.z));
     glProgramUniform1f(id, program.uniform("u_polar_ratio"), float(1.0 / (1.0 - e2)));
     glProgramUniform1f(id, program.uniform("u_bulge_per_rad2"),
                        float(1.01 * g.ellipsoid.maxCurvatureRadius() / 8.0));
+    glProgramUniform2f(id, program.uniform("u_angle_step"), float(frame.columnAngle()),
+                       float(frame.projectedGrid() ? frame.rowAngle() : g.dlat));
+    glProgramUniform2i(id, program.uniform("u_pole_rows"), -1, -1);
+    glProgramUniform1i(id, program.uniform("u_wrap_columns"), int(g.wrap_columns));
+    glProgramUniform2i(id, program.uniform("u_anchor_sample"), int(anchor.column), int(anchor.row));
+    if (lattice_) {
+        lattice_->set(program, anchor);
+        return;
+    }
+    const double lat = anchor.latitude, lon = anchor.longitude;
+    const double w = 1.0 - e2 * std::sin(lat) * std::sin(lat);
+    const double n = g.ellipsoid.a / std::sqrt(w);
+    glProgramUniform4f(id, program.uniform("u_anchor_trig"), float(std::cos(lat)),
+                       float(std::sin(lat)), float(std::cos(lon)), float(std::sin(lon)));
+    glProgramUniform2f(id, program.uniform("u_anchor_fraction"), float(anchor.column_fraction),
+                       float(anchor.row_fraction));
+    glProgramUniform4f(id, program.uniform("u_anchor_radii"), float(n + anchor.height),
+                       float(n * (1.0 - e2) + anchor.height), float(std::sqrt(w)), float(e2));
+    glProgramUniform1f(id, program.uniform("u_semi_major"), float(g.ellipsoid.a));
+    const int last = frame.geometry().height() - 1;
+    glProgramUniform2i(id, program.uniform("u_pole_rows"),
+                       frame.poleRow(0.0) ? (g.dlat < 0 ? 0 : last) : -1,
+                       frame.poleRow(double(last)) ? (g.dlat < 0 ? last : 0) : -1);
 }
 
 void FrameUniforms::setShading(const gpu::ShaderProgram& program, const lod::Camera& camera,

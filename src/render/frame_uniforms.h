@@ -6,6 +6,7 @@
 // scheme's (TerrainScheme::setUniforms: the tessellation scheme's LOD camera, ε, block
 // culling).
 #include "patch_instances.h"
+#include "projected_lattice.h"
 
 #include "ridge/archive/archive_reader.h"
 #include "ridge/gpu/shader_program.h"
@@ -15,6 +16,8 @@
 
 #include <glm/mat4x4.hpp>
 
+#include <memory>
+
 namespace ridge::render {
 
 // Sets the mat4 uniform `name` of `program` to `m`, in floats.
@@ -22,7 +25,8 @@ void setMatrix(const gpu::ShaderProgram& program, const char* name, const glm::d
 
 class FrameUniforms {
   public:
-    // `reader` and `quadtree` must outlive this.
+    // `reader` and `quadtree` must outlive this. Needs a current GL context when the quadtree's
+    // frame is a projected grid (its lattice texture).
     FrameUniforms(const archive::ArchiveReader& reader, const lod::PatchQuadtree& quadtree);
 
     // terrain_common.glsl's uniforms of `program` for a frame drawn from `camera` with
@@ -41,6 +45,9 @@ class FrameUniforms {
     const archive::ArchiveReader& reader_;
     const lod::PatchQuadtree& quadtree_;
     float min_height_ = 0.f, max_height_ = 0.f; // terrain frame, metres
+    // A projected grid's lattice relative to the node nearest the camera: a cache the frame's
+    // anchor refreshes (its texture changes only when the camera reaches another node).
+    std::unique_ptr<ProjectedLattice> lattice_;
 };
 
 } // namespace ridge::render

@@ -26,8 +26,10 @@ CameraAnchor cameraAnchor(const lod::TerrainFrame& frame, glm::dvec3 camera_posi
         a.row = int64_t(std::llround(g.y));
         a.column_fraction = g.x - double(a.column);
         a.row_fraction = g.y - double(a.row);
-        a.longitude = frame.longitudeOf(g.x);
-        a.latitude = frame.geodetic().lat0 + g.y * frame.geodetic().dlat;
+        if (!frame.projectedGrid()) {
+            a.longitude = frame.longitudeOf(g.x);
+            a.latitude = frame.geodetic().lat0 + g.y * frame.geodetic().dlat;
+        }
         a.height = g.z;
         return a;
     }

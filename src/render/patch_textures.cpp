@@ -1,5 +1,7 @@
 #include "patch_textures.h"
 
+#include "projected_lattice.h"
+
 #include "ridge/core/error.h"
 
 #include <algorithm>
@@ -148,14 +150,45 @@ void PatchTextures::computeNormals(int slot, const std::array<int, 4>& neighbour
                                    double latitude_step)
 {
     normal_program_.use();
+    glUniform1i(normal_program_.uniform("u_projected"), 0);
+    glUniform2f(normal_program_.uniform("u_cell_metres"), float(cell_metres_i),
+                float(cell_metres_j));
+    glUniform2f(normal_program_.uniform("u_latitude"), float(latitude0), float(latitude_step));
+    dispatchNormals(slot, neighbours);
+}
+
+void PatchTextures::setGridAxes(const lod::ProjectedGrid& grid)
+{
+    grid_ = &grid;
+    lattice_ = absoluteLatticeTexture(grid);
+}
+
+void PatchTextures::computeNormalsOnGrid(int slot, const std::array<int, 4>& neighbours,
+                                         int64_t column0, int64_t row0, int64_t step)
+{
+    if (!grid_)
+        throw Error("internal error: computeNormalsOnGrid without setGridAxes");
+    normal_program_.use();
+    glUniform1i(normal_program_.uniform("u_projected"), 1);
+    glUniform2i(normal_program_.uniform("u_patch_origin"), int(column0), int(row0));
+    glUniform1i(normal_program_.uniform("u_patch_step"), int(step));
+    glUniform2i(normal_program_.uniform("u_lattice_first"), grid_->firstColumn(),
+                grid_->firstRow());
+    glUniform1i(normal_program_.uniform("u_lattice_step"), grid_->step());
+    glUniform2i(normal_program_.uniform("u_lattice_nodes"), grid_->nodesX(), grid_->nodesY());
+    glUniform1f(normal_program_.uniform("u_polar_ratio"),
+                float(1.0 / (1.0 - grid_->ellipsoid().e2())));
+    glBindTextureUnit(kLatticeNormalsTextureUnit, lattice_->id());
+    dispatchNormals(slot, neighbours);
+}
+
+void PatchTextures::dispatchNormals(int slot, const std::array<int, 4>& neighbours)
+{
     glBindTextureUnit(0, heights_.id());
     glBindImageTexture(0, normals_.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8_SNORM);
     glUniform1i(normal_program_.uniform("u_layer"), slot);
     glUniform1i(normal_program_.uniform("u_size"), n_);
-    glUniform2f(normal_program_.uniform("u_cell_metres"), float(cell_metres_i),
-                float(cell_metres_j));
     glUniform1f(normal_program_.uniform("u_height_scale"), float(quantization_.scale));
-    glUniform2f(normal_program_.uniform("u_latitude"), float(latitude0), float(latitude_step));
     glUniform4i(normal_program_.uniform("u_neighbour_layers"), neighbours[0], neighbours[1],
                 neighbours[2], neighbours[3]);
     glDispatchCompute(GLuint(n_ + 7) / 8, GLuint(n_ + 7) / 8, 1);

@@ -13,6 +13,7 @@
 #include "ridge/core/height_grid.h"
 #include "ridge/gpu/gl_objects.h"
 #include "ridge/gpu/shader_program.h"
+#include "ridge/lod/projected_grid.h"
 #include "ridge/pyramid/tessellation_block_errors.h"
 #include "ridge/stream/patch_loader.h"
 
@@ -20,6 +21,7 @@
 
 #include <array>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -74,6 +76,14 @@ class PatchTextures {
     // The heights it reads must be written (uploads of the batch done).
     void computeNormals(int slot, const std::array<int, 4>& neighbour_slots, double cell_metres_i,
                         double cell_metres_j, double latitude0 = 0.0, double latitude_step = 0.0);
+    // A projected grid on the globe: its lattice (absoluteLatticeTexture), whose tangents
+    // computeNormalsOnGrid turns normals by. `grid` must outlive this.
+    void setGridAxes(const lod::ProjectedGrid& grid);
+    // The normal map of the patch in `slot` on a projected grid (setGridAxes first), in east,
+    // north, up: finest sample (column0, row0) is its sample (0, 0), `step` finest samples
+    // per cell. Neighbours as computeNormals.
+    void computeNormalsOnGrid(int slot, const std::array<int, 4>& neighbour_slots, int64_t column0,
+                              int64_t row0, int64_t step);
     // What upload() or decodeOnGpu() sends for `patch`, bytes: the per-frame budget plans
     // with it and FrameStats counts it.
     size_t uploadBytes(const stream::DecodedPatch& patch) const;
@@ -104,6 +114,9 @@ class PatchTextures {
     void uploadMasks(const stream::DecodedPatch& patch, int slot);
     // λ of the codes in `slot` on the GPU (block_errors.comp), read back at collect().
     void deriveBlockErrors(int slot, float lambda_cap);
+    // Binds the normal program's inputs common to every frame and dispatches it for `slot`
+    // (its own uniforms set).
+    void dispatchNormals(int slot, const std::array<int, 4>& neighbours);
 
     int n_;
     TessellationBlockLayout layout_;
@@ -122,6 +135,8 @@ class PatchTextures {
     bool water_maps_allocated_ = false;
     gpu::GlBuffer lambda_max_bits_; // per slot, written by block_errors.comp
     gpu::ShaderProgram normal_program_;
+    const lod::ProjectedGrid* grid_ = nullptr; // setGridAxes
+    std::optional<gpu::GlTexture> lattice_;    // absoluteLatticeTexture
     gpu::ShaderProgram block_error_program_;
     std::unique_ptr<GpuPatchDecoder> decoder_;
     // λ maxima derived on the GPU, waiting for their fence.

@@ -45,6 +45,8 @@ ResidentSet::ResidentSet(const archive::ArchiveReader& reader, const lod::PatchQ
     textures_ = std::make_unique<PatchTextures>(
         reader.geometry().patchSize(), layout, std::min(layout.levels(), lod::kMaxBlockLevels),
         slots, reader.quantization(), gpu_codec, PatchTextures::waterMaps(reader));
+    if (const lod::ProjectedGrid* grid = quadtree.frame().projectedGrid())
+        textures_->setGridAxes(*grid);
     if (options.streaming) {
         stream::StreamerOptions so = stream::StreamerOptions::forRamBudget(
             size_t(options.ram_budget_mb * 1024.0 * 1024.0), options.io_threads);
@@ -193,6 +195,12 @@ void ResidentSet::computeNormals(PatchId p, const std::unordered_set<int>& pendi
         }
         const double step = double(g.step(q.level));
         const lod::TerrainFrame& frame = quadtree_.frame();
+        if (frame.projectedGrid()) {
+            const int64_t span = int64_t(g.cells()) * int64_t(step);
+            textures_->computeNormalsOnGrid(residency_.slotOf(q), neighbours, q.x * span,
+                                            q.y * span, int64_t(step));
+            return;
+        }
         if (frame.onEllipsoid()) {
             // Metres per cell on the ellipsoid: along a parallel they shrink with cos φ.
             const lod::GeodeticGrid& geo = frame.geodetic();

@@ -217,15 +217,25 @@ TEST(RenderCli, TheGlobeRendersOnTheEllipsoidAndRefusesWhatCannotLieOnIt)
     const test::CommandResult bad = render("--frame globe");
     EXPECT_EQ(bad.exit_code, 2) << bad.output;
     EXPECT_NE(bad.output.find("--frame"), std::string::npos) << bad.output;
-    // A projected archive cannot lie on the ellipsoid yet: said with its name.
+    // A projected archive lies on the ellipsoid in its place: a camera given in WGS 84 is
+    // reported in ECEF where geodetic → ECEF puts it, looking at the summit.
     const std::string utm = dir.path("utm.ridge");
     ASSERT_EQ(test::runRidge("build " + quoted(test::dataPath("everest_utm45.tif")) + " -o " +
                              quoted(utm) + " -q")
                   .exit_code,
               0);
     const test::CommandResult projected = test::runRidge(
-        "render " + quoted(utm) + " -o " + quoted(dir.path("u.png")) + " --frame ellipsoid");
-    EXPECT_EQ(projected.exit_code, 1) << projected.output;
-    EXPECT_NE(projected.output.find("utm.ridge"), std::string::npos) << projected.output;
-    EXPECT_NE(projected.output.find("projected"), std::string::npos) << projected.output;
+        "render " + quoted(utm) + " -o " + quoted(dir.path("u.png")) +
+        " --frame ellipsoid --camera-lonlat 86.85,27.85,12000 --look-at-lonlat 86.925,27.988 "
+        "--size 96x64 --json");
+    ASSERT_EQ(projected.exit_code, 0) << projected.output;
+    const nlohmann::json pj = nlohmann::json::parse(projected.output);
+    EXPECT_EQ(pj["frame"], "ellipsoid");
+    const double a = 6378137.0, e2 = 0.00669437999014, lon = 86.85 * M_PI / 180.0,
+                 lat = 27.85 * M_PI / 180.0;
+    const double n = a / std::sqrt(1.0 - e2 * std::sin(lat) * std::sin(lat));
+    EXPECT_NEAR(double(pj["camera"][0]), (n + 12000.0) * std::cos(lat) * std::cos(lon), 1.0);
+    EXPECT_NEAR(double(pj["camera"][1]), (n + 12000.0) * std::cos(lat) * std::sin(lon), 1.0);
+    EXPECT_NEAR(double(pj["camera"][2]), (n * (1.0 - e2) + 12000.0) * std::sin(lat), 1.0);
+    EXPECT_TRUE(std::filesystem::exists(dir.path("u.png")));
 }

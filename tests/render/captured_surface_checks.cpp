@@ -79,7 +79,8 @@ double heightAt(const SeamProfile& profile, double t)
 bool onPoleAxis(const VertexKey& k, const render::CapturedSurface& s,
                 const lod::TerrainFrame& frame)
 {
-    if (!frame.onEllipsoid())
+    // A pole inside a projected grid is an ordinary sample.
+    if (!frame.onEllipsoid() || frame.projectedGrid())
         return false;
     float x, y, z;
     std::memcpy(&x, &k[0], 4);
@@ -258,23 +259,30 @@ WatertightReport checkWatertight(const render::CapturedSurface& s, const lod::Te
         // closure is checked by the pixels, GlobeConformance's no-background test).
         if (onPoleAxis(a, s, frame) || onPoleAxis(b, s, frame))
             return true;
-        if (frame.onEllipsoid()) {
+        if (frame.onEllipsoid() && !frame.projectedGrid()) {
             // Columns from the longitude alone: a skirt or wall foot lies on its top's normal,
             // which stays in the top's meridian plane however deep (gridOf's latitude and
             // height do not survive thousands of kilometres down, the longitude does).
             ca = columnOfLongitude(a, s, frame);
             cb = columnOfLongitude(b, s, frame);
         }
-        auto both = [](double u, double v, double line) {
-            return std::abs(u - line) < 1e-3 && std::abs(v - line) < 1e-3;
+        // On the globe a skirt or wall edge may be cut off the border's line: the clip shader
+        // cuts a skirt's diagonal linearly in cell terms, and its top and foot hang along
+        // normals that are not parallel, so the cut point strays from the column's line by
+        // about depth × (the cell's angle)/2 (a skirt 1.3 km deep under 180 m cells: 1e-3
+        // columns). Surface edges keep the tight test.
+        const bool surface =
+            surface_vertices[instance].count(a) && surface_vertices[instance].count(b);
+        const double tolerance = frame.onEllipsoid() && !surface ? 1e-2 : 1e-3;
+        auto both = [&](double u, double v, double line) {
+            return std::abs(u - line) < tolerance && std::abs(v - line) < tolerance;
         };
         // A skirt's side cut at a globe's edge meridian: the clip shader cuts in cell terms,
         // linearly between vertices on both sides, and thousands of kilometres down such a
         // point strays from the meridian plane by up to a column (a surface edge keeps the
         // tight test).
         if (const double period = double(frame.geodetic().wrap_columns);
-            frame.onEllipsoid() && period > 0 &&
-            !(surface_vertices[instance].count(a) && surface_vertices[instance].count(b))) {
+            frame.onEllipsoid() && period > 0 && !surface) {
             auto fromEdgeMeridian = [&](double c) { return std::min(c, period - c); };
             if (fromEdgeMeridian(ca) < 1.0 && fromEdgeMeridian(cb) < 1.0)
                 return true;

@@ -1,10 +1,11 @@
 // Precision on the ellipsoid (issue 26): with the camera 1 m, 10 m and 1 km above the ground at
-// the equator, 45°N, across the antimeridian and at 89.9°N, every vertex the GPU places (real
-// SRTM heights, everest_crop.tif relocated there) matches the double-precision position of its
-// sample within 1 mm near the camera and within float's own resolution of its distance
-// further out, and a camera moved in 1 mm steps moves every nearby vertex by 1 mm a step
-// (no jitter). The same vertices formed the usual way — float ECEF minus the float camera —
-// miss by tenths of a metre: the test shows that too.
+// the equator, 45°N, across the antimeridian and at 89.9°N (real SRTM heights, everest_crop.tif
+// relocated there), and on projected grids — UTM 45N in its own place, and a polar
+// stereographic grid with the South Pole inside it — every vertex the GPU places matches the
+// double-precision position of its sample within 1 mm near the camera and within float's own
+// resolution of its distance further out, and a camera moved in 1 mm steps moves every nearby
+// vertex by 1 mm a step (no jitter). The same vertices formed the usual way — float ECEF minus the
+// float camera — miss by tenths of a metre: the test shows that too.
 #include "fixture_archives.h"
 #include "gdal_translate.h"
 
@@ -25,15 +26,24 @@ namespace {
 
 struct Place {
     const char* name;
-    double west, north; // degrees, of the relocated crop's corner
+    const char* tif;                 // in tests/data
+    const char* srs;                 // assigned to it (nullptr: its own)
+    double west, north, east, south; // its corners moved there (CRS units)
 };
 
-// everest_crop.tif is 301 x 203 samples of 3″: 0.2508° x 0.1692°.
+// everest_crop.tif is 301 x 203 samples of 3″: 0.2508° x 0.1692°. everest_utm45.tif is
+// 262 x 197 samples of 90 m in UTM 45N, and the same samples relabelled in the Antarctic
+// polar stereographic projection with the South Pole in the middle.
+constexpr double kCropW = 301 * (3.0 / 3600.0), kCropH = 203 * (3.0 / 3600.0);
 const Place kPlaces[] = {
-    {"equator", 10.0, 0.08},
-    {"45N", 7.0, 45.1},
-    {"antimeridian", 179.9, -16.0}, // columns run on past 180°
-    {"89.9N", 0.0, 89.96},
+    {"equator", "everest_crop.tif", nullptr, 10.0, 0.08, 10.0 + kCropW, 0.08 - kCropH},
+    {"45N", "everest_crop.tif", nullptr, 7.0, 45.1, 7.0 + kCropW, 45.1 - kCropH},
+    // Columns run on past 180°.
+    {"antimeridian", "everest_crop.tif", nullptr, 179.9, -16.0, 179.9 + kCropW, -16.0 - kCropH},
+    {"89.9N", "everest_crop.tif", nullptr, 0.0, 89.96, kCropW, 89.96 - kCropH},
+    // Projected grids: UTM in its own place, and a polar grid round the pole.
+    {"utm45", "everest_utm45.tif", nullptr, 0.0, 0.0, 0.0, 0.0},
+    {"south_pole_3031", "everest_utm45.tif", "EPSG:3031", -11790.0, 8865.0, 11790.0, -8865.0},
 };
 
 struct Archive {
@@ -57,15 +67,19 @@ class GlobePrecision : public ::testing::TestWithParam<Place> {
 
     static Archive relocated(const Place& place)
     {
-        const std::string tif = scratch_->path(std::string(place.name) + ".tif");
-        const double w = 301 * (3.0 / 3600.0), h = 203 * (3.0 / 3600.0);
-        char ullr[4][32];
-        std::snprintf(ullr[0], 32, "%.12f", place.west);
-        std::snprintf(ullr[1], 32, "%.12f", place.north);
-        std::snprintf(ullr[2], 32, "%.12f", place.west + w);
-        std::snprintf(ullr[3], 32, "%.12f", place.north - h);
-        test::gdalTranslate(test::dataPath("everest_crop.tif"), tif,
-                            {"-a_ullr", ullr[0], ullr[1], ullr[2], ullr[3]});
+        std::string tif = test::dataPath(place.tif);
+        if (place.west != place.east) {
+            tif = scratch_->path(std::string(place.name) + ".tif");
+            std::vector<std::string> args{"-a_ullr"};
+            for (double v : {place.west, place.north, place.east, place.south}) {
+                char text[32];
+                std::snprintf(text, sizeof text, "%.12f", v);
+                args.push_back(text);
+            }
+            if (place.srs)
+                args.insert(args.end(), {"-a_srs", place.srs});
+            test::gdalTranslate(test::dataPath(place.tif), tif, args);
+        }
         Archive a;
         a.path = scratch_->path(std::string(place.name) + ".ridge");
         BuildOptions options;

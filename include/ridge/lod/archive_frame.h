@@ -18,7 +18,7 @@ namespace ridge::lod {
 enum class FrameChoice {
     Auto,      // the ellipsoid for a raster that goes round the Earth, else the plane
     Plane,     // the archive's local metric frame
-    Ellipsoid, // the WGS 84 ellipsoid (a georeferenced geographic raster)
+    Ellipsoid, // the WGS 84 ellipsoid (a georeferenced geographic or projected raster)
 };
 // "auto", "plane", "ellipsoid".
 std::string_view frameChoiceName(FrameChoice c);
@@ -32,8 +32,9 @@ int64_t wrapColumnsOf(const archive::ArchiveReader& reader);
 
 // The frame of `reader` under `choice`. Throws ridge::Error naming `what` (the archive's
 // path) when the ellipsoid is asked for and the archive cannot lie on it: no geotransform or
-// CRS, a projected CRS, a rotated or south-up grid, samples beyond ±90° of latitude or
-// spanning more than 360° of longitude, a CRS PROJ cannot relate to WGS 84.
+// CRS, a rotated or south-up geographic grid, samples beyond ±90° of latitude or spanning more
+// than 360° of longitude, a CRS PROJ cannot relate to WGS 84, a projection that does not
+// reach the raster's samples.
 TerrainFrame terrainFrameOf(const archive::ArchiveReader& reader, FrameChoice choice,
                             const std::string& what);
 

@@ -8,20 +8,23 @@
 //                y = (height − 1 − row) · spacing_y   metres north of the last (southern) row
 //                z = metres, as decoded (offset + scale · code)
 //              right-handed east-north-up, origin at the south-west corner at sea level;
-//   Ellipsoid  Earth-centred, Earth-fixed metres on the reference ellipsoid (WGS 84): sample
-//              (c, r) at longitude λ0 + c·Δλ, latitude φ0 + r·Δφ (a north-up geographic
-//              grid), heights along the ellipsoid's normal (lod/ellipsoid.h). A grid whose
-//              columns span 360° wraps (wrapColumns()); rows at ±90° are the poles.
+//   Ellipsoid  Earth-centred, Earth-fixed metres on the reference ellipsoid (WGS 84), heights
+//              along the ellipsoid's normal (lod/ellipsoid.h). Sample (c, r) lies either
+//              at longitude λ0 + c·Δλ, latitude φ0 + r·Δφ (a north-up geographic grid:
+//              GeodeticGrid; one whose columns span 360° wraps, rows at ±90° are the poles)
+//              or where a projected CRS puts it (a ProjectedGrid: PROJ's map as a lattice).
 //
 // Doubles on the CPU: renderers subtract the camera position before converting to float
 // (camera-relative rendering, no jitter far from the origin).
 #include "ridge/lod/ellipsoid.h"
+#include "ridge/lod/projected_grid.h"
 #include "ridge/pyramid/pyramid_geometry.h"
 
 #include <glm/mat3x3.hpp>
 #include <glm/vec3.hpp>
 
 #include <cstdint>
+#include <memory>
 #include <string_view>
 
 namespace ridge::lod {
@@ -70,11 +73,23 @@ class TerrainFrame {
     // texel criterion and extents use.
     static TerrainFrame ellipsoid(const PyramidGeometry& geometry, double spacing_x,
                                   double spacing_y, const GeodeticGrid& grid);
+    // A globe frame over a projected raster's grid (shared: frames are copied freely).
+    static TerrainFrame projected(const PyramidGeometry& geometry, double spacing_x,
+                                  double spacing_y, std::shared_ptr<const ProjectedGrid> grid);
 
     const PyramidGeometry& geometry() const { return geometry_; }
     Surface surface() const { return surface_; }
     bool onEllipsoid() const { return surface_ == Surface::Ellipsoid; }
+    // The ellipsoid, and on a geographic grid its longitudes and latitudes (a projected grid's
+    // have lon0 = lat0 = dlon = dlat = 0 and never wrap).
     const GeodeticGrid& geodetic() const { return grid_; }
+    // The projected raster's grid on a globe frame over one, else null.
+    const ProjectedGrid* projectedGrid() const { return projected_.get(); }
+    // Globe: upper bounds of the angle (radians, along the surface over its smallest radius of
+    // curvature) one finest column and one row span anywhere: Δλ and |Δφ| on a geographic
+    // grid. Sagitta, box and normal-turn bounds take them.
+    double columnAngle() const;
+    double rowAngle() const;
     double spacingX() const { return spacing_x_; }
     double spacingY() const { return spacing_y_; }
 
@@ -90,10 +105,12 @@ class TerrainFrame {
     double extentX() const { return (geometry_.width() - 1) * spacing_x_; }
     double extentY() const { return (geometry_.height() - 1) * spacing_y_; }
 
-    // Globe: longitude, latitude (radians) of a column, row; latitudes are clamped to ±π/2.
+    // Geographic globe: longitude, latitude (radians) of a column, row; latitudes are clamped to
+    // ±π/2.
     double longitudeOf(double column) const { return grid_.lon0 + column * grid_.dlon; }
     double latitudeOf(double row) const;
-    // Globe: whether `row` lies on a pole (its latitude is ±90° to a millionth of a row).
+    // Geographic globe: whether `row` lies on a pole (its latitude is ±90° to a millionth of a
+    // row); false on any other frame (a pole inside a projected raster is an ordinary point).
     bool poleRow(double row) const;
 
     // The world point of sample (column, row) at `height` metres (drawn space: heights times
@@ -136,6 +153,7 @@ class TerrainFrame {
     double spacing_y_ = 1.0;
     Surface surface_ = Surface::Plane;
     GeodeticGrid grid_;
+    std::shared_ptr<const ProjectedGrid> projected_;
 };
 
 } // namespace ridge::lod
