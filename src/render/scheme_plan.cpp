@@ -3,13 +3,13 @@
 #include "terrain_scheme.h"
 
 #include "ridge/core/error.h"
-#include "ridge/lod/archive_frame.h"
 
 #include <algorithm>
 
 namespace ridge::render {
 
-SchemePlan planSchemes(const archive::ArchiveReader& reader, const RendererOptions& options)
+SchemePlan planSchemes(const archive::ArchiveReader& reader, const lod::TerrainFrame& frame,
+                       const RendererOptions& options)
 {
     SchemePlan out;
     auto add = [&](const SchemeInfo& info, SchemeOptions own, const SchemeNeeds& needs) {
@@ -25,7 +25,6 @@ SchemePlan planSchemes(const archive::ArchiveReader& reader, const RendererOptio
     };
     if (options.schemes.empty()) {
         // Schemes by default: those that can draw this archive in the frame it gets.
-        const lod::TerrainFrame frame = lod::terrainFrameOf(reader, options.frame, reader.path());
         const bool wrapping_globe = frame.onEllipsoid() && frame.geodetic().wrap_columns > 0;
         for (const SchemeInfo& info : schemeRegistry()) {
             if (wrapping_globe && !info.promises.wrapping_globe)
@@ -33,7 +32,7 @@ SchemePlan planSchemes(const archive::ArchiveReader& reader, const RendererOptio
             SchemeOptions own = parseSchemeSpec(info.name);
             SchemeNeeds needs;
             try {
-                needs = info.needs(reader, options, own);
+                needs = info.needs(reader, frame, options, own);
             } catch (const Error&) {
                 continue; // a scheme that cannot draw this archive (rings: patches too small)
             }
@@ -44,7 +43,7 @@ SchemePlan planSchemes(const archive::ArchiveReader& reader, const RendererOptio
         for (const std::string& spec : options.schemes) { // validate(): one spec per scheme
             SchemeOptions own = parseSchemeSpec(spec);
             const SchemeInfo& info = schemeNamed(own.scheme());
-            const SchemeNeeds needs = info.needs(reader, options, own);
+            const SchemeNeeds needs = info.needs(reader, frame, options, own);
             add(info, std::move(own), needs);
         }
     }

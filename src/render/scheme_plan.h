@@ -5,6 +5,7 @@
 // shared pieces (Schemes), each constructed when a frame first draws it unless it keeps
 // per-slot data (terrain_scheme.h, SchemeNeeds, says why).
 #include "ridge/archive/archive_reader.h"
+#include "ridge/lod/terrain_frame.h"
 #include "ridge/render/scheme_options.h"
 #include "ridge/render/terrain_renderer.h"
 #include "ridge/stream/patch_loader.h"
@@ -32,7 +33,10 @@ struct SchemePlan {
     std::vector<stream::PatchPreparation> preparations;
 };
 
-SchemePlan planSchemes(const archive::ArchiveReader& reader, const RendererOptions& options);
+// `frame`: the one the renderer draws `reader` in (lod::terrainFrameOf with options.frame,
+// formed once: on a projected grid it samples PROJ into a lattice).
+SchemePlan planSchemes(const archive::ArchiveReader& reader, const lod::TerrainFrame& frame,
+                       const RendererOptions& options);
 
 // The planned schemes' objects: the eager ones from construction on, the others from the first
 // frame that draws them.

@@ -51,6 +51,8 @@ glm::dmat4 reverseZProjection(const lod::Camera& camera)
 struct TerrainRenderer::Impl {
     const archive::ArchiveReader& reader;
     RendererOptions options;
+    // Formed once (a projected grid's lattice samples PROJ): the plan and the quadtree share it.
+    lod::TerrainFrame frame;
     SchemePlan plan;
     lod::PatchQuadtree quadtree;
     int slots = 0; // texture-array layers
@@ -112,8 +114,8 @@ struct TerrainRenderer::Impl {
 };
 
 TerrainRenderer::Impl::Impl(const archive::ArchiveReader& r, const RendererOptions& o)
-    : reader(r), options(o), plan(planSchemes(r, options)),
-      quadtree(lod::PatchQuadtree::fromArchive(r, lod::terrainFrameOf(r, o.frame, r.path()))),
+    : reader(r), options(o), frame(lod::terrainFrameOf(r, o.frame, r.path())),
+      plan(planSchemes(r, frame, options)), quadtree(lod::PatchQuadtree::fromArchive(r, frame)),
       slots(PatchTextures::slotCount(r, plan.slot_bytes, options.vram_budget_mb,
                                      options.max_resident_patches,
                                      ResidentSet::gpuDecodedCodec(r, options, plan))),

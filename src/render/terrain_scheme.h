@@ -33,7 +33,8 @@
 namespace ridge::render {
 
 // What a scheme needs decided before the renderer allocates anything, from the archive, the
-// renderer's options and the scheme's own options alone.
+// terrain frame the renderer draws it in, the renderer's options and the scheme's own options
+// alone.
 //
 // They also decide when the scheme's object is constructed. A scheme that keeps per-slot data
 // (slot_bytes > 0 or a preparation) is constructed with the renderer, so that upload() sees
@@ -138,8 +139,8 @@ struct SchemeInfo {
     // The scheme's own options, as its spec sets them ("NAME,KEY=VALUE,..."; see
     // ridge/render/scheme_options.h); --help lists them from here.
     std::vector<SchemeOption> options;
-    SchemeNeeds (*needs)(const archive::ArchiveReader& reader, const RendererOptions& options,
-                         const SchemeOptions& own);
+    SchemeNeeds (*needs)(const archive::ArchiveReader& reader, const lod::TerrainFrame& frame,
+                         const RendererOptions& options, const SchemeOptions& own);
     std::unique_ptr<TerrainScheme> (*make)(const SchemeResources& resources);
     SchemePromises promises = {}; // what the conformance suite holds it to
 };

@@ -39,7 +39,9 @@ TEST(Streaming, AFastFlyOverUnderATinyBudgetNeverShowsAHoleAndStaysWithinBudget)
             options.prefetch_frames = prefetch;
             options.streaming = true;
             // 24 slots of 33² patches (and of the GPU decoder's state).
-            const render::SchemePlan plan = render::planSchemes(*scene.reader, options);
+            const render::SchemePlan plan = render::planSchemes(
+                *scene.reader,
+                lod::terrainFrameOf(*scene.reader, options.frame, scene.reader->path()), options);
             options.vram_budget_mb =
                 24 *
                 render::PatchTextures::bytesPerSlot(

@@ -48,7 +48,7 @@ SchemeInfo bruteForceScheme()
         .name = "brute",
         .description = "brute force: the finest level everywhere in view, every sample a vertex",
         .options = {},
-        .needs = [](const archive::ArchiveReader&, const RendererOptions&,
+        .needs = [](const archive::ArchiveReader&, const lod::TerrainFrame&, const RendererOptions&,
                     const SchemeOptions&) { return SchemeNeeds{}; },
         .make = [](const SchemeResources& r) -> std::unique_ptr<TerrainScheme> {
             return std::make_unique<BruteForceScheme>(r);

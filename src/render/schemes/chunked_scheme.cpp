@@ -9,7 +9,6 @@
 #include "../scheme_programs.h"
 #include "../terrain_scheme.h"
 
-#include "ridge/lod/archive_frame.h"
 #include "ridge/lod/chunk_mesh.h"
 
 namespace ridge::render {
@@ -169,8 +168,8 @@ class ChunkedScheme final : public TerrainScheme {
     SchemePrograms programs_{{{GL_VERTEX_SHADER, "chunk.vert"}}};
 };
 
-SchemeNeeds chunkedNeeds(const archive::ArchiveReader& reader, const RendererOptions& options,
-                         const SchemeOptions& own)
+SchemeNeeds chunkedNeeds(const archive::ArchiveReader& reader, const lod::TerrainFrame& frame,
+                         const RendererOptions&, const SchemeOptions& own)
 {
     SchemeNeeds needs;
     if (!own.flag(kMeshes))
@@ -180,8 +179,7 @@ SchemeNeeds chunkedNeeds(const archive::ArchiveReader& reader, const RendererOpt
     needs.codes_on_cpu = true;
     needs.slot_bytes = double(worstChunkMeshBytes(reader.geometry().patchSize()));
     const double tolerance = own.number(kTolerance);
-    // The renderer's frame (TerrainRenderer picks it alike): whether chunks sag.
-    const lod::TerrainFrame frame = lod::terrainFrameOf(reader, options.frame, reader.path());
+    // The renderer's frame: whether chunks sag.
     needs.preparation = [&reader, frame, tolerance](PatchId p, const uint16_t* codes) {
         return prepareChunk(reader, frame, tolerance, p, codes);
     };

@@ -415,8 +415,8 @@ class GeomorphScheme final : public TerrainScheme {
     SchemePrograms programs_{{{GL_VERTEX_SHADER, "geomorph.vert"}}};
 };
 
-SchemeNeeds geomorphNeeds(const archive::ArchiveReader& reader, const RendererOptions&,
-                          const SchemeOptions& own)
+SchemeNeeds geomorphNeeds(const archive::ArchiveReader& reader, const lod::TerrainFrame&,
+                          const RendererOptions&, const SchemeOptions& own)
 {
     SchemeNeeds needs;
     needs.codes_on_cpu = true; // vertex arrays are built from codes

@@ -308,8 +308,8 @@ SchemeInfo ringsScheme()
                                           "paper's 128² vertices for 256² tiles",
                                           1, 2, 1)},
         .needs =
-            [](const archive::ArchiveReader& reader, const RendererOptions&,
-               const SchemeOptions& own) {
+            [](const archive::ArchiveReader& reader, const lod::TerrainFrame&,
+               const RendererOptions&, const SchemeOptions& own) {
                 settingsFor(reader, own);
                 return SchemeNeeds{};
             },

@@ -112,7 +112,7 @@ SchemeInfo tessellationScheme()
         .name = "tess",
         .description = "the paper's hardware tessellation: per-edge factors inside each patch",
         .options = {},
-        .needs = [](const archive::ArchiveReader&, const RendererOptions&,
+        .needs = [](const archive::ArchiveReader&, const lod::TerrainFrame&, const RendererOptions&,
                     const SchemeOptions&) { return SchemeNeeds{}; },
         .make = [](const SchemeResources& r) -> std::unique_ptr<TerrainScheme> {
             return std::make_unique<TessellationScheme>(r);
