@@ -68,6 +68,9 @@ GeographicTransform::GeographicTransform(const std::string& crs_wkt, const std::
     s.context = proj_context_create();
     if (!s.context)
         throw Error(what + ": PROJ context could not be created");
+    // Failures come back as errors naming the point (projError), not as lines on stderr: a
+    // projected grid's lattice probes PROJ beyond its domain on purpose (lod/projected_grid.h).
+    proj_log_level(s.context, PJ_LOG_NONE);
     PJ* crs = proj_create(s.context, crs_wkt.c_str());
     if (!crs)
         throw Error(what + ": PROJ cannot read the CRS (" + projError(s.context) + ")");
