@@ -2,6 +2,8 @@
 
 #include "ridge/core/error.h"
 
+#include "proj_support.h"
+
 #include <proj.h>
 
 #include <algorithm>
@@ -16,37 +18,10 @@ namespace {
 // Longest --vertical-datum name kept: EPSG's longest vertical CRS names are about 60 characters.
 constexpr size_t kMaxDatumNameLength = 120;
 
-struct ContextDeleter {
-    void operator()(PJ_CONTEXT* c) const { proj_context_destroy(c); }
-};
-struct ObjectDeleter {
-    void operator()(PJ* p) const { proj_destroy(p); }
-};
-struct ListDeleter {
-    void operator()(PJ_OBJ_LIST* l) const { proj_list_destroy(l); }
-};
-using Context = std::unique_ptr<PJ_CONTEXT, ContextDeleter>;
-using Object = std::unique_ptr<PJ, ObjectDeleter>;
-using List = std::unique_ptr<PJ_OBJ_LIST, ListDeleter>;
-
-// A private context: PROJ objects are not thread-safe, and its errors stay ours.
-Context newContext()
-{
-    Context c(proj_context_create());
-    if (!c)
-        throw Error("PROJ context could not be created");
-    // Errors come back through the calls and are worded by us; PROJ's own log would print
-    // "proj_create_from_database: crs not found" on stderr besides.
-    proj_log_level(c.get(), PJ_LOG_NONE);
-    return c;
-}
-
-std::string projError(PJ_CONTEXT* context)
-{
-    const int code = proj_context_errno(context);
-    const char* text = code ? proj_context_errno_string(context, code) : nullptr;
-    return text ? text : "unknown PROJ error";
-}
+using detail::projError;
+using Context = detail::ProjContext;
+using Object = detail::ProjObject;
+using List = detail::ProjList;
 
 // A whole decimal number in int range; nullopt for anything else.
 std::optional<int> parseCode(const char* text)
@@ -83,12 +58,6 @@ std::optional<int> epsgOf(PJ_CONTEXT* context, PJ* object)
     }
     proj_int_list_destroy(confidence);
     return code;
-}
-
-std::string nameOf(PJ* object)
-{
-    const char* name = proj_get_name(object);
-    return name ? name : "";
 }
 
 std::string lower(std::string s)
@@ -139,7 +108,7 @@ CrsSummary summarizeCrs(const std::string& crs_wkt, const std::string& what)
     CrsSummary summary;
     if (crs_wkt.empty())
         return summary;
-    const Context context = newContext();
+    const Context context = detail::newProjContext();
     PJ_CONTEXT* ctx = context.get();
     Object crs(proj_create(ctx, crs_wkt.c_str()));
     if (!crs)
@@ -148,7 +117,7 @@ CrsSummary summarizeCrs(const std::string& crs_wkt, const std::string& what)
     if (proj_get_type(crs.get()) == PJ_TYPE_BOUND_CRS)
         if (Object source{proj_get_source_crs(ctx, crs.get())})
             crs = std::move(source);
-    summary.name = nameOf(crs.get());
+    summary.name = detail::projName(crs.get());
     summary.epsg = epsgOf(ctx, crs.get());
     const PJ_TYPE type = proj_get_type(crs.get());
     if (type == PJ_TYPE_COMPOUND_CRS) {
@@ -157,7 +126,7 @@ CrsSummary summarizeCrs(const std::string& crs_wkt, const std::string& what)
         if (horizontal)
             summary.horizontal_epsg = epsgOf(ctx, horizontal.get());
         if (vertical && proj_get_type(vertical.get()) == PJ_TYPE_VERTICAL_CRS) {
-            summary.vertical.name = nameOf(vertical.get());
+            summary.vertical.name = detail::projName(vertical.get());
             summary.vertical.epsg = epsgOf(ctx, vertical.get());
             summary.vertical.origin = "source CRS";
         }
@@ -187,7 +156,7 @@ VerticalDatum resolveVerticalDatum(const std::string& text)
         if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
             throw Error("vertical_datum: contains a control character");
 
-    const Context context = newContext();
+    const Context context = detail::newProjContext();
     PJ_CONTEXT* ctx = context.get();
     VerticalDatum datum;
     datum.origin = "--vertical-datum";
@@ -203,11 +172,11 @@ VerticalDatum resolveVerticalDatum(const std::string& text)
             throw Error(quoted + ": PROJ's database has no EPSG CRS " + digits);
         const PJ_TYPE type = proj_get_type(crs.get());
         if (type != PJ_TYPE_VERTICAL_CRS)
-            throw Error(quoted + ": EPSG:" + digits + " (" + nameOf(crs.get()) + ") is a " +
-                        typeName(type) +
+            throw Error(quoted + ": EPSG:" + digits + " (" + detail::projName(crs.get()) +
+                        ") is a " + typeName(type) +
                         " CRS, not a vertical one (e.g. EPSG:5773, EGM96 "
                         "height; EPSG:3855, EGM2008 height)");
-        datum.name = nameOf(crs.get());
+        datum.name = detail::projName(crs.get());
         datum.epsg = code;
         return datum;
     }
@@ -217,8 +186,8 @@ VerticalDatum resolveVerticalDatum(const std::string& text)
     const int count = matches ? proj_list_get_count(matches.get()) : 0;
     for (int i = 0; i < count; ++i) {
         const Object match(proj_list_get(ctx, matches.get(), i));
-        if (match && lower(nameOf(match.get())) == lower(given)) {
-            datum.name = nameOf(match.get());
+        if (match && lower(detail::projName(match.get())) == lower(given)) {
+            datum.name = detail::projName(match.get());
             datum.epsg = epsgOf(ctx, match.get());
             return datum;
         }

@@ -4,6 +4,8 @@
 
 #include "ridge/core/error.h"
 
+#include "proj_support.h"
+
 #include <proj.h>
 #include <proj_experimental.h>
 
@@ -15,32 +17,18 @@ namespace ridge::io::detail {
 
 namespace {
 
-struct ObjectDeleter {
-    void operator()(PJ* p) const { proj_destroy(p); }
-};
-struct ListDeleter {
-    void operator()(PJ_OBJ_LIST* l) const { proj_list_destroy(l); }
-};
 struct FactoryDeleter {
     void operator()(PJ_OPERATION_FACTORY_CONTEXT* f) const
     {
         proj_operation_factory_context_destroy(f);
     }
 };
-using Object = std::unique_ptr<PJ, ObjectDeleter>;
-using List = std::unique_ptr<PJ_OBJ_LIST, ListDeleter>;
+using Object = ProjObject;
+using List = ProjList;
 
 std::string nameOf(const PJ* object)
 {
-    const char* name = object ? proj_get_name(object) : nullptr;
-    return name ? name : "unnamed";
-}
-
-std::string projError(PJ_CONTEXT* context)
-{
-    const int code = proj_context_errno(context);
-    const char* text = code ? proj_context_errno_string(context, code) : nullptr;
-    return text ? text : "unknown PROJ error";
+    return projName(object, "unnamed");
 }
 
 // The operations PROJ offers from `source` to `target`, best first, under a grid rule.
@@ -103,15 +91,8 @@ bool wantsGeoidShift(VerticalShift mode, const VerticalDatum& datum)
 }
 
 struct GeoidShift::State {
-    PJ_CONTEXT* context = nullptr;
-    PJ* transform = nullptr; // (x, y, H) east-first → (x, y, h)
-    ~State()
-    {
-        if (transform)
-            proj_destroy(transform);
-        if (context)
-            proj_context_destroy(context);
-    }
+    ProjContext context;
+    ProjObject transform; // (x, y, H) east-first → (x, y, h); destroyed before its context
 };
 
 GeoidShift::GeoidShift(const std::string& path, const std::string& horizontal_wkt,
@@ -127,11 +108,8 @@ GeoidShift::GeoidShift(const std::string& path, const std::string& horizontal_wk
     if (horizontal_wkt.empty())
         throw Error(what + " cannot be shifted to the ellipsoid: the raster has no CRS");
     State& s = *state_;
-    s.context = proj_context_create();
-    if (!s.context)
-        throw Error(path + ": PROJ context could not be created");
-    PJ_CONTEXT* ctx = s.context;
-    proj_log_level(ctx, PJ_LOG_NONE);
+    s.context = newProjContext(path);
+    PJ_CONTEXT* ctx = s.context.get();
 
     Object crs(proj_create(ctx, horizontal_wkt.c_str()));
     if (!crs)
@@ -176,7 +154,7 @@ GeoidShift::GeoidShift(const std::string& path, const std::string& horizontal_wk
                     "; --novshift keeps the heights as they are");
     }
     operation_ = nameOf(chosen.get());
-    s.transform = proj_normalize_for_visualization(ctx, chosen.get());
+    s.transform.reset(proj_normalize_for_visualization(ctx, chosen.get()));
     if (!s.transform)
         throw Error(what + ": PROJ cannot order the CRS's axes east first (" + projError(ctx) +
                     ")");
@@ -203,8 +181,8 @@ void GeoidShift::undulations(int y0, int rows, int width, double* out) const
             }
             n[c] = 0.0; // H = 0 in: h = N out
         }
-        proj_errno_reset(state_->transform);
-        proj_trans_generic(state_->transform, PJ_FWD, x.data(), sizeof(double), size_t(width),
+        proj_errno_reset(state_->transform.get());
+        proj_trans_generic(state_->transform.get(), PJ_FWD, x.data(), sizeof(double), size_t(width),
                            y.data(), sizeof(double), size_t(width), n, sizeof(double),
                            size_t(width), nullptr, 0, 0);
         for (int c = 0; c < width; ++c)
