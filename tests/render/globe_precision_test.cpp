@@ -18,6 +18,7 @@
 
 #include <glm/geometric.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -103,10 +104,49 @@ struct Errors {
     double near_max = 0.0;    // metres
     double worst_ratio = 0.0; // error / max(1 mm, 2^-20 · distance), all vertices
     double naive_near_max = 0.0;
-    size_t morphed = 0; // vertices off their sample's height (geomorph), not compared
+    size_t morphed = 0; // vertices off their sample's height (geomorph), held to the segment
 };
 
-// Every surface vertex of `s` against the double position of its sample; "near" within
+// Where a morphing scheme may draw the vertex of finest sample (c, r) of patch `p`: anywhere
+// on the segment from the sample to the sample at its target height (geomorph.vert morphs
+// heights). The target is the parent's surface there: its sample's height at an even position
+// of the patch, else the mean of the two samples whose chord the sample halves (an edge, or
+// the cell diagonal b–c, lod::targetPair), `rounded` as the compact layout's target codes are
+// (k + ½ up). Levels are the finest samples (a decimated pyramid), so the finest codes give
+// every level's.
+glm::dvec3 parentSurfacePoint(const lod::TerrainFrame& frame, const Archive& a, PatchId p, int c,
+                              int r, bool rounded)
+{
+    const PyramidGeometry& g = frame.geometry();
+    const int64_t step = g.step(p.level), span = int64_t(g.cells()) * step;
+    const int64_t i = (c - p.x * span) / step, j = (r - p.y * span) / step;
+    auto code = [&](int64_t x, int64_t y) {
+        x = std::clamp<int64_t>(x, 0, a.finest.width - 1);
+        y = std::clamp<int64_t>(y, 0, a.finest.height - 1);
+        return double(a.finest.at(int(x), int(y)));
+    };
+    const HeightQuantization& q = a.reader->quantization();
+    double target = code(c, r);
+    if (p.level > 0 && ((i & 1) != 0 || (j & 1) != 0)) {
+        const int dx = int(i & 1), dy = (i & 1) && (j & 1) ? -1 : int(j & 1);
+        const double mean =
+            0.5 * (code(c + dx * step, r + dy * step) + code(c - dx * step, r - dy * step));
+        target = rounded ? std::floor(mean + 0.5) : mean;
+    }
+    return frame.worldOf(c, r, q.toMetres(target));
+}
+
+// Distance from point q to the segment a–b.
+double toSegment(glm::dvec3 q, glm::dvec3 a, glm::dvec3 b)
+{
+    const glm::dvec3 ab = b - a;
+    const double len2 = glm::dot(ab, ab);
+    const double t = len2 > 0.0 ? std::clamp(glm::dot(q - a, ab) / len2, 0.0, 1.0) : 0.0;
+    return glm::length(q - (a + t * ab));
+}
+
+// Every surface vertex of `s` against the double position of its sample, or for a morphing
+// scheme against the segment from it to the parent's surface there; "near" within
 // `near_radius` metres of the camera.
 Errors measure(const render::CapturedSurface& s, const lod::TerrainFrame& frame, const Archive& a,
                double near_radius)
@@ -127,16 +167,17 @@ Errors measure(const render::CapturedSurface& s, const lod::TerrainFrame& frame,
             continue;
         const double metres = a.reader->quantization().toMetres(a.finest.at(c, r));
         // A morphing scheme draws some vertices between their sample and the parent's
-        // surface: those have no sample height to compare with (a vertex further than 1 mm
-        // from its sample's height is taken as morphed; the other schemes have none, and the
-        // near-vertex counts printed show what was compared).
-        if (std::abs(g.z - metres) > 1e-3) {
-            ++e.morphed;
-            continue;
-        }
+        // surface (counted: a vertex further than 1 mm from its sample's height).
+        e.morphed += std::abs(g.z - metres) > 1e-3;
         const glm::dvec3 world = frame.worldOf(c, r, metres);
         const glm::dvec3 truth = world - cam;
-        const double d = glm::length(truth), err = glm::length(got - truth);
+        const PatchId patch = s.patches[size_t(v.instance)];
+        const double d = glm::length(truth);
+        double err = glm::length(got - truth);
+        for (const bool rounded : {false, true})
+            err =
+                std::min(err, toSegment(got, truth,
+                                        parentSurfacePoint(frame, a, patch, c, r, rounded) - cam));
         e.worst_ratio = std::max(e.worst_ratio, err / std::max(1e-3, std::ldexp(d, -20)));
         if (d <= near_radius) {
             ++e.near_vertices;

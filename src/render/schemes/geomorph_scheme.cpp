@@ -251,9 +251,19 @@ class GeomorphScheme final : public TerrainScheme {
             const double rho = lod::visibleDepthBound(
                 lod_camera, box, lod::distanceToBox(lod_camera.position(), box),
                 settings.side_on_bound); // the selection's own bound
-            const double own = lod::screen_space_error(gamma, quadtree_.bounds(p).err, rho);
+            // The errors the selection switches levels by (PatchQuadtree::select): on a globe
+            // Err(P) plus the sagitta of the level's straight cells, so that t is 1 where the
+            // parent would be selected and 0 where the children would.
+            const lod::TerrainFrame& frame = quadtree_.frame();
+            auto sag = [&](PatchId q) {
+                return frame.chordSag(double(quadtree_.geometry().step(q.level))) /
+                       settings.exaggeration;
+            };
+            const double own =
+                lod::screen_space_error(gamma, quadtree_.bounds(p).err + sag(p), rho);
             // The compact layout's target codes are up to ½ code off the parent's surface.
-            const double parent_err = quadtree_.bounds(p.parent()).err + target_rounding_;
+            const double parent_err =
+                quadtree_.bounds(p.parent()).err + target_rounding_ + sag(p.parent());
             const double parent = lod::screen_space_error(gamma, parent_err, rho);
             instances.records[k].morph = float(lod::morphFactor(own, parent, settings.epsilon_px));
         }
