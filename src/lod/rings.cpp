@@ -88,11 +88,40 @@ void RingsSettings::validate(const PyramidGeometry& geometry) const
                     (vertex_step > 1 ? " or use vertex-step=1)" : ")"));
 }
 
+int ringsWrapTiles(const TerrainFrame& frame)
+{
+    const int64_t turn = frame.onEllipsoid() ? frame.geodetic().wrap_columns : 0;
+    if (turn <= 0)
+        return 0;
+    const PyramidGeometry& g = frame.geometry();
+    const int64_t span = g.cells(); // finest columns a tile
+    if (turn % span == 0)
+        return int(turn / span);
+    // A patch size that would do: 2^k dividing the turn, and the root still drawable as a tile
+    // (RingsSettings::validate) on the pyramid that patch makes.
+    std::string fits;
+    for (int cells = 256; cells >= 4 && fits.empty(); cells /= 2) { // patches 257 .. 5
+        if (turn % cells != 0)
+            continue;
+        const PyramidGeometry other(g.width(), g.height(), cells + 1);
+        if (other.finestLevel() < 31 && (1 << other.finestLevel()) <= cells)
+            fits = std::to_string(cells + 1);
+    }
+    throw Error("rings cannot wrap a globe whose turn of " + std::to_string(turn) +
+                " columns is not whole tiles of " + std::to_string(span) +
+                " columns (its finest patches): " +
+                (fits.empty() ? "no patch size gives tiles of 2^k columns that divide the turn "
+                                "and still draw the root as a tile (2^k >= 2^levels); choose "
+                                "another --lod, or --frame plane"
+                              : "build with --patch " + fits));
+}
+
 RingsStructure::RingsStructure(const PatchQuadtree& tree, const RingsSettings& settings)
     : tree_(&tree)
 {
     const PyramidGeometry& g = tree.geometry();
     settings.validate(g);
+    wrap_tiles_ = ringsWrapTiles(tree.frame());
     finest_ = g.finestLevel();
     rings_ = settings.rings > 0 ? settings.rings : std::min(finest_ + 1, RingsSettings::kMaxRings);
     vertex_step_ = settings.vertex_step;
@@ -139,6 +168,22 @@ void RingsStructure::tileBounds(int x, int y, float& min_height, float& max_heig
     max_height = b[1];
 }
 
+int RingsStructure::dxOf(int x) const
+{
+    const int dx = x - centre_x_;
+    if (wrap_tiles_ <= 0)
+        return dx;
+    return positiveMod(dx + wrap_tiles_ / 2, wrap_tiles_) - wrap_tiles_ / 2;
+}
+
+int RingsStructure::columnAt(int x, int dx) const
+{
+    const int c = x + dx;
+    if (wrap_tiles_ > 0)
+        return positiveMod(c, wrap_tiles_);
+    return c >= 0 && c < tiles_x_ ? c : -1;
+}
+
 RingCell& RingsStructure::at(int x, int y)
 {
     const int w = window();
@@ -147,11 +192,11 @@ RingCell& RingsStructure::at(int x, int y)
 
 const RingCell& RingsStructure::cell(int x, int y) const
 {
-    if (std::abs(x - centre_x_) > rings_ || std::abs(y - centre_y_) > rings_)
+    if (std::abs(dxOf(x)) > rings_ || std::abs(y - centre_y_) > rings_)
         throw Error("rings structure: tile (" + std::to_string(x) + ", " + std::to_string(y) +
                     ") is outside the window");
-    const int w = window();
-    return cells_array_[size_t(positiveMod(y, w)) * size_t(w) + size_t(positiveMod(x, w))];
+    const int w = window(), vx = centre_vx_ + dxOf(x);
+    return cells_array_[size_t(positiveMod(y, w)) * size_t(w) + size_t(positiveMod(vx, w))];
 }
 
 void RingsStructure::assign(RingCell& c, int x, int y) const
@@ -165,12 +210,12 @@ void RingsStructure::assign(RingCell& c, int x, int y) const
 
 int RingsStructure::ringOf(int x, int y) const
 {
-    return std::max(std::abs(x - centre_x_), std::abs(y - centre_y_));
+    return std::max(std::abs(dxOf(x)), std::abs(y - centre_y_));
 }
 
 Orientation RingsStructure::orientationOf(int x, int y) const
 {
-    const int dx = x - centre_x_, dy = y - centre_y_; // rows grow south: dy < 0 is north
+    const int dx = dxOf(x), dy = y - centre_y_; // rows grow south: dy < 0 is north
     const int ring = std::max(std::abs(dx), std::abs(dy));
     if (ring == 0)
         return Orientation::Centre;
@@ -189,21 +234,26 @@ void RingsStructure::updateRings(int i, int j)
 {
     if (!tree_)
         throw Error("rings structure: not constructed");
+    const int previous_x = centre_x_;
     centre_x_ = std::clamp(i, 0, tiles_x_ - 1);
+    // Unwrapped, the centre moves the short way round: across the seam to a neighbour too.
+    centre_vx_ = wrap_tiles_ > 0 && built_ ? centre_vx_ - dxOf(previous_x) : centre_x_;
     centre_y_ = std::clamp(j, 0, tiles_y_ - 1);
     // Toroidal addressing: a tile keeps its cell while it stays in the window, so after a
     // move to a neighbour of the centre only the row and column that wrapped hold new tiles;
     // after a jump (or the first call) every cell does.
     refreshed_ = 0;
     for (int y = centre_y_ - rings_; y <= centre_y_ + rings_; ++y)
-        for (int x = centre_x_ - rings_; x <= centre_x_ + rings_; ++x) {
+        for (int x = centre_vx_ - rings_; x <= centre_vx_ + rings_; ++x) {
+            // x runs unwrapped through the window; the cell holds the tile it wraps to.
             RingCell& c = at(x, y);
-            if (!built_ || c.tile_x != x || c.tile_y != y) {
-                assign(c, x, y);
+            const int tile_x = wrap_tiles_ > 0 ? positiveMod(x, wrap_tiles_) : x;
+            if (!built_ || c.tile_x != tile_x || c.tile_y != y) {
+                assign(c, tile_x, y);
                 ++refreshed_;
             }
-            c.ring = ringOf(x, y);
-            c.orientation = orientationOf(x, y);
+            c.ring = ringOf(tile_x, y);
+            c.orientation = orientationOf(tile_x, y);
         }
     built_ = true;
 }
@@ -251,8 +301,8 @@ bool RingsSelector::atRingLevels(size_t t) const
     if (tiles_[t].level != tiles_[t].desired)
         return false;
     for (const Neighbour& n : kNeighbours) {
-        const int nx = x + n.dx, ny = y + n.dy;
-        if (nx < 0 || ny < 0 || nx >= w || ny >= h)
+        const int nx = structure_.columnAt(x, n.dx), ny = y + n.dy;
+        if (nx < 0 || ny < 0 || ny >= h)
             return false;
         const TileState& u = tiles_[size_t(ny) * size_t(w) + size_t(nx)];
         if (u.level != u.desired)
@@ -269,8 +319,8 @@ uint8_t RingsSelector::stitchOf(size_t t, const std::vector<TileState>& tiles,
     const int own = at_desired ? tiles[t].desired : tiles[t].level;
     uint8_t bits = 0;
     for (const Neighbour& n : kNeighbours) {
-        const int nx = x + n.dx, ny = y + n.dy;
-        if (nx >= 0 && ny >= 0 && nx < w && ny < h && levelAt(nx, ny, tiles, at_desired) < own)
+        const int nx = structure_.columnAt(x, n.dx), ny = y + n.dy;
+        if (nx >= 0 && ny >= 0 && ny < h && levelAt(nx, ny, tiles, at_desired) < own)
             bits |= n.bits;
     }
     return bits;
@@ -327,7 +377,7 @@ void RingsSelector::desire(const RingsStructure& s, const Camera& camera,
             t.ring = int8_t(std::min(s.ringOf(x, y), 127));
             t.visibility = Visibility::Inside;
             float lo = 0.f, hi = 0.f;
-            if (std::abs(x - s.centreX()) <= s.rings() && std::abs(y - s.centreY()) <= s.rings()) {
+            if (std::abs(s.dxOf(x)) <= s.rings() && std::abs(y - s.centreY()) <= s.rings()) {
                 const RingCell& c = s.cell(x, y); // bounds held by the structure's cell
                 lo = c.min_height;
                 hi = c.max_height;
@@ -393,8 +443,8 @@ void RingsSelector::cover(const Selection& /*desired*/,
             const int x = int(t % size_t(w)), y = int(t / size_t(w));
             int lowest = tiles_[t].level;
             for (const Neighbour& n : kNeighbours) {
-                const int nx = x + n.dx, ny = y + n.dy;
-                if (nx >= 0 && ny >= 0 && nx < w && ny < h)
+                const int nx = structure_.columnAt(x, n.dx), ny = y + n.dy;
+                if (nx >= 0 && ny >= 0 && ny < h)
                     lowest = std::min(lowest, levelAt(nx, ny, tiles_, false));
             }
             TileState& ts = tiles_[t];

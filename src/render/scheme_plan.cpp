@@ -28,7 +28,7 @@ SchemePlan planSchemes(const archive::ArchiveReader& reader, const lod::TerrainF
         const bool wrapping_globe = frame.onEllipsoid() && frame.geodetic().wrap_columns > 0;
         for (const SchemeInfo& info : schemeRegistry()) {
             if (wrapping_globe && !info.promises.wrapping_globe)
-                continue; // rings, until its ring grid wraps
+                continue; // a scheme that cannot wrap with the globe
             SchemeOptions own = parseSchemeSpec(info.name);
             SchemeNeeds needs;
             try {

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <numbers>
 #include <random>
 #include <set>
 
@@ -263,4 +264,75 @@ TEST(Rings, SettingsThePatchSizeCannotTakeAreRefusedNamingTheOption)
         return std::string();
     }();
     EXPECT_NE(m.find("patches of 17 samples"), std::string::npos) << m;
+}
+
+namespace {
+
+// A whole-Earth grid of `turn` columns a turn (one more: the repeated edge meridian), rows
+// from pole to pole, patches of `patch` samples, with flat bounds.
+PatchQuadtree wrappingGlobe(int turn, int patch = 17)
+{
+    const int rows = turn / 2 + 1;
+    GeodeticGrid grid;
+    grid.lon0 = 0.0;
+    grid.lat0 = std::numbers::pi / 2;
+    grid.dlon = 2.0 * std::numbers::pi / turn;
+    grid.dlat = -grid.dlon;
+    grid.wrap_columns = turn;
+    const PyramidGeometry g(turn + 1, rows, patch);
+    std::vector<PatchBounds> bounds(size_t(g.patchCount()), PatchBounds{0.f, 100.f, 1.f});
+    return PatchQuadtree(TerrainFrame::ellipsoid(g, 1.0, 1.0, grid), bounds);
+}
+
+} // namespace
+
+// On a globe that goes round the Earth the tiles wrap: the column west of tile 0 is the last
+// tile, one ring out, and rings, orientations and the window are measured the short way round.
+TEST(Rings, TilesWrapRoundAGlobeWhoseTurnIsWholeTiles)
+{
+    const PatchQuadtree tree = wrappingGlobe(256); // 16 tiles of 16 columns a turn
+    EXPECT_EQ(ringsWrapTiles(tree.frame()), 16);
+    RingsStructure s(tree, RingsSettings{});
+    ASSERT_EQ(s.wrapTiles(), 16);
+    s.updateRings(0, 3);
+    EXPECT_EQ(s.columnAt(0, -1), 15);
+    EXPECT_EQ(s.columnAt(15, 1), 0);
+    EXPECT_EQ(s.ringOf(15, 3), 1);
+    EXPECT_EQ(s.orientationOf(15, 3), Orientation::West);
+    EXPECT_EQ(s.orientationOf(15, 2), Orientation::NorthWest);
+    EXPECT_EQ(s.ringOf(8, 3), 8); // the antipode: the farthest column either way
+    // The window holds the tiles across the seam: the west ones are the last columns.
+    EXPECT_EQ(s.cell(15, 3).tile_x, 15);
+    EXPECT_EQ(s.cell(14, 3).tile_x, 14);
+    EXPECT_TRUE(s.cell(15, 3).exists);
+    // Moving across the seam is a move to a neighbour: one column of cells is refreshed.
+    s.updateRings(15, 3);
+    EXPECT_EQ(s.cellsRefreshed(), s.window());
+    EXPECT_EQ(s.ringOf(0, 3), 1);
+    EXPECT_EQ(s.orientationOf(0, 3), Orientation::East);
+}
+
+TEST(Rings, AGlobeWhoseTurnIsNotWholeTilesIsRefusedSayingWhatWouldDo)
+{
+    const PatchQuadtree tree = wrappingGlobe(180); // 16-column tiles, 11.25 a turn
+    try {
+        RingsStructure s(tree, RingsSettings{});
+        ADD_FAILURE() << "a turn of 11.25 tiles was accepted";
+    } catch (const Error& e) {
+        const std::string m = e.what();
+        EXPECT_NE(m.find("180"), std::string::npos) << m;
+        // 4 divides 180 but a grid of 4-column tiles has too many levels for the root to be a
+        // tile: no patch size will do, and the message says so.
+        EXPECT_NE(m.find("no patch size"), std::string::npos) << m;
+    }
+    // 384 columns a turn (3 · 2^7) in 257-sample patches (1.5 tiles): 128-column tiles would
+    // divide it and reach the root.
+    try {
+        RingsStructure s(wrappingGlobe(384, 257), RingsSettings{});
+        ADD_FAILURE() << "a turn of 1.5 tiles was accepted";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("--patch 129"), std::string::npos) << e.what();
+    }
+    // A plane never wraps.
+    EXPECT_EQ(ringsWrapTiles(Terrain{}.tree.frame()), 0);
 }

@@ -311,7 +311,21 @@ WatertightReport checkWatertight(const render::CapturedSurface& s, const lod::Te
             // polar patch all meet on that segment (a line, not a fold that could hide a gap).
             const bool polar_axis =
                 onPoleAxis(edge.first, s, frame) && onPoleAxis(edge.second, s, frame);
-            if (count > 2 && !polar_axis) {
+            // A patch spanning a whole turn of a wrapping globe meets itself at the edge
+            // meridian: its west and east borders are one line, whose edges both sides'
+            // surface and skirt use, as two patches meeting there would (four).
+            const int64_t period = frame.onEllipsoid() ? frame.geodetic().wrap_columns : 0;
+            const PatchId patch = s.patches[i];
+            const bool whole_turn =
+                period > 0 &&
+                int64_t(frame.geometry().cells()) * frame.geometry().step(patch.level) >= period;
+            auto onEdgeMeridian = [&](const VertexKey& k) {
+                const double c = columnOfLongitude(k, s, frame);
+                return onPoleAxis(k, s, frame) || c < 1e-3 || c > double(period) - 1e-3;
+            };
+            const bool self_seam = whole_turn && count <= 4 && onEdgeMeridian(edge.first) &&
+                                   onEdgeMeridian(edge.second);
+            if (count > 2 && !polar_axis && !self_seam) {
                 ++report.overused_edges;
                 if (report.first_problem.empty()) {
                     const glm::dvec3 a = gridOfKey(edge.first, s, frame),

@@ -1,12 +1,12 @@
 // The conformance suite on the globe (issue 26): every registered scheme that promises a
-// wrapping globe draws the whole-Earth fixture (tests/data/etopo5_globe_181x91.tif: 2°
-// samples, columns 0..360 wrapping, both poles) on the WGS 84 ellipsoid: every sample in view
-// within ε where the scheme promises it (the straight cells' sag below the curved surface
-// counted) and covered by the captured surface; seams watertight as the scheme promises them,
-// across the wrap seam and at both poles; no background inside the globe's footprint from
-// orbit, over the wrap seam (the prime meridian here) and over both poles; and no hole while
-// streaming under a tiny budget on the way down. A scheme that does not promise it refuses
-// by name.
+// wrapping globe draws the whole-Earth fixture (tests/data/etopo5_globe_256x129.tif: 1.40625°
+// samples, 256 columns a turn, wrapping, both poles; 256 columns so that rings' tiles divide
+// the turn) on the WGS 84 ellipsoid: every sample in view within ε where the scheme promises
+// it (the straight cells' sag below the curved surface counted) and covered by the captured
+// surface; seams watertight as the scheme promises them, across the wrap seam and at both
+// poles; no background inside the globe's footprint from orbit, over the wrap seam (the
+// prime meridian here) and over both poles; and no hole while streaming under a tiny budget
+// on the way down. A scheme that does not promise it refuses by name.
 #include "captured_surface_checks.h"
 #include "test_support.h"
 
@@ -44,7 +44,7 @@ class GlobeConformance : public ::testing::TestWithParam<std::string> {
         BuildOptions options;
         options.patch_size = 17;
         options.progress = {};
-        buildArchive(test::dataPath("etopo5_globe_181x91.tif"), archive_, options);
+        buildArchive(test::dataPath("etopo5_globe_256x129.tif"), archive_, options);
         reader_ = new archive::ArchiveReader(archive_);
         render::RendererOptions ro;
         ro.synchronous_stats = true;

@@ -21,6 +21,11 @@
 // the central patch only the row and column of cells that wrap take new tiles (their bounds
 // are read again); rings and orientations are recomputed, which is arithmetic.
 //
+// On a globe whose columns go round the Earth the tiles wrap too: tile x and x + T are one (T
+// tiles a turn), rings, orientations and neighbours are measured the short way round, so the
+// rings cross the antimeridian like any other meridian. That needs whole tiles a turn: the
+// finest patch's columns must divide the turn's (ringsWrapTiles says why not).
+//
 // Streaming (RingsSelector::cover): while the tiles' patches arrive, each visible tile draws
 // its finest resident ancestor, then levels are lowered until every two tiles that touch
 // (across an edge or a corner) differ by at most one level and every tile that meets a coarser
@@ -83,6 +88,11 @@ struct RingsSettings {
     void validate(const PyramidGeometry& geometry) const;
 };
 
+// The tiles a turn of a globe that goes round the Earth (TerrainFrame's wrap columns over the
+// finest patch's columns), 0 on any other frame. Throws ridge::Error when the grid wraps but
+// its finest patches do not divide the turn, naming the patch sizes that would.
+int ringsWrapTiles(const TerrainFrame& frame);
+
 // One cell of the toroidal array: a tile of the window around the central patch.
 struct RingCell {
     int tile_x = -1, tile_y = -1; // the tile (finest patch) this cell holds; −1: none yet
@@ -108,6 +118,11 @@ class RingsStructure {
     int centreX() const { return centre_x_; }
     int centreY() const { return centre_y_; }
     int tilesX() const { return tiles_x_; }
+    int wrapTiles() const { return wrap_tiles_; } // tiles a turn when they wrap, else 0
+    // Tile column x seen from the centre: x − centre, the short way round when tiles wrap.
+    int dxOf(int x) const;
+    // Tile column x + dx, wrapped when tiles wrap; −1 beyond the terrain.
+    int columnAt(int x, int dx) const;
     int tilesY() const { return tiles_y_; }
     int finestLevel() const { return finest_; }
     int vertexStep() const { return vertex_step_; }
@@ -141,9 +156,13 @@ class RingsStructure {
     std::shared_ptr<const std::vector<std::array<float, 2>>> bounds_;
     int rings_ = 0, vertex_step_ = 1, finest_ = 0, tiles_x_ = 0, tiles_y_ = 0, cells_ = 0;
     int centre_x_ = 0, centre_y_ = 0;
+    int centre_vx_ = 0; // centre_x_ unwrapped (moves the short way round a wrapping globe)
+    int wrap_tiles_ = 0;
     bool built_ = false;
     int refreshed_ = 0;
-    std::vector<RingCell> cells_array_; // window² cells, [(y mod W)·W + x mod W]
+    // window² cells, [(y mod W)·W + x mod W] for the tile's column x seen from the centre
+    // (centre + dxOf: unwrapped, so the window never holds one column twice)
+    std::vector<RingCell> cells_array_;
 };
 
 // A tile as one frame draws it.

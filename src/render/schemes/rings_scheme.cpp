@@ -308,21 +308,25 @@ SchemeInfo ringsScheme()
                                           "paper's 128² vertices for 256² tiles",
                                           1, 2, 1)},
         .needs =
-            [](const archive::ArchiveReader& reader, const lod::TerrainFrame&,
+            [](const archive::ArchiveReader& reader, const lod::TerrainFrame& frame,
                const RendererOptions&, const SchemeOptions& own) {
                 settingsFor(reader, own);
+                try {
+                    lod::ringsWrapTiles(frame); // a globe's turn in whole tiles
+                } catch (const Error& e) {
+                    throw Error(reader.path() + ": --lod " + own.spec() + ": " + e.what());
+                }
                 return SchemeNeeds{};
             },
         .make = [](const SchemeResources& r) -> std::unique_ptr<TerrainScheme> {
             return std::make_unique<RingsScheme>(r, settingsFor(r.reader, r.own));
         },
-        // The ring structure measures rings in tile indices: on a grid that wraps around
-        // the Earth the tiles beyond the seam would be the farthest ring (and a period is not
-        // a whole number of tiles in general).
+        // Rings wrap with the globe when its turn is whole tiles (lod::ringsWrapTiles; needs
+        // refuses the archive otherwise).
         .promises = {.screen_space_error = false,
                      .seams = SchemePromises::Seams::Stitching,
                      .pop_free = false,
-                     .wrapping_globe = false},
+                     .wrapping_globe = true},
     };
 }
 
