@@ -123,6 +123,7 @@ class ViewCommand {
     std::string mode_ = "shaded";  // --mode, as `ridge render` takes it
     std::vector<std::string> lod_; // --lod: the schemes L cycles through (specs)
     bool no_overlay_ = false;      // start with the overlay hidden (O shows it)
+    bool orbit_ = false;           // start orbiting the globe (M switches)
     std::string frame_ = "auto";   // --frame, as `ridge render` takes it
     render::RendererOptions renderer_options_ = render::RendererOptions::streamingDefaults();
 };

@@ -24,6 +24,7 @@
 #include "ridge/io/raster_writer.h"
 #include "ridge/render/fly_camera.h"
 #include "ridge/render/legend.h"
+#include "ridge/render/orbit_camera.h"
 #include "ridge/render/terrain_renderer.h"
 
 #include <epoxy/gl.h>
@@ -49,6 +50,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <vector>
 #endif
 
@@ -148,7 +150,8 @@ class Viewer {
     // `start`: the camera the command line asked for (render's options), else the default.
     Viewer(gpu::WindowContext& window, render::TerrainRenderer& renderer, double fov_y_degrees,
            double epsilon_px, double texel_px, render::DebugMode mode, bool show_overlay,
-           double exaggeration, const ResolvedCamera& start, const archive::ArchiveReader& reader)
+           double exaggeration, const ResolvedCamera& start, const archive::ArchiveReader& reader,
+           bool orbit)
         : window_(window), renderer_(renderer), fov_y_degrees_(fov_y_degrees),
           archive_(reader.path()), readout_(reader), show_overlay_(show_overlay)
     {
@@ -172,6 +175,9 @@ class Viewer {
             fly_.followEllipsoid(f.geodetic().ellipsoid); // true north, the local horizon
         // The speed follows the height above the ground (updateCamera), from the first frame.
         fly_.setSpeed(CameraReadout::flySpeed(heightAboveGround(), speed_rate_));
+        if (orbit)
+            toggleOrbit(); // run() refuses --orbit off a globe
+
         glfwSetWindowUserPointer(window_.window(), &pending_);
         glfwSetScrollCallback(window_.window(), onScroll);
         glfwSetKeyCallback(window_.window(), onKey);
@@ -204,7 +210,9 @@ class Viewer {
 
         double near_m = 1.0, far_m = 1e6;
         renderer_.clipPlanesFor(fly_.position(), near_m, far_m, settings_.exaggeration);
-        const lod::Camera camera = fly_.camera({width_, height_}, fov_y_degrees_, near_m, far_m);
+        const lod::Camera camera =
+            orbit_ ? orbit_->camera({width_, height_}, fov_y_degrees_, near_m, far_m)
+                   : fly_.camera({width_, height_}, fov_y_degrees_, near_m, far_m);
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
         glViewport(0, 0, width_, height_);
         stats_ = renderer_.draw(camera, settings_);
@@ -278,6 +286,10 @@ class Viewer {
             case GLFW_KEY_H:
                 clamp_to_ground_ = !clamp_to_ground_;
                 break;
+            case GLFW_KEY_M:
+                if (renderer_.quadtree().frame().onEllipsoid())
+                    toggleOrbit();
+                break;
             case GLFW_KEY_O:
             case GLFW_KEY_F10:
                 show_overlay_ = !show_overlay_;
@@ -318,8 +330,11 @@ class Viewer {
         // The wheel scales the speed's rate per metre of height; the speed itself follows the
         // height above the ground, so that skimming a valley is slow and crossing a continent
         // from orbit is not.
-        speed_rate_ = std::clamp(speed_rate_ * std::pow(fly_.speedFactor(), pending_.scroll),
-                                 CameraReadout::kMinSpeedRate, CameraReadout::kMaxSpeedRate);
+        // Orbiting, it zooms instead.
+        const double zoom_steps = orbit_ ? pending_.scroll : 0.0;
+        if (!orbit_)
+            speed_rate_ = std::clamp(speed_rate_ * std::pow(fly_.speedFactor(), pending_.scroll),
+                                     CameraReadout::kMinSpeedRate, CameraReadout::kMaxSpeedRate);
         pending_.scroll = 0.0;
         fly_.setSpeed(CameraReadout::flySpeed(heightAboveGround(), speed_rate_));
 
@@ -349,11 +364,44 @@ class Viewer {
             have_cursor_ = true;
         }
 
+        if (orbit_) {
+            // Orbit: the mouse drags the Earth, the wheel and W/S zoom, A/D turn, E/Q tilt.
+            render::OrbitInput orbit;
+            orbit.drag_dx = in.mouse_dx;
+            orbit.drag_dy = in.mouse_dy;
+            orbit.zoom_steps = zoom_steps + 4.0 * dt * (double(in.forward) - double(in.back));
+            orbit.turn = double(in.right) - double(in.left);
+            orbit.tilt = double(in.up) - double(in.down);
+            orbit_->update(orbit, {width_, height_}, fov_y_degrees_, dt);
+            orbit_->setTargetHeight(
+                renderer_.groundUnder(orbit_->target(), settings_.exaggeration));
+            fly_.setPosition(orbit_->position()); // the overlay's readouts and clip planes
+            return;
+        }
         fly_.update(in, dt);
         // No tunnelling: never closer than 2 m above the drawn ground (along the local up).
         if (clamp_to_ground_)
             if (const double above = heightAboveGround(); above < 2.0)
                 liftBy(2.0 - above);
+    }
+
+    // M: orbit the globe around the point in the middle of the view, or fly on from where the
+    // orbit left the camera.
+    void toggleOrbit()
+    {
+        const lod::Ellipsoid& e = renderer_.quadtree().frame().geodetic().ellipsoid;
+        const lod::Viewport vp{std::max(width_, 1), std::max(height_, 1)};
+        if (orbit_) {
+            const lod::Camera c = orbit_->camera(vp, fov_y_degrees_, 1.0, 2.0);
+            fly_ = render::FlyCamera::from(c, fly_.speed());
+            fly_.followEllipsoid(e);
+            orbit_.reset();
+            return;
+        }
+        const lod::Camera c = fly_.camera(vp, fov_y_degrees_, 1.0, 2.0);
+        const double ground = renderer_.groundUnder(c.position(), settings_.exaggeration);
+        orbit_ = render::OrbitCamera::around(e, c, ground);
+        orbit_->setTargetHeight(renderer_.groundUnder(orbit_->target(), settings_.exaggeration));
     }
 
     // Metres between the camera and the level-0 surface under it (negative below it), along
@@ -405,6 +453,11 @@ class Viewer {
             for (const std::string& line : readout_.positionLines(p))
                 ImGui::TextUnformatted(line.c_str());
         }
+        if (orbit_)
+            ImGui::Text("orbiting %.4f°, %.4f° from %.0f m, heading %.1f°, tilt %.1f° (M: fly)",
+                        orbit_->longitude() * kDegreesPerRadian,
+                        orbit_->latitude() * kDegreesPerRadian, orbit_->range(),
+                        orbit_->heading() * kDegreesPerRadian, orbit_->tilt() * kDegreesPerRadian);
         ImGui::Text("%.0f m above ground, speed %.0f m/s", heightAboveGround(), fly_.speed());
         ImGui::Text("heading %.1f° from %s north, pitch %.1f°", fly_.yaw() * kDegreesPerRadian,
                     fly_.onEllipsoid() ? "true" : "grid", fly_.pitch() * kDegreesPerRadian);
@@ -473,6 +526,8 @@ class Viewer {
         if (ImGui::CollapsingHeader("keys")) {
             ImGui::TextUnformatted("WASD move, Q/E down/up, Shift fast, wheel speed, right-drag "
                                    "or Tab look");
+            ImGui::TextUnformatted("M orbit the globe: right-drag or Tab turns the Earth, wheel "
+                                   "or W/S zoom, A/D heading, E/Q tilt");
             ImGui::TextUnformatted("F1-F3 modes, F4/Z wireframe, C cull, K skirts, L scheme, G "
                                    "fog, H ground, O overlay, +/- epsilon, P print/copy camera, "
                                    "Esc quit");
@@ -518,6 +573,7 @@ class Viewer {
     CameraReadout readout_;
     render::RenderSettings settings_;
     render::FlyCamera fly_;
+    std::optional<render::OrbitCamera> orbit_; // M on a globe: orbiting instead of flying
     render::FrameStats stats_;
     PendingInput pending_;
     bool quit_ = false;
@@ -575,6 +631,9 @@ void ViewCommand::registerWith(CLI::App& app)
     // to keep the user-facing help short.
     command_->add_option("--screenshot", screenshot_, "Write the last frame as a PNG")->group("");
     addFrameOption(*command_, frame_);
+    command_->add_flag("--orbit", orbit_,
+                       "Start orbiting the globe around the point in the middle of the view "
+                       "(M switches between orbit and fly)");
 }
 
 int ViewCommand::run()
@@ -625,8 +684,11 @@ int ViewCommand::run()
         // Streaming: the window never waits for disk or decoding; missing patches are drawn by
         // their resident ancestors until they arrive.
         render::TerrainRenderer renderer(reader, renderer_options_);
+        if (orbit_ && !renderer.quadtree().frame().onEllipsoid())
+            throw UsageError("--orbit: " + archive_ +
+                             " is drawn on a plane; orbiting needs the globe (--frame ellipsoid)");
         Viewer viewer(*window, renderer, fov_y_degrees_, epsilon_px_, texel_px_,
-                      parseDebugMode(mode_), !no_overlay_, exaggeration_, start, reader);
+                      parseDebugMode(mode_), !no_overlay_, exaggeration_, start, reader, orbit_);
         const ImGuiSession imgui(window->window());
 
         for (int frame = 0; frames_ == 0 || frame < frames_; ++frame) {

@@ -243,4 +243,27 @@ TEST(ViewSmoke, FliesTheGlobeOnTheEllipsoid)
     const int sky_minus_ground =
         std::abs(sky[0] - ground[0]) + std::abs(sky[1] - ground[1]) + std::abs(sky[2] - ground[2]);
     EXPECT_GT(sky_minus_ground, 30) << "terrain at the bottom";
+
+    // Orbiting (--orbit, M in the window): the orbit camera starts on the view it was given
+    // (an oblique look at the Himalaya from 2,000 km: the fly camera's picture, pixel for
+    // pixel up to rounding).
+    const std::string given = "--no-overlay --camera-lonlat 80,20,2000000 --look-at-lonlat 87,30";
+    const std::string flying = dir.path("flying.png"), orbiting = dir.path("orbiting.png");
+    ASSERT_EQ(viewShot(arc, flying, given).exit_code, 0);
+    r = viewShot(arc, orbiting, given + " --orbit");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const Picture f = readPicture(flying), o = readPicture(orbiting);
+    ASSERT_EQ(o.rgb.size(), f.rgb.size());
+    size_t same = 0;
+    for (size_t i = 0; i + 2 < o.rgb.size(); i += 3)
+        same += std::abs(int(o.rgb[i]) - int(f.rgb[i])) +
+                    std::abs(int(o.rgb[i + 1]) - int(f.rgb[i + 1])) +
+                    std::abs(int(o.rgb[i + 2]) - int(f.rgb[i + 2])) <
+                12;
+    EXPECT_GT(same, o.rgb.size() / 3 * 97 / 100) << "the orbit starts on the view it was given";
+    // Off a globe there is nothing to orbit.
+    const std::string plane = test::buildEverestWithCli(dir, "plane.ridge", "");
+    r = viewShot(plane, dir.path("plane.png"), "--orbit");
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find("--orbit"), std::string::npos) << r.output;
 }
