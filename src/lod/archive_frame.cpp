@@ -81,14 +81,12 @@ GeodeticGrid geographicGrid(const archive::ArchiveReader& reader, const std::str
 
 // The globe frame of a projected archive: PROJ's map from its grid to WGS 84 longitude and
 // latitude, sampled into a lattice the frame and the shaders interpolate (lod/projected_grid.h).
+// `reader` has a geotransform and a CRS (terrainFrameOf sends only those).
 TerrainFrame projectedFrame(const archive::ArchiveReader& reader, const std::string& what)
 {
     const archive::GeoreferenceMetadata& geo = reader.metadata().georeference;
     const std::string prefix = what + ": cannot lie on the ellipsoid: ";
-    if (!geo.geotransform || geo.crs_wkt.empty())
-        throw Error(prefix + "it has no " + (geo.geotransform ? "CRS" : "geotransform") +
-                    " (build it from a georeferenced raster)");
-    const std::array<double, 6> gt = *geo.geotransform;
+    const std::array<double, 6> gt = geo.geotransform.value();
     std::optional<io::GeographicTransform> transform;
     try {
         transform.emplace(geo.crs_wkt, what);
