@@ -1,0 +1,233 @@
+#include "ridge/lod/clipmap_selector.h"
+
+#include "ridge/core/error.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ridge::lod {
+namespace {
+
+int64_t floorDiv(int64_t a, int64_t b)
+{
+    return a >= 0 ? a / b : -((b - 1 - a) / b);
+}
+
+LevelRect intersect(const LevelRect& a, const LevelRect& b)
+{
+    LevelRect r{std::max(a.x0, b.x0), std::max(a.y0, b.y0), std::min(a.x1, b.x1),
+                std::min(a.y1, b.y1)};
+    if (r.x1 <= r.x0 || r.y1 <= r.y0)
+        return {};
+    return r;
+}
+
+// Half-open ranges of an archive level's samples by patch: patch p takes [p·C, (p + 1)·C),
+// the first everything below, the last everything above (edge samples beyond the terrain).
+struct PatchRange {
+    int64_t lo, hi;
+};
+PatchRange rangeOf(int p, int last, int64_t cells)
+{
+    constexpr int64_t kFar = int64_t{1} << 60;
+    return {p == 0 ? -kFar : p * cells, p == last ? kFar : (p + 1) * cells};
+}
+
+} // namespace
+
+ClipmapSelector::ClipmapSelector(const PatchQuadtree& tree, const ClipmapSettings& settings)
+    : tree_(tree), windows_(tree.geometry(), settings)
+{
+    if (tree.geometry().patchesX(0) != 1 || tree.geometry().patchesY(0) != 1)
+        throw Error("clipmaps: internal: level 0 must be one patch");
+    pending_.resize(size_t(windows_.levelCount()));
+}
+
+int64_t ClipmapSelector::decimation(int level) const
+{
+    const int l = windows_.level(level).pyramid_level;
+    return l >= 0 ? 1 : int64_t{1} << -l;
+}
+
+PatchId ClipmapSelector::patchOf(int level, int64_t i, int64_t j) const
+{
+    const int l = windows_.level(level).pyramid_level;
+    if (l <= 0)
+        return PatchId{0, 0, 0};
+    const PyramidGeometry& g = tree_.geometry();
+    const int64_t C = g.cells();
+    const int x = int(std::clamp<int64_t>(floorDiv(i, C), 0, g.patchesX(l) - 1));
+    const int y = int(std::clamp<int64_t>(floorDiv(j, C), 0, g.patchesY(l) - 1));
+    return PatchId{l, x, y};
+}
+
+void ClipmapSelector::splitByPatch(int level, const LevelRect& rect,
+                                   std::vector<ClipmapWrite>& out) const
+{
+    if (rect.area() <= 0)
+        return;
+    const int l = windows_.level(level).pyramid_level;
+    if (l <= 0) {
+        out.push_back({level, PatchId{0, 0, 0}, rect});
+        return;
+    }
+    const PyramidGeometry& g = tree_.geometry();
+    const int64_t C = g.cells();
+    const PatchId first = patchOf(level, rect.x0, rect.y0);
+    const PatchId last = patchOf(level, rect.x1 - 1, rect.y1 - 1);
+    for (int y = first.y; y <= last.y; ++y)
+        for (int x = first.x; x <= last.x; ++x) {
+            const PatchRange rx = rangeOf(x, g.patchesX(l) - 1, C);
+            const PatchRange ry = rangeOf(y, g.patchesY(l) - 1, C);
+            const LevelRect part = intersect(rect, {rx.lo, ry.lo, rx.hi, ry.hi});
+            if (part.area() > 0)
+                out.push_back({level, PatchId{l, x, y}, part});
+        }
+}
+
+glm::dvec2 ClipmapSelector::centreOf(const Camera& camera, double exaggeration,
+                                     double& distance) const
+{
+    const TerrainFrame& f = tree_.frame();
+    const glm::dvec3 grid = f.gridOf(camera.position());
+    const double W = f.geometry().width() - 1, H = f.geometry().height() - 1;
+    const glm::dvec2 centre(std::clamp(grid.x, 0.0, W), std::clamp(grid.y, 0.0, H));
+    // Off the terrain: the ground distance to its border; above it: the height over the
+    // highest sample of the finest patch under the viewer (so a level is never dropped for a
+    // viewer nearer to the ground than it seems).
+    const PyramidGeometry& g = f.geometry();
+    const int F = g.finestLevel();
+    const int64_t C = g.cells();
+    const PatchId under{F, int(std::min<int64_t>(int64_t(centre.x) / C, g.patchesX(F) - 1)),
+                        int(std::min<int64_t>(int64_t(centre.y) / C, g.patchesY(F) - 1))};
+    const double above = grid.z - exaggeration * double(tree_.bounds(under).max_height);
+    const double off =
+        std::hypot((grid.x - centre.x) * f.spacingX(), (grid.y - centre.y) * f.spacingY());
+    distance = std::hypot(std::max(above, 0.0), off);
+    return centre;
+}
+
+int ClipmapSelector::wantedFinest(const Camera& camera, double distance) const
+{
+    const TerrainFrame& f = tree_.frame();
+    return finestDrawnLevel(windows_, std::min(f.spacingX(), f.spacingY()), distance, camera.fovY(),
+                            camera.viewport().height);
+}
+
+void ClipmapSelector::want(const std::vector<ClipmapWrite>& writes, size_t max_patches,
+                           Selection& out) const
+{
+    for (const ClipmapWrite& w : writes) {
+        if (out.patches.size() >= max_patches)
+            return;
+        const bool seen = std::any_of(out.patches.begin(), out.patches.end(),
+                                      [&](const SelectedPatch& s) { return s.id == w.patch; });
+        if (seen)
+            continue;
+        SelectedPatch s;
+        s.id = w.patch;
+        s.visibility = Visibility::Intersecting;
+        // Coarse levels first (the planner also orders by quadtree level; this orders the
+        // decimated levels, which share the root, and keeps each level's writes in order).
+        s.rank = double(windows_.levelCount() - w.level);
+        out.patches.push_back(s);
+    }
+}
+
+void ClipmapSelector::select(const Camera& camera, const SelectionSettings& settings,
+                             Selection& out)
+{
+    settings.validate();
+    out = Selection{};
+    out.epsilon_px = settings.epsilon_px;
+    out.texel_px = settings.texel_px;
+    double distance = 0.0;
+    centre_ = centreOf(camera, settings.exaggeration, distance);
+    shifts_ = windows_.place(centre_.x, centre_.y);
+    for (int k = 0; k < windows_.levelCount(); ++k) {
+        const std::vector<LevelRect>& strip = windows_.updateRegions(k);
+        if (strip.empty())
+            continue;
+        // What was pending outside the new window is no longer needed.
+        std::vector<ClipmapWrite>& pending = pending_[size_t(k)];
+        const LevelRect window = windows_.level(k).window(windows_.n());
+        std::vector<ClipmapWrite> kept;
+        for (const ClipmapWrite& w : pending) {
+            const LevelRect r = intersect(w.rect, window);
+            if (r.area() > 0)
+                kept.push_back({w.level, w.patch, r});
+        }
+        pending = std::move(kept);
+        for (const LevelRect& r : strip)
+            splitByPatch(k, r, pending);
+    }
+    finest_wanted_ = wantedFinest(camera, distance);
+    for (int k = 0; k <= finest_wanted_; ++k)
+        want(pending_[size_t(k)], settings.max_patches, out);
+}
+
+void ClipmapSelector::preview(const Camera& camera, const SelectionSettings& settings,
+                              Selection& out) const
+{
+    out = Selection{};
+    out.epsilon_px = settings.epsilon_px;
+    out.texel_px = settings.texel_px;
+    double distance = 0.0;
+    const glm::dvec2 centre = centreOf(camera, settings.exaggeration, distance);
+    ClipmapWindows ahead = windows_;
+    ahead.place(centre.x, centre.y);
+    const int finest = wantedFinest(camera, distance);
+    std::vector<ClipmapWrite> writes;
+    for (int k = 0; k <= finest; ++k) {
+        writes.insert(writes.end(), pending_[size_t(k)].begin(), pending_[size_t(k)].end());
+        for (const LevelRect& r : ahead.updateRegions(k))
+            splitByPatch(k, r, writes);
+    }
+    want(writes, settings.max_patches, out);
+}
+
+void ClipmapSelector::cover(const Selection& desired, const std::function<bool(PatchId)>& resident,
+                            ResidentCover& out)
+{
+    // Nothing stands in for a missing patch: the level waits (finestDrawn) and the coarser
+    // one shows. What is resident of the wanted set is kept until it is written.
+    out.patches.clear();
+    out.missing = 0;
+    for (const SelectedPatch& p : desired.patches) {
+        if (resident(p.id))
+            out.patches.push_back(p);
+        else
+            ++out.missing;
+    }
+}
+
+void ClipmapSelector::takeWrites(const std::function<bool(PatchId)>& resident,
+                                 std::vector<ClipmapWrite>& out)
+{
+    out.clear();
+    for (std::vector<ClipmapWrite>& pending : pending_) {
+        auto waiting =
+            std::stable_partition(pending.begin(), pending.end(),
+                                  [&](const ClipmapWrite& w) { return !resident(w.patch); });
+        out.insert(out.end(), waiting, pending.end());
+        pending.erase(waiting, pending.end());
+    }
+}
+
+int ClipmapSelector::finestDrawn() const
+{
+    int k = -1;
+    while (k < finest_wanted_ && pending_[size_t(k + 1)].empty())
+        ++k;
+    return k;
+}
+
+size_t ClipmapSelector::pendingWrites() const
+{
+    size_t n = 0;
+    for (const std::vector<ClipmapWrite>& p : pending_)
+        n += p.size();
+    return n;
+}
+
+} // namespace ridge::lod

@@ -1,0 +1,196 @@
+// Scheme clipmaps' residency policy (lod/clipmap_selector.h), without GL: level textures
+// simulated as toroidal arrays of "which sample is here", written only through takeWrites,
+// must hold exactly their windows after any walk and any residency; a level is drawn only
+// when it and every coarser one are complete; nothing resident but the root still draws the
+// decimated levels; prefetch wants the coming strips; hostile cameras are handled.
+#include "ridge/lod/clipmap_selector.h"
+
+#include "ridge/core/error.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+#include <set>
+#include <tuple>
+
+using namespace ridge;
+using namespace ridge::lod;
+
+namespace {
+
+// A 2049 × 1537 grid of 65-sample patches at 30 m (6 archive levels).
+struct Terrain {
+    PyramidGeometry g{2049, 1537, 65};
+    PatchQuadtree tree = make(g);
+
+    static PatchQuadtree make(const PyramidGeometry& g)
+    {
+        std::vector<PatchBounds> bounds(size_t(g.patchCount()));
+        for (int64_t i = 0; i < g.patchCount(); ++i)
+            bounds[size_t(i)] = {0.f, 500.f, 1.f};
+        return PatchQuadtree(TerrainFrame(g, 30.0, 30.0), bounds);
+    }
+    // A camera `height` m above finest sample (column, row), looking north-east and down.
+    Camera at(double column, double row, double height) const
+    {
+        const TerrainFrame& f = tree.frame();
+        const glm::dvec3 pos(f.xOf(column), f.yOf(row), height);
+        return Camera(pos, pos + glm::dvec3(1000.0, 1000.0, -height), 60.0, {640, 360}, 1.0, 1e7);
+    }
+};
+
+struct ById {
+    bool operator()(PatchId a, PatchId b) const
+    {
+        return std::tie(a.level, a.y, a.x) < std::tie(b.level, b.y, b.x);
+    }
+};
+
+SelectionSettings settings()
+{
+    SelectionSettings s;
+    s.max_patches = 4096;
+    return s;
+}
+
+// Level textures as the GL half keeps them: texel (i mod N, j mod N) of level k holds the
+// level sample last written there.
+struct Textures {
+    int N;
+    std::vector<std::vector<std::pair<int64_t, int64_t>>> texels;
+    Textures(int levels, int n) : N(n + 1), texels(size_t(levels))
+    {
+        for (auto& t : texels)
+            t.assign(size_t(N) * N, {std::numeric_limits<int64_t>::min(), 0});
+    }
+    void apply(const ClipmapSelector& s, const ClipmapWrite& w)
+    {
+        for (int64_t j = w.rect.y0; j < w.rect.y1; ++j)
+            for (int64_t i = w.rect.x0; i < w.rect.x1; ++i) {
+                // The write reads the patch the policy says holds the sample.
+                ASSERT_EQ(s.patchOf(w.level, i, j), w.patch);
+                const int64_t x = ((i % N) + N) % N, y = ((j % N) + N) % N;
+                texels[size_t(w.level)][size_t(y * N + x)] = {i, j};
+            }
+    }
+    // Whether level k's texture holds exactly its window.
+    bool holdsWindow(const ClipmapSelector& s, int k) const
+    {
+        const LevelRect w = s.windows().level(k).window(s.windows().n());
+        for (int64_t j = w.y0; j < w.y1; ++j)
+            for (int64_t i = w.x0; i < w.x1; ++i) {
+                const int64_t x = ((i % N) + N) % N, y = ((j % N) + N) % N;
+                if (texels[size_t(k)][size_t(y * N + x)] != std::pair{i, j})
+                    return false;
+            }
+        return true;
+    }
+};
+
+TEST(ClipmapSelector, LevelTexturesHoldTheirWindowsWheneverTheyAreDrawn)
+{
+    Terrain t;
+    ClipmapSettings cs;
+    cs.n = 63;
+    ClipmapSelector s(t.tree, cs);
+    const int L = s.windows().levelCount();
+    Textures tex(L, cs.n);
+    std::mt19937 rng(9);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    std::set<PatchId, ById> resident{PatchId{0, 0, 0}};
+    double c = 300.0, r = 400.0;
+    int drawn_frames = 0;
+    for (int frame = 0; frame < 400; ++frame) {
+        c += 9.0 * (u(rng) - 0.3);
+        r += 7.0 * (u(rng) - 0.3);
+        Selection sel;
+        s.select(t.at(c, r, 40.0 + 2000.0 * u(rng) * u(rng)), settings(), sel);
+        // Streaming: some of what is wanted arrives, some old patches are evicted.
+        for (const SelectedPatch& p : sel.patches)
+            if (u(rng) < 0.8)
+                resident.insert(p.id);
+        for (auto it = resident.begin(); it != resident.end();)
+            it = (it->level > 0 && u(rng) < 0.1) ? resident.erase(it) : std::next(it);
+        std::vector<ClipmapWrite> writes;
+        s.takeWrites([&](PatchId p) { return resident.count(p) > 0; }, writes);
+        for (const ClipmapWrite& w : writes) {
+            ASSERT_TRUE(resident.count(w.patch));
+            tex.apply(s, w);
+        }
+        const int drawn = s.finestDrawn();
+        ASSERT_GE(drawn, 0) << "the decimated coarsest level reads the root, always resident";
+        ASSERT_LE(drawn, s.finestWanted());
+        for (int k = 0; k <= drawn; ++k)
+            ASSERT_TRUE(tex.holdsWindow(s, k)) << "frame " << frame << " level " << k;
+        drawn_frames += drawn == s.finestWanted();
+    }
+    EXPECT_GT(drawn_frames, 100); // and the walk mostly draws everything it wants
+}
+
+TEST(ClipmapSelector, EverythingResidentDrawsEveryWantedLevelAtOnce)
+{
+    Terrain t;
+    ClipmapSelector s(t.tree, ClipmapSettings{});
+    Selection sel;
+    s.select(t.at(1000.0, 700.0, 50.0), settings(), sel);
+    EXPECT_EQ(s.finestWanted(), s.windows().levelCount() - 1); // 50 m up: all of them
+    EXPECT_EQ(s.finestDrawn(), -1);                            // nothing written yet
+    // Only the decimated levels (the root's) are ready before anything is written.
+    std::vector<ClipmapWrite> writes;
+    s.takeWrites([](PatchId p) { return p.level == 0; }, writes);
+    const int decimated = [&] {
+        int k = 0;
+        while (k < s.windows().levelCount() && s.windows().level(k).pyramid_level <= 0)
+            ++k;
+        return k;
+    }();
+    EXPECT_EQ(s.finestDrawn(), decimated - 1);
+    s.takeWrites([](PatchId) { return true; }, writes);
+    EXPECT_EQ(s.finestDrawn(), s.finestWanted());
+    EXPECT_EQ(s.pendingWrites(), 0u);
+    // Standing still wants nothing more.
+    s.select(t.at(1000.0, 700.0, 50.0), settings(), sel);
+    EXPECT_TRUE(sel.patches.empty());
+    EXPECT_EQ(s.shifts(), 0);
+}
+
+TEST(ClipmapSelector, PrefetchWantsTheStripsOfTheComingShiftsAndChangesNothing)
+{
+    Terrain t;
+    ClipmapSelector s(t.tree, ClipmapSettings{});
+    Selection sel;
+    s.select(t.at(1000.0, 700.0, 50.0), settings(), sel);
+    std::vector<ClipmapWrite> writes;
+    s.takeWrites([](PatchId) { return true; }, writes);
+    Selection ahead;
+    s.preview(t.at(1300.0, 700.0, 50.0), settings(), ahead); // 300 samples east
+    EXPECT_FALSE(ahead.patches.empty());
+    for (const SelectedPatch& p : ahead.patches)
+        if (p.id.level == t.g.finestLevel()) { // the finest level's new patches lie east
+            EXPECT_GE(int64_t(p.id.x + 1) * 64, 1000 + 127 - 1) << p.id.x;
+        }
+    EXPECT_EQ(s.pendingWrites(), 0u); // preview changed nothing
+    EXPECT_EQ(s.finestDrawn(), s.finestWanted());
+}
+
+TEST(ClipmapSelector, HighAndFarCamerasDeactivateFineLevelsAndHostileOnesAreRefusedOrClamped)
+{
+    Terrain t;
+    ClipmapSelector s(t.tree, ClipmapSettings{});
+    Selection sel;
+    s.select(t.at(1000.0, 700.0, 50.0), settings(), sel);
+    const int low = s.finestWanted();
+    s.select(t.at(1000.0, 700.0, 60000.0), settings(), sel);
+    EXPECT_LT(s.finestWanted(), low);
+    // Far off the terrain: the windows stay on its border, the fine levels off.
+    s.select(t.at(-50000.0, 700.0, 100.0), settings(), sel);
+    EXPECT_EQ(s.centre().x, 0.0);
+    EXPECT_LT(s.finestWanted(), low);
+    SelectionSettings bad = settings();
+    bad.epsilon_px = std::nan("");
+    EXPECT_THROW(s.select(t.at(1000.0, 700.0, 50.0), bad, sel), Error);
+}
+
+} // namespace
