@@ -170,12 +170,19 @@ void frame(FuzzedDataProvider& in, ridge::fuzz::CpuRenderer& r)
             in.ConsumeIntegralInRange<size_t>(0, ridge::fuzz::CpuRenderer::kSlots - 1);
         settings.cull = in.ConsumeBool();
         settings.conservative_distance = in.ConsumeBool();
-        if (in.ConsumeBool()) {
+        const int policy = in.ConsumeIntegralInRange<int>(0, 2);
+        if (policy == 1) {
             // Scheme rings' own selection: any ring count and vertex step, valid or not.
             ridge::lod::RingsSettings rings;
             rings.rings = in.ConsumeIntegralInRange<int>(-2, 20);
             rings.vertex_step = in.ConsumeIntegralInRange<int>(0, 3);
             r.drawRingsFrame(camera, settings, rings);
+        } else if (policy == 2) {
+            // Scheme clipmaps' level windows: any n and level count, valid or not.
+            ridge::lod::ClipmapSettings clipmap;
+            clipmap.n = in.ConsumeIntegralInRange<int>(-2, 2100);
+            clipmap.levels = in.ConsumeIntegralInRange<int>(-2, 30);
+            r.drawClipmapsFrame(camera, settings, clipmap);
         } else {
             r.drawFrame(camera, settings);
         }

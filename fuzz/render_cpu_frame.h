@@ -16,6 +16,7 @@
 #include "ridge/core/error.h"
 #include "ridge/lod/archive_frame.h"
 #include "ridge/lod/chunk_mesh.h"
+#include "ridge/lod/clipmap_selector.h"
 #include "ridge/lod/coarse_terrain.h"
 #include "ridge/lod/patch_quadtree.h"
 #include "ridge/lod/patch_residency.h"
@@ -144,6 +145,45 @@ struct CpuRenderer {
     }
     std::map<std::pair<int, int>, std::unique_ptr<lod::RingsSelector>> ring_selectors;
 
+    // Scheme clipmaps' policy: the level windows placed, the pending writes drained for what is
+    // resident. Every write lies in its level's window (the GL half addresses its texels
+    // modulo the window's texture: a write outside would overwrite a live sample), reads the
+    // patch the policy names for each of its corners, and nothing is drawn that is not
+    // complete.
+    void drawClipmapsFrame(const lod::Camera& camera, const lod::SelectionSettings& settings,
+                           const lod::ClipmapSettings& clipmap)
+    {
+        auto& selector = clipmap_selectors[{clipmap.n, clipmap.levels}];
+        if (!selector)
+            selector = std::make_unique<lod::ClipmapSelector>(tree, clipmap); // may throw Error
+        lod::Selection desired;
+        selector->select(camera, settings, desired);
+        require(desired.patches.size() <= settings.max_patches);
+        std::vector<PatchId> needed{PatchId{0, 0, 0}};
+        for (const lod::SelectedPatch& s : desired.patches) {
+            require(reader.geometry().exists(s.id));
+            if (needed.size() < size_t(kSlots))
+                needed.push_back(s.id);
+        }
+        residency.update(needed, ++frame);
+        auto resident = [&](PatchId p) { return residency.slotOf(p) >= 0; };
+        std::vector<lod::ClipmapWrite> writes;
+        selector->takeWrites(resident, writes);
+        const lod::ClipmapWindows& w = selector->windows();
+        for (const lod::ClipmapWrite& wr : writes) {
+            require(resident(wr.patch) && wr.level >= 0 && wr.level < w.levelCount());
+            const lod::LevelRect window = w.level(wr.level).window(w.n());
+            require(wr.rect.area() > 0 && wr.rect.x0 >= window.x0 && wr.rect.x1 <= window.x1 &&
+                    wr.rect.y0 >= window.y0 && wr.rect.y1 <= window.y1);
+            require(selector->patchOf(wr.level, wr.rect.x0, wr.rect.y0) == wr.patch);
+            require(selector->patchOf(wr.level, wr.rect.x1 - 1, wr.rect.y1 - 1) == wr.patch);
+        }
+        require(selector->finestDrawn() <= selector->finestWanted());
+        for (int k = 0; k <= selector->finestDrawn(); ++k)
+            require(selector->complete(k));
+    }
+    std::map<std::pair<int, int>, std::unique_ptr<lod::ClipmapSelector>> clipmap_selectors;
+
     // The views a user reaches first: the default camera, straight down over the centre, low
     // over the south-west corner looking across, and far above.
     std::vector<lod::Camera> typicalCameras(lod::Viewport viewport) const
@@ -183,6 +223,10 @@ inline void runCpuFrames(const archive::ArchiveReader& reader)
             }
             try {
                 renderer.drawRingsFrame(camera, settings, lod::RingsSettings{});
+            } catch (const Error&) {
+            }
+            try {
+                renderer.drawClipmapsFrame(camera, settings, lod::ClipmapSettings{});
             } catch (const Error&) {
             }
         }

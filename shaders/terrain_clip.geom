@@ -10,6 +10,10 @@
 // its walls stay watertight.
 #include "terrain_common.glsl"
 
+// The valid extent at or beyond which an instance is not clipped on that side: C for patches
+// (FrameUniforms), larger for a scheme whose pieces have more cells than a patch (clipmaps).
+uniform float u_unclipped_extent;
+
 layout(triangles) in;
 // A triangle clipped by two lines has at most 5 corners (3 triangles) and 2 cuts (2 quads).
 layout(triangle_strip, max_vertices = 17) out;
@@ -121,6 +125,18 @@ bool same(Corner a, Corner b) {
     return a.cell == b.cell && a.position == b.position;
 }
 
+// Whether the polygon's area vanishes against its perimeter.
+bool sliver(Corner poly[5], int count) {
+    vec3 normal_sum = vec3(0.0);
+    float perimeter = 0.0;
+    for (int k = 0; k < count; ++k) {
+        vec3 a = poly[k].position - poly[0].position, b = poly[(k + 1) % count].position - poly[0].position;
+        normal_sum += cross(a, b);
+        perimeter += length(poly[(k + 1) % count].position - poly[k].position);
+    }
+    return length(normal_sum) <= 1e-6 * perimeter * perimeter;
+}
+
 // Appends c unless it repeats the last corner.
 void push(inout Corner poly[5], inout int n, Corner c) {
     if (n < 5 && (n == 0 || !same(poly[n - 1], c)))
@@ -151,9 +167,19 @@ void main() {
     int count = 3;
     for (int k = 0; k < 3; ++k)
         poly[k] = corner(k);
+    // West and north of the terrain (clipmap footprints only): the border is a grid line of
+    // the footprint's level, so a triangle lies wholly on one side of it.
+    for (int k = 0; k < 3; ++k)
+        if (any(lessThan(poly[k].cell, p.valid_start)))
+            return;
+    // A triangle flat before the cut with three distinct corners (a clipmap level's perimeter
+    // triangle, which closes a T-junction) is drawn as the unclipped draw would draw it: the
+    // sliver rule below is for what the cut leaves.
+    bool flat_before = !same(poly[0], poly[1]) && !same(poly[1], poly[2]) &&
+                       !same(poly[0], poly[2]) && sliver(poly, 3);
     bool clipped[2] = bool[2](false, false);
     for (int axis = 0; axis < 2; ++axis) {
-        if (p.valid_extent[axis] >= float(u_patch_cells))
+        if (p.valid_extent[axis] >= u_unclipped_extent)
             continue; // the patch does not reach past the valid extent on this side
         clipped[axis] = true;
         float limit = p.valid_extent[axis];
@@ -184,17 +210,8 @@ void main() {
     // under cells that may be kilometres long — far below this relative threshold, yet the
     // wall is what closes the seam. Clipping a vertical wall by a vertical plane leaves a
     // narrower wall or nothing (count < 3 above), never a sliver of it.
-    if (skirt == 0) {
-        vec3 normal_sum = vec3(0.0);
-        float perimeter = 0.0;
-        for (int k = 0; k < count; ++k) {
-            vec3 a = poly[k].position - poly[0].position, b = poly[(k + 1) % count].position - poly[0].position;
-            normal_sum += cross(a, b);
-            perimeter += length(poly[(k + 1) % count].position - poly[k].position);
-        }
-        if (length(normal_sum) <= 1e-6 * perimeter * perimeter)
-            return;
-    }
+    if (skirt == 0 && !flat_before && sliver(poly, count))
+        return;
 
     for (int k = 1; k + 1 < count; ++k) {
         emit(poly[0], skirt);

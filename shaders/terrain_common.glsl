@@ -17,6 +17,8 @@ struct PatchInstance {
                         // and row, possibly inside a cell; >= C: not clipped on that side
     float min_z;        // the patch's heights (and descendants') less the reference height
     float max_z;        // (the camera's z on a plane, its height above the ellipsoid on a globe)
+    vec2 valid_start;   // cells along i, j before which the surface is dropped (0 for patches;
+                        // a clipmap footprint reaching west or north of the terrain)
 };
 
 layout(std430, binding = 0) readonly buffer PatchInstances { PatchInstance instances[]; };

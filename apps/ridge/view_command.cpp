@@ -486,6 +486,12 @@ class Viewer {
             ImGui::Text("read %.1f kB, decoded %.1f kB, uploaded %.1f kB (%d on the GPU)",
                         double(stats_.bytes_read) / 1024.0, double(stats_.bytes_decoded) / 1024.0,
                         double(stats_.bytes_uploaded) / 1024.0, stats_.reconstructed);
+            if (stats_.levels > 0) // level windows (clipmaps)
+                ImGui::Text("levels: %d drawn of %d wanted, %d deactivated by height; %d "
+                            "shifted, %.1f k samples written",
+                            stats_.levels_drawn, stats_.levels_wanted,
+                            stats_.levels - stats_.levels_wanted, stats_.level_shifts,
+                            double(stats_.samples_written) * 1e-3);
             ImGui::Text("GL: %s", window_.rendererName().c_str());
         }
         if (ImGui::CollapsingHeader("settings")) {

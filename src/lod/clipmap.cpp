@@ -71,7 +71,9 @@ int clipmapLevelCount(const ClipmapSettings& settings, const PyramidGeometry& ge
     int levels = 1;
     for (int64_t step = 1; reach * step < extent && levels < ClipmapSettings::kMaxLevels; step *= 2)
         ++levels;
-    return levels;
+    // And down to the archive's level 0 at least: the root is always resident, so the
+    // coarsest level can always be drawn while the others wait for their patches.
+    return std::clamp(geometry.levelCount(), levels, ClipmapSettings::kMaxLevels);
 }
 
 int transitionWidth(int n)
@@ -151,7 +153,7 @@ int finestDrawnLevel(const ClipmapWindows& windows, double spacing, double heigh
     const double pixel = h * std::tan(fov_y_radians / std::max(viewport_height_px, 1));
     for (int k = windows.levelCount() - 1; k > 0; --k) {
         const double cell = spacing * double(windows.level(k).step);
-        if (cell >= 2.0 * pixel && double(windows.n() - 1) * cell >= 2.5 * h)
+        if (cell >= 2.0 * pixel)
             return k;
     }
     return 0;

@@ -7,10 +7,11 @@
 namespace ridge::lod {
 namespace {
 
-// A grid of w × h vertices, two triangles a cell. The diagonal alternates with the cell's
-// parity (a checkerboard, as a regular-grid mesh of the thesis): adjacent footprints share
-// only their outer, axis-aligned edges, so any diagonal rule keeps them watertight, and the
-// alternation keeps the mesh free of a global directional bias.
+// A grid of w × h vertices, two triangles a cell (a b c, b d c: the diagonal from the cell's
+// north-east to its south-west corner, as every other grid of ridge's). Adjacent footprints
+// share only their outer, axis-aligned edges, so any diagonal keeps them watertight; this
+// one makes the coarser surface at a finer level's cell centre the mean of b and c, which is
+// what the transition region blends towards (clipmaps.vert), as geomorph's morph target.
 Footprint grid(FootprintKind kind, int w, int h)
 {
     Footprint f;
@@ -25,12 +26,8 @@ Footprint grid(FootprintKind kind, int w, int h)
     for (int y = 0; y + 1 < h; ++y)
         for (int x = 0; x + 1 < w; ++x) {
             const uint32_t a = uint32_t(y * w + x), b = a + 1, c = a + uint32_t(w), d = c + 1;
-            if ((x + y) % 2 == 0)
-                f.indices.insert(f.indices.end(), {uint16_t(a), uint16_t(b), uint16_t(d),
-                                                   uint16_t(a), uint16_t(d), uint16_t(c)});
-            else
-                f.indices.insert(f.indices.end(), {uint16_t(a), uint16_t(b), uint16_t(c),
-                                                   uint16_t(b), uint16_t(d), uint16_t(c)});
+            f.indices.insert(f.indices.end(), {uint16_t(a), uint16_t(b), uint16_t(c), uint16_t(b),
+                                               uint16_t(d), uint16_t(c)});
         }
     return f;
 }

@@ -110,7 +110,7 @@ glm::dvec2 ClipmapSelector::centreOf(const Camera& camera, double exaggeration,
 int ClipmapSelector::wantedFinest(const Camera& camera, double distance) const
 {
     const TerrainFrame& f = tree_.frame();
-    return finestDrawnLevel(windows_, std::min(f.spacingX(), f.spacingY()), distance, camera.fovY(),
+    return finestDrawnLevel(windows_, std::max(f.spacingX(), f.spacingY()), distance, camera.fovY(),
                             camera.viewport().height);
 }
 

@@ -49,6 +49,8 @@ void FrameUniforms::setGeometry(const gpu::ShaderProgram& program, const lod::Ca
                        float(k * quantization.offset - anchor.height));
     glProgramUniform1f(id, program.uniform("u_exaggeration"), float(k));
     glProgramUniform1i(id, program.uniform("u_patch_cells"), reader_.geometry().patchSize() - 1);
+    glProgramUniform1f(id, program.uniform("u_unclipped_extent"),
+                       float(reader_.geometry().patchSize() - 1));
     glProgramUniform1i(id, program.uniform("u_block_cells"), reader_.blockLayout().block_cells);
 }
 

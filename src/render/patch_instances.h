@@ -26,8 +26,12 @@ struct GpuPatchInstance {
     float valid_extent[2];
     float min_z; // camera-relative bounds of the patch's heights
     float max_z;
+    // Cells along i, j before which the surface is dropped: 0 for a patch (nothing of it lies
+    // west or north of the terrain); a clipmap footprint's cells west or north of it. The
+    // terrain's first column and row are grid lines of every level, so nothing is cut there.
+    float valid_start[2];
 };
-static_assert(sizeof(GpuPatchInstance) == 48, "must match the std430 layout of PatchInstance");
+static_assert(sizeof(GpuPatchInstance) == 56, "must match the std430 layout of PatchInstance");
 
 // The finest sample nearest the camera. Vertices are placed by their integer offset from it
 // through the terrain frame (shaders/terrain_common.glsl's framePoint), so they depend only

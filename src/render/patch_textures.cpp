@@ -31,14 +31,16 @@ double PatchTextures::bytesPerSlot(int patch_size, const TessellationBlockLayout
 }
 
 int PatchTextures::slotCount(const archive::ArchiveReader& reader, double scheme_slot_bytes,
-                             double vram_budget_mb, int max_slots, const HeightCodec* gpu_codec)
+                             double vram_budget_mb, int max_slots, const HeightCodec* gpu_codec,
+                             double scheme_fixed_bytes)
 {
     const int n = reader.geometry().patchSize();
     const double bytes_per_slot =
         bytesPerSlot(n, reader.blockLayout(), waterMaps(reader), gpu_codec) + scheme_slot_bytes;
     GLint max_layers = 256;
     glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &max_layers);
-    const double by_budget = std::floor(vram_budget_mb * 1024.0 * 1024.0 / bytes_per_slot);
+    const double by_budget = std::floor(
+        std::max(vram_budget_mb * 1024.0 * 1024.0 - scheme_fixed_bytes, 0.0) / bytes_per_slot);
     const int wanted = int(std::min({double(max_slots), by_budget, double(max_layers)}));
     const int minimum = 4;
     if (wanted < minimum) {
@@ -47,7 +49,7 @@ int PatchTextures::slotCount(const archive::ArchiveReader& reader, double scheme
             message, sizeof message,
             ": patches of %d^2 samples need %.3g MB of texture memory at least; the budget "
             "is %.3g MB",
-            n, minimum * bytes_per_slot / 1048576.0, vram_budget_mb);
+            n, (minimum * bytes_per_slot + scheme_fixed_bytes) / 1048576.0, vram_budget_mb);
         throw Error(reader.path() + message);
     }
     return wanted;

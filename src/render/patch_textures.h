@@ -38,11 +38,12 @@ class PatchTextures {
                                bool water_maps, const HeightCodec* gpu_codec = nullptr);
     // Slots for resident patches of `reader`: at most `max_slots`, at most what
     // `vram_budget_mb` holds at bytesPerSlot plus `scheme_slot_bytes` (what the schemes keep
-    // per slot) and at most the GL limit on array layers. At least 4, so that raising ε always
-    // finds a selection that fits: throws ridge::Error naming the archive otherwise.
+    // per slot), after `scheme_fixed_bytes` (what they hold beside the slots), and at most the
+    // GL limit on array layers. At least 4, so that raising ε always finds a selection that
+    // fits: throws ridge::Error naming the archive otherwise.
     static int slotCount(const archive::ArchiveReader& reader, double scheme_slot_bytes,
                          double vram_budget_mb, int max_slots,
-                         const HeightCodec* gpu_codec = nullptr);
+                         const HeightCodec* gpu_codec = nullptr, double scheme_fixed_bytes = 0.0);
 
     // Needs a current GL 4.5 context. `levels` is D as the shaders use it (<= 4).
     // `gpu_codec`: the archive's codec when patches may arrive as its CPU half (decodeForGpu),

@@ -17,6 +17,7 @@ SchemePlan planSchemes(const archive::ArchiveReader& reader, const lod::TerrainF
         out.names.push_back(info.name);
         out.own.push_back(std::move(own));
         out.slot_bytes += needs.slot_bytes;
+        out.fixed_bytes += needs.fixed_bytes;
         out.codes_on_cpu = out.codes_on_cpu || needs.codes_on_cpu;
         out.product.push_back(needs.preparation ? int(out.preparations.size()) : -1);
         out.eager.push_back(needs.slot_bytes > 0.0 || needs.preparation);
@@ -36,7 +37,10 @@ SchemePlan planSchemes(const archive::ArchiveReader& reader, const lod::TerrainF
             } catch (const Error&) {
                 continue; // a scheme that cannot draw this archive (rings: patches too small)
             }
-            if (!needs.codes_on_cpu)
+            // Nor one whose fixed memory (clipmaps' level windows) would take more than a
+            // quarter of the texture budget from the slots every scheme draws from.
+            const double budget = options.vram_budget_mb * 1024.0 * 1024.0;
+            if (!needs.codes_on_cpu && needs.fixed_bytes <= 0.25 * budget)
                 add(info, std::move(own), needs);
         }
     } else {

@@ -21,7 +21,8 @@ struct SchemeResources;
 class TerrainScheme;
 
 // The schemes `options` asks for (all registered ones that need no CPU codes with their
-// default options when empty), with their own options and what they need.
+// default options when empty, less any whose fixed memory would take over a quarter of the
+// texture budget), with their own options and what they need.
 struct SchemePlan {
     std::vector<const SchemeInfo*> infos;
     std::vector<std::string> names; // per scheme
@@ -29,6 +30,7 @@ struct SchemePlan {
     std::vector<int> product;       // per scheme: index into preparations, or −1
     std::vector<bool> eager;        // per scheme: keeps per-slot data (constructed at once)
     double slot_bytes = 0.0;        // per slot, all schemes together
+    double fixed_bytes = 0.0;       // beside the slots, all schemes together
     bool codes_on_cpu = false;
     std::vector<stream::PatchPreparation> preparations;
 };

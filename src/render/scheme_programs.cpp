@@ -15,7 +15,7 @@ std::array<const gpu::ShaderProgram*, 2> SchemePrograms::get(bool capture)
             if (clip)
                 stages.push_back({GL_GEOMETRY_SHADER, "terrain_clip.geom"});
             if (!capture)
-                stages.push_back({GL_FRAGMENT_SHADER, "terrain.frag"});
+                stages.push_back({GL_FRAGMENT_SHADER, fragment_});
             programs_[c][clip] = gpu::ShaderProgram(stages, varyings);
         }
         compiled_[c] = true;

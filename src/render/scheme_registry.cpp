@@ -13,11 +13,13 @@ SchemeInfo chunkedScheme();
 SchemeInfo bruteForceScheme();
 SchemeInfo geomorphScheme();
 SchemeInfo ringsScheme();
+SchemeInfo clipmapsScheme();
 
 const std::vector<SchemeInfo>& schemeRegistry()
 {
     static const std::vector<SchemeInfo> registry = {
-        tessellationScheme(), chunkedScheme(), bruteForceScheme(), geomorphScheme(), ringsScheme(),
+        tessellationScheme(), chunkedScheme(), bruteForceScheme(),
+        geomorphScheme(),     ringsScheme(),   clipmapsScheme(),
     };
     return registry;
 }

@@ -116,9 +116,9 @@ struct TerrainRenderer::Impl {
 TerrainRenderer::Impl::Impl(const archive::ArchiveReader& r, const RendererOptions& o)
     : reader(r), options(o), frame(lod::terrainFrameOf(r, o.frame, r.path())),
       plan(planSchemes(r, frame, options)), quadtree(lod::PatchQuadtree::fromArchive(r, frame)),
-      slots(PatchTextures::slotCount(r, plan.slot_bytes, options.vram_budget_mb,
-                                     options.max_resident_patches,
-                                     ResidentSet::gpuDecodedCodec(r, options, plan))),
+      slots(PatchTextures::slotCount(
+          r, plan.slot_bytes, options.vram_budget_mb, options.max_resident_patches,
+          ResidentSet::gpuDecodedCodec(r, options, plan), plan.fixed_bytes)),
       resident(r, quadtree, options, slots, plan),
       coarse(quadtree.frame(), quadtree.bounds(PatchId{0, 0, 0}).min_height,
              quadtree.bounds(PatchId{0, 0, 0}).max_height, resident.load(PatchId{0, 0, 0})->codes,
@@ -299,6 +299,7 @@ FrameStats TerrainRenderer::draw(const lod::Camera& camera, const RenderSettings
     PatchInstances ranges = m.beginFrame(scheme, camera, lod, settings, stats, s);
     const SchemeFrame frame{camera, lod, s, ranges};
     stats.bytes_uploaded += scheme.beginDraw(frame);
+    scheme.addFrameStats(stats);
 
     // ridge's own frame is reverse-Z; a host's is whatever its projection and convention are.
     const bool greater = !host || host->greater;

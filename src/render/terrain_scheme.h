@@ -49,6 +49,9 @@ struct SchemeNeeds {
     // Texture or buffer memory per resident slot beyond the shared texture arrays, bytes at
     // most: the VRAM budget counts it.
     double slot_bytes = 0.0;
+    // Texture or buffer memory the scheme holds whatever is resident (clipmaps' level
+    // windows), bytes: the VRAM budget takes it before sizing the slots.
+    double fixed_bytes = 0.0;
     // What the scheme derives from a patch's codes on the stream workers (null: nothing).
     // Its product reaches upload() as DecodedPatch::prepared[SchemeResources::product].
     stream::PatchPreparation preparation;
@@ -126,6 +129,9 @@ class TerrainScheme {
     // Draws instances [first, first + count) of frame.instances with `program`, in use.
     virtual void draw(const gpu::ShaderProgram& program, const SchemeFrame& frame, size_t first,
                       size_t count) const = 0;
+    // Adds what the scheme alone knows about the frame it drew last (FrameStats' level
+    // windows).
+    virtual void addFrameStats(FrameStats& /*stats*/) const {}
     // Triangles one instance may produce at most (transform-feedback capture sizes with it).
     virtual size_t maxTrianglesPerInstance(bool skirts) const = 0;
 };

@@ -111,6 +111,10 @@ RenderBenchReport runRenderBench(const std::string& archive, const RenderBenchOp
         f.refined = s.refined;
         f.refine_steps = s.refine_steps;
         f.under_refined = s.under_refined;
+        f.level_shifts = s.level_shifts;
+        f.levels_drawn = s.levels_drawn;
+        f.levels_wanted = s.levels_wanted;
+        f.samples_written = s.samples_written;
         f.epsilon_px = s.epsilon_px;
         f.coarser = s.coarser;
         f.cache_hits = s.cache_hits;

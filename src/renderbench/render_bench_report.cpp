@@ -122,6 +122,9 @@ void summariseRenderBench(RenderBenchReport& r)
         r.refined += f.refined;
         r.refine_steps += f.refine_steps;
         r.frames_under_refined += f.under_refined > 0;
+        r.level_shifts_per_frame += double(f.level_shifts) / double(r.frames.size());
+        r.samples_written += f.samples_written;
+        r.frames_levels_waiting += f.levels_drawn < f.levels_wanted;
     }
     r.frames_coarser = int(r.frames.size()) - r.frames_full_detail;
     r.warmup_ms = r.frames.front().frame_ms;
@@ -251,6 +254,8 @@ std::string formatRenderBenchSummary(const RenderBenchReport& r)
         "reconstructed on the GPU)\n"
         "  refined in place         {} patches, {} iterations; {} frames drew a patch short "
         "of its iterations\n"
+        "  level shifts             {:.2f} a frame, {} window samples written; {} frames drew "
+        "fewer levels than the view wants\n"
         "  hole pixels              {} in {} frames\n"
         "  popping                  {}\n",
         r.archive, r.options.scheme, r.options.path.kind, r.frames.size(), r.options.viewport.width,
@@ -263,7 +268,8 @@ std::string formatRenderBenchSummary(const RenderBenchReport& r)
         describe(r.all_ms, "ms", 1), r.frames_over_twice_median, budget, r.mtri_per_s,
         r.select_ms_max, mib(r.ram_cache_bytes), r.rss_early_mib, r.frames.size() / 10 + 1,
         r.rss_end_mib, mib(r.bytes_read), mib(r.bytes_decoded), mib(r.bytes_uploaded),
-        r.reconstructed, r.refined, r.refine_steps, r.frames_under_refined, r.hole_pixels,
+        r.reconstructed, r.refined, r.refine_steps, r.frames_under_refined,
+        r.level_shifts_per_frame, r.samples_written, r.frames_levels_waiting, r.hole_pixels,
         r.frames_with_holes,
         r.popping_px.count == 0 ? std::string("not measured (--popping measures it)")
                                 : describe(r.popping_px, "px", 3));
@@ -331,6 +337,10 @@ std::string formatRenderBenchJson(const RenderBenchReport& r)
                           {"refined", f.refined},
                           {"refine_steps", f.refine_steps},
                           {"under_refined", f.under_refined},
+                          {"level_shifts", f.level_shifts},
+                          {"levels_drawn", f.levels_drawn},
+                          {"levels_wanted", f.levels_wanted},
+                          {"samples_written", f.samples_written},
                           {"epsilon_px", f.epsilon_px},
                           {"coarser", f.coarser},
                           {"cache_hits", f.cache_hits},
@@ -409,6 +419,9 @@ std::string formatRenderBenchJson(const RenderBenchReport& r)
           {"refined", r.refined},
           {"refine_steps", r.refine_steps},
           {"frames_under_refined", r.frames_under_refined},
+          {"level_shifts_per_frame", r.level_shifts_per_frame},
+          {"samples_written", r.samples_written},
+          {"frames_levels_waiting", r.frames_levels_waiting},
           {"rss_early_mib", r.rss_early_mib},
           {"rss_end_mib", r.rss_end_mib},
           {"mtri_per_s", r.mtri_per_s},

@@ -71,7 +71,10 @@ TEST(ClipmapSettings, DefaultLevelsLetTheCoarsestWindowSpanTheTerrainFromAnywher
             EXPECT_GE(far_x, 2048) << n;
             EXPECT_GE(far_y, 1536) << n;
         }
-        if (L > 1) { // and one level fewer would not (the count is the least that does)
+        // And the coarsest reads the root (always resident); beyond the archive's levels only
+        // as many as the span needs.
+        EXPECT_LE(w.level(0).pyramid_level, 0) << n;
+        if (w.level(0).pyramid_level < 0) {
             const int64_t reach = (n - 1) / 2 - 2;
             EXPECT_LT(reach * w.level(1).step, 2048) << n;
         }
@@ -195,8 +198,12 @@ TEST(ClipmapLevelDeactivation, HigherViewersDrawCoarserFinestLevels)
         const int k = finestDrawnLevel(w, 30.0, h, fov, 1080);
         EXPECT_LE(k, previous) << h;
         EXPECT_GE(k, 0);
-        if (k > 0) { // drawn: its window spans 2.5 h, its triangles 2 px
-            EXPECT_GE(254.0 * 30.0 * double(w.level(k).step), 2.5 * h);
+        if (k > 0) { // drawn: its triangles are 2 px under the viewer, the finer one's not
+            const double pixel = h * std::tan(fov / 1080.0);
+            EXPECT_GE(30.0 * double(w.level(k).step), 2.0 * pixel);
+            if (k + 1 < w.levelCount()) {
+                EXPECT_LT(30.0 * double(w.level(k + 1).step), 2.0 * pixel);
+            }
         }
         previous = k;
     }

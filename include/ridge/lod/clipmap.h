@@ -34,8 +34,10 @@ struct ClipmapSettings {
     // the largest whose m × m blocks fit 16-bit indices (the thesis's limit).
     static constexpr int kMinN = 63, kMaxN = 1023;
     static constexpr int kMaxLevels = 24;
-    int n = 255;    // samples a side of every level window: 2^k − 1
-    int levels = 0; // L; 0: from the finest level to the first whose window spans the terrain
+    int n = 255; // samples a side of every level window: 2^k − 1
+    // L; 0: from the finest level to the first whose window spans the terrain, and to the
+    // archive's level 0 at least (the root, always resident: the coarsest level never waits)
+    int levels = 0;
 
     int m() const { return (n + 1) / 4; }
     // Throws ridge::Error naming the setting ("n", "levels") that is out of range.
@@ -43,7 +45,8 @@ struct ClipmapSettings {
 };
 
 // L for `settings` over `geometry`: settings.levels, or (0) as many as needed for the
-// coarsest window to hold the whole terrain wherever it is centred on it.
+// coarsest window to hold the whole terrain wherever it is centred on it, and at least the
+// archive's levels (the coarsest then reads the root).
 int clipmapLevelCount(const ClipmapSettings& settings, const PyramidGeometry& geometry);
 
 // The width w of a level's transition region, in its cells (Losasso & Hoppe: n/10), and the
@@ -107,12 +110,14 @@ class ClipmapWindows {
     std::vector<std::vector<LevelRect>> updates_;
 };
 
-// Level deactivation (§3.5.4, and Asirvatham & Hoppe's rule in §2.3.1): the finest level
-// worth drawing for a viewer `height` metres above the ground, the finer ones skipped and
-// the hole filled by it. A level is drawn when its triangles are at least two screen pixels
-// (the thesis: spacing ≥ 2·s, s = h·tan(fov/#p) the pixel's footprint under the viewer) and
-// its window spans at least 2.5 h (AH05). `spacing` is metres per finest sample (the smaller
-// axis). The coarsest level is always drawn.
+// Level deactivation (§3.5.4, after Clasen & Hege): the finest level worth drawing for a
+// viewer `height` metres above the ground, the finer ones skipped and the hole filled by it.
+// A level is drawn when its triangles are at least two screen pixels under the viewer:
+// spacing ≥ 2·s, s = h·tan(fov/#p) the pixel's footprint there. `spacing` is metres per
+// finest sample (the larger axis: cells near a pole are thin, not small). The coarsest level
+// is always drawn. (Asirvatham & Hoppe's
+// rule — a window narrower than 2.5 h is skipped, §2.3.1 — assumes a 90° field of view; with a
+// narrow one it drops levels that fill the view, so it is not used.)
 int finestDrawnLevel(const ClipmapWindows& windows, double spacing, double height,
                      double fov_y_radians, int viewport_height_px);
 

@@ -156,6 +156,14 @@ struct FrameStats {
     // Desired patches drawn this frame with fewer steps than the view wants (the per-frame
     // budget ran out): each exceeds ε by at most its stored partial bound until refined.
     int under_refined = 0;
+    // Level windows (clipmaps): all of them (L), levels that shifted this frame, levels drawn
+    // and levels the view wants (level deactivation keeps them; fewer are drawn while a strip
+    // waits for its patches), and window samples written on the GPU. 0 for schemes without.
+    int levels = 0;
+    int level_shifts = 0;
+    int levels_drawn = 0;
+    int levels_wanted = 0;
+    uint64_t samples_written = 0;
 };
 
 // Triangles as the tessellator produced them, captured with transform feedback.

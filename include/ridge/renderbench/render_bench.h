@@ -59,6 +59,9 @@ struct FrameRecord {
     int refined = 0;       // resident patches refined in place (Base incremental)
     int refine_steps = 0;  // iterations that took
     int under_refined = 0; // drawn with fewer iterations than the view wants (budget spent)
+    // Level windows (clipmaps, FrameStats): shifts, levels drawn and wanted, samples written.
+    int level_shifts = 0, levels_drawn = 0, levels_wanted = 0;
+    uint64_t samples_written = 0;
     double epsilon_px = 0; // ε met
     bool coarser = false;  // drawn above the requested ε: the view needed more slots
     int cache_hits = 0, cache_misses = 0; // decoded-patch cache
@@ -73,7 +76,8 @@ struct FrameRecord {
     // At full detail: what the scheme draws at the requested ε — no patch drawn by an
     // ancestor while streaming, ε not raised for want of texture slots. Every other frame
     // is drawn coarser, and its time is not the scheme's.
-    bool fullDetail() const { return missing == 0 && !coarser; }
+    // A clipmap drawing fewer levels than the view wants (strips waiting) is coarser too.
+    bool fullDetail() const { return missing == 0 && !coarser && levels_drawn == levels_wanted; }
 };
 
 // A distribution over some frames: how many it rests on and only the percentiles they can
@@ -144,6 +148,11 @@ struct RenderBenchReport {
     int reconstructed = 0;                                          // patches, on the GPU
     int refined = 0, refine_steps = 0; // Base incremental: refinements in place, their steps
     int frames_under_refined = 0;      // frames with a patch drawn short of its iterations
+    // Level windows (clipmaps): shifts a frame on average, samples written in all, frames
+    // that drew fewer levels than the view wants.
+    double level_shifts_per_frame = 0;
+    uint64_t samples_written = 0;
+    int frames_levels_waiting = 0;
     // Resident memory after the first tenth of the frames and at the end (a soak is flat
     // when the two agree once the RAM caches are full).
     double rss_early_mib = 0, rss_end_mib = 0;
