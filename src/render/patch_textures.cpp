@@ -127,7 +127,10 @@ void PatchTextures::uploadBlockErrors(const stream::DecodedPatch& patch, int slo
 void PatchTextures::uploadMasks(const stream::DecodedPatch& patch, int slot)
 {
     const PatchSampleFlags& water = patch.sample_flags;
-    const bool water_map = water.kind == PatchSampleFlags::Kind::Mixed;
+    // Mixed flags may mark only filled voids (kSampleFilled): no water to map then.
+    const bool water_map = water.kind == PatchSampleFlags::Kind::Mixed &&
+                           std::any_of(water.flags.begin(), water.flags.end(),
+                                       [](uint8_t f) { return (f & kSampleWater) != 0; });
     if (water_map && !water_maps_allocated_)
         throw Error("internal error: a patch with water arrived at a renderer without water maps");
     const uint8_t flag = uint8_t((patch.drawable_cells.empty() ? 0 : 1) | (water_map ? 2 : 0) |

@@ -203,3 +203,27 @@ TEST_F(WaterRender, EverySchemePaintsTheSeaAndTheLakeOfALossyArchiveAsWater)
         EXPECT_EQ(l.land_as_water, 0u) << scheme;
     }
 }
+
+// Sample flags that mark only filled voids (kSampleFilled) are not water: an archive with
+// filled voids and no water has no water maps, and its patches must not be taken for ones with
+// water (every scheme failed on the first such patch with "a patch with water arrived at a
+// renderer without water maps": SRTM around Mount Rainier, 8999 voids filled).
+TEST(FilledVoids, AnArchiveWhoseOnlySampleFlagsMarkFilledVoidsRendersWithEveryScheme)
+{
+    test::ScratchDir scratch;
+    const std::string archive = scratch.path("voids.ridge");
+    BuildOptions options;
+    options.patch_size = 33;
+    options.progress = {};
+    buildArchive(test::dataPath("rainier_voids.tif"), archive, options);
+    const archive::ArchiveReader reader(archive);
+    ASSERT_TRUE(reader.storesSampleFlags());
+    ASSERT_EQ(reader.metadata().water.samples, 0u) << "the fixture must have no water";
+    const auto context = gpu::HeadlessContext::create();
+    for (const std::string& scheme : render::lodSchemeNames()) {
+        render::HeadlessRenderOptions h;
+        h.viewport = {160, 100};
+        h.settings.scheme = scheme;
+        EXPECT_NO_THROW(render::renderToPng(archive, h, scratch.path(scheme + ".png"))) << scheme;
+    }
+}
