@@ -105,6 +105,19 @@ struct CpuRenderer {
             require(r.layer >= 0 && r.layer < kSlots);
     }
 
+    // A scheme's wanted patches made resident, the root first, as many as the slots take
+    // (each must exist in the archive).
+    void makeResident(const lod::Selection& desired)
+    {
+        std::vector<PatchId> needed{PatchId{0, 0, 0}};
+        for (const lod::SelectedPatch& s : desired.patches) {
+            require(reader.geometry().exists(s.id));
+            if (needed.size() < size_t(kSlots))
+                needed.push_back(s.id);
+        }
+        residency.update(needed, ++frame);
+    }
+
     // Scheme rings' selection with `rings` settings (refused when the archive's patches
     // cannot make its grids): select, make resident what fits, cover. Properties: the cover
     // draws only resident patches, touching tiles differ by at most one level and every
@@ -118,13 +131,7 @@ struct CpuRenderer {
         lod::Selection desired;
         selector->select(camera, settings, desired);
         require(desired.patches.size() <= settings.max_patches || desired.patches.size() == 1);
-        std::vector<PatchId> needed{PatchId{0, 0, 0}};
-        for (const lod::SelectedPatch& s : desired.patches) {
-            require(reader.geometry().exists(s.id));
-            if (needed.size() < size_t(kSlots))
-                needed.push_back(s.id);
-        }
-        residency.update(needed, ++frame);
+        makeResident(desired);
         auto resident = [&](PatchId p) { return residency.slotOf(p) >= 0; };
         lod::ResidentCover cover;
         selector->cover(desired, resident, cover);
@@ -159,13 +166,7 @@ struct CpuRenderer {
         lod::Selection desired;
         selector->select(camera, settings, desired);
         require(desired.patches.size() <= settings.max_patches);
-        std::vector<PatchId> needed{PatchId{0, 0, 0}};
-        for (const lod::SelectedPatch& s : desired.patches) {
-            require(reader.geometry().exists(s.id));
-            if (needed.size() < size_t(kSlots))
-                needed.push_back(s.id);
-        }
-        residency.update(needed, ++frame);
+        makeResident(desired);
         auto resident = [&](PatchId p) { return residency.slotOf(p) >= 0; };
         std::vector<lod::ClipmapWrite> writes;
         selector->takeWrites(resident, writes);
