@@ -9,12 +9,6 @@
 namespace ridge::lod {
 namespace {
 
-// floor(a / b) for b > 0, whatever a's sign.
-int64_t floorDiv(int64_t a, int64_t b)
-{
-    return a >= 0 ? a / b : -((b - 1 - a) / b);
-}
-
 // The largest multiple of b (> 0) at or below a.
 int64_t floorTo(int64_t a, int64_t b)
 {
@@ -74,6 +68,11 @@ int clipmapLevelCount(const ClipmapSettings& settings, const PyramidGeometry& ge
     // And down to the archive's level 0 at least: the root is always resident, so the
     // coarsest level can always be drawn while the others wait for their patches.
     return std::clamp(geometry.levelCount(), levels, ClipmapSettings::kMaxLevels);
+}
+
+int64_t floorDiv(int64_t a, int64_t b)
+{
+    return a >= 0 ? a / b : -((b - 1 - a) / b);
 }
 
 int transitionWidth(int n)

@@ -8,11 +8,6 @@
 namespace ridge::lod {
 namespace {
 
-int64_t floorDiv(int64_t a, int64_t b)
-{
-    return a >= 0 ? a / b : -((b - 1 - a) / b);
-}
-
 LevelRect intersect(const LevelRect& a, const LevelRect& b)
 {
     LevelRect r{std::max(a.x0, b.x0), std::max(a.y0, b.y0), std::min(a.x1, b.x1),

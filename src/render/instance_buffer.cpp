@@ -40,21 +40,13 @@ PatchInstances InstanceBuffer::write(TerrainScheme& scheme, const lod::Camera& c
             [&](PatchId p) { return scheme.meshDeviation(residency_.slotOf(p)); },
             skirt_margin_ * std::max(k, 1.0) + 1e-6 * z_rel, k);
     scheme.completeInstances(lod_camera, settings, built);
-    const std::vector<GpuPatchInstance>& data = built.records;
-    const size_t bytes = std::max<size_t>(data.size(), 1) * sizeof(GpuPatchInstance);
-    if (bytes > capacity_) {
-        buffer_ = gpu::GlBuffer();
-        capacity_ = std::max(bytes, size_t(256) * sizeof(GpuPatchInstance));
-        glNamedBufferStorage(buffer_.id(), capacity_, nullptr, GL_DYNAMIC_STORAGE_BIT);
-    }
-    if (!data.empty())
-        glNamedBufferSubData(buffer_.id(), 0, data.size() * sizeof(GpuPatchInstance), data.data());
+    records_.upload(built.records);
     return built;
 }
 
 void InstanceBuffer::bind() const
 {
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, buffer_.id());
+    records_.bind(0);
 }
 
 } // namespace ridge::render

@@ -4,6 +4,7 @@
 // what it keeps in the records filled in — in the shader storage buffer every terrain program
 // reads (shaders/terrain_common.glsl's PatchInstances).
 #include "patch_instances.h"
+#include "record_buffer.h"
 
 #include "ridge/gpu/gl_objects.h"
 #include "ridge/gpu/shader_program.h"
@@ -37,8 +38,7 @@ class InstanceBuffer {
     const lod::PatchResidency& residency_;
     float min_height_ = 0.f, max_height_ = 0.f; // terrain frame, metres
     double skirt_margin_ = 0.0;                 // float rounding of camera-relative heights
-    gpu::GlBuffer buffer_;
-    size_t capacity_ = 0; // bytes
+    RecordBuffer<GpuPatchInstance> records_;
 };
 
 // Calls draw(program, first, count) for the non-empty instance groups of `instances`: whole

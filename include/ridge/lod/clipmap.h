@@ -49,6 +49,10 @@ struct ClipmapSettings {
 // archive's levels (the coarsest then reads the root).
 int clipmapLevelCount(const ClipmapSettings& settings, const PyramidGeometry& geometry);
 
+// floor(a / b) for b > 0, whatever a's sign (windows and their samples reach west and north of
+// the terrain, to negative coordinates).
+int64_t floorDiv(int64_t a, int64_t b);
+
 // The width w of a level's transition region, in its cells (Losasso & Hoppe: n/10), and the
 // blend parameter α at a point `distance` cells (Chebyshev, per axis) from the viewer:
 // α = clamp((distance − ((n − 1)/2 − w − 2))/w, 0, 1). It is 1 on the window's perimeter (the

@@ -18,6 +18,7 @@
 // (§3.4) are not needed, on the plane or on the ellipsoid. No skirts: the perimeter triangles
 // and the transition regions close the seams between levels (SchemePromises::Seams::
 // Stitching), and the terrain's border is cut by the clip stage with a wall under it.
+#include "../record_buffer.h"
 #include "../scheme_programs.h"
 #include "../terrain_scheme.h"
 
@@ -123,9 +124,9 @@ class ClipmapsScheme final : public TerrainScheme {
         const double k = settings.exaggeration;
         const int64_t W = frame.geometry().width() - 1, H = frame.geometry().height() - 1;
         std::vector<Entry> entries;
+        const glm::dvec2 c = selector_.centre();
         for (int level = finest; level >= 0; --level) { // fine to coarse (§3.5.4)
             const lod::ClipmapLevel& l = w.level(level);
-            const glm::dvec2 c = selector_.centre();
             for (const lod::FootprintPiece& piece :
                  lod::levelPieces(w.m(), level == finest, l.finer_x, l.finer_y, level > 0)) {
                 // The piece's finest-grid corners.
@@ -166,7 +167,7 @@ class ClipmapsScheme final : public TerrainScheme {
                 pr.local[1] = piece.y;
                 pr.kind = int32_t(piece.kind);
                 const bool partial = x0 < 0 || y0 < 0 || x1 > W || y1 > H;
-                entries.push_back({partial, piece.kind, level, r, pr,
+                entries.push_back({partial, piece.kind, r, pr,
                                    selector_.patchOf(level, wx + piece.x, wy + piece.y)});
             }
         }
@@ -189,18 +190,7 @@ class ClipmapsScheme final : public TerrainScheme {
 
     size_t beginDraw(const SchemeFrame&) override
     {
-        const size_t bytes = std::max<size_t>(records_.size(), 1) * sizeof(ClipmapPieceRecord);
-        if (bytes > capacity_) {
-            buffer_ = gpu::GlBuffer();
-            capacity_ = std::max(bytes, size_t(256) * sizeof(ClipmapPieceRecord));
-            glNamedBufferStorage(buffer_.id(), GLsizeiptr(capacity_), nullptr,
-                                 GL_DYNAMIC_STORAGE_BIT);
-        }
-        if (!records_.empty())
-            glNamedBufferSubData(buffer_.id(), 0,
-                                 GLsizeiptr(records_.size() * sizeof(ClipmapPieceRecord)),
-                                 records_.data());
-        return records_.size() * sizeof(ClipmapPieceRecord) + written_bytes_;
+        return buffer_.upload(records_) + written_bytes_;
     }
 
     void addFrameStats(FrameStats& stats) const override
@@ -260,7 +250,7 @@ class ClipmapsScheme final : public TerrainScheme {
     void draw(const gpu::ShaderProgram& program, const SchemeFrame&, size_t first,
               size_t count) const override
     {
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, buffer_.id());
+        buffer_.bind(3);
         for (size_t begin = first, end = first + count; begin < end;) {
             size_t run = begin + 1;
             while (run < end && kinds_[run] == kinds_[begin])
@@ -283,7 +273,6 @@ class ClipmapsScheme final : public TerrainScheme {
     struct Entry {
         bool partial;
         lod::FootprintKind kind;
-        int level;
         GpuPatchInstance record;
         ClipmapPieceRecord piece;
         PatchId patch;
@@ -365,8 +354,7 @@ class ClipmapsScheme final : public TerrainScheme {
     size_t written_bytes_ = 0;
     std::vector<ClipmapPieceRecord> records_;
     std::vector<lod::FootprintKind> kinds_; // per record
-    gpu::GlBuffer buffer_;
-    size_t capacity_ = 0;
+    RecordBuffer<ClipmapPieceRecord> buffer_;
     SchemePrograms programs_{{{GL_VERTEX_SHADER, "clipmaps.vert"}}, "clipmaps.frag"};
 };
 

@@ -5,6 +5,7 @@
 // and shaders/rings.vert, which stitches edges towards coarser rings. No skirts: the seams are
 // closed by the stitching itself (SchemePromises::Seams::Stitching), and no screen-space bound
 // is promised (rings choose levels by distance, not by error).
+#include "../record_buffer.h"
 #include "../scheme_programs.h"
 #include "../terrain_scheme.h"
 
@@ -199,21 +200,7 @@ class RingsScheme final : public TerrainScheme {
         return true;
     }
 
-    size_t beginDraw(const SchemeFrame&) override
-    {
-        const size_t bytes = std::max<size_t>(records_.size(), 1) * sizeof(RingsTileRecord);
-        if (bytes > capacity_) {
-            buffer_ = gpu::GlBuffer();
-            capacity_ = std::max(bytes, size_t(256) * sizeof(RingsTileRecord));
-            glNamedBufferStorage(buffer_.id(), GLsizeiptr(capacity_), nullptr,
-                                 GL_DYNAMIC_STORAGE_BIT);
-        }
-        if (!records_.empty())
-            glNamedBufferSubData(buffer_.id(), 0,
-                                 GLsizeiptr(records_.size() * sizeof(RingsTileRecord)),
-                                 records_.data());
-        return records_.size() * sizeof(RingsTileRecord);
-    }
+    size_t beginDraw(const SchemeFrame&) override { return buffer_.upload(records_); }
 
     // No skirts: nothing hangs below a tile's border.
     double meshDeviation(int) const override { return 0.0; }
@@ -237,7 +224,7 @@ class RingsScheme final : public TerrainScheme {
     void draw(const gpu::ShaderProgram& program, const SchemeFrame&, size_t first,
               size_t count) const override
     {
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, buffer_.id());
+        buffer_.bind(3);
         for (size_t begin = first, end = first + count; begin < end;) {
             size_t run = begin + 1;
             while (run < end && cells_[run] == cells_[begin])
@@ -268,8 +255,7 @@ class RingsScheme final : public TerrainScheme {
     std::vector<OrderEntry> order_;
     std::vector<RingsTileRecord> records_;
     std::vector<int> cells_; // per record
-    gpu::GlBuffer buffer_;
-    size_t capacity_ = 0;
+    RecordBuffer<RingsTileRecord> buffer_;
     SchemePrograms programs_{{{GL_VERTEX_SHADER, "rings.vert"}}};
 };
 

@@ -5,6 +5,7 @@
 // follow as their patches arrive, never a hole); and options the windows cannot take refused
 // naming the file and the option.
 #include "captured_surface_checks.h"
+#include "error_expectations.h"
 #include "terrain_renderer_fixture.h"
 
 #include "ridge/core/error.h"
@@ -13,23 +14,11 @@
 
 #include <gtest/gtest.h>
 
-#include <functional>
-
 using namespace ridge;
 
 namespace {
 
 class ClipmapsScheme : public test::TerrainRendererTest {};
-
-std::string messageOf(const std::function<void()>& f)
-{
-    try {
-        f();
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return "";
-}
 
 lod::Camera lowCamera(const render::TerrainRenderer& r, double x, double y)
 {
@@ -138,7 +127,7 @@ TEST_F(ClipmapsScheme, OptionsTheWindowsCannotTakeAreRefusedNamingTheArchiveAndT
         SCOPED_TRACE(spec);
         render::RendererOptions o;
         o.schemes = {spec};
-        const std::string m = messageOf([&] { render::TerrainRenderer r(reader, o); });
+        const std::string m = test::errorOf([&] { render::TerrainRenderer r(reader, o); });
         EXPECT_NE(m.find(expected), std::string::npos) << m;
     }
     // A valid n names the archive when it is refused later: too little texture memory for
@@ -146,6 +135,6 @@ TEST_F(ClipmapsScheme, OptionsTheWindowsCannotTakeAreRefusedNamingTheArchiveAndT
     render::RendererOptions o;
     o.schemes = {"clipmaps,n=1023"};
     o.vram_budget_mb = 2.0;
-    const std::string m = messageOf([&] { render::TerrainRenderer r(reader, o); });
+    const std::string m = test::errorOf([&] { render::TerrainRenderer r(reader, o); });
     EXPECT_NE(m.find(path), std::string::npos) << m;
 }

@@ -3,13 +3,13 @@
 // ring), both vertex densities watertight, the central patch following the camera, and
 // archives or options the static grids cannot take refused naming the file and the option.
 #include "captured_surface_checks.h"
+#include "error_expectations.h"
 #include "terrain_renderer_fixture.h"
 
 #include "ridge/core/error.h"
 
 #include <gtest/gtest.h>
 
-#include <functional>
 #include <map>
 
 using namespace ridge;
@@ -17,16 +17,6 @@ using namespace ridge;
 namespace {
 
 class RingsScheme : public test::TerrainRendererTest {};
-
-std::string messageOf(const std::function<void()>& f)
-{
-    try {
-        f();
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return "";
-}
 
 } // namespace
 
@@ -63,7 +53,7 @@ TEST_F(RingsScheme, ArchivesAndOptionsTheStaticGridsCannotTakeAreRefusedNamingTh
 {
     // 9-sample patches: 8-cell grids, too few for the Everest crop's 7 levels.
     const std::string small = test::buildEverestArchive(*scratch_, "lossless", 9, 0.0);
-    const std::string m = messageOf([&] { sceneOf(small, {"rings"}); });
+    const std::string m = test::errorOf([&] { sceneOf(small, {"rings"}); });
     EXPECT_NE(m.find(small), std::string::npos) << m;
     EXPECT_NE(m.find("patches of 9 samples"), std::string::npos) << m;
     // A renderer built for every scheme leaves out the one that cannot draw the archive.
@@ -71,8 +61,8 @@ TEST_F(RingsScheme, ArchivesAndOptionsTheStaticGridsCannotTakeAreRefusedNamingTh
     for (const std::string& name : all.renderer->schemes())
         EXPECT_NE(name, "rings");
     const std::string path = test::buildEverestArchive(*scratch_, "lossless", 33, 0.0);
-    EXPECT_NE(messageOf([&] { sceneOf(path, {"rings,rings=17"}); }).find("rings=17"),
+    EXPECT_NE(test::errorOf([&] { sceneOf(path, {"rings,rings=17"}); }).find("rings=17"),
               std::string::npos);
-    EXPECT_NE(messageOf([&] { sceneOf(path, {"rings,vertex-step=3"}); }).find("vertex-step=3"),
+    EXPECT_NE(test::errorOf([&] { sceneOf(path, {"rings,vertex-step=3"}); }).find("vertex-step=3"),
               std::string::npos);
 }
