@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 namespace ridge::lod {
 namespace {
@@ -35,6 +36,21 @@ ClipmapSelector::ClipmapSelector(const PatchQuadtree& tree, const ClipmapSetting
 {
     if (tree.geometry().patchesX(0) != 1 || tree.geometry().patchesY(0) != 1)
         throw Error("clipmaps: internal: level 0 must be one patch");
+    const TerrainFrame& f = tree.frame();
+    turn_ = f.onEllipsoid() ? f.geodetic().wrap_columns : 0;
+    // A level's sample i and i + (its samples a turn) must be one sample: its cells divide
+    // the turn (the finer levels' then do too).
+    if (const int64_t coarsest = windows_.level(0).step; turn_ > 0 && turn_ % coarsest != 0) {
+        int fits = 1;
+        while (fits < ClipmapSettings::kMaxLevels && turn_ % (int64_t{1} << fits) == 0)
+            ++fits;
+        throw Error(
+            "clipmaps cannot wrap a globe whose turn of " + std::to_string(turn_) +
+            " columns is not whole cells of its coarsest level (" + std::to_string(coarsest) +
+            " columns, " + std::to_string(windows_.levelCount()) +
+            " levels): use levels=" + std::to_string(std::min(fits, windows_.levelCount() - 1)) +
+            " or fewer, or --frame plane");
+    }
     pending_.resize(size_t(windows_.levelCount()));
 }
 
@@ -49,6 +65,8 @@ PatchId ClipmapSelector::patchOf(int level, int64_t i, int64_t j) const
     const int l = windows_.level(level).pyramid_level;
     if (l <= 0)
         return PatchId{0, 0, 0};
+    if (turn_ > 0)
+        i -= floorDiv(i, samplesPerTurn(level)) * samplesPerTurn(level);
     const PyramidGeometry& g = tree_.geometry();
     const int64_t C = g.cells();
     const int x = int(std::clamp<int64_t>(floorDiv(i, C), 0, g.patchesX(l) - 1));
@@ -61,9 +79,26 @@ void ClipmapSelector::splitByPatch(int level, const LevelRect& rect,
 {
     if (rect.area() <= 0)
         return;
+    if (turn_ <= 0) {
+        splitWithinTurn(level, rect, 0, out);
+        return;
+    }
+    const int64_t t = samplesPerTurn(level);
+    for (int64_t a = rect.x0; a < rect.x1;) {
+        const int64_t shift = floorDiv(a, t) * t;
+        const int64_t b = std::min(rect.x1, shift + t);
+        splitWithinTurn(level, {a - shift, rect.y0, b - shift, rect.y1}, shift, out);
+        a = b;
+    }
+}
+
+void ClipmapSelector::splitWithinTurn(int level, const LevelRect& rect, int64_t shift,
+                                      std::vector<ClipmapWrite>& out) const
+{
     const int l = windows_.level(level).pyramid_level;
     if (l <= 0) {
-        out.push_back({level, PatchId{0, 0, 0}, rect});
+        out.push_back(
+            {level, PatchId{0, 0, 0}, {rect.x0 + shift, rect.y0, rect.x1 + shift, rect.y1}, shift});
         return;
     }
     const PyramidGeometry& g = tree_.geometry();
@@ -76,7 +111,10 @@ void ClipmapSelector::splitByPatch(int level, const LevelRect& rect,
             const PatchRange ry = rangeOf(y, g.patchesY(l) - 1, C);
             const LevelRect part = intersect(rect, {rx.lo, ry.lo, rx.hi, ry.hi});
             if (part.area() > 0)
-                out.push_back({level, PatchId{l, x, y}, part});
+                out.push_back({level,
+                               PatchId{l, x, y},
+                               {part.x0 + shift, part.y0, part.x1 + shift, part.y1},
+                               shift});
         }
 }
 
@@ -86,18 +124,25 @@ glm::dvec2 ClipmapSelector::centreOf(const Camera& camera, double exaggeration,
     const TerrainFrame& f = tree_.frame();
     const glm::dvec3 grid = f.gridOf(camera.position());
     const double W = f.geometry().width() - 1, H = f.geometry().height() - 1;
-    const glm::dvec2 centre(std::clamp(grid.x, 0.0, W), std::clamp(grid.y, 0.0, H));
+    glm::dvec2 centre(std::clamp(grid.x, 0.0, W), std::clamp(grid.y, 0.0, H));
+    double column = centre.x; // on the terrain
+    if (turn_ > 0) {
+        // The copy of the camera's column nearest the windows: they move on across the seam.
+        const double t = double(turn_);
+        column = std::clamp(grid.x - t * std::floor(grid.x / t), 0.0, W);
+        centre.x = windows_.placed() ? grid.x + t * std::round((centre_.x - grid.x) / t) : column;
+    }
     // Off the terrain: the ground distance to its border; above it: the height over the
     // highest sample of the finest patch under the viewer (so a level is never dropped for a
     // viewer nearer to the ground than it seems).
     const PyramidGeometry& g = f.geometry();
     const int F = g.finestLevel();
     const int64_t C = g.cells();
-    const PatchId under{F, int(std::min<int64_t>(int64_t(centre.x) / C, g.patchesX(F) - 1)),
+    const PatchId under{F, int(std::min<int64_t>(int64_t(column) / C, g.patchesX(F) - 1)),
                         int(std::min<int64_t>(int64_t(centre.y) / C, g.patchesY(F) - 1))};
     const double above = grid.z - exaggeration * double(tree_.bounds(under).max_height);
-    const double off =
-        std::hypot((grid.x - centre.x) * f.spacingX(), (grid.y - centre.y) * f.spacingY());
+    const double off_x = turn_ > 0 ? 0.0 : grid.x - centre.x;
+    const double off = std::hypot(off_x * f.spacingX(), (grid.y - centre.y) * f.spacingY());
     distance = std::hypot(std::max(above, 0.0), off);
     return centre;
 }
@@ -150,7 +195,7 @@ void ClipmapSelector::select(const Camera& camera, const SelectionSettings& sett
         for (const ClipmapWrite& w : pending) {
             const LevelRect r = intersect(w.rect, window);
             if (r.area() > 0)
-                kept.push_back({w.level, w.patch, r});
+                kept.push_back({w.level, w.patch, r, w.wrap_shift});
         }
         pending = std::move(kept);
         for (const LevelRect& r : strip)

@@ -6,13 +6,16 @@
 #include "ridge/lod/clipmap_selector.h"
 
 #include "ridge/core/error.h"
+#include "ridge/lod/ellipsoid.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <random>
 #include <set>
+#include <string>
 #include <tuple>
 
 using namespace ridge;
@@ -194,3 +197,102 @@ TEST(ClipmapSelector, HighAndFarCamerasDeactivateFineLevelsAndHostileOnesAreRefu
 }
 
 } // namespace
+
+namespace {
+
+// A whole-Earth grid of `turn` columns a turn (and the repeated edge meridian), pole to pole,
+// patches of 17 samples, flat bounds.
+PatchQuadtree wrappingGlobe(int turn)
+{
+    GeodeticGrid grid;
+    grid.lon0 = 0.0;
+    grid.lat0 = std::numbers::pi / 2;
+    grid.dlon = 2.0 * std::numbers::pi / turn;
+    grid.dlat = -grid.dlon;
+    grid.wrap_columns = turn;
+    const PyramidGeometry g(turn + 1, turn / 2 + 1, 17);
+    std::vector<PatchBounds> bounds(size_t(g.patchCount()), PatchBounds{0.f, 100.f, 1.f});
+    return PatchQuadtree(TerrainFrame::ellipsoid(g, 1.0, 1.0, grid), bounds);
+}
+
+// A camera `height` m above (lon, lat), degrees, looking north-east and down.
+Camera overGlobe(const PatchQuadtree& tree, double lon, double lat, double height)
+{
+    const Ellipsoid& e = tree.frame().geodetic().ellipsoid;
+    constexpr double kDeg = std::numbers::pi / 180.0;
+    const glm::dvec3 pos = geodeticToEcef(e, lon * kDeg, lat * kDeg, height);
+    const glm::dvec3 at = geodeticToEcef(e, (lon + 0.5) * kDeg, (lat + 0.5) * kDeg, 0.0);
+    return Camera(pos, at, 60.0, {640, 360}, 1.0, 1e8);
+}
+
+} // namespace
+
+// On a globe whose columns go round the Earth the windows run on across the antimeridian:
+// their columns are unwrapped, every write reads the turn's own samples (its wrap shift a
+// whole number of turns, its patch the one holding the wrapped samples), the textures hold
+// exactly their windows, and crossing the seam shifts the levels by the camera's motion
+// alone, never rewrites them whole.
+TEST(ClipmapSelector, WindowsWrapAcrossTheAntimeridianOfAGlobe)
+{
+    const int turn = 1024; // 64 finest patches of 16 columns a turn, 7 levels
+    const PatchQuadtree tree = wrappingGlobe(turn);
+    ClipmapSettings cs;
+    cs.n = 127;
+    ClipmapSelector s(tree, cs);
+    ASSERT_EQ(s.turn(), turn);
+    const int L = s.windows().levelCount();
+    Textures tex(L, cs.n);
+    const int64_t C = tree.geometry().cells();
+    double last_centre = 0.0;
+    // From 3° west of the seam to 3° east of it, a tenth of a degree (about 0.3 columns) at
+    // a time, 20 km up.
+    for (int step = 0; step <= 60; ++step) {
+        const double lon = 357.0 + 0.1 * step;
+        Selection sel;
+        s.select(overGlobe(tree, lon, 30.0, 2.0e4), settings(), sel);
+        std::vector<ClipmapWrite> writes;
+        s.takeWrites([](PatchId) { return true; }, writes);
+        int64_t written = 0;
+        for (const ClipmapWrite& w : writes) {
+            const int64_t t = turn / s.windows().level(w.level).step;
+            ASSERT_EQ(w.wrap_shift % t, 0) << "a whole number of turns";
+            ASSERT_GE(w.rect.x0 - w.wrap_shift, 0);
+            ASSERT_LE(w.rect.x1 - w.wrap_shift, t) << "within one turn";
+            if (w.patch.level > 0) { // the wrapped columns lie in the patch
+                EXPECT_GE(w.rect.x0 - w.wrap_shift, int64_t(w.patch.x) * C);
+                EXPECT_LE(w.rect.x1 - w.wrap_shift, int64_t(w.patch.x + 1) * C + 1);
+            }
+            tex.apply(s, w);
+            if (w.level == L - 1)
+                written += w.rect.area();
+        }
+        ASSERT_EQ(s.finestDrawn(), s.finestWanted());
+        for (int k = 0; k < L; ++k)
+            ASSERT_TRUE(tex.holdsWindow(s, k)) << "step " << step << " level " << k;
+        const double centre = s.centre().x;
+        if (step > 0) {
+            EXPECT_LT(std::abs(centre - last_centre), 1.0) << "the centre jumped at " << lon;
+            EXPECT_LT(written, int64_t(cs.n) * cs.n) << "the finest level rewritten at " << lon;
+        }
+        last_centre = centre;
+    }
+    EXPECT_GT(last_centre, turn) << "the windows ran on east across the seam";
+}
+
+// Every level's cells must divide the turn, or sample i and its copy a turn away differ:
+// such a globe is refused, naming the levels that would wrap.
+TEST(ClipmapSelector, AGlobeWhoseTurnTheCoarsestCellsDoNotDivideIsRefused)
+{
+    const PatchQuadtree tree = wrappingGlobe(1000); // 8 · 125
+    ClipmapSettings cs;
+    cs.n = 127;
+    try {
+        ClipmapSelector s(tree, cs);
+        FAIL() << "a turn of 1000 columns wrapped with coarse cells of 64";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("levels=4"), std::string::npos) << e.what();
+    }
+    cs.levels = 4; // cells of 8, 4, 2, 1 columns
+    ClipmapSelector s(tree, cs);
+    EXPECT_EQ(s.turn(), 1000);
+}

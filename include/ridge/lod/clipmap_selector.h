@@ -22,6 +22,12 @@
 // Levels coarser than the archive's level 0 read its root patch, decimated. Window samples
 // beyond the terrain take the nearest patch's edge samples (the clip stage cuts the surface
 // at the terrain's border; what lies beyond only shapes the cut).
+//
+// On a globe whose columns go round the Earth (GeodeticGrid::wrap_columns, the turn) the
+// windows do not stop at the antimeridian: their columns run on, unwrapped, and a level's
+// sample i is read at i mod (its samples a turn), so crossing the seam is a level shift like
+// any other. The window centre follows the camera continuously (the copy of its column
+// nearest the last centre). Every level's cells must then divide the turn.
 #include "ridge/lod/clipmap.h"
 #include "ridge/lod/patch_selector.h"
 
@@ -32,16 +38,21 @@
 
 namespace ridge::lod {
 
-// Samples `rect` of level `level`'s window, to be written from `patch`.
+// Samples `rect` of level `level`'s window, to be written from `patch`: level sample (i, j)
+// is read where its sample (i − wrap_shift, j) lies (wrap_shift a whole number of turns on a
+// wrapping globe, else 0).
 struct ClipmapWrite {
     int level = 0;
     PatchId patch;
     LevelRect rect;
+    int64_t wrap_shift = 0;
 };
 
 class ClipmapSelector final : public PatchSelector {
   public:
-    // `tree` must outlive the selector. Throws ridge::Error for settings out of range.
+    // `tree` must outlive the selector. Throws ridge::Error for settings out of range, and on a
+    // wrapping globe whose turn the coarsest level's cells do not divide (naming the levels
+    // that would).
     ClipmapSelector(const PatchQuadtree& tree, const ClipmapSettings& settings);
 
     void select(const Camera& camera, const SelectionSettings& settings, Selection& out) override;
@@ -68,9 +79,11 @@ class ClipmapSelector final : public PatchSelector {
     // caller writes them now.
     void takeWrites(const std::function<bool(PatchId)>& resident, std::vector<ClipmapWrite>& out);
 
-    // The patch level k's sample (i, j) is read from (edge samples beyond the terrain), and
-    // that patch's sample: where the level's sample lies in it.
+    // The patch level k's sample (i, j) is read from (edge samples beyond the terrain; on a
+    // wrapping globe column i wraps).
     PatchId patchOf(int level, int64_t i, int64_t j) const;
+    // Finest columns a turn of the globe when the windows wrap, else 0.
+    int64_t turn() const { return turn_; }
     // How many of the root's samples apart level k's samples are (1 for archive levels).
     int64_t decimation(int level) const;
 
@@ -80,13 +93,20 @@ class ClipmapSelector final : public PatchSelector {
     // terrain it is), for level deactivation.
     glm::dvec2 centreOf(const Camera& camera, double exaggeration, double& distance) const;
     int wantedFinest(const Camera& camera, double distance) const;
-    // `rect` of level k split by the patches it reads.
+    // `rect` of level k split by the turns it spans (on a wrapping globe) and the patches it
+    // reads.
     void splitByPatch(int level, const LevelRect& rect, std::vector<ClipmapWrite>& out) const;
+    // `rect` (within one turn) split by the patches it reads, shifted back by `shift`.
+    void splitWithinTurn(int level, const LevelRect& rect, int64_t shift,
+                         std::vector<ClipmapWrite>& out) const;
+    // Level k's samples a turn (turn_ > 0).
+    int64_t samplesPerTurn(int level) const { return turn_ / windows_.level(level).step; }
     // Appends to `out` the patches of `writes` not in it yet, ranked coarse levels first.
     void want(const std::vector<ClipmapWrite>& writes, size_t max_patches, Selection& out) const;
 
     const PatchQuadtree& tree_;
     ClipmapWindows windows_;
+    int64_t turn_ = 0;
     std::vector<std::vector<ClipmapWrite>> pending_; // per level
     glm::dvec2 centre_{0.0};
     int shifts_ = 0;
