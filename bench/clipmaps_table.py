@@ -19,6 +19,7 @@ writes, the draw, waiting for the GPU).
 
 usage: bench/clipmaps_table.py ARCHIVE [--ridge build/ridge] [--frames 300] [--size 1920x1080]
                                [--speed 250] [--sizes 1023,511,255,127] [--levels 3]
+                               [--path flyover|POSES]
 """
 import argparse
 import json
@@ -28,11 +29,11 @@ import sys
 import tempfile
 
 
-def run(ridge, archive, n, levels, frames, size, speed, cull, extra):
+def run(ridge, archive, n, levels, frames, size, speed, cull, extra, path="flyover"):
     with tempfile.TemporaryDirectory() as tmp:
         out = os.path.join(tmp, "bench.json")
         spec = f"clipmaps,n={n}" + (f",levels={levels}" if levels else "")
-        cmd = [ridge, "bench", archive, "--lod", spec, "--path", "flyover",
+        cmd = [ridge, "bench", archive, "--lod", spec, "--path", path,
                "--speed", str(speed), "--frames", str(frames), "--size", size,
                "--json-file", out] + ([] if cull else ["--no-cull"]) + extra
         subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
@@ -79,15 +80,34 @@ def main():
     p.add_argument("--sizes", default="1023,511,255,127")
     p.add_argument("--levels", type=int, default=3, help="L (the thesis: 3); 0: ridge's default")
     p.add_argument("--extra", default="", help="more ridge bench options, space separated")
+    p.add_argument("--path", default="flyover",
+                   help="ridge bench --path: flyover, or a file of poses, one a frame (Test 1 and "
+                        "2 stand at its first, Test 3 takes each, Test 3 x10 every tenth; --speed "
+                        "does not apply)")
     a = p.parse_args()
     extra = a.extra.split()
+    # A file of poses is one pose a frame (ridge bench), so --speed does not apply: Test 1 and 2
+    # stand at its first pose, Test 3 takes it as it is, Test 3 ×10 every tenth pose.
+    paths = {"static": a.path, "moving": a.path, "fast": a.path}
+    scratch = tempfile.TemporaryDirectory()
+    if a.path != "flyover":
+        with open(a.path) as f:
+            poses = [line for line in f if line.strip() and not line.lstrip().startswith("#")]
+        for name, chosen in (("static", poses[:1]), ("moving", poses), ("fast", poses[::10])):
+            paths[name] = os.path.join(scratch.name, name + ".txt")
+            with open(paths[name], "w") as f:
+                f.writelines(chosen)
     rows = []
     for n in [int(s) for s in a.sizes.split(",")]:
         tests = {
-            "Test 1": run(a.ridge, a.archive, n, a.levels, a.frames, a.size, 0.001, True, extra),
-            "Test 2": run(a.ridge, a.archive, n, a.levels, a.frames, a.size, 0.001, False, extra),
-            "Test 3": run(a.ridge, a.archive, n, a.levels, a.frames, a.size, a.speed, True, extra),
-            "Test 3 ×10": run(a.ridge, a.archive, n, a.levels, a.frames, a.size, 10 * a.speed, True, extra),
+            "Test 1": run(a.ridge, a.archive, n, a.levels, a.frames, a.size, 0.001, True, extra,
+                          paths["static"]),
+            "Test 2": run(a.ridge, a.archive, n, a.levels, a.frames, a.size, 0.001, False, extra,
+                          paths["static"]),
+            "Test 3": run(a.ridge, a.archive, n, a.levels, a.frames, a.size, a.speed, True, extra,
+                          paths["moving"]),
+            "Test 3 ×10": run(a.ridge, a.archive, n, a.levels, a.frames, a.size, 10 * a.speed,
+                              True, extra, paths["fast"]),
         }
         gl = tests["Test 1"].get("gl_renderer", "")
         s = {k: summarise(v) for k, v in tests.items()}
@@ -95,8 +115,9 @@ def main():
             ratio = r["fps"] / s["Test 1"]["fps"]
             rows.append((n, name, r, ratio))
         print(f"n = {n} done", file=sys.stderr)
+    motion = f"Test 3 at {a.speed} m/s" if a.path == "flyover" else f"poses of {a.path}"
     print(f"archive {a.archive}, L = {a.levels or 'default'}, {a.size}, {a.frames} frames "
-          f"(counted from the first drawing every wanted level), Test 3 at {a.speed} m/s"
+          f"(counted from the first drawing every wanted level), {motion}"
           + (f", {gl}" if gl else ""))
     print("| n | test | fps | × Test 1 | triangles | shifts/frame | select | residency | "
           "writes + draw | read / decoded MiB (workers) | frames > 2× median | frames with "

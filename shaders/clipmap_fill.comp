@@ -6,7 +6,9 @@
 // and flags — bit 0: the cell south-east of it may be drawn (kept nodata), bit 1: the sample
 // is water. Samples beyond the terrain take the patch's edge samples (the clip stage cuts the
 // surface on the border; they only shape the cut). A level coarser than the archive's level 0
-// reads every 2^d-th sample of the root.
+// reads every 2^d-th sample of the root. On a globe whose columns go round the Earth the
+// windows' columns run on across the antimeridian: a write reads them a whole number of turns
+// back.
 layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(binding = 0) uniform usampler2DArray u_heights;    // codes, one layer per slot
@@ -20,6 +22,7 @@ uniform int u_layer;           // the level
 uniform int u_texture_size;    // N, a power of two
 uniform int u_slot;            // the patch's slot
 uniform ivec2 u_patch_origin;  // the patch's sample (0, 0) in its archive level's samples
+uniform int u_wrap_shift;      // level samples: sample i is read as i − shift (whole turns)
 uniform int u_decimation;      // archive-level samples per level sample (1, or 2^d for the root)
 uniform ivec2 u_level_last;    // the archive level's last samples (levelWidth − 1, levelHeight − 1)
 uniform int u_patch_cells;     // C
@@ -28,7 +31,7 @@ void main() {
     ivec2 g = u_rect.xy + ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(g, u_rect.zw)))
         return;
-    ivec2 s = clamp(g * u_decimation, ivec2(0), u_level_last) - u_patch_origin;
+    ivec2 s = clamp((g - ivec2(u_wrap_shift, 0)) * u_decimation, ivec2(0), u_level_last) - u_patch_origin;
     s = clamp(s, ivec2(0), ivec2(u_patch_cells));
     uint code = texelFetch(u_heights, ivec3(s, u_slot), 0).r;
     uint mask_flags = texelFetch(u_mask_flags, u_slot, 0).r;

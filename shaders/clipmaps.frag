@@ -51,8 +51,13 @@ vec3 samplePoint(int layer, ivec2 w) {
 vec3 sampleNormal(int layer, ivec2 w) {
     vec3 along_x = samplePoint(layer, w + ivec2(1, 0)) - samplePoint(layer, w - ivec2(1, 0));
     vec3 along_y = samplePoint(layer, w + ivec2(0, 1)) - samplePoint(layer, w - ivec2(0, 1));
+    vec3 up = worldUp(samplePoint(layer, w));
+    // On a pole row every sample is one point: no east-west tangent, and the normal of the
+    // cap there is the local up (a zero cross product would shade it NaN, black).
+    if (dot(along_x, along_x) <= 1e-12 * dot(along_y, along_y))
+        return up;
     vec3 n = cross(along_y, along_x); // columns east, rows south: up
-    return dot(n, worldUp(samplePoint(layer, w))) < 0.0 ? -n : n;
+    return dot(n, up) < 0.0 ? -n : n;
 }
 // Height (drawn metres relative to the reference), normal (terrain frame) and water at
 // window cells `w`, bilinear between the cell's samples.

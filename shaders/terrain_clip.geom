@@ -13,6 +13,11 @@
 // The valid extent at or beyond which an instance is not clipped on that side: C for patches
 // (FrameUniforms), larger for a scheme whose pieces have more cells than a patch (clipmaps).
 uniform float u_unclipped_extent;
+// Per axis: the valid extent there is a grid line of every piece (clipmaps on the globe: a
+// level cut to one turn, whose ends are one meridian drawn on both sides; a pole row), so a
+// triangle beyond it is dropped whole, as west and north of valid_start, and nothing is cut
+// or walled.
+uniform bvec2 u_drop_beyond;
 
 layout(triangles) in;
 // A triangle clipped by two lines has at most 5 corners (3 triangles) and 2 cuts (2 quads).
@@ -181,6 +186,12 @@ void main() {
     for (int axis = 0; axis < 2; ++axis) {
         if (p.valid_extent[axis] >= u_unclipped_extent)
             continue; // the patch does not reach past the valid extent on this side
+        if (u_drop_beyond[axis]) {
+            for (int k = 0; k < count; ++k)
+                if (poly[k].cell[axis] > p.valid_extent[axis])
+                    return;
+            continue;
+        }
         clipped[axis] = true;
         float limit = p.valid_extent[axis];
         Corner next[5];

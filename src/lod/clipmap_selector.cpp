@@ -31,6 +31,53 @@ PatchRange rangeOf(int p, int last, int64_t cells)
 
 } // namespace
 
+void checkClipmapGlobe(const TerrainFrame& f, int n, int levels)
+{
+    // On the globe two lines must be lines of every level's grid, so that the coarsest cells
+    // (2^(L − 1) samples) divide their distance from column and row 0: a level's sample i and
+    // i + (its samples a turn) are one sample only if its cells divide the turn; and a pole
+    // on the last row ends the surface at one point only along a row of every level (row 0
+    // is). The levels that fit both, and what failed:
+    if (!f.onEllipsoid())
+        return;
+    const int64_t turn = f.geodetic().wrap_columns;
+    const int64_t last_row = f.geometry().height() - 1;
+    int fits = ClipmapSettings::kMaxLevels;
+    std::string failed;
+    auto onGrid = [&](int64_t distance, const std::string& what) {
+        int most = 1; // 2^(most − 1) divides the distance
+        while (most < ClipmapSettings::kMaxLevels && distance % (int64_t{1} << most) == 0)
+            ++most;
+        if (levels > most)
+            failed += (failed.empty() ? "" : " and ") + what;
+        fits = std::min(fits, most);
+    };
+    if (turn > 0)
+        onGrid(turn, "its turn of " + std::to_string(turn) + " columns");
+    if (f.poleRow(double(last_row)))
+        onGrid(last_row, "the " + std::to_string(last_row) + " rows to its south pole");
+    if (!failed.empty())
+        throw Error("clipmaps on this globe need cells that divide " + failed + ", but the " +
+                    "coarsest of " + std::to_string(levels) + " levels has " +
+                    std::to_string(int64_t{1} << (levels - 1)) +
+                    ": use levels=" + std::to_string(fits) + " or fewer, or --frame plane");
+    // And the coarsest window must go round: a narrower one leaves a gap of meridians
+    // opposite the viewer, which shows across a pole.
+    const int64_t span = int64_t(n - 1) << (levels - 1);
+    if (turn > 0 && span < turn) {
+        int wider = n;
+        while (wider < ClipmapSettings::kMaxN && (int64_t(wider - 1) << (levels - 1)) < turn)
+            wider = 2 * wider + 1;
+        const bool enough = (int64_t(wider - 1) << (levels - 1)) >= turn;
+        throw Error("clipmaps on this globe need the coarsest window to go round its turn of " +
+                    std::to_string(turn) + " columns, but " + std::to_string(levels) +
+                    " levels of n " + std::to_string(n) + " span " + std::to_string(span) +
+                    (enough ? ": use n=" + std::to_string(wider)
+                            : ": no n does with these levels; build with a larger --patch") +
+                    ", or --frame plane");
+    }
+}
+
 ClipmapSelector::ClipmapSelector(const PatchQuadtree& tree, const ClipmapSettings& settings)
     : tree_(tree), windows_(tree.geometry(), settings)
 {
@@ -38,19 +85,7 @@ ClipmapSelector::ClipmapSelector(const PatchQuadtree& tree, const ClipmapSetting
         throw Error("clipmaps: internal: level 0 must be one patch");
     const TerrainFrame& f = tree.frame();
     turn_ = f.onEllipsoid() ? f.geodetic().wrap_columns : 0;
-    // A level's sample i and i + (its samples a turn) must be one sample: its cells divide
-    // the turn (the finer levels' then do too).
-    if (const int64_t coarsest = windows_.level(0).step; turn_ > 0 && turn_ % coarsest != 0) {
-        int fits = 1;
-        while (fits < ClipmapSettings::kMaxLevels && turn_ % (int64_t{1} << fits) == 0)
-            ++fits;
-        throw Error(
-            "clipmaps cannot wrap a globe whose turn of " + std::to_string(turn_) +
-            " columns is not whole cells of its coarsest level (" + std::to_string(coarsest) +
-            " columns, " + std::to_string(windows_.levelCount()) +
-            " levels): use levels=" + std::to_string(std::min(fits, windows_.levelCount() - 1)) +
-            " or fewer, or --frame plane");
-    }
+    checkClipmapGlobe(f, windows_.n(), windows_.levelCount());
     pending_.resize(size_t(windows_.levelCount()));
 }
 
@@ -260,6 +295,47 @@ int ClipmapSelector::finestDrawn() const
     while (k < finest_wanted_ && pending_[size_t(k + 1)].empty())
         ++k;
     return k;
+}
+
+ClipmapTurnCut ClipmapSelector::turnCut(int finest) const
+{
+    ClipmapTurnCut out;
+    const int64_t T = turn_, n = windows_.n();
+    if (T <= 0 || finest < 0)
+        return out;
+    auto width = [&](int k) { return (n - 1) * windows_.level(k).step; };
+    // The finest wide level.
+    int wide = finest;
+    while (wide >= 0 && width(wide) < T)
+        --wide;
+    if (wide < 0)
+        return out; // every drawn window is narrower than a turn: nothing overlaps
+    // The coarsest level needed: the first from `wide` on whose rows reach both ends of the
+    // terrain's (a level that does covers the whole turn; nothing coarser shows).
+    const int64_t last_row = tree_.frame().geometry().height() - 1;
+    int coarsest = wide;
+    while (coarsest > 0) {
+        const ClipmapLevel& l = windows_.level(coarsest);
+        if (l.origin_y <= 0 && l.origin_y + width(coarsest) >= last_row)
+            break;
+        --coarsest;
+    }
+    // West: inside the finest wide window with the turn after it, and the narrower windows
+    // inside the turn; on the coarsest cut level's grid.
+    const ClipmapLevel& w = windows_.level(wide);
+    int64_t lo = w.origin_x, hi = w.origin_x + width(wide) - T;
+    if (wide < finest) {
+        const ClipmapLevel& narrow = windows_.level(wide + 1);
+        lo = std::max(lo, narrow.origin_x + width(wide + 1) - T);
+        hi = std::min(hi, narrow.origin_x);
+    }
+    const int64_t s = windows_.level(coarsest).step;
+    out.cut = true;
+    out.west = -floorDiv(-lo, s) * s; // lo rounded up to the grid
+    out.coarsest = coarsest;
+    if (out.west > hi) // no line of that grid fits: draw the finest wide level alone
+        out = {true, -floorDiv(-lo, w.step) * w.step, wide};
+    return out;
 }
 
 size_t ClipmapSelector::pendingWrites() const

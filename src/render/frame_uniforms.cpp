@@ -51,6 +51,7 @@ void FrameUniforms::setGeometry(const gpu::ShaderProgram& program, const lod::Ca
     glProgramUniform1i(id, program.uniform("u_patch_cells"), reader_.geometry().patchSize() - 1);
     glProgramUniform1f(id, program.uniform("u_unclipped_extent"),
                        float(reader_.geometry().patchSize() - 1));
+    glProgramUniform2i(id, program.uniform("u_drop_beyond"), 0, 0);
     glProgramUniform1i(id, program.uniform("u_block_cells"), reader_.blockLayout().block_cells);
 }
 

@@ -279,20 +279,33 @@ TEST(ClipmapSelector, WindowsWrapAcrossTheAntimeridianOfAGlobe)
     EXPECT_GT(last_centre, turn) << "the windows ran on east across the seam";
 }
 
-// Every level's cells must divide the turn, or sample i and its copy a turn away differ:
-// such a globe is refused, naming the levels that would wrap.
-TEST(ClipmapSelector, AGlobeWhoseTurnTheCoarsestCellsDoNotDivideIsRefused)
+// Every level's cells must divide the turn, or sample i and its copy a turn away differ; a
+// pole row must be a row of every level, or the surface would end between a level's rows; and
+// the coarsest window must go round, or a gap of meridians shows across a pole: such a globe
+// is refused, naming the levels or the n that would do.
+TEST(ClipmapSelector, AGlobeTheWindowsCannotLieOnIsRefusedNamingWhatWould)
 {
-    const PatchQuadtree tree = wrappingGlobe(1000); // 8 · 125
-    ClipmapSettings cs;
-    cs.n = 127;
-    try {
-        ClipmapSelector s(tree, cs);
-        FAIL() << "a turn of 1000 columns wrapped with coarse cells of 64";
-    } catch (const Error& e) {
-        EXPECT_NE(std::string(e.what()).find("levels=4"), std::string::npos) << e.what();
-    }
-    cs.levels = 4; // cells of 8, 4, 2, 1 columns
-    ClipmapSelector s(tree, cs);
-    EXPECT_EQ(s.turn(), 1000);
+    const PatchQuadtree tree = wrappingGlobe(1000); // 8 · 125 columns, the pole on row 4 · 125
+    auto refusal = [&](int n, int levels) {
+        ClipmapSettings cs;
+        cs.n = n;
+        cs.levels = levels;
+        try {
+            ClipmapSelector s(tree, cs);
+        } catch (const Error& e) {
+            return std::string(e.what());
+        }
+        return std::string();
+    };
+    // 7 levels: cells of 64 fit neither; 4: cells of 8 divide the turn, not the rows.
+    EXPECT_NE(refusal(127, 0).find("turn of 1000 columns and the 500 rows"), std::string::npos)
+        << refusal(127, 0);
+    EXPECT_NE(refusal(127, 0).find("levels=3"), std::string::npos) << refusal(127, 0);
+    EXPECT_NE(refusal(127, 4).find("divide the 500 rows to its south pole,"), std::string::npos)
+        << refusal(127, 4);
+    EXPECT_NE(refusal(127, 4).find("levels=3"), std::string::npos) << refusal(127, 4);
+    // 3 levels fit, but windows of 127 span 126 · 4 = 504 columns of the 1000.
+    EXPECT_NE(refusal(127, 3).find("span 504: use n=255"), std::string::npos) << refusal(127, 3);
+    EXPECT_NE(refusal(63, 1).find("span 62: use n=1023"), std::string::npos) << refusal(63, 1);
+    EXPECT_EQ(refusal(255, 3), ""); // cells of 4, 2, 1 columns and rows; 1016 columns round
 }

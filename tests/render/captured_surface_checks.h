@@ -65,6 +65,8 @@ struct ScreenErrorReport {
     double p99_px = 0.0;     // 99th percentile of the projected deviation, pixels
     size_t uncovered = 0;    // finest samples in view with no captured surface triangle
                              // above them (a strip the surface stops short of, a hole)
+    size_t overlapped = 0;   // samples strictly inside two or more surface triangles (a
+                             // surface drawn twice over: a level over another, a turn twice)
 };
 
 // Projected vertical deviation of every full-resolution sample in view from the captured LOD

@@ -161,6 +161,7 @@ TEST_P(GlobeConformance, CapturedSurfaceStaysWithinItsPromiseAndIsWatertight)
                 renderer_->capture(cam, settings), frame, finest_, cam);
             uncovered += e.uncovered;
             EXPECT_EQ(e.uncovered, 0u) << where << ": samples in view under no triangle";
+            EXPECT_EQ(e.overlapped, 0u) << where << ": samples under two triangles";
             samples += e.samples;
             EXPECT_GT(e.samples, 0u) << where;
             if (promises.screen_space_error) {
@@ -303,6 +304,7 @@ TEST_P(GlobeConformance, LodChangesPopOnlyWhereTheSchemeDoesNotPromiseOtherwise)
     }
 }
 
+// And no terrain pixel is black: shading that went NaN (normals at a pole) shows as such.
 TEST_P(GlobeConformance, NoBackgroundShowsInsideTheGlobesFootprint)
 {
     const std::string scheme = GetParam();
@@ -317,14 +319,20 @@ TEST_P(GlobeConformance, NoBackgroundShowsInsideTheGlobesFootprint)
         target.bind();
         renderer_->draw(cam, settingsFor(scheme, 2.0, render::RenderSettings{}.texel_px));
         const std::vector<float> depth = target.readDepth();
+        const std::vector<uint8_t> rgba = target.readRgba();
         std::vector<uint8_t> background(depth.size());
-        for (size_t i = 0; i < depth.size(); ++i)
+        size_t black = 0; // drawn but unshaded: a NaN normal (a pole's degenerate tangents)
+        for (size_t i = 0; i < depth.size(); ++i) {
             background[i] = depth[i] == 0.f; // reverse-Z clears to 0
+            black +=
+                !background[i] && rgba[4 * i] == 0 && rgba[4 * i + 1] == 0 && rgba[4 * i + 2] == 0;
+        }
         const render::HoleReport h = render::countHolePixels(
             background, cam, renderer_->quadtree().frame(), root.min_height, root.max_height);
         footprint += h.footprint_pixels;
         EXPECT_EQ(h.hole_pixels, 0u)
             << n.kind << ": first at (" << h.first_x << ", " << h.first_y << ")";
+        EXPECT_EQ(black, 0u) << n.kind << ": terrain pixels shaded black";
     }
     EXPECT_GT(footprint, 100000u) << "the cameras must look at the globe";
 }

@@ -242,6 +242,7 @@ TEST_P(SchemeConformance, CapturedSurfaceIsWatertightCoveredAndWithinItsPromise)
                 const test::ScreenErrorReport e =
                     test::measureScreenSpaceError(surface, frame, s.finest, nc.camera);
                 EXPECT_EQ(e.uncovered, 0u) << where << ": finest samples in view without surface";
+                EXPECT_EQ(e.overlapped, 0u) << where << ": finest samples under two triangles";
                 EXPECT_GT(e.samples, 0u) << where;
                 if (promises.screen_space_error) {
                     EXPECT_LE(e.max_px, epsilon * kPromiseSlack + kPromiseSlackPx)

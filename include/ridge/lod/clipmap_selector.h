@@ -27,7 +27,8 @@
 // windows do not stop at the antimeridian: their columns run on, unwrapped, and a level's
 // sample i is read at i mod (its samples a turn), so crossing the seam is a level shift like
 // any other. The window centre follows the camera continuously (the copy of its column
-// nearest the last centre). Every level's cells must then divide the turn.
+// nearest the last centre). Every level's cells must then divide the turn, and on the
+// ellipsoid a pole on the last row must lie on every level's grid.
 #include "ridge/lod/clipmap.h"
 #include "ridge/lod/patch_selector.h"
 
@@ -48,11 +49,30 @@ struct ClipmapWrite {
     int64_t wrap_shift = 0;
 };
 
+// Where the levels end on a globe whose columns go round the Earth. A level at least a turn
+// wide would cover the globe twice over, so the wide levels are cut to one turn [west,
+// west + T): `west` on the grid of every level cut, the turn holding the narrower levels'
+// windows and inside the finest wide level's, so that both ends — one meridian — are drawn by
+// the same level with the same samples. Levels coarser than `coarsest` are not drawn: within
+// the turn, the finest wide level (or the first coarser one that reaches both ends of the
+// rows) covers everything they would.
+struct ClipmapTurnCut {
+    bool cut = false; // false: no level is a turn wide (or the grid does not wrap)
+    int64_t west = 0; // finest column
+    int coarsest = 0; // the coarsest level drawn
+};
+
+// Throws ridge::Error when `levels` windows of `n` cannot lie on `frame`'s globe: on a grid
+// that wraps, the coarsest cells must divide the turn and the coarsest window span it; with
+// a pole on the last row, the cells must divide its distance from row 0. Names the levels or
+// the n that would. Nothing to check on the plane.
+void checkClipmapGlobe(const TerrainFrame& frame, int n, int levels);
+
 class ClipmapSelector final : public PatchSelector {
   public:
     // `tree` must outlive the selector. Throws ridge::Error for settings out of range, and on a
-    // wrapping globe whose turn the coarsest level's cells do not divide (naming the levels
-    // that would).
+    // wrapping globe whose turn the coarsest level's cells do not divide, or with a pole row
+    // between them (naming the levels that would).
     ClipmapSelector(const PatchQuadtree& tree, const ClipmapSettings& settings);
 
     void select(const Camera& camera, const SelectionSettings& settings, Selection& out) override;
@@ -84,6 +104,8 @@ class ClipmapSelector final : public PatchSelector {
     PatchId patchOf(int level, int64_t i, int64_t j) const;
     // Finest columns a turn of the globe when the windows wrap, else 0.
     int64_t turn() const { return turn_; }
+    // The cut to one turn when levels ..finest are drawn (finest ≥ 0).
+    ClipmapTurnCut turnCut(int finest) const;
     // How many of the root's samples apart level k's samples are (1 for archive levels).
     int64_t decimation(int level) const;
 

@@ -123,18 +123,30 @@ class ClipmapsScheme final : public TerrainScheme {
         const lod::Frustum frustum(camera);
         const double k = settings.exaggeration;
         const int64_t W = frame.geometry().width() - 1, H = frame.geometry().height() - 1;
-        std::vector<Entry> entries;
+        // On a wrapping globe the columns have no border, but a level a turn wide would cover
+        // the globe twice: such levels end at one meridian, drawn by the same level on both
+        // sides (lod::ClipmapTurnCut).
         const glm::dvec2 c = selector_.centre();
-        for (int level = finest; level >= 0; --level) { // fine to coarse (§3.5.4)
+        const lod::ClipmapTurnCut turn = selector_.turnCut(finest);
+        const int coarsest = turn.coarsest;
+        // The columns' ends: the terrain's border, the turn, or none on a wrapping globe whose
+        // windows are all narrower than a turn.
+        constexpr int64_t kNone = int64_t{1} << 60;
+        const bool wraps = selector_.turn() > 0;
+        const int64_t west = turn.cut ? turn.west : wraps ? -kNone : 0;
+        const int64_t east = turn.cut ? turn.west + selector_.turn() : wraps ? kNone : W;
+        std::vector<Entry> entries;
+        for (int level = finest; level >= coarsest; --level) { // fine to coarse (§3.5.4)
             const lod::ClipmapLevel& l = w.level(level);
+            const bool has_coarser = level > coarsest;
             for (const lod::FootprintPiece& piece :
-                 lod::levelPieces(w.m(), level == finest, l.finer_x, l.finer_y, level > 0)) {
+                 lod::levelPieces(w.m(), level == finest, l.finer_x, l.finer_y, has_coarser)) {
                 // The piece's finest-grid corners.
                 const int64_t x0 = l.origin_x + piece.x * l.step,
                               y0 = l.origin_y + piece.y * l.step;
                 const int64_t x1 = x0 + (piece.width - 1) * l.step;
                 const int64_t y1 = y0 + (piece.height - 1) * l.step;
-                if (x1 <= 0 || y1 <= 0 || x0 >= W || y0 >= H)
+                if (y1 <= 0 || y0 >= H || x1 <= west || x0 >= east)
                     continue; // wholly off the terrain (or only touching its border line)
                 float lo = 0.f, hi = 0.f;
                 if (!visible(level, x0, y0, x1, y1, k, settings.cull ? &frustum : nullptr, lo, hi))
@@ -148,9 +160,12 @@ class ClipmapsScheme final : public TerrainScheme {
                 // No skirts; a wall under the terrain's clipped border hangs this deep.
                 r.skirt_depth = float(k * double(hi - lo) + 1.0);
                 // Cut on the east and south borders; dropped west and north of the terrain.
-                r.valid_extent[0] = x1 > W ? float(double(W - x0) / double(l.step)) : kUnclipped;
+                // On the globe a pole row lies on every level's grid (lod::ClipmapSelector), so
+                // a cut there is along the pieces' own cells.
+                r.valid_extent[0] =
+                    x1 > east ? float(double(east - x0) / double(l.step)) : kUnclipped;
                 r.valid_extent[1] = y1 > H ? float(double(H - y0) / double(l.step)) : kUnclipped;
-                r.valid_start[0] = x0 < 0 ? float(-x0 / l.step) : 0.f;
+                r.valid_start[0] = x0 < west ? float((west - x0) / l.step) : 0.f;
                 r.valid_start[1] = y0 < 0 ? float(-y0 / l.step) : 0.f;
                 r.min_z = float(k * double(lo) - anchor.height);
                 r.max_z = float(k * double(hi) - anchor.height);
@@ -158,7 +173,7 @@ class ClipmapsScheme final : public TerrainScheme {
                 const int64_t wx = l.origin_x / l.step, wy = l.origin_y / l.step;
                 pr.texel[0] = wrapTexel(wx, texture_size_);
                 pr.texel[1] = wrapTexel(wy, texture_size_);
-                pr.coarse_layer = level > 0 ? level - 1 : -1;
+                pr.coarse_layer = has_coarser ? level - 1 : -1;
                 pr.coarse_texel[0] = wrapTexel(l.origin_x / (2 * l.step), texture_size_);
                 pr.coarse_texel[1] = wrapTexel(l.origin_y / (2 * l.step), texture_size_);
                 pr.viewer[0] = float((c.x - double(l.origin_x)) / double(l.step));
@@ -166,7 +181,7 @@ class ClipmapsScheme final : public TerrainScheme {
                 pr.local[0] = piece.x;
                 pr.local[1] = piece.y;
                 pr.kind = int32_t(piece.kind);
-                const bool partial = x0 < 0 || y0 < 0 || x1 > W || y1 > H;
+                const bool partial = x0 < west || y0 < 0 || x1 > east || y1 > H;
                 entries.push_back({partial, piece.kind, r, pr,
                                    selector_.patchOf(level, wx + piece.x, wy + piece.y)});
             }
@@ -217,6 +232,12 @@ class ClipmapsScheme final : public TerrainScheme {
         glProgramUniform1i(id, program.uniform("u_window"), w.n());
         // Pieces have up to n − 1 cells: clipped wherever their valid extent is a real one.
         glProgramUniform1f(id, program.uniform("u_unclipped_extent"), kUnclipped);
+        // On the globe the cuts that end a level's turn, and the one at a pole on the last row,
+        // are grid lines of every level (lod::ClipmapSelector): triangles beyond are dropped.
+        const lod::TerrainFrame& f = quadtree_.frame();
+        const bool south_pole = f.onEllipsoid() && f.poleRow(double(f.geometry().height() - 1));
+        glProgramUniform2i(id, program.uniform("u_drop_beyond"), selector_.turn() > 0 ? 1 : 0,
+                           south_pole ? 1 : 0);
         const double width = lod::transitionWidth(w.n());
         glProgramUniform2f(id, program.uniform("u_transition"), float((w.n() - 1) / 2 - width - 2),
                            float(width));
@@ -300,6 +321,7 @@ class ClipmapsScheme final : public TerrainScheme {
             glProgramUniform1i(id, fill_.uniform("u_slot"), residency_.slotOf(wr.patch));
             glProgramUniform2i(id, fill_.uniform("u_patch_origin"), wr.patch.x * g.cells(),
                                wr.patch.y * g.cells());
+            glProgramUniform1i(id, fill_.uniform("u_wrap_shift"), GLint(wr.wrap_shift));
             glProgramUniform1i(id, fill_.uniform("u_decimation"),
                                GLint(selector_.decimation(wr.level)));
             glProgramUniform2i(id, fill_.uniform("u_level_last"), g.levelWidth(archive_level) - 1,
@@ -321,24 +343,37 @@ class ClipmapsScheme final : public TerrainScheme {
         const PyramidGeometry& g = quadtree_.geometry();
         const int archive = std::max(selector_.windows().level(level).pyramid_level - 1, 0);
         const int64_t span = int64_t(g.cells()) * g.step(archive);
-        const int px0 = int(std::clamp<int64_t>(x0 / span, 0, g.patchesX(archive) - 1));
         const int py0 = int(std::clamp<int64_t>(y0 / span, 0, g.patchesY(archive) - 1));
-        const int px1 = int(std::clamp<int64_t>((x1 - 1) / span, 0, g.patchesX(archive) - 1));
         const int py1 = int(std::clamp<int64_t>((y1 - 1) / span, 0, g.patchesY(archive) - 1));
         bool seen = frustum == nullptr;
         lo = INFINITY;
         hi = -INFINITY;
-        for (int y = std::max(py0, 0); y <= py1; ++y)
-            for (int x = std::max(px0, 0); x <= px1; ++x) {
-                const PatchId p{archive, x, y};
-                const lod::PatchBounds& b = quadtree_.bounds(p);
-                lo = std::min(lo, b.min_height);
-                hi = std::max(hi, b.max_height);
-                if (!seen)
-                    seen = frustum->classify(quadtree_.frame().patchBox(
-                               p, k * double(b.min_height), k * double(b.max_height))) !=
-                           lod::Visibility::Outside;
-            }
+        // The patches under columns [a, b) (on the terrain's own columns).
+        auto under = [&](int64_t a, int64_t b) {
+            const int px0 = int(std::clamp<int64_t>(a / span, 0, g.patchesX(archive) - 1));
+            const int px1 = int(std::clamp<int64_t>((b - 1) / span, 0, g.patchesX(archive) - 1));
+            for (int y = py0; y <= py1; ++y)
+                for (int x = px0; x <= px1; ++x) {
+                    const PatchId p{archive, x, y};
+                    const lod::PatchBounds& bounds = quadtree_.bounds(p);
+                    lo = std::min(lo, bounds.min_height);
+                    hi = std::max(hi, bounds.max_height);
+                    if (!seen)
+                        seen = frustum->classify(quadtree_.frame().patchBox(
+                                   p, k * double(bounds.min_height),
+                                   k * double(bounds.max_height))) != lod::Visibility::Outside;
+                }
+        };
+        if (const int64_t turn = selector_.turn(); turn > 0) {
+            // Columns wrapped into the first turn: the piece may cross the seam (it spans
+            // less than a turn, lod::ClipmapSelector).
+            const int64_t a = x0 - lod::floorDiv(x0, turn) * turn, b = a + (x1 - x0);
+            under(a, std::min(b, turn));
+            if (b > turn)
+                under(0, b - turn);
+        } else {
+            under(x0, x1);
+        }
         return seen;
     }
 
@@ -361,14 +396,18 @@ class ClipmapsScheme final : public TerrainScheme {
 constexpr const char* kN = "n";
 constexpr const char* kLevels = "levels";
 
-// The clipmap's settings from the scheme's options, refused by option name.
-lod::ClipmapSettings settingsFor(const archive::ArchiveReader& reader, const SchemeOptions& own)
+// The clipmap's settings from the scheme's options, refused by option name (also levels that
+// cannot lie on the frame's globe).
+lod::ClipmapSettings settingsFor(const archive::ArchiveReader& reader,
+                                 const lod::TerrainFrame& frame, const SchemeOptions& own)
 {
     lod::ClipmapSettings settings;
     settings.n = int(own.integer(kN));
     settings.levels = int(own.integer(kLevels));
     try {
         settings.validate();
+        lod::checkClipmapGlobe(frame, settings.n,
+                               lod::clipmapLevelCount(settings, reader.geometry()));
     } catch (const Error& e) {
         throw Error(reader.path() + ": --lod " + own.spec() + ": " + e.what());
     }
@@ -394,21 +433,22 @@ SchemeInfo clipmapsScheme()
                                           "span the terrain)",
                                           0, lod::ClipmapSettings::kMaxLevels, 0)},
         .needs =
-            [](const archive::ArchiveReader& reader, const lod::TerrainFrame&,
+            [](const archive::ArchiveReader& reader, const lod::TerrainFrame& frame,
                const RendererOptions&, const SchemeOptions& own) {
-                const lod::ClipmapSettings s = settingsFor(reader, own);
+                const lod::ClipmapSettings s = settingsFor(reader, frame, own);
                 SchemeNeeds needs;
                 const double texels = double(s.n + 1) * double(s.n + 1);
                 needs.fixed_bytes = texels * 4.0 * lod::clipmapLevelCount(s, reader.geometry());
                 return needs;
             },
         .make = [](const SchemeResources& r) -> std::unique_ptr<TerrainScheme> {
-            return std::make_unique<ClipmapsScheme>(r, settingsFor(r.reader, r.own));
+            return std::make_unique<ClipmapsScheme>(
+                r, settingsFor(r.reader, r.quadtree.frame(), r.own));
         },
         .promises = {.screen_space_error = false,
                      .seams = SchemePromises::Seams::Stitching,
                      .pop_free = false,
-                     .wrapping_globe = false},
+                     .wrapping_globe = true},
     };
 }
 

@@ -2,17 +2,23 @@
 // with its trims, fix-ups, transition regions and perimeters; a level shift writes only its
 // strip (the first frame writes every window, a small move a sliver of that, standing still
 // nothing); streaming never waits (the first frames draw the coarsest level, the finer ones
-// follow as their patches arrive, never a hole); and options the windows cannot take refused
-// naming the file and the option.
+// follow as their patches arrive, never a hole); options the windows cannot take refused
+// naming the file and the option; and on a wrapping globe, levels that fit it or a refusal.
 #include "captured_surface_checks.h"
 #include "error_expectations.h"
 #include "terrain_renderer_fixture.h"
 
 #include "ridge/core/error.h"
 #include "ridge/gpu/render_target.h"
+#include "ridge/lod/ellipsoid.h"
+#include "ridge/pipeline/build.h"
+#include "ridge/pipeline/level_decoder.h"
 #include "ridge/render/frame_measures.h"
 
 #include <gtest/gtest.h>
+
+#include <algorithm>
+#include <numbers>
 
 using namespace ridge;
 
@@ -137,4 +143,55 @@ TEST_F(ClipmapsScheme, OptionsTheWindowsCannotTakeAreRefusedNamingTheArchiveAndT
     o.vram_budget_mb = 2.0;
     const std::string m = test::errorOf([&] { render::TerrainRenderer r(reader, o); });
     EXPECT_NE(m.find(path), std::string::npos) << m;
+}
+
+// On a globe whose columns go round the Earth the coarsest cells must divide the turn and the
+// rows to a pole (lod::checkClipmapGlobe): the 2° whole-Earth fixture (180 columns a turn,
+// 90 rows pole to pole) takes at most 2 levels. More are refused naming the archive, the
+// option and the levels that fit; the default scheme set leaves clipmaps out; 2 levels of 127
+// (the coarser a turn wide, cut to one) draw the globe across the antimeridian watertight,
+// every sample in view under one triangle.
+TEST_F(ClipmapsScheme, OnAGlobeTheLevelsMustFitTheTurnAndThePolesAndThenDrawIt)
+{
+    const std::string path = scratch_->path("globe.ridge");
+    BuildOptions build;
+    build.patch_size = 17;
+    build.progress = {};
+    buildArchive(test::dataPath("etopo5_globe_181x91.tif"), path, build);
+    const archive::ArchiveReader reader(path);
+    render::RendererOptions o;
+    o.schemes = {"clipmaps,n=63,levels=3"};
+    const std::string m = test::errorOf([&] { render::TerrainRenderer r(reader, o); });
+    EXPECT_NE(m.find(path), std::string::npos) << m;
+    EXPECT_NE(m.find("--lod clipmaps,n=63,levels=3"), std::string::npos) << m;
+    EXPECT_NE(m.find("the 90 rows to its south pole"), std::string::npos) << m;
+    EXPECT_NE(m.find("levels=2 or fewer"), std::string::npos) << m;
+    {
+        const render::TerrainRenderer defaults(reader, render::RendererOptions{});
+        const std::vector<std::string>& names = defaults.schemes();
+        EXPECT_EQ(std::count(names.begin(), names.end(), "clipmaps"), 0);
+    }
+    o.schemes = {"clipmaps,n=127,levels=2"}; // the coarser window 252 columns wide: cut to the turn
+    o.synchronous_stats = true;
+    render::TerrainRenderer r(reader, o);
+    ASSERT_TRUE(r.quadtree().frame().onEllipsoid());
+    render::RenderSettings s;
+    s.scheme = "clipmaps";
+    const lod::Ellipsoid e = r.quadtree().frame().geodetic().ellipsoid;
+    constexpr double kDeg = std::numbers::pi / 180.0;
+    // Over the antimeridian (column 90 of 180 from 0° east), 1,500 km up, looking north-east.
+    const glm::dvec3 pos = lod::geodeticToEcef(e, 179.0 * kDeg, 10.0 * kDeg, 1.5e6);
+    const glm::dvec3 at = lod::geodeticToEcef(e, -170.0 * kDeg, 25.0 * kDeg, 0.0);
+    const lod::Camera cam = r.cameraLookingAt(pos, at, 60.0, {240, 160});
+    const test::SeamReport seams = test::checkSeamsAsPromised(r, cam, s, r.quadtree().frame());
+    EXPECT_EQ(seams.problems, 0u) << seams.first_problem;
+    const std::vector<uint16_t> codes = decodeLevel(reader, reader.geometry().finestLevel()).codes;
+    std::vector<float> finest;
+    for (uint16_t c : codes)
+        finest.push_back(float(reader.quantization().toMetres(c)));
+    const test::ScreenErrorReport err =
+        test::measureScreenSpaceError(r.capture(cam, s), r.quadtree().frame(), finest, cam);
+    EXPECT_GT(err.samples, 100u);
+    EXPECT_EQ(err.uncovered, 0u);
+    EXPECT_EQ(err.overlapped, 0u);
 }
