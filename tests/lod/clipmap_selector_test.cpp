@@ -309,3 +309,49 @@ TEST(ClipmapSelector, AGlobeTheWindowsCannotLieOnIsRefusedNamingWhatWould)
     EXPECT_NE(refusal(63, 1).find("span 62: use n=1023"), std::string::npos) << refusal(63, 1);
     EXPECT_EQ(refusal(255, 3), ""); // cells of 4, 2, 1 columns and rows; 1016 columns round
 }
+
+// The levels a turn wide end at one meridian (turnCut): on the grid of every level cut, the
+// narrower windows inside the turn and the turn inside the finest wide window, so both ends
+// are drawn by one level; the coarser levels are left out once one reaches both poles.
+TEST(ClipmapSelector, WideLevelsEndAtOneMeridianOnTheirGridAroundTheNarrowerWindows)
+{
+    const int turn = 1024;
+    const PatchQuadtree tree = wrappingGlobe(turn);
+    ClipmapSettings cs;
+    cs.n = 127; // windows 126 · step: 1008 columns at step 8, 2016 at 16
+    ClipmapSelector s(tree, cs);
+    const ClipmapWindows& w = s.windows();
+    for (const double lon : {3.0, 91.5, 181.0, 359.9})
+        for (const double lat : {-80.0, 0.0, 45.0, 89.0}) {
+            SCOPED_TRACE(std::to_string(lon) + ", " + std::to_string(lat));
+            Selection sel;
+            s.select(overGlobe(tree, lon, lat, 100.0), settings(), sel);
+            std::vector<ClipmapWrite> writes;
+            s.takeWrites([](PatchId) { return true; }, writes);
+            const int finest = s.finestDrawn();
+            ASSERT_EQ(finest, w.levelCount() - 1);
+            const ClipmapTurnCut cut = s.turnCut(finest);
+            ASSERT_TRUE(cut.cut);
+            int wide = finest;
+            while (126 * w.level(wide).step < turn)
+                --wide;
+            EXPECT_EQ(w.level(wide).step, 16);
+            EXPECT_LE(cut.coarsest, wide);
+            EXPECT_EQ(cut.west % w.level(cut.coarsest).step, 0) << "on every cut level's grid";
+            const ClipmapLevel& narrow = w.level(wide + 1);
+            EXPECT_LE(cut.west, narrow.origin_x);
+            EXPECT_GE(cut.west + turn, narrow.origin_x + 126 * narrow.step);
+            EXPECT_GE(cut.west, w.level(wide).origin_x);
+            EXPECT_LE(cut.west + turn, w.level(wide).origin_x + 126 * w.level(wide).step);
+            // The coarsest drawn reaches both poles' rows; the next finer one does not.
+            const ClipmapLevel& c = w.level(cut.coarsest);
+            EXPECT_LE(c.origin_y, 0);
+            EXPECT_GE(c.origin_y + 126 * c.step, turn / 2);
+        }
+    // On the plane nothing wraps: nothing to cut.
+    Terrain plane;
+    ClipmapSelector p(plane.tree, cs);
+    Selection sel;
+    p.select(plane.at(1000.0, 700.0, 50.0), settings(), sel);
+    EXPECT_FALSE(p.turnCut(p.windows().levelCount() - 1).cut);
+}
