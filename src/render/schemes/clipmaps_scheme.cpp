@@ -160,8 +160,9 @@ class ClipmapsScheme final : public TerrainScheme {
                 // No skirts; a wall under the terrain's clipped border hangs this deep.
                 r.skirt_depth = float(k * double(hi - lo) + 1.0);
                 // Cut on the east and south borders; dropped west and north of the terrain.
-                // On the globe a pole row lies on every level's grid (lod::ClipmapSelector), so
-                // a cut there is along the pieces' own cells.
+                // On the globe the turn's ends and a pole row lie on every level's grid
+                // (lod::checkClipmapGlobe): the clip stage drops what lies beyond them
+                // (u_drop_beyond) instead of cutting it.
                 r.valid_extent[0] =
                     x1 > east ? float(double(east - x0) / double(l.step)) : kUnclipped;
                 r.valid_extent[1] = y1 > H ? float(double(H - y0) / double(l.step)) : kUnclipped;
