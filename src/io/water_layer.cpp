@@ -36,7 +36,7 @@ class Arguments {
 } // namespace
 
 WaterLayer::WaterLayer(const std::string& path, const GeoReference& grid, int width, int height)
-    : path_(path), grid_(grid), width_(width), height_(height)
+    : path_(path), grid_(grid), width_(width)
 {
     GdalErrorCapture capture;
     ensureGdalRegistered();

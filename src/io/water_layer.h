@@ -38,7 +38,7 @@ class WaterLayer {
 
     std::string path_;
     GeoReference grid_;
-    int width_ = 0, height_ = 0;
+    int width_ = 0;
     DatasetPtr source_;                    // as opened
     DatasetPtr band_one_;                  // rasters: a VRT of band 1 (GDALWarp warps every band)
     std::vector<std::string> layer_names_; // vectors

@@ -59,7 +59,9 @@ void gatherCorners(const uint16_t* patch, int n, int cell_y, int d, RowCorners& 
 RIDGE_TARGET_CLONES
 void rowDeviation(const uint16_t* row, int n, int v, int st, const RowCorners& rc, int* dev)
 {
+#if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC ivdep
+#endif
     for (int x = 0; x < n; ++x) {
         const int u = rc.u[x];
         const int k = rc.a[x] + rc.e[x] - rc.b[x] - rc.c[x];

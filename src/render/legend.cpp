@@ -27,6 +27,7 @@ constexpr int kScale = 2; // font pixels per glyph bit
 constexpr int kGlyphW = 3 * kScale, kGlyphH = 5 * kScale;
 constexpr int kSwatch = 12; // pixels
 constexpr int kRowH = kSwatch + 4;
+static_assert(kGlyphH <= kRowH, "a row's text fits its row");
 constexpr int kMargin = 6;
 
 struct Canvas {

@@ -423,7 +423,7 @@ TEST_P(OutputSafetyTemporaries, SymlinksPlantedAtPredictableTemporaryNamesAreNev
         SpawnOptions o;
         if (GetParam())
             o.env = kNamedTemporaries;
-        o.before_exec = [&](pid_t pid) {
+        o.before_exec = [&, &name = name](pid_t pid) {
             for (pid_t p = pid - 20; p <= pid + 20; ++p)
                 for (const std::string& n :
                      {out + ".tmp." + std::to_string(p), out + ".tmp.check." + std::to_string(p),

@@ -583,11 +583,12 @@ TEST(FieldValidation, EveryDocumentedMetadataKeyIsRequiredAndNamedWhenMissing)
         {"", "generator"}};
     for (const auto& [section, key] : keys) {
         const std::string name = section.empty() ? key : section + "." + key;
-        EXPECT_TRUE(
-            refusedNaming(openCrafted(fixtures().lossless, editMetadata([&](nlohmann::json& j) {
-                                          (section.empty() ? j : j[section]).erase(key);
-                                      })),
-                          "metadata: " + name + " is missing"));
+        EXPECT_TRUE(refusedNaming(
+            openCrafted(fixtures().lossless,
+                        editMetadata([&, &section = section, &key = key](nlohmann::json& j) {
+                            (section.empty() ? j : j[section]).erase(key);
+                        })),
+            "metadata: " + name + " is missing"));
     }
 }
 

@@ -134,7 +134,7 @@ TEST(VerticalDatum, FromTheCompoundCrsOrTheUser)
              {"   ", "empty"},
              {std::string("a\tb\x01"), "control character"},
              {std::string(200, 'x'), "at most 120"}}) {
-        const std::string message = errorOf([&] { io::resolveVerticalDatum(text); });
+        const std::string message = errorOf([&, &t = text] { io::resolveVerticalDatum(t); });
         EXPECT_NE(message.find("vertical_datum"), std::string::npos) << message;
         EXPECT_NE(message.find(phrase), std::string::npos) << text << ": " << message;
     }

@@ -67,7 +67,7 @@ TEST(CoarseTerrain, NanOrInfiniteCoordinatesThrowAClearError)
 {
     const CoarseTerrain t = planeTerrain();
     for (const auto& [x, y] : {std::pair{kNan, 0.0}, {0.0, kNan}, {kInf, 0.0}, {0.0, -kInf}}) {
-        const std::string message = errorOf([&] { t.groundHeight(x, y); });
+        const std::string message = errorOf([&, x = x, y = y] { t.groundHeight(x, y); });
         EXPECT_NE(message.find("ground point (x, y) is ("), std::string::npos) << message;
         EXPECT_NE(message.find("finite"), std::string::npos) << message;
     }

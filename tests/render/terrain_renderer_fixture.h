@@ -22,8 +22,15 @@
 
 namespace ridge::test {
 
+// Built with AddressSanitizer (GCC says so with a macro, clang with a feature test).
 #if defined(__SANITIZE_ADDRESS__)
 constexpr bool kSanitized = true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+constexpr bool kSanitized = true;
+#else
+constexpr bool kSanitized = false;
+#endif
 #else
 constexpr bool kSanitized = false;
 #endif

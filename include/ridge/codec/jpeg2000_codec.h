@@ -129,7 +129,6 @@ class Jpeg2000Codec final : public HeightCodec {
 
   private:
     double criterion_;
-    int level_count_;
     Jpeg2000Variant variant_;
     int sample_bound_;
     int edge_bound_;

@@ -365,7 +365,7 @@ std::string Jpeg2000Variant::describe() const
 // ---- codec -----------------------------------------------------------------------------
 
 Jpeg2000Codec::Jpeg2000Codec(double criterion_value, int level_count, Jpeg2000Variant variant)
-    : criterion_(criterion_value), level_count_(level_count), variant_(variant)
+    : criterion_(criterion_value), variant_(variant)
 {
     const bool lossless = variant.criterion == CompressionCriterion::Lossless;
     if (!(std::isfinite(criterion_value) && criterion_value >= 0 && criterion_value <= 32767) ||
