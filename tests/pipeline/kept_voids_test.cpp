@@ -336,6 +336,9 @@ TEST(KeptVoids, ExtractRefusesANodataValueThatIsARealHeight)
 
 // The flip-every-region test of build_verify_test.cpp, on the bytes of the validity masks: a
 // flipped mask byte is caught (by the blob's CRC) and blamed on the patch that holds it.
+// Every flip costs a whole verify, so the test flips six bytes of the first eight bitmaps and
+// the first mask byte of every seventh patch besides (and of the last): the blame is worked
+// out per patch, so more patches of the same kinds only repeat the same path.
 TEST(KeptVoids, FlippedMaskBytesAreReportedWithThePatchTheyHit)
 {
     test::ScratchDir dir;
@@ -346,17 +349,20 @@ TEST(KeptVoids, FlippedMaskBytesAreReportedWithThePatchTheyHit)
     const std::vector<uint8_t> bytes{std::istreambuf_iterator<char>(in), {}};
     const archive::ArchiveReader reader(good);
     int bitmaps = 0;
-    for (int64_t k = 0; k < reader.geometry().patchCount(); ++k) {
+    const int64_t patches = reader.geometry().patchCount();
+    for (int64_t k = 0; k < patches; ++k) {
         const PatchId p = reader.geometry().patchAt(k);
         const archive::PatchRecord& r = reader.record(p);
         const size_t mask = r.offset + r.block_errors_size;
         const size_t mask_end = r.offset + reader.payloadOffset(p, reader.readBlob(p));
-        std::vector<size_t> positions{mask};
+        std::vector<size_t> positions;
         if (mask_end - mask > 1) { // a bitmap: frame_size, then the first, middle, last frame byte
-            ++bitmaps;
-            positions.insert(positions.end(), {mask + 1, mask + 4, mask + 5,
-                                               (mask + 5 + mask_end) / 2, mask_end - 1});
+            if (++bitmaps <= 8)
+                positions = {mask,        mask + 1, mask + 4, mask + 5, (mask + 5 + mask_end) / 2,
+                             mask_end - 1};
         }
+        if (positions.empty() && (k % 7 == 0 || k == patches - 1))
+            positions = {mask};
         for (size_t pos : positions) {
             std::vector<uint8_t> flipped = bytes;
             flipped[pos] ^= 0x01;
