@@ -13,7 +13,8 @@ packages=(
   libfmt-dev libcli11-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3                        # bench and fuzz helper scripts
-  clang libclang-rt-14-dev       # libFuzzer targets (scripts/fuzz.sh)
+  clang libclang-rt-14-dev       # libFuzzer targets (scripts/fuzz.sh), the sanitizer build
+  libomp-dev                     # OpenMP for clang (the sanitizer build)
   clang-format-14                # the formatting scripts/check-layering.sh checks
   # ridge codec-bench: anchor codecs (LERC, JPEG-LS, JPEG 2000, JPEG XL, ZFP) and its PNG plot
   liblerc-dev libcharls-dev libjxl-dev libzfp-dev
