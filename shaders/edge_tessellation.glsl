@@ -43,17 +43,18 @@ vec3 nearestPointOfSegment(vec3 a, vec3 b) {
 // centre only, but the edge's near end projects larger (up to 2× for an edge as long as it is
 // far), and that is where its error shows: the conservative rule takes the most demanding of
 // the endpoints, the centre sample and the edge's point nearest the camera. And it projects
-// 2Λ_e^(d): the tessellator's transition triangles between a coarse edge and a finer interior
-// are not in the T^(d) family λ^(d) bounds, but their edge vertices are T^(d) vertices and
-// their inner ones samples within λ^(d) of it, so a sample under one is within 2λ^(d) + Err(P)
-// (one Λ^(d) did 1.14 ε on the renderer test's cameras). Only the edge's own samples enter, so
-// both blocks of a shared edge (and a block and its skirt) agree.
+// 2λ_e^(d) + Err(P) = 2Λ_e^(d) − Err(P): the tessellator's transition triangles between a
+// coarse edge and a finer interior are not in the T^(d) family λ^(d) bounds, but their edge
+// vertices are T^(d) vertices and their inner ones samples within λ^(d) of it, so a decoded
+// sample under one is within 2λ^(d) of it, and the source within Err(P) more (one Λ^(d) did
+// 1.14 ε on the renderer test's cameras). Only the edge's own samples and the patch's Err(P)
+// enter, so both blocks of a shared edge (and a block and its skirt) agree.
 // `up` is the local up at the edge's centre sample (the edge is short against the Earth's
 // radius: its direction differs by less than the segment's own rounding elsewhere).
-int edgeSimplification(vec3 a, vec3 centre, vec3 b, vec3 up, vec4 edge_errors) {
+int edgeSimplification(vec3 a, vec3 centre, vec3 b, vec3 up, vec4 edge_errors, float patch_error) {
     if (u_tessellation_rule == 1)
         return edgeSimplification(centre, up, edge_errors);
-    vec4 e = 2.0 * edge_errors;
+    precise vec4 e = 2.0 * edge_errors - vec4(patch_error);
     int d = min(edgeSimplification(a, up, e), edgeSimplification(b, up, e));
     d = min(d, edgeSimplification(centre, up, e));
     return min(d, edgeSimplification(nearestPointOfSegment(a, b), up, e));
@@ -90,5 +91,5 @@ float edgeFactor(PatchInstance p, ivec2 a, ivec2 b, vec4 errors) {
     vec3 up;
     vec3 centre = samplePosition(p, (a + b) / 2, up);
     return float(u_block_cells >> edgeSimplification(samplePosition(p, a), centre,
-                                                     samplePosition(p, b), up, errors));
+                                                     samplePosition(p, b), up, errors, p.err));
 }

@@ -7,7 +7,7 @@
 
 layout(local_size_x = 64) in;
 
-// Per case: endpoint a, centre, endpoint b, then Λ^(1..4).
+// Per case: endpoint a (w: Err(P)), centre, endpoint b, then Λ^(1..4).
 layout(std430, binding = 1) readonly buffer Cases { vec4 cases[]; };
 layout(std430, binding = 2) writeonly buffer Results { ivec2 simplification[]; };
 
@@ -21,5 +21,6 @@ void main() {
     const vec3 up = vec3(0.0, 0.0, 1.0); // the plane's: the C++ twin measures along +z
     simplification[i] = ivec2(edgeSimplification(cases[4 * i + 1].xyz, up, errors),
                               edgeSimplification(cases[4 * i].xyz, cases[4 * i + 1].xyz,
-                                                 cases[4 * i + 2].xyz, up, errors));
+                                                 cases[4 * i + 2].xyz, up, errors,
+                                                 cases[4 * i].w));
 }

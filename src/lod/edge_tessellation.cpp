@@ -14,6 +14,7 @@ EdgeErrors sharedEdgeErrors(const EdgeErrors& a, const EdgeErrors& b, int levels
     EdgeErrors e;
     for (int d = 0; d < levels; ++d)
         e.lambda[d] = std::max(a.lambda[d], b.lambda[d]);
+    e.patch_error = std::max(a.patch_error, b.patch_error);
     return e;
 }
 
@@ -53,10 +54,11 @@ int edgeSimplification(const glm::dmat4& view_projection, Viewport viewport, glm
 {
     if (rule == TessellationRule::Paper)
         return edgeSimplification(view_projection, viewport, centre, errors, levels, epsilon_px);
-    // 2Λ_e^(d), in float as the shader doubles it: it bounds the transition triangles too.
+    // 2λ_e^(d) + Err(P) = 2Λ_e^(d) − Err(P), in float as the shader computes it: it bounds the
+    // transition triangles too (the header).
     EdgeErrors doubled;
     for (int d = 0; d < kMaxBlockLevels; ++d)
-        doubled.lambda[d] = 2.0f * errors.lambda[d];
+        doubled.lambda[d] = 2.0f * errors.lambda[d] - errors.patch_error;
     auto at = [&](glm::dvec3 p) {
         return edgeSimplification(view_projection, viewport, p, doubled, levels, epsilon_px);
     };

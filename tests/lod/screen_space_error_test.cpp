@@ -133,12 +133,13 @@ TEST(Frustum, NeverCullsAVisiblePointAndInsideMeansEveryCornerInside)
 
 TEST(EdgeTessellation, SharedEdgeErrorsAreTheMaximumOfBothBlocksAndSymmetric)
 {
-    const EdgeErrors a{{1, 2, 8, 3}}, b{{2, 1, 4, 9}};
+    const EdgeErrors a{{1, 2, 8, 3}, 0.5f}, b{{2, 1, 4, 9}, 0.5f};
     const EdgeErrors ab = sharedEdgeErrors(a, b, 4), ba = sharedEdgeErrors(b, a, 4);
     for (int d = 0; d < 4; ++d) {
         EXPECT_EQ(ab.lambda[d], std::max(a.lambda[d], b.lambda[d]));
         EXPECT_EQ(ab.lambda[d], ba.lambda[d]);
     }
+    EXPECT_EQ(ab.patch_error, 0.5f);
 }
 
 TEST(EdgeTessellation, PicksTheLargestSimplificationWhoseProjectedErrorStaysBelowEpsilon)
@@ -183,9 +184,9 @@ TEST(EdgeTessellation, CoarsensWithDistanceAndNeverSimplifiesBehindTheCamera)
 
 TEST(EdgeTessellation, TheConservativeRuleMeetsEpsilonAlongTheWholeEdgeAndThePapersDoesNot)
 {
-    // Random edges of 8 cells of 30 m ahead of a low camera: the conservative d keeps Λ_e^(d)
-    // (projected once, as λ^(d) bounds the edge's own samples) below ε at every sample of the
-    // edge; the paper's, tested at the centre only, does not always.
+    // Random edges of 8 cells of 30 m ahead of a low camera: the conservative d keeps
+    // 2λ_e^(d) + Err(P) (what bounds its transition triangles) below ε at every sample of the
+    // edge; the paper's Λ_e^(d), tested at the centre only, does not always.
     const Camera c({0, 0, 50}, {0, 1000, 0}, 70.0, {1280, 720}, 1.0, 1e5);
     const glm::dmat4 vp = c.viewProjection();
     std::mt19937 rng(5);
@@ -196,19 +197,30 @@ TEST(EdgeTessellation, TheConservativeRuleMeetsEpsilonAlongTheWholeEdgeAndThePap
         const glm::dvec3 along = u(rng) < 0.5 ? glm::dvec3(240, 0, 0) : glm::dvec3(0, 240, 0);
         const glm::dvec3 b = a + along + glm::dvec3(0, 0, 30 * (u(rng) - 0.5));
         const glm::dvec3 centre = 0.5 * (a + b) + glm::dvec3(0, 0, 10 * (u(rng) - 0.5));
-        const EdgeErrors e{{0.5f, 1.5f, 4.0f, 9.0f}};
+        const EdgeErrors e{{0.5f, 1.5f, 4.0f, 9.0f}, 0.4f}; // Λ^(d) = λ^(d) + 0.4
         for (const TessellationRule rule :
              {TessellationRule::Conservative, TessellationRule::Paper}) {
+            const bool paper = rule == TessellationRule::Paper;
             const int d = edgeSimplification(vp, c.viewport(), a, centre, b, e, 4, 2.0, rule);
             if (d == 0)
                 continue;
+            const double bound =
+                paper ? e.lambda[d - 1] : 2.0 * e.lambda[d - 1] - double(e.patch_error);
             bool within = true;
             for (int i = 0; i <= 8; ++i) {
                 const glm::dvec3 p =
                     i <= 4 ? a + (centre - a) * (i / 4.0) : centre + (b - centre) * ((i - 4) / 4.0);
-                within &= projectedVerticalSegment(vp, c.viewport(), p, e.lambda[d - 1]) < 2.0;
+                within &= projectedVerticalSegment(vp, c.viewport(), p, bound) < 2.0;
             }
-            if (rule == TessellationRule::Conservative) {
+            // ... and no finer than that needs: one level coarser already misses it.
+            if (!paper && d < 4) {
+                const double coarser = 2.0 * e.lambda[d] - double(e.patch_error);
+                bool all_within = true;
+                for (const glm::dvec3& p : {a, centre, b, nearestPointOfSegment(a, b)})
+                    all_within &= projectedVerticalSegment(vp, c.viewport(), p, coarser) < 2.0;
+                EXPECT_FALSE(all_within) << k;
+            }
+            if (!paper) {
                 EXPECT_TRUE(within) << k;
             } else {
                 paper_misses += !within;

@@ -207,7 +207,7 @@ TEST_F(TerrainRendererTest, ScreenSpaceErrorOfEveryFullResolutionSampleStaysWith
             EXPECT_GT(samples, 10000u);
             EXPECT_GT(triangles[1], 0u);
             // Tight, not just safe: a bound always far below ε wastes triangles. Edges test
-            // 2Λ (for the transition triangles), so regular regions reach about ε / 2.
+            // 2λ + Err(P) (for the transition triangles), so regular regions reach about ε / 2.
             EXPECT_GT(worst[0], (kSanitized ? 0.3 : 0.4) * epsilon) << t.name << " ε " << epsilon;
         }
     }

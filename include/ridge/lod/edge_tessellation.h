@@ -15,10 +15,11 @@
 // That rule (TessellationRule::Paper) misses ε: Λ is projected at the edge centre while the
 // edge's near end projects larger, and an interior nearer the camera than its edges gets the
 // coarsest of them. ridge's default, TessellationRule::Conservative, tests each edge with
-// 2Λ_e^(d) at its endpoints, centre sample and point nearest the camera and takes the most
-// demanding d (still from the edge's own samples and the shared Λ_e, so shared edges agree;
-// 2Λ because a sample under a transition triangle between a coarse edge and a finer interior
-// is within 2λ^(d) + Err(P), see shaders/edge_tessellation.glsl), and gives the interior its
+// 2λ_e^(d) + Err(P) at its endpoints, centre sample and point nearest the camera and takes the
+// most demanding d (still from the edge's own samples and the shared Λ_e, so shared edges
+// agree; a sample under a transition triangle between a coarse edge and a finer interior is
+// within 2λ^(d) of the decoded surface, see shaders/edge_tessellation.glsl, and the decoded
+// surface within Err(P) of the source), and gives the interior its
 // own test with the block's Λ^(d) at its corners, centre sample and the nearest point of its
 // footprint box, refined to at least its finest edge.
 //
@@ -39,9 +40,11 @@ enum class TessellationRule {
     Paper = 1,        // §5 as published: edge centres, interior = min of edge factors
 };
 
-// Edge errors Λ_e^(d) of an edge between blocks with errors `a` and `b` (d = 1..levels).
+// Edge errors Λ_e^(d) = λ_e^(d) + Err(P) of an edge between blocks with errors `a` and `b`
+// (d = 1..levels), and the Err(P) they include (both blocks are of one patch).
 struct EdgeErrors {
     float lambda[kMaxBlockLevels] = {};
+    float patch_error = 0.f; // Err(P), 0 ≤ Err(P) ≤ lambda[d]
 };
 EdgeErrors sharedEdgeErrors(const EdgeErrors& a, const EdgeErrors& b, int levels);
 
@@ -58,8 +61,8 @@ int edgeSimplification(const glm::dmat4& view_projection, Viewport viewport, glm
 glm::dvec3 nearestPointOfSegment(glm::dvec3 a, glm::dvec3 b);
 
 // d of the edge from `a` to `b` (camera-relative) with centre sample `centre` under `rule`:
-// Paper: edgeSimplification at the centre; Conservative: the least d, with 2Λ_e, of the
-// endpoints, the centre and nearestPointOfSegment(a, b).
+// Paper: edgeSimplification at the centre; Conservative: the least d, with 2Λ_e − Err(P), of
+// the endpoints, the centre and nearestPointOfSegment(a, b).
 int edgeSimplification(const glm::dmat4& view_projection, Viewport viewport, glm::dvec3 a,
                        glm::dvec3 centre, glm::dvec3 b, const EdgeErrors& errors, int levels,
                        double epsilon_px, TessellationRule rule);
