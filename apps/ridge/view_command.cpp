@@ -20,6 +20,7 @@
 
 #if RIDGE_HAVE_VIEWER
 #include "ridge/archive/archive_reader.h"
+#include "ridge/core/sanitizer.h"
 #include "ridge/gpu/context.h"
 #include "ridge/io/raster_writer.h"
 #include "ridge/render/fly_camera.h"
@@ -34,14 +35,7 @@
 #include <imgui_impl_glfw.h>
 #include <imgui_impl_opengl3.h>
 
-#if defined(__SANITIZE_ADDRESS__)
-#define RIDGE_LEAK_CHECKED 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define RIDGE_LEAK_CHECKED 1
-#endif
-#endif
-#if RIDGE_LEAK_CHECKED
+#if RIDGE_ADDRESS_SANITIZER
 #include <sanitizer/lsan_interface.h>
 #endif
 
@@ -719,7 +713,7 @@ int ViewCommand::run()
             writeScreenshot(screenshot_, viewer.width(), viewer.height());
         }
     }
-#if RIDGE_LEAK_CHECKED
+#if RIDGE_ADDRESS_SANITIZER
     // The window's destructor (glfwTerminate, XCloseDisplay) unloads Mesa's DRI driver; LSan's
     // exit-time check then cannot name the driver's own leftovers, so no suppression in
     // scripts/lsan.supp can match them. Check now, with every ridge object of the viewer gone

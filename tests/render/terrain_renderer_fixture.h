@@ -4,6 +4,7 @@
 #include "captured_surface_checks.h"
 #include "fixture_archives.h"
 
+#include "ridge/core/sanitizer.h"
 #include "ridge/gpu/context.h"
 #include "ridge/pipeline/build.h"
 #include "ridge/pipeline/level_decoder.h"
@@ -22,18 +23,8 @@
 
 namespace ridge::test {
 
-// Built with AddressSanitizer (GCC says so with a macro, clang with a feature test).
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool kSanitized = true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-constexpr bool kSanitized = true;
-#else
-constexpr bool kSanitized = false;
-#endif
-#else
-constexpr bool kSanitized = false;
-#endif
+// Built with AddressSanitizer: sweeps take fewer cameras.
+constexpr bool kSanitized = RIDGE_ADDRESS_SANITIZER != 0;
 
 struct Scene {
     std::unique_ptr<archive::ArchiveReader> reader;

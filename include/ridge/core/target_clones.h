@@ -6,8 +6,9 @@
 // (clang, other architectures) it expands to nothing, and so it does under AddressSanitizer:
 // ifunc resolvers run before ASan is initialised, and the sanitizer run then covers the
 // portable clone while Release runs cover the AVX2 one.
-#if defined(__GNUC__) && defined(__x86_64__) && !defined(__clang__) &&                             \
-    !defined(__SANITIZE_ADDRESS__)
+#include "ridge/core/sanitizer.h"
+
+#if defined(__GNUC__) && defined(__x86_64__) && !defined(__clang__) && !RIDGE_ADDRESS_SANITIZER
 #define RIDGE_TARGET_CLONES __attribute__((target_clones("avx2", "default")))
 #else
 #define RIDGE_TARGET_CLONES
