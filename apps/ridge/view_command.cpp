@@ -660,14 +660,17 @@ int ViewCommand::run()
         throw Error("ridge view: cannot open a window: no display (DISPLAY is not set); use "
                     "`ridge render` for headless output");
     const archive::ArchiveReader reader(archive_);
-    // Before the window: a bad camera is an error, not a flash of a window.
+    // Before the window: a bad camera is an error, not a flash of a window (nor, under
+    // LeakSanitizer, an exit after the GL driver is unloaded, whose leftovers it cannot name).
+    // In the frame the renderer will draw in (ECEF on the globe), as `ridge render` does.
+    const lod::TerrainFrame frame = lod::terrainFrameOf(reader, renderer_options_.frame, archive_);
+    if (orbit_ && !frame.onEllipsoid())
+        throw UsageError("--orbit: " + archive_ +
+                         " is drawn on a plane; orbiting needs the globe (--frame ellipsoid)");
     ResolvedCamera start;
     if (CameraPlacement placement = camera_args_.placement(); !placement.empty()) {
         HeightQuery query(archive_);
         placement.exaggeration = exaggeration_;
-        // In the frame the renderer will draw in (ECEF on the globe), as `ridge render` does.
-        const lod::TerrainFrame frame =
-            lod::terrainFrameOf(reader, renderer_options_.frame, archive_);
         start = resolveCameraPlacement(query, placement, &frame);
     }
     std::unique_ptr<gpu::WindowContext> window;
@@ -684,9 +687,6 @@ int ViewCommand::run()
         // Streaming: the window never waits for disk or decoding; missing patches are drawn by
         // their resident ancestors until they arrive.
         render::TerrainRenderer renderer(reader, renderer_options_);
-        if (orbit_ && !renderer.quadtree().frame().onEllipsoid())
-            throw UsageError("--orbit: " + archive_ +
-                             " is drawn on a plane; orbiting needs the globe (--frame ellipsoid)");
         Viewer viewer(*window, renderer, fov_y_degrees_, epsilon_px_, texel_px_,
                       parseDebugMode(mode_), !no_overlay_, exaggeration_, start, reader, orbit_);
         const ImGuiSession imgui(window->window());
