@@ -9,7 +9,10 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${RIDGE_FUZZ_SECONDS:-30}
+# RelWithDebInfo with line tables only: crash reports keep file:line, at less build time.
 cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
+      "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O2 -gline-tables-only -DNDEBUG" \
+      "-DCMAKE_C_FLAGS_RELWITHDEBINFO=-O2 -gline-tables-only -DNDEBUG" \
       -DCMAKE_C_COMPILER=clang -DRIDGE_BUILD_FUZZERS=ON -DRIDGE_USE_OPENMP=OFF \
       -DRIDGE_BUILD_TESTS=OFF -DRIDGE_BUILD_BENCH=OFF >/dev/null
 cmake --build build-fuzz -j "$(nproc)" --target fuzz_lossless_decode fuzz_progressive_decode fuzz_jpeg2000_decode fuzz_fractal_decode fuzz_archive_reader \

@@ -6,6 +6,7 @@
 
 #include "ridge/archive/archive_reader.h"
 #include "ridge/codec/jpeg2000_codec.h"
+#include "ridge/core/sanitizer.h"
 #include "ridge/gpu/context.h"
 #include "ridge/pyramid/patch_context.h"
 #include "ridge/stream/patch_loader.h"
@@ -79,8 +80,11 @@ TEST(GpuJpeg2000Decoder, ResidualAddEqualsTheCpuDecoderOnEveryPatch)
     Seen s = expectGpuEqualsCpu(test::buildEverestArchive(dir, "jpeg2000", 33, 2.0));
     EXPECT_GT(s.patches, 4u);
     EXPECT_GT(s.clipped, 0u); // the fixture is 301 x 203: edge patches are clipped
-    s = expectGpuEqualsCpu(test::buildEverestArchive(dir, "jpeg2000", 17, 5.0));
-    EXPECT_GT(s.patches, 20u);
+    // Many small patches: the same paths again, so not under the sanitizers (4× the patches).
+    if (!RIDGE_ADDRESS_SANITIZER) {
+        s = expectGpuEqualsCpu(test::buildEverestArchive(dir, "jpeg2000", 17, 5.0));
+        EXPECT_GT(s.patches, 20u);
+    }
     // Direct encoding: 12-bit heights (R16), no prediction.
     s = expectGpuEqualsCpu(test::buildEverestArchive(dir, "jpeg2000,encoding=direct", 33, 2.0));
     EXPECT_EQ(s.direct, s.patches);
