@@ -1,7 +1,12 @@
 // Fine-grain LOD selection (Yusov & Shevtsov 2011, §5); GPU twin of src/lod/edge_tessellation.cpp.
 // Needs terrain_common.glsl.
 
-uniform int u_tessellation_rule; // lod::TessellationRule: 0 conservative, 1 the paper's
+// lod::TessellationRule, compiled in like RIDGE_SURFACE (one program per rule): 0 conservative,
+// 1 the paper's. As a uniform, llvmpipe ran the conservative rule's extra projections under a
+// mask in the paper rule's draws too.
+#ifndef RIDGE_TESSELLATION_RULE
+#error RIDGE_TESSELLATION_RULE is not defined: build the tessellation programs through SchemePrograms
+#endif
 // LOD is decided for the LOD camera (TerrainRenderer::draw's lod_camera; usually the camera
 // drawn from): camera-relative positions → its clip space, and its position relative to
 // the drawn camera.
@@ -52,7 +57,7 @@ vec3 nearestPointOfSegment(vec3 a, vec3 b) {
 // `up` is the local up at the edge's centre sample (the edge is short against the Earth's
 // radius: its direction differs by less than the segment's own rounding elsewhere).
 int edgeSimplification(vec3 a, vec3 centre, vec3 b, vec3 up, vec4 edge_errors, float patch_error) {
-    if (u_tessellation_rule == 1)
+    if (RIDGE_TESSELLATION_RULE == 1)
         return edgeSimplification(centre, up, edge_errors);
     precise vec4 e = 2.0 * edge_errors - vec4(patch_error);
     int d = min(edgeSimplification(a, up, e), edgeSimplification(b, up, e));
@@ -79,7 +84,7 @@ int interiorSimplification(vec3 corners[4], vec3 centre, vec3 up, vec3 lo, vec3 
 // the simplified triangles' straight edges pass below the curved surface.
 vec4 blockErrors(PatchInstance p, ivec2 block_sr) {
     vec4 lambda = texelFetch(u_block_errors, ivec3(block_sr, p.layer), 0) * u_exaggeration + vec4(p.err);
-    if (u_surface == 0)
+    if (RIDGE_SURFACE == 0)
         return lambda;
     vec2 cell = float(p.step) * u_angle_step;
     return lambda + vec4(4.0, 16.0, 64.0, 256.0) * (u_bulge_per_rad2 * dot(cell, cell));

@@ -70,7 +70,7 @@ void main() {
                                         : a_position.z;
         // The CPU's vertices are in metres above code 0; the drawn space is k times that.
         precise float dh = z * u_exaggeration + u_height_offset;
-        if (u_surface == 0) {
+        if (RIDGE_SURFACE == 0) {
             precise vec2 origin = vec2(p.origin) * u_spacing + u_anchor_offset;
             position.xy = origin + a_position.xy;
             position.z = dh;

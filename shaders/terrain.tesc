@@ -31,7 +31,7 @@ void cull() {
 // range, extended `below` metres down for skirts. On a plane its corners; on the globe the
 // corners at both heights, widened by how far the ellipsoid bulges between them.
 void blockBox(PatchInstance p, ivec2 a, ivec2 b, float below, out vec3 lo, out vec3 hi) {
-    if (u_surface == 0) {
+    if (RIDGE_SURFACE == 0) {
         vec2 pa = samplePosition(p, a).xy, pb = samplePosition(p, b).xy;
         lo = vec3(min(pa, pb), p.min_z - below);
         hi = vec3(max(pa, pb), p.max_z);
@@ -102,7 +102,7 @@ void main() {
         gl_TessLevelOuter[2] = f_right;
         gl_TessLevelOuter[3] = f_bottom;
         float inner;
-        if (u_tessellation_rule == 1) {
+        if (RIDGE_TESSELLATION_RULE == 1) {
             // The paper: the interior takes the minimum of its edge factors, so an interior
             // nearer the camera than its edge centres (or an edge finer than its neighbours)
             // is drawn coarser than ε allows.

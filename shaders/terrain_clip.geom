@@ -79,7 +79,7 @@ bool before(Corner a, Corner b) {
 
 // Whether corner c is a vertex of a pole row (every one of which is the pole) on the globe.
 bool onPole(PatchInstance p, Corner c) {
-    if (u_surface != 1 || c.cell.y != round(c.cell.y))
+    if (RIDGE_SURFACE != 1 || c.cell.y != round(c.cell.y))
         return false;
     int row = u_anchor_sample.y + p.origin.y + int(round(c.cell.y * float(p.step)));
     return row == u_pole_rows.x || row == u_pole_rows.y;
@@ -110,7 +110,7 @@ Corner cut(PatchInstance p, Corner a, Corner b, int axis, float limit) {
     }
     // Along the surface, a skirt's top line or its foot line (not across a skirt: its
     // vertical edges never cross a row line).
-    if (u_surface == 1 && axis == 1 && a.foot == b.foot) {
+    if (RIDGE_SURFACE == 1 && axis == 1 && a.foot == b.foot) {
         int row_delta = p.origin.y + int(round(limit * float(p.step)));
         int row = u_anchor_sample.y + row_delta;
         if (row == u_pole_rows.x || row == u_pole_rows.y) {

@@ -39,10 +39,17 @@ uniform int u_block_levels;     // D
 uniform int u_cull_blocks;      // 1: drop tessellation blocks outside the view frustum
 uniform vec4 u_frustum[6];      // camera-relative planes (n, d), n·p + d >= 0 inside
 
-// The globe (u_surface 1): lod::ellipsoidOffset's algebra from the camera's own geodetic
+// The surface: 0 plane, 1 geographic grid on the ellipsoid, 2 projected grid. Compiled in by
+// SchemePrograms (a #define per program), not a uniform: llvmpipe executes both sides of a
+// branch on a uniform under a mask, so every vertex of the plane paid for the globe's
+// trigonometry (2.2x the frame time, docs/PERF.md "Like for like"); the dead side now folds.
+#ifndef RIDGE_SURFACE
+#error RIDGE_SURFACE is not defined: build terrain programs through SchemePrograms
+#endif
+
+// The globe (RIDGE_SURFACE 1): lod::ellipsoidOffset's algebra from the camera's own geodetic
 // position (λa, φa, h_ref), formed in double on the CPU (FrameUniforms): offsets are the
 // integer sample offset from the anchor sample less the camera's fraction of a sample.
-uniform int u_surface;           // 0 plane, 1 geographic grid on the ellipsoid, 2 projected grid
 uniform vec4 u_anchor_trig;      // cos φa, sin φa, cos λa, sin λa of the camera
 uniform vec2 u_angle_step;       // radians per finest column (Δλ) and row (Δφ)
 uniform vec2 u_anchor_fraction;  // the camera's column, row less the anchor sample's, in [−½, ½]
@@ -55,7 +62,7 @@ uniform vec3 u_camera_world;     // the camera in ECEF, metres (directions only:
 uniform float u_polar_ratio;     // 1 / (1 − e²)
 uniform float u_bulge_per_rad2;  // (a²/b)/8 (+1%): a chord's sagitta per radian² (chordSag)
 
-// A projected grid on the globe (u_surface 2): S(c, r), the ellipsoid point under a sample,
+// A projected grid on the globe (RIDGE_SURFACE 2): S(c, r), the ellipsoid point under a sample,
 // is a bicubic Hermite surface over a lattice of nodes (lod/projected_grid.h), sent relative
 // to lattice node L near the camera (ProjectedLattice): per node the residual
 // S − S_L − J·(node − L) and its derivatives, J = ∂S/∂(c, r) at L. Near the camera both J·d
@@ -118,12 +125,12 @@ vec3 projectedFramePoint(ivec2 delta, float dh, out vec3 up) {
 // ellipsoidOffset), so a vertex a kilometre from the camera is exact to a tenth of a
 // millimetre.
 vec3 framePoint(ivec2 delta, float dh, out vec3 up) {
-    if (u_surface == 0) {
+    if (RIDGE_SURFACE == 0) {
         up = vec3(0.0, 0.0, 1.0);
         precise vec2 xy = vec2(delta) * u_spacing + u_anchor_offset;
         return vec3(xy, dh);
     }
-    if (u_surface == 2)
+    if (RIDGE_SURFACE == 2)
         return projectedFramePoint(delta, dh, up);
     delta.x = wrapColumnOffset(delta.x);
     precise float dl = (float(delta.x) - u_anchor_fraction.x) * u_angle_step.x;
@@ -160,7 +167,7 @@ vec3 framePoint(ivec2 delta, float dh, out vec3 up) {
 // The local up at a camera-relative point, from the point alone (for directions: walls,
 // shading); +z on a plane.
 vec3 worldUp(vec3 position) {
-    if (u_surface == 0)
+    if (RIDGE_SURFACE == 0)
         return vec3(0.0, 0.0, 1.0);
     vec3 p = position + u_camera_world;
     return normalize(vec3(p.xy, p.z * u_polar_ratio));
@@ -168,7 +175,7 @@ vec3 worldUp(vec3 position) {
 
 // Local east, north, up at a camera-relative point (the world axes on a plane).
 mat3 localBasis(vec3 position) {
-    if (u_surface == 0)
+    if (RIDGE_SURFACE == 0)
         return mat3(1.0);
     vec3 up = worldUp(position);
     vec3 east = cross(vec3(0.0, 0.0, 1.0), up);
@@ -178,7 +185,7 @@ mat3 localBasis(vec3 position) {
 
 // `position` lowered by `depth` metres along the local up (skirts, walls).
 vec3 lowered(vec3 position, vec3 up, float depth) {
-    if (u_surface == 0)
+    if (RIDGE_SURFACE == 0)
         return vec3(position.xy, position.z - depth);
     precise vec3 p = position - depth * up;
     return p;

@@ -1,7 +1,7 @@
 #version 450 core
 // Runs the edge rules of shaders/edge_tessellation.glsl on a batch of cases, so that tests can
 // compare them with ridge::lod::edgeSimplification (their C++ twin): per case, d at the centre
-// alone (the paper's test) and d of the whole edge under u_tessellation_rule.
+// alone (the paper's test) and d of the whole edge under RIDGE_TESSELLATION_RULE.
 #include "terrain_common.glsl"
 #include "edge_tessellation.glsl"
 

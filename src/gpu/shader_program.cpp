@@ -111,12 +111,13 @@ std::string programLog(GLuint program)
 // Owns a shader object for the duration of a link.
 class Shader {
   public:
-    explicit Shader(const ShaderStage& stage) : id_(glCreateShader(stage.type))
+    Shader(const ShaderStage& stage, const std::vector<std::string>& defines)
+        : id_(glCreateShader(stage.type))
     {
         if (id_ == 0)
             throw Error("glCreateShader failed for shaders/" + stage.file + " (" +
                         stageName(stage.type) + " shader; is a GL 4.5 context current?)");
-        const std::string source = shaderSource(stage.file);
+        const std::string source = shaderSource(stage.file, defines);
         const char* text = source.c_str();
         const auto length = static_cast<GLint>(source.size());
         glShaderSource(id_, 1, &text, &length);
@@ -147,14 +148,15 @@ std::string stageList(const std::vector<ShaderStage>& stages)
 } // namespace
 
 ShaderProgram::ShaderProgram(const std::vector<ShaderStage>& stages,
-                             const std::vector<std::string>& feedback_varyings)
+                             const std::vector<std::string>& feedback_varyings,
+                             const std::vector<std::string>& defines)
 {
     if (stages.empty())
         throw Error("a shader program needs at least one stage");
     // Compile everything first so that a compile error is reported before any link attempt.
     std::deque<Shader> shaders; // deque: Shader is immovable
     for (const ShaderStage& stage : stages)
-        shaders.emplace_back(stage);
+        shaders.emplace_back(stage, defines);
 
     id_ = glCreateProgram();
     if (id_ == 0)

@@ -77,9 +77,25 @@ std::string lineDirective(std::size_t index, int line)
            std::to_string(number) + "\n";
 }
 
+// `#define` lines for shaderSource's `defines`, each checked to be one non-empty line.
+std::string defineLines(const std::vector<std::string>& defines)
+{
+    std::string lines;
+    for (const std::string& define : defines) {
+        if (trimLeft(define).empty() || define.find_first_of("\r\n") != std::string::npos)
+            throw Error("a shader define must be one non-empty line (\"NAME\" or \"NAME VALUE\"), "
+                        "not '" +
+                        define + "'");
+        lines += "#define " + define + "\n";
+    }
+    return lines;
+}
+
 // Appends entry `index` to `out` with its includes expanded. `stack` holds the entries being
-// expanded (outermost first) to detect cycles.
-void expand(std::size_t index, std::vector<std::size_t>& stack, std::string& out)
+// expanded (outermost first) to detect cycles; `defines` (#define lines) go after the top
+// level's #version, or first when it has none.
+void expand(std::size_t index, std::vector<std::size_t>& stack, std::string& out,
+            const std::string& defines)
 {
     if (std::find(stack.begin(), stack.end(), index) != stack.end()) {
         std::string cycle;
@@ -95,7 +111,7 @@ void expand(std::size_t index, std::vector<std::size_t>& stack, std::string& out
     // The top level's numbering starts after its #version, when it has one.
     bool numbered = !top_level || source.find("#version") == std::string_view::npos;
     if (numbered)
-        out += lineDirective(index, 1);
+        out += (top_level ? defines : std::string()) + lineDirective(index, 1);
 
     int line_number = 0;
     for (std::size_t pos = 0; pos < source.size();) {
@@ -108,14 +124,14 @@ void expand(std::size_t index, std::vector<std::size_t>& stack, std::string& out
 
         if (isDirective(line, "include", rest)) {
             const std::string included = includedName(rest, name, line_number);
-            expand(requireShader(included, name), stack, out);
+            expand(requireShader(included, name), stack, out, defines);
             out += lineDirective(index, line_number + 1);
             continue;
         }
         out += line;
         out += '\n';
         if (!numbered && isDirective(line, "version", rest)) {
-            out += lineDirective(index, line_number + 1);
+            out += defines + lineDirective(index, line_number + 1);
             numbered = true;
         }
     }
@@ -124,11 +140,11 @@ void expand(std::size_t index, std::vector<std::size_t>& stack, std::string& out
 
 } // namespace
 
-std::string shaderSource(const std::string& name)
+std::string shaderSource(const std::string& name, const std::vector<std::string>& defines)
 {
     std::vector<std::size_t> stack;
     std::string out;
-    expand(requireShader(name, {}), stack, out);
+    expand(requireShader(name, {}), stack, out, defineLines(defines));
     return out;
 }
 

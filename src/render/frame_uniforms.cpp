@@ -59,10 +59,6 @@ void FrameUniforms::setSurface(const gpu::ShaderProgram& program, const CameraAn
 {
     const GLuint id = program.id();
     const lod::TerrainFrame& frame = quadtree_.frame();
-    glProgramUniform1i(id, program.uniform("u_surface"),
-                       !frame.onEllipsoid()    ? 0
-                       : frame.projectedGrid() ? 2
-                                               : 1);
     if (!frame.onEllipsoid())
         return;
     // Everything of Earth scale is formed here in double; the GPU adds offsets to it.

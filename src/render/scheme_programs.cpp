@@ -1,11 +1,42 @@
 #include "scheme_programs.h"
 
+#include "ridge/core/error.h"
+
 namespace ridge::render {
 
-std::array<const gpu::ShaderProgram*, 2> SchemePrograms::get(bool capture)
+// RIDGE_SURFACE of terrain_common.glsl: 0 plane, 1 geographic grid on the ellipsoid, 2
+// projected grid on the ellipsoid.
+static int surfaceKind(const lod::TerrainFrame& frame)
 {
+    return !frame.onEllipsoid() ? 0 : frame.projectedGrid() ? 2 : 1;
+}
+
+SchemePrograms::SchemePrograms(const lod::TerrainFrame& frame,
+                               std::vector<gpu::ShaderStage> surface, std::string fragment)
+    : SchemePrograms(frame, std::move(surface), {{}}, std::move(fragment))
+{
+}
+
+SchemePrograms::SchemePrograms(const lod::TerrainFrame& frame,
+                               std::vector<gpu::ShaderStage> surface,
+                               std::vector<std::vector<std::string>> variants, std::string fragment)
+    : surface_(std::move(surface)), fragment_(std::move(fragment)), variants_(variants.size())
+{
+    const std::string surface_define = "RIDGE_SURFACE " + std::to_string(surfaceKind(frame));
+    for (size_t i = 0; i < variants.size(); ++i) {
+        variants_[i].defines = std::move(variants[i]);
+        variants_[i].defines.insert(variants_[i].defines.begin(), surface_define);
+    }
+}
+
+std::array<const gpu::ShaderProgram*, 2> SchemePrograms::get(bool capture, size_t variant)
+{
+    if (variant >= variants_.size())
+        throw Error("scheme program variant " + std::to_string(variant) + " of " +
+                    std::to_string(variants_.size()) + " requested");
+    Variant& v = variants_[variant];
     const int c = capture ? 1 : 0;
-    if (!compiled_[c]) {
+    if (!v.compiled[c]) {
         const std::vector<std::string> varyings =
             capture ? std::vector<std::string>{"Capture.tf_position", "Capture.tf_instance",
                                                "Capture.tf_skirt"}
@@ -16,11 +47,11 @@ std::array<const gpu::ShaderProgram*, 2> SchemePrograms::get(bool capture)
                 stages.push_back({GL_GEOMETRY_SHADER, "terrain_clip.geom"});
             if (!capture)
                 stages.push_back({GL_FRAGMENT_SHADER, fragment_});
-            programs_[c][clip] = gpu::ShaderProgram(stages, varyings);
+            v.programs[c][clip] = gpu::ShaderProgram(stages, varyings, v.defines);
         }
-        compiled_[c] = true;
+        v.compiled[c] = true;
     }
-    return {&programs_[c][0], &programs_[c][1]};
+    return {&v.programs[c][0], &v.programs[c][1]};
 }
 
 } // namespace ridge::render

@@ -4,8 +4,12 @@
 // transform feedback of
 // Capture.tf_* (capture), each with or without terrain_clip.geom for patches that reach past
 // the valid extent. Compiled on first use, so a renderer that never draws a scheme never
-// compiles it.
+// compiles it. The surface (plane, geographic grid on the ellipsoid, projected grid) is
+// compiled in as RIDGE_SURFACE (terrain_common.glsl), not branched on: llvmpipe runs both sides
+// of a branch on a uniform under an execution mask, and the globe's trigonometry in every
+// vertex made the plane's frames 2.2-2.4x slower (docs/PERF.md, "Like for like").
 #include "ridge/gpu/shader_program.h"
+#include "ridge/lod/terrain_frame.h"
 
 #include <array>
 #include <string>
@@ -19,20 +23,28 @@ class SchemePrograms {
     // terrain.tesc, terrain.tese}; every one must write the Vertex and Capture blocks that
     // terrain_clip.geom and the fragment stage read. `fragment`: the fragment shader's file
     // (a scheme whose surface is not drawn from patch layers brings its own).
-    explicit SchemePrograms(std::vector<gpu::ShaderStage> surface,
-                            std::string fragment = "terrain.frag")
-        : surface_(std::move(surface)), fragment_(std::move(fragment))
-    {
-    }
+    // `frame`: the archive's terrain frame, whose surface the programs are built for.
+    SchemePrograms(const lod::TerrainFrame& frame, std::vector<gpu::ShaderStage> surface,
+                   std::string fragment = "terrain.frag");
+    // The same with variants: each a set of defines ("NAME VALUE") the scheme compiles in for
+    // a choice it would otherwise branch on per frame (the tessellation rule); get() picks one.
+    SchemePrograms(const lod::TerrainFrame& frame, std::vector<gpu::ShaderStage> surface,
+                   std::vector<std::vector<std::string>> variants,
+                   std::string fragment = "terrain.frag");
 
-    // {whole patches, clipped patches} for drawing or for capture.
-    std::array<const gpu::ShaderProgram*, 2> get(bool capture);
+    // {whole patches, clipped patches} of `variant` for drawing or for capture. Throws
+    // ridge::Error for a variant it was not given.
+    std::array<const gpu::ShaderProgram*, 2> get(bool capture, size_t variant = 0);
 
   private:
+    struct Variant {
+        std::vector<std::string> defines;
+        bool compiled[2] = {false, false};
+        gpu::ShaderProgram programs[2][2]; // [capture][clip]
+    };
     std::vector<gpu::ShaderStage> surface_;
     std::string fragment_;
-    bool compiled_[2] = {false, false};
-    gpu::ShaderProgram programs_[2][2]; // [capture][clip]
+    std::vector<Variant> variants_;
 };
 
 } // namespace ridge::render

@@ -25,7 +25,7 @@ SurfaceCapture::capture(TerrainScheme& scheme, const SchemeFrame& frame,
         return out;
 
     scheme.beginDraw(frame);
-    for (const gpu::ShaderProgram* p : scheme.programs(true))
+    for (const gpu::ShaderProgram* p : scheme.programs(true, frame.settings))
         set_uniforms(*p);
     GLint previous_framebuffer = 0;
     glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &previous_framebuffer);
@@ -45,27 +45,28 @@ SurfaceCapture::capture(TerrainScheme& scheme, const SchemeFrame& frame,
     // One feedback session per program (programs cannot change while it is active); the
     // second appends after the first.
     size_t stored_total = 0;
-    forEachGroup(
-        scheme.programs(true), ranges, [&](const gpu::ShaderProgram& p, size_t first, size_t n) {
-            p.use();
-            const GLintptr offset = GLintptr(stored_total * 3 * sizeof(CapturedVertex));
-            glBindBufferRange(GL_TRANSFORM_FEEDBACK_BUFFER, 0, feedback_.id(), offset,
-                              GLsizeiptr(capacity_ - size_t(offset)));
-            glBeginQuery(GL_TRANSFORM_FEEDBACK_PRIMITIVES_WRITTEN, written_.id());
-            glBeginQuery(GL_PRIMITIVES_GENERATED, generated_.id());
-            glBeginTransformFeedback(GL_TRIANGLES);
-            scheme.draw(p, frame, first, n);
-            glEndTransformFeedback();
-            glEndQuery(GL_PRIMITIVES_GENERATED);
-            glEndQuery(GL_TRANSFORM_FEEDBACK_PRIMITIVES_WRITTEN);
-            GLuint64 generated = 0, stored = 0;
-            glGetQueryObjectui64v(generated_.id(), GL_QUERY_RESULT, &generated);
-            glGetQueryObjectui64v(written_.id(), GL_QUERY_RESULT, &stored);
-            if (generated != stored)
-                throw Error("terrain renderer: transform feedback kept " + std::to_string(stored) +
-                            " of " + std::to_string(generated) + " triangles");
-            stored_total += size_t(stored);
-        });
+    forEachGroup(scheme.programs(true, frame.settings), ranges,
+                 [&](const gpu::ShaderProgram& p, size_t first, size_t n) {
+                     p.use();
+                     const GLintptr offset = GLintptr(stored_total * 3 * sizeof(CapturedVertex));
+                     glBindBufferRange(GL_TRANSFORM_FEEDBACK_BUFFER, 0, feedback_.id(), offset,
+                                       GLsizeiptr(capacity_ - size_t(offset)));
+                     glBeginQuery(GL_TRANSFORM_FEEDBACK_PRIMITIVES_WRITTEN, written_.id());
+                     glBeginQuery(GL_PRIMITIVES_GENERATED, generated_.id());
+                     glBeginTransformFeedback(GL_TRIANGLES);
+                     scheme.draw(p, frame, first, n);
+                     glEndTransformFeedback();
+                     glEndQuery(GL_PRIMITIVES_GENERATED);
+                     glEndQuery(GL_TRANSFORM_FEEDBACK_PRIMITIVES_WRITTEN);
+                     GLuint64 generated = 0, stored = 0;
+                     glGetQueryObjectui64v(generated_.id(), GL_QUERY_RESULT, &generated);
+                     glGetQueryObjectui64v(written_.id(), GL_QUERY_RESULT, &stored);
+                     if (generated != stored)
+                         throw Error("terrain renderer: transform feedback kept " +
+                                     std::to_string(stored) + " of " + std::to_string(generated) +
+                                     " triangles");
+                     stored_total += size_t(stored);
+                 });
     glDisable(GL_RASTERIZER_DISCARD);
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(previous_framebuffer));
     out.vertices.resize(stored_total * 3);

@@ -322,7 +322,7 @@ FrameStats TerrainRenderer::draw(const lod::Camera& camera, const RenderSettings
 
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(greater ? GL_GREATER : GL_LESS);
-    for (const gpu::ShaderProgram* p : scheme.programs(false)) {
+    for (const gpu::ShaderProgram* p : scheme.programs(false, frame.settings)) {
         m.setUniforms(scheme, *p, frame);
         if (host) // the image from the host's matrices; LOD (u_lod_view_projection) from `lod`
             setMatrix(*p, "u_view_projection", view_projection);
@@ -330,7 +330,7 @@ FrameStats TerrainRenderer::draw(const lod::Camera& camera, const RenderSettings
     }
     // Both instance groups with `mode` (3: the wireframe's flat colour).
     auto drawTerrain = [&](int mode) {
-        forEachGroup(scheme.programs(false), ranges,
+        forEachGroup(scheme.programs(false, frame.settings), ranges,
                      [&](const gpu::ShaderProgram& p, size_t first, size_t n) {
                          p.use();
                          glUniform1i(p.uniform("u_mode"), mode);

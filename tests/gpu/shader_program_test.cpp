@@ -49,6 +49,28 @@ TEST(ShaderSource, ExpandsIncludesAfterVersionWithLineDirectives)
     EXPECT_NE(lines[1] / 100000, lines[0] / 100000);
 }
 
+TEST(ShaderSource, PutsDefinesAfterVersionBeforeAnyIncludedLine)
+{
+    const std::string source = shaderSource("test/quadrants.frag", {"RIDGE_A 2", "RIDGE_B"});
+    EXPECT_EQ(source.rfind("#version 450 core\n#define RIDGE_A 2\n#define RIDGE_B\n#line ", 0), 0u)
+        << source;
+    // Once only: an included file gets none of its own.
+    EXPECT_EQ(source.find("#define RIDGE_A", 20), std::string::npos) << source;
+    EXPECT_EQ(shaderSource("test/quadrants.frag", {}), shaderSource("test/quadrants.frag"));
+}
+
+TEST(ShaderSource, RejectsADefineThatIsEmptyOrMoreThanOneLine)
+{
+    for (const std::string define : {"", "  ", "A 1\n#version 100", "A\r"}) {
+        try {
+            shaderSource("test/quadrants.frag", {define});
+            FAIL() << "no error thrown for '" << define << "'";
+        } catch (const Error& e) {
+            EXPECT_TRUE(contains(e.what(), "shader define")) << e.what();
+        }
+    }
+}
+
 TEST(ShaderSource, RejectsAnUnknownName)
 {
     try {
@@ -83,6 +105,24 @@ TEST_F(GpuTest, CompileErrorInAnIncludedFileNamesThatFile)
     EXPECT_TRUE(contains(message, "compiling shaders/test/bad_include.frag")) << message;
     // The error is entirely in broken.glsl; no message may blame bad_include.frag's lines.
     EXPECT_FALSE(contains(message, "shaders/test/bad_include.frag:")) << message;
+}
+
+// The terrain stages compile the surface in (RIDGE_SURFACE): one built without it is a clear
+// compile error, not a plane drawn where a globe was meant.
+TEST_F(GpuTest, TerrainStagesWithoutTheirSurfaceDefineAreACompileError)
+{
+    const std::string message = compileError({{GL_VERTEX_SHADER, "chunk.vert"}});
+    EXPECT_TRUE(contains(message, "RIDGE_SURFACE is not defined")) << message;
+    EXPECT_TRUE(contains(message, "shaders/terrain_common.glsl:")) << message;
+    for (const char* surface : {"0", "1", "2"}) {
+        try {
+            ShaderProgram program(
+                {{GL_VERTEX_SHADER, "chunk.vert"}, {GL_FRAGMENT_SHADER, "terrain.frag"}}, {},
+                {std::string("RIDGE_SURFACE ") + surface});
+        } catch (const Error& e) {
+            ADD_FAILURE() << "RIDGE_SURFACE " << surface << ": " << e.what();
+        }
+    }
 }
 
 TEST_F(GpuTest, UniformLocationsAreFoundCachedAndMinusOneWhenAbsent)

@@ -15,7 +15,6 @@ using namespace ridge;
 TEST(EdgeTessellationTwin, ShaderAndCppPickTheSameSimplificationForRandomEdges)
 {
     auto context = gpu::HeadlessContext::create();
-    const gpu::ShaderProgram program({{GL_COMPUTE_SHADER, "test/edge_tessellation_twin.comp"}});
     const lod::Viewport vp{1280, 720};
     const lod::Camera camera({0, 0, 0}, {0.3, 1.0, -0.4}, 55.0, vp, 0.5, 1e5);
     const glm::dmat4 vp_matrix = camera.viewProjection();
@@ -56,36 +55,41 @@ TEST(EdgeTessellationTwin, ShaderAndCppPickTheSameSimplificationForRandomEdges)
     }
     gpu::GlBuffer in;
     glNamedBufferStorage(in.id(), GLsizeiptr(cases.size() * sizeof(glm::vec4)), cases.data(), 0);
-    program.use();
-    const glm::mat4 m(vp_matrix);
-    glUniformMatrix4fv(program.uniform("u_view_projection"), 1, GL_FALSE, glm::value_ptr(m));
-    // The LOD camera is the camera here (the renderer sets both; twins test the edge rule).
-    glUniformMatrix4fv(program.uniform("u_lod_view_projection"), 1, GL_FALSE, glm::value_ptr(m));
-    glUniform3f(program.uniform("u_lod_camera"), 0.f, 0.f, 0.f);
-    glUniform2f(program.uniform("u_viewport"), float(vp.width), float(vp.height));
-    glUniform1f(program.uniform("u_epsilon"), float(epsilon));
-    glUniform1i(program.uniform("u_block_levels"), levels);
-    glUniform1i(program.uniform("u_case_count"), count);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, in.id());
-
-    // Float (GPU) and double (CPU) may only disagree when a projected error is within a hair
-    // of ε at one of the points the rule tests.
-    // `doubled`: the conservative rule's 2Λ − Err(P) instead of Λ.
-    auto nearThreshold = [&](int i, bool doubled) {
-        bool close = false;
-        for (const glm::dvec3& p :
-             {ends_a[i], centres[i], ends_b[i], lod::nearestPointOfSegment(ends_a[i], ends_b[i])})
-            for (int d = 1; d <= levels; ++d) {
-                const double lambda = errors[i].lambda[d - 1];
-                const double length = doubled ? 2.0 * lambda - errors[i].patch_error : lambda;
-                close |= std::abs(lod::projectedVerticalSegment(vp_matrix, vp, p, length) -
-                                  epsilon) < 1e-4 * epsilon;
-            }
-        return close;
-    };
     for (const lod::TessellationRule rule :
          {lod::TessellationRule::Conservative, lod::TessellationRule::Paper}) {
-        glUniform1i(program.uniform("u_tessellation_rule"), int(rule));
+        // The rule is compiled in, as SchemePrograms does; on the plane (RIDGE_SURFACE 0): the twin
+        // compares the rules, not the globe's bulge term.
+        const gpu::ShaderProgram program(
+            {{GL_COMPUTE_SHADER, "test/edge_tessellation_twin.comp"}}, {},
+            {"RIDGE_SURFACE 0", "RIDGE_TESSELLATION_RULE " + std::to_string(int(rule))});
+        program.use();
+        const glm::mat4 m(vp_matrix);
+        glUniformMatrix4fv(program.uniform("u_view_projection"), 1, GL_FALSE, glm::value_ptr(m));
+        // The LOD camera is the camera here (the renderer sets both; twins test the edge rule).
+        glUniformMatrix4fv(program.uniform("u_lod_view_projection"), 1, GL_FALSE,
+                           glm::value_ptr(m));
+        glUniform3f(program.uniform("u_lod_camera"), 0.f, 0.f, 0.f);
+        glUniform2f(program.uniform("u_viewport"), float(vp.width), float(vp.height));
+        glUniform1f(program.uniform("u_epsilon"), float(epsilon));
+        glUniform1i(program.uniform("u_block_levels"), levels);
+        glUniform1i(program.uniform("u_case_count"), count);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, in.id());
+
+        // Float (GPU) and double (CPU) may only disagree when a projected error is within a hair
+        // of ε at one of the points the rule tests.
+        // `doubled`: the conservative rule's 2Λ − Err(P) instead of Λ.
+        auto nearThreshold = [&](int i, bool doubled) {
+            bool close = false;
+            for (const glm::dvec3& p : {ends_a[i], centres[i], ends_b[i],
+                                        lod::nearestPointOfSegment(ends_a[i], ends_b[i])})
+                for (int d = 1; d <= levels; ++d) {
+                    const double lambda = errors[i].lambda[d - 1];
+                    const double length = doubled ? 2.0 * lambda - errors[i].patch_error : lambda;
+                    close |= std::abs(lod::projectedVerticalSegment(vp_matrix, vp, p, length) -
+                                      epsilon) < 1e-4 * epsilon;
+                }
+            return close;
+        };
         gpu::GlBuffer out;
         glNamedBufferStorage(out.id(), GLsizeiptr(count * sizeof(glm::ivec2)), nullptr, 0);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, out.id());

@@ -20,9 +20,12 @@ struct ShaderStage {
 // K * 100000 + the line in that file (the file is encoded in the line too, because Mesa reports
 // source string 0 for most messages). The first `#line` follows the `#version` line (GLSL
 // allows nothing before #version). Consequently __LINE__ is not the plain file line.
-// Throws ridge::Error for an unknown name (a new file needs a re-run of the build, which
-// re-globs shaders/) or an include cycle.
-std::string shaderSource(const std::string& name);
+// `defines` ("NAME" or "NAME VALUE") become `#define` lines right after the #version line,
+// before any included file, so a program can compile a choice in (a shader variant) rather
+// than branch on a uniform. Throws ridge::Error for an unknown name (a new file needs a re-run
+// of the build, which re-globs shaders/), an include cycle, or a define that is empty or not
+// one line.
+std::string shaderSource(const std::string& name, const std::vector<std::string>& defines = {});
 
 // A linked program. Needs a current GL context for its whole life (see context.h); move-only.
 class ShaderProgram {
@@ -34,9 +37,10 @@ class ShaderProgram {
     // and AMD "ERROR: 0:42:" forms are translated through the #line source numbers).
     // Link errors throw ridge::Error with the driver's log and the stage files.
     // `feedback_varyings`, when non-empty, are captured with GL_INTERLEAVED_ATTRIBS
-    // (glTransformFeedbackVaryings before linking).
+    // (glTransformFeedbackVaryings before linking). `defines` go to every stage (shaderSource).
     ShaderProgram(const std::vector<ShaderStage>& stages,
-                  const std::vector<std::string>& feedback_varyings = {});
+                  const std::vector<std::string>& feedback_varyings = {},
+                  const std::vector<std::string>& defines = {});
     ~ShaderProgram();
     ShaderProgram(ShaderProgram&& other) noexcept;
     ShaderProgram& operator=(ShaderProgram&& other) noexcept;

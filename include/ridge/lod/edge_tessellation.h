@@ -34,7 +34,7 @@ namespace ridge::lod {
 
 inline constexpr int kMaxBlockLevels = 4; // Λ^(d), d = 1..4, fits one vec4 per block
 
-// The fine-LOD rule; the values are the shaders' u_tessellation_rule.
+// The fine-LOD rule; the values are the shaders' RIDGE_TESSELLATION_RULE (one program each).
 enum class TessellationRule {
     Conservative = 0, // ε at every edge's and interior's most demanding point (the default)
     Paper = 1,        // §5 as published: edge centres, interior = min of edge factors

@@ -9,7 +9,11 @@ namespace {
 
 class BruteForceScheme final : public TerrainScheme {
   public:
-    explicit BruteForceScheme(const SchemeResources& r) : grid_(r.reader.geometry().patchSize()) {}
+    explicit BruteForceScheme(const SchemeResources& r)
+        : grid_(r.reader.geometry().patchSize()),
+          programs_(r.quadtree.frame(), {{GL_VERTEX_SHADER, "chunk.vert"}})
+    {
+    }
 
     // ε = 0 refines to the finest level wherever the frustum lets it (a view that needs more
     // patches than slots still raises it: Selection::epsilon_px says so).
@@ -20,7 +24,7 @@ class BruteForceScheme final : public TerrainScheme {
     // Every sample is drawn: the mesh is the patch's own samples.
     double meshDeviation(int) const override { return 0.0; }
 
-    std::array<const gpu::ShaderProgram*, 2> programs(bool capture) override
+    std::array<const gpu::ShaderProgram*, 2> programs(bool capture, const RenderSettings&) override
     {
         return programs_.get(capture);
     }
@@ -37,7 +41,7 @@ class BruteForceScheme final : public TerrainScheme {
 
   private:
     PatchGridMesh grid_;
-    SchemePrograms programs_{{{GL_VERTEX_SHADER, "chunk.vert"}}};
+    SchemePrograms programs_;
 };
 
 } // namespace

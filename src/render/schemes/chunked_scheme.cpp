@@ -71,7 +71,8 @@ class ChunkedScheme final : public TerrainScheme {
     explicit ChunkedScheme(const SchemeResources& r)
         : textures_(r.textures), meshes_(r.own.flag(kMeshes)), product_(r.product),
           tolerance_(r.own.number(kTolerance)), scale_(r.reader.quantization().scale),
-          n_(r.reader.geometry().patchSize()), grid_(n_)
+          n_(r.reader.geometry().patchSize()), grid_(n_),
+          programs_(r.quadtree.frame(), {{GL_VERTEX_SHADER, "chunk.vert"}})
     {
         if (meshes_)
             slots_.resize(size_t(r.slots));
@@ -121,7 +122,7 @@ class ChunkedScheme final : public TerrainScheme {
                        : double(textures_.lambdaMax(slot));
     }
 
-    std::array<const gpu::ShaderProgram*, 2> programs(bool capture) override
+    std::array<const gpu::ShaderProgram*, 2> programs(bool capture, const RenderSettings&) override
     {
         return programs_.get(capture);
     }
@@ -165,7 +166,7 @@ class ChunkedScheme final : public TerrainScheme {
     PatchGridMesh grid_;
     std::vector<Slot> slots_;
     gpu::GlVertexArray mesh_vao_; // its element buffer: the chunk being drawn
-    SchemePrograms programs_{{{GL_VERTEX_SHADER, "chunk.vert"}}};
+    SchemePrograms programs_;
 };
 
 SchemeNeeds chunkedNeeds(const archive::ArchiveReader& reader, const lod::TerrainFrame& frame,

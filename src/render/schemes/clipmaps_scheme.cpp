@@ -89,7 +89,8 @@ class ClipmapsScheme final : public TerrainScheme {
   public:
     ClipmapsScheme(const SchemeResources& r, const lod::ClipmapSettings& settings)
         : quadtree_(r.quadtree), textures_(r.textures), residency_(r.residency),
-          selector_(r.quadtree, settings), levels_(GL_TEXTURE_2D_ARRAY)
+          selector_(r.quadtree, settings), levels_(GL_TEXTURE_2D_ARRAY),
+          programs_(r.quadtree.frame(), {{GL_VERTEX_SHADER, "clipmaps.vert"}}, "clipmaps.frag")
     {
         const lod::ClipmapWindows& w = selector_.windows();
         texture_size_ = w.n() + 1;
@@ -220,7 +221,7 @@ class ClipmapsScheme final : public TerrainScheme {
 
     double meshDeviation(int) const override { return 0.0; }
 
-    std::array<const gpu::ShaderProgram*, 2> programs(bool capture) override
+    std::array<const gpu::ShaderProgram*, 2> programs(bool capture, const RenderSettings&) override
     {
         return programs_.get(capture);
     }
@@ -391,7 +392,7 @@ class ClipmapsScheme final : public TerrainScheme {
     std::vector<ClipmapPieceRecord> records_;
     std::vector<lod::FootprintKind> kinds_; // per record
     RecordBuffer<ClipmapPieceRecord> buffer_;
-    SchemePrograms programs_{{{GL_VERTEX_SHADER, "clipmaps.vert"}}, "clipmaps.frag"};
+    SchemePrograms programs_;
 };
 
 constexpr const char* kN = "n";

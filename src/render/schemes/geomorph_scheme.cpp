@@ -184,7 +184,8 @@ class GeomorphScheme final : public TerrainScheme {
         : quadtree_(r.quadtree), settings_(settingsOf(r.reader, r.own)),
           per_frame_(r.own.flag(kPerFrame)), product_(r.product),
           stride_(vertexBytes(settings_.layout)), vertices_per_patch_(patchVertices(settings_.n)),
-          slots_(size_t(r.slots))
+          slots_(size_t(r.slots)),
+          programs_(r.quadtree.frame(), {{GL_VERTEX_SHADER, "geomorph.vert"}})
     {
         const int n = settings_.n;
         if (n - 1 > lod::kGeomorphMaxBlockCells)
@@ -297,7 +298,7 @@ class GeomorphScheme final : public TerrainScheme {
         return bytes;
     }
 
-    std::array<const gpu::ShaderProgram*, 2> programs(bool capture) override
+    std::array<const gpu::ShaderProgram*, 2> programs(bool capture, const RenderSettings&) override
     {
         return programs_.get(capture);
     }
@@ -422,7 +423,7 @@ class GeomorphScheme final : public TerrainScheme {
     gpu::GlVertexArray vao_;
     gpu::GlTexture hemisphere_{GL_TEXTURE_2D};
     GLsizei surface_ = 0, all_ = 0;
-    SchemePrograms programs_{{{GL_VERTEX_SHADER, "geomorph.vert"}}};
+    SchemePrograms programs_;
 };
 
 SchemeNeeds geomorphNeeds(const archive::ArchiveReader& reader, const lod::TerrainFrame&,

@@ -105,7 +105,8 @@ class RingsGrid {
 class RingsScheme final : public TerrainScheme {
   public:
     RingsScheme(const SchemeResources& r, const lod::RingsSettings& settings)
-        : quadtree_(r.quadtree), residency_(r.residency), selector_(r.quadtree, settings)
+        : quadtree_(r.quadtree), residency_(r.residency), selector_(r.quadtree, settings),
+          programs_(r.quadtree.frame(), {{GL_VERTEX_SHADER, "rings.vert"}})
     {
         const lod::RingsStructure& s = selector_.structure();
         for (int level = 0; level <= s.finestLevel(); ++level) {
@@ -205,7 +206,7 @@ class RingsScheme final : public TerrainScheme {
     // No skirts: nothing hangs below a tile's border.
     double meshDeviation(int) const override { return 0.0; }
 
-    std::array<const gpu::ShaderProgram*, 2> programs(bool capture) override
+    std::array<const gpu::ShaderProgram*, 2> programs(bool capture, const RenderSettings&) override
     {
         return programs_.get(capture);
     }
@@ -256,7 +257,7 @@ class RingsScheme final : public TerrainScheme {
     std::vector<RingsTileRecord> records_;
     std::vector<int> cells_; // per record
     RecordBuffer<RingsTileRecord> buffer_;
-    SchemePrograms programs_{{{GL_VERTEX_SHADER, "rings.vert"}}};
+    SchemePrograms programs_;
 };
 
 constexpr const char* kRings = "rings";

@@ -21,16 +21,24 @@ class TessellationScheme final : public TerrainScheme {
     explicit TessellationScheme(const SchemeResources& r)
         : textures_(r.textures), blocks_per_side_(r.reader.blockLayout().blocksPerSide()),
           block_cells_(r.reader.blockLayout().block_cells),
-          block_levels_(std::min(r.reader.blockLayout().levels(), lod::kMaxBlockLevels))
+          block_levels_(std::min(r.reader.blockLayout().levels(), lod::kMaxBlockLevels)),
+          // One variant per lod::TessellationRule, in its order: conservative (ridge's
+          // default, ε on every sample), the paper's edge rule.
+          programs_(r.quadtree.frame(),
+                    {{GL_VERTEX_SHADER, "terrain.vert"},
+                     {GL_TESS_CONTROL_SHADER, "terrain.tesc"},
+                     {GL_TESS_EVALUATION_SHADER, "terrain.tese"}},
+                    {{"RIDGE_TESSELLATION_RULE 0"}, {"RIDGE_TESSELLATION_RULE 1"}})
     {
     }
 
     // The skirts hang by the tessellator's λ: what a simplified block may drop beyond Err(P).
     double meshDeviation(int slot) const override { return double(textures_.lambdaMax(slot)); }
 
-    std::array<const gpu::ShaderProgram*, 2> programs(bool capture) override
+    std::array<const gpu::ShaderProgram*, 2> programs(bool capture,
+                                                      const RenderSettings& settings) override
     {
-        return programs_.get(capture);
+        return programs_.get(capture, size_t(settings.tessellation_rule));
     }
 
     // What only the tessellation shaders read: the LOD camera, ε and the rule for the edge
@@ -41,9 +49,6 @@ class TessellationScheme final : public TerrainScheme {
         const GLuint id = program.id();
         const lod::Camera& camera = frame.camera;
         const RenderSettings& settings = frame.settings;
-        // Conservative (ridge's default: ε on every sample) or the paper's edge rule.
-        glProgramUniform1i(id, program.uniform("u_tessellation_rule"),
-                           int(settings.tessellation_rule));
         // LOD is decided for frame.lod_camera: positions relative to the drawn camera, moved to
         // the LOD camera and projected by it (the same matrix when both are one camera).
         const glm::dmat4 to_lod_camera =
@@ -99,9 +104,7 @@ class TessellationScheme final : public TerrainScheme {
     int blocks_per_side_, block_cells_;
     int block_levels_;             // D as the shaders use it (<= lod::kMaxBlockLevels)
     gpu::GlVertexArray empty_vao_; // the tessellator's one vertex per patch primitive is implicit
-    SchemePrograms programs_{{{GL_VERTEX_SHADER, "terrain.vert"},
-                              {GL_TESS_CONTROL_SHADER, "terrain.tesc"},
-                              {GL_TESS_EVALUATION_SHADER, "terrain.tese"}}};
+    SchemePrograms programs_;
 };
 
 } // namespace
