@@ -29,7 +29,11 @@ uniform ivec2 u_level_texel[kMaxLevels];   // texel of each window's sample (0, 
 uniform ivec2 u_level_origin[kMaxLevels];  // finest offset of each window's (0, 0) from the anchor
 uniform int u_level_step[kMaxLevels];      // finest samples per cell of each level
 uniform vec2 u_in_coarser[kMaxLevels];     // each window's (0, 0) in the coarser window's cells
-uniform int u_water_from_height;
+// RIDGE_WATER_FROM_HEIGHT (compiled in per archive): 1 for archives before format 4, whose
+// water is the palette's old rule, a height at or below 0 m.
+#ifndef RIDGE_WATER_FROM_HEIGHT
+#error RIDGE_WATER_FROM_HEIGHT is not defined: build terrain programs through SchemePrograms
+#endif
 
 out vec4 frag_colour;
 
@@ -97,7 +101,7 @@ void main() {
     }
     n = transpose(localBasis(v.position)) * normalize(n); // local east, north, up
     float metres = (z - u_sea_level) / u_exaggeration;
-    bool wet = u_water_from_height != 0 ? paletteIsWater(metres) : water >= 0.5;
+    bool wet = RIDGE_WATER_FROM_HEIGHT != 0 ? paletteIsWater(metres) : water >= 0.5;
     frag_colour = shadeTerrain(v.position, n, metres, wet, v.level, v.factor,
                                v.skirt == 2);
 }

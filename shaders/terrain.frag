@@ -23,10 +23,11 @@ in Vertex {
 layout(binding = 4) uniform usampler2DArray u_cell_masks;
 layout(binding = 5) uniform usampler1D u_mask_flags;
 // Water (docs/FORMAT.md, "Sample flags"): the n × n sample flags of slots with bit 1, water in
-// bit 0 of each. Archives before format 4 have none: u_water_from_height applies the old
-// rule, a height at or below 0 m.
+// bit 0 of each (none before format 4: RIDGE_WATER_FROM_HEIGHT, below).
 layout(binding = 6) uniform usampler2DArray u_water_maps;
-uniform int u_water_from_height;
+#ifndef RIDGE_WATER_FROM_HEIGHT
+#error RIDGE_WATER_FROM_HEIGHT is not defined: build terrain programs through SchemePrograms
+#endif
 #include "geomorph_common.glsl"
 #include "palette.glsl"
 
@@ -34,40 +35,65 @@ uniform int u_water_from_height;
 
 out vec4 frag_colour;
 
+// The 2 × 2 samples of `layer` around patch coordinates `cell`, as one gather (one texture
+// operation on llvmpipe where four texelFetch were four: a quarter of the fragment stage), and
+// the bilinear weights `f` between them. Gather order: x (i0, j0 + 1), y (i0 + 1, j0 + 1),
+// z (i0 + 1, j0), w (i0, j0). The point (i0 + 1, j0 + 1) / n is the corner the four texels
+// share, so the gather picks exactly them whatever the filter.
+uvec4 gatherQuad(usampler2DArray map, int layer, vec2 cell, out vec2 f) {
+    int C = u_patch_cells;
+    vec2 c = clamp(cell, vec2(0.0), vec2(float(C)));
+    ivec2 i0 = min(ivec2(floor(c)), ivec2(C - 1));
+    f = c - vec2(i0);
+    return textureGather(map, vec3(vec2(i0 + 1) / float(C + 1), float(layer)), 0);
+}
+
+// Bilinear blend of a gathered quad (gatherQuad's order) with weights `f`.
+float bilinear(vec4 q, vec2 f) { return mix(mix(q.w, q.z, f.x), mix(q.x, q.y, f.x), f.y); }
+
 // Metres above sea level of the patch's height map at patch coordinates `cell`, bilinear
 // between its four samples (the codes are integers: no hardware filtering). At a sample this
 // is the sample, as `ridge hillshade` sees it. True metres: the drawn heights divided by the
 // exaggeration, so that colours do not change with it.
 float textureMetres(vec2 cell) {
-    int C = u_patch_cells;
-    vec2 c = clamp(cell, vec2(0.0), vec2(float(C)));
-    ivec2 i0 = min(ivec2(floor(c)), ivec2(C - 1));
-    vec2 f = c - vec2(i0);
-    float h00 = sampleHeight(v.layer, i0), h10 = sampleHeight(v.layer, i0 + ivec2(1, 0));
-    float h01 = sampleHeight(v.layer, i0 + ivec2(0, 1)), h11 = sampleHeight(v.layer, i0 + ivec2(1, 1));
-    return (mix(mix(h00, h10, f.x), mix(h01, h11, f.x), f.y) - u_sea_level) / u_exaggeration;
+    vec2 f;
+    vec4 codes = vec4(gatherQuad(u_heights, v.layer, cell, f));
+    precise float z = u_height_offset + u_height_scale * bilinear(codes, f);
+    return (z - u_sea_level) / u_exaggeration;
 }
 
-// The normal map's, or the vertex's own normal where a scheme sends one (geomorph.vert):
-// texcoord (u, v, −1) indexes the hemisphere normal texture, (nx, ny, −2 − nz) is a normal.
-// geomorph keeps its vertex normals: it draws every sample of the patch as a vertex, so they
-// are at texel resolution already, and they are what its vertex layouts are measured with.
+// The normal map's, or (RIDGE_VERTEX_NORMALS 1: geomorph) the vertex's own normal where the
+// scheme sends one (geomorph.vert): texcoord (u, v, −1) indexes the hemisphere normal texture,
+// (nx, ny, −2 − nz) is a normal. geomorph keeps its vertex normals: it draws every sample of the
+// patch as a vertex, so they are at texel resolution already, and they are what its vertex
+// layouts are measured with. Compiled in, so that the other schemes' fragments do not run the
+// other two cases under a mask (llvmpipe).
 // Normals are of the true surface; the drawn one, z' = k·z, has the normal
 // (−k ∂z/∂x, −k ∂z/∂y, 1) ∝ (k·n.x, k·n.y, n.z).
+#ifndef RIDGE_VERTEX_NORMALS
+#define RIDGE_VERTEX_NORMALS 0
+#endif
 vec3 exaggerated(vec3 n) { return normalize(vec3(n.xy * u_exaggeration, n.z)); }
 vec3 surfaceNormal() {
+#if RIDGE_VERTEX_NORMALS
     if (v.texcoord.z >= -0.5)
         return exaggerated(normalize(texture(u_normals, v.texcoord).xyz));
     if (v.texcoord.z > -1.5)
         return exaggerated(normalize(hemisphereNormalLookup(v.texcoord.xy)));
     return exaggerated(normalize(vec3(v.texcoord.xy, -2.0 - v.texcoord.z)));
+#else
+    return exaggerated(normalize(texture(u_normals, v.texcoord).xyz));
+#endif
 }
+
+// The slot's mask flags (bit 0: a cell mask; bit 1: a water bitmap; bit 2: all water).
+uint maskFlags() { return texelFetch(u_mask_flags, v.layer, 0).r; }
 
 // Whether the cell under this fragment may be drawn. Skirts and walls hang under a border
 // sample, whose cell coordinate is C at the far border: the clamp gives them the border cell,
 // so they vanish with it.
-bool cellDrawable() {
-    if ((texelFetch(u_mask_flags, v.layer, 0).r & 1u) == 0u)
+bool cellDrawable(uint flags) {
+    if ((flags & 1u) == 0u)
         return true;
     ivec2 cell = clamp(ivec2(floor(v.cell)), ivec2(0), ivec2(u_patch_cells - 1));
     return texelFetch(u_cell_masks, ivec3(cell, v.layer), 0).r != 0u;
@@ -76,27 +102,25 @@ bool cellDrawable() {
 // Whether the surface at patch coordinates `cell` is water: the bilinear blend of its four
 // samples' water flags is at least 1/2, so that a coastline is as smooth as the heights'
 // surface and lies halfway between a water and a land sample, whatever the decoded heights.
-bool waterAt(vec2 cell, float metres) {
-    if (u_water_from_height != 0)
-        return paletteIsWater(metres);
-    uint flags = texelFetch(u_mask_flags, v.layer, 0).r;
+// Archives before format 4 store no flags: RIDGE_WATER_FROM_HEIGHT (compiled in per archive)
+// applies the old rule, a height at or below 0 m.
+bool waterAt(uint flags, vec2 cell, float metres) {
+#if RIDGE_WATER_FROM_HEIGHT
+    return paletteIsWater(metres);
+#else
     if ((flags & 4u) != 0u)
         return true;
     if ((flags & 2u) == 0u)
         return false;
-    int C = u_patch_cells;
-    vec2 c = clamp(cell, vec2(0.0), vec2(float(C)));
-    ivec2 i0 = min(ivec2(floor(c)), ivec2(C - 1));
-    vec2 f = c - vec2(i0);
-    float w00 = float(texelFetch(u_water_maps, ivec3(i0, v.layer), 0).r & 1u);
-    float w10 = float(texelFetch(u_water_maps, ivec3(i0 + ivec2(1, 0), v.layer), 0).r & 1u);
-    float w01 = float(texelFetch(u_water_maps, ivec3(i0 + ivec2(0, 1), v.layer), 0).r & 1u);
-    float w11 = float(texelFetch(u_water_maps, ivec3(i0 + ivec2(1, 1), v.layer), 0).r & 1u);
-    return mix(mix(w00, w10, f.x), mix(w01, w11, f.x), f.y) >= 0.5;
+    vec2 f;
+    vec4 wet = vec4(gatherQuad(u_water_maps, v.layer, cell, f) & uvec4(1u));
+    return bilinear(wet, f) >= 0.5;
+#endif
 }
 
 void main() {
-    if (!cellDrawable())
+    uint flags = maskFlags();
+    if (!cellDrawable(flags))
         discard; // nodata: the terrain ends at the last drawable cell
     if (u_mode == 3) {
         frag_colour = vec4(u_flat_colour, 1.0);
@@ -106,6 +130,6 @@ void main() {
     // texcoord are the border's), so that a step between two levels reads as part of the
     // slope, and a skirt hanging through 0 m is not painted as sea.
     float metres = textureMetres(v.cell);
-    frag_colour = shadeTerrain(v.position, surfaceNormal(), metres, waterAt(v.cell, metres),
+    frag_colour = shadeTerrain(v.position, surfaceNormal(), metres, waterAt(flags, v.cell, metres),
                                v.level, v.factor, v.skirt == 2);
 }

@@ -113,9 +113,6 @@ void FrameUniforms::setShading(const gpu::ShaderProgram& program, const lod::Cam
     glProgramUniform2f(id, program.uniform("u_height_range"), float(k * min_height_ - reference),
                        float(k * max_height_ - reference));
     glProgramUniform1f(id, program.uniform("u_sea_level"), float(-reference));
-    // Archives before format v4 store no water: the palette's old rule, heights <= 0 m.
-    glProgramUniform1i(id, program.uniform("u_water_from_height"),
-                       reader_.storesSampleFlags() ? 0 : 1);
     // Fog fades to the sky's horizon. On a plane it thickens over the terrain's own size: a
     // tenth of the light lost across it. On the globe it is the air's: densest at sea level
     // (a 150 km visibility, 1/e) and thinning with altitude over the scale height, so the

@@ -11,21 +11,23 @@ static int surfaceKind(const lod::TerrainFrame& frame)
     return !frame.onEllipsoid() ? 0 : frame.projectedGrid() ? 2 : 1;
 }
 
-SchemePrograms::SchemePrograms(const lod::TerrainFrame& frame,
-                               std::vector<gpu::ShaderStage> surface, std::string fragment)
-    : SchemePrograms(frame, std::move(surface), {{}}, std::move(fragment))
+SchemePrograms::SchemePrograms(const SchemeResources& r, std::vector<gpu::ShaderStage> surface,
+                               std::string fragment)
+    : SchemePrograms(r, std::move(surface), {{}}, std::move(fragment))
 {
 }
 
-SchemePrograms::SchemePrograms(const lod::TerrainFrame& frame,
-                               std::vector<gpu::ShaderStage> surface,
+SchemePrograms::SchemePrograms(const SchemeResources& r, std::vector<gpu::ShaderStage> surface,
                                std::vector<std::vector<std::string>> variants, std::string fragment)
     : surface_(std::move(surface)), fragment_(std::move(fragment)), variants_(variants.size())
 {
-    const std::string surface_define = "RIDGE_SURFACE " + std::to_string(surfaceKind(frame));
+    const std::vector<std::string> archive_defines = {
+        "RIDGE_SURFACE " + std::to_string(surfaceKind(r.quadtree.frame())),
+        std::string("RIDGE_WATER_FROM_HEIGHT ") + (r.reader.storesSampleFlags() ? "0" : "1")};
     for (size_t i = 0; i < variants.size(); ++i) {
-        variants_[i].defines = std::move(variants[i]);
-        variants_[i].defines.insert(variants_[i].defines.begin(), surface_define);
+        variants_[i].defines = archive_defines;
+        variants_[i].defines.insert(variants_[i].defines.end(), variants[i].begin(),
+                                    variants[i].end());
     }
 }
 

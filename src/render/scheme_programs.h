@@ -4,12 +4,13 @@
 // transform feedback of
 // Capture.tf_* (capture), each with or without terrain_clip.geom for patches that reach past
 // the valid extent. Compiled on first use, so a renderer that never draws a scheme never
-// compiles it. The surface (plane, geographic grid on the ellipsoid, projected grid) is
-// compiled in as RIDGE_SURFACE (terrain_common.glsl), not branched on: llvmpipe runs both sides
-// of a branch on a uniform under an execution mask, and the globe's trigonometry in every
-// vertex made the plane's frames 2.2-2.4x slower (docs/PERF.md, "Like for like").
+// compiles it. What the archive fixes is compiled in, not branched on: the surface (plane,
+// geographic grid on the ellipsoid, projected grid: RIDGE_SURFACE, terrain_common.glsl) and
+// its water rule (RIDGE_WATER_FROM_HEIGHT, before format 4). llvmpipe runs both sides of a
+// branch on a uniform under an execution mask: the globe's trigonometry in every vertex made
+// the plane's frames 2.2-2.4x slower (docs/PERF.md, "Like for like").
 #include "ridge/gpu/shader_program.h"
-#include "ridge/lod/terrain_frame.h"
+#include "terrain_scheme.h"
 
 #include <array>
 #include <string>
@@ -23,12 +24,12 @@ class SchemePrograms {
     // terrain.tesc, terrain.tese}; every one must write the Vertex and Capture blocks that
     // terrain_clip.geom and the fragment stage read. `fragment`: the fragment shader's file
     // (a scheme whose surface is not drawn from patch layers brings its own).
-    // `frame`: the archive's terrain frame, whose surface the programs are built for.
-    SchemePrograms(const lod::TerrainFrame& frame, std::vector<gpu::ShaderStage> surface,
+    // `r`: the scheme's resources, whose archive the programs are built for.
+    SchemePrograms(const SchemeResources& r, std::vector<gpu::ShaderStage> surface,
                    std::string fragment = "terrain.frag");
     // The same with variants: each a set of defines ("NAME VALUE") the scheme compiles in for
     // a choice it would otherwise branch on per frame (the tessellation rule); get() picks one.
-    SchemePrograms(const lod::TerrainFrame& frame, std::vector<gpu::ShaderStage> surface,
+    SchemePrograms(const SchemeResources& r, std::vector<gpu::ShaderStage> surface,
                    std::vector<std::vector<std::string>> variants,
                    std::string fragment = "terrain.frag");
 

@@ -107,20 +107,32 @@ TEST_F(GpuTest, CompileErrorInAnIncludedFileNamesThatFile)
     EXPECT_FALSE(contains(message, "shaders/test/bad_include.frag:")) << message;
 }
 
-// The terrain stages compile the surface in (RIDGE_SURFACE): one built without it is a clear
-// compile error, not a plane drawn where a globe was meant.
-TEST_F(GpuTest, TerrainStagesWithoutTheirSurfaceDefineAreACompileError)
+// The terrain stages compile what the archive fixes in (RIDGE_SURFACE, RIDGE_WATER_FROM_HEIGHT):
+// one built without it is a clear compile error, not a plane drawn where a globe was meant.
+TEST_F(GpuTest, TerrainStagesWithoutTheArchivesDefinesAreACompileError)
 {
     const std::string message = compileError({{GL_VERTEX_SHADER, "chunk.vert"}});
     EXPECT_TRUE(contains(message, "RIDGE_SURFACE is not defined")) << message;
     EXPECT_TRUE(contains(message, "shaders/terrain_common.glsl:")) << message;
+    const std::vector<ShaderStage> stages = {{GL_VERTEX_SHADER, "chunk.vert"},
+                                             {GL_FRAGMENT_SHADER, "terrain.frag"}};
+    std::string water;
+    try {
+        ShaderProgram program(stages, {}, {"RIDGE_SURFACE 0"});
+    } catch (const Error& e) {
+        water = e.what();
+    }
+    EXPECT_TRUE(contains(water, "RIDGE_WATER_FROM_HEIGHT is not defined")) << water;
     for (const char* surface : {"0", "1", "2"}) {
-        try {
-            ShaderProgram program(
-                {{GL_VERTEX_SHADER, "chunk.vert"}, {GL_FRAGMENT_SHADER, "terrain.frag"}}, {},
-                {std::string("RIDGE_SURFACE ") + surface});
-        } catch (const Error& e) {
-            ADD_FAILURE() << "RIDGE_SURFACE " << surface << ": " << e.what();
+        for (const char* from_height : {"0", "1"}) {
+            try {
+                ShaderProgram program(stages, {},
+                                      {std::string("RIDGE_SURFACE ") + surface,
+                                       std::string("RIDGE_WATER_FROM_HEIGHT ") + from_height});
+            } catch (const Error& e) {
+                ADD_FAILURE() << "RIDGE_SURFACE " << surface << ", RIDGE_WATER_FROM_HEIGHT "
+                              << from_height << ": " << e.what();
+            }
         }
     }
 }

@@ -10,8 +10,7 @@ namespace {
 class BruteForceScheme final : public TerrainScheme {
   public:
     explicit BruteForceScheme(const SchemeResources& r)
-        : grid_(r.reader.geometry().patchSize()),
-          programs_(r.quadtree.frame(), {{GL_VERTEX_SHADER, "chunk.vert"}})
+        : grid_(r.reader.geometry().patchSize()), programs_(r, {{GL_VERTEX_SHADER, "chunk.vert"}})
     {
     }
 

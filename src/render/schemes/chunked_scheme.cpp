@@ -72,7 +72,7 @@ class ChunkedScheme final : public TerrainScheme {
         : textures_(r.textures), meshes_(r.own.flag(kMeshes)), product_(r.product),
           tolerance_(r.own.number(kTolerance)), scale_(r.reader.quantization().scale),
           n_(r.reader.geometry().patchSize()), grid_(n_),
-          programs_(r.quadtree.frame(), {{GL_VERTEX_SHADER, "chunk.vert"}})
+          programs_(r, {{GL_VERTEX_SHADER, "chunk.vert"}})
     {
         if (meshes_)
             slots_.resize(size_t(r.slots));

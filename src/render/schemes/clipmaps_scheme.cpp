@@ -90,7 +90,7 @@ class ClipmapsScheme final : public TerrainScheme {
     ClipmapsScheme(const SchemeResources& r, const lod::ClipmapSettings& settings)
         : quadtree_(r.quadtree), textures_(r.textures), residency_(r.residency),
           selector_(r.quadtree, settings), levels_(GL_TEXTURE_2D_ARRAY),
-          programs_(r.quadtree.frame(), {{GL_VERTEX_SHADER, "clipmaps.vert"}}, "clipmaps.frag")
+          programs_(r, {{GL_VERTEX_SHADER, "clipmaps.vert"}}, "clipmaps.frag")
     {
         const lod::ClipmapWindows& w = selector_.windows();
         texture_size_ = w.n() + 1;

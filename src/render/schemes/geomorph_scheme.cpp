@@ -185,7 +185,9 @@ class GeomorphScheme final : public TerrainScheme {
           per_frame_(r.own.flag(kPerFrame)), product_(r.product),
           stride_(vertexBytes(settings_.layout)), vertices_per_patch_(patchVertices(settings_.n)),
           slots_(size_t(r.slots)),
-          programs_(r.quadtree.frame(), {{GL_VERTEX_SHADER, "geomorph.vert"}})
+          // Its vertices carry their normals (terrain.frag's surfaceNormal).
+          programs_(r, {{GL_VERTEX_SHADER, "geomorph.vert"}},
+                    std::vector<std::vector<std::string>>{{"RIDGE_VERTEX_NORMALS 1"}})
     {
         const int n = settings_.n;
         if (n - 1 > lod::kGeomorphMaxBlockCells)

@@ -106,7 +106,7 @@ class RingsScheme final : public TerrainScheme {
   public:
     RingsScheme(const SchemeResources& r, const lod::RingsSettings& settings)
         : quadtree_(r.quadtree), residency_(r.residency), selector_(r.quadtree, settings),
-          programs_(r.quadtree.frame(), {{GL_VERTEX_SHADER, "rings.vert"}})
+          programs_(r, {{GL_VERTEX_SHADER, "rings.vert"}})
     {
         const lod::RingsStructure& s = selector_.structure();
         for (int level = 0; level <= s.finestLevel(); ++level) {

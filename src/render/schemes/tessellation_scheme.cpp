@@ -24,7 +24,7 @@ class TessellationScheme final : public TerrainScheme {
           block_levels_(std::min(r.reader.blockLayout().levels(), lod::kMaxBlockLevels)),
           // One variant per lod::TessellationRule, in its order: conservative (ridge's
           // default, ε on every sample), the paper's edge rule.
-          programs_(r.quadtree.frame(),
+          programs_(r,
                     {{GL_VERTEX_SHADER, "terrain.vert"},
                      {GL_TESS_CONTROL_SHADER, "terrain.tesc"},
                      {GL_TESS_EVALUATION_SHADER, "terrain.tese"}},
