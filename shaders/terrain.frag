@@ -35,21 +35,7 @@ layout(binding = 6) uniform usampler2DArray u_water_maps;
 
 out vec4 frag_colour;
 
-// The 2 × 2 samples of `layer` around patch coordinates `cell`, as one gather (one texture
-// operation on llvmpipe where four texelFetch were four: a quarter of the fragment stage), and
-// the bilinear weights `f` between them. Gather order: x (i0, j0 + 1), y (i0 + 1, j0 + 1),
-// z (i0 + 1, j0), w (i0, j0). The point (i0 + 1, j0 + 1) / n is the corner the four texels
-// share, so the gather picks exactly them whatever the filter.
-uvec4 gatherQuad(usampler2DArray map, int layer, vec2 cell, out vec2 f) {
-    int C = u_patch_cells;
-    vec2 c = clamp(cell, vec2(0.0), vec2(float(C)));
-    ivec2 i0 = min(ivec2(floor(c)), ivec2(C - 1));
-    f = c - vec2(i0);
-    return textureGather(map, vec3(vec2(i0 + 1) / float(C + 1), float(layer)), 0);
-}
-
-// Bilinear blend of a gathered quad (gatherQuad's order) with weights `f`.
-float bilinear(vec4 q, vec2 f) { return mix(mix(q.w, q.z, f.x), mix(q.x, q.y, f.x), f.y); }
+#include "texel_quad.glsl"
 
 // Metres above sea level of the patch's height map at patch coordinates `cell`, bilinear
 // between its four samples (the codes are integers: no hardware filtering). At a sample this
@@ -57,7 +43,7 @@ float bilinear(vec4 q, vec2 f) { return mix(mix(q.w, q.z, f.x), mix(q.x, q.y, f.
 // exaggeration, so that colours do not change with it.
 float textureMetres(vec2 cell) {
     vec2 f;
-    vec4 codes = vec4(gatherQuad(u_heights, v.layer, cell, f));
+    vec4 codes = vec4(gatherQuad(u_heights, v.layer, cell, u_patch_cells, f));
     precise float z = u_height_offset + u_height_scale * bilinear(codes, f);
     return (z - u_sea_level) / u_exaggeration;
 }
@@ -113,7 +99,7 @@ bool waterAt(uint flags, vec2 cell, float metres) {
     if ((flags & 2u) == 0u)
         return false;
     vec2 f;
-    vec4 wet = vec4(gatherQuad(u_water_maps, v.layer, cell, f) & uvec4(1u));
+    vec4 wet = vec4(gatherQuad(u_water_maps, v.layer, cell, u_patch_cells, f) & uvec4(1u));
     return bilinear(wet, f) >= 0.5;
 #endif
 }
