@@ -1,5 +1,7 @@
 #include "scheme_programs.h"
 
+#include "terrain_scheme.h"
+
 #include "ridge/core/error.h"
 
 namespace ridge::render {

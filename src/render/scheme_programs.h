@@ -10,13 +10,14 @@
 // branch on a uniform under an execution mask: the globe's trigonometry in every vertex made
 // the plane's frames 2.2-2.4x slower (docs/PERF.md, "Like for like").
 #include "ridge/gpu/shader_program.h"
-#include "terrain_scheme.h"
 
 #include <array>
 #include <string>
 #include <vector>
 
 namespace ridge::render {
+
+struct SchemeResources; // terrain_scheme.h
 
 class SchemePrograms {
   public:
