@@ -92,8 +92,8 @@ std::string defineLines(const std::vector<std::string>& defines)
 }
 
 // Appends entry `index` to `out` with its includes expanded. `stack` holds the entries being
-// expanded (outermost first) to detect cycles; `defines` (#define lines) go after the top
-// level's #version, or first when it has none.
+// expanded (outermost first) to detect cycles; `defines` (#define lines, empty for included
+// files) go after the file's #version, or first when it has none.
 void expand(std::size_t index, std::vector<std::size_t>& stack, std::string& out,
             const std::string& defines)
 {
@@ -111,7 +111,7 @@ void expand(std::size_t index, std::vector<std::size_t>& stack, std::string& out
     // The top level's numbering starts after its #version, when it has one.
     bool numbered = !top_level || source.find("#version") == std::string_view::npos;
     if (numbered)
-        out += (top_level ? defines : std::string()) + lineDirective(index, 1);
+        out += defines + lineDirective(index, 1);
 
     int line_number = 0;
     for (std::size_t pos = 0; pos < source.size();) {
@@ -124,7 +124,7 @@ void expand(std::size_t index, std::vector<std::size_t>& stack, std::string& out
 
         if (isDirective(line, "include", rest)) {
             const std::string included = includedName(rest, name, line_number);
-            expand(requireShader(included, name), stack, out, defines);
+            expand(requireShader(included, name), stack, out, std::string());
             out += lineDirective(index, line_number + 1);
             continue;
         }
