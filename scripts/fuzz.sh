@@ -5,21 +5,31 @@
 # resealed after every mutation (fuzz_archive_fields), and the renderer's parameters
 # (fuzz_render_params, on the seed archives). Needs a Release build of the CLI in
 # ./build (scripts/test.sh makes one). Exit status is non-zero when a fuzzer finds a crash;
-# the reproducer is left in build-fuzz/. A long run by hand: RIDGE_FUZZ_SECONDS=3600 bash scripts/fuzz.sh
+# the reproducer is left in the fuzz build directory. A long run by hand:
+# RIDGE_FUZZ_SECONDS=3600 bash scripts/fuzz.sh
+# RIDGE_FUZZ_BUILD=DIR uses an existing clang build configured with -DRIDGE_BUILD_FUZZERS=ON
+# (scripts/test.sh passes its sanitizer build, which saves a third build of the library);
+# without it the script configures its own in build-fuzz (-O2, no OpenMP).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${RIDGE_FUZZ_SECONDS:-30}
-# RelWithDebInfo with line tables only: crash reports keep file:line, at less build time.
-cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
-      "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O2 -gline-tables-only -DNDEBUG" \
-      "-DCMAKE_C_FLAGS_RELWITHDEBINFO=-O2 -gline-tables-only -DNDEBUG" \
-      -DCMAKE_C_COMPILER=clang -DRIDGE_BUILD_FUZZERS=ON -DRIDGE_USE_OPENMP=OFF \
-      -DRIDGE_BUILD_TESTS=OFF -DRIDGE_BUILD_BENCH=OFF >/dev/null
-cmake --build build-fuzz -j "$(nproc)" --target fuzz_lossless_decode fuzz_progressive_decode fuzz_jpeg2000_decode fuzz_fractal_decode fuzz_archive_reader \
+fuzz_build=$(realpath -m "${RIDGE_FUZZ_BUILD:-build-fuzz}")
+if [[ -z "${RIDGE_FUZZ_BUILD:-}" ]]; then
+  # RelWithDebInfo with line tables only: crash reports keep file:line, at less build time.
+  cmake -S . -B "$fuzz_build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
+        "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O2 -gline-tables-only -DNDEBUG" \
+        "-DCMAKE_C_FLAGS_RELWITHDEBINFO=-O2 -gline-tables-only -DNDEBUG" \
+        -DCMAKE_C_COMPILER=clang -DRIDGE_BUILD_FUZZERS=ON -DRIDGE_USE_OPENMP=OFF \
+        -DRIDGE_BUILD_TESTS=OFF -DRIDGE_BUILD_BENCH=OFF >/dev/null
+elif ! grep -q '^RIDGE_BUILD_FUZZERS:BOOL=ON' "$fuzz_build/CMakeCache.txt" 2>/dev/null; then
+  echo "fuzz: RIDGE_FUZZ_BUILD=$fuzz_build is not a build configured with -DRIDGE_BUILD_FUZZERS=ON" >&2
+  exit 2
+fi
+cmake --build "$fuzz_build" -j "$(nproc)" --target fuzz_lossless_decode fuzz_progressive_decode fuzz_jpeg2000_decode fuzz_fractal_decode fuzz_archive_reader \
       fuzz_archive_fields fuzz_render_params
 
 # Seeds: small real archives, and their patch payloads prefixed with the patch-size byte.
-seeds=build-fuzz/seeds
+seeds=$fuzz_build/seeds
 rm -rf "$seeds" && mkdir -p "$seeds/archive" "$seeds/payload" "$seeds/params" "$seeds/jpeg2000"
 for patch in 17 65; do
   ./build/ridge build tests/data/everest_crop.tif -o "$seeds/archive/everest_$patch.ridge" -q --patch $patch
@@ -91,7 +101,7 @@ PY
     --patch 33 --fill-voids none --filter neville
 
 status=0
-export RIDGE_FUZZ_ARCHIVES=$PWD/$seeds/archive # the archives fuzz_render_params renders
+export RIDGE_FUZZ_ARCHIVES=$seeds/archive # the archives fuzz_render_params renders
 for target in fuzz_lossless_decode fuzz_progressive_decode fuzz_jpeg2000_decode fuzz_fractal_decode fuzz_archive_reader \
               fuzz_archive_fields fuzz_render_params; do
   seed_dir=$seeds/payload
@@ -100,15 +110,15 @@ for target in fuzz_lossless_decode fuzz_progressive_decode fuzz_jpeg2000_decode 
   [[ $target == fuzz_jpeg2000_decode ]] && seed_dir=$seeds/jpeg2000
   [[ $target == fuzz_fractal_decode ]] && seed_dir=$seeds/fractal
   [[ $target == fuzz_render_params ]] && seed_dir=$seeds/params
-  corpus=build-fuzz/corpus-$target # new inputs go here; the seeds stay as built
+  corpus=$fuzz_build/corpus-$target # new inputs go here; the seeds stay as built
   mkdir -p "$corpus"
   echo "fuzz: $target for ${seconds}s"
   rc=0
-  (cd build-fuzz && ./fuzz/$target -max_total_time="$seconds" -max_len=400000 -rss_limit_mb=2048 \
-      -print_final_stats=1 "../$corpus" "../$seed_dir" > "$target.log" 2>&1) || rc=$?
-  grep -E "^Done|stat::number_of_executed_units|stat::peak_rss_mb|ERROR|SUMMARY" "build-fuzz/$target.log" || true
+  (cd "$fuzz_build" && ./fuzz/$target -max_total_time="$seconds" -max_len=400000 -rss_limit_mb=2048 \
+      -print_final_stats=1 "$corpus" "$seed_dir" > "$target.log" 2>&1) || rc=$?
+  grep -E "^Done|stat::number_of_executed_units|stat::peak_rss_mb|ERROR|SUMMARY" "$fuzz_build/$target.log" || true
   if [[ $rc -ne 0 ]]; then
-    echo "fuzz: $target exited with $rc (full log: build-fuzz/$target.log)" >&2
+    echo "fuzz: $target exited with $rc (full log: $fuzz_build/$target.log)" >&2
     status=1
   fi
 done

@@ -3,7 +3,8 @@
 #   1. layering check, and a library-only configure without the tools' dependencies,
 #   2. Release build + ctest (the install test among them), 3. clang -O1 build with ASan/UBSan
 #   and assertions + ctest (less the sweeps of scripts/sanitizer-skip.txt), 4. a short libFuzzer
-#   run of the archive reader and the patch decoders (clang).
+#   run of the archive reader and the patch decoders (clang; its targets are built in the
+#   sanitizer build of 3, so the library is compiled twice, not three times).
 # Usage: bash scripts/test.sh   (RIDGE_SKIP_SANITIZE=1 skips 3, RIDGE_SKIP_FUZZ=1 skips 4)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -23,7 +24,7 @@ if [[ "${RIDGE_SKIP_SANITIZE:-0}" != "1" ]]; then
   # stay with the Release pass.
   CC=clang CXX=clang++ cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Debug \
         "-DCMAKE_CXX_FLAGS_DEBUG=-O1 -gline-tables-only" "-DCMAKE_C_FLAGS_DEBUG=-O1 -gline-tables-only" -DRIDGE_SANITIZE=ON \
-        -DRIDGE_WERROR=ON -DRIDGE_BUILD_BENCH=OFF
+        -DRIDGE_WERROR=ON -DRIDGE_BUILD_BENCH=OFF -DRIDGE_BUILD_FUZZERS=ON
   cmake --build build-asan -j "$jobs"
   skip=$(grep -v -e '^#' -e '^$' scripts/sanitizer-skip.txt | paste -sd '|')
   # GDAL's own one-time allocations are not ours to fix; leaks of ridge code still fail.
@@ -36,5 +37,9 @@ if [[ "${RIDGE_SKIP_SANITIZE:-0}" != "1" ]]; then
 fi
 
 if [[ "${RIDGE_SKIP_FUZZ:-0}" != "1" ]]; then
-  RIDGE_FUZZ_SECONDS=${RIDGE_FUZZ_SECONDS:-10} bash scripts/fuzz.sh
+  # The fuzz targets come from the sanitizer build when there is one (libFuzzer's coverage
+  # instrumentation, -fsanitize=fuzzer-no-link, is then on for its tests too: a few percent).
+  fuzz_build=""
+  [[ "${RIDGE_SKIP_SANITIZE:-0}" != "1" ]] && fuzz_build=build-asan
+  RIDGE_FUZZ_BUILD=$fuzz_build RIDGE_FUZZ_SECONDS=${RIDGE_FUZZ_SECONDS:-10} bash scripts/fuzz.sh
 fi
