@@ -25,10 +25,20 @@ class SurfaceCapture {
     // ridge::Error when the feedback buffer kept fewer triangles than were generated.
     CapturedSurface capture(TerrainScheme& scheme, const SchemeFrame& frame,
                             const std::function<void(const gpu::ShaderProgram&)>& set_uniforms);
+    // The same triangles left on the GPU: returns how many vertices feedback() now holds
+    // (CapturedVertex each, 3 per triangle), valid until the next capture or record.
+    size_t record(TerrainScheme& scheme, const SchemeFrame& frame,
+                  const std::function<void(const gpu::ShaderProgram&)>& set_uniforms);
+    const gpu::GlBuffer& feedback() const { return feedback_; }
 
   private:
+    static constexpr size_t kFirstBytes = size_t{4} << 20;
+    // Gives the feedback buffer at least `bytes` (its contents are not kept).
+    void reserve(size_t bytes);
+
     gpu::GlBuffer feedback_;
     size_t capacity_ = 0; // bytes
+    size_t needed_ = 0;   // bytes the last capture generated
     gpu::GlQuery generated_{GL_PRIMITIVES_GENERATED};
     gpu::GlQuery written_{GL_TRANSFORM_FEEDBACK_PRIMITIVES_WRITTEN};
     // Drawing needs a complete framebuffer even with the rasterizer discarded; a surfaceless

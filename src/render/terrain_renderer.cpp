@@ -3,6 +3,7 @@
 #include "frame_uniforms.h"
 #include "instance_buffer.h"
 #include "patch_textures.h"
+#include "popping_raster.h"
 #include "resident_set.h"
 #include "scheme_plan.h"
 #include "sky.h"
@@ -15,10 +16,13 @@
 #include "ridge/gpu/primitive_counter.h"
 #include "ridge/gpu/shader_program.h"
 #include "ridge/lod/coarse_terrain.h"
+#include "ridge/render/frame_measures.h"
 
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <optional>
+#include <utility>
 
 namespace ridge::render {
 namespace {
@@ -66,6 +70,10 @@ struct TerrainRenderer::Impl {
     InstanceBuffer instances;
     FrameUniforms uniforms;
     SurfaceCapture surface_capture;
+    // measureFramePopping's last surface: on the GPU (plane frames; made on first use), or
+    // its heights on the CPU (the ellipsoid).
+    std::unique_ptr<PoppingRaster> popping_raster;
+    std::optional<SampleHeights> popping_previous;
     std::vector<PatchId> last_drawn;
     // What the last draw() drew, for lastFrameSurface() (picking): replayed, not re-selected.
     struct LastFrame {
@@ -109,6 +117,28 @@ struct TerrainRenderer::Impl {
     CapturedSurface captureInstances(TerrainScheme& scheme, const SchemeFrame& frame)
     {
         return surface_capture.capture(
+            scheme, frame, [&](const gpu::ShaderProgram& p) { setUniforms(scheme, p, frame); });
+    }
+    // capture()'s frame (the instance buffer is the capture's from then on) handed to `use`
+    // with its scheme: TerrainRenderer::capture and the popping metric.
+    template <class Use>
+    auto withCaptureFrame(const lod::Camera& camera, const RenderSettings& settings,
+                          const lod::Camera* lod_camera, bool keep_residency, Use&& use)
+    {
+        settings.validate();
+        TerrainScheme& scheme = schemes.get(settings.scheme);
+        const lod::Camera& lod = lod_camera ? *lod_camera : camera;
+        FrameStats stats;
+        RenderSettings s;
+        last_frame.reset();
+        const PatchInstances ranges =
+            beginFrame(scheme, camera, lod, settings, stats, s, keep_residency);
+        return use(scheme, SchemeFrame{camera, lod, s, ranges});
+    }
+    // The frame's triangles left in the capture's feedback buffer; returns their vertices.
+    size_t recordInstances(TerrainScheme& scheme, const SchemeFrame& frame)
+    {
+        return surface_capture.record(
             scheme, frame, [&](const gpu::ShaderProgram& p) { setUniforms(scheme, p, frame); });
     }
 };
@@ -379,17 +409,44 @@ CapturedSurface TerrainRenderer::lastFrameSurface()
 CapturedSurface TerrainRenderer::capture(const lod::Camera& camera, const RenderSettings& settings,
                                          const lod::Camera* lod_camera, bool keep_residency)
 {
-    settings.validate();
     Impl& m = *impl_;
-    TerrainScheme& scheme = m.schemes.get(settings.scheme);
-    const lod::Camera& lod = lod_camera ? *lod_camera : camera;
-    FrameStats stats;
-    RenderSettings s;
-    m.last_frame.reset(); // the instance buffer is this capture's now
-    const PatchInstances ranges =
-        m.beginFrame(scheme, camera, lod, settings, stats, s, keep_residency);
-    const SchemeFrame frame{camera, lod, s, ranges};
-    return m.captureInstances(scheme, frame);
+    return m.withCaptureFrame(camera, settings, lod_camera, keep_residency,
+                              [&](TerrainScheme& scheme, const SchemeFrame& frame) {
+                                  return m.captureInstances(scheme, frame);
+                              });
+}
+
+PoppingReport TerrainRenderer::measureFramePopping(const lod::Camera& camera,
+                                                   const RenderSettings& settings)
+{
+    Impl& m = *impl_;
+    // Block culling follows the camera that looks: unculled, a surface is its LOD state's.
+    RenderSettings s = settings;
+    s.cull_blocks = false;
+    const lod::TerrainFrame& f = m.quadtree.frame();
+    if (f.onEllipsoid()) {
+        SampleHeights now = surfaceHeightsAtSamples(capture(camera, s, nullptr, true), f);
+        PoppingReport report;
+        if (m.popping_previous)
+            report = measurePopping(*m.popping_previous, now, f, camera);
+        m.popping_previous = std::move(now);
+        return report;
+    }
+    if (!m.popping_raster)
+        m.popping_raster = std::make_unique<PoppingRaster>(f);
+    return m.withCaptureFrame(
+        camera, s, nullptr, true, [&](TerrainScheme& scheme, const SchemeFrame& frame) {
+            const size_t n = m.recordInstances(scheme, frame);
+            return m.popping_raster->next(m.surface_capture.feedback(), n, camera);
+        });
+}
+
+void TerrainRenderer::resetPopping()
+{
+    Impl& m = *impl_;
+    m.popping_previous.reset();
+    if (m.popping_raster)
+        m.popping_raster->reset();
 }
 
 double TerrainRenderer::groundHeight(double x, double y, double exaggeration) const

@@ -77,18 +77,10 @@ RenderBenchReport runRenderBench(const std::string& archive, const RenderBenchOp
     settings.tessellation_rule = o.tessellation_rule;
     settings.side_on_bound = o.side_on_bound;
     settings.exaggeration = k;
-    std::optional<lod::Camera> previous; // the popping metric's previous LOD state
     std::optional<std::chrono::steady_clock::time_point> first_start; // of frame 0's draw
     for (const lod::CameraPose& pose : path) {
         const lod::Camera camera =
             renderer.cameraLookingAt(pose.position, pose.look_at, 60.0, o.viewport, k);
-        // The popping metric's first half, before this frame changes anything: this camera
-        // drawn with the previous frame's LOD state (its LOD camera and resident patches).
-        render::SampleHeights before;
-        const lod::TerrainFrame& frame = renderer.quadtree().frame();
-        if (o.measure_popping && previous)
-            before = render::surfaceHeightsAtSamples(
-                renderer.capture(camera, settings, &*previous, true), frame);
         target.bind();
         const auto t0 = std::chrono::steady_clock::now();
         if (!first_start)
@@ -134,13 +126,12 @@ RenderBenchReport runRenderBench(const std::string& archive, const RenderBenchOp
                                     k * root.min_height, k * root.max_height);
         f.hole_pixels = holes.hole_pixels;
         f.footprint_pixels = holes.footprint_pixels;
-        if (!before.z.empty()) { // ... and with this frame's, as drawn
-            const render::SampleHeights after = render::surfaceHeightsAtSamples(
-                renderer.capture(camera, settings, nullptr, true), frame);
-            f.popping_px = render::measurePopping(before, after, frame, camera).max_px;
+        if (o.measure_popping) { // this frame's surface against the previous frame's
+            const render::PoppingReport popping = renderer.measureFramePopping(camera, settings);
+            if (report.frames.size() > 0)
+                f.popping_px = popping.max_px;
             target.bind();
         }
-        previous = camera;
         report.frames.push_back(f);
     }
     if (!renderer.streamingError().empty())

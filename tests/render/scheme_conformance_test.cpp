@@ -265,9 +265,9 @@ TEST_P(SchemeConformance, CapturedSurfaceIsWatertightCoveredAndWithinItsPromise)
 
 // LOD changes alone: along a short fly-over, each frame's camera drawn with the previous
 // frame's LOD state and with its own (everything resident: the synchronous renderer), the
-// displacement of every finest sample in view (render::measurePopping, as `ridge bench
-// --popping`). A pop-free scheme must stay below a hundredth of a pixel plus float rounding;
-// the others are measured.
+// displacement of every finest sample in view (render::measurePopping; `ridge bench
+// --popping`'s GPU measure must agree with it on every frame). A pop-free scheme must stay below a
+// hundredth of a pixel plus float rounding; the others are measured.
 TEST_P(SchemeConformance, LodChangesPopOnlyWhereTheSchemeDoesNotPromiseOtherwise)
 {
     const std::string scheme = GetParam();
@@ -280,6 +280,7 @@ TEST_P(SchemeConformance, LodChangesPopOnlyWhereTheSchemeDoesNotPromiseOtherwise
         const lod::PatchBounds& root = s.renderer->quadtree().bounds({0, 0, 0});
         std::vector<double> popping;
         std::optional<lod::Camera> previous;
+        s.renderer->resetPopping();
         const int frames = 10;
         for (int k = 0; k < frames; ++k) {
             const double t = double(k) / (frames - 1);
@@ -288,15 +289,29 @@ TEST_P(SchemeConformance, LodChangesPopOnlyWhereTheSchemeDoesNotPromiseOtherwise
                 at + glm::dvec3(-0.15 * f.extentX(), -0.1 * f.extentY(),
                                 root.max_height - root.min_height + 0.05 * f.extentX());
             const lod::Camera cam = cameraAt(*s.renderer, pos, at, vp);
-            const render::RenderSettings settings = settingsFor(scheme, 2.0, 0.0);
+            // Whole patches: block culling follows the camera that looks, not the LOD state.
+            render::RenderSettings settings = settingsFor(scheme, 2.0, 0.0);
+            settings.cull_blocks = false;
+            std::optional<render::PoppingReport> cpu;
             if (previous) {
                 const render::SampleHeights before = render::surfaceHeightsAtSamples(
                     s.renderer->capture(cam, settings, &*previous, true), f);
                 const render::SampleHeights after =
                     render::surfaceHeightsAtSamples(s.renderer->capture(cam, settings), f);
-                popping.push_back(render::measurePopping(before, after, f, cam).max_px);
+                cpu = render::measurePopping(before, after, f, cam);
+                popping.push_back(cpu->max_px);
             } else {
                 s.renderer->capture(cam, settings); // the first LOD state
+            }
+            // The measure `ridge bench --popping` takes: one capture a frame, the previous
+            // frame's surface standing for this camera with the previous LOD state.
+            const render::PoppingReport gpu = s.renderer->measureFramePopping(cam, settings);
+            if (cpu) {
+                EXPECT_NEAR(gpu.max_px, cpu->max_px, 0.01 + 1e-3 * cpu->max_px) << "frame " << k;
+                EXPECT_NEAR(double(gpu.samples), double(cpu->samples), 0.005 * double(cpu->samples))
+                    << "frame " << k;
+            } else {
+                EXPECT_EQ(gpu.samples, 0u) << "the first frame has nothing to compare with";
             }
             previous = cam;
         }

@@ -52,6 +52,9 @@ struct PoppingReport {
     size_t samples = 0;  // finest samples in view covered by both surfaces
     double max_px = 0.0; // largest projected vertical displacement, pixels
     double max_metres = 0.0;
+    // Every this many samples along each axis were compared: 1 for measurePopping; the GPU
+    // measure (TerrainRenderer::endPopping) samples a window larger than its texture limit.
+    int sample_stride = 1;
 };
 
 // The displacement between two surfaces (surfaceHeightsAtSamples of the same frame drawn

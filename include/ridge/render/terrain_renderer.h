@@ -172,6 +172,8 @@ struct CapturedVertex {
     int32_t instance; // index into CapturedSurface::patches
     int32_t skirt;    // 0 surface, 1 skirt, 2 a skirt's foot vertex
 };
+struct PoppingReport; // ridge/render/frame_measures.h
+
 struct CapturedSurface {
     glm::dvec3 camera_position{0.0};      // add to positions for the terrain frame
     std::vector<CapturedVertex> vertices; // 3 per triangle
@@ -319,6 +321,22 @@ class TerrainRenderer {
     // requesting and uploading nothing — the state the last draw() left, for measurements.
     CapturedSurface capture(const lod::Camera& camera, const RenderSettings& settings,
                             const lod::Camera* lod_camera = nullptr, bool keep_residency = false);
+    // The popping metric (ridge/render/frame_measures.h) along a run of frames, at the cost
+    // of one capture a frame. Call after each draw(): the surface this frame's LOD state draws
+    // over what is resident (capture(camera, settings, nullptr, true), tessellation blocks
+    // unculled) is kept as heights over the finest samples and compared with the one the
+    // previous call kept, both seen from `camera`. That previous surface is what the previous
+    // frame's LOD state draws for this camera — a surface depends on its LOD camera and on
+    // what is resident, not on the camera looking at it, and nothing becomes resident between
+    // one frame's call and the next draw() — so this is "this frame's camera drawn with the
+    // previous frame's LOD state and with its own" at half the captures (the conformance
+    // suite checks it against measurePopping of exactly those two captures). On a plane frame
+    // the surfaces stay on the GPU (height textures over the grid, a compute reduction;
+    // PoppingReport::sample_stride > 1 for grids past 64 Mi samples); on the ellipsoid they
+    // come back and measurePopping compares them. Returns an empty report on the first call
+    // and the first after resetPopping().
+    PoppingReport measureFramePopping(const lod::Camera& camera, const RenderSettings& settings);
+    void resetPopping();
 
     const lod::PatchQuadtree& quadtree() const;
     // b: cells per tessellation block edge (the largest tessellation factor).

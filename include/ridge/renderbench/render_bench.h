@@ -24,11 +24,11 @@ struct RenderBenchOptions {
     // Vertical exaggeration (render::RenderSettings::exaggeration): the path flies over the
     // exaggerated terrain.
     double exaggeration = 1.0;
-    // `--popping`. Per frame, after its timing: the popping metric (two captures of this
-    // frame's camera, with the previous frame's LOD state and with this one's, both of what
-    // is resident: they request and upload nothing; render/frame_measures.h). Costly, and
-    // the time between frames grows with it (and so time to full detail): time a run
-    // without it.
+    // `--popping`. Per frame, after its timing: the popping metric (this frame's camera drawn
+    // with the previous frame's LOD state and with this one's, of what is resident;
+    // render/frame_measures.h) by one capture a frame, compared on the GPU on a plane frame
+    // (TerrainRenderer::measureFramePopping). It adds to the time between frames (and so to
+    // the time to full detail): time a run without it.
     bool measure_popping = false;
     // The LOD rules (render::RenderSettings): defaults are ridge's, ε on every sample.
     lod::TessellationRule tessellation_rule = lod::TessellationRule::Conservative;
