@@ -40,12 +40,25 @@ size_t SurfaceCapture::record(TerrainScheme& scheme, const SchemeFrame& frame,
     scheme.beginDraw(frame);
     for (const gpu::ShaderProgram* p : scheme.programs(true, frame.settings))
         set_uniforms(*p);
-    GLint previous_framebuffer = 0;
-    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &previous_framebuffer);
     if (!target_)
         target_ = std::make_unique<gpu::RenderTarget>(1, 1, 1);
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target_->framebuffer());
-    glEnable(GL_RASTERIZER_DISCARD);
+    // The rasterizer discarded and the 1×1 target bound until the capture ends, thrown or not.
+    struct Capturing {
+        GLint previous_framebuffer = 0;
+        explicit Capturing(GLuint framebuffer)
+        {
+            glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &previous_framebuffer);
+            glBindFramebuffer(GL_DRAW_FRAMEBUFFER, framebuffer);
+            glEnable(GL_RASTERIZER_DISCARD);
+        }
+        ~Capturing()
+        {
+            glDisable(GL_RASTERIZER_DISCARD);
+            glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(previous_framebuffer));
+        }
+        Capturing(const Capturing&) = delete;
+        Capturing& operator=(const Capturing&) = delete;
+    } const capturing(target_->framebuffer());
     // The worst case: every instance at its most triangles, and clipping makes at most 3
     // triangles and 2 walls (4 triangles) of one. A frame makes far fewer (a 1080p fly-over
     // over the Sierra: 50 MB of a worst case past what llvmpipe allocates), so the buffer
@@ -88,17 +101,12 @@ size_t SurfaceCapture::record(TerrainScheme& scheme, const SchemeFrame& frame,
         needed_ = generated_total * kVertexBytes;
         if (stored_total == generated_total)
             break;
-        if (capacity_ >= worst || needed_ > worst) {
-            glDisable(GL_RASTERIZER_DISCARD);
-            glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(previous_framebuffer));
+        if (capacity_ >= worst || needed_ > worst)
             throw Error("terrain renderer: transform feedback kept " +
                         std::to_string(stored_total) + " of " + std::to_string(generated_total) +
                         " triangles");
-        }
         wanted = std::min(worst, std::max(2 * capacity_, needed_ + needed_ / 4));
     }
-    glDisable(GL_RASTERIZER_DISCARD);
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(previous_framebuffer));
     gpu::checkGlError("terrain renderer: capture");
     return stored_total * 3;
 }

@@ -128,8 +128,10 @@ RenderBenchReport runRenderBench(const std::string& archive, const RenderBenchOp
         f.footprint_pixels = holes.footprint_pixels;
         if (o.measure_popping) { // this frame's surface against the previous frame's
             const render::PoppingReport popping = renderer.measureFramePopping(camera, settings);
-            if (report.frames.size() > 0)
+            if (report.frames.size() > 0) {
                 f.popping_px = popping.max_px;
+                f.popping_sample_stride = popping.sample_stride;
+            }
             target.bind();
         }
         report.frames.push_back(f);

@@ -107,6 +107,7 @@ void summariseRenderBench(RenderBenchReport& r)
             budgets.push_back(f.upload_budget_ms);
         if (f.popping_px >= 0)
             popping.push_back(f.popping_px);
+        r.popping_sample_stride = std::max(r.popping_sample_stride, f.popping_sample_stride);
         total_ms += f.frame_ms;
         triangles += double(f.triangles);
         r.frames_full_detail += f.fullDetail();
@@ -271,8 +272,12 @@ std::string formatRenderBenchSummary(const RenderBenchReport& r)
         r.reconstructed, r.refined, r.refine_steps, r.frames_under_refined,
         r.level_shifts_per_frame, r.samples_written, r.frames_levels_waiting, r.hole_pixels,
         r.frames_with_holes,
-        r.popping_px.count == 0 ? std::string("not measured (--popping measures it)")
-                                : describe(r.popping_px, "px", 3));
+        r.popping_px.count == 0
+            ? std::string("not measured (--popping measures it)")
+            : describe(r.popping_px, "px", 3) +
+                  (r.popping_sample_stride > 1
+                       ? fmt::format(" (one sample in {} along each axis)", r.popping_sample_stride)
+                       : std::string()));
 }
 
 std::string formatRenderBenchTable(const std::vector<RenderBenchReport>& reports)
@@ -352,7 +357,8 @@ std::string formatRenderBenchJson(const RenderBenchReport& r)
                           {"ram_cache_mib", f.ram_cache_mib},
                           {"hole_pixels", f.hole_pixels},
                           {"footprint_pixels", f.footprint_pixels},
-                          {"popping_px", f.popping_px}});
+                          {"popping_px", f.popping_px},
+                          {"popping_sample_stride", f.popping_sample_stride}});
     nlohmann::json to_full = nlohmann::json::array();
     for (const TimeToFullDetail& t : r.time_to_full_detail)
         to_full.push_back({{"frame", t.frame},
@@ -404,6 +410,7 @@ std::string formatRenderBenchJson(const RenderBenchReport& r)
           {"warmup_frame_ms", r.warmup_ms},
           {"upload_budget_ms", statistics(r.upload_budget_ms)},
           {"popping_px", statistics(r.popping_px)},
+          {"popping_sample_stride", r.popping_sample_stride},
           // Over all frames, warm-up and coarser ones included.
           {"all_frame_ms", statistics(r.all_ms)},
           {"fps_min", r.fps_min},

@@ -66,6 +66,31 @@ TEST_F(TerrainRendererTest, WithoutSkirtsTheSeamsBetweenLevelsAreOpen)
     EXPECT_GT(w.open_edges, 0u);
 }
 
+// The capture's feedback buffer starts at what the last capture needed: a frame that makes
+// many more triangles than the one before grows it and is captured whole (the buffer was once
+// sized for the worst case, which llvmpipe could not allocate at 1080p on the Sierra mosaic).
+TEST_F(TerrainRendererTest, ACaptureKeepsEveryTriangleOfAFrameFarLargerThanTheLast)
+{
+    Scene s = scene("lossless");
+    render::TerrainRenderer& r = *s.renderer;
+    render::RenderSettings coarse;
+    coarse.epsilon_px = 200.0;
+    render::RenderSettings fine;
+    fine.epsilon_px = 0.1;
+    fine.cull_blocks = false;
+    const lod::Camera cam = r.defaultCamera({640, 360});
+    const size_t few = r.capture(cam, coarse).vertices.size() / 3;
+    const size_t many = r.capture(cam, fine).vertices.size() / 3; // grows the buffer
+    const size_t again = r.capture(cam, fine).vertices.size() / 3;
+    std::printf("captured triangles: %zu at ε 200 px, then %zu and %zu at ε 0.1 px\n", few, many,
+                again);
+    EXPECT_GT(many, 100000u) << "more than the first buffer holds (4 MiB: 69,905 triangles)";
+    EXPECT_GT(many, 20 * few);
+    EXPECT_EQ(many, again);
+    EXPECT_EQ(r.capture(cam, coarse).vertices.size() / 3, few)
+        << "a large buffer keeps small frames";
+}
+
 TEST_F(TerrainRendererTest, ASmallTextureBudgetRaisesEpsilonInsteadOfFailing)
 {
     const Scene s = scene("lossless");

@@ -164,12 +164,21 @@ TEST(RenderBenchSummary, TextAndJsonSayWhatTheFiguresRestOn)
 
     // Popping, measured on fewer than 100 frames: its max, no p99.
     RenderBenchReport popped = r;
-    for (size_t k = 1; k < popped.frames.size(); ++k)
+    for (size_t k = 1; k < popped.frames.size(); ++k) {
         popped.frames[k].popping_px = 0.01 * double(k);
+        popped.frames[k].popping_sample_stride = 1;
+    }
     summariseRenderBench(popped);
     const std::string popping = formatRenderBenchSummary(popped);
     EXPECT_NE(popping.find("max 0.290 px"), std::string::npos) << popping;
     EXPECT_NE(popping.find("over 29 frames"), std::string::npos) << popping;
+    EXPECT_EQ(popping.find("one sample in"), std::string::npos) << "every sample compared";
+    // A frame whose window was thinned says so.
+    popped.frames[7].popping_sample_stride = 3;
+    summariseRenderBench(popped);
+    EXPECT_EQ(popped.popping_sample_stride, 3);
+    const std::string thinned = formatRenderBenchSummary(popped);
+    EXPECT_NE(thinned.find("(one sample in 3 along each axis)"), std::string::npos) << thinned;
 }
 
 TEST(RenderBenchSummary, WithoutAFrameAtFullDetailNoFrameRateIsClaimed)

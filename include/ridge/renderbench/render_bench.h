@@ -72,6 +72,9 @@ struct FrameRecord {
     size_t hole_pixels = 0;      // background inside the terrain's footprint
     size_t footprint_pixels = 0; // pixels whose ray must hit the terrain
     double popping_px = -1.0;    // LOD changes alone, pixels (−1: not measured)
+    // Popping compared every this many samples along each axis (1: all; the GPU measure
+    // thins a window past its texture limit; 0: not measured).
+    int popping_sample_stride = 0;
 
     // At full detail: what the scheme draws at the requested ε — no patch drawn by an
     // ancestor while streaming, ε not raised for want of texture slots. Every other frame
@@ -158,7 +161,8 @@ struct RenderBenchReport {
     double rss_early_mib = 0, rss_end_mib = 0;
     size_t hole_pixels = 0; // all frames
     int frames_with_holes = 0;
-    FrameStatistics popping_px; // frames measured with --popping (count 0: not measured)
+    FrameStatistics popping_px;    // frames measured with --popping (count 0: not measured)
+    int popping_sample_stride = 0; // the largest of the frames' (0: not measured)
 };
 
 // The frames where the camera starts or jumps: 0, and with the `teleport` path every
