@@ -1,6 +1,7 @@
 #include "popping_raster.h"
 
 #include "ridge/core/error.h"
+#include "ridge/gpu/scoped_raster_state.h"
 #include "ridge/render/terrain_renderer.h"
 
 #include <algorithm>
@@ -19,40 +20,6 @@ void setVec2(const gpu::ShaderProgram& p, const char* name, double x, double y)
 {
     glUniform2f(p.uniform(name), float(x), float(y));
 }
-
-// The GL state the top-down pass changes, put back when it ends (the renderer's caller may
-// be drawing its own scene around it).
-class SavedState {
-  public:
-    SavedState()
-    {
-        glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &framebuffer_);
-        glGetIntegerv(GL_VIEWPORT, viewport_);
-        glGetIntegerv(GL_BLEND_EQUATION_RGB, &equation_rgb_);
-        glGetIntegerv(GL_BLEND_EQUATION_ALPHA, &equation_alpha_);
-        glGetIntegerv(GL_POLYGON_MODE, polygon_mode_);
-        for (size_t k = 0; k < std::size(kCaps); ++k)
-            enabled_[k] = glIsEnabled(kCaps[k]);
-    }
-    ~SavedState()
-    {
-        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(framebuffer_));
-        glViewport(viewport_[0], viewport_[1], viewport_[2], viewport_[3]);
-        glBlendEquationSeparate(GLenum(equation_rgb_), GLenum(equation_alpha_));
-        glPolygonMode(GL_FRONT_AND_BACK, GLenum(polygon_mode_[0]));
-        for (size_t k = 0; k < std::size(kCaps); ++k)
-            (enabled_[k] ? glEnable : glDisable)(kCaps[k]);
-    }
-    SavedState(const SavedState&) = delete;
-    SavedState& operator=(const SavedState&) = delete;
-
-  private:
-    static constexpr GLenum kCaps[] = {GL_BLEND, GL_DEPTH_TEST, GL_CULL_FACE, GL_SCISSOR_TEST,
-                                       GL_RASTERIZER_DISCARD};
-    GLint framebuffer_ = 0, viewport_[4] = {}, equation_rgb_ = 0, equation_alpha_ = 0;
-    GLint polygon_mode_[2] = {GL_FILL, GL_FILL};
-    GLboolean enabled_[std::size(kCaps)] = {};
-};
 
 int ceilDiv(int a, int b)
 {
@@ -166,7 +133,8 @@ void PoppingRaster::draw(Target& target, const gpu::GlBuffer& feedback, size_t v
                         std::to_string(target.allocated_width) + "x" +
                         std::to_string(target.allocated_height) + " R32F texture");
     }
-    const SavedState saved;
+    // Put back when the pass ends: the renderer's caller may be drawing its own scene.
+    const gpu::ScopedRasterState saved;
     const GLuint framebuffer = target.framebuffer.id();
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, framebuffer);
     glViewport(0, 0, w.width, w.height);

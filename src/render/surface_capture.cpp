@@ -4,6 +4,7 @@
 #include "terrain_scheme.h"
 
 #include "ridge/core/error.h"
+#include "ridge/gpu/scoped_raster_state.h"
 
 #include <string>
 
@@ -43,22 +44,9 @@ size_t SurfaceCapture::record(TerrainScheme& scheme, const SchemeFrame& frame,
     if (!target_)
         target_ = std::make_unique<gpu::RenderTarget>(1, 1, 1);
     // The rasterizer discarded and the 1×1 target bound until the capture ends, thrown or not.
-    struct Capturing {
-        GLint previous_framebuffer = 0;
-        explicit Capturing(GLuint framebuffer)
-        {
-            glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &previous_framebuffer);
-            glBindFramebuffer(GL_DRAW_FRAMEBUFFER, framebuffer);
-            glEnable(GL_RASTERIZER_DISCARD);
-        }
-        ~Capturing()
-        {
-            glDisable(GL_RASTERIZER_DISCARD);
-            glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(previous_framebuffer));
-        }
-        Capturing(const Capturing&) = delete;
-        Capturing& operator=(const Capturing&) = delete;
-    } const capturing(target_->framebuffer());
+    const gpu::ScopedRasterState saved;
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target_->framebuffer());
+    glEnable(GL_RASTERIZER_DISCARD);
     // The worst case: every instance at its most triangles, and clipping makes at most 3
     // triangles and 2 walls (4 triangles) of one. A frame makes far fewer (a 1080p fly-over
     // over the Sierra: 50 MB of a worst case past what llvmpipe allocates), so the buffer
