@@ -44,22 +44,27 @@ vec3 nearestPointOfSegment(vec3 a, vec3 b) {
     return q;
 }
 
+// 2λ^(d) + Err(P) = 2Λ^(d) − Err(P): what bounds a tessellator transition triangle whose
+// coarser side is at d (lod::transitionErrors; the argument is in ridge/lod/edge_tessellation.h).
+vec4 transitionErrors(vec4 errors, float patch_error) {
+    precise vec4 e = 2.0 * errors - vec4(patch_error);
+    return e;
+}
+
 // d of the edge from `a` to `b` with centre sample `centre`. The paper projects Λ_e^(d) at the
 // centre only, but the edge's near end projects larger (up to 2× for an edge as long as it is
 // far), and that is where its error shows: the conservative rule takes the most demanding of
 // the endpoints, the centre sample and the edge's point nearest the camera. And it projects
-// 2λ_e^(d) + Err(P) = 2Λ_e^(d) − Err(P): the tessellator's transition triangles between a
-// coarse edge and a finer interior are not in the T^(d) family λ^(d) bounds, but their edge
-// vertices are T^(d) vertices and their inner ones samples within λ^(d) of it, so a decoded
-// sample under one is within 2λ^(d) of it, and the source within Err(P) more (one Λ^(d) did
-// 1.14 ε on the renderer test's cameras). Only the edge's own samples and the patch's Err(P)
-// enter, so both blocks of a shared edge (and a block and its skirt) agree.
+// transitionErrors: a sample under a transition triangle between this edge and a finer
+// interior is within 2λ_e^(d) + Err(P) of the source (one Λ^(d) did 1.14 ε on the renderer
+// test's cameras). Only the edge's own samples and the patch's Err(P) enter, so both blocks of
+// a shared edge (and a block and its skirt) agree.
 // `up` is the local up at the edge's centre sample (the edge is short against the Earth's
 // radius: its direction differs by less than the segment's own rounding elsewhere).
 int edgeSimplification(vec3 a, vec3 centre, vec3 b, vec3 up, vec4 edge_errors, float patch_error) {
     if (RIDGE_TESSELLATION_RULE == 1)
         return edgeSimplification(centre, up, edge_errors);
-    precise vec4 e = 2.0 * edge_errors - vec4(patch_error);
+    vec4 e = transitionErrors(edge_errors, patch_error);
     int d = min(edgeSimplification(a, up, e), edgeSimplification(b, up, e));
     d = min(d, edgeSimplification(centre, up, e));
     return min(d, edgeSimplification(nearestPointOfSegment(a, b), up, e));

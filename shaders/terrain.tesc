@@ -108,17 +108,24 @@ void main() {
             // is drawn coarser than ε allows.
             inner = min(min(f_left, f_top), min(f_right, f_bottom));
         } else {
-            // Conservative: the interior meets ε by its own test, and is at least as fine as
-            // its finest edge, so that the tessellator's transition triangles only ever step
-            // from a finer interior to a coarser edge. Only this block reads it: no crack.
+            // Conservative (lod::interiorFactor): the interior meets ε by its own test. An edge
+            // finer than that would put transition triangles at the interior's level, which
+            // need the interior's 2λ + Err(P) test; and no finer than the finest edge (edges
+            // coarser than the interior cover their transitions by their own test). Only this
+            // block reads it: no crack.
             vec3 lo, hi, up;
             blockBox(p, s0, s0 + ivec2(b), 0.0, lo, hi);
             vec3 corners[4] = vec3[4](samplePosition(p, s0), samplePosition(p, s0 + ivec2(b, 0)),
                                       samplePosition(p, s0 + ivec2(0, b)),
                                       samplePosition(p, s0 + ivec2(b)));
             vec3 centre = samplePosition(p, s0 + ivec2(b / 2), up);
-            int d = interiorSimplification(corners, centre, up, lo, hi, own);
-            inner = max(float(b >> d), max(max(f_left, f_top), max(f_right, f_bottom)));
+            inner = float(b >> interiorSimplification(corners, centre, up, lo, hi, own));
+            float finest = max(max(f_left, f_top), max(f_right, f_bottom));
+            if (finest > inner) {
+                vec4 transition = transitionErrors(own, p.err);
+                int d = interiorSimplification(corners, centre, up, lo, hi, transition);
+                inner = min(float(b >> d), finest);
+            }
         }
         gl_TessLevelInner[0] = inner;
         gl_TessLevelInner[1] = inner;

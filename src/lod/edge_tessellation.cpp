@@ -48,17 +48,25 @@ glm::dvec3 nearestPointOfSegment(glm::dvec3 a, glm::dvec3 b)
     return a + t * ab;
 }
 
+EdgeErrors transitionErrors(const EdgeErrors& errors)
+{
+    // 2λ^(d) + Err(P) = 2Λ^(d) − Err(P), in float as the shader computes it.
+    EdgeErrors doubled;
+    for (int d = 0; d < kMaxBlockLevels; ++d)
+        doubled.lambda[d] = 2.0f * errors.lambda[d] - errors.patch_error;
+    doubled.patch_error = errors.patch_error;
+    return doubled;
+}
+
 int edgeSimplification(const glm::dmat4& view_projection, Viewport viewport, glm::dvec3 a,
                        glm::dvec3 centre, glm::dvec3 b, const EdgeErrors& errors, int levels,
                        double epsilon_px, TessellationRule rule)
 {
     if (rule == TessellationRule::Paper)
         return edgeSimplification(view_projection, viewport, centre, errors, levels, epsilon_px);
-    // 2λ_e^(d) + Err(P) = 2Λ_e^(d) − Err(P), in float as the shader computes it: it bounds the
-    // transition triangles too (the header).
-    EdgeErrors doubled;
-    for (int d = 0; d < kMaxBlockLevels; ++d)
-        doubled.lambda[d] = 2.0f * errors.lambda[d] - errors.patch_error;
+    // 2λ_e^(d) + Err(P): it bounds the transition triangles towards a finer interior too (the
+    // header).
+    const EdgeErrors doubled = transitionErrors(errors);
     auto at = [&](glm::dvec3 p) {
         return edgeSimplification(view_projection, viewport, p, doubled, levels, epsilon_px);
     };
@@ -81,14 +89,17 @@ int interiorSimplification(const glm::dmat4& view_projection, Viewport viewport,
 }
 
 int interiorFactor(TessellationRule rule, int block_cells, const int (&edge_factors)[4],
-                   int interior_d)
+                   int interior_d, int transition_d)
 {
     const auto [lo, hi] = std::minmax_element(std::begin(edge_factors), std::end(edge_factors));
     if (rule == TessellationRule::Paper)
         return *lo;
-    // At least the finest edge: the tessellator's transition triangles then only step from a
-    // finer interior to a coarser edge.
-    return std::max(tessellationFactor(block_cells, interior_d), *hi);
+    const int own = tessellationFactor(block_cells, interior_d);
+    if (*hi <= own)
+        return own; // every transition steps from this interior to a coarser edge
+    // A finer edge would make transition triangles at the interior's own level: they need
+    // its 2λ + Err(P) test, and need not be finer than the finest edge.
+    return std::min(tessellationFactor(block_cells, transition_d), *hi);
 }
 
 } // namespace ridge::lod

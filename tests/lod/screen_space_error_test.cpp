@@ -230,12 +230,20 @@ TEST(EdgeTessellation, TheConservativeRuleMeetsEpsilonAlongTheWholeEdgeAndThePap
     EXPECT_GT(paper_misses, 20);
 }
 
-TEST(EdgeTessellation, TheInteriorIsTheMinimumOfTheEdgesForThePaperAndAtLeastTheirMaximumOtherwise)
+TEST(EdgeTessellation, TheInteriorIsTheMinimumOfTheEdgesForThePaperAndItsOwnTestOtherwise)
 {
     const int edges[4] = {8, 2, 4, 1};
-    EXPECT_EQ(interiorFactor(TessellationRule::Paper, 8, edges, 0), 1);
-    EXPECT_EQ(interiorFactor(TessellationRule::Conservative, 8, edges, 3), 8);
-    EXPECT_EQ(interiorFactor(TessellationRule::Conservative, 8, {1, 2, 1, 1}, 1), 4);
+    EXPECT_EQ(interiorFactor(TessellationRule::Paper, 8, edges, 0, 0), 1);
+    // No edge finer than its own test: that test alone.
+    EXPECT_EQ(interiorFactor(TessellationRule::Conservative, 8, {1, 2, 1, 1}, 1, 0), 4);
+    // A finer edge: the transition test (2λ + Err(P)) decides, never finer than that edge.
+    EXPECT_EQ(interiorFactor(TessellationRule::Conservative, 8, edges, 3, 3), 1);
+    EXPECT_EQ(interiorFactor(TessellationRule::Conservative, 8, edges, 3, 1), 4);
+    EXPECT_EQ(interiorFactor(TessellationRule::Conservative, 8, edges, 3, 0), 8);
+    EXPECT_EQ(interiorFactor(TessellationRule::Conservative, 8, {1, 4, 2, 1}, 3, 0), 4);
+    const EdgeErrors t = transitionErrors(EdgeErrors{{0.5f, 1.5f, 4.0f, 9.0f}, 0.25f});
+    EXPECT_EQ(t.lambda[0], 0.75f);
+    EXPECT_EQ(t.lambda[3], 17.75f);
     // The interior's own test: the most demanding of its corners, centre and the nearest
     // point of its box, never coarser than any of them.
     const Camera c({0, 0, 300}, {0, 1000, 0}, 70.0, {1280, 720}, 1.0, 1e5);

@@ -232,12 +232,18 @@ TEST_F(TerrainRendererTest, ScreenSpaceErrorOfEveryFullResolutionSampleStaysWith
             EXPECT_GT(samples, 10000u);
             EXPECT_GT(triangles[1], 0u);
             // Tight, not just safe: a bound always far below ε wastes triangles. Edges test
-            // 2λ + Err(P) (for the transition triangles), so regular regions reach about ε / 2.
+            // 2λ + Err(P) (for the transition triangles), so edge rows reach about ε / 2.
             EXPECT_GT(worst[0], (kSanitized ? 0.3 : 0.4) * epsilon) << t.name << " ε " << epsilon;
         }
     }
+    const double triangle_ratio = double(triangles_of[0]) / double(triangles_of[1]);
     std::printf("all: max %.2f ε conservative, %.2f ε paper; triangles %.2f× the paper's\n",
-                worst_of[0], worst_of[1], double(triangles_of[0]) / double(triangles_of[1]));
+                worst_of[0], worst_of[1], triangle_ratio);
+    // The price of ε on every sample, pinned where it stands (1.65× on the Release cameras;
+    // 1.90× while interiors were refined to their finest edge): a rule that drifts finer fails.
+    if (!kSanitized) {
+        EXPECT_LT(triangle_ratio, 1.7);
+    }
     RecordProperty("max_error_eps_conservative", std::to_string(worst_of[0]));
     RecordProperty("max_error_eps_paper", std::to_string(worst_of[1]));
     RecordProperty("triangles_conservative", std::to_string(triangles_of[0]));
