@@ -41,6 +41,12 @@ void BenchCommand::registerWith(CLI::App& app)
                      "Camera speed along the path, m/s (60 frames per simulated s)")
         ->capture_default_str()
         ->check(inRange("--speed", lod::CameraPathSettings::kSpeedMpsRange));
+    command_
+        ->add_option("--height-above-ground", height_above_ground_,
+                     "Metres above the ground (flyover, teleport): below the highest peak, the "
+                     "hole count judges a frame from the surface drawn under the camera")
+        ->capture_default_str()
+        ->check(inRange("--height-above-ground", lod::CameraPathSettings::kHeightAboveGroundRange));
     command_->add_option("--frames", frames_, "Frames to render")
         ->capture_default_str()
         ->check(inIntegerRange("--frames", 1, lod::CameraPathSettings::kMaxFrames));
@@ -110,6 +116,7 @@ int BenchCommand::run()
             return glm::dvec3(local.x, local.y, height);
         };
     options.path.speed_mps = speed_;
+    options.path.height_above_ground = height_above_ground_;
     options.frames = frames_;
     options.viewport = parseSize(size_);
     options.epsilon_px = error_;

@@ -47,6 +47,7 @@ class BenchCommand {
     std::string renderer_ = render::defaultLodScheme(); // --lod: a scheme spec
     std::string path_ = "flyover";
     double speed_ = 250.0;
+    double height_above_ground_ = 300.0;
     int frames_ = 600;
     std::string size_ = "1920x1080";
     double error_ = 2.0;

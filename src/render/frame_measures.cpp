@@ -94,7 +94,7 @@ HoleReport countGlobeHolePixels(const std::vector<uint8_t>& background, const lo
 
 HoleReport countHolePixels(const std::vector<uint8_t>& background, const lod::Camera& camera,
                            const lod::TerrainFrame& frame, double min_height, double max_height,
-                           double limb_px)
+                           double limb_px, double surface_under_camera)
 {
     const lod::Viewport vp = camera.viewport();
     if (background.size() != size_t(vp.width) * vp.height)
@@ -106,14 +106,47 @@ HoleReport countHolePixels(const std::vector<uint8_t>& background, const lod::Ca
     auto inside = [&](glm::dvec3 p) {
         return p.x > sx && p.y > sy && p.x < frame.extentX() - sx && p.y < frame.extentY() - sy;
     };
+    // Inside the slab a camera may stand under a ridge: its rays are judged from itself only
+    // when it is known to be above the drawn surface where it stands (the header).
+    const bool above_slab = pos.z >= max_height + 1.0;
+    const bool above_surface = !above_slab && !std::isnan(surface_under_camera) &&
+                               pos.z >= surface_under_camera + 1.0 && inside(pos);
+    if (!above_slab && !above_surface)
+        return HoleReport{};
     return countOverFootprint(background, camera, [&](glm::dvec3 dir) {
         if (!(dir.z < 0))
             return false;
         auto at = [&](double z) { return pos + dir * ((z - pos.z) / dir.z); };
-        // A camera inside the slab may stand under a ridge: its rays are not judged.
-        return !(pos.z < max_height + 1.0 || !inside(at(max_height + 1.0)) ||
-                 !inside(at(min_height - 1.0)));
+        return (above_surface || inside(at(max_height + 1.0))) && inside(at(min_height - 1.0));
     });
+}
+
+double surfaceHeightUnder(const CapturedSurface& surface, const lod::TerrainFrame& frame, double x,
+                          double y)
+{
+    if (frame.onEllipsoid())
+        throw Error("surfaceHeightUnder: plane terrain frames only");
+    // Camera-relative, as captured: the point too, so that the test is as precise as the
+    // vertices.
+    const glm::dvec2 p(x - surface.camera_position.x, y - surface.camera_position.y);
+    double highest = std::numeric_limits<double>::quiet_NaN();
+    const std::vector<CapturedVertex>& v = surface.vertices;
+    for (size_t t = 0; t + 2 < v.size(); t += 3) {
+        if (v[t].skirt || v[t + 1].skirt || v[t + 2].skirt)
+            continue;
+        const glm::dvec2 a(v[t].x, v[t].y), b(v[t + 1].x, v[t + 1].y), c(v[t + 2].x, v[t + 2].y);
+        const double det = (b.y - c.y) * (a.x - c.x) + (c.x - b.x) * (a.y - c.y);
+        if (std::abs(det) < 1e-9)
+            continue; // a wall of the clipping stage, or degenerate
+        const double l0 = ((b.y - c.y) * (p.x - c.x) + (c.x - b.x) * (p.y - c.y)) / det;
+        const double l1 = ((c.y - a.y) * (p.x - c.x) + (a.x - c.x) * (p.y - c.y)) / det;
+        const double l2 = 1.0 - l0 - l1;
+        if (l0 < -1e-9 || l1 < -1e-9 || l2 < -1e-9)
+            continue;
+        const double z = l0 * v[t].z + l1 * v[t + 1].z + l2 * v[t + 2].z;
+        highest = std::isnan(highest) ? z : std::max(highest, z);
+    }
+    return highest + surface.camera_position.z;
 }
 
 float SampleHeights::at(int column, int row) const

@@ -12,6 +12,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <optional>
 #include <unistd.h>
 
@@ -121,9 +122,15 @@ RenderBenchReport runRenderBench(const std::string& archive, const RenderBenchOp
         std::vector<uint8_t> background(depth.size());
         for (size_t i = 0; i < depth.size(); ++i)
             background[i] = depth[i] == 0.f; // reverse-Z clears to 0: nothing drawn
-        const render::HoleReport holes =
-            render::countHolePixels(background, camera, renderer.quadtree().frame(),
-                                    k * root.min_height, k * root.max_height);
+        // A camera inside the slab (a low fly-over) is judged from the surface drawn under it:
+        // the frame's own triangles, replayed (a capture; only for such frames).
+        const lod::TerrainFrame& terrain = renderer.quadtree().frame();
+        double under = std::numeric_limits<double>::quiet_NaN();
+        const glm::dvec3 eye = camera.position();
+        if (!terrain.onEllipsoid() && eye.z < k * root.max_height + 1.0)
+            under = render::surfaceHeightUnder(renderer.lastFrameSurface(), terrain, eye.x, eye.y);
+        const render::HoleReport holes = render::countHolePixels(
+            background, camera, terrain, k * root.min_height, k * root.max_height, 4.0, under);
         f.hole_pixels = holes.hole_pixels;
         f.footprint_pixels = holes.footprint_pixels;
         if (o.measure_popping) { // this frame's surface against the previous frame's

@@ -379,6 +379,7 @@ std::string formatRenderBenchJson(const RenderBenchReport& r)
         {"scheme_spec", options.spec()}, // every option of the scheme, defaults included
         {"path", r.options.path.kind},
         {"speed_mps", r.options.path.speed_mps},
+        {"height_above_ground_m", r.options.path.height_above_ground},
         {"size", {r.options.viewport.width, r.options.viewport.height}},
         {"epsilon_px", r.options.epsilon_px},
         {"texel_px", r.options.texel_px},

@@ -78,6 +78,32 @@ TEST(FrameMeasures, PoppingIsTheLargestProjectedDisplacementBetweenTwoSurfaces)
     EXPECT_LT(moved.max_px, 10.0);
 }
 
+TEST(FrameMeasures, ALowCameraAboveTheDrawnSurfaceJudgesItsDownwardRays)
+{
+    // 20 m above a flat surface at 50 m, inside the slab [0, 100], looking ahead and down.
+    const lod::Viewport vp{64, 48};
+    const lod::Camera low({320.0, 100.0, 70.0}, {320.0, 400.0, 0.0}, 60.0, vp, 0.5, 1e5);
+    std::vector<uint8_t> sky(size_t(vp.width) * vp.height, 1);
+    const render::CapturedSurface flat = flatSurface(50.f);
+    const double under = render::surfaceHeightUnder(flat, frame65(), 320.0, 100.0);
+    EXPECT_EQ(under, 50.0);
+    EXPECT_TRUE(std::isnan(render::surfaceHeightUnder(flat, frame65(), 700.0, 100.0)));
+    // Without the surface's height a camera inside the slab is not judged at all.
+    EXPECT_EQ(render::countHolePixels(sky, low, frame65(), 0, 100).footprint_pixels, 0u);
+    const render::HoleReport judged =
+        render::countHolePixels(sky, low, frame65(), 0, 100, 4.0, under);
+    EXPECT_GT(judged.footprint_pixels, 300u);
+    EXPECT_EQ(judged.hole_pixels, judged.footprint_pixels);
+    EXPECT_LT(judged.footprint_pixels, sky.size()) << "rays that rise or leave are not judged";
+    // A camera under the drawn surface (a ridge above it) is not judged.
+    EXPECT_EQ(render::countHolePixels(sky, low, frame65(), 0, 100, 4.0, 80.0).footprint_pixels, 0u);
+    // Skirts are not the surface.
+    render::CapturedSurface skirts = flat;
+    for (auto& v : skirts.vertices)
+        v.skirt = 1;
+    EXPECT_TRUE(std::isnan(render::surfaceHeightUnder(skirts, frame65(), 320.0, 100.0)));
+}
+
 TEST(FrameMeasures, SkirtTrianglesAreNotSurface)
 {
     render::CapturedSurface s = flatSurface(5.f);

@@ -412,6 +412,71 @@ void streamingFlyOver(const std::string& scheme, const Fixture& fx)
                 scheme.c_str(), fx.name.c_str(), holes, footprint);
 }
 
+// A low fly-over, 20 m above the finest ground, streaming under the same tiny budget: the
+// camera is inside the terrain's slab, so its rays are judged from itself where it is above
+// the surface drawn under it (countHolePixels' surface_under_camera, from the frame's own
+// triangles). Frames where an ancestor standing in rises above the camera are not judged.
+TEST_P(SchemeConformance, ALowStreamingFlyOverNeverShowsAHole)
+{
+    const std::string scheme = GetParam();
+    const Fixture& fx = fixtures()[1];
+    Scene& synchronous = SchemeConformance::sceneOf(fx);
+    render::RendererOptions options = render::RendererOptions::streamingDefaults();
+    options.schemes = {scheme};
+    options.max_resident_patches = 12;
+    options.ram_budget_mb = 1.0;
+    options.uploads_per_frame = 2;
+    render::TerrainRenderer renderer(*synchronous.reader, options);
+    const lod::TerrainFrame& f = renderer.quadtree().frame();
+    const lod::PatchBounds& root = renderer.quadtree().bounds({0, 0, 0});
+    const int W = synchronous.reader->geometry().width();
+    const int H = synchronous.reader->geometry().height();
+    // The highest finest sample around (x, y): the camera clears the ground it stands over.
+    auto ground = [&](double x, double y) {
+        const int c = std::clamp(int(x / f.spacingX()), 0, W - 2);
+        const int r = std::clamp(int(y / f.spacingY()), 0, H - 2);
+        float z = -1e30f;
+        for (int dr = 0; dr <= 1; ++dr)
+            for (int dc = 0; dc <= 1; ++dc)
+                z = std::max(z, synchronous.finest[size_t(r + dr) * W + size_t(c + dc)]);
+        return double(z);
+    };
+    const lod::Viewport vp{240, 160};
+    gpu::RenderTarget target(vp.width, vp.height, 1);
+    const int frames = 16;
+    size_t footprint = 0, holes = 0;
+    int judged = 0;
+    for (int k = 0; k < frames; ++k) {
+        const double t = double(k) / (frames - 1);
+        const double x = f.extentX() * (0.15 + 0.5 * t), y = f.extentY() * 0.45;
+        const glm::dvec3 pos(x, y, ground(x, y) + 20.0);
+        const double ahead = x + 0.25 * f.extentX();
+        const glm::dvec3 at(ahead, y + 0.1 * f.extentY(), ground(ahead, y));
+        const lod::Camera cam = cameraAt(renderer, pos, at, vp);
+        target.bind();
+        renderer.draw(cam, settingsFor(scheme, 1.0));
+        const std::vector<float> depth = target.readDepth();
+        std::vector<uint8_t> background(depth.size());
+        for (size_t i = 0; i < depth.size(); ++i)
+            background[i] = depth[i] == 0.f;
+        ASSERT_LT(pos.z, root.max_height) << "the camera must be inside the slab";
+        const double under = render::surfaceHeightUnder(renderer.lastFrameSurface(), f, x, y);
+        const render::HoleReport h = render::countHolePixels(background, cam, f, root.min_height,
+                                                             root.max_height, 4.0, under);
+        judged += h.footprint_pixels > 0;
+        footprint += h.footprint_pixels;
+        holes += h.hole_pixels;
+        EXPECT_EQ(h.hole_pixels, 0u)
+            << "frame " << k << ": first at (" << h.first_x << ", " << h.first_y << ")";
+    }
+    EXPECT_EQ(renderer.streamingError(), "");
+    EXPECT_GE(judged, frames / 2) << "most frames must be judged";
+    EXPECT_GT(footprint, size_t(judged) * 1000);
+    std::printf("[%s] %s low streaming fly-over (20 m), 12 slots: %d of %d frames judged, %zu "
+                "hole pixels in %zu footprint pixels\n",
+                scheme.c_str(), fx.name.c_str(), judged, frames, holes, footprint);
+}
+
 INSTANTIATE_TEST_SUITE_P(EveryRegisteredScheme, SchemeConformance,
                          ::testing::ValuesIn(render::lodSchemeNames()),
                          [](const auto& info) { return info.param; });

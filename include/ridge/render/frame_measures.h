@@ -12,6 +12,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 namespace ridge::render {
@@ -33,9 +34,24 @@ struct HoleReport {
 // `limb_px` (globe): rays passing within this many pixels of the inner sphere's silhouette are
 // not judged — the drawn globe's edge may fall short of the true one by what ε allows there
 // (twice the ε met is safe).
+// `surface_under_camera` (plane frames): the drawn surface's height under the camera
+// (surfaceHeightUnder of the frame's own capture, TerrainRenderer::lastFrameSurface), NaN when
+// unknown. A camera inside the slab — a low fly-over — whose position is inside the extent
+// and at least 1 m above that surface judges its downward rays from itself: a ray that leaves
+// the slab's bottom inside the extent started above the drawn surface and ends below it, so
+// it crosses it (the extent is convex, the drawn surface closed by skirts). Rays that rise,
+// or leave the extent first, are not judged (a ridge may rise in front of a low camera, or
+// not).
 HoleReport countHolePixels(const std::vector<uint8_t>& background, const lod::Camera& camera,
                            const lod::TerrainFrame& frame, double min_height, double max_height,
-                           double limb_px = 4.0);
+                           double limb_px = 4.0,
+                           double surface_under_camera = std::numeric_limits<double>::quiet_NaN());
+
+// The height of the highest triangle of a captured surface (skirts excluded) over the point
+// (x, y) of a plane terrain frame, metres; NaN where none covers it. Throws ridge::Error on
+// an ellipsoid frame.
+double surfaceHeightUnder(const CapturedSurface& surface, const lod::TerrainFrame& frame, double x,
+                          double y);
 
 // The height of a captured surface (skirts excluded) at every finest sample it covers,
 // terrain frame metres, NaN elsewhere, over the window of finest samples its triangles span
