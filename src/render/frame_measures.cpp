@@ -121,6 +121,27 @@ HoleReport countHolePixels(const std::vector<uint8_t>& background, const lod::Ca
     });
 }
 
+namespace {
+
+// Twice the signed area of the triangle (a, b, c) of the xy plane.
+double doubledArea(glm::dvec2 a, glm::dvec2 b, glm::dvec2 c)
+{
+    return (b.y - c.y) * (a.x - c.x) + (c.x - b.x) * (a.y - c.y);
+}
+
+// p's barycentric weights l[0..2] on a, b, c (det = doubledArea(a, b, c)); true when all are at
+// least -tolerance (p in the triangle).
+bool barycentric(glm::dvec2 a, glm::dvec2 b, glm::dvec2 c, double det, glm::dvec2 p,
+                 double tolerance, double (&l)[3])
+{
+    l[0] = ((b.y - c.y) * (p.x - c.x) + (c.x - b.x) * (p.y - c.y)) / det;
+    l[1] = ((c.y - a.y) * (p.x - c.x) + (a.x - c.x) * (p.y - c.y)) / det;
+    l[2] = 1.0 - l[0] - l[1];
+    return l[0] >= -tolerance && l[1] >= -tolerance && l[2] >= -tolerance;
+}
+
+} // namespace
+
 double surfaceHeightUnder(const CapturedSurface& surface, const lod::TerrainFrame& frame, double x,
                           double y)
 {
@@ -135,15 +156,13 @@ double surfaceHeightUnder(const CapturedSurface& surface, const lod::TerrainFram
         if (v[t].skirt || v[t + 1].skirt || v[t + 2].skirt)
             continue;
         const glm::dvec2 a(v[t].x, v[t].y), b(v[t + 1].x, v[t + 1].y), c(v[t + 2].x, v[t + 2].y);
-        const double det = (b.y - c.y) * (a.x - c.x) + (c.x - b.x) * (a.y - c.y);
+        const double det = doubledArea(a, b, c);
         if (std::abs(det) < 1e-9)
             continue; // a wall of the clipping stage, or degenerate
-        const double l0 = ((b.y - c.y) * (p.x - c.x) + (c.x - b.x) * (p.y - c.y)) / det;
-        const double l1 = ((c.y - a.y) * (p.x - c.x) + (a.x - c.x) * (p.y - c.y)) / det;
-        const double l2 = 1.0 - l0 - l1;
-        if (l0 < -1e-9 || l1 < -1e-9 || l2 < -1e-9)
+        double l[3];
+        if (!barycentric(a, b, c, det, p, 1e-9, l))
             continue;
-        const double z = l0 * v[t].z + l1 * v[t + 1].z + l2 * v[t + 2].z;
+        const double z = l[0] * v[t].z + l[1] * v[t + 1].z + l[2] * v[t + 2].z;
         highest = std::isnan(highest) ? z : std::max(highest, z);
     }
     return highest + surface.camera_position.z;
@@ -215,8 +234,7 @@ SampleHeights surfaceHeightsAtSamples(const CapturedSurface& s, const lod::Terra
     for (size_t t = 0; t + 2 < s.vertices.size(); t += 3) {
         if (!sampleTriangle(&s.vertices[t], c, frame, q))
             continue;
-        const double det =
-            (q[1].y - q[2].y) * (q[0].x - q[2].x) + (q[2].x - q[1].x) * (q[0].y - q[2].y);
+        const double det = doubledArea(glm::dvec2(q[0]), glm::dvec2(q[1]), glm::dvec2(q[2]));
         if (std::abs(det) < 1e-12)
             continue; // a wall of the clipping shader, or degenerate
         const int c0 = std::max(out.x0, int(std::ceil(std::min({q[0].x, q[1].x, q[2].x}) - 1e-6)));
@@ -227,20 +245,16 @@ SampleHeights surfaceHeightsAtSamples(const CapturedSurface& s, const lod::Terra
                                 int(std::floor(std::max({q[0].y, q[1].y, q[2].y}) + 1e-6)));
         for (int r = r0; r <= r1; ++r)
             for (int col = c0; col <= c1; ++col) {
-                const double l0 =
-                    ((q[1].y - q[2].y) * (col - q[2].x) + (q[2].x - q[1].x) * (r - q[2].y)) / det;
-                const double l1 =
-                    ((q[2].y - q[0].y) * (col - q[2].x) + (q[0].x - q[2].x) * (r - q[2].y)) / det;
-                const double l2 = 1.0 - l0 - l1;
-                if (l0 < -1e-6 || l1 < -1e-6 || l2 < -1e-6)
+                double l[3];
+                if (!barycentric(glm::dvec2(q[0]), glm::dvec2(q[1]), glm::dvec2(q[2]), det,
+                                 glm::dvec2(col, r), 1e-6, l))
                     continue;
-                float z = float(l0 * q[0].z + l1 * q[1].z + l2 * q[2].z);
+                float z = float(l[0] * q[0].z + l[1] * q[1].z + l[2] * q[2].z);
                 if (frame.onEllipsoid()) {
                     // The flat triangle's point over the sample, its height along the normal
                     // (the chord's sag included, as drawn).
                     const CapturedVertex* v = &s.vertices[t];
                     glm::dvec3 drawn(0.0);
-                    const double l[3] = {l0, l1, l2};
                     for (int k = 0; k < 3; ++k)
                         drawn += l[k] * glm::dvec3(v[k].x, v[k].y, v[k].z);
                     z = float(frame.gridOf(c + drawn).z);
