@@ -282,8 +282,9 @@ inline void addTexelSizeOption(CLI::App& command, double& texel_px)
 {
     command
         .add_option("--texel-size", texel_px,
-                    "Texture detail: refine patches until their samples are at most PX pixels "
-                    "apart on screen (colour and normals at about one texel per pixel); 0 "
+                    "Texture detail: shade from the finer levels under each drawn patch, down "
+                    "to samples at most PX pixels apart on screen (colour and normals at about "
+                    "one texel per pixel; fetched for shading, never drawn as triangles); 0 "
                     "disables it")
         ->capture_default_str()
         ->check(inRange("--texel-size", render::RenderSettings::kTexelPxRange));

@@ -284,9 +284,9 @@ struct DrawParameters {
     // the first of lodSchemes() for renderPng, the renderer's first scheme for draw().
     std::string scheme;
     double max_screen_error_px = 2.0; // ε, pixels
-    // Texture detail beside ε: patches are also refined until their level's samples are at
-    // most this many pixels apart on screen (colour and normals come from the patch's maps);
-    // 0 disables.
+    // Texture detail beside ε: colour and normals come from the finest resident level under
+    // each fragment, and levels down to samples this many pixels apart on screen are fetched
+    // for it; the drawn triangles are ε's alone. 0 disables.
     double texel_size_px = 1.0;
     bool skirts = true;
     // Clear colour and depth first (to the depth convention's far value). Off: the terrain is

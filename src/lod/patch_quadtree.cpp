@@ -59,45 +59,54 @@ Selection PatchQuadtree::select(const Camera& camera, const SelectionSettings& s
     const HorizonOccluder horizon(frame_, camera.position(),
                                   settings.exaggeration * double(bounds({0, 0, 0}).min_height));
     const HorizonOccluder* occluder = settings.cull && horizon.active() ? &horizon : nullptr;
+    const Frustum* culling = settings.cull ? &frustum : nullptr;
     const double gamma = screenSpaceErrorFactor(camera);
-    double epsilon = settings.epsilon_px, texel = settings.texel_px;
+    // Err_Scr is linear in Err(P): scaling γ scales every patch's error (the chunks'
+    // simplification, the exaggerated heights).
+    Thresholds t{gamma, gamma * settings.error_scale * settings.exaggeration, settings.exaggeration,
+                 settings.epsilon_px, settings.texel_px};
+    Selection s;
     for (;;) {
-        Selection s;
-        s.epsilon_px = epsilon;
-        s.texel_px = texel;
-        // Err_Scr is linear in Err(P): scaling γ scales every patch's error (the chunks'
-        // simplification, the exaggerated heights).
-        visit(PatchId{0, 0, 0}, camera, settings.cull ? &frustum : nullptr, occluder,
-              {gamma, gamma * settings.error_scale * settings.exaggeration, settings.exaggeration,
-               epsilon, texel},
-              settings, s);
+        s.patches.clear();
+        s.visited = s.culled = 0;
+        visit(PatchId{0, 0, 0}, camera, culling, occluder, t, settings, s);
         // At ε = ∞ every visible patch with a finite Err_Scr stops at the root; should a NaN
         // bound (a corrupt index) still refine, give up raising rather than loop forever.
-        if (s.patches.size() <= settings.max_patches || std::isinf(epsilon))
-            return s;
-        epsilon = std::max(epsilon * 1.25, 1e-3); // from ε = 0 (brute force) too
-        texel *= 1.25;                            // stays 0 when off
+        if (s.patches.size() <= settings.max_patches || std::isinf(t.epsilon))
+            break;
+        t.epsilon = std::max(t.epsilon * 1.25, 1e-3); // from ε = 0 (brute force) too
     }
+    s.epsilon_px = t.epsilon;
+    // Texture detail in what the drawn patches leave of max_patches; with none left (or a
+    // target so coarse that every drawn patch's own texels meet it) there is none.
+    while (t.texel > 0.0) {
+        s.detail.clear();
+        for (const SelectedPatch& d : s.patches)
+            if (d.id.level < geometry().finestLevel() && d.texel_spacing > t.texel)
+                visitDetail(d.id, {false, d.visibility, d.screen_error, d.texel_spacing}, 0, camera,
+                            culling, occluder, t, settings, s);
+        if (s.detail.empty() || s.patches.size() + s.detail.size() <= settings.max_patches)
+            break;
+        t.texel *= 1.25;
+    }
+    s.texel_px = t.texel;
+    return s;
 }
 
-void PatchQuadtree::visit(PatchId p, const Camera& camera, const Frustum* frustum,
-                          const HorizonOccluder* horizon, const Thresholds& t,
-                          const SelectionSettings& settings, Selection& out) const
+PatchQuadtree::Measured PatchQuadtree::measure(PatchId p, const Camera& camera,
+                                               const Frustum* frustum,
+                                               const HorizonOccluder* horizon, const Thresholds& t,
+                                               const SelectionSettings& settings) const
 {
-    ++out.visited;
+    Measured m;
     const Box b = box(p, t.exaggeration);
-    Visibility visibility = Visibility::Inside;
     if (frustum) {
-        visibility = frustum->classify(b);
-        if (visibility == Visibility::Outside) {
-            ++out.culled;
-            return;
-        }
+        m.visibility = frustum->classify(b);
+        if (m.visibility == Visibility::Outside)
+            return {true};
     }
-    if (horizon && horizon->hides(b)) {
-        ++out.culled;
-        return;
-    }
+    if (horizon && horizon->hides(b))
+        return {true};
     const double rho = distanceToBox(camera.position(), b);
     const double depth =
         settings.conservative_distance ? visibleDepthBound(camera, b, rho, settings.side_on) : rho;
@@ -105,20 +114,55 @@ void PatchQuadtree::visit(PatchId p, const Camera& camera, const Frustum* frustu
     const double err = double(bounds(p).err) +
                        frame_.chordSag(settings.straight_cells * double(geometry().step(p.level))) /
                            t.exaggeration;
-    const double err_scr = screen_space_error(t.error_gamma, err, depth);
+    m.err_scr = screen_space_error(t.error_gamma, err, depth);
     // The level's sample spacing, the coarser of the two axes.
     const double spacing =
         double(geometry().step(p.level)) * std::max(frame_.spacingX(), frame_.spacingY());
-    const double texel_scr = projectedSampleSpacing(t.gamma, spacing, depth);
-    const bool texels_fine = t.texel <= 0.0 || texel_scr <= t.texel;
-    if (p.level == geometry().finestLevel() || (err_scr <= t.epsilon && texels_fine)) {
-        out.patches.push_back({p, err_scr, visibility, texel_scr, err_scr});
+    m.texel_scr = projectedSampleSpacing(t.gamma, spacing, depth);
+    return m;
+}
+
+void PatchQuadtree::visit(PatchId p, const Camera& camera, const Frustum* frustum,
+                          const HorizonOccluder* horizon, const Thresholds& t,
+                          const SelectionSettings& settings, Selection& out) const
+{
+    ++out.visited;
+    const Measured m = measure(p, camera, frustum, horizon, t, settings);
+    if (m.culled) {
+        ++out.culled;
+        return;
+    }
+    if (p.level == geometry().finestLevel() || m.err_scr <= t.epsilon) {
+        out.patches.push_back({p, m.err_scr, m.visibility, m.texel_scr, m.err_scr});
         return;
     }
     for (int k = 0; k < 4; ++k) {
         const PatchId child{p.level + 1, 2 * p.x + (k & 1), 2 * p.y + (k >> 1)};
         if (geometry().exists(child))
             visit(child, camera, frustum, horizon, t, settings, out);
+    }
+}
+
+// Children of a patch whose texels are coarser than the target, down to the target, the
+// finest level or kShadingDepth below the drawn patch; culled subtrees are left out (not
+// seen, not shaded).
+void PatchQuadtree::visitDetail(PatchId p, const Measured& m, int depth, const Camera& camera,
+                                const Frustum* frustum, const HorizonOccluder* horizon,
+                                const Thresholds& t, const SelectionSettings& settings,
+                                Selection& out) const
+{
+    if (depth > 0 &&
+        (depth == kShadingDepth || p.level == geometry().finestLevel() || m.texel_scr <= t.texel)) {
+        out.detail.push_back({p, m.err_scr, m.visibility, m.texel_scr, m.texel_scr});
+        return;
+    }
+    for (int k = 0; k < 4; ++k) {
+        const PatchId child{p.level + 1, 2 * p.x + (k & 1), 2 * p.y + (k >> 1)};
+        if (!geometry().exists(child))
+            continue;
+        const Measured c = measure(child, camera, frustum, horizon, t, settings);
+        if (!c.culled)
+            visitDetail(child, c, depth + 1, camera, frustum, horizon, t, settings, out);
     }
 }
 

@@ -224,9 +224,12 @@ void ResidentSet::computeNormals(PatchId p, const std::unordered_set<int>& pendi
 
 void ResidentSet::makeResident(const lod::Selection& selection, FrameStats& stats)
 {
+    // Texture detail too (the selection keeps both within the slots).
     std::vector<PatchId> ids;
-    ids.reserve(selection.patches.size());
+    ids.reserve(selection.patches.size() + selection.detail.size());
     for (const lod::SelectedPatch& s : selection.patches)
+        ids.push_back(s.id);
+    for (const lod::SelectedPatch& s : selection.detail)
         ids.push_back(s.id);
     const auto loads = residency_.update(ids, ++frame_);
     std::unordered_set<int> pending;

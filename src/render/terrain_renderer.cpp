@@ -6,6 +6,7 @@
 #include "popping_raster.h"
 #include "resident_set.h"
 #include "scheme_plan.h"
+#include "shading_map.h"
 #include "sky.h"
 #include "surface_capture.h"
 #include "terrain_scheme.h"
@@ -68,6 +69,8 @@ struct TerrainRenderer::Impl {
     // The screen-space-error walk, for schemes that do not select for themselves.
     lod::QuadtreeSelector quadtree_selector{quadtree};
     InstanceBuffer instances;
+    // Where drawn patches' fragments shade from: finer resident patches (texture detail).
+    ShadingMap shading_map;
     FrameUniforms uniforms;
     SurfaceCapture surface_capture;
     // measureFramePopping's last surface: on the GPU (plane frames; made on first use), or
@@ -99,6 +102,8 @@ struct TerrainRenderer::Impl {
         const lod::Selection selection = prepare(scheme, lod_camera, settings, stats, frozen);
         used = settings;
         used.epsilon_px = selection.epsilon_px;
+        stats.bytes_uploaded += shading_map.update(selection.patches, resident.residency(),
+                                                   quadtree.geometry(), settings.texel_px > 0.0);
         return instances.write(scheme, camera, lod_camera, selection, used);
     }
     // `frozen`: draw what is resident (resident cover), changing nothing.
@@ -111,6 +116,9 @@ struct TerrainRenderer::Impl {
         uniforms.setGeometry(program, frame.camera, frame.settings);
         instances.bind();
         resident.textures().bind();
+        shading_map.bind();
+        glProgramUniform1i(program.id(), program.uniform("u_shading_detail"),
+                           frame.settings.texel_px > 0.0);
         scheme.setUniforms(program, frame);
     }
     // The triangles of frame.instances (already in the instance buffer) drawn as `frame`.
@@ -156,7 +164,7 @@ TerrainRenderer::Impl::Impl(const archive::ArchiveReader& r, const RendererOptio
       // The shared pieces; each scheme gets its own options and product (Schemes::get).
       schemes(plan, SchemeResources{r, quadtree, options, kSharedOnly, resident.textures(),
                                     resident.residency(), slots, -1}),
-      instances(quadtree, resident.residency()), uniforms(r, quadtree)
+      instances(quadtree, resident.residency()), shading_map(slots), uniforms(r, quadtree)
 {
     resident.start(schemes);
 }

@@ -26,6 +26,13 @@ double requestPriority(const PyramidGeometry& geometry, PatchId p, double rank)
     return kLevelRank * (geometry.levelCount() - p.level) + std::clamp(rank, 0.0, kLevelRank - 1.0);
 }
 
+double detailPriority(const PyramidGeometry& geometry, PatchId p, double rank)
+{
+    // requestPriority lies in [10^6, (levels + 1)·10^6): scaled into [0, 10^6), below every
+    // drawn patch's and above every prefetch's, coarse first still.
+    return requestPriority(geometry, p, rank) / double(geometry.levelCount() + 1);
+}
+
 double prefetchPriority(const PyramidGeometry& geometry, PatchId p, double rank)
 {
     // The finest level ranks 10^6 in requestPriority, the root (levels + 1)·10^6 at most.
@@ -110,10 +117,10 @@ UploadPlanner::UploadPlanner(const PyramidGeometry& geometry, lod::PatchResidenc
     plan_.requests.reserve(2 * slots);
 }
 
-// Adds `p` to this frame's wanted patches; false when it is in already.
-bool UploadPlanner::want(PatchId p, double priority)
+// Adds `p` to this frame's wanted patches (kDrawn or kDetail); false when it is in already.
+bool UploadPlanner::want(PatchId p, double priority, char kind)
 {
-    if (!wanted_.insert(geometry_.patchIndex(p), 1))
+    if (!wanted_.insert(geometry_.patchIndex(p), kind))
         return false;
     wanted_list_.push_back({p, priority});
     return true;
@@ -136,6 +143,43 @@ void UploadPlanner::collectWanted(const lod::Selection& desired)
             a = a.parent();
             if (!want(a, requestPriority(geometry_, a, 0.0)))
                 break; // the rest of the chain is in already
+        }
+    // Texture detail after all of that, with its own chains (down from a drawn patch).
+    for (const lod::SelectedPatch& sp : desired.detail)
+        want(sp.id, detailPriority(geometry_, sp.id, sp.rank), kDetail);
+    for (const lod::SelectedPatch& sp : desired.detail)
+        for (PatchId a = sp.id; a.level > 0 && !resident(a);) {
+            a = a.parent();
+            if (!want(a, detailPriority(geometry_, a, 0.0), kDetail))
+                break;
+        }
+}
+
+// What the drawn patches' chains hold resident (ancestors not drawn yet, a parent a later
+// arrival will be reconstructed from) stays before any texture detail may evict it.
+void UploadPlanner::keepWantedChains()
+{
+    for (const StreamRequest& r : wanted_list_) {
+        if (needed_list_.size() >= size_t(residency_.capacity()))
+            return;
+        if (*wanted_.find(geometry_.patchIndex(r.id)) == kDrawn && resident(r.id))
+            need(r.id);
+    }
+}
+
+// Texture detail stays resident while the slots have room beside what is drawn and uploaded
+// (never at their cost: this runs after the drawn patches' uploads were chosen).
+void UploadPlanner::keepDetail(const lod::Selection& desired)
+{
+    for (const lod::SelectedPatch& sp : desired.detail)
+        for (PatchId a = sp.id; a.level > 0; a = a.parent()) {
+            if (needed_.contains(geometry_.patchIndex(a)))
+                break; // drawn, or kept already with the rest of its chain
+            if (!resident(a))
+                continue; // on its way: its resident ancestors are what it will need
+            if (needed_list_.size() >= size_t(residency_.capacity()))
+                return;
+            need(a);
         }
 }
 
@@ -175,9 +219,9 @@ void UploadPlanner::keepParentsOfWaiting(std::span<const ArrivedPatch> arrived)
 {
     for (size_t pos : order_) {
         const ArrivedPatch& a = arrived[pos];
-        if (a.needs_parent_resident && wanted_.contains(geometry_.patchIndex(a.id)) &&
-            !resident(a.id) && resident(a.id.parent()) &&
-            needed_list_.size() < size_t(residency_.capacity()))
+        const char* wanted = wanted_.find(geometry_.patchIndex(a.id));
+        if (a.needs_parent_resident && wanted && *wanted == kDrawn && !resident(a.id) &&
+            resident(a.id.parent()) && needed_list_.size() < size_t(residency_.capacity()))
             need(a.id.parent());
     }
 }
@@ -192,20 +236,28 @@ bool UploadPlanner::parentReady(const ArrivedPatch& a) const
     return uploading_.contains(parent) || (needed_.contains(parent) && resident(a.id.parent()));
 }
 
-void UploadPlanner::chooseUploads(std::span<const ArrivedPatch> arrived, const UploadBudget& budget)
+// The uploads of arrived patches wanted as `kind` (the drawn ones' pass drops what is not
+// wanted at all; the detail's comes second, within what the first left of the budget).
+void UploadPlanner::chooseUploads(std::span<const ArrivedPatch> arrived, const UploadBudget& budget,
+                                  char kind)
 {
-    uploading_.clear();
     size_t planned_bytes = 0;
+    for (const PlannedUpload& u : plan_.uploads)
+        planned_bytes += u.upload_bytes;
     int64_t previous = -1;
     for (size_t pos : order_) {
         const ArrivedPatch& a = arrived[pos];
         const int64_t key = geometry_.patchIndex(a.id);
         const bool duplicate = key == previous;
         previous = key;
-        if (duplicate || !wanted_.contains(key) || resident(a.id)) {
-            plan_.dropped.push_back(a.handle);
+        const char* wanted = wanted_.find(key);
+        if (duplicate || !wanted || resident(a.id)) {
+            if (kind == kDrawn)
+                plan_.dropped.push_back(a.handle);
             continue;
         }
+        if (*wanted != kind)
+            continue; // the other pass's
         // At least one upload when one is ready, so that streaming always progresses.
         const bool within_budget =
             plan_.uploads.empty() || (int(plan_.uploads.size()) < budget.count &&
@@ -271,7 +323,11 @@ const StreamPlan& UploadPlanner::plan(const lod::Selection& desired,
     for (const lod::SelectedPatch& d : cover_.patches)
         need(d.id);
     keepParentsOfWaiting(arrived);
-    chooseUploads(arrived, budget);
+    uploading_.clear();
+    chooseUploads(arrived, budget, kDrawn);
+    keepWantedChains();
+    keepDetail(desired);
+    chooseUploads(arrived, budget, kDetail);
     assignSlots();
     open_ = true;
     return plan_;

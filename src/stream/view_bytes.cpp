@@ -52,13 +52,16 @@ std::vector<PatchId> patchesToFetch(const PyramidGeometry& geometry,
 ViewBytes viewBytes(const archive::ArchiveReader& reader, const lod::PatchQuadtree& quadtree,
                     const lod::Camera& camera, const lod::SelectionSettings& settings)
 {
-    const lod::Selection selection = quadtree.select(camera, settings);
+    lod::Selection selection = quadtree.select(camera, settings);
+    // The drawn patches and their texture detail: the renderer streams both.
+    std::vector<lod::SelectedPatch>& wanted = selection.patches;
+    wanted.insert(wanted.end(), selection.detail.begin(), selection.detail.end());
     ViewBytes out;
-    out.selected = selection.patches.size();
+    out.selected = wanted.size();
     out.epsilon_px = selection.epsilon_px;
     out.counts_ancestors = reader.codec().capabilities().needs_ancestors;
     const std::vector<PatchId> fetched =
-        patchesToFetch(reader.geometry(), selection.patches, out.counts_ancestors);
+        patchesToFetch(reader.geometry(), wanted, out.counts_ancestors);
     out.patches = fetched.size();
     for (const PatchId p : fetched)
         out.bytes += reader.record(p).size;

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 #include <set>
 
@@ -235,10 +236,19 @@ TEST(PatchQuadtree, EpsilonZeroSelectsTheFinestLevelAndStillFitsABudget)
     EXPECT_GT(limited.epsilon_px, 0.0);
 }
 
-// The texture-detail criterion: with texel_px set, every selected patch that is not at the
-// finest level shows its samples at most texel_px apart on screen, whatever Err(P) says —
-// here Err is 0 everywhere (a flat terrain), so ε alone would keep the root.
-TEST(PatchQuadtree, TexelCriterionRefinesUntilSamplesAreAtMostTheTargetApart)
+// The ancestor of `p` at `level` (<= p.level).
+PatchId ancestorAt(PatchId p, int level)
+{
+    while (p.level > level)
+        p = p.parent();
+    return p;
+}
+
+// Texture detail, decoupled from geometry: with texel_px set the drawn patches are exactly
+// geometry's (here Err is 0 everywhere, a flat terrain, so ε keeps the root), and the detail
+// below them shows its samples at most texel_px apart on screen unless kShadingDepth or the
+// finest level stopped it, with one detail patch per area.
+TEST(PatchQuadtree, TexelCriterionWantsDetailBelowTheDrawnPatchesAndDrawsNoMore)
 {
     const PyramidGeometry g(1000, 700, 33);
     std::vector<PatchBounds> flat(size_t(g.patchCount()), PatchBounds{0.f, 10.f, 0.f});
@@ -249,16 +259,22 @@ TEST(PatchQuadtree, TexelCriterionRefinesUntilSamplesAreAtMostTheTargetApart)
         const Camera cam = overTerrain({x(rng), y(rng), z(rng)}, {5000, 3500, 0});
         SelectionSettings s;
         const Selection geometric = tree.select(cam, s);
+        EXPECT_TRUE(geometric.detail.empty());
         for (const SelectedPatch& sp : geometric.patches)
             EXPECT_EQ(sp.id.level, 0) << "flat: Err 0 keeps the root";
         for (const double texel : {0.5, 1.0, 4.0}) {
             s.texel_px = texel;
             const Selection sel = tree.select(cam, s);
             EXPECT_EQ(sel.texel_px, texel);
-            size_t refined = 0;
-            for (const SelectedPatch& sp : sel.patches) {
-                refined += sp.id.level > 0;
-                if (sp.id.level < g.finestLevel()) {
+            ASSERT_EQ(sel.patches.size(), geometric.patches.size());
+            for (size_t j = 0; j < sel.patches.size(); ++j)
+                EXPECT_EQ(sel.patches[j].id, geometric.patches[j].id) << "texels draw no more";
+            EXPECT_FALSE(sel.detail.empty()) << "camera " << k << " texel " << texel;
+            for (const SelectedPatch& sp : sel.detail) {
+                const int below = sp.id.level - geometric.patches[0].id.level;
+                EXPECT_GE(below, 1);
+                EXPECT_LE(below, kShadingDepth);
+                if (below < kShadingDepth && sp.id.level < g.finestLevel()) {
                     EXPECT_LE(sp.texel_spacing, texel) << "camera " << k;
                 }
                 // The bound is the same γ·s/ρ' as Err_Scr's: recompute it from the box.
@@ -267,18 +283,35 @@ TEST(PatchQuadtree, TexelCriterionRefinesUntilSamplesAreAtMostTheTargetApart)
                 EXPECT_DOUBLE_EQ(sp.texel_spacing,
                                  projectedSampleSpacing(screenSpaceErrorFactor(cam),
                                                         10.0 * double(g.step(sp.id.level)), depth));
+                // Refined because its parent's texels were too coarse.
+                const Box pb = tree.box(sp.id.parent());
+                EXPECT_GT(projectedSampleSpacing(
+                              screenSpaceErrorFactor(cam), 10.0 * double(g.step(sp.id.level - 1)),
+                              visibleDepthBound(cam, pb, distanceToBox(cam.position(), pb))),
+                          texel);
             }
-            EXPECT_GT(refined, 0u) << "camera " << k << " texel " << texel;
-            // Without culling, the selection still tiles the extent exactly once.
+            // Without culling, the detail and the drawn patches without detail tile the
+            // extent exactly once.
             SelectionSettings all = s;
             all.cull = false;
-            for (int c : coverage(tree, tree.select(cam, all)))
+            const Selection whole = tree.select(cam, all);
+            Selection shading;
+            shading.patches = whole.detail;
+            for (const SelectedPatch& d : whole.patches)
+                if (std::none_of(whole.detail.begin(), whole.detail.end(),
+                                 [&](const SelectedPatch& q) {
+                                     return ancestorAt(q.id, d.id.level) == d.id;
+                                 }))
+                    shading.patches.push_back(d);
+            for (int c : coverage(tree, shading))
                 ASSERT_EQ(c, 1) << "camera " << k << " texel " << texel;
         }
     }
 }
 
-TEST(PatchQuadtree, TexelTargetIsRaisedWithEpsilonWhenTheSlotsAreShort)
+// Drawn patches first: ε is raised until they fit max_patches, then the texel target until
+// the detail fits beside them.
+TEST(PatchQuadtree, TexelTargetIsRaisedUntilTheDetailFitsBesideTheDrawnPatches)
 {
     const PyramidGeometry g(1000, 700, 33);
     std::vector<PatchBounds> flat(size_t(g.patchCount()), PatchBounds{0.f, 10.f, 0.f});
@@ -286,11 +319,18 @@ TEST(PatchQuadtree, TexelTargetIsRaisedWithEpsilonWhenTheSlotsAreShort)
     SelectionSettings s;
     s.texel_px = 0.25;
     s.max_patches = 6;
-    const Selection sel = tree.select(overTerrain({5000, -500, 800}, {5000, 3500, 0}), s);
-    EXPECT_LE(sel.patches.size(), 6u);
+    const Camera cam = overTerrain({5000, -500, 800}, {5000, 3500, 0});
+    const Selection sel = tree.select(cam, s);
+    EXPECT_EQ(sel.epsilon_px, s.epsilon_px) << "the root alone is drawn: ε is met";
+    EXPECT_LE(sel.patches.size() + sel.detail.size(), 6u);
+    EXPECT_FALSE(sel.detail.empty());
     EXPECT_GT(sel.texel_px, 0.25);
+    s.max_patches = 1; // room for the drawn patch alone
+    const Selection bare = tree.select(cam, s);
+    EXPECT_EQ(bare.patches.size(), 1u);
+    EXPECT_TRUE(bare.detail.empty());
     s.texel_px = -1.0;
-    EXPECT_THROW(tree.select(overTerrain({5000, -500, 800}, {5000, 3500, 0}), s), Error);
+    EXPECT_THROW(tree.select(cam, s), Error);
     s.texel_px = std::nan("");
-    EXPECT_THROW(tree.select(overTerrain({5000, -500, 800}, {5000, 3500, 0}), s), Error);
+    EXPECT_THROW(tree.select(cam, s), Error);
 }

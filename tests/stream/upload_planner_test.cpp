@@ -182,8 +182,8 @@ class Simulation {
     size_t waiting() const { return arrived_.size(); }
 
   private:
-    // Wanted this frame: a desired patch or an ancestor of one (whatever the decoding: the
-    // view refines level by level).
+    // Wanted this frame for drawing: a desired patch or an ancestor of one (whatever the
+    // decoding: the view refines level by level).
     bool wantedByTest(PatchId p, const lod::Selection& desired) const
     {
         for (const lod::SelectedPatch& s : desired.patches)
@@ -209,8 +209,21 @@ class Simulation {
             EXPECT_LE(int(plan.uploads.size()), budget.count);
             EXPECT_LE(bytes, budget.bytes);
         }
-        for (size_t k = 1; k < plan.uploads.size(); ++k)
-            EXPECT_LE(plan.uploads[k - 1].id.level, plan.uploads[k].id.level) << "coarse first";
+        // The drawn patches' uploads first, coarse first; then texture detail's, coarse first
+        // (a parent is written before its children either way).
+        auto isDetail = [&](PatchId p) {
+            for (const lod::SelectedPatch& d : desired.detail)
+                if (isAncestorOrSelf(p, d.id))
+                    return !wantedByTest(p, desired);
+            return false;
+        };
+        for (size_t k = 1; k < plan.uploads.size(); ++k) {
+            const PatchId a = plan.uploads[k - 1].id, b = plan.uploads[k].id;
+            EXPECT_FALSE(isDetail(a) && !isDetail(b)) << "texture detail before a drawn patch";
+            if (isDetail(a) == isDetail(b)) {
+                EXPECT_LE(a.level, b.level) << "coarse first";
+            }
+        }
         // Something ready waits: at least one upload (the tests give slots to spare).
         bool ready = false;
         for (PatchId p : arrived_) {
@@ -527,6 +540,77 @@ TEST(UploadPlanner, RequestsCoarseBeforeFineAndPrefetchBelowEverything)
         planner.finish(0);
     }
     EXPECT_THROW(planner.prefetch(tree, b, 20, settings), Error);
+}
+
+// Texture detail (lod::Selection::detail) streams after the drawn patches and never holds
+// them back: with slots short, frame by frame, the drawn patches' missing count is the same
+// as without any detail; the detail's requests rank below every drawn patch's; what detail
+// fits stays resident.
+TEST(UploadPlanner, StreamsTextureDetailAfterTheDrawnPatchesWithoutHoldingThemBack)
+{
+    const PyramidGeometry& g = kGeometry;
+    const lod::PatchQuadtree tree = syntheticTree(g);
+    const lod::Camera camera({2000, 1000, 600}, {5000, 3500, 0}, 60.0, {1280, 720}, 1.0, 1e6);
+    lod::SelectionSettings settings;
+    settings.epsilon_px = 8.0;
+    settings.texel_px = 0.5;
+    const lod::Selection desired = tree.select(camera, settings);
+    ASSERT_GT(desired.detail.size(), 8u);
+    lod::Selection plain = desired;
+    plain.detail.clear();
+    for (const bool gpu : {false, true}) {
+        // Room for the drawn patches, their chains and a few detail patches.
+        const int slots = int(desired.patches.size()) + 24;
+        Simulation with(g, slots, gpu, 2), without(g, slots, gpu, 2);
+        const UploadBudget budget{size_t(1) << 20, 4};
+        for (int frame = 0; frame < 60; ++frame) {
+            const FrameReport a = with.frame(desired, budget);
+            const FrameReport b = without.frame(plain, budget);
+            ASSERT_EQ(a.missing, b.missing) << "frame " << frame << (gpu ? " (GPU)" : "");
+            ASSERT_EQ(a.drawn, b.drawn) << "frame " << frame;
+        }
+        EXPECT_TRUE(with.allResident(desired));
+        // The slots left over hold texture detail (leaves, or the levels on the way to them).
+        std::set<int64_t> detail;
+        for (const lod::SelectedPatch& d : desired.detail)
+            for (PatchId p = d.id; !std::any_of(
+                     desired.patches.begin(), desired.patches.end(),
+                     [&](const lod::SelectedPatch& s) { return isAncestorOrSelf(p, s.id); });
+                 p = p.parent())
+                if (with.residency().slotOf(p) >= 0)
+                    detail.insert(g.patchIndex(p));
+        EXPECT_GT(detail.size(), 0u);
+        EXPECT_EQ(with.residency().residentCount(), slots);
+        // Steady: what is resident stays (no churn between detail patches).
+        const uint64_t evictions = with.residency().evictions();
+        for (int frame = 0; frame < 10; ++frame)
+            (void)with.frame(desired, budget);
+        EXPECT_EQ(with.residency().evictions(), evictions);
+    }
+
+    // Requests: every detail patch's below every drawn patch's (and chain's), above prefetch.
+    lod::PatchResidency residency(g, 4096);
+    (void)residency.update({PatchId{}}, 1);
+    UploadPlanner planner(g, residency);
+    const StreamPlan& plan = planner.plan(desired, {}, UploadBudget{});
+    double lowest_drawn = 1e300, highest_detail = -1e300;
+    size_t detail_requests = 0;
+    for (const StreamRequest& r : plan.requests) {
+        bool drawn = false;
+        for (const lod::SelectedPatch& d : desired.patches)
+            drawn = drawn || isAncestorOrSelf(r.id, d.id);
+        if (drawn) {
+            lowest_drawn = std::min(lowest_drawn, r.priority);
+        } else {
+            highest_detail = std::max(highest_detail, r.priority);
+            ++detail_requests;
+        }
+    }
+    EXPECT_GE(detail_requests, desired.detail.size());
+    EXPECT_LT(highest_detail, lowest_drawn);
+    EXPECT_GT(detailPriority(g, {g.finestLevel(), 0, 0}, 0.0), prefetchPriority(g, {0, 0, 0}, 1e9));
+    EXPECT_GT(detailPriority(g, {2, 0, 0}, 0.0), detailPriority(g, {3, 0, 0}, 1e9));
+    planner.finish(0);
 }
 
 // --- The executor's time budget (UploadTimeBudget), on a simulated clock -------------------

@@ -5,7 +5,9 @@
 // frustum is dropped with its subtree; a patch is drawn when Err_Scr(P) <= ε or it is a leaf
 // of the archive, otherwise its existing children are visited. The selected patches tile the
 // visible part of the valid extent without overlap, so fine LOD (tessellation) and skirts see
-// a partition. Plain C++: no GL, cheap (a few µs per hundred patches), thread-compatible.
+// a partition. Texture detail is walked apart, below the drawn patches (Selection::detail):
+// it decides what is resident for shading, never what is drawn. Plain C++: no GL, cheap (a few µs
+// per hundred patches), thread-compatible.
 #include "ridge/lod/camera.h"
 #include "ridge/lod/frustum.h"
 #include "ridge/lod/horizon.h"
@@ -36,9 +38,11 @@ struct SelectionSettings {
     static constexpr ValueRange kErrorScaleRange = ValueRange::closed(1.0, 1000.0);
 
     double epsilon_px = 2.0; // ε, pixels
-    // Texture detail: a patch is also refined while its level's projected sample spacing
-    // (lod::projectedSampleSpacing) exceeds this many pixels, so that its height and normal
-    // maps give about one texel per pixel; 0 disables (geometry alone decides).
+    // Texture detail, decoupled from geometry: below each drawn patch, the descendants whose
+    // level's projected sample spacing (lod::projectedSampleSpacing) is at most this many
+    // pixels — or kShadingDepth levels below it, or the finest level — are wanted resident
+    // (Selection::detail), so that fragments shade from height and normal maps of about one
+    // texel per pixel while the drawn patches stay geometry's (ε alone). 0 disables.
     static constexpr ValueRange kTexelPxRange = ValueRange::closed(0.0, 1e9);
     double texel_px = 0.0;
     bool cull = true; // view-frustum (and, on a whole-Earth globe, horizon) culling of boxes
@@ -47,8 +51,9 @@ struct SelectionSettings {
     bool conservative_distance = true;
     // With conservative_distance: visibleDepthBound's side-on factor (see there).
     bool side_on = true;
-    // At most this many patches; when the tree at ε needs more, ε (and the texel target) is
-    // raised by 25% steps until it fits, and Selection::epsilon_px says what was used.
+    // At most this many patches, drawn and detail together; when the tree at ε needs more, ε
+    // is raised by 25% steps until the drawn ones fit, then the texel target until the detail
+    // fits too, and Selection::epsilon_px and texel_px say what was used.
     size_t max_patches = std::numeric_limits<size_t>::max();
     // The drawn mesh's vertical error as a multiple of Err(P): 1 for meshes of the patch's
     // own samples; 1 + k for Ulrich's chunks simplified to k·Err(P) (lod/chunk_mesh.h).
@@ -81,10 +86,20 @@ struct SelectedPatch {
     double rank = 0.0;
 };
 
+// How many levels below a drawn patch texture detail reaches (SelectionSettings::texel_px):
+// 8× its sample density, which the shading map addresses as 2^3 × 2^3 tiles per drawn patch
+// (ridge/lod/shading_tiles.h).
+inline constexpr int kShadingDepth = 3;
+
 struct Selection {
-    std::vector<SelectedPatch> patches;
+    std::vector<SelectedPatch> patches; // drawn: they tile the visible extent
+    // Texture detail (SelectionSettings::texel_px): descendants of drawn patches, 1 to
+    // kShadingDepth levels below them, that fragments shade from once resident. Their areas
+    // do not overlap; a drawn patch with none has texels fine enough of its own. The streaming
+    // planner requests them after every drawn patch and never lets them displace one.
+    std::vector<SelectedPatch> detail;
     double epsilon_px = 0.0; // ε actually met (>= the requested one)
-    double texel_px = 0.0;   // texel target actually met (raised with ε; 0: off)
+    double texel_px = 0.0;   // texel target actually met (raised to fit; 0: off)
     int visited = 0;         // patches tested
     int culled = 0;          // subtrees dropped by the frustum test
     // Levels a scheme's own selection was made coarser by to fit max_patches (the quadtree
@@ -118,9 +133,23 @@ class PatchQuadtree {
         double epsilon; // pixels
         double texel;   // pixels; 0 off
     };
+    // A patch as the walk sees it: culled, or its Err_Scr and projected sample spacing.
+    struct Measured {
+        bool culled = false;
+        Visibility visibility = Visibility::Inside;
+        double err_scr = 0.0;
+        double texel_scr = 0.0;
+    };
+    Measured measure(PatchId p, const Camera& camera, const Frustum* frustum,
+                     const HorizonOccluder* horizon, const Thresholds& t,
+                     const SelectionSettings& settings) const;
     void visit(PatchId p, const Camera& camera, const Frustum* frustum,
                const HorizonOccluder* horizon, const Thresholds& t,
                const SelectionSettings& settings, Selection& out) const;
+    // Texture detail under drawn patch `p` (measured `m`), `depth` levels below it.
+    void visitDetail(PatchId p, const Measured& m, int depth, const Camera& camera,
+                     const Frustum* frustum, const HorizonOccluder* horizon, const Thresholds& t,
+                     const SelectionSettings& settings, Selection& out) const;
 
     TerrainFrame frame_;
     std::vector<PatchBounds> bounds_;

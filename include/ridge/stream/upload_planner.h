@@ -22,14 +22,19 @@
 //     chain: GPU reconstruction needs the parent, and the view refines level by level
 //     instead of staying at the root until the whole selection arrived); not what is
 //     resident or arrived already;
+//   - then the selection's texture detail (lod::Selection::detail) and its chains, below
+//     every drawn patch and above every prefetch;
 //   - kept resident: the root, what is drawn now (the selector's cover of the selection:
 //     lod::residentCover for the quadtree walk, the scheme's own rule otherwise) and
-//     the resident parents of arrived patches waiting for GPU reconstruction;
+//     the resident parents of arrived patches waiting for GPU reconstruction; then, as far
+//     as the slots have room after the drawn patches' uploads, what else of their chains is
+//     resident, and then resident texture detail;
 //   - uploads: arrived patches still wanted, coarse first (a parent is written before its
 //     children), within the byte and count budgets (at least one when one is ready) and the
 //     free slots, and (the executor's part) within a time budget that follows the frame time
 //     (UploadTimeBudget); a patch whose GPU decoder reads its parent only once the parent is
-//     resident and kept, or uploaded earlier in the same plan.
+//     resident and kept, or uploaded earlier in the same plan; texture detail's after all
+//     of the drawn patches', in what they left of the budgets and slots.
 //
 // No allocation per frame once the vectors have grown to the frame's sizes: members are
 // cleared, not rebuilt, and per-frame sets are FrameKeyMaps (generation-stamped open
@@ -181,6 +186,9 @@ struct StreamOutcome {
 // Coarse before fine, then by rank (SelectedPatch::rank, Err_Scr for the quadtree walk):
 // 10^6 per level above the finest, the rank below it.
 double requestPriority(const PyramidGeometry& geometry, PatchId p, double rank);
+// Below every requestPriority and above every prefetchPriority of the geometry, coarse first:
+// texture detail (lod::Selection::detail).
+double detailPriority(const PyramidGeometry& geometry, PatchId p, double rank);
 // Below every requestPriority of the geometry: for what a later frame will need.
 double prefetchPriority(const PyramidGeometry& geometry, PatchId p, double rank);
 
@@ -229,14 +237,20 @@ class UploadPlanner {
   private:
     bool resident(PatchId p) const { return residency_.slotOf(p) >= 0; }
     void coverDesired();
-    bool want(PatchId p, double priority);
+    // wanted_'s values: why a patch is wanted this frame.
+    static constexpr char kDrawn = 1;  // the selection's drawn patches and their chains
+    static constexpr char kDetail = 2; // its texture detail (Selection::detail) and chains
+    bool want(PatchId p, double priority, char kind = kDrawn);
     void collectWanted(const lod::Selection& desired);
     void need(PatchId p);
     void sortArrived(std::span<const ArrivedPatch> arrived);
     bool hasArrived(PatchId p, std::span<const ArrivedPatch> arrived) const;
     void keepParentsOfWaiting(std::span<const ArrivedPatch> arrived);
     bool parentReady(const ArrivedPatch& a) const;
-    void chooseUploads(std::span<const ArrivedPatch> arrived, const UploadBudget& budget);
+    void keepWantedChains();
+    void keepDetail(const lod::Selection& desired);
+    void chooseUploads(std::span<const ArrivedPatch> arrived, const UploadBudget& budget,
+                       char kind);
     void assignSlots();
 
     PyramidGeometry geometry_;

@@ -28,7 +28,7 @@ namespace ridge::stream {
 struct ViewBytes {
     uint64_t bytes = 0;            // sum of PatchRecord::size over the patches read
     size_t patches = 0;            // distinct patches read: selected, plus ancestors if counted
-    size_t selected = 0;           // patches the selection draws
+    size_t selected = 0;           // patches the selection draws, and its texture detail
     bool counts_ancestors = false; // the codec declares needs_ancestors
     double epsilon_px = 0.0;       // ε the selection met (raised only under max_patches)
 };
