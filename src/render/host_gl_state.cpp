@@ -11,10 +11,13 @@ namespace ridge::render {
 namespace {
 
 // The texture units, image units and buffer binding points ridge's renderer uses
-// (patch_textures.cpp, the schemes, the GPU decoders, capture).
-constexpr int kTextureUnits = 6;
-constexpr int kImageUnits = 3;
-constexpr int kStorageBindings = 4;
+// (patch_textures.cpp, the schemes, the GPU decoders, capture): texture units up to 11 (the
+// water maps on 6, the projected lattice's on 9 and 10, clipmaps' level windows on 11), image
+// units up to 5 (the fractal decoder's heights), storage bindings up to 4 (the shading map,
+// the fractal decoder's scratch).
+constexpr int kTextureUnits = 12;
+constexpr int kImageUnits = 6;
+constexpr int kStorageBindings = 5;
 constexpr GLenum kTextureTargets[] = {GL_TEXTURE_1D, GL_TEXTURE_2D, GL_TEXTURE_2D_ARRAY};
 constexpr GLenum kTextureBindings[] = {GL_TEXTURE_BINDING_1D, GL_TEXTURE_BINDING_2D,
                                        GL_TEXTURE_BINDING_2D_ARRAY};

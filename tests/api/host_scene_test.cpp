@@ -390,6 +390,9 @@ TEST(HostScene, DrawAndPickLeaveTheHostsGlStateAsTheyFoundIt)
         glBindSampler(1, sampler);
         glActiveTexture(GL_TEXTURE3);
         glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 0, ssbo, 256, 512);
+        // The highest binding and unit ridge's terrain uses: the shading map, water maps.
+        glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 4, ssbo, 0, 256);
+        glBindTextureUnit(6, array);
         glBindBuffer(GL_PIXEL_UNPACK_BUFFER, pbo);
         glPixelStorei(GL_UNPACK_ROW_LENGTH, 7);
         glPixelStorei(GL_UNPACK_ALIGNMENT, 8);
@@ -441,6 +444,14 @@ TEST(HostScene, DrawAndPickLeaveTheHostsGlStateAsTheyFoundIt)
         glGetInteger64i_v(GL_SHADER_STORAGE_BUFFER_SIZE, 0, &size);
         EXPECT_EQ(start, 256);
         EXPECT_EQ(size, 512);
+        glGetIntegeri_v(GL_SHADER_STORAGE_BUFFER_BINDING, 4, &v);
+        EXPECT_EQ(GLuint(v), ssbo);
+        glGetInteger64i_v(GL_SHADER_STORAGE_BUFFER_SIZE, 4, &size);
+        EXPECT_EQ(size, 256);
+        glActiveTexture(GL_TEXTURE6);
+        glGetIntegerv(GL_TEXTURE_BINDING_2D_ARRAY, &v);
+        EXPECT_EQ(GLuint(v), array);
+        glActiveTexture(GL_TEXTURE3);
         glGetIntegerv(GL_PIXEL_UNPACK_BUFFER_BINDING, &v);
         EXPECT_EQ(GLuint(v), pbo);
         glGetIntegerv(GL_UNPACK_ROW_LENGTH, &v);

@@ -7,11 +7,11 @@
 // mask and clear value; colour clear value; face culling; blending; rasterizer discard;
 // polygon mode and offsets; the patch vertex count; the current program, vertex array and
 // active texture unit; the 1D, 2D and 2D-array textures and the sampler objects of units
-// 0–5; image units 0–2;
-// shader-storage bindings 0–3 and transform-feedback binding 0 (each with its range); the
+// 0–11; image units 0–5;
+// shader-storage bindings 0–4 and transform-feedback binding 0 (each with its range); the
 // pixel pack and unpack buffers and the unpack (and pack alignment) parameters.
 // While it lives: blending, rasterizer discard, face culling and polygon offsets are off,
-// polygon mode is fill, no sampler object is bound to units 0–5 (a texture's own filtering
+// polygon mode is fill, no sampler object is bound to units 0–11 (a texture's own filtering
 // applies), no pixel buffer is bound and unpacking is tight (row length and skips
 // 0, no byte swapping); the rest is left as the host set it — framebuffer, viewport, scissor,
 // stencil, colour mask, sRGB conversion, multisampling — and applies to ridge's draws as to
