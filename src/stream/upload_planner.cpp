@@ -312,9 +312,21 @@ const StreamPlan& UploadPlanner::plan(const lod::Selection& desired,
 
     collectWanted(desired);
     sortArrived(arrived);
-    for (const StreamRequest& r : wanted_list_)
-        if (!resident(r.id) && !hasArrived(r.id, arrived))
+    // Texture detail is requested only once every drawn patch is resident: the streamer's
+    // workers (and, on a CPU renderer, the cores drawing the frame) would otherwise decode
+    // detail while drawn patches wait — priorities order a queue, not the work already
+    // started.
+    bool drawn_missing = false;
+    for (const StreamRequest& r : wanted_list_) {
+        if (resident(r.id))
+            continue;
+        const bool drawn = *wanted_.find(geometry_.patchIndex(r.id)) == kDrawn;
+        if (!drawn && drawn_missing)
+            break; // the detail comes after every drawn patch in wanted_list_
+        drawn_missing = drawn_missing || drawn;
+        if (!hasArrived(r.id, arrived))
             plan_.requests.push_back(r);
+    }
     // What this frame keeps: the root, what is drawn now, the parents of waiting patches.
     needed_.clear();
     needed_list_.clear();

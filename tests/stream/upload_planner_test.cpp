@@ -135,6 +135,11 @@ class Simulation {
         report.allocations += counter->count();
         counter.reset();
         checkPlan(plan, desired, budget);
+        // Texture detail is requested only in frames that request nothing for drawing.
+        bool drawn_requested = false, detail_requested = false;
+        for (const StreamRequest& r : plan.requests)
+            (wantedByTest(r.id, desired) ? drawn_requested : detail_requested) = true;
+        EXPECT_FALSE(drawn_requested && detail_requested);
         for (const StreamRequest& r : plan.requests)
             streamer_.request(r.id, r.priority);
         const size_t done = std::min(stop_after, plan.uploads.size());
@@ -588,27 +593,34 @@ TEST(UploadPlanner, StreamsTextureDetailAfterTheDrawnPatchesWithoutHoldingThemBa
         EXPECT_EQ(with.residency().evictions(), evictions);
     }
 
-    // Requests: every detail patch's below every drawn patch's (and chain's), above prefetch.
+    // Requests: none for detail while anything drawn is requested; then every detail patch
+    // (and the levels on the way to it), ranked below any drawn patch and above prefetch.
     lod::PatchResidency residency(g, 4096);
     (void)residency.update({PatchId{}}, 1);
     UploadPlanner planner(g, residency);
-    const StreamPlan& plan = planner.plan(desired, {}, UploadBudget{});
-    double lowest_drawn = 1e300, highest_detail = -1e300;
-    size_t detail_requests = 0;
-    for (const StreamRequest& r : plan.requests) {
-        bool drawn = false;
-        for (const lod::SelectedPatch& d : desired.patches)
-            drawn = drawn || isAncestorOrSelf(r.id, d.id);
-        if (drawn) {
-            lowest_drawn = std::min(lowest_drawn, r.priority);
-        } else {
-            highest_detail = std::max(highest_detail, r.priority);
-            ++detail_requests;
+    auto isDrawnChain = [&](PatchId p) {
+        return std::any_of(desired.patches.begin(), desired.patches.end(),
+                           [&](const lod::SelectedPatch& d) { return isAncestorOrSelf(p, d.id); });
+    };
+    for (const StreamRequest& r : planner.plan(desired, {}, UploadBudget{}).requests)
+        EXPECT_TRUE(isDrawnChain(r.id)) << "detail requested while drawn patches are missing";
+    planner.finish(0);
+    std::vector<PatchId> drawn;
+    for (const lod::SelectedPatch& d : desired.patches)
+        for (PatchId p = d.id;; p = p.parent()) {
+            drawn.push_back(p);
+            if (p.level == 0)
+                break;
         }
+    (void)residency.update(drawn, 2);
+    size_t detail_requests = 0;
+    for (const StreamRequest& r : planner.plan(desired, {}, UploadBudget{}).requests) {
+        EXPECT_FALSE(isDrawnChain(r.id));
+        EXPECT_LT(r.priority, requestPriority(g, {g.finestLevel(), 0, 0}, 0.0));
+        EXPECT_GT(r.priority, prefetchPriority(g, {0, 0, 0}, 1e9));
+        ++detail_requests;
     }
     EXPECT_GE(detail_requests, desired.detail.size());
-    EXPECT_LT(highest_detail, lowest_drawn);
-    EXPECT_GT(detailPriority(g, {g.finestLevel(), 0, 0}, 0.0), prefetchPriority(g, {0, 0, 0}, 1e9));
     EXPECT_GT(detailPriority(g, {2, 0, 0}, 0.0), detailPriority(g, {3, 0, 0}, 1e9));
     planner.finish(0);
 }

@@ -23,7 +23,8 @@
 //     instead of staying at the root until the whole selection arrived); not what is
 //     resident or arrived already;
 //   - then the selection's texture detail (lod::Selection::detail) and its chains, below
-//     every drawn patch and above every prefetch;
+//     every drawn patch and above every prefetch, and only in frames where every drawn
+//     patch is resident (so that no worker is busy with detail while a drawn patch waits);
 //   - kept resident: the root, what is drawn now (the selector's cover of the selection:
 //     lod::residentCover for the quadtree walk, the scheme's own rule otherwise) and
 //     the resident parents of arrived patches waiting for GPU reconstruction; then, as far
