@@ -73,8 +73,9 @@ void BenchCommand::registerWith(CLI::App& app)
     command_->add_flag(
         "--bytes-per-view", bytes_per_view_,
         "Render nothing (no GL): for each frame of the path, the bytes a cold cache reads to "
-        "draw it (the tessellation scheme's selection at --error and --texel-size; with a "
-        "progressive archive every ancestor too); near/mid/far = first/middle/last frame, "
+        "draw and shade it (the tessellation scheme's selection at --error and its texture "
+        "detail at --texel-size; with a progressive archive every ancestor too); "
+        "near/mid/far = first/middle/last frame, "
         "min/median/max, and the whole path's patches together (--plot is not written)");
     command_->add_flag("--json", json_,
                        "Print every frame's figures as JSON on stdout (the summary then goes to "
