@@ -122,6 +122,7 @@ int RenderCommand::run()
                             {"epsilon_px", r.stats.epsilon_px},
                             {"texel_px", r.stats.texel_px},
                             {"patches", r.stats.patches},
+                            {"detail_patches", r.stats.detail},
                             {"culled_subtrees", r.stats.culled},
                             {"triangles", r.stats.triangles},
                             {"gpu_ms", std::isfinite(r.stats.gpu_ms)

@@ -78,6 +78,7 @@ struct TerrainRenderer::Impl {
     std::unique_ptr<PoppingRaster> popping_raster;
     std::optional<SampleHeights> popping_previous;
     std::vector<PatchId> last_drawn;
+    std::vector<lod::SelectedPatch> detail_wanted; // this frame's, capacity kept
     // What the last draw() drew, for lastFrameSurface() (picking): replayed, not re-selected.
     struct LastFrame {
         lod::Camera camera, lod_camera;
@@ -199,6 +200,9 @@ lod::Selection TerrainRenderer::Impl::prepare(TerrainScheme& scheme, const lod::
     stats.epsilon_px = selection.epsilon_px;
     stats.texel_px = selection.texel_px;
     stats.coarser = selection.epsilon_px > ss.epsilon_px || selection.levels_coarser > 0;
+    stats.detail = int(selection.detail.size());
+    // What streaming leaves of the selection is its drawn cover: keep the detail to count.
+    detail_wanted.assign(selection.detail.begin(), selection.detail.end());
     t0 = std::chrono::steady_clock::now();
     if (frozen)
         return resident.cover(std::move(selection), selector);
@@ -219,6 +223,8 @@ lod::Selection TerrainRenderer::Impl::prepare(TerrainScheme& scheme, const lod::
     stats.cpu_load_ms = millisecondsSince(t0);
     resident.countTraffic(stats);
     stats.patches = int(selection.patches.size());
+    for (const lod::SelectedPatch& d : detail_wanted)
+        stats.detail_resident += resident.residency().slotOf(d.id) >= 0;
     last_drawn.clear();
     for (const lod::SelectedPatch& p : selection.patches)
         last_drawn.push_back(p.id);

@@ -99,6 +99,8 @@ RenderBenchReport runRenderBench(const std::string& archive, const RenderBenchOp
         f.triangles = s.triangles;
         f.patches = s.patches;
         f.missing = s.missing;
+        f.detail = s.detail;
+        f.detail_resident = s.detail_resident;
         f.loaded = s.loaded;
         f.reconstructed = s.reconstructed;
         f.refined = s.refined;

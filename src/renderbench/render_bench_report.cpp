@@ -212,6 +212,22 @@ std::string describeTimeToFullDetail(const RenderBenchReport& r)
     return out;
 }
 
+// How much of the texture detail the frames wanted was resident (nothing when none was).
+std::string describeTextureDetail(const RenderBenchReport& r)
+{
+    double wanted = 0.0, resident = 0.0;
+    for (const FrameRecord& f : r.frames) {
+        wanted += f.detail;
+        resident += f.detail_resident;
+    }
+    if (wanted == 0.0)
+        return "  texture detail           none wanted\n";
+    const double n = double(r.frames.size());
+    return fmt::format(
+        "  texture detail           {:.1f} of {:.1f} patches resident a frame ({:.0f} %)\n",
+        resident / n, wanted / n, 100.0 * resident / wanted);
+}
+
 } // namespace
 
 std::string formatRenderBenchSummary(const RenderBenchReport& r)
@@ -232,7 +248,7 @@ std::string formatRenderBenchSummary(const RenderBenchReport& r)
                                             ro.upload_frame_fraction, ro.upload_budget_ms,
                                             std::max(ro.upload_budget_ms, ro.upload_budget_max_ms))
                               : fmt::format("fixed {} ms", ro.upload_budget_ms));
-    return fmt::format(
+    const std::string summary = fmt::format(
         "{}: {}, path {}, {} frames at {}x{}, ε {} px, culling {}, {}\n"
         "  frames at full detail    {} of {} (nothing drawn by an ancestor, ε as asked)\n"
         "  frames drawn coarser     {}: {} still streaming (patches drawn by an ancestor), {} at "
@@ -278,6 +294,7 @@ std::string formatRenderBenchSummary(const RenderBenchReport& r)
                   (r.popping_sample_stride > 1
                        ? fmt::format(" (one sample in {} along each axis)", r.popping_sample_stride)
                        : std::string()));
+    return summary + describeTextureDetail(r);
 }
 
 std::string formatRenderBenchTable(const std::vector<RenderBenchReport>& reports)
@@ -337,6 +354,8 @@ std::string formatRenderBenchJson(const RenderBenchReport& r)
                           {"triangles", f.triangles},
                           {"patches", f.patches},
                           {"missing", f.missing},
+                          {"detail", f.detail},
+                          {"detail_resident", f.detail_resident},
                           {"loaded", f.loaded},
                           {"reconstructed", f.reconstructed},
                           {"refined", f.refined},

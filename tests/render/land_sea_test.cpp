@@ -248,6 +248,9 @@ TEST_F(LandSea, TextureDetailShadesFromFinerLevelsWithoutDrawingMore)
                 a.percent(), on.stats.texel_px, on.stats.patches,
                 static_cast<unsigned long long>(on.stats.triangles), b.percent(), b.compared);
     EXPECT_EQ(on.stats.patches, off.stats.patches) << "texture detail draws no patch more";
+    EXPECT_EQ(off.stats.detail, 0);
+    EXPECT_GT(on.stats.detail, 0);
+    EXPECT_EQ(on.stats.detail_resident, on.stats.detail) << "no streaming: all of it resident";
     EXPECT_EQ(on.stats.triangles, off.stats.triangles);
     ASSERT_EQ(a.compared, b.compared);
     EXPECT_GE(b.percent(), 99.9);

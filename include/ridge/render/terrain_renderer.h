@@ -132,6 +132,9 @@ struct FrameStats {
     int culled = 0;  // subtrees dropped by the frustum test
     int loaded = 0;  // patches made resident this frame
     int missing = 0; // streaming: selected patches drawn by a resident ancestor
+    // Texture detail (RenderSettings::texel_px): the patches the selection wants for shading
+    // (lod::Selection::detail), and how many of them are resident after this frame's uploads.
+    int detail = 0, detail_resident = 0;
     int resident = 0;
     double epsilon_px = 0.0; // ε met (raised when the selection exceeds the slots)
     double texel_px = 0.0;   // texel target met (raised to fit the slots; 0: off)

@@ -53,7 +53,8 @@ struct FrameRecord {
     double upload_budget_ms = 0.0; // streaming: the frame's upload time budget (adaptive)
     uint64_t triangles = 0;
     int patches = 0;
-    int missing = 0; // drawn by an ancestor while streaming
+    int missing = 0;                     // drawn by an ancestor while streaming
+    int detail = 0, detail_resident = 0; // texture detail wanted, and resident (FrameStats)
     int loaded = 0;
     int reconstructed = 0; // of `loaded`, on the GPU
     int refined = 0;       // resident patches refined in place (Base incremental)
