@@ -19,13 +19,16 @@ size_t ShadingMap::update(const std::vector<lod::SelectedPatch>& drawn,
                           const lod::PatchResidency& residency, const PyramidGeometry& geometry,
                           bool detail)
 {
-    const auto slot_of = [&](PatchId p) { return detail ? residency.slotOf(p) : -1; };
+    const auto slot_of = [&](PatchId p) { return residency.slotOf(p); };
+    if (!detail)
+        scratch_.fill(0u); // every tile the drawn patch itself: no walk of its descendants
     size_t first = tiles_.size(), last = 0; // the changed range, in tiles
     for (const lod::SelectedPatch& d : drawn) {
         const int slot = residency.slotOf(d.id);
         if (slot < 0 || size_t(slot + 1) * kTilesPerSlot > tiles_.size())
             continue; // not drawn from a slot (or a scheme's own pieces): nothing to shade from
-        lod::shadingTiles(d.id, geometry, slot_of, scratch_);
+        if (detail)
+            lod::shadingTiles(d.id, geometry, slot_of, scratch_);
         uint32_t* own = tiles_.data() + size_t(slot) * kTilesPerSlot;
         if (std::memcmp(own, scratch_.data(), sizeof(scratch_)) == 0)
             continue;

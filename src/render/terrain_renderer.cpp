@@ -78,7 +78,6 @@ struct TerrainRenderer::Impl {
     std::unique_ptr<PoppingRaster> popping_raster;
     std::optional<SampleHeights> popping_previous;
     std::vector<PatchId> last_drawn;
-    std::vector<lod::SelectedPatch> detail_wanted; // this frame's, capacity kept
     // What the last draw() drew, for lastFrameSurface() (picking): replayed, not re-selected.
     struct LastFrame {
         lod::Camera camera, lod_camera;
@@ -201,15 +200,15 @@ lod::Selection TerrainRenderer::Impl::prepare(TerrainScheme& scheme, const lod::
     stats.texel_px = selection.texel_px;
     stats.coarser = selection.epsilon_px > ss.epsilon_px || selection.levels_coarser > 0;
     stats.detail = int(selection.detail.size());
-    // What streaming leaves of the selection is its drawn cover: keep the detail to count.
-    detail_wanted.assign(selection.detail.begin(), selection.detail.end());
     t0 = std::chrono::steady_clock::now();
     if (frozen)
         return resident.cover(std::move(selection), selector);
     upload_timer.begin();
     try {
         if (resident.streaming()) {
-            selection = resident.stream(selection, selector, camera, ss, stats);
+            lod::Selection drawn = resident.stream(selection, selector, camera, ss, stats);
+            drawn.detail.swap(selection.detail); // the drawn cover, with the detail to count
+            selection = std::move(drawn);
         } else {
             resident.makeResident(selection, stats);
             selection = resident.cover(std::move(selection), selector); // all of it resident
@@ -223,7 +222,7 @@ lod::Selection TerrainRenderer::Impl::prepare(TerrainScheme& scheme, const lod::
     stats.cpu_load_ms = millisecondsSince(t0);
     resident.countTraffic(stats);
     stats.patches = int(selection.patches.size());
-    for (const lod::SelectedPatch& d : detail_wanted)
+    for (const lod::SelectedPatch& d : selection.detail)
         stats.detail_resident += resident.residency().slotOf(d.id) >= 0;
     last_drawn.clear();
     for (const lod::SelectedPatch& p : selection.patches)

@@ -130,28 +130,29 @@ void UploadPlanner::collectWanted(const lod::Selection& desired)
 {
     wanted_.clear();
     wanted_list_.clear();
-    for (const lod::SelectedPatch& sp : desired.patches)
-        want(sp.id, requestPriority(geometry_, sp.id, sp.rank));
-    // Every ancestor up to the finest resident one is wanted too, ahead of it (a coarser level
-    // ranks higher). A patch reconstructed on the GPU needs its parent resident; and whatever
-    // the decoding, the resident cover can only draw a patch once all its siblings' areas are
-    // covered as finely, so without the levels between, a view of 300 missing patches would
-    // stay the root until the last arrived (issue 22: every frame of a bench drew one patch).
-    // Coarse first, the view refines level by level instead, for about a third more patches.
-    for (const lod::SelectedPatch& sp : desired.patches)
-        for (PatchId a = sp.id; a.level > 0 && !resident(a);) {
-            a = a.parent();
-            if (!want(a, requestPriority(geometry_, a, 0.0)))
-                break; // the rest of the chain is in already
-        }
+    wantWithChains(desired.patches, requestPriority, kDrawn);
     // Texture detail after all of that, with its own chains (down from a drawn patch).
-    for (const lod::SelectedPatch& sp : desired.detail)
-        want(sp.id, detailPriority(geometry_, sp.id, sp.rank), kDetail);
-    for (const lod::SelectedPatch& sp : desired.detail)
+    wantWithChains(desired.detail, detailPriority, kDetail);
+}
+
+// `patches` as `kind` at `priority`, then every ancestor of each up to the finest resident
+// one, ahead of it (a coarser level ranks higher). A patch reconstructed on the GPU needs its
+// parent resident; and whatever the decoding, the resident cover can only draw a patch once
+// all its siblings' areas are covered as finely, so without the levels between, a view of 300
+// missing patches would stay the root until the last arrived (issue 22: every frame of a
+// bench drew one patch). Coarse first, the view refines level by level instead, for about a
+// third more patches.
+void UploadPlanner::wantWithChains(const std::vector<lod::SelectedPatch>& patches,
+                                   double (*priority)(const PyramidGeometry&, PatchId, double),
+                                   char kind)
+{
+    for (const lod::SelectedPatch& sp : patches)
+        want(sp.id, priority(geometry_, sp.id, sp.rank), kind);
+    for (const lod::SelectedPatch& sp : patches)
         for (PatchId a = sp.id; a.level > 0 && !resident(a);) {
             a = a.parent();
-            if (!want(a, detailPriority(geometry_, a, 0.0), kDetail))
-                break;
+            if (!want(a, priority(geometry_, a, 0.0), kind))
+                break; // the rest of the chain is in already
         }
 }
 

@@ -243,6 +243,8 @@ class UploadPlanner {
     static constexpr char kDetail = 2; // its texture detail (Selection::detail) and chains
     bool want(PatchId p, double priority, char kind = kDrawn);
     void collectWanted(const lod::Selection& desired);
+    void wantWithChains(const std::vector<lod::SelectedPatch>& patches,
+                        double (*priority)(const PyramidGeometry&, PatchId, double), char kind);
     void need(PatchId p);
     void sortArrived(std::span<const ArrivedPatch> arrived);
     bool hasArrived(PatchId p, std::span<const ArrivedPatch> arrived) const;
