@@ -40,7 +40,7 @@ void main() {
     bool foot = gl_VertexID >= n * n;
     ivec2 sample_ij = foot ? ringSample(gl_VertexID - n * n, C) : ivec2(gl_VertexID % n, gl_VertexID / n);
     vec3 up;
-    precise vec3 position = samplePosition(p, sample_ij, up);
+    precise vec3 position = drawnPosition(p, sample_ij, up);
     if (foot)
         position = lowered(position, up, p.skirt_depth);
     v.position = position;

@@ -61,15 +61,16 @@ void main() {
         // The sample from the block record and the two bytes: placed exactly as every
         // scheme's samplePosition (bit-identical seams), the height morphed between the codes.
         ivec2 s = geomorphCompactSample(a_block_coord, u_geomorph_block);
-        precise float z = geomorphMix(geomorphMetres(float(a_heights.x)),
-                                      geomorphMetres(float(a_heights.y)), p.morph);
+        precise float z = arrivalFade(p, s, geomorphMix(geomorphMetres(float(a_heights.x)),
+                                                        geomorphMetres(float(a_heights.y)),
+                                                        p.morph));
         position = framePoint(p.origin + s * p.step, z, up);
         v.texcoord = vec3(a_normal_index, -1.0);
     } else {
         precise float z = u_layout == 1 ? geomorphMix(a_position.z, a_target, p.morph)
                                         : a_position.z;
         // The CPU's vertices are in metres above code 0; the drawn space is k times that.
-        precise float dh = z * u_exaggeration + u_height_offset;
+        precise float dh = arrivalFade(p, sample_ij, z * u_exaggeration + u_height_offset);
         if (RIDGE_SURFACE == 0) {
             precise vec2 origin = vec2(p.origin) * u_spacing + u_anchor_offset;
             position.xy = origin + a_position.xy;

@@ -39,7 +39,7 @@ void main() {
     // One code path and `precise` (no contraction into FMAs that could differ between call
     // sites): a vertex shared by a block and a skirt, or by two blocks, is bit-identical.
     vec3 up;
-    precise vec3 position = samplePosition(p, sample_ij, up);
+    precise vec3 position = drawnPosition(p, sample_ij, up);
     if (skirt) {
         // v = 0 on the patch border, 1 at the skirt's foot, skirt_depth below along the local
         // up (exactly at v = 1: feet of neighbouring segments must be bit-identical).

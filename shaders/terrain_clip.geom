@@ -117,7 +117,7 @@ Corner cut(PatchInstance p, Corner a, Corner b, int axis, float limit) {
             Corner beyond = a.cell[axis] > limit ? a : b;
             vec3 up;
             c.position = framePoint(ivec2(0, row_delta),
-                                    sampleHeight(p.layer, ivec2(round(beyond.cell))), up);
+                                    drawnHeight(p, ivec2(round(beyond.cell))), up);
             // A skirt's foot line: the pole lowered as the skirts' feet are, along its up.
             if (a.foot == 2)
                 c.position = lowered(c.position, up, p.skirt_depth);

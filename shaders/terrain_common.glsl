@@ -19,6 +19,15 @@ struct PatchInstance {
     float max_z;        // (the camera's z on a plane, its height above the ellipsoid on a globe)
     vec2 valid_start;   // cells along i, j before which the surface is dropped (0 for patches;
                         // a clipmap footprint reaching west or north of the terrain)
+    // An arriving patch fading in over the surface drawn before it (lod/arrival_blend.h): the
+    // chain of ancestors, nearest first, each with its sample (0, 0) like origin, its finest
+    // samples per cell, its slot and its link's weight; fade_weight[0] 0: no fade.
+    ivec2 fade_origin[4];
+    int fade_step[4];
+    int fade_layer[4];
+    float fade_weight[4];
+    int stand_in;       // 1: stands in for missing descendants; drawn at its full grid
+    int pad;
 };
 
 layout(std430, binding = 0) readonly buffer PatchInstances { PatchInstance instances[]; };
@@ -207,4 +216,64 @@ vec3 samplePosition(PatchInstance p, ivec2 sample_ij, out vec3 up) {
 vec3 samplePosition(PatchInstance p, ivec2 sample_ij) {
     vec3 up;
     return samplePosition(p, sample_ij, up);
+}
+
+// RIDGE_ARRIVAL_BLEND 1 (streaming renderers): arriving patches fade in. Compiled out
+// otherwise: llvmpipe runs a branch's body under an execution mask whether or not any vertex
+// takes it.
+#ifndef RIDGE_ARRIVAL_BLEND
+#define RIDGE_ARRIVAL_BLEND 0
+#endif
+
+// An ancestor's surface (slot `layer`, sample (0, 0) at finest offset `origin`, `step`
+// finest samples per cell) at finest offset `at` from the anchor: linear on its cell
+// triangles, split along the diagonal from (i + 1, j) to (i, j + 1) as the patch grid mesh
+// (render/patch_grid_mesh.cpp) draws them. Linear on an ancestor's triangles is linear on its
+// children's too (their diagonals lie on its), so a chain of fades nests exactly.
+float ancestorHeight(int layer, ivec2 origin, int step, ivec2 at) {
+    ivec2 q = at - origin; // finest samples into it, >= 0
+    ivec2 cell = min(q / step, ivec2(u_patch_cells - 1));
+    vec2 f = vec2(q - cell * step) / float(step);
+    float h00 = sampleHeight(layer, cell);
+    float h11 = sampleHeight(layer, cell + ivec2(1));
+    float h10 = sampleHeight(layer, cell + ivec2(1, 0));
+    float h01 = sampleHeight(layer, cell + ivec2(0, 1));
+    return f.x + f.y <= 1.0 ? h00 + f.x * (h10 - h00) + f.y * (h01 - h00)
+                            : h11 + (1.0 - f.x) * (h01 - h11) + (1.0 - f.y) * (h10 - h11);
+}
+
+// `z` of patch sample (i, j) faded towards the surface drawn before the patch arrived: its
+// nearest ancestor's, itself faded towards the next one's while that fade goes on, and so on
+// (S_i = mix(z_Ai, S_(i+1), w_(i+1)), z = mix(z, S_0, w_0)).
+float arrivalFade(PatchInstance p, ivec2 sample_ij, float z) {
+#if RIDGE_ARRIVAL_BLEND
+    if (p.fade_weight[0] > 0.0) {
+        ivec2 at = p.origin + sample_ij * p.step;
+        int n = 1;
+        while (n < 4 && p.fade_weight[n] > 0.0)
+            ++n;
+        float before = ancestorHeight(p.fade_layer[n - 1], p.fade_origin[n - 1],
+                                      p.fade_step[n - 1], at);
+        for (int i = n - 2; i >= 0; --i)
+            before = mix(ancestorHeight(p.fade_layer[i], p.fade_origin[i], p.fade_step[i], at),
+                         before, p.fade_weight[i + 1]);
+        z = mix(z, before, p.fade_weight[0]);
+    }
+#endif
+    return z;
+}
+
+// The height drawn at patch sample (i, j): its own, faded while the patch arrives. Seams stay
+// bit-identical between patches fading alike (siblings that arrived together); others are
+// closed by the skirts, which hang by the ancestors' Err too while a patch fades
+// (render/patch_instances.cpp).
+float drawnHeight(PatchInstance p, ivec2 sample_ij) {
+    return arrivalFade(p, sample_ij, sampleHeight(p.layer, sample_ij));
+}
+
+// samplePosition with drawnHeight: where the vertex is drawn. The control stages keep
+// samplePosition (a patch's tessellation follows its own surface, not the fade).
+vec3 drawnPosition(PatchInstance p, ivec2 sample_ij, out vec3 up) {
+    precise float z = drawnHeight(p, sample_ij);
+    return framePoint(p.origin + sample_ij * p.step, z, up);
 }

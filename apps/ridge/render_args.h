@@ -272,6 +272,18 @@ inline void addStreamingOptions(CLI::App& command, render::RendererOptions& opti
                     "patches decoded with fewer for their distance; 0: decode fully on arrival")
         ->capture_default_str()
         ->check(CLI::Range(0, Options::kMaxRefineStepsPerFrame));
+    command
+        .add_option("--arrival-frames", options.arrival_blend.max_frames,
+                    "Longest fade of a patch that arrives over the ancestor that stood in for "
+                    "it, frames; 0: it replaces the ancestor at once")
+        ->capture_default_str()
+        ->check(CLI::Range(0, lod::ArrivalBlendSettings::kMaxFrames));
+    command
+        .add_option("--arrival-px", options.arrival_blend.px_per_frame,
+                    "How far a fading arrival may move on screen in a frame, pixels (its fade "
+                    "lasts as many frames as its jump needs, up to --arrival-frames)")
+        ->capture_default_str()
+        ->check(inRange("--arrival-px", lod::ArrivalBlendSettings::kPxPerFrameRange));
     command.add_flag_callback(
         "--no-streaming", [&options] { options.streaming = false; },
         "Load every patch before drawing the frame that needs it (stalls)");

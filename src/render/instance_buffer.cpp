@@ -20,7 +20,8 @@ InstanceBuffer::InstanceBuffer(const lod::PatchQuadtree& quadtree,
 
 PatchInstances InstanceBuffer::write(TerrainScheme& scheme, const lod::Camera& camera,
                                      const lod::Camera& lod_camera, const lod::Selection& selection,
-                                     const RenderSettings& settings)
+                                     const RenderSettings& settings,
+                                     const lod::ArrivalBlends* arrivals)
 {
     // Skirts hang by what the scheme's mesh drops beyond Err(P) (the tessellator's λ, a
     // chunk's simplification error, ...).
@@ -38,7 +39,28 @@ PatchInstances InstanceBuffer::write(TerrainScheme& scheme, const lod::Camera& c
             quadtree_, selection, camera.position(),
             [&](PatchId p) { return residency_.slotOf(p); },
             [&](PatchId p) { return scheme.meshDeviation(residency_.slotOf(p)); },
-            skirt_margin_ * std::max(k, 1.0) + 1e-6 * z_rel, k);
+            skirt_margin_ * std::max(k, 1.0) + 1e-6 * z_rel, k,
+            [&](PatchId p) -> std::optional<InstanceBlend> {
+                std::optional<InstanceBlend> b;
+                if (const std::optional<lod::ArrivalBlend> chain =
+                        arrivals ? arrivals->of(p) : std::nullopt) {
+                    InstanceBlend ib{*chain, {}};
+                    ib.chain.depth = 0; // up to the first ancestor that is not resident
+                    for (int l = 0; l < chain->depth; ++l) {
+                        const int slot = residency_.slotOf(chain->links[size_t(l)].from);
+                        if (slot < 0)
+                            break;
+                        ib.slots[size_t(l)] = slot;
+                        ib.chain.depth = l + 1;
+                    }
+                    if (ib.chain.depth > 0)
+                        b = ib;
+                }
+                return b;
+            });
+    if (arrivals)
+        for (size_t i = 0; i < built.records.size(); ++i)
+            built.records[i].stand_in = arrivals->standsIn(built.patches[i]);
     scheme.completeInstances(lod_camera, settings, built);
     records_.upload(built.records);
     return built;

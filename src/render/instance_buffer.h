@@ -8,6 +8,7 @@
 
 #include "ridge/gpu/gl_objects.h"
 #include "ridge/gpu/shader_program.h"
+#include "ridge/lod/arrival_blend.h"
 #include "ridge/lod/patch_quadtree.h"
 #include "ridge/lod/patch_residency.h"
 #include "ridge/render/terrain_renderer.h"
@@ -27,9 +28,12 @@ class InstanceBuffer {
     // The records of `selection` (resident) seen from `camera` as `scheme` draws it with
     // `settings` (the ε met), LOD decided for `lod_camera`, uploaded; returns them.
     // A scheme that builds its own records (TerrainScheme::buildInstances) gives them instead.
+    // `arrivals`: the fades of arriving patches (streaming), put in the records while the
+    // ancestor they fade from is resident.
     PatchInstances write(TerrainScheme& scheme, const lod::Camera& camera,
                          const lod::Camera& lod_camera, const lod::Selection& selection,
-                         const RenderSettings& settings);
+                         const RenderSettings& settings,
+                         const lod::ArrivalBlends* arrivals = nullptr);
     // Binds the buffer to shader storage binding 0.
     void bind() const;
 

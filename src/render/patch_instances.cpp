@@ -43,11 +43,12 @@ CameraAnchor cameraAnchor(const lod::TerrainFrame& frame, glm::dvec3 camera_posi
     return a;
 }
 
-PatchInstances buildPatchInstances(const lod::PatchQuadtree& tree, const lod::Selection& selection,
-                                   glm::dvec3 camera_position,
-                                   const std::function<int(PatchId)>& slot_of,
-                                   const std::function<double(PatchId)>& lambda_max,
-                                   double skirt_margin, double exaggeration)
+PatchInstances
+buildPatchInstances(const lod::PatchQuadtree& tree, const lod::Selection& selection,
+                    glm::dvec3 camera_position, const std::function<int(PatchId)>& slot_of,
+                    const std::function<double(PatchId)>& lambda_max, double skirt_margin,
+                    double exaggeration,
+                    const std::function<std::optional<InstanceBlend>(PatchId)>& blend_of)
 {
     const double k = exaggeration;
     const PyramidGeometry& g = tree.geometry();
@@ -68,6 +69,10 @@ PatchInstances buildPatchInstances(const lod::PatchQuadtree& tree, const lod::Se
     out.partial = order.size() - out.whole;
     for (const auto& entry : order)
         out.patches.push_back(entry.second);
+    std::vector<std::optional<InstanceBlend>> blends(out.patches.size());
+    if (blend_of)
+        for (size_t i = 0; i < out.patches.size(); ++i)
+            blends[i] = blend_of(out.patches[i]);
     const std::vector<double> depths = lod::skirtDepths(
         tree, out.patches,
         [&](PatchId p) {
@@ -77,7 +82,15 @@ PatchInstances buildPatchInstances(const lod::PatchQuadtree& tree, const lod::Se
             const lod::TerrainFrame& f = tree.frame();
             const double sag =
                 f.onEllipsoid() ? f.edgeSag(double(g.step(p.level)) * g.cells()) : 0.0;
-            return k * (double(tree.bounds(p).err) + lambda_max(p)) + sag;
+            double deviation = double(tree.bounds(p).err) + lambda_max(p);
+            // A fading surface lies between its own and its ancestors', each within its Err of
+            // the finest samples.
+            if (blend_of)
+                if (const std::optional<InstanceBlend> b = blend_of(p))
+                    for (int l = 0; l < b->chain.depth; ++l)
+                        deviation = std::max(
+                            deviation, double(tree.bounds(b->chain.links[size_t(l)].from).err));
+            return k * deviation + sag;
         },
         skirt_margin);
 
@@ -108,6 +121,20 @@ PatchInstances buildPatchInstances(const lod::PatchQuadtree& tree, const lod::Se
         // beyond, rounded to float like the shader's cell coordinates it is compared with.
         r.valid_extent[0] = float(g.validExtentX(p));
         r.valid_extent[1] = float(g.validExtentY(p));
+        if (const std::optional<InstanceBlend>& b = blends[i])
+            for (int l = 0; l < b->chain.depth; ++l) {
+                // The ancestor's sample (0, 0), spacing and slot, its heights within the bounds.
+                const PatchId a = b->chain.links[size_t(l)].from;
+                const int64_t s = g.step(a.level);
+                r.fade_origin[l][0] = int32_t(int64_t(a.x) * g.cells() * s - anchor.column);
+                r.fade_origin[l][1] = int32_t(int64_t(a.y) * g.cells() * s - anchor.row);
+                r.fade_step[l] = int32_t(s);
+                r.fade_layer[l] = b->slots[size_t(l)];
+                r.fade_weight[l] = b->chain.links[size_t(l)].weight;
+                const lod::PatchBounds& ab = tree.bounds(a);
+                r.min_z = std::min(r.min_z, float(k * double(ab.min_height) - anchor.height));
+                r.max_z = std::max(r.max_z, float(k * double(ab.max_height) - anchor.height));
+            }
         out.records.push_back(r);
     }
     return out;

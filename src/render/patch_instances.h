@@ -2,12 +2,15 @@
 // Per-instance records of the terrain draw (internal to ridge_render): one per selected
 // patch, ordered front to back with whole patches first, each with its skirt depth and its
 // texture-array slot. Plain C++: what goes into the instance buffer, testable without GL.
+#include "ridge/lod/arrival_blend.h"
 #include "ridge/lod/patch_quadtree.h"
 
 #include <glm/vec3.hpp>
 
+#include <array>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <vector>
 
 namespace ridge::render {
@@ -30,8 +33,20 @@ struct GpuPatchInstance {
     // west or north of the terrain); a clipmap footprint's cells west or north of it. The
     // terrain's first column and row are grid lines of every level, so nothing is cut there.
     float valid_start[2];
+    // A patch fading in over the surface drawn before it arrived (lod/arrival_blend.h): the
+    // chain of ancestors (nearest first), each with its sample (0, 0) like `origin`, its
+    // finest samples per cell, its slot and its link's weight; fade_weight[0] 0: no fade (the
+    // shaders then read no ancestor), and the chain ends at the first weight 0.
+    int32_t fade_origin[lod::ArrivalBlend::kMaxDepth][2];
+    int32_t fade_step[lod::ArrivalBlend::kMaxDepth];
+    int32_t fade_layer[lod::ArrivalBlend::kMaxDepth];
+    float fade_weight[lod::ArrivalBlend::kMaxDepth];
+    // 1: this patch stands in for missing descendants (streaming with fades): drawn at its
+    // full grid by schemes that otherwise draw coarser, so arrivals fade from what was drawn.
+    int32_t stand_in;
+    int32_t pad;
 };
-static_assert(sizeof(GpuPatchInstance) == 56, "must match the std430 layout of PatchInstance");
+static_assert(sizeof(GpuPatchInstance) == 144, "must match the std430 layout of PatchInstance");
 
 // The finest sample nearest the camera. Vertices are placed by their integer offset from it
 // through the terrain frame (shaders/terrain_common.glsl's framePoint), so they depend only
@@ -49,6 +64,13 @@ struct CameraAnchor {
 };
 CameraAnchor cameraAnchor(const lod::TerrainFrame& frame, glm::dvec3 camera_position);
 
+// The fade of a drawn patch this frame (lod::ArrivalBlend), each ancestor with its slot
+// (the chain cut at the first that is not resident).
+struct InstanceBlend {
+    lod::ArrivalBlend chain;
+    std::array<int, lod::ArrivalBlend::kMaxDepth> slots{};
+};
+
 struct PatchInstances {
     std::vector<GpuPatchInstance> records;
     std::vector<PatchId> patches; // per record
@@ -62,10 +84,11 @@ struct PatchInstances {
 // a selected patch, `lambda_max(p)` the largest λ^(d) of its blocks (metres). With an
 // `exaggeration` k (SelectionSettings::exaggeration) the camera is in the exaggerated space
 // and every vertical quantity is k times the archive's: bounds, Err(P), λ and so the skirts.
-PatchInstances buildPatchInstances(const lod::PatchQuadtree& tree, const lod::Selection& selection,
-                                   glm::dvec3 camera_position,
-                                   const std::function<int(PatchId)>& slot_of,
-                                   const std::function<double(PatchId)>& lambda_max,
-                                   double skirt_margin, double exaggeration = 1.0);
+PatchInstances
+buildPatchInstances(const lod::PatchQuadtree& tree, const lod::Selection& selection,
+                    glm::dvec3 camera_position, const std::function<int(PatchId)>& slot_of,
+                    const std::function<double(PatchId)>& lambda_max, double skirt_margin,
+                    double exaggeration = 1.0,
+                    const std::function<std::optional<InstanceBlend>(PatchId)>& blend_of = {});
 
 } // namespace ridge::render

@@ -56,6 +56,7 @@ void RendererOptions::validate() const
     checkParameter("prefetch_frames", int64_t{prefetch_frames}, 0, kMaxPrefetchFrames);
     checkParameter("refine_steps_per_frame", int64_t{refine_steps_per_frame}, 0,
                    kMaxRefineStepsPerFrame);
+    arrival_blend.validate();
     std::vector<std::string> named;
     for (const std::string& spec : schemes) {
         const std::string name = parseSchemeSpec(spec).scheme();

@@ -25,7 +25,9 @@ SchemePrograms::SchemePrograms(const SchemeResources& r, std::vector<gpu::Shader
 {
     const std::vector<std::string> archive_defines = {
         "RIDGE_SURFACE " + std::to_string(surfaceKind(r.quadtree.frame())),
-        std::string("RIDGE_WATER_FROM_HEIGHT ") + (r.reader.storesSampleFlags() ? "0" : "1")};
+        std::string("RIDGE_WATER_FROM_HEIGHT ") + (r.reader.storesSampleFlags() ? "0" : "1"),
+        std::string("RIDGE_ARRIVAL_BLEND ") +
+            (r.options.streaming && r.options.arrival_blend.max_frames > 0 ? "1" : "0")};
     for (size_t i = 0; i < variants.size(); ++i) {
         variants_[i].defines = archive_defines;
         variants_[i].defines.insert(variants_[i].defines.end(), variants[i].begin(),

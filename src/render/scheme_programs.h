@@ -6,7 +6,8 @@
 // the valid extent. Compiled on first use, so a renderer that never draws a scheme never
 // compiles it. What the archive fixes is compiled in, not branched on: the surface (plane,
 // geographic grid on the ellipsoid, projected grid: RIDGE_SURFACE, terrain_common.glsl) and
-// its water rule (RIDGE_WATER_FROM_HEIGHT, before format 4). llvmpipe runs both sides of a
+// its water rule (RIDGE_WATER_FROM_HEIGHT, before format 4), and whether arriving patches
+// fade in (RIDGE_ARRIVAL_BLEND: a streaming renderer's). llvmpipe runs both sides of a
 // branch on a uniform under an execution mask: the globe's trigonometry in every vertex made
 // the plane's frames 2.2-2.4x slower (docs/PERF.md, "Like for like").
 #include "ridge/gpu/shader_program.h"

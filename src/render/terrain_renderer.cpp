@@ -17,6 +17,7 @@
 #include "ridge/gpu/primitive_counter.h"
 #include "ridge/gpu/shader_program.h"
 #include "ridge/lod/coarse_terrain.h"
+#include "ridge/lod/screen_space_error.h"
 #include "ridge/render/frame_measures.h"
 
 #include <chrono>
@@ -71,6 +72,8 @@ struct TerrainRenderer::Impl {
     InstanceBuffer instances;
     // Where drawn patches' fragments shade from: finer resident patches (texture detail).
     ShadingMap shading_map;
+    // Streaming arrivals fading in over the ancestors that stood in for them.
+    lod::ArrivalBlends arrivals;
     FrameUniforms uniforms;
     SurfaceCapture surface_capture;
     // measureFramePopping's last surface: on the GPU (plane frames; made on first use), or
@@ -104,8 +107,18 @@ struct TerrainRenderer::Impl {
         used.epsilon_px = selection.epsilon_px;
         stats.bytes_uploaded += shading_map.update(selection.patches, resident.residency(),
                                                    quadtree.geometry(), settings.texel_px > 0.0);
-        return instances.write(scheme, camera, lod_camera, selection, used);
+        return instances.write(scheme, camera, lod_camera, selection, used,
+                               fadesArrivals(settings.scheme) ? &arrivals : nullptr);
     }
+    bool fadesArrivals(const std::string& scheme) const
+    {
+        return resident.streaming() && options.arrival_blend.max_frames > 0 &&
+               lodSchemePromises(scheme).arrivals != SchemePromises::Arrivals::Replace;
+    }
+    // The fades of this streaming frame's arrivals (`wanted`: the selection, `drawn`: its
+    // resident cover), each as long as its jump on screen asks.
+    void advanceArrivals(const lod::Camera& camera, const lod::SelectionSettings& ss,
+                         const lod::Selection& wanted, const lod::Selection& drawn);
     // `frozen`: draw what is resident (resident cover), changing nothing.
     lod::Selection prepare(TerrainScheme& scheme, const lod::Camera& camera,
                            const RenderSettings& settings, FrameStats& stats, bool frozen);
@@ -164,7 +177,8 @@ TerrainRenderer::Impl::Impl(const archive::ArchiveReader& r, const RendererOptio
       // The shared pieces; each scheme gets its own options and product (Schemes::get).
       schemes(plan, SchemeResources{r, quadtree, options, kSharedOnly, resident.textures(),
                                     resident.residency(), slots, -1}),
-      instances(quadtree, resident.residency()), shading_map(slots), uniforms(r, quadtree)
+      instances(quadtree, resident.residency()), shading_map(slots),
+      arrivals(options.arrival_blend), uniforms(r, quadtree)
 {
     resident.start(schemes);
 }
@@ -207,6 +221,12 @@ lod::Selection TerrainRenderer::Impl::prepare(TerrainScheme& scheme, const lod::
     try {
         if (resident.streaming()) {
             lod::Selection drawn = resident.stream(selection, selector, camera, ss, stats);
+            if (fadesArrivals(settings.scheme)) {
+                advanceArrivals(camera, ss, selection, drawn);
+                stats.fading = int(arrivals.fading());
+            } else {
+                arrivals.reset(); // another scheme's frames start none
+            }
             drawn.detail.swap(selection.detail); // the drawn cover, with the detail to count
             selection = std::move(drawn);
         } else {
@@ -228,6 +248,26 @@ lod::Selection TerrainRenderer::Impl::prepare(TerrainScheme& scheme, const lod::
     for (const lod::SelectedPatch& p : selection.patches)
         last_drawn.push_back(p.id);
     return selection;
+}
+
+void TerrainRenderer::Impl::advanceArrivals(const lod::Camera& camera,
+                                            const lod::SelectionSettings& ss,
+                                            const lod::Selection& wanted,
+                                            const lod::Selection& drawn)
+{
+    const double gamma = lod::screenSpaceErrorFactor(camera);
+    const double k = ss.exaggeration;
+    arrivals.advance(
+        wanted.patches, drawn.patches,
+        [&](PatchId p) { return resident.residency().slotOf(p) >= 0; },
+        [&](PatchId from, PatchId to) {
+            // The two surfaces part by at most Err(A) + Err(P), seen where `to` is nearest.
+            const lod::Box box = quadtree.box(to, k);
+            const double rho = lod::distanceToBox(camera.position(), box);
+            const double err = k * double(quadtree.bounds(from).err + quadtree.bounds(to).err);
+            return lod::screen_space_error(gamma, err,
+                                           lod::visibleDepthBound(camera, box, rho, ss.side_on));
+        });
 }
 
 namespace {

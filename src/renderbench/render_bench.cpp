@@ -101,6 +101,7 @@ RenderBenchReport runRenderBench(const std::string& archive, const RenderBenchOp
         f.missing = s.missing;
         f.detail = s.detail;
         f.detail_resident = s.detail_resident;
+        f.fading = s.fading;
         f.loaded = s.loaded;
         f.reconstructed = s.reconstructed;
         f.refined = s.refined;

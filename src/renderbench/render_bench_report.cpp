@@ -356,6 +356,7 @@ std::string formatRenderBenchJson(const RenderBenchReport& r)
                           {"missing", f.missing},
                           {"detail", f.detail},
                           {"detail_resident", f.detail_resident},
+                          {"fading", f.fading},
                           {"loaded", f.loaded},
                           {"reconstructed", f.reconstructed},
                           {"refined", f.refined},

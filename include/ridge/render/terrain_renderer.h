@@ -11,6 +11,7 @@
 #include "ridge/archive/archive_reader.h"
 #include "ridge/core/parameter_check.h"
 #include "ridge/lod/archive_frame.h"
+#include "ridge/lod/arrival_blend.h"
 #include "ridge/lod/camera.h"
 #include "ridge/lod/edge_tessellation.h"
 #include "ridge/lod/patch_quadtree.h"
@@ -60,6 +61,14 @@ struct SchemePromises {
     // Draws a globe whose columns go round the Earth (lod::GeodeticGrid::wrap_columns): its
     // selection wraps too. A scheme without it refuses such a frame by name.
     bool wrapping_globe = true;
+    // What a streamed arrival does to the surface drawn before it (lod/arrival_blend.h):
+    //   Fade          fades in from exactly what was drawn: no frame of a still camera moves
+    //                 the surface by more than the fade's steps;
+    //   FadeFromGrid  fades in from the ancestors' grids, which the scheme draws otherwise
+    //                 (the tessellator triangulates a stand-in its own way): the arrival frame
+    //                 still jumps by that difference;
+    //   Replace       replaces its ancestor at once (the renderer fades nothing for it).
+    enum class Arrivals { Fade, FadeFromGrid, Replace } arrivals = Arrivals::Fade;
 };
 // Scheme `name`'s promises; throws ridge::Error for a name that is not registered.
 SchemePromises lodSchemePromises(const std::string& name);
@@ -132,6 +141,7 @@ struct FrameStats {
     int culled = 0;  // subtrees dropped by the frustum test
     int loaded = 0;  // patches made resident this frame
     int missing = 0; // streaming: selected patches drawn by a resident ancestor
+    int fading = 0;  // streaming: drawn patches fading in over their ancestor (arrivals)
     // Texture detail (RenderSettings::texel_px): the patches the selection wants for shading
     // (lod::Selection::detail), and how many of them are resident after this frame's uploads.
     int detail = 0, detail_resident = 0;
@@ -260,6 +270,11 @@ struct RendererOptions {
     // Streaming: also request what the camera will see this many frames ahead at its current
     // velocity (after everything the current frame needs). 0 disables prefetching.
     int prefetch_frames = 20;
+    // Streaming: an arriving patch fades in over the ancestor that stood in for it, moving at
+    // most px_per_frame pixels a frame for at most max_frames frames (lod/arrival_blend.h);
+    // max_frames 0: it replaces the ancestor at once. Fixed per renderer (the shaders compile
+    // the fade in only for a streaming renderer that fades).
+    lod::ArrivalBlendSettings arrival_blend;
     // Waits for this frame's GPU timer and GL_PRIMITIVES_GENERATED query (stalls the
     // pipeline: headless renders and tests). Otherwise gpu_ms and triangles are those of the
     // latest finished frame (a few frames old).

@@ -55,6 +55,7 @@ struct FrameRecord {
     int patches = 0;
     int missing = 0;                     // drawn by an ancestor while streaming
     int detail = 0, detail_resident = 0; // texture detail wanted, and resident (FrameStats)
+    int fading = 0;                      // arrivals fading in over their ancestor
     int loaded = 0;
     int reconstructed = 0; // of `loaded`, on the GPU
     int refined = 0;       // resident patches refined in place (Base incremental)

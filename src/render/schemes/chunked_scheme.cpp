@@ -140,9 +140,15 @@ class ChunkedScheme final : public TerrainScheme {
         glBindVertexArray(mesh_vao_.id());
         const GLenum type = shortIndices(n_) ? GL_UNSIGNED_SHORT : GL_UNSIGNED_INT;
         for (size_t i = first; i < first + count; ++i) {
+            glUniform1i(instance_offset, GLint(i));
+            if (frame.instances.records[i].stand_in) {
+                // A stand-in at its full grid: what arrives fades from it exactly.
+                grid_.draw(1, skirts);
+                glBindVertexArray(mesh_vao_.id());
+                continue;
+            }
             const Slot& c = slots_[size_t(frame.instances.records[i].layer)];
             glVertexArrayElementBuffer(mesh_vao_.id(), c.indices.id());
-            glUniform1i(instance_offset, GLint(i));
             glDrawElements(GL_TRIANGLES, skirts ? c.all : c.surface, type, nullptr);
         }
     }

@@ -447,10 +447,13 @@ SchemeInfo clipmapsScheme()
             return std::make_unique<ClipmapsScheme>(
                 r, settingsFor(r.reader, r.quadtree.frame(), r.own));
         },
+        // Arrivals are not faded: a level window takes new samples as the fill writes them
+        // (lod/clipmap.h), with no patch record to fade.
         .promises = {.screen_space_error = false,
                      .seams = SchemePromises::Seams::Stitching,
                      .pop_free = false,
-                     .wrapping_globe = true},
+                     .wrapping_globe = true,
+                     .arrivals = SchemePromises::Arrivals::Replace},
     };
 }
 

@@ -308,12 +308,15 @@ SchemeInfo ringsScheme()
         .make = [](const SchemeResources& r) -> std::unique_ptr<TerrainScheme> {
             return std::make_unique<RingsScheme>(r, settingsFor(r.reader, r.own));
         },
+        // Arrivals are not faded: tiles meet at stitched vertices with no skirt, so one tile
+        // fading alone would open its seams.
         // Rings wrap with the globe when its turn is whole tiles (lod::ringsWrapTiles; needs
         // refuses the archive otherwise).
         .promises = {.screen_space_error = false,
                      .seams = SchemePromises::Seams::Stitching,
                      .pop_free = false,
-                     .wrapping_globe = true},
+                     .wrapping_globe = true,
+                     .arrivals = SchemePromises::Arrivals::Replace},
     };
 }
 
