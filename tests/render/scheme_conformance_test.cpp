@@ -477,6 +477,77 @@ TEST_P(SchemeConformance, ALowStreamingFlyOverNeverShowsAHole)
                 scheme.c_str(), fx.name.c_str(), judged, frames, holes, footprint);
 }
 
+// Streamed arrivals fade in (lod/arrival_blend.h): a camera holds still over the Everest
+// fixture while its patches stream in a few a frame, progressive (parents before children:
+// arrivals cascade), and each frame's surface is compared with the one before
+// (measureFramePopping). Only arrivals change the surface, so with fades every frame moves by
+// about the fade's step; without them (max_frames 0) arrivals jump by pixels, which shows
+// the check can fail.
+TEST_P(SchemeConformance, StreamedArrivalsFadeInInsteadOfPopping)
+{
+    const std::string scheme = GetParam();
+    const Fixture& fx = fixtures()[1];
+    Scene& synchronous = SchemeConformance::sceneOf(fx);
+    const lod::Viewport vp{240, 160};
+    auto run = [&](int max_frames, int& fading_frames) {
+        render::RendererOptions options = render::RendererOptions::streamingDefaults();
+        options.schemes = {scheme};
+        options.uploads_per_frame = 2;
+        options.prefetch_frames = 0;
+        options.arrival_blend.max_frames = max_frames;
+        options.arrival_blend.px_per_frame = 0.25;
+        render::TerrainRenderer renderer(*synchronous.reader, options);
+        const lod::TerrainFrame& f = renderer.quadtree().frame();
+        const lod::PatchBounds& root = renderer.quadtree().bounds({0, 0, 0});
+        const glm::dvec3 at(f.extentX() * 0.55, f.extentY() * 0.5, root.min_height);
+        const glm::dvec3 pos = at + glm::dvec3(-0.2 * f.extentX(), -0.25 * f.extentY(),
+                                               root.max_height - root.min_height);
+        const lod::Camera cam = cameraAt(renderer, pos, at, vp);
+        gpu::RenderTarget target(vp.width, vp.height, 1);
+        render::RenderSettings settings = settingsFor(scheme, 1.0, 0.0);
+        double worst = 0.0;
+        fading_frames = 0;
+        for (int k = 0; k < 24; ++k) { // everything has arrived by frame 12
+            target.bind();
+            const render::FrameStats stats = renderer.draw(cam, settings);
+            fading_frames += stats.fading > 0;
+            const render::PoppingReport pop = renderer.measureFramePopping(cam, settings);
+            if (k > 0)
+                worst = std::max(worst, pop.max_px);
+        }
+        EXPECT_EQ(renderer.streamingError(), "");
+        return worst;
+    };
+    using Arrivals = render::SchemePromises::Arrivals;
+    const Arrivals promise = render::lodSchemePromises(scheme).arrivals;
+    int fading_off = 0, fading_on = 0;
+    const double on = run(1000, fading_on);
+    if (promise == Arrivals::Replace) {
+        EXPECT_EQ(fading_on, 0) << "a scheme that replaces arrivals is told of no fades";
+        std::printf("[%s] %s arrivals, static camera: popping max %.3f px a frame (replaced)\n",
+                    scheme.c_str(), fx.name.c_str(), on);
+        return;
+    }
+    const double off = run(0, fading_off);
+    std::printf("[%s] %s arrivals, static camera: popping max %.3f px a frame without fades, "
+                "%.3f px with (%d frames fading)\n",
+                scheme.c_str(), fx.name.c_str(), off, on, fading_on);
+    EXPECT_EQ(fading_off, 0);
+    EXPECT_GT(off, 1.0) << "arrivals must jump without fades (the check must be able to fail)";
+    switch (promise) {
+    case Arrivals::Fade:
+        EXPECT_GT(fading_on, 0);
+        EXPECT_LE(on, 0.5) << "each frame moves by about the fade's step, 0.25 px a link";
+        break;
+    case Arrivals::FadeFromGrid:
+        EXPECT_GT(fading_on, 0);
+        EXPECT_LT(on, off) << "fading from the ancestors' grids must still help";
+        break;
+    case Arrivals::Replace:
+        break;
+    }
+}
+
 INSTANTIATE_TEST_SUITE_P(EveryRegisteredScheme, SchemeConformance,
                          ::testing::ValuesIn(render::lodSchemeNames()),
                          [](const auto& info) { return info.param; });

@@ -127,11 +127,13 @@ TEST(Streaming, FullDetailMatchesTheSynchronousRenderer)
     render::FrameStats stats = a.draw(cam, {});
     // At least one upload a frame, more within the time budget: on a loaded machine the
     // budget admits one, so the bound is in frames, generous (a converged run stops early).
-    for (int k = 0; k < 400 && stats.missing > 0; ++k) {
+    // Then arrivals finish fading in (at most RendererOptions::arrival_blend.max_frames).
+    for (int k = 0; k < 400 && (stats.missing > 0 || stats.fading > 0); ++k) {
         a.waitForStreaming();
         stats = a.draw(cam, {});
     }
     ASSERT_EQ(stats.missing, 0);
+    ASSERT_EQ(stats.fading, 0);
     b.draw(cam, {});
     auto sorted = [](std::vector<PatchId> v) {
         std::sort(v.begin(), v.end(), [](PatchId p, PatchId q) {
