@@ -119,6 +119,8 @@ TEST(Streaming, FullDetailMatchesTheSynchronousRenderer)
     StreamingScene scene("lossless");
     render::RendererOptions streaming;
     streaming.streaming = true;
+    // Short fades: what is compared is full detail, after arrivals have faded in.
+    streaming.arrival_blend.max_frames = 16;
     render::TerrainRenderer a(*scene.reader, streaming);
     render::TerrainRenderer b(*scene.reader);
     gpu::RenderTarget target(320, 180, 1);
@@ -127,7 +129,7 @@ TEST(Streaming, FullDetailMatchesTheSynchronousRenderer)
     render::FrameStats stats = a.draw(cam, {});
     // At least one upload a frame, more within the time budget: on a loaded machine the
     // budget admits one, so the bound is in frames, generous (a converged run stops early).
-    // Then arrivals finish fading in (at most RendererOptions::arrival_blend.max_frames).
+    // Then arrivals finish fading in (at most arrival_blend.max_frames more).
     for (int k = 0; k < 400 && (stats.missing > 0 || stats.fading > 0); ++k) {
         a.waitForStreaming();
         stats = a.draw(cam, {});

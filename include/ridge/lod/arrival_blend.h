@@ -46,8 +46,11 @@ namespace ridge::lod {
 struct ArrivalBlendSettings {
     static constexpr int kMaxFrames = 10000;
     static constexpr ValueRange kPxPerFrameRange = ValueRange::openClosed(0.0, 1000.0);
-    // Longest fade, frames; 0: arrivals replace their ancestor at once.
-    int max_frames = 32;
+    // Longest fade, frames; 0: arrivals replace their ancestor at once. 256 (about 4 s at
+    // 60 Hz): after a teleport the chain's jumps reach about 100 px on the Sierra archive, so
+    // 32 frames moved 2.9 px a frame and 128 frames 0.83 px; 256 keeps under 0.5 px
+    // (docs/PERF.md). The fade ends sooner where the jump is smaller.
+    int max_frames = 256;
     // How far a fading surface may move on screen in one frame, pixels (bound, not measure).
     double px_per_frame = 0.25;
     // Throws ridge::Error naming the field outside its range.
