@@ -218,9 +218,10 @@ vec3 samplePosition(PatchInstance p, ivec2 sample_ij) {
     return samplePosition(p, sample_ij, up);
 }
 
-// RIDGE_ARRIVAL_BLEND 1 (streaming renderers): arriving patches fade in. Compiled out
-// otherwise: llvmpipe runs a branch's body under an execution mask whether or not any vertex
-// takes it.
+// RIDGE_ARRIVAL_BLEND 1: the programs a streaming renderer draws its fading patches with
+// (PatchInstances' fading groups); every other draw compiles it out: llvmpipe runs a branch's
+// body under an execution mask whether or not any vertex takes it, which made every vertex of
+// a streaming frame pay for the fades (docs/PERF.md, "Arrivals that fade in").
 #ifndef RIDGE_ARRIVAL_BLEND
 #define RIDGE_ARRIVAL_BLEND 0
 #endif

@@ -61,6 +61,7 @@ PatchInstances InstanceBuffer::write(TerrainScheme& scheme, const lod::Camera& c
     if (arrivals)
         for (size_t i = 0; i < built.records.size(); ++i)
             built.records[i].stand_in = arrivals->standsIn(built.patches[i]);
+    groupFadingLast(built);
     scheme.completeInstances(lod_camera, settings, built);
     records_.upload(built.records);
     return built;

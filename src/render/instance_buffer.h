@@ -45,17 +45,18 @@ class InstanceBuffer {
     RecordBuffer<GpuPatchInstance> records_;
 };
 
-// Calls draw(program, first, count) for the non-empty instance groups of `instances`: whole
-// patches with programs[0], a scheme's plain (or capture) program, those clipped at the valid
-// extent with programs[1], its clipping one (TerrainScheme::programs).
-template <class Draw>
-void forEachGroup(const std::array<const gpu::ShaderProgram*, 2>& programs,
+// Calls draw(program, first, count) for each non-empty group of `instances`
+// (instanceGroups) with the program `scheme` draws it with (TerrainScheme::programs): its
+// plain (or capture) program or its clipping one, each in its fading variant for the
+// patches that fade in.
+template <class Scheme, class Draw>
+void forEachGroup(Scheme& scheme, bool capture, const RenderSettings& settings,
                   const PatchInstances& instances, Draw&& draw)
 {
-    if (instances.whole)
-        draw(*programs[0], size_t(0), instances.whole);
-    if (instances.partial)
-        draw(*programs[1], instances.whole, instances.partial);
+    for (const InstanceGroup& g : instanceGroups(instances))
+        if (g.count)
+            draw(*scheme.programs(capture, g.fading, settings)[g.clipped ? 1 : 0], g.first,
+                 g.count);
 }
 
 } // namespace ridge::render

@@ -1,10 +1,12 @@
 #include "patch_instances.h"
 
+#include "ridge/core/error.h"
 #include "ridge/lod/screen_space_error.h"
 #include "ridge/lod/skirt_depth.h"
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 namespace ridge::render {
 
@@ -138,6 +140,41 @@ buildPatchInstances(const lod::PatchQuadtree& tree, const lod::Selection& select
         out.records.push_back(r);
     }
     return out;
+}
+
+std::array<InstanceGroup, 4> instanceGroups(const PatchInstances& in)
+{
+    const size_t whole_plain = in.whole - in.whole_fading;
+    const size_t partial_plain = in.partial - in.partial_fading;
+    return {{{0, whole_plain, false, false},
+             {whole_plain, in.whole_fading, false, true},
+             {in.whole, partial_plain, true, false},
+             {in.whole + partial_plain, in.partial_fading, true, true}}};
+}
+
+void groupFadingLast(PatchInstances& in)
+{
+    if (in.records.size() != in.total() || in.patches.size() != in.total())
+        throw Error("patch instances: " + std::to_string(in.records.size()) + " records and " +
+                    std::to_string(in.patches.size()) + " patches for " +
+                    std::to_string(in.total()) + " instances");
+    std::vector<size_t> order(in.total());
+    for (size_t i = 0; i < order.size(); ++i)
+        order[i] = i;
+    const auto plain = [&](size_t i) { return !(in.records[i].fade_weight[0] > 0.f); };
+    const auto whole_end = order.begin() + std::ptrdiff_t(in.whole);
+    in.whole_fading = size_t(whole_end - std::stable_partition(order.begin(), whole_end, plain));
+    in.partial_fading = size_t(order.end() - std::stable_partition(whole_end, order.end(), plain));
+    if (in.whole_fading == 0 && in.partial_fading == 0)
+        return;
+    std::vector<GpuPatchInstance> records(order.size());
+    std::vector<PatchId> patches(order.size());
+    for (size_t i = 0; i < order.size(); ++i) {
+        records[i] = in.records[order[i]];
+        patches[i] = in.patches[order[i]];
+    }
+    in.records = std::move(records);
+    in.patches = std::move(patches);
 }
 
 } // namespace ridge::render

@@ -77,8 +77,27 @@ struct PatchInstances {
     // [0, whole) are whole patches; [whole, whole + partial) reach past the valid extent
     // (the clipping draw takes those).
     size_t whole = 0, partial = 0;
+    // The last whole_fading of the whole patches and the last partial_fading of the others
+    // fade in (fade_weight[0] > 0; groupFadingLast): only they are drawn with the programs
+    // that read ancestors, which cost every vertex they run on (docs/PERF.md, "Arrivals that
+    // fade in").
+    size_t whole_fading = 0, partial_fading = 0;
     size_t total() const { return whole + partial; }
 };
+
+// One draw's share of PatchInstances: records [first, first + count), clipped at the valid
+// extent or not, fading in or not.
+struct InstanceGroup {
+    size_t first = 0, count = 0;
+    bool clipped = false, fading = false;
+};
+// The four groups in draw order: whole, whole fading, clipped, clipped fading (empty ones
+// included).
+std::array<InstanceGroup, 4> instanceGroups(const PatchInstances& instances);
+
+// Moves the fading records of each group (whole, clipped) after the others of that group,
+// keeping the order within each (front to back), and counts them.
+void groupFadingLast(PatchInstances& instances);
 
 // Records for `selection` seen from `camera_position`. `slot_of(p)` is the resident slot of
 // a selected patch, `lambda_max(p)` the largest λ^(d) of its blocks (metres). With an

@@ -21,13 +21,12 @@ SchemePrograms::SchemePrograms(const SchemeResources& r, std::vector<gpu::Shader
 
 SchemePrograms::SchemePrograms(const SchemeResources& r, std::vector<gpu::ShaderStage> surface,
                                std::vector<std::vector<std::string>> variants, std::string fragment)
-    : surface_(std::move(surface)), fragment_(std::move(fragment)), variants_(variants.size())
+    : fades_(r.options.streaming && r.options.arrival_blend.max_frames > 0),
+      surface_(std::move(surface)), fragment_(std::move(fragment)), variants_(variants.size())
 {
     const std::vector<std::string> archive_defines = {
         "RIDGE_SURFACE " + std::to_string(surfaceKind(r.quadtree.frame())),
-        std::string("RIDGE_WATER_FROM_HEIGHT ") + (r.reader.storesSampleFlags() ? "0" : "1"),
-        std::string("RIDGE_ARRIVAL_BLEND ") +
-            (r.options.streaming && r.options.arrival_blend.max_frames > 0 ? "1" : "0")};
+        std::string("RIDGE_WATER_FROM_HEIGHT ") + (r.reader.storesSampleFlags() ? "0" : "1")};
     for (size_t i = 0; i < variants.size(); ++i) {
         variants_[i].defines = archive_defines;
         variants_[i].defines.insert(variants_[i].defines.end(), variants[i].begin(),
@@ -35,14 +34,16 @@ SchemePrograms::SchemePrograms(const SchemeResources& r, std::vector<gpu::Shader
     }
 }
 
-std::array<const gpu::ShaderProgram*, 2> SchemePrograms::get(bool capture, size_t variant)
+std::array<const gpu::ShaderProgram*, 2> SchemePrograms::get(bool capture, bool fading,
+                                                             size_t variant)
 {
     if (variant >= variants_.size())
         throw Error("scheme program variant " + std::to_string(variant) + " of " +
                     std::to_string(variants_.size()) + " requested");
     Variant& v = variants_[variant];
     const int c = capture ? 1 : 0;
-    if (!v.compiled[c]) {
+    const int f = fading && fades_ ? 1 : 0;
+    if (!v.compiled[c][f]) {
         const std::vector<std::string> varyings =
             capture ? std::vector<std::string>{"Capture.tf_position", "Capture.tf_instance",
                                                "Capture.tf_skirt"}
@@ -53,11 +54,13 @@ std::array<const gpu::ShaderProgram*, 2> SchemePrograms::get(bool capture, size_
                 stages.push_back({GL_GEOMETRY_SHADER, "terrain_clip.geom"});
             if (!capture)
                 stages.push_back({GL_FRAGMENT_SHADER, fragment_});
-            v.programs[c][clip] = gpu::ShaderProgram(stages, varyings, v.defines);
+            std::vector<std::string> defines = v.defines;
+            defines.push_back(std::string("RIDGE_ARRIVAL_BLEND ") + (f ? "1" : "0"));
+            v.programs[c][f][clip] = gpu::ShaderProgram(stages, varyings, defines);
         }
-        v.compiled[c] = true;
+        v.compiled[c][f] = true;
     }
-    return {&v.programs[c][0], &v.programs[c][1]};
+    return {&v.programs[c][f][0], &v.programs[c][f][1]};
 }
 
 } // namespace ridge::render

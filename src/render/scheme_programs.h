@@ -6,10 +6,12 @@
 // the valid extent. Compiled on first use, so a renderer that never draws a scheme never
 // compiles it. What the archive fixes is compiled in, not branched on: the surface (plane,
 // geographic grid on the ellipsoid, projected grid: RIDGE_SURFACE, terrain_common.glsl) and
-// its water rule (RIDGE_WATER_FROM_HEIGHT, before format 4), and whether arriving patches
-// fade in (RIDGE_ARRIVAL_BLEND: a streaming renderer's). llvmpipe runs both sides of a
-// branch on a uniform under an execution mask: the globe's trigonometry in every vertex made
-// the plane's frames 2.2-2.4x slower (docs/PERF.md, "Like for like").
+// its water rule (RIDGE_WATER_FROM_HEIGHT, before format 4); and, per draw, whether the
+// patches drawn fade in (RIDGE_ARRIVAL_BLEND: a streaming renderer's fading variants, drawn
+// for those patches alone). llvmpipe runs both sides of a branch on a uniform under an
+// execution mask: the globe's trigonometry in every vertex made the plane's frames 2.2-2.4x
+// slower (docs/PERF.md, "Like for like"), the fade's ancestor reads made every vertex of a
+// streaming frame 8x slower ("Arrivals that fade in").
 #include "ridge/gpu/shader_program.h"
 
 #include <array>
@@ -35,16 +37,18 @@ class SchemePrograms {
                    std::vector<std::vector<std::string>> variants,
                    std::string fragment = "terrain.frag");
 
-    // {whole patches, clipped patches} of `variant` for drawing or for capture. Throws
-    // ridge::Error for a variant it was not given.
-    std::array<const gpu::ShaderProgram*, 2> get(bool capture, size_t variant = 0);
+    // {whole patches, clipped patches} of `variant` for drawing or for capture, for patches
+    // that fade in (`fading`; the plain programs when the renderer fades nothing in) or not.
+    // Throws ridge::Error for a variant it was not given.
+    std::array<const gpu::ShaderProgram*, 2> get(bool capture, bool fading, size_t variant = 0);
 
   private:
     struct Variant {
         std::vector<std::string> defines;
-        bool compiled[2] = {false, false};
-        gpu::ShaderProgram programs[2][2]; // [capture][clip]
+        bool compiled[2][2] = {{false, false}, {false, false}}; // [capture][fading]
+        gpu::ShaderProgram programs[2][2][2];                   // [capture][fading][clip]
     };
+    bool fades_ = false; // the renderer's arrivals fade in (streaming, fades on)
     std::vector<gpu::ShaderStage> surface_;
     std::string fragment_;
     std::vector<Variant> variants_;

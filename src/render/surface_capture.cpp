@@ -39,8 +39,8 @@ size_t SurfaceCapture::record(TerrainScheme& scheme, const SchemeFrame& frame,
         return 0;
 
     scheme.beginDraw(frame);
-    for (const gpu::ShaderProgram* p : scheme.programs(true, frame.settings))
-        set_uniforms(*p);
+    forEachGroup(scheme, true, frame.settings, ranges,
+                 [&](const gpu::ShaderProgram& p, size_t, size_t) { set_uniforms(p); });
     if (!target_)
         target_ = std::make_unique<gpu::RenderTarget>(1, 1, 1);
     // The rasterizer discarded and the 1×1 target bound until the capture ends, thrown or not.
@@ -63,7 +63,7 @@ size_t SurfaceCapture::record(TerrainScheme& scheme, const SchemeFrame& frame,
         // next appends after the previous. A group that does not fit is still counted.
         size_t generated_total = 0;
         stored_total = 0;
-        forEachGroup(scheme.programs(true, frame.settings), ranges,
+        forEachGroup(scheme, true, frame.settings, ranges,
                      [&](const gpu::ShaderProgram& p, size_t first, size_t n) {
                          p.use();
                          const size_t offset = stored_total * kVertexBytes;

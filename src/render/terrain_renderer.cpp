@@ -405,15 +405,17 @@ FrameStats TerrainRenderer::draw(const lod::Camera& camera, const RenderSettings
 
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(greater ? GL_GREATER : GL_LESS);
-    for (const gpu::ShaderProgram* p : scheme.programs(false, frame.settings)) {
-        m.setUniforms(scheme, *p, frame);
-        if (host) // the image from the host's matrices; LOD (u_lod_view_projection) from `lod`
-            setMatrix(*p, "u_view_projection", view_projection);
-        m.uniforms.setShading(*p, camera, s);
-    }
-    // Both instance groups with `mode` (3: the wireframe's flat colour).
+    // The uniforms of every program a group is drawn with.
+    forEachGroup(scheme, false, frame.settings, ranges,
+                 [&](const gpu::ShaderProgram& p, size_t, size_t) {
+                     m.setUniforms(scheme, p, frame);
+                     if (host) // the image from the host's matrices; LOD from `lod`
+                         setMatrix(p, "u_view_projection", view_projection);
+                     m.uniforms.setShading(p, camera, s);
+                 });
+    // The instance groups with `mode` (3: the wireframe's flat colour).
     auto drawTerrain = [&](int mode) {
-        forEachGroup(scheme.programs(false, frame.settings), ranges,
+        forEachGroup(scheme, false, frame.settings, ranges,
                      [&](const gpu::ShaderProgram& p, size_t first, size_t n) {
                          p.use();
                          glUniform1i(p.uniform("u_mode"), mode);

@@ -119,9 +119,10 @@ class TerrainScheme {
     // sent to the GPU.
     virtual size_t beginDraw(const SchemeFrame& /*frame*/) { return 0; }
     // The programs for whole patches and for patches clipped at the valid extent; `capture`:
-    // the transform-feedback variants (no fragment stage); `settings`: the frame's, for a
-    // scheme that compiles a choice in (SchemePrograms variants). Compiled on first use.
-    virtual std::array<const gpu::ShaderProgram*, 2> programs(bool capture,
+    // the transform-feedback variants (no fragment stage); `fading`: for patches that fade in
+    // (PatchInstances' fading groups); `settings`: the frame's, for a scheme that compiles a
+    // choice in (SchemePrograms variants). Compiled on first use.
+    virtual std::array<const gpu::ShaderProgram*, 2> programs(bool capture, bool fading,
                                                               const RenderSettings& settings) = 0;
     // Sets the scheme's own uniforms of `program` (the shared ones are set already).
     virtual void setUniforms(const gpu::ShaderProgram& /*program*/,

@@ -1,6 +1,8 @@
 // The instance records of the terrain draw, without GL.
 #include "patch_instances.h"
 
+#include "ridge/core/error.h"
+
 #include <gtest/gtest.h>
 
 using namespace ridge;
@@ -136,4 +138,56 @@ TEST(PatchInstances, SkirtDepthsAddTheNeighboursDeviation)
         0.25);
     for (size_t k = 0; k < 2; ++k)
         EXPECT_FLOAT_EQ(r.records[k].skirt_depth, float(1.5 + 4.0 + 0.25));
+}
+
+TEST(PatchInstances, FadingPatchesAreDrawnLastInTheirGroup)
+{
+    // Only the patches that fade in are drawn with the programs that read their ancestors;
+    // grouping them must keep every record with its patch, the whole/clipped split, and the
+    // front-to-back order within each part.
+    const lod::PatchQuadtree t = tree();
+    const int L = t.geometry().finestLevel();
+    lod::Selection s;
+    for (int x : {0, 1, 2, 3, 31})
+        s.patches.push_back({PatchId{L, x, 0}, 0.0, lod::Visibility::Inside});
+    const glm::dvec3 camera(5.0, t.frame().yOf(0) - 5.0, 500.0);
+    const auto fading = [&](PatchId p) { return p.x == 1 || p.x == 3 || p.x == 31; };
+    PatchInstances r = buildPatchInstances(
+        t, s, camera, [](PatchId p) { return p.x; }, [](PatchId) { return 0.0; }, 0.01, 1.0,
+        [&](PatchId p) -> std::optional<InstanceBlend> {
+            if (!fading(p))
+                return std::nullopt;
+            InstanceBlend b;
+            b.chain.depth = 1;
+            b.chain.links[0] = {PatchId{L - 1, p.x / 2, 0}, 0.5f};
+            b.slots[0] = 100 + p.x;
+            return b;
+        });
+    ASSERT_EQ(r.whole, 4u);
+    ASSERT_EQ(r.partial, 1u);
+    groupFadingLast(r);
+    EXPECT_EQ(r.whole_fading, 2u);
+    EXPECT_EQ(r.partial_fading, 1u);
+    const std::vector<int> order = {0, 2, 1, 3, 31};
+    for (size_t k = 0; k < r.total(); ++k) {
+        EXPECT_EQ(r.patches[k].x, order[k]) << k;
+        EXPECT_EQ(r.records[k].layer, r.patches[k].x) << "record " << k << " left its patch";
+        EXPECT_EQ(r.records[k].fade_weight[0] > 0.f, fading(r.patches[k])) << k;
+    }
+    const std::array<InstanceGroup, 4> g = instanceGroups(r);
+    EXPECT_EQ(g[0].first, 0u);
+    EXPECT_EQ(g[0].count, 2u);
+    EXPECT_FALSE(g[0].clipped || g[0].fading);
+    EXPECT_EQ(g[1].first, 2u);
+    EXPECT_EQ(g[1].count, 2u);
+    EXPECT_TRUE(g[1].fading && !g[1].clipped);
+    EXPECT_EQ(g[2].first, 4u);
+    EXPECT_EQ(g[2].count, 0u);
+    EXPECT_TRUE(g[2].clipped && !g[2].fading);
+    EXPECT_EQ(g[3].first, 4u);
+    EXPECT_EQ(g[3].count, 1u);
+    EXPECT_TRUE(g[3].clipped && g[3].fading);
+
+    r.records.pop_back();
+    EXPECT_THROW(groupFadingLast(r), Error) << "records and patches out of step";
 }

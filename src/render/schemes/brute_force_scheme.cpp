@@ -23,9 +23,10 @@ class BruteForceScheme final : public TerrainScheme {
     // Every sample is drawn: the mesh is the patch's own samples.
     double meshDeviation(int) const override { return 0.0; }
 
-    std::array<const gpu::ShaderProgram*, 2> programs(bool capture, const RenderSettings&) override
+    std::array<const gpu::ShaderProgram*, 2> programs(bool capture, bool fading,
+                                                      const RenderSettings&) override
     {
-        return programs_.get(capture);
+        return programs_.get(capture, fading);
     }
     void draw(const gpu::ShaderProgram& program, const SchemeFrame& frame, size_t first,
               size_t count) const override

@@ -122,9 +122,10 @@ class ChunkedScheme final : public TerrainScheme {
                        : double(textures_.lambdaMax(slot));
     }
 
-    std::array<const gpu::ShaderProgram*, 2> programs(bool capture, const RenderSettings&) override
+    std::array<const gpu::ShaderProgram*, 2> programs(bool capture, bool fading,
+                                                      const RenderSettings&) override
     {
-        return programs_.get(capture);
+        return programs_.get(capture, fading);
     }
 
     void draw(const gpu::ShaderProgram& program, const SchemeFrame& frame, size_t first,

@@ -221,9 +221,10 @@ class ClipmapsScheme final : public TerrainScheme {
 
     double meshDeviation(int) const override { return 0.0; }
 
-    std::array<const gpu::ShaderProgram*, 2> programs(bool capture, const RenderSettings&) override
+    std::array<const gpu::ShaderProgram*, 2> programs(bool capture, bool fading,
+                                                      const RenderSettings&) override
     {
-        return programs_.get(capture);
+        return programs_.get(capture, fading);
     }
 
     void setUniforms(const gpu::ShaderProgram& program, const SchemeFrame& frame) const override

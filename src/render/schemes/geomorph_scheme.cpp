@@ -300,9 +300,10 @@ class GeomorphScheme final : public TerrainScheme {
         return bytes;
     }
 
-    std::array<const gpu::ShaderProgram*, 2> programs(bool capture, const RenderSettings&) override
+    std::array<const gpu::ShaderProgram*, 2> programs(bool capture, bool fading,
+                                                      const RenderSettings&) override
     {
-        return programs_.get(capture);
+        return programs_.get(capture, fading);
     }
 
     void setUniforms(const gpu::ShaderProgram& program, const SchemeFrame& frame) const override

@@ -206,9 +206,10 @@ class RingsScheme final : public TerrainScheme {
     // No skirts: nothing hangs below a tile's border.
     double meshDeviation(int) const override { return 0.0; }
 
-    std::array<const gpu::ShaderProgram*, 2> programs(bool capture, const RenderSettings&) override
+    std::array<const gpu::ShaderProgram*, 2> programs(bool capture, bool fading,
+                                                      const RenderSettings&) override
     {
-        return programs_.get(capture);
+        return programs_.get(capture, fading);
     }
 
     void setUniforms(const gpu::ShaderProgram& program, const SchemeFrame&) const override

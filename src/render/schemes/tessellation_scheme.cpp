@@ -35,10 +35,10 @@ class TessellationScheme final : public TerrainScheme {
     // The skirts hang by the tessellator's λ: what a simplified block may drop beyond Err(P).
     double meshDeviation(int slot) const override { return double(textures_.lambdaMax(slot)); }
 
-    std::array<const gpu::ShaderProgram*, 2> programs(bool capture,
+    std::array<const gpu::ShaderProgram*, 2> programs(bool capture, bool fading,
                                                       const RenderSettings& settings) override
     {
-        return programs_.get(capture, size_t(settings.tessellation_rule));
+        return programs_.get(capture, fading, size_t(settings.tessellation_rule));
     }
 
     // What only the tessellation shaders read: the LOD camera, ε and the rule for the edge
