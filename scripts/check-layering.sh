@@ -25,7 +25,7 @@ bad=$(grep -rlE '#include *[<"]ridge/gpu/' src include |
       grep -vE '^(src/gpu/|src/render/|src/renderbench/|include/ridge/gpu/)' || true)
 [[ -z "$bad" ]] || report "the GPU layer used outside the renderers" "$bad"
 bad=$(grep -rlE '#include *[<"]ridge/(gpu|render)/' src/lod src/stream src/pyramid src/codec src/archive \
-      src/io src/core include/ridge/lod include/ridge/stream 2>/dev/null || true)
+      src/io src/core src/web include/ridge/lod include/ridge/stream include/ridge/web 2>/dev/null || true)
 [[ -z "$bad" ]] || report "GL-free stages include the GPU layer or the renderers" "$bad"
 # The stream carries what LOD schemes prepare (stream::PatchProduct) without knowing any of them.
 bad=$(grep -rlE '#include *[<"]ridge/lod/chunk_mesh\.h' src/stream include/ridge/stream 2>/dev/null || true)

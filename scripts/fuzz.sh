@@ -26,7 +26,7 @@ elif ! grep -q '^RIDGE_BUILD_FUZZERS:BOOL=ON' "$fuzz_build/CMakeCache.txt" 2>/de
   exit 2
 fi
 cmake --build "$fuzz_build" -j "$(nproc)" --target fuzz_lossless_decode fuzz_progressive_decode fuzz_jpeg2000_decode fuzz_fractal_decode fuzz_archive_reader \
-      fuzz_archive_fields fuzz_render_params
+      fuzz_archive_fields fuzz_render_params fuzz_quantized_mesh_decode
 
 # Seeds: small real archives, and their patch payloads prefixed with the patch-size byte.
 seeds=$fuzz_build/seeds
@@ -100,16 +100,30 @@ PY
 ./build/ridge build tests/data/rainier_voids.tif -o "$seeds/archive/rainier_none_neville_33.ridge" -q \
     --patch 33 --fill-voids none --filter neville
 
+# A quantized-mesh tile (the golden tile of tests/web/quantized_mesh_test.cpp): header, 4
+# vertices, 2 triangles, edges and the three extensions.
+mkdir -p "$seeds/quantized_mesh"
+python3 - "$seeds/quantized_mesh/square.terrain" <<'PY'
+import struct, sys
+head = struct.pack('<3d2f4d3d', 1, 2, 3, -10, 90, 1, 2, 3, 4, 0.5, 0.25, 0.125)
+body = bytes.fromhex('04000000' '0000feff0000fdff' '00000000feff0000' '0000c80036fff3ff'
+                     '02000000' '000000000000030001000000' '0200000000000300' '0200000000000100'
+                     '0200000001000200' '0200000003000200' '01080000000102030405060708'
+                     '0201000000ff' '0406000000020000007b7d')
+open(sys.argv[1], 'wb').write(head + body)
+PY
+
 status=0
 export RIDGE_FUZZ_ARCHIVES=$seeds/archive # the archives fuzz_render_params renders
 for target in fuzz_lossless_decode fuzz_progressive_decode fuzz_jpeg2000_decode fuzz_fractal_decode fuzz_archive_reader \
-              fuzz_archive_fields fuzz_render_params; do
+              fuzz_archive_fields fuzz_render_params fuzz_quantized_mesh_decode; do
   seed_dir=$seeds/payload
   [[ $target == fuzz_archive_reader || $target == fuzz_archive_fields ]] && seed_dir=$seeds/archive
   [[ $target == fuzz_progressive_decode ]] && seed_dir=$seeds/progressive
   [[ $target == fuzz_jpeg2000_decode ]] && seed_dir=$seeds/jpeg2000
   [[ $target == fuzz_fractal_decode ]] && seed_dir=$seeds/fractal
   [[ $target == fuzz_render_params ]] && seed_dir=$seeds/params
+  [[ $target == fuzz_quantized_mesh_decode ]] && seed_dir=$seeds/quantized_mesh
   corpus=$fuzz_build/corpus-$target # new inputs go here; the seeds stay as built
   mkdir -p "$corpus"
   echo "fuzz: $target for ${seconds}s"

@@ -11,6 +11,7 @@ packages=(
   libopenjp2-7-dev libopenjph-dev  # the jpeg2000 codec: JPEG 2000 (OpenJPEG) and HTJ2K (OpenJPH)
   libpng-dev                     # hillshade PNG output
   libfmt-dev libcli11-dev nlohmann-json3-dev
+  libmeshoptimizer-dev           # web tiles: vertex order for quantized-mesh index coding
   libgtest-dev libgmock-dev libbenchmark-dev
   python3                        # bench and fuzz helper scripts
   clang libclang-rt-14-dev       # libFuzzer targets (scripts/fuzz.sh), the sanitizer build
