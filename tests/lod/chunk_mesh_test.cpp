@@ -2,6 +2,8 @@
 
 #include "ridge/core/error.h"
 
+#include "fractal_terrain.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -15,35 +17,11 @@ using namespace ridge::lod;
 
 namespace {
 
-// Rough terrain: midpoint displacement (diamond-square) with a fixed seed, in codes.
+// Rough terrain (diamond-square, tests/support/fractal_terrain.h) in codes.
 std::vector<uint16_t> fractalPatch(int n, uint32_t seed, double roughness)
 {
-    std::mt19937 rng(seed);
-    std::vector<double> h(size_t(n) * n, 0.0);
-    auto at = [&](int x, int y) -> double& { return h[size_t(y) * n + x]; };
-    std::uniform_real_distribution<double> u(-1.0, 1.0);
-    const int c = n - 1;
-    at(0, 0) = 2000 + 500 * u(rng), at(c, 0) = 2000 + 500 * u(rng);
-    at(0, c) = 2000 + 500 * u(rng), at(c, c) = 2000 + 500 * u(rng);
-    double amplitude = roughness * c;
-    for (int s = c; s > 1; s /= 2, amplitude *= 0.55) {
-        const int m = s / 2;
-        for (int y = m; y < n; y += s)
-            for (int x = m; x < n; x += s)
-                at(x, y) =
-                    (at(x - m, y - m) + at(x + m, y - m) + at(x - m, y + m) + at(x + m, y + m)) /
-                        4 +
-                    amplitude * u(rng);
-        for (int y = 0; y < n; y += m)
-            for (int x = (y / m) % 2 == 0 ? m : 0; x < n; x += s) {
-                double sum = 0;
-                int count = 0;
-                for (const auto& [dx, dy] : {std::pair{-m, 0}, {m, 0}, {0, -m}, {0, m}})
-                    if (x + dx >= 0 && x + dx < n && y + dy >= 0 && y + dy < n)
-                        sum += at(x + dx, y + dy), ++count;
-                at(x, y) = sum / count + amplitude * u(rng);
-            }
-    }
+    const std::vector<double> h =
+        ridge::test::diamondSquare(n, seed, 2000.0, 500.0, roughness * (n - 1), 0.55);
     std::vector<uint16_t> codes(h.size());
     for (size_t i = 0; i < h.size(); ++i)
         codes[i] = uint16_t(std::clamp(std::lround(h[i]), 0L, 65535L));
