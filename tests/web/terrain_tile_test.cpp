@@ -1,0 +1,134 @@
+// Quantized-mesh tiles from height grids: within their stated error through the format, and
+// neighbours that meet on identical edge vertices.
+#include "ridge/web/terrain_tile.h"
+
+#include "ridge/core/error.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+
+using namespace ridge;
+using namespace ridge::web;
+
+namespace {
+
+// Heights of a rough synthetic terrain at global sample (gx, gy) of zoom 10's 64-cell grid:
+// neighbouring tiles read identical samples on their shared edges, as tiles cut from one
+// archive do.
+float terrain(int64_t gx, int64_t gy)
+{
+    const double x = double(gx) * 0.05, y = double(gy) * 0.05;
+    return float(1500.0 + 600.0 * std::sin(x) * std::cos(0.7 * y) + 80.0 * std::sin(3.1 * x + y) +
+                 15.0 * std::sin(17.0 * x) * std::sin(13.0 * y) +
+                 double((gx * 7919 + gy * 104729) % 13) * 0.4);
+}
+
+TileHeights tileOf(TileKey k, int cells)
+{
+    TileHeights t{k, cells, {}};
+    for (int r = 0; r <= cells; ++r)
+        for (int c = 0; c <= cells; ++c)
+            t.heights.push_back(terrain(k.x * cells + c, k.y * cells + (cells - r)));
+    return t;
+}
+
+double decodedHeight(const QuantizedMesh& m, uint32_t i)
+{
+    return double(m.min_height) + double(m.height[i]) / QuantizedMesh::kMaxCoordinate *
+                                      double(m.max_height - m.min_height);
+}
+
+// The decoded mesh's height at (u, v), or NaN when no triangle holds the point.
+double meshHeightAt(const QuantizedMesh& m, double u, double v)
+{
+    for (size_t t = 0; t < m.triangles.size(); t += 3) {
+        const uint32_t a = m.triangles[t], b = m.triangles[t + 1], c = m.triangles[t + 2];
+        const double ax = m.u[a], ay = m.v[a], bx = m.u[b], by = m.v[b], cx = m.u[c], cy = m.v[c];
+        const double det = (bx - ax) * (cy - ay) - (cx - ax) * (by - ay);
+        const double l1 = ((u - ax) * (cy - ay) - (cx - ax) * (v - ay)) / det;
+        const double l2 = ((bx - ax) * (v - ay) - (u - ax) * (by - ay)) / det;
+        const double l0 = 1.0 - l1 - l2;
+        if (l0 >= -1e-9 && l1 >= -1e-9 && l2 >= -1e-9)
+            return l0 * decodedHeight(m, a) + l1 * decodedHeight(m, b) + l2 * decodedHeight(m, c);
+    }
+    return NAN;
+}
+
+} // namespace
+
+TEST(TerrainTile, EverySampleLiesWithinTheStatedErrorOfTheDecodedMesh)
+{
+    const int cells = 64;
+    for (double bound : {0.5, 4.0, 20.0}) {
+        const TileHeights grid = tileOf({10, 1500, 700}, cells);
+        const TerrainTile tile = makeTerrainTile(grid, bound);
+        EXPECT_LE(tile.error,
+                  bound + 0.5 * (tile.mesh.max_height - tile.mesh.min_height) / 32767 + 1e-9);
+        const QuantizedMesh m = decodeQuantizedMesh(encodeQuantizedMesh(tile.mesh));
+        double worst = 0.0;
+        for (int r = 0; r <= cells; ++r)
+            for (int c = 0; c <= cells; ++c) {
+                // u, v as the tile quantized them (the sample's own position on the mesh).
+                const double u = std::round(c * 32767.0 / cells);
+                const double v = std::round((cells - r) * 32767.0 / cells);
+                const double h = meshHeightAt(m, u, v);
+                ASSERT_FALSE(std::isnan(h)) << "sample " << c << ", " << r << " outside the mesh";
+                worst = std::max(worst,
+                                 std::abs(h - double(grid.heights[size_t(r * (cells + 1) + c)])));
+            }
+        EXPECT_LE(worst, tile.error + 1e-3) << "bound " << bound; // float decode of the client
+        EXPECT_LT(m.vertexCount(), size_t((cells + 1) * (cells + 1)));
+    }
+}
+
+TEST(TerrainTile, NeighboursShareTheirEdgeVertices)
+{
+    const int cells = 64;
+    const TerrainTile west = makeTerrainTile(tileOf({10, 1500, 700}, cells), 2.0);
+    const TerrainTile east = makeTerrainTile(tileOf({10, 1501, 700}, cells), 2.0);
+    const TerrainTile north = makeTerrainTile(tileOf({10, 1500, 701}, cells), 2.0);
+    // v → metres along the shared meridian; u → metres along the shared parallel.
+    auto along = [](const QuantizedMesh& m, const std::vector<uint32_t>& edge, bool by_v) {
+        std::map<uint16_t, double> out;
+        for (uint32_t i : edge)
+            out[by_v ? m.v[i] : m.u[i]] = decodedHeight(m, i);
+        return out;
+    };
+    const auto a = along(west.mesh, west.mesh.east, true);
+    const auto b = along(east.mesh, east.mesh.west, true);
+    ASSERT_EQ(a.size(), b.size());
+    for (auto ia = a.begin(), ib = b.begin(); ia != a.end(); ++ia, ++ib) {
+        EXPECT_EQ(ia->first, ib->first) << "same v on both sides of the seam";
+        EXPECT_NEAR(ia->second, ib->second, west.error + east.error);
+    }
+    const auto c = along(west.mesh, west.mesh.north, false);
+    const auto d = along(north.mesh, north.mesh.south, false);
+    ASSERT_EQ(c.size(), d.size());
+    for (auto ic = c.begin(), id = d.begin(); ic != c.end(); ++ic, ++id)
+        EXPECT_EQ(ic->first, id->first) << "same u on both sides of the seam";
+    // Every edge list is the tile's border vertices, in order along the edge.
+    for (const auto* e : {&west.mesh.west, &west.mesh.east})
+        for (size_t k = 1; k < e->size(); ++k)
+            EXPECT_LT(west.mesh.v[(*e)[k - 1]], west.mesh.v[(*e)[k]]);
+}
+
+TEST(TerrainTile, RefusesWhatIsNotATile)
+{
+    TileHeights g = tileOf({3, 1, 1}, 8);
+    EXPECT_NO_THROW(makeTerrainTile(g, 1.0));
+    TileHeights bad_key = g;
+    bad_key.key = {3, 16, 0};
+    EXPECT_THROW(makeTerrainTile(bad_key, 1.0), Error);
+    TileHeights short_grid = g;
+    short_grid.heights.pop_back();
+    EXPECT_THROW(makeTerrainTile(short_grid, 1.0), Error);
+    TileHeights nan = g;
+    nan.heights[5] = NAN;
+    EXPECT_THROW(makeTerrainTile(nan, 1.0), Error);
+    EXPECT_THROW(makeTerrainTile(g, -1.0), Error);
+    TileHeights no_cells = g;
+    no_cells.cells = 0;
+    EXPECT_THROW(makeTerrainTile(no_cells, 1.0), Error);
+}
