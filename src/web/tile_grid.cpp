@@ -1,5 +1,6 @@
 #include "ridge/web/tile_grid.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -31,6 +32,15 @@ bool GeographicTms::valid(TileKey k)
 GeoRect GeographicTms::rect(TileKey k)
 {
     return {longitude(k, 0, 1), latitude(k, 0, 1), longitude(k, 1, 1), latitude(k, 1, 1)};
+}
+
+TileKey GeographicTms::tileAt(int z, double lon, double lat)
+{
+    const double size = 180.0 / double(tilesY(z));
+    const auto index = [&](double degrees, int64_t n) {
+        return std::clamp(int64_t(std::floor(degrees / size)), int64_t(0), n - 1);
+    };
+    return {z, index(lon + 180.0, tilesX(z)), index(lat + 90.0, tilesY(z))};
 }
 
 // Global sample index over the zoom's samples, so a shared edge is one computation.

@@ -34,28 +34,6 @@ TileHeights tileOf(TileKey k, int cells)
     return t;
 }
 
-double decodedHeight(const QuantizedMesh& m, uint32_t i)
-{
-    return double(m.min_height) + double(m.height[i]) / QuantizedMesh::kMaxCoordinate *
-                                      double(m.max_height - m.min_height);
-}
-
-// The decoded mesh's height at (u, v), or NaN when no triangle holds the point.
-double meshHeightAt(const QuantizedMesh& m, double u, double v)
-{
-    for (size_t t = 0; t < m.triangles.size(); t += 3) {
-        const uint32_t a = m.triangles[t], b = m.triangles[t + 1], c = m.triangles[t + 2];
-        const double ax = m.u[a], ay = m.v[a], bx = m.u[b], by = m.v[b], cx = m.u[c], cy = m.v[c];
-        const double det = (bx - ax) * (cy - ay) - (cx - ax) * (by - ay);
-        const double l1 = ((u - ax) * (cy - ay) - (cx - ax) * (v - ay)) / det;
-        const double l2 = ((bx - ax) * (v - ay) - (u - ax) * (by - ay)) / det;
-        const double l0 = 1.0 - l1 - l2;
-        if (l0 >= -1e-9 && l1 >= -1e-9 && l2 >= -1e-9)
-            return l0 * decodedHeight(m, a) + l1 * decodedHeight(m, b) + l2 * decodedHeight(m, c);
-    }
-    return NAN;
-}
-
 } // namespace
 
 TEST(TerrainTile, EverySampleLiesWithinTheStatedErrorOfTheDecodedMesh)

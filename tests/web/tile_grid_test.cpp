@@ -29,6 +29,16 @@ TEST(GeographicTms, ZoomZeroIsTwoHemispheresAndEachZoomHalvesTheTiles)
     EXPECT_FALSE(GeographicTms::valid({-1, 0, 0}));
 }
 
+TEST(GeographicTms, TileAtFindsTheTileHoldingAPoint)
+{
+    EXPECT_EQ(GeographicTms::tileAt(0, -90.0, 10.0), (TileKey{0, 0, 0}));
+    EXPECT_EQ(GeographicTms::tileAt(0, 0.0, 10.0), (TileKey{0, 1, 0})) << "an edge: the east tile";
+    EXPECT_EQ(GeographicTms::tileAt(0, 180.0, 90.0), (TileKey{0, 1, 0})) << "clamped";
+    const TileKey k = GeographicTms::tileAt(12, 86.925, 27.988);
+    const GeoRect r = GeographicTms::rect(k);
+    EXPECT_TRUE(r.west <= 86.925 && 86.925 < r.east && r.south <= 27.988 && 27.988 < r.north);
+}
+
 TEST(GeographicTms, NeighboursComputeTheirSharedEdgeBitForBit)
 {
     // A zoom where 64 cells a tile do not divide degrees exactly.

@@ -62,6 +62,13 @@ std::vector<uint8_t> encodeQuantizedMesh(const QuantizedMesh& mesh);
 // extension ids are skipped, as clients do.
 QuantizedMesh decodeQuantizedMesh(std::span<const uint8_t> bytes);
 
+// The height, metres, vertex i decodes to (min + h/32767 · (max − min), in double).
+double decodedHeight(const QuantizedMesh& mesh, uint32_t i);
+// The mesh's height at (u, v) (the format's coordinates, fractional allowed): linear on the
+// triangle holding the point, NaN when none does. O(triangles) a call: for checking tiles, not
+// for drawing them.
+double meshHeightAt(const QuantizedMesh& mesh, double u, double v);
+
 // Reorders triangles for the vertex cache and vertices by first use (meshoptimizer), as the
 // high-water-mark index coding needs; edge lists and per-vertex extensions follow the
 // vertices. The mesh's surface is unchanged.

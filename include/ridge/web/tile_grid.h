@@ -40,6 +40,9 @@ class GeographicTms {
     static bool valid(TileKey k);
     // The tile's extent; `k` must be valid.
     static GeoRect rect(TileKey k);
+    // The tile of zoom z holding (lon, lat) degrees (on a shared edge, the east or north
+    // one; clamped into the zoom's tiles).
+    static TileKey tileAt(int z, double lon, double lat);
     // Longitude and latitude of sample (i, j) of a tile sampled with `cells` cells a side
     // (i east from its west edge, j north from its south edge, 0..cells).
     static double longitude(TileKey k, int64_t i, int cells);

@@ -1,0 +1,75 @@
+#pragma once
+// Height grids of web tiles read from an archive (GL-free; one sampler per thread, as the
+// HeightQuery it owns is not thread-safe).
+//
+// A geographic tile of zoom z sampled with `cells` cells a side reads the archive level whose
+// sample spacing is the finest not finer than the tile's (levelFor): each tile sample is the
+// level's surface there (bilinear, pipeline/height_query.h), within Err(P) of the finest
+// samples; deeper levels would only add samples the tile's grid cannot hold. Samples off the
+// raster or on kept nodata take the height of the nearest valid sample of the tile (the
+// surface goes on flat past the data, with no cliff to 0 m at its edge) and are counted; a
+// tile with no valid sample is not made at all.
+//
+// Heights are the archive's: above the ellipsoid when the build shifted them there
+// (`ridge build --vertical-datum`, "build.vertical_shift"), else above whatever the source
+// measured from (verticalReference()).
+#include "ridge/pipeline/height_query.h"
+#include "ridge/web/terrain_tile.h"
+#include "ridge/web/tile_grid.h"
+
+#include <optional>
+#include <string>
+
+namespace ridge::web {
+
+struct SampledTile {
+    TileHeights grid;
+    int level = 0;             // the archive level read
+    double archive_error = 0.; // the largest Err(P) of the patches read, metres
+    size_t off_raster = 0;     // samples outside the archive (filled from the nearest valid)
+    size_t nodata = 0;         // samples on kept nodata (filled likewise)
+};
+
+class TileSampler {
+  public:
+    // Opens the archive; throws ridge::Error when it cannot be read or has no
+    // longitude/latitude (no CRS or geotransform).
+    explicit TileSampler(const std::string& archive_path,
+                         size_t cache_patches = HeightQuery::kDefaultCachePatches);
+
+    // The archive's longitude/latitude box, degrees (its border traced through PROJ).
+    const GeoRect& extent() const { return extent_; }
+    // "ellipsoid" when heights are above WGS 84's ellipsoid, else the archive's vertical datum
+    // name ("EGM96 height", ...) or "unknown".
+    std::string verticalReference() const;
+    // Whether geographic tile `k` overlaps the archive.
+    bool overlaps(TileKey k) const;
+    // The archive level a tile of zoom k.z with `cells` cells reads (see above).
+    int levelFor(TileKey k, int cells) const;
+    // The deepest zoom whose tiles of `cells` cells are still no finer than the archive's
+    // finest samples (deeper tiles add nothing but interpolation).
+    int maxZoom(int cells) const;
+    // The tile's grid, or nullopt when the tile misses the archive. Throws ridge::Error for an
+    // invalid key or cells outside [1, 4096].
+    std::optional<SampledTile> sample(TileKey k, int cells);
+
+    // The archive level's own valid samples inside tile `k` (longitude, latitude, height):
+    // what a tile's mesh is checked against between its grid's samples. At most `limit`
+    // (the first rows of the window past that). Throws ridge::Error for an invalid key or a
+    // level beyond the finest.
+    struct LevelSample {
+        double lon = 0, lat = 0, height = 0;
+    };
+    std::vector<LevelSample> levelSamples(TileKey k, int level, size_t limit = 1 << 20);
+
+  private:
+    double finestSpacingMetres() const;
+
+    HeightQuery query_;
+    GeoRect extent_;
+    std::vector<glm::dvec2> points_; // scratch, reused across tiles
+    std::vector<HeightSample> samples_;
+    std::vector<uint8_t> valid_;
+};
+
+} // namespace ridge::web

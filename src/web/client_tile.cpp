@@ -1,0 +1,109 @@
+#include "ridge/web/client_tile.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ridge::web {
+
+namespace {
+
+// The mesh's height at (u, v) through a bucket grid over the tile (each bucket lists the
+// triangles whose bounding box meets it), so checking thousands of samples stays linear.
+class MeshLocator {
+  public:
+    explicit MeshLocator(const QuantizedMesh& m) : m_(m), buckets_(kSide * kSide)
+    {
+        for (uint32_t t = 0; t + 2 < m.triangles.size(); t += 3) {
+            int lo[2] = {kSide, kSide}, hi[2] = {0, 0};
+            for (int k = 0; k < 3; ++k) {
+                const uint32_t i = m.triangles[t + uint32_t(k)];
+                for (int a = 0; a < 2; ++a) {
+                    const int b = bucket(a == 0 ? m.u[i] : m.v[i]);
+                    lo[a] = std::min(lo[a], b);
+                    hi[a] = std::max(hi[a], b);
+                }
+            }
+            for (int y = lo[1]; y <= hi[1]; ++y)
+                for (int x = lo[0]; x <= hi[0]; ++x)
+                    buckets_[size_t(y * kSide + x)].push_back(t);
+        }
+    }
+    double heightAt(double u, double v) const
+    {
+        const std::vector<uint32_t>& list = buckets_[size_t(bucket(v) * kSide + bucket(u))];
+        for (uint32_t t : list) {
+            const uint32_t a = m_.triangles[t], b = m_.triangles[t + 1], c = m_.triangles[t + 2];
+            const double h = triangleHeight(a, b, c, u, v);
+            if (!std::isnan(h))
+                return h;
+        }
+        return NAN;
+    }
+
+  private:
+    static constexpr int kSide = 32;
+    static int bucket(double coordinate)
+    {
+        return std::clamp(int(coordinate / (QuantizedMesh::kMaxCoordinate + 1.0) * kSide), 0,
+                          kSide - 1);
+    }
+    double triangleHeight(uint32_t a, uint32_t b, uint32_t c, double u, double v) const
+    {
+        const double ax = m_.u[a], ay = m_.v[a], bx = m_.u[b], by = m_.v[b], cx = m_.u[c],
+                     cy = m_.v[c];
+        const double det = (bx - ax) * (cy - ay) - (cx - ax) * (by - ay);
+        const double l1 = ((u - ax) * (cy - ay) - (cx - ax) * (v - ay)) / det;
+        const double l2 = ((bx - ax) * (v - ay) - (u - ax) * (by - ay)) / det;
+        const double l0 = 1.0 - l1 - l2;
+        constexpr double kInside = -1e-9;
+        if (!(l0 >= kInside && l1 >= kInside && l2 >= kInside))
+            return NAN;
+        return l0 * decodedHeight(m_, a) + l1 * decodedHeight(m_, b) + l2 * decodedHeight(m_, c);
+    }
+
+    const QuantizedMesh& m_;
+    std::vector<std::vector<uint32_t>> buckets_;
+};
+
+// The largest |mesh − sample| over the level's samples inside the tile.
+double measuredError(const QuantizedMesh& mesh, const GeoRect& r,
+                     const std::vector<TileSampler::LevelSample>& samples)
+{
+    const MeshLocator locate(mesh);
+    double worst = 0.0;
+    for (const TileSampler::LevelSample& s : samples) {
+        const double u = (s.lon - r.west) / (r.east - r.west) * QuantizedMesh::kMaxCoordinate;
+        const double v = (s.lat - r.south) / (r.north - r.south) * QuantizedMesh::kMaxCoordinate;
+        const double h = locate.heightAt(u, v);
+        if (!std::isnan(h))
+            worst = std::max(worst, std::abs(h - s.height));
+    }
+    return worst;
+}
+
+} // namespace
+
+std::optional<ClientTile> makeClientTile(TileSampler& sampler, TileKey k, int cells)
+{
+    std::optional<SampledTile> sampled = sampler.sample(k, cells);
+    if (!sampled)
+        return std::nullopt;
+    ClientTile out;
+    out.level = sampled->level;
+    out.archive_error = sampled->archive_error;
+    out.client_error = GeographicTms::geometricError(k.z);
+    out.missing = sampled->off_raster + sampled->nodata;
+    // The budget the TIN may use: the client's error less the archive's bound and the
+    // quantization step the tile's height range will cost.
+    const auto [lo, hi] =
+        std::minmax_element(sampled->grid.heights.begin(), sampled->grid.heights.end());
+    const double half_step = 0.5 * double(*hi - *lo) / QuantizedMesh::kMaxCoordinate;
+    const double tin_bound = std::max(0.0, out.client_error - out.archive_error - half_step);
+    out.tile = makeTerrainTile(sampled->grid, tin_bound);
+    out.measured_error =
+        measuredError(out.tile.mesh, GeographicTms::rect(k), sampler.levelSamples(k, out.level));
+    out.claimed_error = std::max(out.tile.error, out.measured_error) + out.archive_error;
+    return out;
+}
+
+} // namespace ridge::web

@@ -1,0 +1,222 @@
+#include "ridge/web/tile_sampler.h"
+
+#include "ridge/core/error.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace ridge::web {
+
+namespace {
+
+constexpr double kWgs84A = 6378137.0;
+constexpr int kBorderPoints = 256; // per side, tracing the archive's outline to lon/lat
+
+// Metres per degree of latitude (and of longitude at the equator) on a sphere of radius a:
+// close enough to choose a level by.
+constexpr double kMetresPerDegree = kWgs84A * std::numbers::pi / 180.0;
+
+// Each missing sample (valid[i] 0) takes the height of its nearest valid one (breadth
+// first over the grid's 4-neighbours, ties to the first reached): the surface goes on flat
+// past the archive's edge and its nodata instead of dropping to 0 m, which would put a cliff
+// inside the tile's cells at the edge of the data (5,332 m on the Everest fixture's border).
+void fillFromNearest(std::vector<float>& heights, int side, std::vector<uint8_t>& valid)
+{
+    std::vector<uint32_t> queue;
+    queue.reserve(heights.size());
+    for (uint32_t i = 0; i < heights.size(); ++i)
+        if (valid[i])
+            queue.push_back(i);
+    for (size_t head = 0; head < queue.size(); ++head) {
+        const uint32_t i = queue[head];
+        const int r = int(i) / side, c = int(i) % side;
+        const int neighbours[4][2] = {{r - 1, c}, {r + 1, c}, {r, c - 1}, {r, c + 1}};
+        for (const auto& [nr, nc] : neighbours) {
+            if (nr < 0 || nr >= side || nc < 0 || nc >= side)
+                continue;
+            const uint32_t n = uint32_t(nr * side + nc);
+            if (valid[n])
+                continue;
+            valid[n] = 1;
+            heights[n] = heights[i];
+            queue.push_back(n);
+        }
+    }
+}
+
+} // namespace
+
+TileSampler::TileSampler(const std::string& archive_path, size_t cache_patches)
+    : query_(archive_path, cache_patches)
+{
+    const TerrainGeoreference& g = query_.georeference();
+    if (!g.hasCrs() || !g.hasGeotransform())
+        throw Error(archive_path + ": web tiles need longitude/latitude, and the archive has no " +
+                    (g.hasCrs() ? "geotransform" : "CRS"));
+    // The outline of the raster's pixels, in lon/lat: a projected raster's border is curved
+    // there, so it is traced, not just its corners.
+    const double w = double(query_.reader().geometry().width());
+    const double h = double(query_.reader().geometry().height());
+    extent_ = {180.0, 90.0, -180.0, -90.0};
+    for (int k = 0; k <= kBorderPoints; ++k) {
+        const double t = double(k) / kBorderPoints;
+        for (const glm::dvec2 pixel : {glm::dvec2(t * w, 0.0), glm::dvec2(t * w, h),
+                                       glm::dvec2(0.0, t * h), glm::dvec2(w, t * h)}) {
+            const glm::dvec2 ll = g.fromLocal(g.localOfPixel(pixel), PointSpace::LonLat);
+            extent_.west = std::min(extent_.west, ll.x);
+            extent_.east = std::max(extent_.east, ll.x);
+            extent_.south = std::min(extent_.south, ll.y);
+            extent_.north = std::max(extent_.north, ll.y);
+        }
+    }
+}
+
+std::string TileSampler::verticalReference() const
+{
+    const archive::ArchiveMetadata& m = query_.reader().metadata();
+    if (m.build.vertical_shift)
+        return "ellipsoid";
+    if (m.georeference.vertical_datum)
+        return m.georeference.vertical_datum->name;
+    return "unknown";
+}
+
+bool TileSampler::overlaps(TileKey k) const
+{
+    const GeoRect r = GeographicTms::rect(k);
+    return r.west <= extent_.east && r.east >= extent_.west && r.south <= extent_.north &&
+           r.north >= extent_.south;
+}
+
+double TileSampler::finestSpacingMetres() const
+{
+    const lod::TerrainFrame& f = query_.georeference().frame();
+    return std::min(f.spacingX(), f.spacingY());
+}
+
+int TileSampler::levelFor(TileKey k, int cells) const
+{
+    // The tile's sample spacing, metres, along its meridians (the shorter way on a
+    // geographic tile away from the equator is along parallels, but a level chosen by the
+    // meridians keeps at least the tile's density there too within cos(latitude)).
+    const double tile_spacing =
+        180.0 / double(GeographicTms::tilesY(k.z)) / cells * kMetresPerDegree;
+    const int finest = query_.finestLevel();
+    const double ratio = tile_spacing / finestSpacingMetres();
+    if (!(ratio > 1.0))
+        return finest;
+    const int coarser = int(std::floor(std::log2(ratio)));
+    return std::max(0, finest - coarser);
+}
+
+int TileSampler::maxZoom(int cells) const
+{
+    const double finest = finestSpacingMetres();
+    int z = 0;
+    while (z < kMaxTileZoom &&
+           180.0 / double(GeographicTms::tilesY(z + 1)) / cells * kMetresPerDegree >= finest)
+        ++z;
+    return z;
+}
+
+std::optional<SampledTile> TileSampler::sample(TileKey k, int cells)
+{
+    if (!GeographicTms::valid(k))
+        throw Error("web tile " + std::to_string(k.z) + "/" + std::to_string(k.x) + "/" +
+                    std::to_string(k.y) + " is not a geographic tile");
+    if (cells < 1 || cells > 4096)
+        throw Error("web tile cells " + std::to_string(cells) + " outside [1, 4096]");
+    if (!overlaps(k))
+        return std::nullopt;
+
+    SampledTile out;
+    out.level = levelFor(k, cells);
+    out.grid.key = k;
+    out.grid.cells = cells;
+    const int side = cells + 1;
+    // Row 0 is the northern edge (sample j = cells), as TileHeights has it.
+    points_.resize(size_t(side) * size_t(side));
+    for (int r = 0; r < side; ++r)
+        for (int c = 0; c < side; ++c)
+            points_[size_t(r) * side + size_t(c)] = {GeographicTms::longitude(k, c, cells),
+                                                     GeographicTms::latitude(k, cells - r, cells)};
+    samples_.resize(points_.size());
+    query_.sampleBatch(points_, PointSpace::LonLat, out.level, QueryResampling::Bilinear, samples_);
+
+    out.grid.heights.assign(points_.size(), 0.f);
+    valid_.assign(points_.size(), 0);
+    for (size_t i = 0; i < samples_.size(); ++i) {
+        const HeightSample& s = samples_[i];
+        if (!s.on_raster || s.invalid_point) {
+            ++out.off_raster;
+        } else if (s.nodata) {
+            ++out.nodata;
+        } else {
+            valid_[i] = 1;
+            out.grid.heights[i] = float(s.height);
+            out.archive_error = std::max(out.archive_error, s.error_bound);
+        }
+    }
+    if (out.off_raster + out.nodata == samples_.size())
+        return std::nullopt; // inside the box but not on the raster (a rotated or curved one)
+    if (out.off_raster + out.nodata > 0)
+        fillFromNearest(out.grid.heights, side, valid_);
+    return out;
+}
+
+std::vector<TileSampler::LevelSample> TileSampler::levelSamples(TileKey k, int level, size_t limit)
+{
+    if (!GeographicTms::valid(k))
+        throw Error("web tile " + std::to_string(k.z) + "/" + std::to_string(k.x) + "/" +
+                    std::to_string(k.y) + " is not a geographic tile");
+    if (level < 0 || level > query_.finestLevel())
+        throw Error("web tile level " + std::to_string(level) + " outside [0, " +
+                    std::to_string(query_.finestLevel()) + "]");
+    std::vector<LevelSample> out;
+    if (!overlaps(k))
+        return out;
+    // The tile's outline in pixels (a projected archive's is curved): the window to scan.
+    const GeoRect r = GeographicTms::rect(k);
+    const TerrainGeoreference& g = query_.georeference();
+    const PyramidGeometry& geometry = query_.reader().geometry();
+    glm::dvec2 lo(INFINITY), hi(-INFINITY);
+    for (int i = 0; i <= 16; ++i) {
+        const double t = i / 16.0;
+        for (const glm::dvec2 ll : {glm::dvec2(r.west + t * (r.east - r.west), r.south),
+                                    glm::dvec2(r.west + t * (r.east - r.west), r.north),
+                                    glm::dvec2(r.west, r.south + t * (r.north - r.south)),
+                                    glm::dvec2(r.east, r.south + t * (r.north - r.south))}) {
+            const glm::dvec2 p = g.toPixel(ll, PointSpace::LonLat);
+            lo = glm::min(lo, p);
+            hi = glm::max(hi, p);
+        }
+    }
+    // Level sample (i, j) is finest sample (i·s, j·s), the centre of pixel (i·s + ½, j·s + ½).
+    const double s = double(geometry.step(level));
+    const int w = geometry.levelWidth(level), h = geometry.levelHeight(level);
+    const int i0 = std::clamp(int(std::floor((lo.x - 0.5) / s)) - 1, 0, w - 1);
+    const int i1 = std::clamp(int(std::ceil((hi.x - 0.5) / s)) + 1, 0, w - 1);
+    const int j0 = std::clamp(int(std::floor((lo.y - 0.5) / s)) - 1, 0, h - 1);
+    const int j1 = std::clamp(int(std::ceil((hi.y - 0.5) / s)) + 1, 0, h - 1);
+    points_.clear();
+    std::vector<glm::dvec2> lonlat;
+    for (int j = j0; j <= j1 && points_.size() < limit; ++j)
+        for (int i = i0; i <= i1 && points_.size() < limit; ++i) {
+            const glm::dvec2 pixel(std::min(i * s, double(geometry.width() - 1)) + 0.5,
+                                   std::min(j * s, double(geometry.height() - 1)) + 0.5);
+            const glm::dvec2 ll = g.fromLocal(g.localOfPixel(pixel), PointSpace::LonLat);
+            if (ll.x < r.west || ll.x > r.east || ll.y < r.south || ll.y > r.north)
+                continue;
+            points_.push_back(pixel);
+            lonlat.push_back(ll);
+        }
+    samples_.resize(points_.size());
+    query_.sampleBatch(points_, PointSpace::Pixel, level, QueryResampling::Nearest, samples_);
+    for (size_t i = 0; i < samples_.size(); ++i)
+        if (samples_[i].on_raster && !samples_[i].nodata && !samples_[i].invalid_point)
+            out.push_back({lonlat[i].x, lonlat[i].y, samples_[i].height});
+    return out;
+}
+
+} // namespace ridge::web

@@ -1,0 +1,100 @@
+// Web tiles read from an archive: the right level, the archive's surface at the tile's
+// samples, shared edges read alike, and tiles off the archive left alone. The Everest
+// fixture: 301 × 203 samples of 3″ (about 92 m), 86.75–87.00° E, 27.83–28.00° N, WGS 84.
+#include "ridge/web/tile_sampler.h"
+
+#include "ridge/core/error.h"
+
+#include "fixture_archives.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+using namespace ridge;
+using namespace ridge::web;
+
+TEST(TileSampler, TracesTheArchivesExtentAndFindsItsTiles)
+{
+    const test::ScratchDir dir;
+    TileSampler sampler(test::buildEverestArchive(dir));
+    const GeoRect e = sampler.extent();
+    EXPECT_NEAR(e.west, 86.749583, 1e-6);
+    EXPECT_NEAR(e.east, 86.749583 + 301 * 0.000833333, 1e-6);
+    EXPECT_NEAR(e.north, 28.000417, 1e-6);
+    EXPECT_NEAR(e.south, 28.000417 - 203 * 0.000833333, 1e-6);
+    EXPECT_TRUE(sampler.overlaps(GeographicTms::tileAt(12, 86.925, 27.988)));
+    EXPECT_FALSE(sampler.overlaps(GeographicTms::tileAt(12, 10.0, 45.0)));
+    EXPECT_FALSE(sampler.sample(GeographicTms::tileAt(12, 10.0, 45.0), 64))
+        << "a tile off the archive";
+    // 64-cell tiles reach the fixture's 92 m at zoom 11 (153 m samples; zoom 12's are 76 m).
+    EXPECT_EQ(sampler.maxZoom(64), 11);
+    EXPECT_EQ(sampler.verticalReference(), "unknown") << "the fixture states no vertical datum";
+}
+
+TEST(TileSampler, ReadsTheLevelAsFineAsTheTileAndItsSurface)
+{
+    const test::ScratchDir dir;
+    const std::string path = test::buildEverestArchive(dir);
+    TileSampler sampler(path);
+    HeightQuery finest(path);
+    const int L = finest.finestLevel();
+    int previous = -1;
+    for (int z = 6; z <= 13; ++z) {
+        const TileKey k = GeographicTms::tileAt(z, 86.925, 27.988);
+        const int level = sampler.levelFor(k, 64);
+        EXPECT_GE(level, previous) << "deeper zooms read finer levels";
+        previous = level;
+        if (z >= 12) {
+            EXPECT_EQ(level, L) << "zoom " << z << " samples finer than the archive";
+        }
+    }
+    const TileKey k = GeographicTms::tileAt(12, 86.925, 27.988);
+    const std::optional<SampledTile> t = sampler.sample(k, 64);
+    ASSERT_TRUE(t);
+    EXPECT_EQ(t->level, L);
+    EXPECT_EQ(t->off_raster, 0u) << "zoom 12's tile lies inside the fixture";
+    ASSERT_EQ(t->grid.heights.size(), 65u * 65u);
+    // Every tile sample is the archive's finest surface there (a lossless archive: exact
+    // up to float).
+    for (int r = 0; r <= 64; r += 8)
+        for (int c = 0; c <= 64; c += 8) {
+            const glm::dvec2 ll(GeographicTms::longitude(k, c, 64),
+                                GeographicTms::latitude(k, 64 - r, 64));
+            const HeightSample s = finest.sample(ll, PointSpace::LonLat);
+            EXPECT_NEAR(t->grid.heights[size_t(r) * 65 + size_t(c)], s.height, 1e-3 * s.height)
+                << c << ", " << r;
+        }
+    EXPECT_GT(*std::max_element(t->grid.heights.begin(), t->grid.heights.end()), 5000.f);
+}
+
+TEST(TileSampler, NeighboursReadTheirSharedEdgeAlike)
+{
+    const test::ScratchDir dir;
+    TileSampler sampler(test::buildEverestArchive(dir, "progressive", 33, 4.0));
+    const TileKey k = GeographicTms::tileAt(12, 86.90, 27.95);
+    const std::optional<SampledTile> a = sampler.sample(k, 32);
+    const std::optional<SampledTile> east = sampler.sample({k.z, k.x + 1, k.y}, 32);
+    const std::optional<SampledTile> north = sampler.sample({k.z, k.x, k.y + 1}, 32);
+    ASSERT_TRUE(a && east && north);
+    EXPECT_GT(a->archive_error, 0.0) << "a lossy archive states its bound";
+    for (int j = 0; j <= 32; ++j) {
+        EXPECT_EQ(a->grid.heights[size_t(j) * 33 + 32], east->grid.heights[size_t(j) * 33]);
+        EXPECT_EQ(a->grid.heights[size_t(j)], north->grid.heights[32 * 33 + size_t(j)]);
+    }
+}
+
+TEST(TileSampler, TilesPartlyOffTheArchiveCountTheirMissingSamples)
+{
+    const test::ScratchDir dir;
+    TileSampler sampler(test::buildEverestArchive(dir));
+    // Zoom 8's tile (0.70° square) holds the whole fixture and much besides.
+    const std::optional<SampledTile> t =
+        sampler.sample(GeographicTms::tileAt(8, 86.925, 27.988), 64);
+    ASSERT_TRUE(t);
+    EXPECT_GT(t->off_raster, 0u);
+    EXPECT_LT(t->off_raster, 65u * 65u);
+    EXPECT_THROW(sampler.sample({8, -1, 0}, 64), Error);
+    EXPECT_THROW(sampler.sample(GeographicTms::tileAt(8, 86.9, 27.9), 0), Error);
+    EXPECT_THROW(sampler.sample(GeographicTms::tileAt(8, 86.9, 27.9), 5000), Error);
+}
