@@ -12,12 +12,6 @@ namespace ridge::web {
 
 namespace {
 
-// u or v of grid sample `index` of `cells`: exact at both ends, the same in every tile.
-uint16_t quantizedCoordinate(int64_t index, int cells)
-{
-    return uint16_t(std::lround(double(index) * QuantizedMesh::kMaxCoordinate / cells));
-}
-
 // The vertices whose index satisfies `on`, sorted by `key` (the order along the edge).
 template <class On, class Key> std::vector<uint32_t> edge(size_t count, On on, Key key)
 {
@@ -29,25 +23,67 @@ template <class On, class Key> std::vector<uint32_t> edge(size_t count, On on, K
     return out;
 }
 
+[[noreturn]] void fail(const std::string& what)
+{
+    throw Error("terrain tile: " + what);
+}
+
+// Lines from `first` to `last` (0 and 32767, either way round), strictly monotone.
+void checkLines(const std::vector<int32_t>& lines, int32_t first, int32_t last, const char* name)
+{
+    if (lines.size() < 2 || lines.size() > size_t(QuantizedMesh::kMaxCoordinate) + 1)
+        fail(std::string(name) + " has " + std::to_string(lines.size()) +
+             " lines: must have 2 to 32768");
+    if (lines.front() != first || lines.back() != last)
+        fail(std::string(name) + " must run from " + std::to_string(first) + " to " +
+             std::to_string(last));
+    for (size_t i = 1; i < lines.size(); ++i)
+        if ((last > first) ? lines[i] <= lines[i - 1] : lines[i] >= lines[i - 1])
+            fail(std::string(name) + "[" + std::to_string(i) + "] = " + std::to_string(lines[i]) +
+                 " does not move on from " + std::to_string(lines[i - 1]));
+}
+
 } // namespace
+
+std::vector<int32_t> uniformLines(int cells)
+{
+    if (cells < 1 || cells > QuantizedMesh::kMaxCoordinate)
+        fail("cells " + std::to_string(cells) + " outside [1, 32767]");
+    std::vector<int32_t> out(size_t(cells) + 1);
+    for (int i = 0; i <= cells; ++i)
+        out[size_t(i)] =
+            int32_t(std::lround(double(i) * QuantizedMesh::kMaxCoordinate / double(cells)));
+    return out;
+}
+
+TileHeights uniformTileHeights(TileKey key, int cells)
+{
+    TileHeights t{key, uniformLines(cells), uniformLines(cells), {}};
+    std::reverse(t.v.begin(), t.v.end());
+    return t;
+}
 
 TerrainTile makeTerrainTile(const TileHeights& grid, double max_error)
 {
     if (!GeographicTms::valid(grid.key))
-        throw Error("terrain tile: no geographic tile " + std::to_string(grid.key.z) + "/" +
-                    std::to_string(grid.key.x) + "/" + std::to_string(grid.key.y));
-    if (grid.cells < 1 || grid.cells > 65535)
-        throw Error("terrain tile: cells " + std::to_string(grid.cells) + " outside [1, 65535]");
-    const int side = grid.cells + 1;
-    if (grid.heights.size() != size_t(side) * size_t(side))
-        throw Error("terrain tile: " + std::to_string(grid.heights.size()) + " heights for " +
-                    std::to_string(side) + "² samples");
+        fail("no geographic tile " + std::to_string(grid.key.z) + "/" + std::to_string(grid.key.x) +
+             "/" + std::to_string(grid.key.y));
+    constexpr int32_t kMax = QuantizedMesh::kMaxCoordinate;
+    checkLines(grid.u, 0, kMax, "u");
+    checkLines(grid.v, kMax, 0, "v");
+    if (grid.heights.size() != grid.u.size() * grid.v.size())
+        fail(std::to_string(grid.heights.size()) + " heights for " + std::to_string(grid.u.size()) +
+             " × " + std::to_string(grid.v.size()) + " lines");
 
-    // The mesh: the grid's TIN (validates heights and the bound).
-    const Tin tin = buildTin(grid.heights, side, side, max_error);
+    // The mesh: the grid's TIN in the format's coordinates, y growing south as rows do
+    // (validates heights and the bound).
+    std::vector<int32_t> ys(grid.v.size());
+    for (size_t r = 0; r < ys.size(); ++r)
+        ys[r] = kMax - grid.v[r];
+    const Tin tin = buildTin(grid.heights, grid.u, ys, max_error);
     const size_t n = tin.heights.size();
 
-    // Quantized vertices: u east from column 0, v north from the southern row.
+    // Quantized vertices, and where the client puts them on the ellipsoid.
     TerrainTile out;
     QuantizedMesh& m = out.mesh;
     const auto [lo, hi] = std::minmax_element(tin.heights.begin(), tin.heights.end());
@@ -58,18 +94,17 @@ TerrainTile makeTerrainTile(const TileHeights& grid, double max_error)
     std::vector<std::array<double, 3>> ecef(n);
     std::vector<double> heights(n);
     const lod::Ellipsoid wgs84 = lod::Ellipsoid::wgs84();
+    const GeoRect rect = GeographicTms::rect(grid.key);
     constexpr double kRadians = std::numbers::pi / 180.0;
     for (size_t i = 0; i < n; ++i) {
-        const int64_t c = tin.columns[i], j = grid.cells - int64_t(tin.rows[i]);
-        m.u[i] = quantizedCoordinate(c, grid.cells);
-        m.v[i] = quantizedCoordinate(j, grid.cells);
-        m.height[i] = range > 0.0 ? uint16_t(std::lround((tin.heights[i] - hmin) / range *
-                                                         QuantizedMesh::kMaxCoordinate))
-                                  : 0;
+        m.u[i] = uint16_t(grid.u[tin.columns[i]]);
+        m.v[i] = uint16_t(grid.v[tin.rows[i]]);
+        m.height[i] =
+            range > 0.0 ? uint16_t(std::lround((tin.heights[i] - hmin) / range * kMax)) : 0;
         heights[i] = tin.heights[i];
-        const glm::dvec3 p = lod::geodeticToEcef(
-            wgs84, GeographicTms::longitude(grid.key, c, grid.cells) * kRadians,
-            GeographicTms::latitude(grid.key, j, grid.cells) * kRadians, heights[i]);
+        const double lon = rect.west + (rect.east - rect.west) * m.u[i] / kMax;
+        const double lat = rect.south + (rect.north - rect.south) * m.v[i] / kMax;
+        const glm::dvec3 p = lod::geodeticToEcef(wgs84, lon * kRadians, lat * kRadians, heights[i]);
         ecef[i] = {p.x, p.y, p.z};
     }
     // TIN triangles are counter-clockwise in (column, −row), which is (u, v).

@@ -21,7 +21,7 @@ constexpr double kMetresPerDegree = kWgs84A * std::numbers::pi / 180.0;
 // first over the grid's 4-neighbours, ties to the first reached): the surface goes on flat
 // past the archive's edge and its nodata instead of dropping to 0 m, which would put a cliff
 // inside the tile's cells at the edge of the data (5,332 m on the Everest fixture's border).
-void fillFromNearest(std::vector<float>& heights, int side, std::vector<uint8_t>& valid)
+void fillFromNearest(std::vector<float>& heights, int columns, std::vector<uint8_t>& valid)
 {
     std::vector<uint32_t> queue;
     queue.reserve(heights.size());
@@ -30,12 +30,13 @@ void fillFromNearest(std::vector<float>& heights, int side, std::vector<uint8_t>
             queue.push_back(i);
     for (size_t head = 0; head < queue.size(); ++head) {
         const uint32_t i = queue[head];
-        const int r = int(i) / side, c = int(i) % side;
+        const int rows = int(heights.size()) / columns;
+        const int r = int(i) / columns, c = int(i) % columns;
         const int neighbours[4][2] = {{r - 1, c}, {r + 1, c}, {r, c - 1}, {r, c + 1}};
         for (const auto& [nr, nc] : neighbours) {
-            if (nr < 0 || nr >= side || nc < 0 || nc >= side)
+            if (nr < 0 || nr >= rows || nc < 0 || nc >= columns)
                 continue;
-            const uint32_t n = uint32_t(nr * side + nc);
+            const uint32_t n = uint32_t(nr * columns + nc);
             if (valid[n])
                 continue;
             valid[n] = 1;
@@ -51,6 +52,10 @@ TileSampler::TileSampler(const std::string& archive_path, size_t cache_patches)
     : query_(archive_path, cache_patches)
 {
     const TerrainGeoreference& g = query_.georeference();
+    const std::optional<std::array<double, 6>>& gt =
+        query_.reader().metadata().georeference.geotransform;
+    north_up_geographic_ = g.geographicCrs() && gt && (*gt)[2] == 0.0 && (*gt)[4] == 0.0 &&
+                           (*gt)[1] > 0.0 && (*gt)[5] < 0.0;
     if (!g.hasCrs() || !g.hasGeotransform())
         throw Error(archive_path + ": web tiles need longitude/latitude, and the archive has no " +
                     (g.hasCrs() ? "geotransform" : "CRS"));
@@ -120,6 +125,57 @@ int TileSampler::maxZoom(int cells) const
     return z;
 }
 
+bool TileSampler::placeOnSamples(TileKey k, int level, TileHeights& grid)
+{
+    if (!north_up_geographic_)
+        return false;
+    // Pixel/line of the tile's edges straight from the geotransform (not through PROJ), the
+    // same arithmetic for every tile, so neighbours compute their shared edge bit for bit.
+    const std::array<double, 6>& gt = *query_.reader().metadata().georeference.geotransform;
+    const GeoRect r = GeographicTms::rect(k);
+    const double px_w = (r.west - gt[0]) / gt[1], px_e = (r.east - gt[0]) / gt[1];
+    const double py_n = (r.north - gt[3]) / gt[5], py_s = (r.south - gt[3]) / gt[5];
+    if (!(px_e > px_w && py_s > py_n))
+        return false;
+    const PyramidGeometry& geometry = query_.reader().geometry();
+    const double step = double(geometry.step(level));
+    constexpr int32_t kMax = QuantizedMesh::kMaxCoordinate;
+    // The level's sample centres strictly inside (lo, hi), as format coordinates 1..32766
+    // (ones that round onto an edge or onto the previous line are left out).
+    const auto inner = [&](double lo, double hi, int count, int64_t finest, std::vector<double>& at,
+                           std::vector<int32_t>& lines) {
+        at.assign(1, lo);
+        lines.assign(1, 0);
+        const int first = std::max(0, int(std::floor((lo - 0.5) / step)));
+        for (int i = first; i < count; ++i) {
+            const double p = std::min(double(i) * step, double(finest - 1)) + 0.5;
+            if (p <= lo)
+                continue;
+            if (p >= hi)
+                break;
+            const int32_t q = int32_t(std::lround((p - lo) / (hi - lo) * kMax));
+            if (q <= lines.back() || q >= kMax)
+                continue;
+            at.push_back(p);
+            lines.push_back(q);
+        }
+        at.push_back(hi);
+        lines.push_back(kMax);
+    };
+    std::vector<double> xs, ys;
+    std::vector<int32_t> rows;
+    inner(px_w, px_e, geometry.levelWidth(level), geometry.width(), xs, grid.u);
+    inner(py_n, py_s, geometry.levelHeight(level), geometry.height(), ys, rows);
+    grid.v.resize(rows.size()); // rows run south: v = 32767 − their offset from the north
+    for (size_t i = 0; i < rows.size(); ++i)
+        grid.v[i] = kMax - rows[i];
+    points_.resize(xs.size() * ys.size());
+    for (size_t r = 0; r < ys.size(); ++r)
+        for (size_t c = 0; c < xs.size(); ++c)
+            points_[r * xs.size() + c] = {xs[c], ys[r]};
+    return true;
+}
+
 std::optional<SampledTile> TileSampler::sample(TileKey k, int cells)
 {
     if (!GeographicTms::valid(k))
@@ -132,17 +188,23 @@ std::optional<SampledTile> TileSampler::sample(TileKey k, int cells)
 
     SampledTile out;
     out.level = levelFor(k, cells);
+    // On the level's own samples where the archive is a north-up geographic grid; else a
+    // uniform grid of `cells` cells read through PROJ. Row 0 is the northern edge.
+    PointSpace space = PointSpace::Pixel;
+    if (!placeOnSamples(k, out.level, out.grid)) {
+        out.grid = uniformTileHeights(k, cells);
+        const int side = cells + 1;
+        points_.resize(size_t(side) * size_t(side));
+        for (int r = 0; r < side; ++r)
+            for (int c = 0; c < side; ++c)
+                points_[size_t(r) * side + size_t(c)] = {
+                    GeographicTms::longitude(k, c, cells),
+                    GeographicTms::latitude(k, cells - r, cells)};
+        space = PointSpace::LonLat;
+    }
     out.grid.key = k;
-    out.grid.cells = cells;
-    const int side = cells + 1;
-    // Row 0 is the northern edge (sample j = cells), as TileHeights has it.
-    points_.resize(size_t(side) * size_t(side));
-    for (int r = 0; r < side; ++r)
-        for (int c = 0; c < side; ++c)
-            points_[size_t(r) * side + size_t(c)] = {GeographicTms::longitude(k, c, cells),
-                                                     GeographicTms::latitude(k, cells - r, cells)};
     samples_.resize(points_.size());
-    query_.sampleBatch(points_, PointSpace::LonLat, out.level, QueryResampling::Bilinear, samples_);
+    query_.sampleBatch(points_, space, out.level, QueryResampling::Bilinear, samples_);
 
     out.grid.heights.assign(points_.size(), 0.f);
     valid_.assign(points_.size(), 0);
@@ -161,7 +223,7 @@ std::optional<SampledTile> TileSampler::sample(TileKey k, int cells)
     if (out.off_raster + out.nodata == samples_.size())
         return std::nullopt; // inside the box but not on the raster (a rotated or curved one)
     if (out.off_raster + out.nodata > 0)
-        fillFromNearest(out.grid.heights, side, valid_);
+        fillFromNearest(out.grid.heights, int(out.grid.u.size()), valid_);
     return out;
 }
 

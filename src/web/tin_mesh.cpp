@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <numeric>
 #include <string>
 #include <utility>
 
@@ -14,31 +15,44 @@ namespace ridge::web {
 
 namespace {
 
-// In-circle determinants of grid points reach about 2^68 (see insideCircumcircle).
+// In-circle determinants of grid points reach about 2^100 (see insideCircumcircle).
 __extension__ typedef __int128 Int128;
 
-// A grid position. Coordinates are below 2^16, so the predicates below are exact in integers.
+// The bit budget. Grid line positions are integers in [0, 2^24] (kMaxPosition), so every
+// coordinate difference below is at most 2^24 in magnitude, and:
+//  - orientation: each product <= 2^48, their difference <= 2^49: exact in int64;
+//  - in-circle: squared lengths and 2×2 minors <= 2^49, each term <= 2^98, the sum of three
+//    < 2^100: exact in __int128 (127 bits);
+//  - the scan's barycentric weights (orientations at samples, <= 2^49) and the sums that step
+//    them from column to column (<= 2^50) are integers below 2^53: exact in doubles too.
+constexpr int64_t kMaxPosition = int64_t(1) << 24;
+
+// A vertex's position in the grid's real coordinates: x = xs[column], y = ys[row] (y grows
+// SOUTH, like the row index).
 struct Point {
+    int64_t x, y;
+};
+
+// A sample's grid indices.
+struct Cell {
     int64_t column, row;
 };
 
-// Twice the signed area of abc in (x, y) = (column, −row): positive when a, b, c turn
-// counter-clockwise seen from above with north up, zero when they are collinear. Each product
-// is below 2^32, so int64 is exact.
+// Twice the signed area of abc in (x, −y): positive when a, b, c turn counter-clockwise seen
+// from above with north up, zero when they are collinear. Exact in int64 (see the budget).
 int64_t orientation(Point a, Point b, Point c)
 {
-    return (b.row - a.row) * (c.column - a.column) - (b.column - a.column) * (c.row - a.row);
+    return (b.y - a.y) * (c.x - a.x) - (b.x - a.x) * (c.y - a.y);
 }
 
 // Whether d lies strictly inside the circle through a, b, c (counter-clockwise): the sign of
-// the classic 3×3 determinant in (x, y) = (column, −row). The squared lengths and the 2×2
-// minors are below 2^33 each, their products below 2^66 and the sum below 2^68: exact in
-// 128 bits, so cocircular points (common on a grid) never flip back and forth.
+// the classic 3×3 determinant in (x, −y). Exact in 128 bits (see the budget), so cocircular
+// points (common on a grid) never flip back and forth.
 bool insideCircumcircle(Point a, Point b, Point c, Point d)
 {
-    const int64_t adx = a.column - d.column, ady = d.row - a.row;
-    const int64_t bdx = b.column - d.column, bdy = d.row - b.row;
-    const int64_t cdx = c.column - d.column, cdy = d.row - c.row;
+    const int64_t adx = a.x - d.x, ady = d.y - a.y;
+    const int64_t bdx = b.x - d.x, bdy = d.y - b.y;
+    const int64_t cdx = c.x - d.x, cdy = d.y - c.y;
     const int64_t ad = adx * adx + ady * ady, bd = bdx * bdx + bdy * bdy,
                   cd = cdx * cdx + cdy * cdy;
     const Int128 det = Int128(ad) * (bdx * cdy - bdy * cdx) + Int128(bd) * (cdx * ady - cdy * adx) +
@@ -46,10 +60,11 @@ bool insideCircumcircle(Point a, Point b, Point c, Point d)
     return det > 0;
 }
 
-// The height num/den of the way from ha to hb (0 <= num <= den). The one formula for every
-// point on a segment between two vertices: the 1-D border pass and both triangles beside an
-// edge evaluate a sample on it identically, bit for bit, so the error the greedy passes
-// measured is exactly the error buildTin reports. Ends are returned exactly.
+// The height num/den of the way from ha to hb (0 <= num <= den, both positions' differences in
+// real coordinates, below 2^25: exact in doubles). The one formula for every point on a
+// segment between two vertices: the 1-D border pass and both triangles beside an edge
+// evaluate a sample on it identically, bit for bit, so the error the greedy passes measured is
+// exactly the error buildTin reports. Ends are returned exactly.
 double lerp(double ha, double hb, int64_t num, int64_t den)
 {
     if (num == 0)
@@ -59,37 +74,43 @@ double lerp(double ha, double hb, int64_t num, int64_t den)
     return ha + (hb - ha) * double(num) / double(den);
 }
 
-// The height at s, a grid point on the edge uv: linear along the edge, read from its endpoint
-// of lower row-major index (as the border pass reads a line: west to east, north to south), by
-// column unless the edge is vertical. Both triangles beside an edge call this with the same
-// two endpoints, whichever way round they hold them, so they agree on the edge bit for bit.
+// The height at s, a grid point on the edge uv: linear along the edge in real coordinates,
+// read from its endpoint of lower row-major index (as the border pass reads a line: west to
+// east, north to south; positions increase with the indices, so (y, x) orders them as (row,
+// column) does), by x unless the edge is vertical. Both triangles beside an edge call this
+// with the same two endpoints, whichever way round they hold them, so they agree on the edge
+// bit for bit.
 double edgeHeight(Point s, Point u, double hu, Point v, double hv)
 {
-    if (std::pair(v.row, v.column) < std::pair(u.row, u.column))
+    if (std::pair(v.y, v.x) < std::pair(u.y, u.x))
         std::swap(u, v), std::swap(hu, hv);
-    int64_t along = s.column - u.column, length = v.column - u.column;
+    int64_t along = s.x - u.x, length = v.x - u.x;
     if (length == 0)
-        along = s.row - u.row, length = v.row - u.row;
+        along = s.y - u.y, length = v.y - u.y;
     if (length < 0) // u north-east of v
         along = -along, length = -length;
     return lerp(hu, hv, along, length);
 }
 
-// The samples of one grid line (a border): count of them, `stride` apart from `first`.
+// The samples of one grid line (a border): count of them, `stride` apart from `first`, the
+// i-th at position positions[i] along the line (xs for a row, ys for a column).
 struct Line {
     const float* first;
     size_t stride;
     int64_t count;
+    const int32_t* positions;
 
     double at(int64_t i) const { return first[size_t(i) * stride]; }
+    int64_t position(int64_t i) const { return positions[i]; }
 };
 
 // The interior samples of `line` (indices 1..count−2, ascending) that the 1-D greedy insertion
 // chooses, starting from its two ends, so that every sample lies within max_error of the
-// polyline through the chosen ones. The global greedy (insert the worst sample of the whole
-// line, ties to the lowest index) chooses exactly the samples this recursion does: inserting
-// a sample changes only its own segment, so each segment is split at its own worst sample
-// (ties: lowest index) as long as that is beyond the bound, in whatever order.
+// polyline through the chosen ones (linear in the samples' positions along the line). The global
+// greedy (insert the worst sample of the whole line, ties to the lowest index) chooses exactly the
+// samples this recursion does: inserting a sample changes only its own segment, so each segment is
+// split at its own worst sample (ties: lowest index) as long as that is beyond the bound, in
+// whatever order.
 std::vector<int64_t> simplifyLine(const Line& line, double max_error)
 {
     std::vector<int64_t> chosen;
@@ -98,10 +119,11 @@ std::vector<int64_t> simplifyLine(const Line& line, double max_error)
         const auto [i0, i1] = segments.back();
         segments.pop_back();
         const double h0 = line.at(i0), h1 = line.at(i1);
+        const int64_t p0 = line.position(i0), length = line.position(i1) - p0;
         double worst = max_error;
         int64_t split = -1;
         for (int64_t i = i0 + 1; i < i1; ++i) {
-            const double error = std::abs(line.at(i) - lerp(h0, h1, i - i0, i1 - i0));
+            const double error = std::abs(line.at(i) - lerp(h0, h1, line.position(i) - p0, length));
             if (error > worst) // strict: the lowest index wins a tie
                 worst = error, split = i;
         }
@@ -232,16 +254,30 @@ class TriangleQueue {
     std::vector<Candidate> keys_;  // per triangle: its candidate while queued
 };
 
-// The samples a scan looks at: rows [row0, row1] × columns [column0, column1].
+// The samples a scan looks at: rows [row0, row1] × columns [column0, column1] (indices).
 struct Window {
     int64_t row0, row1, column0, column1;
 };
 
 class TinBuilder {
   public:
-    TinBuilder(std::span<const float> heights, int width, int height, double max_error)
-        : heights_(heights), width_(width), height_(height), max_error_(max_error)
+    // The caller has checked the input: xs and ys strictly increasing in [0, kMaxPosition].
+    TinBuilder(std::span<const float> heights, std::span<const int32_t> xs,
+               std::span<const int32_t> ys, double max_error)
+        : heights_(heights), xs_(xs), ys_(ys), steady_until_(xs.size()), width_(int64_t(xs.size())),
+          height_(int64_t(ys.size())), max_error_(max_error)
     {
+        // The median gap: the interior spacing of a tile cut from an archive, the only one
+        // on a uniform grid.
+        std::vector<int64_t> gaps(xs.size() - 1);
+        for (size_t c = 0; c < gaps.size(); ++c)
+            gaps[c] = int64_t(xs[c + 1]) - xs[c];
+        std::nth_element(gaps.begin(), gaps.begin() + ptrdiff_t(gaps.size() / 2), gaps.end());
+        common_gap_ = gaps[gaps.size() / 2];
+        steady_until_.back() = width_ - 1;
+        for (size_t c = xs.size() - 1; c-- > 0;)
+            steady_until_[c] =
+                int64_t(xs[c + 1]) - xs[c] == common_gap_ ? steady_until_[c + 1] : int64_t(c);
     }
 
     Tin build()
@@ -254,11 +290,13 @@ class TinBuilder {
 
   private:
     double sampleHeight(size_t sample) const { return heights_[sample]; }
-    size_t sampleOf(Point p) const { return size_t(p.row) * size_t(width_) + size_t(p.column); }
+    size_t sampleOf(Cell g) const { return size_t(g.row) * size_t(width_) + size_t(g.column); }
+    Point pointOf(Cell g) const { return {xs_[size_t(g.column)], ys_[size_t(g.row)]}; }
 
-    uint32_t addVertex(Point p)
+    uint32_t addVertex(Cell g)
     {
-        points_.push_back(p);
+        cells_.push_back(g);
+        points_.push_back(pointOf(g));
         hull_start_.push_back(kHull);
         return uint32_t(points_.size() - 1);
     }
@@ -304,7 +342,8 @@ class TinBuilder {
     }
 
     // The corners, as two triangles split by the north-west to south-east diagonal (the four
-    // corners are cocircular, so either diagonal is Delaunay; this one is fixed).
+    // corners of a rectangle are cocircular, so either diagonal is Delaunay; this one is
+    // fixed).
     void insertCorners()
     {
         const int64_t east = width_ - 1, south = height_ - 1;
@@ -323,8 +362,10 @@ class TinBuilder {
         const int64_t east = width_ - 1, south = height_ - 1;
         const float* h = heights_.data();
         const size_t w = size_t(width_);
-        const Line west{h, w, height_}, southern{h + size_t(south) * w, 1, width_};
-        const Line eastern{h + east, w, height_}, north{h, 1, width_};
+        const Line west{h, w, height_, ys_.data()};
+        const Line southern{h + size_t(south) * w, 1, width_, xs_.data()};
+        const Line eastern{h + east, w, height_, ys_.data()};
+        const Line north{h, 1, width_, xs_.data()};
 
         uint32_t from = 0; // the north-west corner
         for (const int64_t row : simplifyLine(west, max_error_))
@@ -342,11 +383,11 @@ class TinBuilder {
             from = insertOnHull(from, {*column, 0});
     }
 
-    // Inserts p on the hull edge leaving vertex `from`, makes the mesh Delaunay again, and
-    // returns p's vertex (the start of the hull edge beyond it).
-    uint32_t insertOnHull(uint32_t from, Point p)
+    // Inserts sample g on the hull edge leaving vertex `from`, makes the mesh Delaunay again,
+    // and returns g's vertex (the start of the hull edge beyond it).
+    uint32_t insertOnHull(uint32_t from, Cell g)
     {
-        const uint32_t v = addVertex(p);
+        const uint32_t v = addVertex(g);
         splitHullEdge(size_t(hull_start_[from]), v);
         legalise();
         return v;
@@ -447,102 +488,151 @@ class TinBuilder {
     // the final error, so the two agree bit for bit.
     //
     // Weight k, the orientation of the edge opposite vertex k with the sample (twice a
-    // sub-triangle's area), is an exact integer that changes by a fixed step per column and
-    // per row; the sample is inside when no weight is negative, and the weights sum to det
-    // (twice t's area). Strictly inside, the mesh is S / det with S = Σ weight·height, and the
-    // error is measured as |height·det − S| (no division per sample), divided by det once at
-    // the end. A sample with a zero weight lies on an edge and takes the edge's own lerp, so
-    // the two triangles beside an edge agree on it exactly; a vertex (two zero weights) has
-    // error 0 by construction and is skipped.
+    // sub-triangle's area in real coordinates), is an exact integer; the sample is inside when
+    // no weight is negative, and the weights sum to det (twice t's area). Strictly inside, the
+    // mesh is S / det with S = Σ weight·height, and the error is measured as |height·det − S|
+    // (no division per sample), divided by det once at the end. A sample with a zero weight
+    // lies on an edge and takes the edge's own lerp, so the two triangles beside an edge agree
+    // on it exactly; a vertex (two zero weights) has error 0 by construction and is skipped.
     //
-    // Each row walks the bounding box from the west until the first point inside, then to
-    // the last: triangles are convex. Most triangles are small, where this beats computing
-    // each row's span exactly (divisions per triangle, branches per row); in wide ones the
-    // walk first jumps to just short of the span.
+    // Every vertex is a sample, so t's bounding box is the samples between its vertices' least
+    // and greatest rows and columns. Each row walks the box's columns from the west until the
+    // first sample inside, then to the last: triangles are convex. Most triangles are small,
+    // where this beats computing each row's span exactly (divisions and searches per row); in
+    // wide ones the walk first jumps to just short of the span (by arithmetic over the
+    // columns common_gap_ apart, by a binary search on xs beyond them).
     Candidate scan(size_t t, const Window& window) const
     {
-        const Point v[3] = {points_[corners_[3 * t]], points_[corners_[3 * t + 1]],
-                            points_[corners_[3 * t + 2]]};
-        const double h[3] = {sampleHeight(sampleOf(v[0])), sampleHeight(sampleOf(v[1])),
-                             sampleHeight(sampleOf(v[2]))};
+        const uint32_t ids[3] = {corners_[3 * t], corners_[3 * t + 1], corners_[3 * t + 2]};
+        const Point v[3] = {points_[ids[0]], points_[ids[1]], points_[ids[2]]};
+        const Cell g[3] = {cells_[ids[0]], cells_[ids[1]], cells_[ids[2]]};
+        const double h[3] = {sampleHeight(sampleOf(g[0])), sampleHeight(sampleOf(g[1])),
+                             sampleHeight(sampleOf(g[2]))};
         const double det = double(orientation(v[0], v[1], v[2]));
         // Edge k runs from v[k+1] to v[k+2], opposite vertex k.
         const Point from[3] = {v[1], v[2], v[0]}, to[3] = {v[2], v[0], v[1]};
         Candidate on_edges;          // the worst sample on an edge
         double inside_scaled = -1.0; // the worst |height·det − S| strictly inside
         size_t inside_sample = 0;    // and its sample
-        auto visitEdge = [&](Point s, const int64_t(&w)[3]) {
-            if ((w[0] == 0) + (w[1] == 0) + (w[2] == 0) > 1)
+        auto visitEdge = [&](Cell s, int64_t wa, int64_t wb, int64_t wc) {
+            if ((wa == 0) + (wb == 0) + (wc == 0) > 1)
                 return; // a vertex
-            const int k = w[0] == 0 ? 0 : w[1] == 0 ? 1 : 2;
-            const double mesh =
-                edgeHeight(s, from[k], h[k == 2 ? 0 : k + 1], to[k], h[k == 0 ? 2 : k - 1]);
+            const int k = wa == 0 ? 0 : wb == 0 ? 1 : 2;
+            const double mesh = edgeHeight(pointOf(s), from[k], h[k == 2 ? 0 : k + 1], to[k],
+                                           h[k == 0 ? 2 : k - 1]);
             const size_t sample = sampleOf(s);
             const double error = std::abs(sampleHeight(sample) - mesh);
             if (error > on_edges.error) // strict: the lowest index wins a tie
                 on_edges = {error, sample};
         };
 
-        const int64_t row0 = std::max(window.row0, std::min({v[0].row, v[1].row, v[2].row}));
-        const int64_t row1 = std::min(window.row1, std::max({v[0].row, v[1].row, v[2].row}));
+        const int64_t row0 = std::max(window.row0, std::min({g[0].row, g[1].row, g[2].row}));
+        const int64_t row1 = std::min(window.row1, std::max({g[0].row, g[1].row, g[2].row}));
         const int64_t column0 =
-            std::max(window.column0, std::min({v[0].column, v[1].column, v[2].column}));
+            std::max(window.column0, std::min({g[0].column, g[1].column, g[2].column}));
         const int64_t column1 =
-            std::min(window.column1, std::max({v[0].column, v[1].column, v[2].column}));
+            std::min(window.column1, std::max({g[0].column, g[1].column, g[2].column}));
         if (row0 > row1 || column0 > column1)
             return on_edges;
-        int64_t per_column[3], per_row[3], row_start[3]; // weight steps; weights at column0
+        // Weight k = orientation(from[k], to[k], (x, y)) = per_x[k]·x + per_y[k]·y + constant:
+        // affine in x along a row. Stepping one column east over a gap of common_gap_ (the
+        // grid's usual spacing) adds step[k] = per_x[k]·common_gap_; over any other gap the
+        // weights are recomputed from the column's own x; stepping a row south adds
+        // per_y[k]·(its gap). Every value reached is the exact orientation at a sample
+        // (<= 2^49), held in int64 and, for S, in doubles beside (integers below 2^53 add
+        // exactly, see the budget), so S never depends on the walk that reached a sample.
+        int64_t per_x[3], per_y[3], step[3], row_start[3];
+        double step_d[3];
+        const int32_t* xs = xs_.data();
         for (int k = 0; k < 3; ++k) {
-            per_column[k] = to[k].row - from[k].row;
-            per_row[k] = from[k].column - to[k].column;
-            row_start[k] = orientation(from[k], to[k], {column0, row0});
+            per_x[k] = to[k].y - from[k].y;
+            per_y[k] = from[k].x - to[k].x;
+            step[k] = per_x[k] * common_gap_;
+            step_d[k] = double(step[k]);
+            // The weights at the bounding box's west column on the current row.
+            row_start[k] = orientation(from[k], to[k], {xs[column0], ys_[size_t(row0)]});
         }
-        const double column_step[3] = {double(per_column[0]), double(per_column[1]),
-                                       double(per_column[2])};
         // In a wide triangle the walk to each row's span would be long.
         const bool wide = column1 - column0 > 16;
         for (int64_t row = row0; row <= row1; ++row) {
-            int64_t w[3] = {row_start[0], row_start[1], row_start[2]};
-            for (int k = 0; k < 3; ++k)
-                row_start[k] += per_row[k];
-            auto advance = [&](int64_t columns) {
+            if (row > row0) {
+                const int64_t gap = int64_t(ys_[size_t(row)]) - ys_[size_t(row - 1)];
                 for (int k = 0; k < 3; ++k)
-                    w[k] += per_column[k] * columns;
+                    row_start[k] += per_y[k] * gap;
+            }
+            int64_t column = column0, steady_until = steady_until_[size_t(column0)];
+            int64_t wa = row_start[0], wb = row_start[1], wc = row_start[2];
+            double da = double(wa), db = double(wb), dc = double(wc);
+            auto recompute = [&] { // at `column`, from the row's start
+                const int64_t dx = xs[column] - xs[column0];
+                wa = row_start[0] + per_x[0] * dx, da = double(wa);
+                wb = row_start[1] + per_x[1] * dx, db = double(wb);
+                wc = row_start[2] + per_x[2] * dx, dc = double(wc);
+                steady_until = steady_until_[size_t(column)];
             };
-            int64_t column = column0;
+            // To the next column by the common gap: right up to steady_until (beyond it the
+            // weights are wrong until recomputed).
+            auto advance = [&] {
+                ++column;
+                wa += step[0], wb += step[1], wc += step[2];
+                da += step_d[0], db += step_d[1], dc += step_d[2];
+            };
             if (wide) {
-                // Jump close to the span: each edge whose weight grows eastwards admits the
-                // columns from −weight/step on. The double estimate is far within one column
-                // (operands below 2^34), and one column of margin keeps the jump short of it.
-                double west = 0.0;
+                // Jump close to the span: each edge whose weight grows eastwards admits the x
+                // from xs[column0] − row_start/per_x on. The double estimate is within 2^-2
+                // of the exact bound (operands below 2^50), so the columns at x < west, one
+                // short of it, are all outside.
+                double west = 0.0; // east of xs[column0]
                 for (int k = 0; k < 3; ++k)
-                    if (per_column[k] > 0)
-                        west = std::max(west, double(-w[k]) / column_step[k]);
-                const int64_t skip = std::min(int64_t(west) - 1, column1 - column0);
-                if (skip > 0) {
-                    column += skip;
-                    advance(skip);
+                    if (per_x[k] > 0)
+                        west = std::max(west, -double(row_start[k]) / double(per_x[k]));
+                west += double(xs[column0]) - 1.0;
+                if (west > double(xs[column0])) {
+                    // Over the steady run from column0 the columns are common_gap_ apart: the
+                    // columns before column0 + ⌊(west − xs[column0]) / common_gap_⌋ lie west
+                    // of `west`. Beyond the run, a binary search on xs.
+                    column = column0 + int64_t((west - double(xs[column0])) / double(common_gap_));
+                    const int64_t run_end = std::min(steady_until, column1);
+                    if (column > run_end) {
+                        column =
+                            std::lower_bound(xs + run_end, xs + column1 + 1, west,
+                                             [](int32_t x, double bound) { return x < bound; }) -
+                            xs;
+                    }
+                    if (column <= column1)
+                        recompute();
                 }
             }
-            while (column <= column1 && (w[0] | w[1] | w[2]) < 0) // some weight negative
-                ++column, advance(1);
-            // Inside. The weights in doubles stay exact integers, so S never depends on the
-            // walk that reached a sample.
+            // Each loop below runs over one steady run at a time (to `stop`), and stops
+            // inside it when the weights' signs say so; past the run's end (an irregular gap
+            // crossed) the weights are recomputed and the loop goes on.
+            for (;;) { // the walk, while some weight is negative
+                const int64_t stop = std::min(column1, steady_until);
+                while (column <= stop && (wa | wb | wc) < 0)
+                    advance();
+                if (column <= stop || column > column1)
+                    break;
+                recompute();
+            }
+            // Inside (or on an edge) until a weight turns negative: triangles are convex.
             const float* samples = heights_.data() + size_t(row) * size_t(width_);
-            double wa = double(w[0]), wb = double(w[1]), wc = double(w[2]);
-            for (; column <= column1 && (w[0] | w[1] | w[2]) >= 0; ++column) {
-                if (w[0] == 0 || w[1] == 0 || w[2] == 0) {
-                    visitEdge({column, row}, w);
-                } else {
-                    const double scaled = std::abs(double(samples[column]) * det -
-                                                   (wa * h[0] + wb * h[1] + wc * h[2]));
-                    if (scaled > inside_scaled) { // strict: the lowest index wins a tie
-                        inside_scaled = scaled;
-                        inside_sample = size_t(row) * size_t(width_) + size_t(column);
+            for (;;) {
+                const int64_t stop = std::min(column1, steady_until);
+                for (; column <= stop && (wa | wb | wc) >= 0; advance()) {
+                    if (wa == 0 || wb == 0 || wc == 0) {
+                        visitEdge({column, row}, wa, wb, wc);
+                    } else {
+                        const double scaled = std::abs(double(samples[column]) * det -
+                                                       (da * h[0] + db * h[1] + dc * h[2]));
+                        if (scaled > inside_scaled) { // strict: the lowest index wins a tie
+                            inside_scaled = scaled;
+                            inside_sample = size_t(row) * size_t(width_) + size_t(column);
+                        }
                     }
                 }
-                advance(1);
-                wa += column_step[0], wb += column_step[1], wc += column_step[2];
+                if (column <= stop || column > column1)
+                    break;
+                recompute();
             }
         }
         if (inside_scaled < 0.0)
@@ -589,8 +679,9 @@ class TinBuilder {
     // never one of t's vertices, whose error is exactly 0.
     void insertSample(size_t sample, size_t t)
     {
-        const Point s{int64_t(sample % size_t(width_)), int64_t(sample / size_t(width_))};
-        const uint32_t p = addVertex(s);
+        const Cell g{int64_t(sample % size_t(width_)), int64_t(sample / size_t(width_))};
+        const uint32_t p = addVertex(g);
+        const Point s = points_[p];
         for (int k = 0; k < 3; ++k) {
             const size_t e = 3 * t + size_t(k);
             if (orientation(points_[corners_[e]], points_[corners_[nextEdge(e)]], s) == 0) {
@@ -604,13 +695,13 @@ class TinBuilder {
     Tin output() const
     {
         Tin tin;
-        tin.columns.reserve(points_.size());
-        tin.rows.reserve(points_.size());
-        tin.heights.reserve(points_.size());
-        for (const Point& p : points_) {
-            tin.columns.push_back(uint32_t(p.column));
-            tin.rows.push_back(uint32_t(p.row));
-            tin.heights.push_back(heights_[sampleOf(p)]);
+        tin.columns.reserve(cells_.size());
+        tin.rows.reserve(cells_.size());
+        tin.heights.reserve(cells_.size());
+        for (const Cell& g : cells_) {
+            tin.columns.push_back(uint32_t(g.column));
+            tin.rows.push_back(uint32_t(g.row));
+            tin.heights.push_back(heights_[sampleOf(g)]);
         }
         tin.triangles = corners_;
         // Every sample lies in some closed triangle; border samples on hull edges get the
@@ -622,10 +713,16 @@ class TinBuilder {
     }
 
     std::span<const float> heights_;
+    std::span<const int32_t> xs_, ys_;
+    // The median of the column gaps xs[c + 1] − xs[c], which the scan steps over by adding,
+    // and per column c the first column from c on whose gap eastwards is not that one.
+    int64_t common_gap_;
+    std::vector<int64_t> steady_until_;
     int64_t width_, height_;
     double max_error_;
 
-    std::vector<Point> points_;       // per vertex
+    std::vector<Point> points_;       // per vertex: its real coordinates
+    std::vector<Cell> cells_;         // per vertex: its grid indices
     std::vector<int64_t> hull_start_; // per vertex: the hull half-edge leaving it, if any
     std::vector<uint32_t> corners_;   // per half-edge: its start vertex
     std::vector<int64_t> twins_;      // per half-edge: its twin, or kHull
@@ -635,6 +732,16 @@ class TinBuilder {
     TriangleQueue queue_;
 };
 
+void checkHeights(std::span<const float> heights, size_t width, double max_error)
+{
+    checkParameter("max_error", max_error, ValueRange::nonNegative());
+    for (size_t i = 0; i < heights.size(); ++i)
+        if (!std::isfinite(heights[i]))
+            throw Error("heights at row " + std::to_string(i / width) + ", column " +
+                        std::to_string(i % width) + " is " + formatNumber(heights[i]) +
+                        ": must be a finite number");
+}
+
 void checkInput(std::span<const float> heights, int width, int height, double max_error)
 {
     checkParameter("width", int64_t(width), 2, 65536);
@@ -643,20 +750,54 @@ void checkInput(std::span<const float> heights, int width, int height, double ma
     if (heights.size() != expected)
         throw Error("heights has " + std::to_string(heights.size()) +
                     " samples: must be width * height = " + std::to_string(expected));
-    checkParameter("max_error", max_error, ValueRange::nonNegative());
-    for (size_t i = 0; i < heights.size(); ++i)
-        if (!std::isfinite(heights[i]))
-            throw Error("heights at row " + std::to_string(i / size_t(width)) + ", column " +
-                        std::to_string(i % size_t(width)) + " is " + formatNumber(heights[i]) +
-                        ": must be a finite number");
+    checkHeights(heights, size_t(width), max_error);
+}
+
+// One axis of a rectilinear grid: 2 to 65536 strictly increasing positions in [0, 2^24].
+void checkPositions(const char* name, std::span<const int32_t> positions)
+{
+    checkParameter(std::string(name) + ".size()", int64_t(positions.size()), 2, 65536);
+    for (size_t i = 0; i < positions.size(); ++i) {
+        const int64_t position = positions[i];
+        if (position < 0 || position > kMaxPosition)
+            checkParameter(std::string(name) + "[" + std::to_string(i) + "]", position, 0,
+                           kMaxPosition);
+        if (i > 0 && position <= positions[i - 1])
+            throw Error(std::string(name) + "[" + std::to_string(i) + "] is " +
+                        std::to_string(position) + ": must be greater than " + name + "[" +
+                        std::to_string(i - 1) + "] = " + std::to_string(positions[i - 1]) +
+                        " (strictly increasing)");
+    }
+}
+
+void checkInput(std::span<const float> heights, std::span<const int32_t> xs,
+                std::span<const int32_t> ys, double max_error)
+{
+    checkPositions("xs", xs);
+    checkPositions("ys", ys);
+    const size_t expected = xs.size() * ys.size();
+    if (heights.size() != expected)
+        throw Error("heights has " + std::to_string(heights.size()) +
+                    " samples: must be xs.size() * ys.size() = " + std::to_string(expected));
+    checkHeights(heights, xs.size(), max_error);
 }
 
 } // namespace
 
+Tin buildTin(std::span<const float> heights, std::span<const int32_t> xs,
+             std::span<const int32_t> ys, double max_error)
+{
+    checkInput(heights, xs, ys, max_error);
+    return TinBuilder(heights, xs, ys, max_error).build();
+}
+
 Tin buildTin(std::span<const float> heights, int width, int height, double max_error)
 {
     checkInput(heights, width, height, max_error);
-    return TinBuilder(heights, width, height, max_error).build();
+    std::vector<int32_t> xs(static_cast<size_t>(width)), ys(static_cast<size_t>(height));
+    std::iota(xs.begin(), xs.end(), 0);
+    std::iota(ys.begin(), ys.end(), 0);
+    return TinBuilder(heights, xs, ys, max_error).build();
 }
 
 } // namespace ridge::web

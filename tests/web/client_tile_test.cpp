@@ -40,7 +40,7 @@ double errorAgainstFinestSamples(const ClientTile& t, TileKey k, HeightQuery& fi
 
 } // namespace
 
-TEST(ClientTile, ClaimsNoLessThanItsErrorAtTheArchivesSamples)
+TEST(ClientTile, KeepsToTheClientsErrorAtTheArchivesSamples)
 {
     // A lossless archive: its level samples are the terrain. Zoom 11's tile reaches past the
     // fixture (its missing samples take the nearest valid height); 12 and 13 lie inside it.
@@ -64,6 +64,9 @@ TEST(ClientTile, ClaimsNoLessThanItsErrorAtTheArchivesSamples)
         EXPECT_GE(t->claimed_error, measured - 1e-3) << "zoom " << z;
         EXPECT_GE(t->claimed_error, t->tile.error);
         EXPECT_LE(t->tile.error, t->client_error) << "the TIN keeps to the client's budget";
+        // On the archive's own samples (a north-up lon/lat archive) the mesh keeps to it at
+        // the data too; a grid resampled at the tile's positions missed it by 2-5x here.
+        EXPECT_LE(t->claimed_error, t->client_error) << "zoom " << z;
     }
 }
 

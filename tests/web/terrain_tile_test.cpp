@@ -27,7 +27,7 @@ float terrain(int64_t gx, int64_t gy)
 
 TileHeights tileOf(TileKey k, int cells)
 {
-    TileHeights t{k, cells, {}};
+    TileHeights t = uniformTileHeights(k, cells);
     for (int r = 0; r <= cells; ++r)
         for (int c = 0; c <= cells; ++c)
             t.heights.push_back(terrain(k.x * cells + c, k.y * cells + (cells - r)));
@@ -92,6 +92,28 @@ TEST(TerrainTile, NeighboursShareTheirEdgeVertices)
             EXPECT_LT(west.mesh.v[(*e)[k - 1]], west.mesh.v[(*e)[k]]);
 }
 
+TEST(TerrainTile, ARectilinearGridKeepsItsSamplesWithinTheErrorToo)
+{
+    // Lines as a tile cut from an archive has them: edges, then samples 1000 apart but for
+    // the first and last spacings.
+    TileHeights t{{10, 1500, 700}, {0}, {32767}, {}};
+    for (int32_t x = 700; x < 32767; x += 1000)
+        t.u.push_back(x);
+    t.u.push_back(32767);
+    for (int32_t y = 450; y < 32767; y += 1000)
+        t.v.push_back(32767 - y);
+    t.v.push_back(0);
+    for (size_t r = 0; r < t.v.size(); ++r)
+        for (size_t c = 0; c < t.u.size(); ++c)
+            t.heights.push_back(terrain(t.u[c] / 300, t.v[r] / 300));
+    const TerrainTile tile = makeTerrainTile(t, 3.0);
+    const QuantizedMesh m = decodeQuantizedMesh(encodeQuantizedMesh(tile.mesh));
+    for (size_t r = 0; r < t.v.size(); ++r)
+        for (size_t c = 0; c < t.u.size(); ++c)
+            EXPECT_LE(std::abs(meshHeightAt(m, t.u[c], t.v[r]) - t.heights[r * t.u.size() + c]),
+                      tile.error + 1e-3);
+}
+
 TEST(TerrainTile, RefusesWhatIsNotATile)
 {
     TileHeights g = tileOf({3, 1, 1}, 8);
@@ -106,7 +128,12 @@ TEST(TerrainTile, RefusesWhatIsNotATile)
     nan.heights[5] = NAN;
     EXPECT_THROW(makeTerrainTile(nan, 1.0), Error);
     EXPECT_THROW(makeTerrainTile(g, -1.0), Error);
-    TileHeights no_cells = g;
-    no_cells.cells = 0;
-    EXPECT_THROW(makeTerrainTile(no_cells, 1.0), Error);
+    TileHeights unordered = g;
+    std::swap(unordered.u[2], unordered.u[3]);
+    EXPECT_THROW(makeTerrainTile(unordered, 1.0), Error) << "u must increase";
+    TileHeights short_of_the_edge = g;
+    short_of_the_edge.v.back() = 1;
+    EXPECT_THROW(makeTerrainTile(short_of_the_edge, 1.0), Error) << "v must end on the south edge";
+    EXPECT_THROW(uniformLines(0), Error);
+    EXPECT_THROW(uniformLines(32768), Error);
 }

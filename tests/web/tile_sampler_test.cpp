@@ -54,16 +54,21 @@ TEST(TileSampler, ReadsTheLevelAsFineAsTheTileAndItsSurface)
     ASSERT_TRUE(t);
     EXPECT_EQ(t->level, L);
     EXPECT_EQ(t->off_raster, 0u) << "zoom 12's tile lies inside the fixture";
-    ASSERT_EQ(t->grid.heights.size(), 65u * 65u);
-    // Every tile sample is the archive's finest surface there (a lossless archive: exact
-    // up to float).
-    for (int r = 0; r <= 64; r += 8)
-        for (int c = 0; c <= 64; c += 8) {
-            const glm::dvec2 ll(GeographicTms::longitude(k, c, 64),
-                                GeographicTms::latitude(k, 64 - r, 64));
-            const HeightSample s = finest.sample(ll, PointSpace::LonLat);
-            EXPECT_NEAR(t->grid.heights[size_t(r) * 65 + size_t(c)], s.height, 1e-3 * s.height)
-                << c << ", " << r;
+    // The fixture is a north-up lon/lat grid: the tile's lines are its own samples inside
+    // the tile (0.0439° / 3″ = 52.7 of them a side: 52 or 53) plus the edges.
+    const size_t columns = t->grid.u.size(), rows = t->grid.v.size();
+    EXPECT_TRUE(columns == 52u + 2u || columns == 53u + 2u) << columns;
+    EXPECT_TRUE(rows == 52u + 2u || rows == 53u + 2u) << rows;
+    ASSERT_EQ(t->grid.heights.size(), columns * rows);
+    // Every inner grid sample is one of the archive's samples, exactly (lossless).
+    const GeoRect rect = GeographicTms::rect(k);
+    for (size_t r = 1; r + 1 < rows; r += 7)
+        for (size_t c = 1; c + 1 < columns; c += 7) {
+            const glm::dvec2 ll(rect.west + (rect.east - rect.west) * t->grid.u[c] / 32767.0,
+                                rect.south + (rect.north - rect.south) * t->grid.v[r] / 32767.0);
+            const HeightSample s =
+                finest.sample(ll, PointSpace::LonLat, -1, QueryResampling::Nearest);
+            EXPECT_EQ(t->grid.heights[r * columns + c], float(s.height)) << c << ", " << r;
         }
     EXPECT_GT(*std::max_element(t->grid.heights.begin(), t->grid.heights.end()), 5000.f);
 }
@@ -78,10 +83,16 @@ TEST(TileSampler, NeighboursReadTheirSharedEdgeAlike)
     const std::optional<SampledTile> north = sampler.sample({k.z, k.x, k.y + 1}, 32);
     ASSERT_TRUE(a && east && north);
     EXPECT_GT(a->archive_error, 0.0) << "a lossy archive states its bound";
-    for (int j = 0; j <= 32; ++j) {
-        EXPECT_EQ(a->grid.heights[size_t(j) * 33 + 32], east->grid.heights[size_t(j) * 33]);
-        EXPECT_EQ(a->grid.heights[size_t(j)], north->grid.heights[32 * 33 + size_t(j)]);
-    }
+    // Same lines along the shared edges, and the same heights on them, bit for bit.
+    ASSERT_EQ(a->grid.v, east->grid.v);
+    ASSERT_EQ(a->grid.u, north->grid.u);
+    const size_t columns = a->grid.u.size(), rows = a->grid.v.size();
+    for (size_t r = 0; r < rows; ++r)
+        EXPECT_EQ(a->grid.heights[r * columns + columns - 1],
+                  east->grid.heights[r * east->grid.u.size()]);
+    for (size_t c = 0; c < columns; ++c)
+        EXPECT_EQ(a->grid.heights[c],
+                  north->grid.heights[(north->grid.v.size() - 1) * columns + c]);
 }
 
 TEST(TileSampler, TilesPartlyOffTheArchiveCountTheirMissingSamples)
@@ -93,7 +104,7 @@ TEST(TileSampler, TilesPartlyOffTheArchiveCountTheirMissingSamples)
         sampler.sample(GeographicTms::tileAt(8, 86.925, 27.988), 64);
     ASSERT_TRUE(t);
     EXPECT_GT(t->off_raster, 0u);
-    EXPECT_LT(t->off_raster, 65u * 65u);
+    EXPECT_LT(t->off_raster, t->grid.heights.size());
     EXPECT_THROW(sampler.sample({8, -1, 0}, 64), Error);
     EXPECT_THROW(sampler.sample(GeographicTms::tileAt(8, 86.9, 27.9), 0), Error);
     EXPECT_THROW(sampler.sample(GeographicTms::tileAt(8, 86.9, 27.9), 5000), Error);

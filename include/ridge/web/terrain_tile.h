@@ -1,17 +1,21 @@
 #pragma once
 // A quantized-mesh-1.0 tile of a geographic TMS tile made from the tile's height grid: the
-// grid's error-bounded TIN (tin_mesh.h), quantized to the format's 15-bit coordinates, with
-// its edge lists for the client's skirts, its bounding volumes on WGS 84 and the vertex order
-// the index coding needs.
+// grid's error-bounded TIN (tin_mesh.h), with its edge lists for the client's skirts, its
+// bounding volumes on WGS 84 and the vertex order the index coding needs.
+//
+// The grid is rectilinear and placed in the format's own coordinates: column c at u[c], row r
+// at v[r], the first and last lines the tile's edges. A grid cut from an archive puts its
+// inner lines on the archive's own samples (tile_sampler.h), so the bound holds at the data;
+// a uniform grid (uniformTileHeights) is the special case. The TIN's geometry is the quantized
+// geometry the client draws.
 //
 // Error: every grid sample lies within TerrainTile::error of the tile's decoded mesh — the
 // TIN's bound plus half a height quantization step, (max − min) / 32767 / 2. (The grid's own
 // distance from the terrain is the caller's to add: resampling, the archive's bound.)
 //
-// Shared edges: the TIN's border vertices depend on the border's samples alone, u and v are
-// fixed functions of the sample index, so two tiles of a zoom that share an edge put vertices
-// at the same samples with the same u or v there; their heights agree within each tile's half
-// quantization step.
+// Shared edges: the TIN's border vertices depend on the border's samples and positions alone,
+// so two tiles of a zoom that sample a shared edge alike (same lines along it, same heights)
+// put the same vertices on it; their heights agree within each tile's half quantization step.
 #include "ridge/web/quantized_mesh.h"
 #include "ridge/web/tile_grid.h"
 
@@ -21,12 +25,21 @@
 namespace ridge::web {
 
 struct TileHeights {
-    TileKey key;   // GeographicTms
-    int cells = 0; // the grid has cells + 1 samples a side, at GeographicTms::longitude/latitude
-    // (cells + 1)² heights above the ellipsoid, metres, finite; row 0 the northern edge
-    // (sample j = cells), column 0 the western.
+    TileKey key; // GeographicTms
+    // The grid's lines in the format's coordinates: u of each column, west to east (0 first,
+    // 32767 last, strictly increasing), v of each row, north to south (32767 first, 0 last,
+    // strictly decreasing).
+    std::vector<int32_t> u, v;
+    // u.size() × v.size() heights above the ellipsoid, metres, finite; row-major from the
+    // north-west corner.
     std::vector<float> heights;
 };
+
+// The lines of a uniform grid of `cells` cells a side (1..32767): line i at
+// round(i · 32767 / cells), increasing.
+std::vector<int32_t> uniformLines(int cells);
+// A uniform grid's key and lines (heights left empty for the caller).
+TileHeights uniformTileHeights(TileKey key, int cells);
 
 struct TerrainTile {
     QuantizedMesh mesh;
@@ -34,8 +47,8 @@ struct TerrainTile {
 };
 
 // The tile of `grid` with its TIN within `max_error` metres. Throws ridge::Error for an
-// invalid key, cells outside [1, 65535], a grid of the wrong size or with a non-finite
-// height, or a max_error buildTin refuses.
+// invalid key, lines that break the rules above, a grid of the wrong size or with a
+// non-finite height, or a max_error buildTin refuses.
 TerrainTile makeTerrainTile(const TileHeights& grid, double max_error);
 
 } // namespace ridge::web

@@ -2,10 +2,14 @@
 // Height grids of web tiles read from an archive (GL-free; one sampler per thread, as the
 // HeightQuery it owns is not thread-safe).
 //
-// A geographic tile of zoom z sampled with `cells` cells a side reads the archive level whose
-// sample spacing is the finest not finer than the tile's (levelFor): each tile sample is the
-// level's surface there (bilinear, pipeline/height_query.h), within Err(P) of the finest
-// samples; deeper levels would only add samples the tile's grid cannot hold. Samples off the
+// A geographic tile of zoom z asked for with `cells` cells a side reads the archive level
+// whose sample spacing is the finest not finer than that (levelFor). Where the archive is a
+// north-up longitude/latitude grid (SRTM, Copernicus, ETOPO), the tile's grid is that level's
+// own samples inside the tile (cells to 2·cells of them a side) plus the tile's four edges,
+// read bilinearly between the samples around them: the mesh's bound then holds at the data.
+// Elsewhere (projected archives) it is a uniform grid of `cells` cells read through PROJ,
+// whose samples are the level's surface between its samples. Either way a sample is within
+// Err(P) of the finest samples. Samples off the
 // raster or on kept nodata take the height of the nearest valid sample of the tile (the
 // surface goes on flat past the data, with no cliff to 0 m at its edge) and are counted; a
 // tile with no valid sample is not made at all.
@@ -64,10 +68,15 @@ class TileSampler {
 
   private:
     double finestSpacingMetres() const;
+    // Puts grid's lines on the level's own sample columns and rows inside tile k (plus its
+    // edges) and points_ on their pixel/line; false (nothing set) where the archive is not a
+    // north-up longitude/latitude grid or the tile falls outside its period.
+    bool placeOnSamples(TileKey k, int level, TileHeights& grid);
 
     HeightQuery query_;
     GeoRect extent_;
-    std::vector<glm::dvec2> points_; // scratch, reused across tiles
+    bool north_up_geographic_ = false; // lon/lat CRS, unrotated geotransform
+    std::vector<glm::dvec2> points_;   // scratch, reused across tiles
     std::vector<HeightSample> samples_;
     std::vector<uint8_t> valid_;
 };
