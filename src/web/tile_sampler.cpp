@@ -90,8 +90,13 @@ std::string TileSampler::verticalReference() const
 bool TileSampler::overlaps(TileKey k) const
 {
     const GeoRect r = GeographicTms::rect(k);
-    return r.west <= extent_.east && r.east >= extent_.west && r.south <= extent_.north &&
-           r.north >= extent_.south;
+    if (r.south > extent_.north || r.north < extent_.south)
+        return false;
+    // The extent's longitudes may run past ±180° (a 0..360° E grid): a tile 360° on counts.
+    for (const double s : {0.0, 360.0, -360.0})
+        if (r.west + s <= extent_.east && r.east + s >= extent_.west)
+            return true;
+    return false;
 }
 
 double TileSampler::finestSpacingMetres() const
@@ -132,12 +137,26 @@ bool TileSampler::placeOnSamples(TileKey k, int level, TileHeights& grid)
     // Pixel/line of the tile's edges straight from the geotransform (not through PROJ), the
     // same arithmetic for every tile, so neighbours compute their shared edge bit for bit.
     const std::array<double, 6>& gt = *query_.reader().metadata().georeference.geotransform;
-    const GeoRect r = GeographicTms::rect(k);
+    const PyramidGeometry& geometry = query_.reader().geometry();
+    GeoRect r = GeographicTms::rect(k);
+    // A grid in another period (0..360° E) holds the tile 360° on: the period that overlaps
+    // the grid most. Heights on a meridian the grid repeats (ETOPO's 0° and 360°) are the
+    // same samples, so tiles on either side of the seam still meet.
+    const double grid_west = gt[0], grid_east = gt[0] + double(geometry.width()) * gt[1];
+    double best_overlap = -1.0, shift = 0.0;
+    for (const double s : {0.0, 360.0, -360.0}) {
+        const double overlap = std::min(r.east + s, grid_east) - std::max(r.west + s, grid_west);
+        if (overlap > best_overlap + 1e-9) {
+            best_overlap = overlap;
+            shift = s;
+        }
+    }
+    r.west += shift;
+    r.east += shift;
     const double px_w = (r.west - gt[0]) / gt[1], px_e = (r.east - gt[0]) / gt[1];
     const double py_n = (r.north - gt[3]) / gt[5], py_s = (r.south - gt[3]) / gt[5];
     if (!(px_e > px_w && py_s > py_n))
         return false;
-    const PyramidGeometry& geometry = query_.reader().geometry();
     const double step = double(geometry.step(level));
     constexpr int32_t kMax = QuantizedMesh::kMaxCoordinate;
     // The level's sample centres strictly inside (lo, hi), as format coordinates 1..32766

@@ -109,3 +109,32 @@ TEST(TileSampler, TilesPartlyOffTheArchiveCountTheirMissingSamples)
     EXPECT_THROW(sampler.sample(GeographicTms::tileAt(8, 86.9, 27.9), 0), Error);
     EXPECT_THROW(sampler.sample(GeographicTms::tileAt(8, 86.9, 27.9), 5000), Error);
 }
+
+TEST(TileSampler, AGlobalGridFrom0To360DegreesFillsBothHemispheres)
+{
+    // ETOPO5 at 2°, sample centres on 0, 2, ..., 360° E: the western hemisphere lies in the
+    // grid's next period, which the tiles must still find.
+    const test::ScratchDir dir;
+    BuildOptions options;
+    options.progress = {};
+    const std::string path = dir.path("globe.ridge");
+    buildArchive(test::dataPath("etopo5_globe_181x91.tif"), path, options);
+    TileSampler sampler(path);
+    for (const TileKey k :
+         {TileKey{0, 0, 0}, TileKey{0, 1, 0}, TileKey{2, 1, 2}, TileKey{2, 6, 1}}) {
+        const std::optional<SampledTile> t = sampler.sample(k, 32);
+        ASSERT_TRUE(t) << k.z << "/" << k.x << "/" << k.y;
+        EXPECT_LT(t->off_raster, t->grid.heights.size() / 2) << k.z << "/" << k.x << "/" << k.y;
+        const auto [lo, hi] = std::minmax_element(t->grid.heights.begin(), t->grid.heights.end());
+        EXPECT_GT(*hi - *lo, 1000.f) << "relief, not a fill: " << k.z << "/" << k.x << "/" << k.y;
+    }
+    // The seam: the western hemisphere's east edge is the grid's 360° column, the eastern
+    // one's west edge its 0° column — the same samples, so the same heights.
+    const std::optional<SampledTile> west = sampler.sample({1, 1, 0}, 32);
+    const std::optional<SampledTile> east = sampler.sample({1, 2, 0}, 32);
+    ASSERT_TRUE(west && east);
+    ASSERT_EQ(west->grid.v, east->grid.v);
+    const size_t wc = west->grid.u.size(), ec = east->grid.u.size();
+    for (size_t r = 0; r < west->grid.v.size(); ++r)
+        EXPECT_EQ(west->grid.heights[r * wc + wc - 1], east->grid.heights[r * ec]) << "row " << r;
+}

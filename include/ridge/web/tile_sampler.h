@@ -41,7 +41,8 @@ class TileSampler {
     explicit TileSampler(const std::string& archive_path,
                          size_t cache_patches = HeightQuery::kDefaultCachePatches);
 
-    // The archive's longitude/latitude box, degrees (its border traced through PROJ).
+    // The archive's longitude/latitude box, degrees (its border traced through PROJ; a
+    // grid in 0..360° E keeps longitudes past 180°).
     const GeoRect& extent() const { return extent_; }
     // "ellipsoid" when heights are above WGS 84's ellipsoid, else the archive's vertical datum
     // name ("EGM96 height", ...) or "unknown".
