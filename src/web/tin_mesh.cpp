@@ -618,7 +618,9 @@ class TinBuilder {
             const float* samples = heights_.data() + size_t(row) * size_t(width_);
             for (;;) {
                 const int64_t stop = std::min(column1, steady_until);
-                for (; column <= stop && (wa | wb | wc) >= 0; advance()) {
+                // (A while loop: advance() moves column and the weights, which a for
+                // statement's condition would hide from clang's loop analysis.)
+                while (column <= stop && (wa | wb | wc) >= 0) {
                     if (wa == 0 || wb == 0 || wc == 0) {
                         visitEdge({column, row}, wa, wb, wc);
                     } else {
@@ -629,6 +631,7 @@ class TinBuilder {
                             inside_sample = size_t(row) * size_t(width_) + size_t(column);
                         }
                     }
+                    advance();
                 }
                 if (column <= stop || column > column1)
                     break;
