@@ -31,12 +31,9 @@ class MeshLocator {
     double heightAt(double u, double v) const
     {
         const std::vector<uint32_t>& list = buckets_[size_t(bucket(v) * kSide + bucket(u))];
-        for (uint32_t t : list) {
-            const uint32_t a = m_.triangles[t], b = m_.triangles[t + 1], c = m_.triangles[t + 2];
-            const double h = triangleHeight(a, b, c, u, v);
-            if (!std::isnan(h))
+        for (uint32_t t : list)
+            if (const double h = triangleHeightAt(m_, t, u, v); !std::isnan(h))
                 return h;
-        }
         return NAN;
     }
 
@@ -46,19 +43,6 @@ class MeshLocator {
     {
         return std::clamp(int(coordinate / (QuantizedMesh::kMaxCoordinate + 1.0) * kSide), 0,
                           kSide - 1);
-    }
-    double triangleHeight(uint32_t a, uint32_t b, uint32_t c, double u, double v) const
-    {
-        const double ax = m_.u[a], ay = m_.v[a], bx = m_.u[b], by = m_.v[b], cx = m_.u[c],
-                     cy = m_.v[c];
-        const double det = (bx - ax) * (cy - ay) - (cx - ax) * (by - ay);
-        const double l1 = ((u - ax) * (cy - ay) - (cx - ax) * (v - ay)) / det;
-        const double l2 = ((bx - ax) * (v - ay) - (u - ax) * (by - ay)) / det;
-        const double l0 = 1.0 - l1 - l2;
-        constexpr double kInside = -1e-9;
-        if (!(l0 >= kInside && l1 >= kInside && l2 >= kInside))
-            return NAN;
-        return l0 * decodedHeight(m_, a) + l1 * decodedHeight(m_, b) + l2 * decodedHeight(m_, c);
     }
 
     const QuantizedMesh& m_;

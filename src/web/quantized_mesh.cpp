@@ -306,21 +306,27 @@ double decodedHeight(const QuantizedMesh& m, uint32_t i)
                                       double(m.max_height - m.min_height);
 }
 
-double meshHeightAt(const QuantizedMesh& m, double u, double v)
+double triangleHeightAt(const QuantizedMesh& m, size_t first, double u, double v)
 {
     constexpr double kInside = -1e-9; // barycentric slack: points on an edge belong to both
-    for (size_t t = 0; t + 2 < m.triangles.size(); t += 3) {
-        const uint32_t a = m.triangles[t], b = m.triangles[t + 1], c = m.triangles[t + 2];
-        const double ax = m.u[a], ay = m.v[a], bx = m.u[b], by = m.v[b], cx = m.u[c], cy = m.v[c];
-        const double det = (bx - ax) * (cy - ay) - (cx - ax) * (by - ay);
-        if (det == 0.0)
-            continue;
-        const double l1 = ((u - ax) * (cy - ay) - (cx - ax) * (v - ay)) / det;
-        const double l2 = ((bx - ax) * (v - ay) - (u - ax) * (by - ay)) / det;
-        const double l0 = 1.0 - l1 - l2;
-        if (l0 >= kInside && l1 >= kInside && l2 >= kInside)
-            return l0 * decodedHeight(m, a) + l1 * decodedHeight(m, b) + l2 * decodedHeight(m, c);
-    }
+    const uint32_t a = m.triangles[first], b = m.triangles[first + 1], c = m.triangles[first + 2];
+    const double ax = m.u[a], ay = m.v[a], bx = m.u[b], by = m.v[b], cx = m.u[c], cy = m.v[c];
+    const double det = (bx - ax) * (cy - ay) - (cx - ax) * (by - ay);
+    if (det == 0.0)
+        return std::numeric_limits<double>::quiet_NaN();
+    const double l1 = ((u - ax) * (cy - ay) - (cx - ax) * (v - ay)) / det;
+    const double l2 = ((bx - ax) * (v - ay) - (u - ax) * (by - ay)) / det;
+    const double l0 = 1.0 - l1 - l2;
+    if (!(l0 >= kInside && l1 >= kInside && l2 >= kInside))
+        return std::numeric_limits<double>::quiet_NaN();
+    return l0 * decodedHeight(m, a) + l1 * decodedHeight(m, b) + l2 * decodedHeight(m, c);
+}
+
+double meshHeightAt(const QuantizedMesh& m, double u, double v)
+{
+    for (size_t t = 0; t + 2 < m.triangles.size(); t += 3)
+        if (const double h = triangleHeightAt(m, t, u, v); !std::isnan(h))
+            return h;
     return std::numeric_limits<double>::quiet_NaN();
 }
 

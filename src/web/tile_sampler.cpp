@@ -46,6 +46,20 @@ void fillFromNearest(std::vector<float>& heights, int columns, std::vector<uint8
     }
 }
 
+void checkKey(TileKey k)
+{
+    if (!GeographicTms::valid(k))
+        throw Error("web tile " + std::to_string(k.z) + "/" + std::to_string(k.x) + "/" +
+                    std::to_string(k.y) + " is not a geographic tile");
+}
+
+// Pixel/line coordinate of level sample `i` (a column or row) `step` finest samples apart:
+// finest sample min(i·step, finest − 1), the centre of its pixel.
+double samplePixel(int64_t i, double step, int64_t finest)
+{
+    return std::min(double(i) * step, double(finest - 1)) + 0.5;
+}
+
 } // namespace
 
 TileSampler::TileSampler(const std::string& archive_path, size_t cache_patches)
@@ -167,7 +181,7 @@ bool TileSampler::placeOnSamples(TileKey k, int level, TileHeights& grid)
         lines.assign(1, 0);
         const int first = std::max(0, int(std::floor((lo - 0.5) / step)));
         for (int i = first; i < count; ++i) {
-            const double p = std::min(double(i) * step, double(finest - 1)) + 0.5;
+            const double p = samplePixel(i, step, finest);
             if (p <= lo)
                 continue;
             if (p >= hi)
@@ -197,9 +211,7 @@ bool TileSampler::placeOnSamples(TileKey k, int level, TileHeights& grid)
 
 std::optional<SampledTile> TileSampler::sample(TileKey k, int cells)
 {
-    if (!GeographicTms::valid(k))
-        throw Error("web tile " + std::to_string(k.z) + "/" + std::to_string(k.x) + "/" +
-                    std::to_string(k.y) + " is not a geographic tile");
+    checkKey(k);
     if (cells < 1 || cells > 4096)
         throw Error("web tile cells " + std::to_string(cells) + " outside [1, 4096]");
     if (!overlaps(k))
@@ -248,9 +260,7 @@ std::optional<SampledTile> TileSampler::sample(TileKey k, int cells)
 
 std::vector<TileSampler::LevelSample> TileSampler::levelSamples(TileKey k, int level, size_t limit)
 {
-    if (!GeographicTms::valid(k))
-        throw Error("web tile " + std::to_string(k.z) + "/" + std::to_string(k.x) + "/" +
-                    std::to_string(k.y) + " is not a geographic tile");
+    checkKey(k);
     if (level < 0 || level > query_.finestLevel())
         throw Error("web tile level " + std::to_string(level) + " outside [0, " +
                     std::to_string(query_.finestLevel()) + "]");
@@ -284,8 +294,8 @@ std::vector<TileSampler::LevelSample> TileSampler::levelSamples(TileKey k, int l
     std::vector<glm::dvec2> lonlat;
     for (int j = j0; j <= j1 && points_.size() < limit; ++j)
         for (int i = i0; i <= i1 && points_.size() < limit; ++i) {
-            const glm::dvec2 pixel(std::min(i * s, double(geometry.width() - 1)) + 0.5,
-                                   std::min(j * s, double(geometry.height() - 1)) + 0.5);
+            const glm::dvec2 pixel(samplePixel(i, s, geometry.width()),
+                                   samplePixel(j, s, geometry.height()));
             const glm::dvec2 ll = g.fromLocal(g.localOfPixel(pixel), PointSpace::LonLat);
             if (ll.x < r.west || ll.x > r.east || ll.y < r.south || ll.y > r.north)
                 continue;

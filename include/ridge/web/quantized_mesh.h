@@ -64,9 +64,12 @@ QuantizedMesh decodeQuantizedMesh(std::span<const uint8_t> bytes);
 
 // The height, metres, vertex i decodes to (min + h/32767 · (max − min), in double).
 double decodedHeight(const QuantizedMesh& mesh, uint32_t i);
-// The mesh's height at (u, v) (the format's coordinates, fractional allowed): linear on the
-// triangle holding the point, NaN when none does. O(triangles) a call: for checking tiles, not
-// for drawing them.
+// The height at (u, v) (the format's coordinates, fractional allowed) of the triangle whose
+// indices start at triangles[first]: linear on it, NaN when the point lies outside it (by
+// more than 1e-9 of its barycentric coordinates) or the triangle is degenerate.
+double triangleHeightAt(const QuantizedMesh& mesh, size_t first, double u, double v);
+// The mesh's height at (u, v): triangleHeightAt of the first triangle holding the point, NaN
+// when none does. O(triangles) a call: for checking tiles, not for drawing them.
 double meshHeightAt(const QuantizedMesh& mesh, double u, double v);
 
 // Reorders triangles for the vertex cache and vertices by first use (meshoptimizer), as the
