@@ -21,6 +21,9 @@ bad=$(grep -rlE '#include *[<"]proj(\.h|/)' src include apps | grep -v '^src/io/
 bad=$(grep -rlE '#include *[<"](epoxy|GL|EGL|GLFW)/' src include apps |
       grep -vE '^(src/gpu/|include/ridge/gpu/|apps/ridge/view_command\.cpp$)' || true)
 [[ -z "$bad" ]] || report "GL/EGL/GLFW headers outside the GPU layer" "$bad"
+# cpp-httplib only behind web::HttpServer: what is answered stays plain C++ (TileService).
+bad=$(grep -rlE '#include *[<"]httplib\.h' src include apps | grep -v '^src/web/http_server\.cpp$' || true)
+[[ -z "$bad" ]] || report "cpp-httplib outside src/web/http_server.cpp" "$bad"
 bad=$(grep -rlE '#include *[<"]ridge/gpu/' src include |
       grep -vE '^(src/gpu/|src/render/|src/renderbench/|include/ridge/gpu/)' || true)
 [[ -z "$bad" ]] || report "the GPU layer used outside the renderers" "$bad"

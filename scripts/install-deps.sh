@@ -12,6 +12,7 @@ packages=(
   libpng-dev                     # hillshade PNG output
   libfmt-dev libcli11-dev nlohmann-json3-dev
   libmeshoptimizer-dev           # web tiles: vertex order for quantized-mesh index coding
+  libcpp-httplib-dev             # ridge serve: HTTP/1.1 server (cpp-httplib)
   libgtest-dev libgmock-dev libbenchmark-dev
   python3                        # bench and fuzz helper scripts
   clang libclang-rt-14-dev       # libFuzzer targets (scripts/fuzz.sh), the sanitizer build

@@ -149,6 +149,7 @@ void Commands::registerAll(CLI::App& app)
     render_.registerWith(app);
     bench_.registerWith(app);
     query_.registerWith(app);
+    serve_.registerWith(app);
 }
 
 int Commands::run()
@@ -171,6 +172,8 @@ int Commands::run()
         return bench_.run();
     if (query_.parsed())
         return query_.run();
+    if (serve_.parsed())
+        return serve_.run();
     return runHillshade();
 }
 

@@ -7,6 +7,7 @@
 #include "ridge/render/terrain_renderer.h"
 #include "ridge/renderbench/render_bench.h"
 #include "ridge/renderbench/view_bytes_bench.h"
+#include "ridge/web/http_server.h"
 
 #include <CLI/CLI.hpp>
 #include <optional>
@@ -146,6 +147,25 @@ class QueryCommand {
     bool json_ = false;
 };
 
+// `ridge serve` (serve_command.cpp): archives as Cesium quantized-mesh tiles over HTTP, with
+// the web pages, until SIGINT or SIGTERM.
+class ServeCommand {
+  public:
+    void registerWith(CLI::App& app);
+    bool parsed() const { return command_ && command_->parsed(); }
+    int run();
+
+  private:
+    CLI::App* command_ = nullptr;
+    std::vector<std::string> archives_;
+    web::HttpServerOptions http_;
+    web::TileServiceOptions service_;
+    std::string watermask_ = "nodata";
+    double cache_mb_ = 64.0;
+    std::string pages_; // --pages: empty, the bundled web/ when it exists
+    bool no_pages_ = false;
+};
+
 class Commands {
   public:
     // GDAL's single-dash spellings of extract's options ("-ot" for "--ot"): CLI11 takes one
@@ -200,6 +220,7 @@ class Commands {
     RenderCommand render_;
     BenchCommand bench_;
     QueryCommand query_;
+    ServeCommand serve_;
 };
 
 } // namespace ridge::cli

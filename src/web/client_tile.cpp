@@ -69,24 +69,42 @@ double measuredError(const QuantizedMesh& mesh, const GeoRect& r,
 
 std::optional<ClientTile> makeClientTile(TileSampler& sampler, TileKey k, int cells)
 {
-    std::optional<SampledTile> sampled = sampler.sample(k, cells);
+    // Half the client's error for the archive's bound at the level read, at most; the TIN and
+    // the height step get the rest.
+    const double client_error = GeographicTms::geometricError(k.z);
+    std::optional<SampledTile> sampled =
+        sampler.sample(k, cells, sampler.levelWithin(k, cells, 0.5 * client_error));
     if (!sampled)
         return std::nullopt;
     ClientTile out;
     out.level = sampled->level;
     out.archive_error = sampled->archive_error;
-    out.client_error = GeographicTms::geometricError(k.z);
+    out.client_error = client_error;
     out.missing = sampled->off_raster + sampled->nodata;
     // The budget the TIN may use: the client's error less the archive's bound and the
     // quantization step the tile's height range will cost.
     const auto [lo, hi] =
         std::minmax_element(sampled->grid.heights.begin(), sampled->grid.heights.end());
     const double half_step = 0.5 * double(*hi - *lo) / QuantizedMesh::kMaxCoordinate;
-    const double tin_bound = std::max(0.0, out.client_error - out.archive_error - half_step);
-    out.tile = makeTerrainTile(sampled->grid, tin_bound);
-    out.measured_error =
-        measuredError(out.tile.mesh, GeographicTms::rect(k), sampler.levelSamples(k, out.level));
-    out.claimed_error = std::max(out.tile.error, out.measured_error) + out.archive_error;
+    double tin_bound = std::max(0.0, out.client_error - out.archive_error - half_step);
+    const GeoRect rect = GeographicTms::rect(k);
+    const std::vector<TileSampler::LevelSample> samples = sampler.levelSamples(k, out.level);
+    // The client draws vertices at u, v rounded to 1/32767 of the tile, up to half a unit
+    // from the samples they stand for, so on steep ground the mesh misses a sample by up to
+    // the slope times that shift beyond the TIN's bound. Measured, and where the claim then
+    // exceeds the client's error, the TIN is made again with the excess taken off its
+    // budget (twice at most; then the claim stands as measured).
+    for (int attempt = 0;; ++attempt) {
+        out.tile = makeTerrainTile(sampled->grid, tin_bound);
+        out.measured_error = measuredError(out.tile.mesh, rect, samples);
+        out.claimed_error = std::max(out.tile.error, out.measured_error) + out.archive_error;
+        const double excess = out.claimed_error - out.client_error;
+        if (excess <= 0.0 || tin_bound <= 0.0 || attempt == 2)
+            break;
+        tin_bound = std::max(0.0, tin_bound - excess - 0.01 * out.client_error);
+    }
+    out.grid = std::move(sampled->grid);
+    out.flags = std::move(sampled->flags);
     return out;
 }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 namespace ridge::web {
@@ -123,7 +124,7 @@ std::optional<TileKey> parseTilePath(std::string_view path, std::string_view ext
         const std::optional<int64_t> v = parseIndex(path);
         if (!v)
             return std::nullopt;
-        if (part == 0 && *v > kMaxTileZoom)
+        if (part == 0 && *v > std::numeric_limits<int>::max())
             return std::nullopt;
         if (part == 0)
             k.z = int(*v);

@@ -209,16 +209,73 @@ bool TileSampler::placeOnSamples(TileKey k, int level, TileHeights& grid)
     return true;
 }
 
-std::optional<SampledTile> TileSampler::sample(TileKey k, int cells)
+std::pair<glm::dvec2, glm::dvec2> TileSampler::pixelWindow(TileKey k) const
+{
+    const GeoRect r = GeographicTms::rect(k);
+    const TerrainGeoreference& g = query_.georeference();
+    glm::dvec2 lo(INFINITY), hi(-INFINITY);
+    for (int i = 0; i <= 16; ++i) {
+        const double t = i / 16.0;
+        for (const glm::dvec2 ll : {glm::dvec2(r.west + t * (r.east - r.west), r.south),
+                                    glm::dvec2(r.west + t * (r.east - r.west), r.north),
+                                    glm::dvec2(r.west, r.south + t * (r.north - r.south)),
+                                    glm::dvec2(r.east, r.south + t * (r.north - r.south))}) {
+            const glm::dvec2 p = g.toPixel(ll, PointSpace::LonLat);
+            lo = glm::min(lo, p);
+            hi = glm::max(hi, p);
+        }
+    }
+    return {lo, hi};
+}
+
+double TileSampler::boundOver(TileKey k, int level) const
+{
+    checkKey(k);
+    const archive::ArchiveReader& reader = query_.reader();
+    const PyramidGeometry& geometry = reader.geometry();
+    if (level < 0 || level > geometry.finestLevel())
+        throw Error("web tile level " + std::to_string(level) + " outside [0, " +
+                    std::to_string(geometry.finestLevel()) + "]");
+    const auto [lo, hi] = pixelWindow(k);
+    // Patch (x, y) of the level covers finest pixels [x·cells·step, (x+1)·cells·step].
+    const double span = double(geometry.cells()) * double(geometry.step(level));
+    const auto index = [&](double pixel, int count) {
+        return std::clamp(int(std::floor(pixel / span)), 0, count - 1);
+    };
+    const int nx = geometry.patchesX(level), ny = geometry.patchesY(level);
+    double worst = 0.0;
+    for (int y = index(lo.y, ny); y <= index(hi.y, ny); ++y)
+        for (int x = index(lo.x, nx); x <= index(hi.x, nx); ++x)
+            if (const PatchId p{level, x, y}; geometry.exists(p))
+                worst = std::max(worst, double(reader.record(p).err));
+    return worst;
+}
+
+int TileSampler::levelWithin(TileKey k, int cells, double error) const
+{
+    const int finest = query_.finestLevel();
+    const auto [lo, hi] = pixelWindow(k);
+    const double across = std::max(hi.x - lo.x, hi.y - lo.y); // finest samples a side
+    int level = levelFor(k, cells);
+    while (level < finest && boundOver(k, level) > error &&
+           across / double(query_.reader().geometry().step(level + 1)) <= kMaxTileSamples)
+        ++level;
+    return level;
+}
+
+std::optional<SampledTile> TileSampler::sample(TileKey k, int cells, int level)
 {
     checkKey(k);
     if (cells < 1 || cells > 4096)
         throw Error("web tile cells " + std::to_string(cells) + " outside [1, 4096]");
+    if (level > query_.finestLevel())
+        throw Error("web tile level " + std::to_string(level) + " outside [0, " +
+                    std::to_string(query_.finestLevel()) + "]");
     if (!overlaps(k))
         return std::nullopt;
 
     SampledTile out;
-    out.level = levelFor(k, cells);
+    out.level = level < 0 ? levelFor(k, cells) : level;
     // On the level's own samples where the archive is a north-up geographic grid; else a
     // uniform grid of `cells` cells read through PROJ. Row 0 is the northern edge.
     PointSpace space = PointSpace::Pixel;
@@ -239,6 +296,7 @@ std::optional<SampledTile> TileSampler::sample(TileKey k, int cells)
 
     out.grid.heights.assign(points_.size(), 0.f);
     valid_.assign(points_.size(), 0);
+    out.flags.assign(points_.size(), SampledTile::kAbsent);
     for (size_t i = 0; i < samples_.size(); ++i) {
         const HeightSample& s = samples_[i];
         if (!s.on_raster || s.invalid_point) {
@@ -247,6 +305,7 @@ std::optional<SampledTile> TileSampler::sample(TileKey k, int cells)
             ++out.nodata;
         } else {
             valid_[i] = 1;
+            out.flags[i] = s.water ? SampledTile::kWater : 0;
             out.grid.heights[i] = float(s.height);
             out.archive_error = std::max(out.archive_error, s.error_bound);
         }
@@ -267,22 +326,10 @@ std::vector<TileSampler::LevelSample> TileSampler::levelSamples(TileKey k, int l
     std::vector<LevelSample> out;
     if (!overlaps(k))
         return out;
-    // The tile's outline in pixels (a projected archive's is curved): the window to scan.
+    const auto [lo, hi] = pixelWindow(k);
     const GeoRect r = GeographicTms::rect(k);
     const TerrainGeoreference& g = query_.georeference();
     const PyramidGeometry& geometry = query_.reader().geometry();
-    glm::dvec2 lo(INFINITY), hi(-INFINITY);
-    for (int i = 0; i <= 16; ++i) {
-        const double t = i / 16.0;
-        for (const glm::dvec2 ll : {glm::dvec2(r.west + t * (r.east - r.west), r.south),
-                                    glm::dvec2(r.west + t * (r.east - r.west), r.north),
-                                    glm::dvec2(r.west, r.south + t * (r.north - r.south)),
-                                    glm::dvec2(r.east, r.south + t * (r.north - r.south))}) {
-            const glm::dvec2 p = g.toPixel(ll, PointSpace::LonLat);
-            lo = glm::min(lo, p);
-            hi = glm::max(hi, p);
-        }
-    }
     // Level sample (i, j) is finest sample (i·s, j·s), the centre of pixel (i·s + ½, j·s + ½).
     const double s = double(geometry.step(level));
     const int w = geometry.levelWidth(level), h = geometry.levelHeight(level);

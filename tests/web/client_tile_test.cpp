@@ -2,7 +2,7 @@
 // less than the archive's own bound.
 #include "ridge/web/client_tile.h"
 
-#include "fixture_archives.h"
+#include "everest_web.h"
 
 #include <gtest/gtest.h>
 
@@ -10,35 +10,6 @@
 
 using namespace ridge;
 using namespace ridge::web;
-
-namespace {
-
-// The largest |mesh − finest surface| over the archive's own finest samples inside the tile,
-// found by the test alone (its own positions, meshHeightAt's brute-force search).
-double errorAgainstFinestSamples(const ClientTile& t, TileKey k, HeightQuery& finest)
-{
-    const QuantizedMesh m = decodeQuantizedMesh(encodeQuantizedMesh(t.tile.mesh));
-    const GeoRect r = GeographicTms::rect(k);
-    const double step = 3.0 / 3600.0; // the fixture's spacing
-    double worst = 0.0;
-    for (int j = 0; j < 203; ++j)
-        for (int i = 0; i < 301; ++i) {
-            // The fixture's geotransform: origin (86.7495833…, 28.0004166…), 3″ pixels.
-            const double lon = 86.749583333333334 + (i + 0.5) * step;
-            const double lat = 28.000416666666666 - (j + 0.5) * step;
-            if (lat > r.north || lat < r.south || lon < r.west || lon > r.east)
-                continue;
-            const HeightSample s = finest.sample({lon, lat}, PointSpace::LonLat);
-            if (!s.on_raster)
-                continue;
-            const double u = (lon - r.west) / (r.east - r.west) * QuantizedMesh::kMaxCoordinate;
-            const double v = (lat - r.south) / (r.north - r.south) * QuantizedMesh::kMaxCoordinate;
-            worst = std::max(worst, std::abs(meshHeightAt(m, u, v) - s.height));
-        }
-    return worst;
-}
-
-} // namespace
 
 TEST(ClientTile, KeepsToTheClientsErrorAtTheArchivesSamples)
 {
@@ -55,7 +26,8 @@ TEST(ClientTile, KeepsToTheClientsErrorAtTheArchivesSamples)
         EXPECT_EQ(t->archive_error, 0.0) << "lossless";
         EXPECT_EQ(t->level, finest.finestLevel());
         // The test's own measurement, independent of the library's locator and sample list.
-        const double measured = errorAgainstFinestSamples(*t, k, finest);
+        const double measured = test::everestMeshError(
+            decodeQuantizedMesh(encodeQuantizedMesh(t->tile.mesh)), k, finest);
         std::printf("zoom %d: %zu vertices, client error %.2f m, TIN + step %.2f m, measured "
                     "%.2f m (test: %.2f m), claimed %.2f m\n",
                     z, t->tile.mesh.vertexCount(), t->client_error, t->tile.error,

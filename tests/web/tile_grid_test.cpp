@@ -79,9 +79,14 @@ TEST(TilePath, ParsesZxyAndRefusesEverythingElse)
     ASSERT_TRUE(k);
     EXPECT_EQ(*k, (TileKey{12, 3400, 1200}));
     EXPECT_EQ(parseTilePath("0/0/0.png", ".png"), (TileKey{0, 0, 0}));
-    for (const char* bad : {"12/3400/1200", "12/3400/1200.png", "-1/0/0.terrain", "1/+1/0.terrain",
-                            "1/01/0.terrain", "1//0.terrain", "1/0/0/0.terrain", "29/0/0.terrain",
-                            "1/0/99999999999999999999.terrain", "1/0/0.terrain.terrain",
-                            " 1/0/0.terrain", "1/0/0 .terrain", "a/b/c.terrain", ".terrain", ""})
+    for (const char* bad :
+         {"12/3400/1200", "12/3400/1200.png", "-1/0/0.terrain", "1/+1/0.terrain", "1/01/0.terrain",
+          "1//0.terrain", "1/0/0/0.terrain", "2147483648/0/0.terrain",
+          "1/0/99999999999999999999.terrain", "1/0/0.terrain.terrain", " 1/0/0.terrain",
+          "1/0/0 .terrain", "a/b/c.terrain", ".terrain", ""})
         EXPECT_FALSE(parseTilePath(bad, ".terrain")) << bad;
+    // Well formed but outside the tiling: parsed, and not valid.
+    const std::optional<TileKey> deep = parseTilePath("29/0/0.terrain", ".terrain");
+    ASSERT_TRUE(deep);
+    EXPECT_FALSE(GeographicTms::valid(*deep));
 }

@@ -15,7 +15,11 @@
 // level's own samples there may lie farther from it (rough terrain whose detail is finer than
 // the tile's grid, or a sample beside the archive's edge). So the mesh is also measured
 // against every valid sample of the level read inside the tile (measured_error), and the claim
-// is the larger of the two plus the archive's bound: a claim, not a hope. Where the claim
+// is the larger of the two plus the archive's bound: a claim, not a hope. Where it exceeds the
+// client's error (on steep ground, where rounding vertices to the format's 1/32767 grid moves
+// the surface), the TIN is made again on a budget short by the excess (twice at most). The
+// level read is levelWithin(half the client's error): finer than the tile's spacing needs
+// where a coarse level's bound would not leave the TIN enough. Where the claim
 // exceeds the client's error the client refines that tile later than it should (no crack;
 // docs/PERF.md, "Web tiles", gives how often on real terrain).
 #include "ridge/web/terrain_tile.h"
@@ -31,9 +35,11 @@ struct ClientTile {
     double archive_error = 0.; // the largest Err(P) of the patches read, metres
     // The largest |mesh − level sample| over the level's valid samples inside the tile.
     double measured_error = 0.;
-    double claimed_error = 0.; // max(tile.error, measured_error) + archive_error, metres
-    double client_error = 0.;  // GeographicTms::geometricError(z)
-    size_t missing = 0;        // samples off the raster or on nodata (filled from the nearest)
+    double claimed_error = 0.;  // max(tile.error, measured_error) + archive_error, metres
+    double client_error = 0.;   // GeographicTms::geometricError(z)
+    size_t missing = 0;         // samples off the raster or on nodata (filled from the nearest)
+    TileHeights grid;           // the grid the mesh was made from (tile_sampler.h)
+    std::vector<uint8_t> flags; // per grid sample: SampledTile::kAbsent, kWater
 };
 
 // The tile `k` sampled with `cells` cells a side, or nullopt when it misses the archive.

@@ -69,7 +69,9 @@ class WebMercatorXyz {
 };
 
 // "z/x/y" with an optional ".ext" suffix equal to `extension` (e.g. ".terrain"): the key, or
-// nullopt for anything else (signs, spaces, leading zeros beyond "0", overflow, other suffixes).
+// nullopt for anything else (signs, spaces, leading zeros beyond "0", more than 18 digits, a
+// zoom past INT_MAX, other suffixes). A key that parses may still lie outside a tiling
+// (valid() says): a server answers 400 for the one and 404 for the other.
 std::optional<TileKey> parseTilePath(std::string_view path, std::string_view extension);
 
 } // namespace ridge::web

@@ -32,6 +32,10 @@ struct SampledTile {
     double archive_error = 0.; // the largest Err(P) of the patches read, metres
     size_t off_raster = 0;     // samples outside the archive (filled from the nearest valid)
     size_t nodata = 0;         // samples on kept nodata (filled likewise)
+    // Per grid sample (grid.heights' order): kAbsent off the raster or on kept nodata, kWater
+    // where the archive's sample flags say water (bilinear rule, HeightSample::water).
+    static constexpr uint8_t kAbsent = 1, kWater = 2;
+    std::vector<uint8_t> flags;
 };
 
 class TileSampler {
@@ -41,6 +45,7 @@ class TileSampler {
     explicit TileSampler(const std::string& archive_path,
                          size_t cache_patches = HeightQuery::kDefaultCachePatches);
 
+    const archive::ArchiveReader& reader() const { return query_.reader(); }
     // The archive's longitude/latitude box, degrees (its border traced through PROJ; a
     // grid in 0..360° E keeps longitudes past 180°).
     const GeoRect& extent() const { return extent_; }
@@ -51,12 +56,22 @@ class TileSampler {
     bool overlaps(TileKey k) const;
     // The archive level a tile of zoom k.z with `cells` cells reads (see above).
     int levelFor(TileKey k, int cells) const;
+    // The largest Err(P) of the patches of `level` that the tile overlaps (from the index, no
+    // patch read): how far that level's surface may lie from the finest samples there.
+    double boundOver(TileKey k, int level) const;
+    // levelFor, or a finer level where that one's bound over the tile exceeds `error` (the
+    // coarsest finer level within it), while the tile stays within kMaxTileSamples samples a
+    // side: coarse levels of rough terrain lie hundreds of metres from the finest samples,
+    // more than a client's error for the zoom, even where their spacing suits the tile.
+    static constexpr int kMaxTileSamples = 1024;
+    int levelWithin(TileKey k, int cells, double error) const;
     // The deepest zoom whose tiles of `cells` cells are still no finer than the archive's
     // finest samples (deeper tiles add nothing but interpolation).
     int maxZoom(int cells) const;
     // The tile's grid, or nullopt when the tile misses the archive. Throws ridge::Error for an
     // invalid key or cells outside [1, 4096].
-    std::optional<SampledTile> sample(TileKey k, int cells);
+    // `level` < 0: levelFor's; else that level (throws ridge::Error past the finest).
+    std::optional<SampledTile> sample(TileKey k, int cells, int level = -1);
 
     // The archive level's own valid samples inside tile `k` (longitude, latitude, height):
     // what a tile's mesh is checked against between its grid's samples. At most `limit`
@@ -69,6 +84,8 @@ class TileSampler {
 
   private:
     double finestSpacingMetres() const;
+    // The finest pixel/line box the tile's outline covers (a projected archive's is curved).
+    std::pair<glm::dvec2, glm::dvec2> pixelWindow(TileKey k) const;
     // Puts grid's lines on the level's own sample columns and rows inside tile k (plus its
     // edges) and points_ on their pixel/line; false (nothing set) where the archive is not a
     // north-up longitude/latitude grid or the tile falls outside its period.
