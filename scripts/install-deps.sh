@@ -9,10 +9,11 @@ packages=(
   libproj-dev                    # longitude/latitude ↔ archive CRS (queries, cameras, info)
   libzstd-dev                    # archive payload compression (later codecs)
   libopenjp2-7-dev libopenjph-dev  # the jpeg2000 codec: JPEG 2000 (OpenJPEG) and HTJ2K (OpenJPH)
-  libpng-dev                     # hillshade PNG output
+  libpng-dev                     # hillshade PNG output, terrain-RGB PNG tiles
   libfmt-dev libcli11-dev nlohmann-json3-dev
   libmeshoptimizer-dev           # web tiles: vertex order for quantized-mesh index coding
   libcpp-httplib-dev             # ridge serve: HTTP/1.1 server (cpp-httplib)
+  libwebp-dev                    # terrain-RGB tiles as lossless WebP
   libgtest-dev libgmock-dev libbenchmark-dev
   python3                        # bench and fuzz helper scripts
   clang libclang-rt-14-dev       # libFuzzer targets (scripts/fuzz.sh), the sanitizer build

@@ -103,7 +103,11 @@ std::string TileSampler::verticalReference() const
 
 bool TileSampler::overlaps(TileKey k) const
 {
-    const GeoRect r = GeographicTms::rect(k);
+    return overlapsRect(GeographicTms::rect(k));
+}
+
+bool TileSampler::overlapsRect(const GeoRect& r) const
+{
     if (r.south > extent_.north || r.north < extent_.south)
         return false;
     // The extent's longitudes may run past ±180° (a 0..360° E grid): a tile 360° on counts.
@@ -124,10 +128,13 @@ int TileSampler::levelFor(TileKey k, int cells) const
     // The tile's sample spacing, metres, along its meridians (the shorter way on a
     // geographic tile away from the equator is along parallels, but a level chosen by the
     // meridians keeps at least the tile's density there too within cos(latitude)).
-    const double tile_spacing =
-        180.0 / double(GeographicTms::tilesY(k.z)) / cells * kMetresPerDegree;
+    return levelForSpacing(180.0 / double(GeographicTms::tilesY(k.z)) / cells * kMetresPerDegree);
+}
+
+int TileSampler::levelForSpacing(double metres) const
+{
     const int finest = query_.finestLevel();
-    const double ratio = tile_spacing / finestSpacingMetres();
+    const double ratio = metres / finestSpacingMetres();
     if (!(ratio > 1.0))
         return finest;
     const int coarser = int(std::floor(std::log2(ratio)));
@@ -314,6 +321,72 @@ std::optional<SampledTile> TileSampler::sample(TileKey k, int cells, int level)
         return std::nullopt; // inside the box but not on the raster (a rotated or curved one)
     if (out.off_raster + out.nodata > 0)
         fillFromNearest(out.grid.heights, int(out.grid.u.size()), valid_);
+    return out;
+}
+
+bool TileSampler::overlapsMercator(TileKey k) const
+{
+    if (!WebMercatorXyz::valid(k))
+        throw Error("web tile " + std::to_string(k.z) + "/" + std::to_string(k.x) + "/" +
+                    std::to_string(k.y) + " is not a Web Mercator tile");
+    return overlapsRect(WebMercatorXyz::rect(k));
+}
+
+int TileSampler::levelForMercator(TileKey k, int size) const
+{
+    const GeoRect r = WebMercatorXyz::rect(k);
+    return levelForSpacing(WebMercatorXyz::metresPerPixel(k.z, 0.5 * (r.south + r.north), size));
+}
+
+int TileSampler::maxMercatorZoom(int size) const
+{
+    const double lat = std::clamp(0.5 * (extent_.south + extent_.north), -85.0, 85.0);
+    const double finest = finestSpacingMetres();
+    int z = 0;
+    while (z < kMaxTileZoom && WebMercatorXyz::metresPerPixel(z + 1, lat, size) >= finest)
+        ++z;
+    return z;
+}
+
+std::optional<MercatorSamples> TileSampler::sampleMercator(TileKey k, int size)
+{
+    if (size < 1 || size > 4096)
+        throw Error("web tile size " + std::to_string(size) + " outside [1, 4096]");
+    if (!overlapsMercator(k))
+        return std::nullopt;
+    MercatorSamples out;
+    out.size = size;
+    out.level = levelForMercator(k, size);
+    points_.resize(size_t(size) * size_t(size));
+    for (int j = 0; j < size; ++j) {
+        const double lat = WebMercatorXyz::latitude(k, j, size);
+        for (int i = 0; i < size; ++i)
+            points_[size_t(j) * size_t(size) + size_t(i)] = {WebMercatorXyz::longitude(k, i, size),
+                                                             lat};
+    }
+    // A grid in 0..360° E holds western longitudes one period on.
+    if (extent_.east > 180.0)
+        for (glm::dvec2& p : points_)
+            if (p.x < extent_.west)
+                p.x += 360.0;
+    samples_.resize(points_.size());
+    query_.sampleBatch(points_, PointSpace::LonLat, out.level, QueryResampling::Bilinear, samples_);
+    out.heights.assign(points_.size(), 0.f);
+    valid_.assign(points_.size(), 0);
+    for (size_t i = 0; i < samples_.size(); ++i) {
+        const HeightSample& s = samples_[i];
+        if (!s.on_raster || s.invalid_point || s.nodata) {
+            ++out.missing;
+            continue;
+        }
+        valid_[i] = 1;
+        out.heights[i] = float(s.height);
+        out.archive_error = std::max(out.archive_error, s.error_bound);
+    }
+    if (out.missing == out.heights.size())
+        return std::nullopt;
+    if (out.missing > 0)
+        fillFromNearest(out.heights, size, valid_);
     return out;
 }
 

@@ -1,6 +1,7 @@
 #include "ridge/web/tile_service.h"
 
 #include "ridge/web/gzip.h"
+#include "ridge/web/terrain_rgb.h"
 
 #include "ridge/core/error.h"
 #include "ridge/stream/lru_cache.h"
@@ -33,7 +34,7 @@ WebResponse text(int status, std::string message)
     return r;
 }
 
-// A path of '/'-separated segments of [A-Za-z0-9._~-], none empty, "." or ".."; the root "/".
+// A path of '/'-separated segments of [A-Za-z0-9._~@-], none empty, "." or ".."; the root "/".
 bool wellFormedPath(std::string_view path)
 {
     if (path.empty() || path[0] != '/' || path.size() > kMaxPathBytes)
@@ -48,7 +49,7 @@ bool wellFormedPath(std::string_view path)
             return false;
         for (const char c : segment)
             if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '_' || c == '-' ||
-                  c == '~'))
+                  c == '~' || c == '@'))
                 return false;
         if (slash == std::string_view::npos)
             return true;
@@ -115,10 +116,17 @@ std::string contentTypeOf(std::string_view path)
     return "application/octet-stream";
 }
 
-std::string tileName(std::string_view tileset, TileKey k, unsigned extensions)
+std::string keyText(TileKey k)
 {
-    return std::string(tileset) + "/" + std::to_string(k.z) + "/" + std::to_string(k.x) + "/" +
-           std::to_string(k.y) + "+" + std::to_string(extensions);
+    return std::to_string(k.z) + "/" + std::to_string(k.x) + "/" + std::to_string(k.y);
+}
+
+// Metres in a header: millimetres, enough for any bound a tile states.
+std::string formatMetres(double metres)
+{
+    char text[32];
+    std::snprintf(text, sizeof text, "%.3f", metres);
+    return text;
 }
 
 std::string uniqueName(const std::string& path, const std::vector<std::unique_ptr<Tileset>>& sets)
@@ -158,17 +166,19 @@ void TileServiceOptions::validate() const
         throw Error(pages_dir + ": the pages directory is not a directory");
 }
 
-struct CachedTile {
-    std::shared_ptr<const std::string> gz;
+// A tile as sent (a quantized-mesh tile gzip-compressed, an image as encoded), with the
+// headers that state what it claims.
+struct TileService::CachedTile {
+    std::shared_ptr<const std::string> bytes;
     std::string version;
-    double claimed_error = 0.0;
+    std::vector<std::pair<std::string, std::string>> headers;
 };
 
 struct TileService::Cache {
     explicit Cache(size_t bytes) : lru(bytes) {}
     std::mutex mutex; // guards everything here
     stream::LruCache<std::string, CachedTile> lru;
-    std::map<std::string, std::shared_future<CachedTile>> in_flight;
+    std::map<std::string, std::shared_future<std::optional<CachedTile>>> in_flight;
     Stats stats;
 };
 
@@ -224,7 +234,7 @@ WebResponse TileService::handle(const WebRequest& request)
                 response =
                     key ? terrain(*set, *key, request) : text(400, "400 malformed tile path");
             } else if (set) {
-                response = text(404, "404 no such resource in tileset " + set->name());
+                response = terrainRgb(*set, rest, request);
             } else {
                 response = page(path, request);
             }
@@ -237,7 +247,8 @@ WebResponse TileService::handle(const WebRequest& request)
     // Every answer may be read by pages from any origin (tiles are public data).
     response.headers.emplace_back("Access-Control-Allow-Origin", "*");
     response.headers.emplace_back("Access-Control-Expose-Headers",
-                                  "ETag, X-Ridge-Claimed-Error, X-Ridge-Version");
+                                  "ETag, X-Ridge-Claimed-Error, X-Ridge-Version, "
+                                  "X-Ridge-Step, X-Ridge-Archive-Error");
     if (response.content_length == 0)
         response.content_length = response.body.size();
     if (request.method == "HEAD")
@@ -265,107 +276,166 @@ WebResponse TileService::tilesetsJson()
     return r;
 }
 
-std::shared_ptr<const std::string> TileService::compressedTile(Tileset& set, TileKey key,
-                                                               unsigned extensions,
-                                                               std::string& version,
-                                                               double& claimed_error)
+std::optional<TileService::CachedTile>
+TileService::cachedTile(const std::string& name,
+                        const std::function<std::optional<CachedTile>()>& make)
 {
-    const std::string version_now = set.info().version;
-    const std::string name = version_now + "/" + tileName(set.name(), key, extensions);
-    std::promise<CachedTile> promise;
-    const std::shared_future<CachedTile> mine = promise.get_future().share();
-    std::shared_future<CachedTile> wait;
+    std::promise<std::optional<CachedTile>> promise;
+    const std::shared_future<std::optional<CachedTile>> mine = promise.get_future().share();
+    std::shared_future<std::optional<CachedTile>> wait;
     {
         std::lock_guard lock(cache_->mutex);
         if (const CachedTile* hit = cache_->lru.find(name)) {
             ++cache_->stats.cache_hits;
-            version = hit->version;
-            claimed_error = hit->claimed_error;
-            return hit->gz;
+            return *hit;
         }
         auto flight = cache_->in_flight.find(name);
         if (flight != cache_->in_flight.end()) {
             wait = flight->second;
             ++cache_->stats.joined;
-        } else
+        } else {
             cache_->in_flight.emplace(name, mine);
-    }
-    if (!wait.valid()) { // this request makes it
-        try {
-            std::optional<ServedTile> tile = set.terrain(key, extensions);
-            CachedTile made;
-            if (tile) {
-                made.gz = std::make_shared<const std::string>(detail::gzipCompress(std::string_view(
-                    reinterpret_cast<const char*>(tile->bytes.data()), tile->bytes.size())));
-                made.version = tile->version;
-                made.claimed_error = tile->claimed_error;
-            }
-            {
-                std::lock_guard lock(cache_->mutex);
-                if (made.gz) {
-                    ++cache_->stats.tiles_made;
-                    cache_->lru.insert(name, made, made.gz->size() + name.size() + 64);
-                }
-                cache_->in_flight.erase(name);
-            }
-            promise.set_value(made);
-        } catch (...) {
-            {
-                std::lock_guard lock(cache_->mutex);
-                cache_->in_flight.erase(name);
-            }
-            promise.set_exception(std::current_exception());
-            throw;
         }
-        wait = mine;
     }
-    const CachedTile& got = wait.get(); // rethrows what the maker threw
-    version = got.version;
-    claimed_error = got.claimed_error;
-    return got.gz;
+    if (wait.valid())
+        return wait.get(); // rethrows what the maker threw
+    // This request makes it; others asking meanwhile wait for it.
+    try {
+        std::optional<CachedTile> made = make();
+        {
+            std::lock_guard lock(cache_->mutex);
+            if (made) {
+                ++cache_->stats.tiles_made;
+                cache_->lru.insert(name, *made, made->bytes->size() + name.size() + 256);
+            }
+            cache_->in_flight.erase(name);
+        }
+        promise.set_value(made);
+        return made;
+    } catch (...) {
+        {
+            std::lock_guard lock(cache_->mutex);
+            cache_->in_flight.erase(name);
+        }
+        promise.set_exception(std::current_exception());
+        throw;
+    }
+}
+
+WebResponse TileService::tileResponse(const CachedTile& tile, const std::string& name,
+                                      const WebRequest& request, bool gzipped)
+{
+    // Tiles stored compressed are sent so to clients that take gzip, inflated to others.
+    const bool send_gzip = gzipped && acceptsGzip(request.accept_encoding);
+    // One strong tag per representation: the name holds the archive's version, the tile and
+    // its options; the coding is added.
+    uint64_t h = 1469598103934665603ull;
+    for (const char c : name + (send_gzip ? "+gzip" : ""))
+        h = (h ^ uint8_t(c)) * 1099511628211ull;
+    char etag[24];
+    std::snprintf(etag, sizeof etag, "\"%016llx\"", (unsigned long long)h);
+    WebResponse r;
+    r.headers = tile.headers;
+    r.headers.emplace_back("ETag", etag);
+    r.headers.emplace_back("Vary", gzipped ? "Accept, Accept-Encoding" : "Accept");
+    const bool pinned = request.query == "v=" + tile.version;
+    r.headers.emplace_back("Cache-Control", pinned ? kImmutable : kRevalidate);
+    r.headers.emplace_back("X-Ridge-Version", tile.version);
+    if (!request.if_none_match.empty() && matches(request.if_none_match, etag)) {
+        r.status = 304;
+        return r;
+    }
+    if (send_gzip)
+        r.headers.emplace_back("Content-Encoding", "gzip");
+    r.body = gzipped && !send_gzip ? detail::gzipDecompress(*tile.bytes, size_t(256) << 20)
+                                   : *tile.bytes;
+    return r;
 }
 
 WebResponse TileService::terrain(Tileset& set, TileKey key, const WebRequest& request)
 {
     if (!GeographicTms::valid(key))
-        return text(404, "404 no tile " + std::to_string(key.z) + "/" + std::to_string(key.x) +
-                             "/" + std::to_string(key.y) + " in the geographic tiling");
+        return text(404, "404 no tile " + keyText(key) + " in the geographic tiling");
     const unsigned extensions = parseAcceptedExtensions(request.accept);
-    std::string version;
-    double claimed_error = 0.0;
-    const std::shared_ptr<const std::string> gz =
-        compressedTile(set, key, extensions, version, claimed_error);
-    if (!gz)
-        return text(404, "404 tile " + std::to_string(key.z) + "/" + std::to_string(key.x) + "/" +
-                             std::to_string(key.y) + " is not available in " + set.name());
-    const bool gzip = acceptsGzip(request.accept_encoding);
-    // One strong tag per representation: the archive's version, the tile, its extensions and
-    // its coding.
-    const std::string etag = "\"" + version + "-" + std::to_string(key.z) + "-" +
-                             std::to_string(key.x) + "-" + std::to_string(key.y) + "-" +
-                             std::to_string(extensions) + (gzip ? "-gz" : "") + "\"";
-    WebResponse r;
+    const std::string name = set.info().version + "/" + set.name() + "/" + keyText(key) +
+                             ".terrain+" + std::to_string(extensions);
+    const std::optional<CachedTile> tile = cachedTile(name, [&]() -> std::optional<CachedTile> {
+        std::optional<ServedTile> made = set.terrain(key, extensions);
+        if (!made)
+            return std::nullopt;
+        CachedTile t;
+        t.bytes = std::make_shared<const std::string>(detail::gzipCompress(std::string_view(
+            reinterpret_cast<const char*>(made->bytes.data()), made->bytes.size())));
+        t.version = made->version;
+        t.headers.emplace_back("X-Ridge-Claimed-Error", formatMetres(made->claimed_error));
+        return t;
+    });
+    if (!tile)
+        return text(404, "404 tile " + keyText(key) + " is not available in " + set.name());
+    WebResponse r = tileResponse(*tile, name, request, true);
     r.content_type = kTerrainType;
     if (extensions)
         r.content_type += ";extensions=" + extensionNames(extensions);
-    r.headers.emplace_back("ETag", etag);
-    r.headers.emplace_back("Vary", "Accept, Accept-Encoding");
-    const bool pinned = request.query == "v=" + version;
-    r.headers.emplace_back("Cache-Control", pinned ? kImmutable : kRevalidate);
-    char error[32];
-    std::snprintf(error, sizeof error, "%.3f", claimed_error);
-    r.headers.emplace_back("X-Ridge-Claimed-Error", error);
-    r.headers.emplace_back("X-Ridge-Version", version);
-    if (!request.if_none_match.empty() && matches(request.if_none_match, etag)) {
-        r.status = 304;
+    return r;
+}
+
+WebResponse TileService::terrainRgb(Tileset& set, std::string_view rest, const WebRequest& request)
+{
+    // ENCODING[@2x].json, or ENCODING[@2x]/Z/X/Y.png|webp.
+    const size_t slash = rest.find('/');
+    std::string_view layer = rest.substr(0, slash);
+    const bool tilejson = slash == std::string_view::npos;
+    if (tilejson) {
+        if (!layer.ends_with(".json"))
+            return text(404, "404 no such resource in tileset " + set.name());
+        layer.remove_suffix(5);
+    }
+    int size = 256;
+    if (layer.ends_with("@2x")) {
+        size = 512;
+        layer.remove_suffix(3);
+    }
+    const std::optional<RgbEncoding> encoding = parseRgbEncoding(layer);
+    if (!encoding)
+        return text(404, "404 no such resource in tileset " + set.name());
+    if (tilejson) {
+        const ImageFormat format =
+            request.query == "format=webp" ? ImageFormat::Webp : ImageFormat::Png;
+        WebResponse r;
+        r.content_type = "application/json";
+        r.body = set.rgbTileJson(*encoding, size, format);
+        r.headers.emplace_back("Cache-Control", kRevalidate);
         return r;
     }
-    if (gzip) {
-        r.headers.emplace_back("Content-Encoding", "gzip");
-        r.body = *gz;
-    } else {
-        r.body = detail::gzipDecompress(*gz, size_t(256) << 20);
+    const std::string_view tile_path = rest.substr(slash + 1);
+    ImageFormat format = ImageFormat::Png;
+    std::optional<TileKey> key = parseTilePath(tile_path, ".png");
+    if (!key) {
+        format = ImageFormat::Webp;
+        key = parseTilePath(tile_path, ".webp");
     }
+    if (!key)
+        return text(400, "400 malformed tile path (Z/X/Y.png or Z/X/Y.webp)");
+    if (!WebMercatorXyz::valid(*key))
+        return text(404, "404 no tile " + keyText(*key) + " in the Web Mercator tiling");
+    const std::string name = set.info().version + "/" + set.name() + "/" + std::string(layer) +
+                             "@" + std::to_string(size) + "/" + keyText(*key) + "." +
+                             imageFormatName(format);
+    const std::optional<CachedTile> tile = cachedTile(name, [&]() -> std::optional<CachedTile> {
+        std::optional<RgbTile> made = set.terrainRgb(*key, size, *encoding, format);
+        if (!made)
+            return std::nullopt;
+        CachedTile t;
+        t.bytes = std::make_shared<const std::string>(made->image.begin(), made->image.end());
+        t.version = set.info().version;
+        t.headers.emplace_back("X-Ridge-Step", formatMetres(made->step));
+        t.headers.emplace_back("X-Ridge-Archive-Error", formatMetres(made->archive_error));
+        return t;
+    });
+    if (!tile)
+        return text(404, "404 tile " + keyText(*key) + " is not available in " + set.name());
+    WebResponse r = tileResponse(*tile, name, request, false);
+    r.content_type = imageContentType(format);
     return r;
 }
 

@@ -279,6 +279,56 @@ std::optional<ServedTile> Tileset::terrain(TileKey k, unsigned extensions)
     return make(*state, *sampler, k, extensions);
 }
 
+std::optional<RgbTile> Tileset::terrainRgb(TileKey k, int size, RgbEncoding encoding,
+                                           ImageFormat format)
+{
+    const std::shared_ptr<State> state = current();
+    if (!WebMercatorXyz::valid(k) || (size != 256 && size != 512) ||
+        k.z > state->samplers.front()->maxMercatorZoom(size) ||
+        !state->samplers.front()->overlapsMercator(k))
+        return std::nullopt;
+    State::Lease sampler(*state);
+    return makeRgbTile(*sampler, k, size, encoding, format);
+}
+
+int Tileset::rgbMaxZoom(int size)
+{
+    return current()->samplers.front()->maxMercatorZoom(size);
+}
+
+std::string Tileset::rgbTileJson(RgbEncoding encoding, int size, ImageFormat format)
+{
+    const std::shared_ptr<State> state = current();
+    const Info& info = state->info;
+    const std::string name = std::string(rgbEncodingName(encoding)) + (size == 512 ? "@2x" : "");
+    // TileJSON bounds cannot cross the antimeridian: a grid past 180° E (0..360°) is the world.
+    const GeoRect& e = info.extent;
+    const bool wraps = e.east - e.west >= 360.0 || e.east > 180.0 || e.west < -180.0;
+    const nlohmann::json json = {
+        {"tilejson", "3.0.0"},
+        {"name", name_ + " " + name},
+        {"version", info.version},
+        {"scheme", "xyz"},
+        {"tiles", {name + "/{z}/{x}/{y}." + imageFormatName(format) + "?v=" + info.version}},
+        {"tileSize", size},
+        {"encoding", rgbEncodingName(encoding)},
+        {"minzoom", 0},
+        {"maxzoom", state->samplers.front()->maxMercatorZoom(size)},
+        {"bounds",
+         {wraps ? -180.0 : e.west, std::max(e.south, -85.0511), wraps ? 180.0 : e.east,
+          std::min(e.north, 85.0511)}},
+        {"ridge",
+         {{"heights", info.heights},
+          {"nativeStep", nativeStep(encoding)},
+          {"step", "native step x 2^k, the largest within pixel size / 1000 and the archive's "
+                   "Err(P) over the tile (header X-Ridge-Step gives each tile's)"},
+          {"error", "each pixel within step/2 of the archive level's surface at its centre, "
+                    "within step/2 + Err(P) (header X-Ridge-Archive-Error) of the finest "
+                    "samples"}}},
+    };
+    return json.dump(1);
+}
+
 ServedTile Tileset::make(State& state, TileSampler& sampler, TileKey k, unsigned extensions)
 {
     ServedTile out;

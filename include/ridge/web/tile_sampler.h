@@ -38,6 +38,15 @@ struct SampledTile {
     std::vector<uint8_t> flags;
 };
 
+// A Web Mercator tile's heights at its pixel centres (terrain_rgb.h).
+struct MercatorSamples {
+    int size = 0;
+    std::vector<float> heights; // size × size, row 0 north, metres; missing ones filled
+    int level = 0;              // the archive level read
+    double archive_error = 0.;  // the largest Err(P) of the patches read, metres
+    size_t missing = 0;         // pixels off the raster or on kept nodata (nearest valid height)
+};
+
 class TileSampler {
   public:
     // Opens the archive; throws ridge::Error when it cannot be read or has no
@@ -73,6 +82,17 @@ class TileSampler {
     // `level` < 0: levelFor's; else that level (throws ridge::Error past the finest).
     std::optional<SampledTile> sample(TileKey k, int cells, int level = -1);
 
+    // Web Mercator XYZ tiles of `size` pixels a side (terrain-RGB): whether tile k overlaps
+    // the archive; the level read (the finest not finer than the tile's pixels at its centre
+    // latitude); the deepest zoom whose pixels at the archive's centre latitude are no finer
+    // than its finest samples; the heights at the pixel centres (bilinear on that level), or
+    // nullopt when the tile misses the archive. Throw ridge::Error for an invalid key or a
+    // size outside [1, 4096].
+    bool overlapsMercator(TileKey k) const;
+    int levelForMercator(TileKey k, int size) const;
+    int maxMercatorZoom(int size) const;
+    std::optional<MercatorSamples> sampleMercator(TileKey k, int size);
+
     // The archive level's own valid samples inside tile `k` (longitude, latitude, height):
     // what a tile's mesh is checked against between its grid's samples. At most `limit`
     // (the first rows of the window past that). Throws ridge::Error for an invalid key or a
@@ -84,6 +104,9 @@ class TileSampler {
 
   private:
     double finestSpacingMetres() const;
+    bool overlapsRect(const GeoRect& r) const;
+    // The coarsest level whose spacing is not coarser than `metres` (the finest when none).
+    int levelForSpacing(double metres) const;
     // The finest pixel/line box the tile's outline covers (a projected archive's is curved).
     std::pair<glm::dvec2, glm::dvec2> pixelWindow(TileKey k) const;
     // Puts grid's lines on the level's own sample columns and rows inside tile k (plus its

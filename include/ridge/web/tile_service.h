@@ -8,6 +8,9 @@
 //   /tilesets.json                    the tilesets: name, layer URL, bounds, zooms
 //   /NAME/layer.json                  Tileset::layerJson (no-cache: it names the version)
 //   /NAME/Z/X/Y.terrain[?v=VERSION]   a quantized-mesh tile, gzip
+//   /NAME/ENC[@2x].json[?format=webp] TileJSON of terrain-RGB (ENC mapbox or terrarium;
+//                                     @2x 512 px tiles), for MapLibre raster-dem sources
+//   /NAME/ENC[@2x]/Z/X/Y.png|.webp    a terrain-RGB tile (terrain_rgb.h), Web Mercator XYZ
 //   /FILE under the pages' directory  static files (html, js, css, json, images, wasm)
 // Status: 400 for a path that is not one of these shapes (bad characters, "..", numbers that
 // do not parse), 404 for a well-formed path naming nothing (an unknown tileset, a tile outside
@@ -20,10 +23,12 @@
 #include "ridge/web/tileset.h"
 
 #include <cstddef>
+#include <functional>
 #include <future>
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -76,13 +81,18 @@ class TileService {
     Stats stats() const;
 
   private:
+    struct CachedTile;
     WebResponse terrain(Tileset& set, TileKey key, const WebRequest& request);
+    WebResponse terrainRgb(Tileset& set, std::string_view rest, const WebRequest& request);
     WebResponse page(std::string_view path, const WebRequest& request) const;
     WebResponse tilesetsJson();
-    // The compressed tile, from the cache or made (once, whoever asks meanwhile).
-    std::shared_ptr<const std::string> compressedTile(Tileset& set, TileKey key,
-                                                      unsigned extensions, std::string& version,
-                                                      double& claimed_error);
+    // The tile named `name` (the archive's version, the tile, its options), from the cache
+    // or made by `make` (nullopt: not available) — once, whoever asks meanwhile.
+    std::optional<CachedTile> cachedTile(const std::string& name,
+                                         const std::function<std::optional<CachedTile>()>& make);
+    // The response for a tile: ETag, validators, caching, compression.
+    static WebResponse tileResponse(const CachedTile& tile, const std::string& name,
+                                    const WebRequest& request, bool gzipped);
 
     TileServiceOptions options_;
     std::vector<std::unique_ptr<Tileset>> tilesets_;

@@ -18,6 +18,7 @@
 // where it was overwritten in place, reading it fails its checksums and the tile is refused
 // (ridge::Error), never served corrupt.
 #include "ridge/pipeline/height_query.h"
+#include "ridge/web/terrain_rgb.h"
 #include "ridge/web/tile_extensions.h"
 #include "ridge/web/tile_grid.h"
 
@@ -95,6 +96,17 @@ class Tileset {
     // The tile `k` with `extensions` (TileExtension bits), or nullopt when not available.
     // Throws ridge::Error when the archive cannot be read (a corrupt or vanished patch).
     std::optional<ServedTile> terrain(TileKey k, unsigned extensions);
+
+    // Terrain-RGB (terrain_rgb.h) in Web Mercator XYZ: tiles of `size` pixels (256 or 512)
+    // down to TileSampler::maxMercatorZoom that overlap the archive; nullopt elsewhere.
+    // Throws as terrain() does.
+    std::optional<RgbTile> terrainRgb(TileKey k, int size, RgbEncoding encoding,
+                                      ImageFormat format);
+    int rgbMaxZoom(int size);
+    // TileJSON 3.0.0 for a MapLibre raster-dem source: the tile template relative to the
+    // TileJSON's URL ("mapbox/{z}/{x}/{y}.png?v=VERSION", "@2x" for 512 px), tileSize,
+    // encoding, zooms, bounds, and ridge's statement of the vertical step rule.
+    std::string rgbTileJson(RgbEncoding encoding, int size, ImageFormat format);
 
   private:
     struct State;
