@@ -150,6 +150,7 @@ void Commands::registerAll(CLI::App& app)
     bench_.registerWith(app);
     query_.registerWith(app);
     serve_.registerWith(app);
+    tiles_.registerWith(app);
 }
 
 int Commands::run()
@@ -174,6 +175,8 @@ int Commands::run()
         return query_.run();
     if (serve_.parsed())
         return serve_.run();
+    if (tiles_.parsed())
+        return tiles_.run();
     return runHillshade();
 }
 

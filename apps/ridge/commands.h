@@ -8,6 +8,7 @@
 #include "ridge/renderbench/render_bench.h"
 #include "ridge/renderbench/view_bytes_bench.h"
 #include "ridge/web/http_server.h"
+#include "ridge/web/tile_writer.h"
 
 #include <CLI/CLI.hpp>
 #include <optional>
@@ -166,6 +167,25 @@ class ServeCommand {
     bool no_pages_ = false;
 };
 
+// `ridge tiles` (tiles_command.cpp): an archive's web tiles for static hosting, to a
+// directory or a PMTiles file.
+class TilesCommand {
+  public:
+    void registerWith(CLI::App& app);
+    bool parsed() const { return command_ && command_->parsed(); }
+    int run();
+
+  private:
+    CLI::App* command_ = nullptr;
+    std::string archive_, output_;
+    std::string format_ = "quantized-mesh";
+    std::string image_ = "png";
+    web::TileWriteOptions options_;
+    std::string watermask_ = "nodata";
+    bool quiet_ = false;
+    bool json_ = false;
+};
+
 class Commands {
   public:
     // GDAL's single-dash spellings of extract's options ("-ot" for "--ot"): CLI11 takes one
@@ -221,6 +241,7 @@ class Commands {
     BenchCommand bench_;
     QueryCommand query_;
     ServeCommand serve_;
+    TilesCommand tiles_;
 };
 
 } // namespace ridge::cli

@@ -90,6 +90,14 @@ double WebMercatorXyz::metresPerPixel(int z, double lat, int size)
            (double(tiles(z)) * size);
 }
 
+GeoRect clientBounds(const GeoRect& e)
+{
+    constexpr double kMercatorLimit = 85.0511287798;
+    const bool world = e.east - e.west >= 360.0 || e.east > 180.0 || e.west < -180.0;
+    return {world ? -180.0 : e.west, std::max(e.south, -kMercatorLimit), world ? 180.0 : e.east,
+            std::min(e.north, kMercatorLimit)};
+}
+
 namespace {
 
 // A decimal without sign or leading zeros, at most 18 digits; advances `s` past it.

@@ -296,27 +296,25 @@ int Tileset::rgbMaxZoom(int size)
     return current()->samplers.front()->maxMercatorZoom(size);
 }
 
-std::string Tileset::rgbTileJson(RgbEncoding encoding, int size, ImageFormat format)
+std::string Tileset::rgbTileJson(RgbEncoding encoding, int size, ImageFormat format, bool served)
 {
     const std::shared_ptr<State> state = current();
     const Info& info = state->info;
     const std::string name = std::string(rgbEncodingName(encoding)) + (size == 512 ? "@2x" : "");
-    // TileJSON bounds cannot cross the antimeridian: a grid past 180° E (0..360°) is the world.
-    const GeoRect& e = info.extent;
-    const bool wraps = e.east - e.west >= 360.0 || e.east > 180.0 || e.west < -180.0;
+    const GeoRect bounds = clientBounds(info.extent);
     const nlohmann::json json = {
         {"tilejson", "3.0.0"},
         {"name", name_ + " " + name},
         {"version", info.version},
         {"scheme", "xyz"},
-        {"tiles", {name + "/{z}/{x}/{y}." + imageFormatName(format) + "?v=" + info.version}},
+        {"tiles",
+         {served ? name + "/{z}/{x}/{y}." + imageFormatName(format) + "?v=" + info.version
+                 : std::string("{z}/{x}/{y}.") + imageFormatName(format)}},
         {"tileSize", size},
         {"encoding", rgbEncodingName(encoding)},
         {"minzoom", 0},
         {"maxzoom", state->samplers.front()->maxMercatorZoom(size)},
-        {"bounds",
-         {wraps ? -180.0 : e.west, std::max(e.south, -85.0511), wraps ? 180.0 : e.east,
-          std::min(e.north, 85.0511)}},
+        {"bounds", {bounds.west, bounds.south, bounds.east, bounds.north}},
         {"ridge",
          {{"heights", info.heights},
           {"nativeStep", nativeStep(encoding)},

@@ -68,6 +68,11 @@ class WebMercatorXyz {
     static double metresPerPixel(int z, double lat, int size);
 };
 
+// An extent as clients take bounds (TileJSON, PMTiles headers, Web Mercator tile ranges):
+// one box within ±180°, which cannot cross the antimeridian, so an extent past 180° E (a
+// 0..360° grid) or 360° wide is the whole world; latitudes within Web Mercator's ±85.0511°.
+GeoRect clientBounds(const GeoRect& extent);
+
 // "z/x/y" with an optional ".ext" suffix equal to `extension` (e.g. ".terrain"): the key, or
 // nullopt for anything else (signs, spaces, leading zeros beyond "0", more than 18 digits, a
 // zoom past INT_MAX, other suffixes). A key that parses may still lie outside a tiling

@@ -104,9 +104,10 @@ class Tileset {
                                       ImageFormat format);
     int rgbMaxZoom(int size);
     // TileJSON 3.0.0 for a MapLibre raster-dem source: the tile template relative to the
-    // TileJSON's URL ("mapbox/{z}/{x}/{y}.png?v=VERSION", "@2x" for 512 px), tileSize,
-    // encoding, zooms, bounds, and ridge's statement of the vertical step rule.
-    std::string rgbTileJson(RgbEncoding encoding, int size, ImageFormat format);
+    // TileJSON's URL ("mapbox/{z}/{x}/{y}.png?v=VERSION", "@2x" for 512 px; with `served`
+    // false, for files beside it: "{z}/{x}/{y}.png"), tileSize, encoding, zooms, bounds, and
+    // ridge's statement of the vertical step rule.
+    std::string rgbTileJson(RgbEncoding encoding, int size, ImageFormat format, bool served = true);
 
   private:
     struct State;
