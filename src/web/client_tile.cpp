@@ -65,6 +65,27 @@ double measuredError(const QuantizedMesh& mesh, const GeoRect& r,
     return worst;
 }
 
+// The client draws vertices at u, v rounded to 1/32767 of the tile, up to half a unit from
+// the samples they stand for, which moves the mesh by up to the slope times that shift: the
+// steepest slope between neighbouring grid samples (metres a unit) times half a unit each
+// way, metres.
+double roundingAllowance(const TileHeights& grid)
+{
+    const size_t columns = grid.u.size(), rows = grid.v.size();
+    double slope_u = 0.0, slope_v = 0.0; // metres per format unit
+    for (size_t j = 0; j < rows; ++j)
+        for (size_t i = 0; i < columns; ++i) {
+            const float h = grid.heights[j * columns + i];
+            if (i + 1 < columns)
+                slope_u = std::max(slope_u, std::abs(grid.heights[j * columns + i + 1] - h) /
+                                                double(grid.u[i + 1] - grid.u[i]));
+            if (j + 1 < rows)
+                slope_v = std::max(slope_v, std::abs(grid.heights[(j + 1) * columns + i] - h) /
+                                                double(grid.v[j] - grid.v[j + 1]));
+        }
+    return 0.5 * (slope_u + slope_v);
+}
+
 } // namespace
 
 std::optional<ClientTile> makeClientTile(TileSampler& sampler, TileKey k, int cells)
@@ -86,14 +107,14 @@ std::optional<ClientTile> makeClientTile(TileSampler& sampler, TileKey k, int ce
     const auto [lo, hi] =
         std::minmax_element(sampled->grid.heights.begin(), sampled->grid.heights.end());
     const double half_step = 0.5 * double(*hi - *lo) / QuantizedMesh::kMaxCoordinate;
-    double tin_bound = std::max(0.0, out.client_error - out.archive_error - half_step);
     const GeoRect rect = GeographicTms::rect(k);
+    double tin_bound = std::max(0.0, out.client_error - out.archive_error - half_step -
+                                         roundingAllowance(sampled->grid));
     const std::vector<TileSampler::LevelSample> samples = sampler.levelSamples(k, out.level);
-    // The client draws vertices at u, v rounded to 1/32767 of the tile, up to half a unit
-    // from the samples they stand for, so on steep ground the mesh misses a sample by up to
-    // the slope times that shift beyond the TIN's bound. Measured, and where the claim then
-    // exceeds the client's error, the TIN is made again with the excess taken off its
-    // budget (twice at most; then the claim stands as measured).
+    // The budget above leaves roundingAllowance for the vertices' rounding; where the claim
+    // still exceeds the client's error (the allowance is the grid's slope, the terrain
+    // between its samples may be steeper), the TIN is made again with the excess taken off
+    // its budget (twice at most; then the claim stands as measured).
     for (int attempt = 0;; ++attempt) {
         out.tile = makeTerrainTile(sampled->grid, tin_bound);
         out.measured_error = measuredError(out.tile.mesh, rect, samples);
