@@ -165,6 +165,8 @@ class ServeCommand {
     double cache_mb_ = 64.0;
     std::string pages_; // --pages: empty, the bundled web/ when it exists
     bool no_pages_ = false;
+    std::string heights_ = "ellipsoid";
+    std::string vertical_datum_; // --vertical-datum EPSG:N
 };
 
 // `ridge tiles` (tiles_command.cpp): an archive's web tiles for static hosting, to a

@@ -3,8 +3,10 @@
 // and MapLibre pages at "/", until SIGINT or SIGTERM.
 #include "commands.h"
 #include "range_check.h"
+#include "usage_error.h"
 
 #include "ridge/core/error.h"
+#include "ridge/io/crs_summary.h"
 #include "ridge/web/http_server.h"
 
 #include <fmt/core.h>
@@ -60,12 +62,39 @@ void ServeCommand::registerWith(CLI::App& app)
                          "Directory of web pages served at / (default: "
                          "ridge's web/ when built from source)");
     command_->add_flag("--no-pages", no_pages_, "Serve tiles only");
+    command_
+        ->add_option("--heights", heights_,
+                     "Quantized-mesh heights: ellipsoid (Cesium's; geoid heights converted "
+                     "through PROJ) or archive (as stored)")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"ellipsoid", "archive"}));
+    command_->add_option("--vertical-datum", vertical_datum_,
+                         "The heights' vertical datum where the archive names none: an EPSG "
+                         "code or a name, as build takes it (EPSG:5773, \"EGM96 height\")");
     command_->add_flag("--log", http_.log, "One line a request on stderr");
 }
+
+namespace {
+
+// The EPSG code of the datum `text` names (as `ridge build --vertical-datum` takes it).
+int verticalDatumCode(const std::string& text)
+{
+    const io::VerticalDatum datum = io::resolveVerticalDatum(text);
+    if (!datum.epsg)
+        throw UsageError("--vertical-datum '" + text.substr(0, 64) +
+                         "': PROJ knows no vertical CRS of that name; give its EPSG code "
+                         "(EPSG:5773 for EGM96 height)");
+    return *datum.epsg;
+}
+
+} // namespace
 
 int ServeCommand::run()
 {
     service_.tileset.water = web::parseWaterSource(watermask_).value();
+    service_.tileset.ellipsoidal = heights_ == "ellipsoid";
+    if (!vertical_datum_.empty())
+        service_.tileset.vertical_datum = verticalDatumCode(vertical_datum_);
     service_.tile_cache_bytes = size_t(cache_mb_ * 1024.0 * 1024.0);
     if (!no_pages_) {
         service_.pages_dir = pages_;
@@ -82,10 +111,16 @@ int ServeCommand::run()
     std::fflush(stdout);
     for (const auto& set : service.tilesets()) {
         const web::Tileset::Info info = set->info();
-        std::fprintf(stderr,
-                     "ridge serve: %s -> http://%s:%d/%s/layer.json (zoom 0-%d, heights %s)\n",
-                     set->path().c_str(), host.c_str(), server.port(), set->name().c_str(),
-                     info.max_zoom, info.heights.c_str());
+        std::fprintf(
+            stderr, "ridge serve: %s -> http://%s:%d/%s/layer.json (zoom 0-%d, heights %s%s)\n",
+            set->path().c_str(), host.c_str(), server.port(), set->name().c_str(), info.max_zoom,
+            info.heights.c_str(), info.conversion.empty() ? "" : (": " + info.conversion).c_str());
+        if (info.heights != "ellipsoid" && service_.tileset.ellipsoidal)
+            std::fprintf(stderr,
+                         "ridge serve: warning: %s's heights are above %s, not the ellipsoid "
+                         "Cesium expects: name their datum with --vertical-datum EPSG:N to "
+                         "convert them\n",
+                         set->path().c_str(), info.heights.c_str());
     }
     std::fprintf(stderr, "ridge serve: pages %s; Ctrl-C stops\n",
                  service_.pages_dir.empty() ? "off" : service_.pages_dir.c_str());

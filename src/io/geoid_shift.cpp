@@ -168,30 +168,38 @@ void GeoidShift::undulations(int y0, int rows, int width, double* out) const
     std::vector<double> y(x.size());
     for (int r = 0; r < rows; ++r) {
         const double row = y0 + r + 0.5;
-        double* n = out + static_cast<size_t>(r) * width;
         for (int c = 0; c < width; ++c) {
             const double col = c + 0.5;
             x[c] = gt_[0] + col * gt_[1] + row * gt_[2];
             y[c] = gt_[3] + col * gt_[4] + row * gt_[5];
-            if (geographic_) {
-                // Longitudes 0..360 (and the repeated column of a globe) onto the grid's
-                // −180..180; pole rows' centres may land a rounding error past ±90°.
-                x[c] = std::remainder(x[c], 360.0);
-                y[c] = std::clamp(y[c], -90.0, 90.0);
-            }
-            n[c] = 0.0; // H = 0 in: h = N out
         }
-        proj_errno_reset(state_->transform.get());
-        proj_trans_generic(state_->transform.get(), PJ_FWD, x.data(), sizeof(double), size_t(width),
-                           y.data(), sizeof(double), size_t(width), n, sizeof(double),
-                           size_t(width), nullptr, 0, 0);
-        for (int c = 0; c < width; ++c)
-            if (!std::isfinite(n[c]) || std::abs(n[c]) > 1000.0)
-                throw Error(path_ + ": sample (" + std::to_string(c) + ", " +
-                            std::to_string(y0 + r) + ") at x " + formatNumber(x[c]) + ", y " +
-                            formatNumber(y[c]) + " is outside what " + operation_ +
-                            " covers: its height cannot be shifted to the ellipsoid");
+        try {
+            undulationsAt(x.data(), y.data(), size_t(width), out + static_cast<size_t>(r) * width);
+        } catch (const OutsideGrid& e) {
+            throw Error(path_ + ": sample (" + std::to_string(e.index) + ", " +
+                        std::to_string(y0 + r) + ") at " + e.where + " is outside what " +
+                        operation_ + " covers: its height cannot be shifted to the ellipsoid");
+        }
     }
+}
+
+void GeoidShift::undulationsAt(double* x, double* y, size_t count, double* out) const
+{
+    for (size_t i = 0; i < count; ++i) {
+        if (geographic_) {
+            // Longitudes 0..360 (and the repeated column of a globe) onto the grid's
+            // −180..180; pole rows' centres may land a rounding error past ±90°.
+            x[i] = std::remainder(x[i], 360.0);
+            y[i] = std::clamp(y[i], -90.0, 90.0);
+        }
+        out[i] = 0.0; // H = 0 in: h = N out
+    }
+    proj_errno_reset(state_->transform.get());
+    proj_trans_generic(state_->transform.get(), PJ_FWD, x, sizeof(double), count, y, sizeof(double),
+                       count, out, sizeof(double), count, nullptr, 0, 0);
+    for (size_t i = 0; i < count; ++i)
+        if (!std::isfinite(out[i]) || std::abs(out[i]) > 1000.0)
+            throw OutsideGrid{i, "x " + formatNumber(x[i]) + ", y " + formatNumber(y[i])};
 }
 
 } // namespace ridge::io::detail

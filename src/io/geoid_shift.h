@@ -6,6 +6,7 @@
 // to +85 m over New Guinea). PROJ knows the transformation and its grid (proj-data ships
 // egm96_15.gtx); this file only asks PROJ for it, refuses one whose grid is missing instead
 // of PROJ's silent "ballpark" fallback (N = 0), and evaluates N at the samples' centres.
+#include "ridge/core/error.h"
 #include "ridge/io/crs_summary.h"
 #include "ridge/io/raster_source.h"
 
@@ -22,6 +23,18 @@ bool wantsGeoidShift(VerticalShift mode, const VerticalDatum& datum);
 
 class GeoidShift {
   public:
+    // What undulationsAt throws for a point the transformation's grid does not cover
+    // (callers name the point their own way; an Error for those who do not catch it).
+    struct OutsideGrid : Error {
+        OutsideGrid(size_t i, std::string w)
+            : Error("point " + std::to_string(i) + " at " + w + " is outside the geoid grid"),
+              index(i), where(std::move(w))
+        {
+        }
+        size_t index;
+        std::string where;
+    };
+
     // The transformation from (x, y, H above `from`) in the horizontal CRS `horizontal_wkt`
     // (a compound CRS's horizontal part is taken) to (x, y, h above its ellipsoid), for a
     // grid with GDAL geotransform `gt`. Throws Error("path: ...") naming the datum and, when
@@ -36,6 +49,10 @@ class GeoidShift {
     // width]. Throws Error naming the sample where the grid does not cover it. Not
     // thread-safe (PROJ objects are not).
     void undulations(int y0, int rows, int width, double* out) const;
+    // N in metres at `count` points (x[i], y[i]) of the horizontal CRS (longitude, latitude
+    // for a geographic one): out[i]. Throws Error naming the point where the grid does not
+    // cover it. Not thread-safe. x and y are taken as scratch (longitudes wrapped).
+    void undulationsAt(double* x, double* y, size_t count, double* out) const;
 
     const VerticalDatum& from() const { return from_; }
     // PROJ's name of the transformation ("Inverse of WGS 84 to EGM96 height (1)").

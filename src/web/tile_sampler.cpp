@@ -101,6 +101,38 @@ std::string TileSampler::verticalReference() const
     return "unknown";
 }
 
+std::optional<int> TileSampler::verticalDatumEpsg() const
+{
+    const archive::ArchiveMetadata& m = query_.reader().metadata();
+    if (m.build.vertical_shift || !m.georeference.vertical_datum)
+        return std::nullopt;
+    return m.georeference.vertical_datum->epsg;
+}
+
+std::string TileSampler::toEllipsoid(int epsg, const std::string& name)
+{
+    geoid_ = std::make_unique<io::GeoidModel>(query_.reader().path(), epsg, name);
+    return geoid_->operation();
+}
+
+void TileSampler::addUndulations(std::span<float> heights, PointSpace space)
+{
+    if (!geoid_)
+        return;
+    const TerrainGeoreference& g = query_.georeference();
+    lonlat_.resize(heights.size());
+    for (size_t i = 0; i < heights.size(); ++i) {
+        const glm::dvec2 ll = space == PointSpace::LonLat
+                                  ? points_[i]
+                                  : g.fromLocal(g.localOfPixel(points_[i]), PointSpace::LonLat);
+        lonlat_[i] = {ll.x, ll.y};
+    }
+    undulations_.resize(heights.size());
+    geoid_->undulations(lonlat_, undulations_);
+    for (size_t i = 0; i < heights.size(); ++i)
+        heights[i] = float(double(heights[i]) + undulations_[i]);
+}
+
 bool TileSampler::overlaps(TileKey k) const
 {
     return overlapsRect(GeographicTms::rect(k));
@@ -321,6 +353,7 @@ std::optional<SampledTile> TileSampler::sample(TileKey k, int cells, int level)
         return std::nullopt; // inside the box but not on the raster (a rotated or curved one)
     if (out.off_raster + out.nodata > 0)
         fillFromNearest(out.grid.heights, int(out.grid.u.size()), valid_);
+    addUndulations(out.grid.heights, space);
     return out;
 }
 
@@ -427,6 +460,15 @@ std::vector<TileSampler::LevelSample> TileSampler::levelSamples(TileKey k, int l
     for (size_t i = 0; i < samples_.size(); ++i)
         if (samples_[i].on_raster && !samples_[i].nodata && !samples_[i].invalid_point)
             out.push_back({lonlat[i].x, lonlat[i].y, samples_[i].height});
+    if (geoid_) {
+        lonlat_.resize(out.size());
+        for (size_t i = 0; i < out.size(); ++i)
+            lonlat_[i] = {out[i].lon, out[i].lat};
+        undulations_.resize(out.size());
+        geoid_->undulations(lonlat_, undulations_);
+        for (size_t i = 0; i < out.size(); ++i)
+            out[i].height += undulations_[i];
+    }
     return out;
 }
 

@@ -136,10 +136,25 @@ struct Tileset::State {
             samplers.push_back(std::make_unique<TileSampler>(path, options.cache_patches));
             idle.push_back(samplers.back().get());
         }
-        const TileSampler& first = *samplers.front();
+        TileSampler& first = *samplers.front();
         info.extent = first.extent();
         info.max_zoom = first.maxZoom(options.cells);
-        info.heights = first.verticalReference();
+        info.archive_heights = first.verticalReference();
+        info.heights = info.archive_heights;
+        // Geoid heights onto the ellipsoid for Cesium, where the datum is known.
+        std::optional<int> epsg = first.verticalDatumEpsg();
+        std::string datum = info.archive_heights;
+        if (!epsg && info.archive_heights == "unknown" && options.vertical_datum) {
+            epsg = options.vertical_datum;
+            datum = "EPSG:" + std::to_string(*epsg) + " (as told)";
+        }
+        if (options.ellipsoidal && epsg) {
+            std::string operation;
+            for (const auto& s : samplers)
+                operation = s->toEllipsoid(*epsg, datum);
+            info.heights = "ellipsoid";
+            info.conversion = datum + " + N through PROJ (" + operation + ")";
+        }
         info.version = versionOf(id);
         const archive::ArchiveReader& reader = first.reader();
         for (int level = 0; level <= reader.geometry().finestLevel(); ++level)
@@ -250,10 +265,13 @@ std::string Tileset::layerJson(bool versioned)
         {"attribution", ""},
         // What Cesium does not ask but a user of the tiles must know.
         {"ridge",
-         {{"heights", info.heights == "ellipsoid" ? "above the WGS 84 ellipsoid"
-                                                  : "above " + info.heights +
-                                                        " (not converted: Cesium expects "
-                                                        "ellipsoidal heights)"},
+         {{"heights", info.heights == "ellipsoid"
+                          ? "above the WGS 84 ellipsoid" +
+                                (info.conversion.empty() ? std::string()
+                                                         : ", converted from " + info.conversion)
+                          : "above " + info.heights +
+                                " (not converted: Cesium expects ellipsoidal heights; name the "
+                                "datum with --vertical-datum to convert)"},
           {"verticalReference", info.heights},
           {"tileError",
            "each tile's mesh lies within max(TIN bound + half height step, measured) + the "
@@ -316,7 +334,7 @@ std::string Tileset::rgbTileJson(RgbEncoding encoding, int size, ImageFormat for
         {"maxzoom", state->samplers.front()->maxMercatorZoom(size)},
         {"bounds", {bounds.west, bounds.south, bounds.east, bounds.north}},
         {"ridge",
-         {{"heights", info.heights},
+         {{"heights", "above " + info.archive_heights + ", as the archive stores them"},
           {"nativeStep", nativeStep(encoding)},
           {"step", "native step x 2^k, the largest within pixel size / 1000 and the archive's "
                    "Err(P) over the tile (header X-Ridge-Step gives each tile's)"},

@@ -4,6 +4,8 @@
 #include "ridge/web/tile_service.h"
 
 #include "everest_web.h"
+#include "ridge/io/geoid_model.h"
+#include "ridge/pipeline/build.h"
 #include "ridge/web/gzip.h"
 #include "ridge/web/tile_sampler.h"
 
@@ -299,4 +301,49 @@ TEST_F(TileServiceTest, AReplacedArchiveIsServedAnewAndACorruptOneIsRefused)
     std::printf("after the overwrite: %d tiles refused, %d made from patches decoded before\n",
                 refused, served_ok);
     EXPECT_EQ(get(s, "/" + name + "/layer.json").status, 200);
+}
+
+TEST(TileServiceHeights, GeoidHeightsAreServedAboveTheEllipsoid)
+{
+    // The fixture's heights named as EGM96 height and kept so (no shift at build).
+    const test::ScratchDir dir;
+    BuildOptions options;
+    options.patch_size = 33;
+    options.progress = {};
+    options.ingest.vertical_datum = "EPSG:5773";
+    options.ingest.vertical_shift = io::VerticalShift::None;
+    const std::string path = dir.path("egm96.ridge");
+    buildArchive(test::dataPath("everest_crop.tif"), path, options);
+
+    TileServiceOptions as_stored;
+    as_stored.tileset.ellipsoidal = false;
+    TileService archive_heights({path}, as_stored);
+    TileService ellipsoid({path}, {});
+    const Tileset::Info info = ellipsoid.tilesets()[0]->info();
+    EXPECT_EQ(info.heights, "ellipsoid");
+    EXPECT_NE(info.conversion.find("EGM96"), std::string::npos) << info.conversion;
+    EXPECT_EQ(archive_heights.tilesets()[0]->info().heights, "EGM96 height");
+    const nlohmann::json layer = nlohmann::json::parse(get(ellipsoid, "/egm96/layer.json").body);
+    EXPECT_NE(layer["ridge"]["heights"].get<std::string>().find("converted from EGM96"),
+              std::string::npos);
+
+    // Every vertex of the converted tile stands N higher than the archive's (EGM96's N is
+    // about −28 m under Everest), within the two tiles' quantization steps.
+    const io::GeoidModel geoid("test", 5773, "EGM96 height");
+    const TileKey k = GeographicTms::tileAt(11, 86.88, 27.9);
+    const std::string p = tilePath("egm96", k);
+    const QuantizedMesh h = decodeBody(get(ellipsoid, p));
+    const QuantizedMesh H = decodeBody(get(archive_heights, p));
+    ASSERT_EQ(h.vertexCount(), H.vertexCount());
+    ASSERT_EQ(h.u, H.u);
+    const GeoRect r = GeographicTms::rect(k);
+    const double steps = (h.max_height - h.min_height + H.max_height - H.min_height) / 32767.0;
+    for (uint32_t i = 0; i < h.vertexCount(); ++i) {
+        const std::array<double, 2> ll = {r.west + (r.east - r.west) * h.u[i] / 32767.0,
+                                          r.south + (r.north - r.south) * h.v[i] / 32767.0};
+        double n = 0;
+        geoid.undulations(std::span(&ll, 1), std::span(&n, 1));
+        EXPECT_LT(n, -20.0);
+        EXPECT_NEAR(decodedHeight(h, i) - decodedHeight(H, i), n, steps + 1e-3) << i;
+    }
 }

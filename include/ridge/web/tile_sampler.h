@@ -17,11 +17,15 @@
 // Heights are the archive's: above the ellipsoid when the build shifted them there
 // (`ridge build --vertical-datum`, "build.vertical_shift"), else above whatever the source
 // measured from (verticalReference()).
+#include "ridge/io/geoid_model.h"
 #include "ridge/pipeline/height_query.h"
 #include "ridge/web/terrain_tile.h"
 #include "ridge/web/tile_grid.h"
 
+#include <array>
+#include <memory>
 #include <optional>
+#include <span>
 #include <string>
 
 namespace ridge::web {
@@ -59,8 +63,17 @@ class TileSampler {
     // grid in 0..360° E keeps longitudes past 180°).
     const GeoRect& extent() const { return extent_; }
     // "ellipsoid" when heights are above WGS 84's ellipsoid, else the archive's vertical datum
-    // name ("EGM96 height", ...) or "unknown".
+    // name ("EGM96 height", ...) or "unknown" — of the archive, whatever toEllipsoid did.
     std::string verticalReference() const;
+    // The EPSG code of the archive's vertical datum, when it names one and its heights are
+    // not already ellipsoidal.
+    std::optional<int> verticalDatumEpsg() const;
+    // From now on sample() and levelSamples() give heights above the WGS 84 ellipsoid: the
+    // archive's heights (above vertical datum `epsg`, named `name`) plus the geoid's N at each
+    // point, through PROJ (io::GeoidModel). Terrain-RGB (sampleMercator) keeps the archive's
+    // heights. Throws ridge::Error when PROJ cannot (a grid missing). Returns PROJ's name of
+    // the transformation.
+    std::string toEllipsoid(int epsg, const std::string& name);
     // Whether geographic tile `k` overlaps the archive.
     bool overlaps(TileKey k) const;
     // The archive level a tile of zoom k.z with `cells` cells reads (see above).
@@ -114,7 +127,13 @@ class TileSampler {
     // north-up longitude/latitude grid or the tile falls outside its period.
     bool placeOnSamples(TileKey k, int level, TileHeights& grid);
 
+    // Adds N to heights[i] at points_[i] (given in `space`) when toEllipsoid was called.
+    void addUndulations(std::span<float> heights, PointSpace space);
+
     HeightQuery query_;
+    std::unique_ptr<io::GeoidModel> geoid_; // set by toEllipsoid
+    std::vector<std::array<double, 2>> lonlat_;
+    std::vector<double> undulations_;
     GeoRect extent_;
     bool north_up_geographic_ = false; // lon/lat CRS, unrotated geotransform
     std::vector<glm::dvec2> points_;   // scratch, reused across tiles

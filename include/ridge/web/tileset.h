@@ -48,6 +48,14 @@ struct TilesetOptions {
     int cells = 64; // grid cells a side a tile is sampled with, [1, 4096]
     WaterSource water = WaterSource::Nodata;
     int samplers = 2; // tiles made at once, [1, kMaxSamplers]
+    // Quantized-mesh heights above the WGS 84 ellipsoid, as Cesium places them: an archive
+    // whose heights are above a registered vertical datum (EGM96 height, ...) is converted
+    // through PROJ (TileSampler::toEllipsoid). Off: the archive's heights as stored.
+    // Terrain-RGB always keeps the archive's heights (MapLibre draws heights above sea level).
+    bool ellipsoidal = true;
+    // The EPSG code of the archive's vertical datum when the archive names none (`ridge serve
+    // --vertical-datum`); ignored when it names one or its heights are ellipsoidal.
+    std::optional<int> vertical_datum;
     size_t cache_patches = HeightQuery::kDefaultCachePatches; // per sampler, >= 1
     // Throws ridge::Error naming the field out of range.
     void validate() const;
@@ -75,11 +83,13 @@ class Tileset {
     const TilesetOptions& options() const { return options_; }
 
     struct Info {
-        GeoRect extent;       // the archive's lon/lat box (TileSampler::extent)
-        int max_zoom = 0;     // the deepest zoom served
-        std::string heights;  // TileSampler::verticalReference: "ellipsoid", a datum, "unknown"
-        std::string version;  // 16 hex digits, changes when the archive is replaced
-        double max_bound = 0; // the archive's largest Err(P), metres
+        GeoRect extent;              // the archive's lon/lat box (TileSampler::extent)
+        int max_zoom = 0;            // the deepest zoom served
+        std::string heights;         // of quantized-mesh tiles: "ellipsoid", a datum, "unknown"
+        std::string archive_heights; // TileSampler::verticalReference (terrain-RGB's)
+        std::string conversion;      // how heights became ellipsoidal, when they did
+        std::string version;         // 16 hex digits, changes when the archive is replaced
+        double max_bound = 0;        // the archive's largest Err(P), metres
     };
     // The archive served now (reopened first if it was replaced).
     Info info();
