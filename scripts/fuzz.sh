@@ -26,7 +26,7 @@ elif ! grep -q '^RIDGE_BUILD_FUZZERS:BOOL=ON' "$fuzz_build/CMakeCache.txt" 2>/de
   exit 2
 fi
 cmake --build "$fuzz_build" -j "$(nproc)" --target fuzz_lossless_decode fuzz_progressive_decode fuzz_jpeg2000_decode fuzz_fractal_decode fuzz_archive_reader \
-      fuzz_archive_fields fuzz_render_params fuzz_quantized_mesh_decode
+      fuzz_archive_fields fuzz_render_params fuzz_quantized_mesh_decode fuzz_pmtiles_read
 
 # Seeds: small real archives, and their patch payloads prefixed with the patch-size byte.
 seeds=$fuzz_build/seeds
@@ -113,10 +113,17 @@ body = bytes.fromhex('04000000' '0000feff0000fdff' '00000000feff0000' '0000c8003
 open(sys.argv[1], 'wb').write(head + body)
 PY
 
+# PMTiles archives of the fixture as `ridge tiles` writes them: quantized-mesh (gzip tiles)
+# and terrain-RGB.
+mkdir -p "$seeds/pmtiles"
+./build/ridge tiles "$seeds/archive/everest_17.ridge" -o "$seeds/pmtiles/mesh.pmtiles" -q --maxzoom 6
+./build/ridge tiles "$seeds/archive/everest_17.ridge" -o "$seeds/pmtiles/rgb.pmtiles" -q \
+    --format terrarium --maxzoom 4
+
 status=0
 export RIDGE_FUZZ_ARCHIVES=$seeds/archive # the archives fuzz_render_params renders
 for target in fuzz_lossless_decode fuzz_progressive_decode fuzz_jpeg2000_decode fuzz_fractal_decode fuzz_archive_reader \
-              fuzz_archive_fields fuzz_render_params fuzz_quantized_mesh_decode; do
+              fuzz_archive_fields fuzz_render_params fuzz_quantized_mesh_decode fuzz_pmtiles_read; do
   seed_dir=$seeds/payload
   [[ $target == fuzz_archive_reader || $target == fuzz_archive_fields ]] && seed_dir=$seeds/archive
   [[ $target == fuzz_progressive_decode ]] && seed_dir=$seeds/progressive
@@ -124,6 +131,7 @@ for target in fuzz_lossless_decode fuzz_progressive_decode fuzz_jpeg2000_decode 
   [[ $target == fuzz_fractal_decode ]] && seed_dir=$seeds/fractal
   [[ $target == fuzz_render_params ]] && seed_dir=$seeds/params
   [[ $target == fuzz_quantized_mesh_decode ]] && seed_dir=$seeds/quantized_mesh
+  [[ $target == fuzz_pmtiles_read ]] && seed_dir=$seeds/pmtiles
   corpus=$fuzz_build/corpus-$target # new inputs go here; the seeds stay as built
   mkdir -p "$corpus"
   echo "fuzz: $target for ${seconds}s"
