@@ -162,6 +162,7 @@ void HeightQuery::read(const Location& at, const stream::DecodedPatch& patch,
         // No drawable-cell mask: every sample is data. Otherwise the sample's own validity.
         if (!patch.drawable_cells.empty() && !sampleValidity(at.patch)->sampleValid(at.u, at.v)) {
             out.nodata = true;
+            out.nodata_fill = reader_->quantization().toMetres(code(at.u, at.v));
             return;
         }
         out.height = reader_->quantization().toMetres(code(at.u, at.v));
@@ -171,17 +172,18 @@ void HeightQuery::read(const Location& at, const stream::DecodedPatch& patch,
     }
     // Kept nodata: the cell the point lies in is not drawn, so the terrain has no height here.
     const int cells = n - 1;
-    if (!patch.drawable_cells.empty() &&
-        patch.drawable_cells[size_t(at.v) * size_t(cells) + size_t(at.u)] == 0) {
-        out.nodata = true;
-        return;
-    }
     // At a sample (fu = fv = 0) this is that sample's code exactly: the weights 0 and 1 make
     // no rounding.
     const int u0 = at.u, v0 = at.v;
     const double fu = at.fu, fv = at.fv;
     const double c = (code(u0, v0) * (1 - fu) + code(u0 + 1, v0) * fu) * (1 - fv) +
                      (code(u0, v0 + 1) * (1 - fu) + code(u0 + 1, v0 + 1) * fu) * fv;
+    if (!patch.drawable_cells.empty() &&
+        patch.drawable_cells[size_t(at.v) * size_t(cells) + size_t(at.u)] == 0) {
+        out.nodata = true;
+        out.nodata_fill = reader_->quantization().toMetres(c);
+        return;
+    }
     out.height = reader_->quantization().toMetres(c);
     if (!stored) {
         out.water = out.height <= 0.0;

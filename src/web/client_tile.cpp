@@ -94,7 +94,7 @@ std::optional<ClientTile> makeClientTile(TileSampler& sampler, TileKey k, int ce
     // the height step get the rest.
     const double client_error = GeographicTms::geometricError(k.z);
     std::optional<SampledTile> sampled =
-        sampler.sample(k, cells, sampler.levelWithin(k, cells, 0.5 * client_error));
+        sampler.sample(k, cells, sampler.levelWithin(k.z, cells, 0.5 * client_error));
     if (!sampled)
         return std::nullopt;
     ClientTile out;
@@ -115,8 +115,15 @@ std::optional<ClientTile> makeClientTile(TileSampler& sampler, TileKey k, int ce
     // still exceeds the client's error (the allowance is the grid's slope, the terrain
     // between its samples may be steeper), the TIN is made again with the excess taken off
     // its budget (twice at most; then the claim stands as measured).
+    // The border lines' bound is the zoom's, not the tile's: neighbours get different
+    // budgets (their own Err(P), height range and slope) but must choose the same vertices on
+    // their shared edge. Half of what the client's error leaves after the level's largest
+    // Err(P), which is within every tile's own budget but where a tile's height step and
+    // slope take more than a quarter of the client's error.
+    const double border_bound =
+        std::max(0.0, 0.5 * (out.client_error - sampler.levelBound(out.level)));
     for (int attempt = 0;; ++attempt) {
-        out.tile = makeTerrainTile(sampled->grid, tin_bound);
+        out.tile = makeTerrainTile(sampled->grid, tin_bound, border_bound);
         out.measured_error = measuredError(out.tile.mesh, rect, samples);
         out.claimed_error = std::max(out.tile.error, out.measured_error) + out.archive_error;
         const double excess = out.claimed_error - out.client_error;

@@ -29,8 +29,10 @@ WebRequest toWebRequest(const httplib::Request& req)
     // HEAD is answered as GET; the library sends the headers and no body.
     r.method = req.method == "HEAD" ? "GET" : req.method;
     r.path = req.path;
-    if (req.has_param("v"))
-        r.query = "v=" + req.get_param_value("v");
+    // The query as the library parsed it, in a canonical order ("format=webp&v=..."); only
+    // the parameters TileService reads (tile_service.h) matter.
+    for (const auto& [key, value] : req.params)
+        r.query += (r.query.empty() ? "" : "&") + key + "=" + value;
     r.accept = req.get_header_value("Accept");
     r.accept_encoding = req.get_header_value("Accept-Encoding");
     r.if_none_match = req.get_header_value("If-None-Match");

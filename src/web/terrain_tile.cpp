@@ -63,7 +63,8 @@ TileHeights uniformTileHeights(TileKey key, int cells)
     return t;
 }
 
-TerrainTile makeTerrainTile(const TileHeights& grid, double max_error)
+TerrainTile makeTerrainTile(const TileHeights& grid, double max_error,
+                            std::optional<double> border_error)
 {
     if (!GeographicTms::valid(grid.key))
         fail("no geographic tile " + std::to_string(grid.key.z) + "/" + std::to_string(grid.key.x) +
@@ -80,7 +81,7 @@ TerrainTile makeTerrainTile(const TileHeights& grid, double max_error)
     std::vector<int32_t> ys(grid.v.size());
     for (size_t r = 0; r < ys.size(); ++r)
         ys[r] = kMax - grid.v[r];
-    const Tin tin = buildTin(grid.heights, grid.u, ys, max_error);
+    const Tin tin = buildTin(grid.heights, grid.u, ys, max_error, border_error);
     const size_t n = tin.heights.size();
 
     // Quantized vertices, and where the client puts them on the ellipsoid.

@@ -73,6 +73,10 @@ TileSampler::TileSampler(const std::string& archive_path, size_t cache_patches)
     if (!g.hasCrs() || !g.hasGeotransform())
         throw Error(archive_path + ": web tiles need longitude/latitude, and the archive has no " +
                     (g.hasCrs() ? "geotransform" : "CRS"));
+    const archive::ArchiveReader& reader = query_.reader();
+    level_bounds_.assign(size_t(reader.geometry().finestLevel() + 1), 0.0);
+    for (const archive::PatchRecord& r : reader.index())
+        level_bounds_[r.level] = std::max(level_bounds_[r.level], double(r.err));
     // The outline of the raster's pixels, in lon/lat: a projected raster's border is curved
     // there, so it is traced, not just its corners.
     const double w = double(query_.reader().geometry().width());
@@ -267,36 +271,22 @@ std::pair<glm::dvec2, glm::dvec2> TileSampler::pixelWindow(TileKey k) const
     return {lo, hi};
 }
 
-double TileSampler::boundOver(TileKey k, int level) const
+double TileSampler::levelBound(int level) const
 {
-    checkKey(k);
-    const archive::ArchiveReader& reader = query_.reader();
-    const PyramidGeometry& geometry = reader.geometry();
-    if (level < 0 || level > geometry.finestLevel())
+    if (level < 0 || level >= int(level_bounds_.size()))
         throw Error("web tile level " + std::to_string(level) + " outside [0, " +
-                    std::to_string(geometry.finestLevel()) + "]");
-    const auto [lo, hi] = pixelWindow(k);
-    // Patch (x, y) of the level covers finest pixels [x·cells·step, (x+1)·cells·step].
-    const double span = double(geometry.cells()) * double(geometry.step(level));
-    const auto index = [&](double pixel, int count) {
-        return std::clamp(int(std::floor(pixel / span)), 0, count - 1);
-    };
-    const int nx = geometry.patchesX(level), ny = geometry.patchesY(level);
-    double worst = 0.0;
-    for (int y = index(lo.y, ny); y <= index(hi.y, ny); ++y)
-        for (int x = index(lo.x, nx); x <= index(hi.x, nx); ++x)
-            if (const PatchId p{level, x, y}; geometry.exists(p))
-                worst = std::max(worst, double(reader.record(p).err));
-    return worst;
+                    std::to_string(int(level_bounds_.size()) - 1) + "]");
+    return level_bounds_[size_t(level)];
 }
 
-int TileSampler::levelWithin(TileKey k, int cells, double error) const
+int TileSampler::levelWithin(int zoom, int cells, double error) const
 {
     const int finest = query_.finestLevel();
-    const auto [lo, hi] = pixelWindow(k);
-    const double across = std::max(hi.x - lo.x, hi.y - lo.y); // finest samples a side
-    int level = levelFor(k, cells);
-    while (level < finest && boundOver(k, level) > error &&
+    // A tile's side in finest samples, along the meridians (as levelFor measures it).
+    const double across =
+        180.0 / double(GeographicTms::tilesY(zoom)) * kMetresPerDegree / finestSpacingMetres();
+    int level = levelFor({zoom, 0, 0}, cells);
+    while (level < finest && levelBound(level) > error &&
            across / double(query_.reader().geometry().step(level + 1)) <= kMaxTileSamples)
         ++level;
     return level;
@@ -330,31 +320,74 @@ std::optional<SampledTile> TileSampler::sample(TileKey k, int cells, int level)
         space = PointSpace::LonLat;
     }
     out.grid.key = k;
-    samples_.resize(points_.size());
-    query_.sampleBatch(points_, space, out.level, QueryResampling::Bilinear, samples_);
+    const size_t valid = readPoints(space, out.level, out.grid.heights, out.flags,
+                                    out.archive_error, out.off_raster, out.nodata);
+    if (valid == 0)
+        return std::nullopt; // inside the box but not on the raster (a rotated or curved one)
+    if (valid < points_.size())
+        fillFromNearest(out.grid.heights, int(out.grid.u.size()), valid_);
+    addUndulations(out.grid.heights, PointSpace::Pixel);
+    return out;
+}
 
-    out.grid.heights.assign(points_.size(), 0.f);
-    valid_.assign(points_.size(), 0);
-    out.flags.assign(points_.size(), SampledTile::kAbsent);
-    for (size_t i = 0; i < samples_.size(); ++i) {
-        const HeightSample& s = samples_[i];
-        if (!s.on_raster || s.invalid_point) {
-            ++out.off_raster;
-        } else if (s.nodata) {
-            ++out.nodata;
-        } else {
-            valid_[i] = 1;
-            out.flags[i] = s.water ? SampledTile::kWater : 0;
-            out.grid.heights[i] = float(s.height);
-            out.archive_error = std::max(out.archive_error, s.error_bound);
+size_t TileSampler::readPoints(PointSpace space, int level, std::vector<float>& heights,
+                               std::vector<uint8_t>& flags, double& archive_error,
+                               size_t& off_raster, size_t& nodata)
+{
+    const TerrainGeoreference& g = query_.georeference();
+    const double w = double(query_.reader().geometry().width());
+    const double h = double(query_.reader().geometry().height());
+    // Every point as pixel/line, then clamped into the raster: off it, the raster's edge
+    // goes on outwards (the clamped point's height).
+    unreadable_.assign(points_.size(), 0);
+    outside_.assign(points_.size(), 0);
+    for (size_t i = 0; i < points_.size(); ++i) {
+        glm::dvec2& p = points_[i];
+        if (space == PointSpace::LonLat) {
+            try {
+                p = g.toPixel(p, PointSpace::LonLat);
+            } catch (const Error&) {
+                unreadable_[i] = 1; // PROJ cannot place it
+                p = {0.5, 0.5};
+                continue;
+            }
+        }
+        if (!(p.x >= 0.0 && p.x <= w && p.y >= 0.0 && p.y <= h)) {
+            outside_[i] = 1;
+            p = {std::clamp(p.x, 0.0, w), std::clamp(p.y, 0.0, h)};
         }
     }
-    if (out.off_raster + out.nodata == samples_.size())
-        return std::nullopt; // inside the box but not on the raster (a rotated or curved one)
-    if (out.off_raster + out.nodata > 0)
-        fillFromNearest(out.grid.heights, int(out.grid.u.size()), valid_);
-    addUndulations(out.grid.heights, space);
-    return out;
+    samples_.resize(points_.size());
+    query_.sampleBatch(points_, PointSpace::Pixel, level, QueryResampling::Bilinear, samples_);
+    heights.assign(points_.size(), 0.f);
+    valid_.assign(points_.size(), 0);
+    flags.assign(points_.size(), SampledTile::kAbsent);
+    size_t valid = 0;
+    for (size_t i = 0; i < samples_.size(); ++i) {
+        const HeightSample& s = samples_[i];
+        if (unreadable_[i] || !s.on_raster || s.invalid_point) {
+            ++off_raster;
+            continue; // filled from the nearest valid sample (the caller's grid)
+        }
+        valid_[i] = 1;
+        archive_error = std::max(archive_error, s.error_bound);
+        if (s.nodata) {
+            ++nodata;
+            heights[i] = float(s.nodata_fill);
+        } else {
+            heights[i] = float(s.height);
+            if (outside_[i])
+                ++off_raster;
+            else
+                flags[i] = s.water ? SampledTile::kWater : 0;
+        }
+        valid += !outside_[i] && !s.nodata;
+    }
+    // A tile with no sample on the archive's data is not made; otherwise what was read is
+    // kept (valid_ marks it) and only unreadable points are filled by the caller.
+    if (valid == 0)
+        return 0;
+    return size_t(std::count(valid_.begin(), valid_.end(), uint8_t(1)));
 }
 
 bool TileSampler::overlapsMercator(TileKey k) const
@@ -402,23 +435,14 @@ std::optional<MercatorSamples> TileSampler::sampleMercator(TileKey k, int size)
         for (glm::dvec2& p : points_)
             if (p.x < extent_.west)
                 p.x += 360.0;
-    samples_.resize(points_.size());
-    query_.sampleBatch(points_, PointSpace::LonLat, out.level, QueryResampling::Bilinear, samples_);
-    out.heights.assign(points_.size(), 0.f);
-    valid_.assign(points_.size(), 0);
-    for (size_t i = 0; i < samples_.size(); ++i) {
-        const HeightSample& s = samples_[i];
-        if (!s.on_raster || s.invalid_point || s.nodata) {
-            ++out.missing;
-            continue;
-        }
-        valid_[i] = 1;
-        out.heights[i] = float(s.height);
-        out.archive_error = std::max(out.archive_error, s.error_bound);
-    }
-    if (out.missing == out.heights.size())
+    std::vector<uint8_t> flags;
+    size_t off_raster = 0, nodata = 0;
+    const size_t read = readPoints(PointSpace::LonLat, out.level, out.heights, flags,
+                                   out.archive_error, off_raster, nodata);
+    if (read == 0)
         return std::nullopt;
-    if (out.missing > 0)
+    out.missing = off_raster + nodata;
+    if (read < out.heights.size())
         fillFromNearest(out.heights, size, valid_);
     return out;
 }

@@ -10,6 +10,7 @@
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -116,16 +117,39 @@ std::string contentTypeOf(std::string_view path)
     return "application/octet-stream";
 }
 
+// The value of `key` in a query "a=1&b=2" (empty when absent).
+std::string_view queryParam(std::string_view query, std::string_view key)
+{
+    while (!query.empty()) {
+        const size_t amp = query.find('&');
+        const std::string_view pair = query.substr(0, amp);
+        if (pair.size() > key.size() && pair.substr(0, key.size()) == key &&
+            pair[key.size()] == '=')
+            return pair.substr(key.size() + 1);
+        query = amp == std::string_view::npos ? std::string_view() : query.substr(amp + 1);
+    }
+    return {};
+}
+
 std::string keyText(TileKey k)
 {
     return std::to_string(k.z) + "/" + std::to_string(k.x) + "/" + std::to_string(k.y);
 }
 
-// Metres in a header: millimetres, enough for any bound a tile states.
+// Metres in a header, to the nanometre: a Terrarium step (1/256 m) reads exactly.
 std::string formatMetres(double metres)
 {
     char text[32];
-    std::snprintf(text, sizeof text, "%.3f", metres);
+    std::snprintf(text, sizeof text, "%.9g", metres);
+    return text;
+}
+
+// A bound in a header, rounded up to the micrometre: what it states is never less than the
+// bound.
+std::string formatBound(double metres)
+{
+    char text[32];
+    std::snprintf(text, sizeof text, "%.6f", std::ceil(metres * 1e6) / 1e6);
     return text;
 }
 
@@ -338,7 +362,7 @@ WebResponse TileService::tileResponse(const CachedTile& tile, const std::string&
     r.headers = tile.headers;
     r.headers.emplace_back("ETag", etag);
     r.headers.emplace_back("Vary", gzipped ? "Accept, Accept-Encoding" : "Accept");
-    const bool pinned = request.query == "v=" + tile.version;
+    const bool pinned = queryParam(request.query, "v") == tile.version;
     r.headers.emplace_back("Cache-Control", pinned ? kImmutable : kRevalidate);
     r.headers.emplace_back("X-Ridge-Version", tile.version);
     if (!request.if_none_match.empty() && matches(request.if_none_match, etag)) {
@@ -367,7 +391,7 @@ WebResponse TileService::terrain(Tileset& set, TileKey key, const WebRequest& re
         t.bytes = std::make_shared<const std::string>(detail::gzipCompress(std::string_view(
             reinterpret_cast<const char*>(made->bytes.data()), made->bytes.size())));
         t.version = made->version;
-        t.headers.emplace_back("X-Ridge-Claimed-Error", formatMetres(made->claimed_error));
+        t.headers.emplace_back("X-Ridge-Claimed-Error", formatBound(made->claimed_error));
         return t;
     });
     if (!tile)
@@ -400,7 +424,7 @@ WebResponse TileService::terrainRgb(Tileset& set, std::string_view rest, const W
         return text(404, "404 no such resource in tileset " + set.name());
     if (tilejson) {
         const ImageFormat format =
-            request.query == "format=webp" ? ImageFormat::Webp : ImageFormat::Png;
+            queryParam(request.query, "format") == "webp" ? ImageFormat::Webp : ImageFormat::Png;
         WebResponse r;
         r.content_type = "application/json";
         r.body = set.rgbTileJson(*encoding, size, format);
@@ -429,7 +453,7 @@ WebResponse TileService::terrainRgb(Tileset& set, std::string_view rest, const W
         t.bytes = std::make_shared<const std::string>(made->image.begin(), made->image.end());
         t.version = set.info().version;
         t.headers.emplace_back("X-Ridge-Step", formatMetres(made->step));
-        t.headers.emplace_back("X-Ridge-Archive-Error", formatMetres(made->archive_error));
+        t.headers.emplace_back("X-Ridge-Archive-Error", formatBound(made->archive_error));
         return t;
     });
     if (!tile)

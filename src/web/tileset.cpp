@@ -262,6 +262,9 @@ std::string Tileset::layerJson(bool versioned)
         {"bounds", {info.extent.west, info.extent.south, info.extent.east, info.extent.north}},
         {"available", available},
         {"extensions", {"octvertexnormals", "watermask", "metadata"}},
+        // Each tile's metadata names its children (one level): CesiumJS reads tile
+        // availability from there only when this says how many levels a tile covers.
+        {"metadataAvailability", 1},
         {"attribution", ""},
         // What Cesium does not ask but a user of the tiles must know.
         {"ridge",

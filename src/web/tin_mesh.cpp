@@ -263,9 +263,9 @@ class TinBuilder {
   public:
     // The caller has checked the input: xs and ys strictly increasing in [0, kMaxPosition].
     TinBuilder(std::span<const float> heights, std::span<const int32_t> xs,
-               std::span<const int32_t> ys, double max_error)
+               std::span<const int32_t> ys, double max_error, double border_error)
         : heights_(heights), xs_(xs), ys_(ys), steady_until_(xs.size()), width_(int64_t(xs.size())),
-          height_(int64_t(ys.size())), max_error_(max_error)
+          height_(int64_t(ys.size())), max_error_(max_error), border_error_(border_error)
     {
         // The median gap: the interior spacing of a tile cut from an archive, the only one
         // on a uniform grid.
@@ -368,17 +368,17 @@ class TinBuilder {
         const Line north{h, 1, width_, xs_.data()};
 
         uint32_t from = 0; // the north-west corner
-        for (const int64_t row : simplifyLine(west, max_error_))
+        for (const int64_t row : simplifyLine(west, border_error_))
             from = insertOnHull(from, {0, row});
         from = 1; // south-west
-        for (const int64_t column : simplifyLine(southern, max_error_))
+        for (const int64_t column : simplifyLine(southern, border_error_))
             from = insertOnHull(from, {column, south});
         from = 2; // south-east
-        const std::vector<int64_t> east_rows = simplifyLine(eastern, max_error_);
+        const std::vector<int64_t> east_rows = simplifyLine(eastern, border_error_);
         for (auto row = east_rows.rbegin(); row != east_rows.rend(); ++row)
             from = insertOnHull(from, {east, *row});
         from = 3; // north-east
-        const std::vector<int64_t> north_columns = simplifyLine(north, max_error_);
+        const std::vector<int64_t> north_columns = simplifyLine(north, border_error_);
         for (auto column = north_columns.rbegin(); column != north_columns.rend(); ++column)
             from = insertOnHull(from, {*column, 0});
     }
@@ -723,6 +723,7 @@ class TinBuilder {
     std::vector<int64_t> steady_until_;
     int64_t width_, height_;
     double max_error_;
+    double border_error_; // the border lines' bound (border_error)
 
     std::vector<Point> points_;       // per vertex: its real coordinates
     std::vector<Cell> cells_;         // per vertex: its grid indices
@@ -788,10 +789,12 @@ void checkInput(std::span<const float> heights, std::span<const int32_t> xs,
 } // namespace
 
 Tin buildTin(std::span<const float> heights, std::span<const int32_t> xs,
-             std::span<const int32_t> ys, double max_error)
+             std::span<const int32_t> ys, double max_error, std::optional<double> border_error)
 {
     checkInput(heights, xs, ys, max_error);
-    return TinBuilder(heights, xs, ys, max_error).build();
+    if (border_error)
+        checkParameter("border_error", *border_error, ValueRange::nonNegative());
+    return TinBuilder(heights, xs, ys, max_error, border_error.value_or(max_error)).build();
 }
 
 Tin buildTin(std::span<const float> heights, int width, int height, double max_error)
@@ -800,7 +803,7 @@ Tin buildTin(std::span<const float> heights, int width, int height, double max_e
     std::vector<int32_t> xs(static_cast<size_t>(width)), ys(static_cast<size_t>(height));
     std::iota(xs.begin(), xs.end(), 0);
     std::iota(ys.begin(), ys.end(), 0);
-    return TinBuilder(heights, xs, ys, max_error).build();
+    return TinBuilder(heights, xs, ys, max_error, max_error).build();
 }
 
 } // namespace ridge::web

@@ -6,18 +6,21 @@
 //   node tests/browser/run.mjs --ridge build/ridge --archive everest.ridge --out DIR
 //                              [--timeout 480] [--phases cesium,decoder,maplibre,rgb]
 //
-// The archive is meant to be tests/data/everest_crop.tif built with --patch 33: the camera looks at
-// Everest. Phases:
+// The archive is meant to be `ridge build tests/data/everest_crop.tif -o DIR/everest.ridge --patch 33`:
+// the camera looks at Everest. Phases:
 //   cesium    cesium.html?test=1 at a fixed camera: terrain drawn, no holes under the skyline, and
 //             the skyline matches `ridge render` from the same camera
 //   decoder   quantized-mesh tiles decoded by @here/quantized-mesh-decoder: every vertex within the
 //             tile's X-Ridge-Claimed-Error of `ridge query`, shared edges identical, headers sane
-//   maplibre  maplibre.html?test=1 (mapbox PNG, terrarium WebP): terrain drawn, no holes
+//   maplibre  maplibre.html?test=1 (mapbox PNG, terrarium WebP): the tile URLs its TileJSON gives,
+//             terrain drawn, no holes
 //   rgb       terrain-RGB tiles decoded pixel by pixel against `ridge query`, within X-Ridge-Step/2
 //             (+ X-Ridge-Archive-Error)
 // Writes DIR/cesium.png, DIR/render.png, DIR/maplibre.png, DIR/maplibre-terrarium-webp.png.
 // Exit status: 0 every check passed, 1 a check failed (or the run broke or timed out), 2 usage
 // error, 77 chromium or web/node_modules missing (scripts/install-web-deps.sh), so a harness can skip.
+// Time: at most --timeout seconds, then up to 25 s to close chromium and stop the server, which is
+// stopped (SIGTERM, SIGKILL 15 s later) on every way out: success, failure, time limit, SIGINT/SIGTERM.
 import { spawn } from 'node:child_process';
 import { existsSync, mkdirSync, readFileSync } from 'node:fs';
 import { request } from 'node:http';
@@ -145,16 +148,21 @@ function startServer(ridge, archive) {
   return { child, url, log };
 }
 
+// SIGTERM must stop the server cleanly (exit 0) within STOP_S; after STOP_KILL_S it is killed.
+const STOP_S = 5;
+const STOP_KILL_S = 15;
 async function stopServer(server) {
   if (server.child.exitCode !== null || server.child.signalCode !== null) return;
+  const start = Date.now();
   const exited = new Promise((r) => server.child.once('exit', (code, signal) => r({ code, signal })));
   server.child.kill('SIGTERM');
-  const result = await Promise.race([exited, new Promise((r) => setTimeout(() => r(null), 5000))]);
+  const result = await Promise.race([exited, new Promise((r) => setTimeout(() => r(null), STOP_KILL_S * 1000))]);
   if (result === null) {
     server.child.kill('SIGKILL');
-    check('ridge serve stops on SIGTERM', false, 'still running after 5 s; killed');
+    check('ridge serve stops on SIGTERM', false, `still running after ${STOP_KILL_S} s; killed`);
   } else {
-    check('ridge serve stops on SIGTERM', result.code === 0, `exit ${result.code ?? result.signal}`);
+    const ms = Date.now() - start;
+    check('ridge serve stops on SIGTERM', result.code === 0 && ms <= STOP_S * 1000, `exit ${result.code ?? result.signal} after ${seconds(ms)} (at most ${STOP_S} s)`);
   }
 }
 
@@ -244,6 +252,7 @@ async function decodeImage(decoder, bytes, mime) {
   return { width, height, data: Buffer.from(rgba, 'base64') };
 }
 
+// The pages clear to exactly (255, 0, 255); pixels that multisampling blends at the skyline are terrain.
 const isMagenta = (d, i) => d[i] >= 250 && d[i + 1] <= 5 && d[i + 2] >= 250;
 const isColour = ([r, g, b]) => (d, i) => Math.abs(d[i] - r) <= 2 && Math.abs(d[i + 1] - g) <= 2 && Math.abs(d[i + 2] - b) <= 2;
 
@@ -316,7 +325,9 @@ async function cesiumPhase(ctx) {
   checkDrawn('cesium', cesium);
 
   // ridge render from the camera Cesium reports, with Cesium's vertical fov (its frustum's fov is
-  // the horizontal one in a landscape canvas), on the ellipsoid as Cesium draws it.
+  // the horizontal one in a landscape canvas), on the ellipsoid as Cesium draws it. The fixture
+  // names no vertical datum, so the tiles carry its own heights and Cesium's camera height is the
+  // one ridge render takes.
   const cam = status.camera;
   const renderPng = join(out, 'render.png');
   const r = await run(ridge, ['render', archive, '--camera-lonlat', `${cam.lon},${cam.lat},${cam.height}`,
@@ -441,7 +452,8 @@ async function decoderPhase(ctx) {
       pairs++;
       const ea = edgeOf(a, sideA);
       const eb = edgeOf(b, sideB);
-      const positionsAgree = ea.offEdge === 0 && eb.offEdge === 0 && ea.heights.size === eb.heights.size && [...ea.heights.keys()].every((p) => eb.heights.has(p));
+      const unmatched = [...ea.heights.keys()].filter((p) => !eb.heights.has(p)).length + [...eb.heights.keys()].filter((p) => !ea.heights.has(p)).length;
+      const positionsAgree = ea.offEdge === 0 && eb.offEdge === 0 && unmatched === 0;
       let difference = 0;
       for (const [p, ha] of ea.heights) {
         if (!eb.heights.has(p)) continue;
@@ -450,7 +462,7 @@ async function decoderPhase(ctx) {
       }
       const ratio = difference === 0 ? 0 : difference / (a.step + b.step);
       if (!positionsAgree || ratio > 1) {
-        badPairs.push(`${a.z}/${a.x}/${a.y} ${sideA} edge: ${positionsAgree ? '' : 'positions differ, '}heights up to ${difference.toFixed(3)} m apart (steps ${a.step.toFixed(4)} + ${b.step.toFixed(4)} m)`);
+        badPairs.push(`${a.z}/${a.x}/${a.y} ${sideA} edge: ${positionsAgree ? '' : `${ea.offEdge + eb.offEdge} edge indices off the edge, ${unmatched} of ${ea.heights.size} + ${eb.heights.size} vertices without a partner, `}heights up to ${difference.toFixed(3)} m apart (steps ${a.step.toFixed(4)} + ${b.step.toFixed(4)} m)`);
       } else {
         worstRatio = Math.max(worstRatio, ratio);
       }
@@ -491,8 +503,10 @@ async function maplibrePhase(ctx) {
   const { context, decoder, base, tileset, out } = ctx;
   for (const [encoding, format, file] of [['mapbox', 'png', 'maplibre.png'], ['terrarium', 'webp', 'maplibre-terrarium-webp.png']]) {
     const url = `${base}maplibre.html?test=1&tileset=${tileset}&encoding=${encoding}&format=${format}&${cameraQuery(CAMERA)}`;
-    const { page, ok } = await openViewer(context, `maplibre ${encoding} ${format}`, url, 180_000);
+    const { page, status, ok } = await openViewer(context, `maplibre ${encoding} ${format}`, url, 180_000);
     if (!ok) continue;
+    // The page takes its tile URLs from ENCODING.json[?format=webp]: they must be the format asked for.
+    check(`maplibre ${encoding} ${format}: tile URLs`, status.tiles.every((t) => t.includes(`/${encoding}/{z}/{x}/{y}.${format}`)), status.tiles.join(' '));
     const shot = await page.screenshot({ path: join(out, file) });
     await page.close();
     checkDrawn(`maplibre ${encoding} ${format}`, analyse(await decodeImage(decoder, shot, 'image/png'), isMagenta));
@@ -643,13 +657,11 @@ async function main() {
 
   const server = startServer(ridge, archive);
   let browser;
-  let finished = false;
-  const cleanup = async () => {
-    if (finished) return;
-    finished = true;
+  let cleaning; // one cleanup, however many ways out run at once (the time limit and main's end)
+  const cleanup = () => (cleaning ??= (async () => {
     await Promise.race([browser?.close(), new Promise((r) => setTimeout(r, 10_000))]);
     await stopServer(server);
-  };
+  })());
   const finish = async (code) => {
     await cleanup();
     if (code !== 0 && server.log.length) console.log(`ridge serve log (last lines):\n  ${server.log.slice(-8).join('\n  ')}`);
@@ -669,7 +681,8 @@ async function main() {
     console.log(`ridge serve at ${base}, tileset ${tileset}, camera ${JSON.stringify(CAMERA)}; chromium ${executablePath}`);
 
     const launched = Date.now();
-    browser = await chromium.launch({ executablePath, headless: true, args: CHROMIUM_ARGS, timeout: 60_000 });
+    // Signals are this script's to handle (it closes the browser, then stops the server).
+    browser = await chromium.launch({ executablePath, headless: true, args: CHROMIUM_ARGS, timeout: 60_000, handleSIGINT: false, handleSIGTERM: false, handleSIGHUP: false });
     const context = await browser.newContext({ viewport: VIEWPORT, deviceScaleFactor: 1 });
     const decoder = await context.newPage();
     console.log(`chromium ${browser.version()} started in ${seconds(Date.now() - launched)}`);

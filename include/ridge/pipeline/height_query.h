@@ -62,6 +62,11 @@ struct HeightSample {
     // out of range, PROJ refused it); sample() of the same point throws the reason.
     bool invalid_point = false;
     double height = std::numeric_limits<double>::quiet_NaN(); // metres, NaN off the raster
+    // On kept nodata only: the value the archive stores there (filled from the valid samples
+    // around at build, so the pyramid and codecs run on; not terrain), read as `height`
+    // would be. A function of the position alone, so two readers of one point agree (web
+    // tiles fill nodata with it). NaN elsewhere.
+    double nodata_fill = std::numeric_limits<double>::quiet_NaN();
     glm::dvec2 local{0.0};    // the point in the terrain frame, metres
     glm::dvec2 pixel{0.0};    // and as GDAL pixel/line (sample (c, r) at (c + 0.5, r + 0.5))
     int level = 0;            // level whose surface was read

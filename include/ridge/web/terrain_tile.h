@@ -19,6 +19,7 @@
 #include "ridge/web/quantized_mesh.h"
 #include "ridge/web/tile_grid.h"
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -46,9 +47,11 @@ struct TerrainTile {
     double error = 0.0; // metres, see above
 };
 
-// The tile of `grid` with its TIN within `max_error` metres. Throws ridge::Error for an
-// invalid key, lines that break the rules above, a grid of the wrong size or with a
-// non-finite height, or a max_error buildTin refuses.
-TerrainTile makeTerrainTile(const TileHeights& grid, double max_error);
+// The tile of `grid` with its TIN within `max_error` metres (its border lines within
+// `border_error` when given: buildTin's rule for neighbours with different budgets). Throws
+// ridge::Error for an invalid key, lines that break the rules above, a grid of the wrong size
+// or with a non-finite height, or a bound buildTin refuses.
+TerrainTile makeTerrainTile(const TileHeights& grid, double max_error,
+                            std::optional<double> border_error = std::nullopt);
 
 } // namespace ridge::web

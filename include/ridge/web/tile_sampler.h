@@ -9,10 +9,11 @@
 // read bilinearly between the samples around them: the mesh's bound then holds at the data.
 // Elsewhere (projected archives) it is a uniform grid of `cells` cells read through PROJ,
 // whose samples are the level's surface between its samples. Either way a sample is within
-// Err(P) of the finest samples. Samples off the
-// raster or on kept nodata take the height of the nearest valid sample of the tile (the
-// surface goes on flat past the data, with no cliff to 0 m at its edge) and are counted; a
-// tile with no valid sample is not made at all.
+// Err(P) of the finest samples. A sample off the raster takes the raster's edge height (the
+// point clamped into the raster: the surface goes on past the data, with no cliff to 0 m at
+// its edge), one on kept nodata the value the archive stores there; both are functions of
+// the position alone, so two tiles read a shared edge alike, and both are counted. A tile
+// with no sample on the data is not made at all.
 //
 // Heights are the archive's: above the ellipsoid when the build shifted them there
 // (`ridge build --vertical-datum`, "build.vertical_shift"), else above whatever the source
@@ -34,8 +35,8 @@ struct SampledTile {
     TileHeights grid;
     int level = 0;             // the archive level read
     double archive_error = 0.; // the largest Err(P) of the patches read, metres
-    size_t off_raster = 0;     // samples outside the archive (filled from the nearest valid)
-    size_t nodata = 0;         // samples on kept nodata (filled likewise)
+    size_t off_raster = 0;     // samples outside the archive (the raster's edge goes on there)
+    size_t nodata = 0;         // samples on kept nodata (the value the archive stores there)
     // Per grid sample (grid.heights' order): kAbsent off the raster or on kept nodata, kWater
     // where the archive's sample flags say water (bilinear rule, HeightSample::water).
     static constexpr uint8_t kAbsent = 1, kWater = 2;
@@ -48,7 +49,8 @@ struct MercatorSamples {
     std::vector<float> heights; // size × size, row 0 north, metres; missing ones filled
     int level = 0;              // the archive level read
     double archive_error = 0.;  // the largest Err(P) of the patches read, metres
-    size_t missing = 0;         // pixels off the raster or on kept nodata (nearest valid height)
+    size_t missing = 0;         // pixels off the raster (its edge's height) or on kept nodata
+                                // (the archive's fill there)
 };
 
 class TileSampler {
@@ -78,15 +80,18 @@ class TileSampler {
     bool overlaps(TileKey k) const;
     // The archive level a tile of zoom k.z with `cells` cells reads (see above).
     int levelFor(TileKey k, int cells) const;
-    // The largest Err(P) of the patches of `level` that the tile overlaps (from the index, no
-    // patch read): how far that level's surface may lie from the finest samples there.
-    double boundOver(TileKey k, int level) const;
-    // levelFor, or a finer level where that one's bound over the tile exceeds `error` (the
-    // coarsest finer level within it), while the tile stays within kMaxTileSamples samples a
-    // side: coarse levels of rough terrain lie hundreds of metres from the finest samples,
-    // more than a client's error for the zoom, even where their spacing suits the tile.
+    // The largest Err(P) of the level's patches (from the index, no patch read): how far that
+    // level's surface may lie from the finest samples anywhere.
+    double levelBound(int level) const;
+    // levelFor, or a finer level where that one's largest Err(P) exceeds `error` (the
+    // coarsest finer level within it), while a tile of the zoom stays within kMaxTileSamples
+    // samples a side: coarse levels of rough terrain lie hundreds of metres from the finest
+    // samples, more than a client's error for the zoom, even where their spacing suits the
+    // tile. One level for every tile of a zoom: neighbours must sample their shared edge on
+    // the same level's samples, or their edge vertices differ (a T-junction; a per-tile
+    // choice made one on the Everest fixture at zoom 10).
     static constexpr int kMaxTileSamples = 1024;
-    int levelWithin(TileKey k, int cells, double error) const;
+    int levelWithin(int zoom, int cells, double error) const;
     // The deepest zoom whose tiles of `cells` cells are still no finer than the archive's
     // finest samples (deeper tiles add nothing but interpolation).
     int maxZoom(int cells) const;
@@ -127,18 +132,28 @@ class TileSampler {
     // north-up longitude/latitude grid or the tile falls outside its period.
     bool placeOnSamples(TileKey k, int level, TileHeights& grid);
 
+    // Reads points_ (given in `space`; left as pixel/line) on `level`, bilinear: a valid
+    // sample its height; kept nodata the value the archive stores there; a point off the
+    // raster the raster's edge (the point clamped into it) — each a function of the position
+    // alone, so tiles sharing an edge read it alike. flags: SampledTile's. valid_ marks what
+    // was read; points PROJ cannot place are left for the caller to fill. Returns how many
+    // were read, 0 when none lies on the archive's data.
+    size_t readPoints(PointSpace space, int level, std::vector<float>& heights,
+                      std::vector<uint8_t>& flags, double& archive_error, size_t& off_raster,
+                      size_t& nodata);
     // Adds N to heights[i] at points_[i] (given in `space`) when toEllipsoid was called.
     void addUndulations(std::span<float> heights, PointSpace space);
 
     HeightQuery query_;
     std::unique_ptr<io::GeoidModel> geoid_; // set by toEllipsoid
+    std::vector<double> level_bounds_;      // levelBound, per level
     std::vector<std::array<double, 2>> lonlat_;
     std::vector<double> undulations_;
     GeoRect extent_;
     bool north_up_geographic_ = false; // lon/lat CRS, unrotated geotransform
     std::vector<glm::dvec2> points_;   // scratch, reused across tiles
     std::vector<HeightSample> samples_;
-    std::vector<uint8_t> valid_;
+    std::vector<uint8_t> valid_, unreadable_, outside_;
 };
 
 } // namespace ridge::web

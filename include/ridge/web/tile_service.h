@@ -38,7 +38,7 @@ namespace ridge::web {
 struct WebRequest {
     std::string method = "GET";
     std::string path;   // without the query
-    std::string query;  // after '?', may be empty
+    std::string query;  // after '?', "key=value&..." (TileService reads v and format)
     std::string accept; // header values, may be empty
     std::string accept_encoding;
     std::string if_none_match;

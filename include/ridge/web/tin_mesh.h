@@ -39,6 +39,7 @@
 // sample, which costs more).
 // Memory: O(V) besides the caller's grid, which is read in place.
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -72,12 +73,18 @@ struct Tin {
 // coordinates. Heights are row-major (row r, column c at r·xs.size() + c, metres, all
 // finite); otherwise as the uniform form below, which is this one with xs[c] = c, ys[r] = r.
 //
+// `border_error`, when given, is the bound the four border lines are simplified within
+// instead of max_error: neighbouring tiles whose interiors get different bounds (each its
+// own budget) must still choose the same vertices on their shared border, so they pass the
+// same border bound. The max_error reported covers both.
+//
 // Throws ridge::Error naming the parameter when xs.size() or ys.size() is outside
 // [2, 65536], a position is outside [0, 2^24] or not greater than the one before it,
-// heights.size() != xs.size()·ys.size(), a height is not finite, or max_error is negative or
-// not finite.
+// heights.size() != xs.size()·ys.size(), a height is not finite, or max_error (or
+// border_error) is negative or not finite.
 Tin buildTin(std::span<const float> heights, std::span<const int32_t> xs,
-             std::span<const int32_t> ys, double max_error);
+             std::span<const int32_t> ys, double max_error,
+             std::optional<double> border_error = std::nullopt);
 
 // The TIN of a width × height grid of heights (row-major: row r, column c at r·width + c,
 // metres, all finite) whose every sample lies within max_error (metres, >= 0; 0 keeps every
