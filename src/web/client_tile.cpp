@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
 
 namespace ridge::web {
 
@@ -28,12 +29,14 @@ class MeshLocator {
                     buckets_[size_t(y * kSide + x)].push_back(t);
         }
     }
-    double heightAt(double u, double v) const
+    // The height the client draws at (u, v) (terrain_tile.h: the flattened heights'
+    // interpolation plus the sphere's drop), NaN outside every triangle.
+    double drawnAt(TileKey k, std::span<const double> flattened, double u, double v) const
     {
         const std::vector<uint32_t>& list = buckets_[size_t(bucket(v) * kSide + bucket(u))];
         for (uint32_t t : list)
-            if (const double h = triangleHeightAt(m_, t, u, v); !std::isnan(h))
-                return h;
+            if (const double g = triangleValueAt(m_, t, u, v, flattened); !std::isnan(g))
+                return g + sphereDrop(k, u, v);
         return NAN;
     }
 
@@ -49,16 +52,18 @@ class MeshLocator {
     std::vector<std::vector<uint32_t>> buckets_;
 };
 
-// The largest |mesh − sample| over the level's samples inside the tile.
-double measuredError(const QuantizedMesh& mesh, const GeoRect& r,
+// The largest |drawn mesh − sample| over the level's samples inside the tile.
+double measuredError(const QuantizedMesh& mesh, TileKey k,
                      const std::vector<TileSampler::LevelSample>& samples)
 {
+    const GeoRect r = GeographicTms::rect(k);
     const MeshLocator locate(mesh);
+    const std::vector<double> flattened = flattenedHeights(mesh, k);
     double worst = 0.0;
     for (const TileSampler::LevelSample& s : samples) {
         const double u = (s.lon - r.west) / (r.east - r.west) * QuantizedMesh::kMaxCoordinate;
         const double v = (s.lat - r.south) / (r.north - r.south) * QuantizedMesh::kMaxCoordinate;
-        const double h = locate.heightAt(u, v);
+        const double h = locate.drawnAt(k, flattened, u, v);
         if (!std::isnan(h))
             worst = std::max(worst, std::abs(h - s.height));
     }
@@ -107,7 +112,6 @@ std::optional<ClientTile> makeClientTile(TileSampler& sampler, TileKey k, int ce
     const auto [lo, hi] =
         std::minmax_element(sampled->grid.heights.begin(), sampled->grid.heights.end());
     const double half_step = 0.5 * double(*hi - *lo) / QuantizedMesh::kMaxCoordinate;
-    const GeoRect rect = GeographicTms::rect(k);
     double tin_bound = std::max(0.0, out.client_error - out.archive_error - half_step -
                                          roundingAllowance(sampled->grid));
     const std::vector<TileSampler::LevelSample> samples = sampler.levelSamples(k, out.level);
@@ -124,7 +128,7 @@ std::optional<ClientTile> makeClientTile(TileSampler& sampler, TileKey k, int ce
         std::max(0.0, 0.5 * (out.client_error - sampler.levelBound(out.level)));
     for (int attempt = 0;; ++attempt) {
         out.tile = makeTerrainTile(sampled->grid, tin_bound, border_bound);
-        out.measured_error = measuredError(out.tile.mesh, rect, samples);
+        out.measured_error = measuredError(out.tile.mesh, k, samples);
         out.claimed_error = std::max(out.tile.error, out.measured_error) + out.archive_error;
         const double excess = out.claimed_error - out.client_error;
         if (excess <= 0.0 || tin_bound <= 0.0 || attempt == 2)

@@ -306,20 +306,44 @@ double decodedHeight(const QuantizedMesh& m, uint32_t i)
                                       double(m.max_height - m.min_height);
 }
 
-double triangleHeightAt(const QuantizedMesh& m, size_t first, double u, double v)
+namespace {
+
+// The barycentric weights of (u, v) in the triangle whose indices start at `first`, or false
+// when it lies outside (beyond 1e-9 of them) or the triangle is degenerate.
+bool triangleWeights(const QuantizedMesh& m, size_t first, double u, double v, double (&l)[3])
 {
     constexpr double kInside = -1e-9; // barycentric slack: points on an edge belong to both
     const uint32_t a = m.triangles[first], b = m.triangles[first + 1], c = m.triangles[first + 2];
     const double ax = m.u[a], ay = m.v[a], bx = m.u[b], by = m.v[b], cx = m.u[c], cy = m.v[c];
     const double det = (bx - ax) * (cy - ay) - (cx - ax) * (by - ay);
     if (det == 0.0)
+        return false;
+    l[1] = ((u - ax) * (cy - ay) - (cx - ax) * (v - ay)) / det;
+    l[2] = ((bx - ax) * (v - ay) - (u - ax) * (by - ay)) / det;
+    l[0] = 1.0 - l[1] - l[2];
+    return l[0] >= kInside && l[1] >= kInside && l[2] >= kInside;
+}
+
+} // namespace
+
+double triangleHeightAt(const QuantizedMesh& m, size_t first, double u, double v)
+{
+    double l[3];
+    if (!triangleWeights(m, first, u, v, l))
         return std::numeric_limits<double>::quiet_NaN();
-    const double l1 = ((u - ax) * (cy - ay) - (cx - ax) * (v - ay)) / det;
-    const double l2 = ((bx - ax) * (v - ay) - (u - ax) * (by - ay)) / det;
-    const double l0 = 1.0 - l1 - l2;
-    if (!(l0 >= kInside && l1 >= kInside && l2 >= kInside))
+    return l[0] * decodedHeight(m, m.triangles[first]) +
+           l[1] * decodedHeight(m, m.triangles[first + 1]) +
+           l[2] * decodedHeight(m, m.triangles[first + 2]);
+}
+
+double triangleValueAt(const QuantizedMesh& m, size_t first, double u, double v,
+                       std::span<const double> values)
+{
+    double l[3];
+    if (!triangleWeights(m, first, u, v, l))
         return std::numeric_limits<double>::quiet_NaN();
-    return l0 * decodedHeight(m, a) + l1 * decodedHeight(m, b) + l2 * decodedHeight(m, c);
+    return l[0] * values[m.triangles[first]] + l[1] * values[m.triangles[first + 1]] +
+           l[2] * values[m.triangles[first + 2]];
 }
 
 double meshHeightAt(const QuantizedMesh& m, double u, double v)

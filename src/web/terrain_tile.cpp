@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 namespace ridge::web {
@@ -63,6 +64,37 @@ TileHeights uniformTileHeights(TileKey key, int cells)
     return t;
 }
 
+double sphereDrop(TileKey k, double u, double v)
+{
+    constexpr double kRadius = 6371000.0; // the mean Earth radius
+    constexpr double kMax = QuantizedMesh::kMaxCoordinate;
+    constexpr double kRadians = std::numbers::pi / 180.0;
+    const GeoRect r = GeographicTms::rect(k);
+    const double lat = (r.south + (r.north - r.south) * v / kMax) * kRadians;
+    // Metres a unit east (at the point's own latitude) and north.
+    const double kx = kRadius * std::cos(lat) * (r.east - r.west) * kRadians / kMax;
+    const double ky = kRadius * (r.north - r.south) * kRadians / kMax;
+    const double dx = kx * (u - 0.5 * kMax), dy = ky * (v - 0.5 * kMax);
+    return (dx * dx + dy * dy) / (2.0 * kRadius);
+}
+
+std::vector<double> flattenedHeights(const QuantizedMesh& mesh, TileKey k)
+{
+    std::vector<double> out(mesh.vertexCount());
+    for (uint32_t i = 0; i < out.size(); ++i)
+        out[i] = decodedHeight(mesh, i) - sphereDrop(k, mesh.u[i], mesh.v[i]);
+    return out;
+}
+
+double drawnHeightAt(const QuantizedMesh& mesh, TileKey k, std::span<const double> flattened,
+                     double u, double v)
+{
+    for (size_t t = 0; t + 2 < mesh.triangles.size(); t += 3)
+        if (const double g = triangleValueAt(mesh, t, u, v, flattened); !std::isnan(g))
+            return g + sphereDrop(k, u, v);
+    return std::numeric_limits<double>::quiet_NaN();
+}
+
 TerrainTile makeTerrainTile(const TileHeights& grid, double max_error,
                             std::optional<double> border_error)
 {
@@ -81,7 +113,17 @@ TerrainTile makeTerrainTile(const TileHeights& grid, double max_error,
     std::vector<int32_t> ys(grid.v.size());
     for (size_t r = 0; r < ys.size(); ++r)
         ys[r] = kMax - grid.v[r];
-    const Tin tin = buildTin(grid.heights, grid.u, ys, max_error, border_error);
+    // Meshed in g = h − q (see the header): the TIN follows the chords' sag too.
+    std::vector<float> flattened(grid.heights.size());
+    for (size_t r = 0; r < grid.v.size(); ++r)
+        for (size_t c = 0; c < grid.u.size(); ++c) {
+            const size_t i = r * grid.u.size() + c;
+            flattened[i] = float(grid.heights[i] - sphereDrop(grid.key, grid.u[c], grid.v[r]));
+        }
+    Tin tin = buildTin(flattened, grid.u, ys, max_error, border_error);
+    // The vertices' own heights, h.
+    for (size_t i = 0; i < tin.heights.size(); ++i)
+        tin.heights[i] = grid.heights[size_t(tin.rows[i]) * grid.u.size() + tin.columns[i]];
     const size_t n = tin.heights.size();
 
     // Quantized vertices, and where the client puts them on the ellipsoid.

@@ -187,7 +187,7 @@ int TileSampler::maxZoom(int cells) const
     return z;
 }
 
-bool TileSampler::placeOnSamples(TileKey k, int level, TileHeights& grid)
+bool TileSampler::placeOnSamples(TileKey k, int level, int cells, TileHeights& grid)
 {
     if (!north_up_geographic_)
         return false;
@@ -237,6 +237,30 @@ bool TileSampler::placeOnSamples(TileKey k, int level, TileHeights& grid)
         }
         at.push_back(hi);
         lines.push_back(kMax);
+        // Gaps the level leaves (the part of a tile off the archive, where it has no
+        // samples) get evenly spaced lines no wider than a `cells` grid's cell or the level's
+        // own spacing, so the mesh can follow the globe's curvature there (terrain_tile.h).
+        // The same rule on both sides of an edge.
+        const double spacing = step / (hi - lo) * kMax; // the level's, in format units
+        const int32_t widest = int32_t(std::ceil(std::max(double(kMax) / cells, spacing)));
+        const double gap_limit = std::max(double(widest), 1.5 * spacing);
+        std::vector<double> filled_at;
+        std::vector<int32_t> filled;
+        for (size_t i = 0; i < lines.size(); ++i) {
+            if (i > 0 && double(lines[i] - lines[i - 1]) > gap_limit) {
+                const int32_t a = lines[i - 1], gap = lines[i] - a;
+                const int32_t parts = (gap + widest - 1) / widest;
+                for (int32_t j = 1; j < parts; ++j) {
+                    const int32_t q = a + int32_t(std::lround(double(j) * gap / parts));
+                    filled.push_back(q);
+                    filled_at.push_back(lo + (hi - lo) * double(q) / kMax);
+                }
+            }
+            filled.push_back(lines[i]);
+            filled_at.push_back(at[i]);
+        }
+        lines.swap(filled);
+        at.swap(filled_at);
     };
     std::vector<double> xs, ys;
     std::vector<int32_t> rows;
@@ -308,7 +332,7 @@ std::optional<SampledTile> TileSampler::sample(TileKey k, int cells, int level)
     // On the level's own samples where the archive is a north-up geographic grid; else a
     // uniform grid of `cells` cells read through PROJ. Row 0 is the northern edge.
     PointSpace space = PointSpace::Pixel;
-    if (!placeOnSamples(k, out.level, out.grid)) {
+    if (!placeOnSamples(k, out.level, cells, out.grid)) {
         out.grid = uniformTileHeights(k, cells);
         const int side = cells + 1;
         points_.resize(size_t(side) * size_t(side));

@@ -358,12 +358,14 @@ ServedTile Tileset::make(State& state, TileSampler& sampler, TileKey k, unsigned
     TerrainTile flat;
     if (!tile) {
         // Available but without data (a root tile the archive misses, or a tile inside its
-        // box off its rotated or curved raster): the ellipsoid, as a 1-cell grid.
-        TileHeights grid = uniformTileHeights(k, 1);
-        grid.heights.assign(4, 0.f);
-        flat = makeTerrainTile(grid, 0.0);
+        // box off its rotated or curved raster): the ellipsoid.
+        // A 16-cell grid, so that the mesh can follow the globe within the client's error.
+        TileHeights grid = uniformTileHeights(k, 16);
+        grid.heights.assign(17 * 17, 0.f);
+        flat = makeTerrainTile(grid, GeographicTms::geometricError(k.z));
         out.flat = true;
-        water.assign(4, options_.water == WaterSource::None ? 0 : 1);
+        out.claimed_error = flat.error;
+        water.assign(17 * 17, options_.water == WaterSource::None ? 0 : 1);
         tile.emplace();
         tile->tile = std::move(flat);
         tile->grid = std::move(grid);

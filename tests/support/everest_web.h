@@ -5,6 +5,7 @@
 
 #include "ridge/pipeline/height_query.h"
 #include "ridge/web/quantized_mesh.h"
+#include "ridge/web/terrain_tile.h"
 #include "ridge/web/tile_grid.h"
 
 #include <gtest/gtest.h>
@@ -34,12 +35,13 @@ class EverestArchiveSuite : public ::testing::Test {
     static inline std::string* archive_ = nullptr;
 };
 
-// The largest |mesh − sample| over the fixture's finest samples inside tile k (3″ pixels
-// from 86.7495833°E 28.0004166°N, 301 × 203), found by the test alone: its own positions,
-// the sample whose pixel it is, meshHeightAt's brute-force search.
+// The largest |drawn mesh − sample| over the fixture's finest samples inside tile k (3″
+// pixels from 86.7495833°E 28.0004166°N, 301 × 203), found by the test alone: its own
+// positions, the sample whose pixel it is, drawnHeightAt's brute-force search.
 inline double everestMeshError(const web::QuantizedMesh& m, web::TileKey k, HeightQuery& finest)
 {
     const web::GeoRect r = web::GeographicTms::rect(k);
+    const std::vector<double> flattened = web::flattenedHeights(m, k);
     const double step = 3.0 / 3600.0;
     double worst = 0.0;
     for (int j = 0; j < 203; ++j)
@@ -56,7 +58,7 @@ inline double everestMeshError(const web::QuantizedMesh& m, web::TileKey k, Heig
                 (lon - r.west) / (r.east - r.west) * web::QuantizedMesh::kMaxCoordinate;
             const double v =
                 (lat - r.south) / (r.north - r.south) * web::QuantizedMesh::kMaxCoordinate;
-            worst = std::max(worst, std::abs(web::meshHeightAt(m, u, v) - s.height));
+            worst = std::max(worst, std::abs(web::drawnHeightAt(m, k, flattened, u, v) - s.height));
         }
     return worst;
 }

@@ -2,12 +2,15 @@
 // neighbours that meet on identical edge vertices.
 #include "ridge/web/terrain_tile.h"
 
+#include "ridge/lod/ellipsoid.h"
+
 #include "ridge/core/error.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <map>
+#include <numbers>
 
 using namespace ridge;
 using namespace ridge::web;
@@ -45,13 +48,14 @@ TEST(TerrainTile, EverySampleLiesWithinTheStatedErrorOfTheDecodedMesh)
         EXPECT_LE(tile.error,
                   bound + 0.5 * (tile.mesh.max_height - tile.mesh.min_height) / 32767 + 1e-9);
         const QuantizedMesh m = decodeQuantizedMesh(encodeQuantizedMesh(tile.mesh));
+        const std::vector<double> flattened = flattenedHeights(m, grid.key);
         double worst = 0.0;
         for (int r = 0; r <= cells; ++r)
             for (int c = 0; c <= cells; ++c) {
                 // u, v as the tile quantized them (the sample's own position on the mesh).
                 const double u = std::round(c * 32767.0 / cells);
                 const double v = std::round((cells - r) * 32767.0 / cells);
-                const double h = meshHeightAt(m, u, v);
+                const double h = drawnHeightAt(m, grid.key, flattened, u, v);
                 ASSERT_FALSE(std::isnan(h)) << "sample " << c << ", " << r << " outside the mesh";
                 worst = std::max(worst,
                                  std::abs(h - double(grid.heights[size_t(r * (cells + 1) + c)])));
@@ -108,10 +112,69 @@ TEST(TerrainTile, ARectilinearGridKeepsItsSamplesWithinTheErrorToo)
             t.heights.push_back(terrain(t.u[c] / 300, t.v[r] / 300));
     const TerrainTile tile = makeTerrainTile(t, 3.0);
     const QuantizedMesh m = decodeQuantizedMesh(encodeQuantizedMesh(tile.mesh));
+    const std::vector<double> flattened = flattenedHeights(m, t.key);
     for (size_t r = 0; r < t.v.size(); ++r)
         for (size_t c = 0; c < t.u.size(); ++c)
-            EXPECT_LE(std::abs(meshHeightAt(m, t.u[c], t.v[r]) - t.heights[r * t.u.size() + c]),
+            EXPECT_LE(std::abs(drawnHeightAt(m, t.key, flattened, t.u[c], t.v[r]) -
+                               t.heights[r * t.u.size() + c]),
                       tile.error + 1e-3);
+}
+
+TEST(TerrainTile, FlatGroundFollowsTheGlobesCurvature)
+{
+    // Sea-level tiles at zooms 2 and 4 meshed within Cesium's error for them: the client
+    // draws flat triangles in ECEF, so every sample's point on the ellipsoid must lie within
+    // the bound of the chord triangle over it, measured here in 3-D by the test alone (the
+    // triangle's corners in ECEF, barycentric in u, v, the distance along the up vector).
+    // Without the curvature term the TIN keeps the 4 corners, whose chords pass 1,200 km
+    // (zoom 2) under the surface.
+    const lod::Ellipsoid wgs84 = lod::Ellipsoid::wgs84();
+    constexpr double kRadians = std::numbers::pi / 180.0;
+    for (const TileKey k : {TileKey{2, 5, 2}, TileKey{4, 20, 9}}) {
+        const int cells = 64;
+        TileHeights grid = uniformTileHeights(k, cells);
+        grid.heights.assign(size_t((cells + 1) * (cells + 1)), 0.f);
+        const double bound = GeographicTms::geometricError(k.z);
+        const TerrainTile tile = makeTerrainTile(grid, bound);
+        const QuantizedMesh& m = tile.mesh;
+        EXPECT_GT(m.vertexCount(), 4u);
+        const GeoRect r = GeographicTms::rect(k);
+        const auto ecef = [&](double u, double v) {
+            return lod::geodeticToEcef(wgs84, (r.west + (r.east - r.west) * u / 32767) * kRadians,
+                                       (r.south + (r.north - r.south) * v / 32767) * kRadians, 0.0);
+        };
+        double worst = 0.0;
+        for (size_t j = 0; j < grid.v.size(); ++j)
+            for (size_t i = 0; i < grid.u.size(); ++i) {
+                const double u = grid.u[i], v = grid.v[j];
+                const glm::dvec3 p = ecef(u, v);
+                for (size_t t = 0; t + 2 < m.triangles.size(); t += 3) {
+                    const uint32_t a = m.triangles[t], b = m.triangles[t + 1],
+                                   c = m.triangles[t + 2];
+                    const double det = (double(m.u[b]) - m.u[a]) * (double(m.v[c]) - m.v[a]) -
+                                       (double(m.u[c]) - m.u[a]) * (double(m.v[b]) - m.v[a]);
+                    const double l1 = ((u - m.u[a]) * (double(m.v[c]) - m.v[a]) -
+                                       (double(m.u[c]) - m.u[a]) * (v - m.v[a])) /
+                                      det;
+                    const double l2 = ((double(m.u[b]) - m.u[a]) * (v - m.v[a]) -
+                                       (u - m.u[a]) * (double(m.v[b]) - m.v[a])) /
+                                      det;
+                    const double l0 = 1 - l1 - l2;
+                    if (l0 < -1e-9 || l1 < -1e-9 || l2 < -1e-9)
+                        continue;
+                    const glm::dvec3 drawn = l0 * ecef(m.u[a], m.v[a]) + l1 * ecef(m.u[b], m.v[b]) +
+                                             l2 * ecef(m.u[c], m.v[c]);
+                    worst = std::max(worst, glm::length(p - drawn));
+                    break;
+                }
+            }
+        std::printf("zoom %d: %zu vertices, client error %.0f m, chords at most %.0f m from the "
+                    "ellipsoid\n",
+                    k.z, m.vertexCount(), bound, worst);
+        // The paraboloid stands for the ellipsoid to first order in the tile's angle: the
+        // chords lie 20 % past the tile's error at zoom 2 (45° tiles), 2 % at zoom 4 (11°).
+        EXPECT_LE(worst, (k.z <= 2 ? 1.2 : 1.02) * tile.error) << "zoom " << k.z;
+    }
 }
 
 TEST(TerrainTile, RefusesWhatIsNotATile)

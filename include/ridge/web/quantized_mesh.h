@@ -68,6 +68,9 @@ double decodedHeight(const QuantizedMesh& mesh, uint32_t i);
 // indices start at triangles[first]: linear on it, NaN when the point lies outside it (by
 // more than 1e-9 of its barycentric coordinates) or the triangle is degenerate.
 double triangleHeightAt(const QuantizedMesh& mesh, size_t first, double u, double v);
+// The same interpolation of per-vertex `values` (one per vertex) instead of the heights.
+double triangleValueAt(const QuantizedMesh& mesh, size_t first, double u, double v,
+                       std::span<const double> values);
 // The mesh's height at (u, v): triangleHeightAt of the first triangle holding the point, NaN
 // when none does. O(triangles) a call: for checking tiles, not for drawing them.
 double meshHeightAt(const QuantizedMesh& mesh, double u, double v);

@@ -128,9 +128,10 @@ class TileSampler {
     // The finest pixel/line box the tile's outline covers (a projected archive's is curved).
     std::pair<glm::dvec2, glm::dvec2> pixelWindow(TileKey k) const;
     // Puts grid's lines on the level's own sample columns and rows inside tile k (plus its
-    // edges) and points_ on their pixel/line; false (nothing set) where the archive is not a
-    // north-up longitude/latitude grid or the tile falls outside its period.
-    bool placeOnSamples(TileKey k, int level, TileHeights& grid);
+    // edges, and evenly spaced lines in gaps wider than a `cells` grid's cell) and points_ on their
+    // pixel/line; false (nothing set) where the archive is not a north-up longitude/latitude grid
+    // or the tile falls outside its period.
+    bool placeOnSamples(TileKey k, int level, int cells, TileHeights& grid);
 
     // Reads points_ (given in `space`; left as pixel/line) on `level`, bilinear: a valid
     // sample its height; kept nodata the value the archive stores there; a point off the
