@@ -248,13 +248,15 @@ bool TileSampler::placeOnSamples(TileKey k, int level, int cells, TileHeights& g
         std::vector<int32_t> filled;
         for (size_t i = 0; i < lines.size(); ++i) {
             if (i > 0 && double(lines[i] - lines[i - 1]) > gap_limit) {
-                const int32_t a = lines[i - 1], gap = lines[i] - a;
-                const int32_t parts = (gap + widest - 1) / widest;
-                for (int32_t j = 1; j < parts; ++j) {
-                    const int32_t q = a + int32_t(std::lround(double(j) * gap / parts));
-                    filled.push_back(q);
-                    filled_at.push_back(lo + (hi - lo) * double(q) / kMax);
-                }
+                // On the lattice of multiples of `widest`, which both tiles of an edge share
+                // (their lines along it span the same range), at least half a cell from the
+                // gap's ends.
+                const int32_t a = lines[i - 1], b = lines[i];
+                for (int32_t q = (a / widest + 1) * widest; q < b; q += widest)
+                    if (q - a >= widest / 2 && b - q >= widest / 2) {
+                        filled.push_back(q);
+                        filled_at.push_back(lo + (hi - lo) * double(q) / kMax);
+                    }
             }
             filled.push_back(lines[i]);
             filled_at.push_back(at[i]);
@@ -324,8 +326,6 @@ std::optional<SampledTile> TileSampler::sample(TileKey k, int cells, int level)
     if (level > query_.finestLevel())
         throw Error("web tile level " + std::to_string(level) + " outside [0, " +
                     std::to_string(query_.finestLevel()) + "]");
-    if (!overlaps(k))
-        return std::nullopt;
 
     SampledTile out;
     out.level = level < 0 ? levelFor(k, cells) : level;
@@ -347,7 +347,7 @@ std::optional<SampledTile> TileSampler::sample(TileKey k, int cells, int level)
     const size_t valid = readPoints(space, out.level, out.grid.heights, out.flags,
                                     out.archive_error, out.off_raster, out.nodata);
     if (valid == 0)
-        return std::nullopt; // inside the box but not on the raster (a rotated or curved one)
+        return std::nullopt; // PROJ placed none of the tile's points
     if (valid < points_.size())
         fillFromNearest(out.grid.heights, int(out.grid.u.size()), valid_);
     addUndulations(out.grid.heights, PointSpace::Pixel);
@@ -365,6 +365,7 @@ size_t TileSampler::readPoints(PointSpace space, int level, std::vector<float>& 
     // goes on outwards (the clamped point's height).
     unreadable_.assign(points_.size(), 0);
     outside_.assign(points_.size(), 0);
+    fade_.assign(points_.size(), 1.0);
     for (size_t i = 0; i < points_.size(); ++i) {
         glm::dvec2& p = points_[i];
         if (space == PointSpace::LonLat) {
@@ -378,7 +379,10 @@ size_t TileSampler::readPoints(PointSpace space, int level, std::vector<float>& 
         }
         if (!(p.x >= 0.0 && p.x <= w && p.y >= 0.0 && p.y <= h)) {
             outside_[i] = 1;
-            p = {std::clamp(p.x, 0.0, w), std::clamp(p.y, 0.0, h)};
+            const glm::dvec2 clamped(std::clamp(p.x, 0.0, w), std::clamp(p.y, 0.0, h));
+            // The edge's height fades to 0 m over the raster's own size beyond it.
+            fade_[i] = std::max(0.0, 1.0 - glm::length(p - clamped) / std::max(w, h));
+            p = clamped;
         }
     }
     samples_.resize(points_.size());
@@ -386,7 +390,6 @@ size_t TileSampler::readPoints(PointSpace space, int level, std::vector<float>& 
     heights.assign(points_.size(), 0.f);
     valid_.assign(points_.size(), 0);
     flags.assign(points_.size(), SampledTile::kAbsent);
-    size_t valid = 0;
     for (size_t i = 0; i < samples_.size(); ++i) {
         const HeightSample& s = samples_[i];
         if (unreadable_[i] || !s.on_raster || s.invalid_point) {
@@ -398,19 +401,16 @@ size_t TileSampler::readPoints(PointSpace space, int level, std::vector<float>& 
         if (s.nodata) {
             ++nodata;
             heights[i] = float(s.nodata_fill);
+        } else if (outside_[i]) {
+            ++off_raster;
+            heights[i] = float(s.height * fade_[i]);
         } else {
             heights[i] = float(s.height);
-            if (outside_[i])
-                ++off_raster;
-            else
-                flags[i] = s.water ? SampledTile::kWater : 0;
+            flags[i] = s.water ? SampledTile::kWater : 0;
         }
-        valid += !outside_[i] && !s.nodata;
     }
-    // A tile with no sample on the archive's data is not made; otherwise what was read is
-    // kept (valid_ marks it) and only unreadable points are filled by the caller.
-    if (valid == 0)
-        return 0;
+    // What was read is kept (valid_ marks it); only unreadable points are filled by the
+    // caller, and a tile none of whose points could be read is not made.
     return size_t(std::count(valid_.begin(), valid_.end(), uint8_t(1)));
 }
 

@@ -352,13 +352,14 @@ ServedTile Tileset::make(State& state, TileSampler& sampler, TileKey k, unsigned
 {
     ServedTile out;
     out.version = state.info.version;
-    std::optional<ClientTile> tile =
-        sampler.overlaps(k) ? makeClientTile(sampler, k, options_.cells) : std::nullopt;
+    // Every available tile is read, the ones the archive misses too (its edge fading out to
+    // 0 m: tile_sampler.h), so that a root tile meets its neighbour.
+    std::optional<ClientTile> tile = makeClientTile(sampler, k, options_.cells);
     std::vector<uint8_t> water;
     TerrainTile flat;
     if (!tile) {
-        // Available but without data (a root tile the archive misses, or a tile inside its
-        // box off its rotated or curved raster): the ellipsoid.
+        // Available but nothing could be read (PROJ placed none of its points): the
+        // ellipsoid.
         // A 16-cell grid, so that the mesh can follow the globe within the client's error.
         TileHeights grid = uniformTileHeights(k, 16);
         grid.heights.assign(17 * 17, 0.f);

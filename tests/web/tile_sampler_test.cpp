@@ -25,8 +25,19 @@ TEST(TileSampler, TracesTheArchivesExtentAndFindsItsTiles)
     EXPECT_NEAR(e.south, 28.000417 - 203 * 0.000833333, 1e-6);
     EXPECT_TRUE(sampler.overlaps(GeographicTms::tileAt(12, 86.925, 27.988)));
     EXPECT_FALSE(sampler.overlaps(GeographicTms::tileAt(12, 10.0, 45.0)));
-    EXPECT_FALSE(sampler.sample(GeographicTms::tileAt(12, 10.0, 45.0), 64))
-        << "a tile off the archive";
+    // A tile far off the archive still reads: the edge faded out to 0 m (its neighbours must
+    // meet it).
+    const std::optional<SampledTile> far =
+        sampler.sample(GeographicTms::tileAt(12, 10.0, 45.0), 64);
+    ASSERT_TRUE(far);
+    EXPECT_EQ(far->off_raster, far->grid.heights.size());
+    EXPECT_EQ(*std::max_element(far->grid.heights.begin(), far->grid.heights.end()), 0.f);
+    // Just off the fixture's west edge the edge's height goes on, fading: 0.1° out (a third
+    // of the fixture's width), about 60 % of it.
+    const std::optional<SampledTile> near =
+        sampler.sample(GeographicTms::tileAt(12, 86.65, 27.9), 64);
+    ASSERT_TRUE(near);
+    EXPECT_GT(*std::max_element(near->grid.heights.begin(), near->grid.heights.end()), 1000.f);
     // 64-cell tiles reach the fixture's 92 m at zoom 11 (153 m samples; zoom 12's are 76 m).
     EXPECT_EQ(sampler.maxZoom(64), 11);
     EXPECT_EQ(sampler.verticalReference(), "unknown") << "the fixture states no vertical datum";

@@ -10,10 +10,11 @@
 // Elsewhere (projected archives) it is a uniform grid of `cells` cells read through PROJ,
 // whose samples are the level's surface between its samples. Either way a sample is within
 // Err(P) of the finest samples. A sample off the raster takes the raster's edge height (the
-// point clamped into the raster: the surface goes on past the data, with no cliff to 0 m at
-// its edge), one on kept nodata the value the archive stores there; both are functions of
-// the position alone, so two tiles read a shared edge alike, and both are counted. A tile
-// with no sample on the data is not made at all.
+// point clamped into the raster) faded linearly to 0 m over the raster's own size beyond it —
+// no cliff at the data's edge, no plateau across the rest of the globe — and one on kept
+// nodata the value the archive stores there; both are functions of the position alone, so
+// two tiles read a shared edge alike (a root tile the archive misses included), and both are
+// counted.
 //
 // Heights are the archive's: above the ellipsoid when the build shifted them there
 // (`ridge build --vertical-datum`, "build.vertical_shift"), else above whatever the source
@@ -95,8 +96,9 @@ class TileSampler {
     // The deepest zoom whose tiles of `cells` cells are still no finer than the archive's
     // finest samples (deeper tiles add nothing but interpolation).
     int maxZoom(int cells) const;
-    // The tile's grid, or nullopt when the tile misses the archive. Throws ridge::Error for an
-    // invalid key or cells outside [1, 4096].
+    // The tile's grid (any tile: one the archive misses reads its edge fading out), or
+    // nullopt when none of its points could be placed on the raster (PROJ refused them all).
+    // Throws ridge::Error for an invalid key or cells outside [1, 4096].
     // `level` < 0: levelFor's; else that level (throws ridge::Error past the finest).
     std::optional<SampledTile> sample(TileKey k, int cells, int level = -1);
 
@@ -138,7 +140,7 @@ class TileSampler {
     // raster the raster's edge (the point clamped into it) — each a function of the position
     // alone, so tiles sharing an edge read it alike. flags: SampledTile's. valid_ marks what
     // was read; points PROJ cannot place are left for the caller to fill. Returns how many
-    // were read, 0 when none lies on the archive's data.
+    // were read.
     size_t readPoints(PointSpace space, int level, std::vector<float>& heights,
                       std::vector<uint8_t>& flags, double& archive_error, size_t& off_raster,
                       size_t& nodata);
@@ -155,6 +157,7 @@ class TileSampler {
     std::vector<glm::dvec2> points_;   // scratch, reused across tiles
     std::vector<HeightSample> samples_;
     std::vector<uint8_t> valid_, unreadable_, outside_;
+    std::vector<double> fade_; // per point off the raster: how much of the edge's height it keeps
 };
 
 } // namespace ridge::web
