@@ -12,6 +12,8 @@ cd "$(dirname "$0")/.."
 phase() { echo "== scripts/test.sh: $1 at $((SECONDS / 60)) min $((SECONDS % 60)) s"; }
 phase "dependencies"
 bash scripts/install-deps.sh
+phase "web dependencies (chromium, node, npm packages)"
+bash scripts/install-web-deps.sh
 phase "checks"
 bash scripts/check-layering.sh
 bash scripts/check-library-only.sh

@@ -320,9 +320,20 @@ async function cesiumPhase(ctx) {
   const { page, status, ok } = await openViewer(context, 'cesium', url, 180_000);
   if (!ok) return;
   const shot = await page.screenshot({ path: join(out, 'cesium.png') });
-  await page.close();
   const cesium = analyse(await decodeImage(decoder, shot, 'image/png'), isMagenta);
-  checkDrawn('cesium', cesium);
+  check('cesium: terrain drawn', cesium.fraction >= MIN_TERRAIN_FRACTION,
+    `${(100 * cesium.fraction).toFixed(1)} % of the viewport not magenta (at least ${100 * MIN_TERRAIN_FRACTION} %)`);
+  // Holes on the whole globe: clipped to the tileset's bounds (for the skyline below), a screen
+  // column near the image's sides may leave the footprint and re-enter it, which is no hole;
+  // unclipped, the tiles beyond the archive (its edge fading out to 0 m) are drawn too, so any
+  // magenta under the skyline is a crack or a missing tile.
+  await page.evaluate(() => window.ridgeUnclip());
+  await page.waitForFunction(() => window.ridgeStatus?.ready || window.ridgeStatus?.error, null, { timeout: 120_000, polling: 500 });
+  const globeShot = await page.screenshot({ path: join(out, 'cesium-globe.png') });
+  await page.close();
+  const globe = analyse(await decodeImage(decoder, globeShot, 'image/png'), isMagenta);
+  check('cesium (whole globe): no holes', globe.holes <= MAX_HOLE_PIXELS && globe.emptyColumns === 0,
+    `${globe.holes} magenta pixels under the skyline (at most ${MAX_HOLE_PIXELS}), ${globe.emptyColumns} columns without terrain`);
 
   // ridge render from the camera Cesium reports, with Cesium's vertical fov (its frustum's fov is
   // the horizontal one in a landscape canvas), on the ellipsoid as Cesium draws it. The fixture
