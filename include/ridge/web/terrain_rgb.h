@@ -45,7 +45,7 @@ struct RgbTile {
     double step = 0.0;          // metres (the rule above)
     double archive_error = 0.0; // the largest Err(P) of the patches read
     int level = 0;              // the archive level read
-    size_t missing = 0;         // pixels off the archive or on its nodata (nearest valid height)
+    size_t missing = 0;         // pixels off the archive or on its nodata (tile_sampler.h)
 };
 
 // The tile of Web Mercator key `k`, `size` pixels a side, or nullopt when it misses the

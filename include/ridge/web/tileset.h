@@ -7,10 +7,10 @@
 // with its own bounded decoded-patch cache: at most `samplers` tiles are made at once and
 // memory is bounded by samplers × cache_patches decoded patches.
 //
-// Availability: zoom 0's two root tiles always (a root the archive misses is a flat tile at
-// 0 m above the ellipsoid, as Cesium's EllipsoidTerrainProvider draws); below, the tiles
-// that overlap the archive's longitude/latitude extent, down to TileSampler::maxZoom. Every
-// other key is not available (nullopt: HTTP 404).
+// Availability: zoom 0's two root tiles always (a root the archive misses is read like any
+// other: the archive's edge fading out to 0 m, tile_sampler.h); below, the tiles that overlap
+// the archive's longitude/latitude extent, down to TileSampler::maxZoom. Every other key is
+// not available (nullopt: HTTP 404).
 //
 // A replaced archive (another file renamed over the path, or the file rewritten) is noticed
 // on the next request and reopened; its tiles then carry a new version. While the new file
@@ -65,7 +65,7 @@ struct TilesetOptions {
 struct ServedTile {
     std::vector<uint8_t> bytes;
     double claimed_error = 0.0; // metres: every finest sample within it (client_tile.h)
-    bool flat = false;          // a tile the archive does not reach (0 m above the ellipsoid)
+    bool flat = false;          // a tile none of whose points PROJ could place (0 m, the ellipsoid)
     std::string version;        // the archive's version it was made from
 };
 
