@@ -4,6 +4,7 @@
 
 #include "everest_web.h"
 #include "ridge/core/error.h"
+#include "ridge/core/sanitizer.h"
 #include "ridge/web/gzip.h"
 
 #include <gtest/gtest.h>
@@ -255,8 +256,10 @@ TEST_F(HttpServerTest, AHundredConcurrentRequestsInBoundedMemory)
     EXPECT_EQ(absent.load(), 10);
     EXPECT_EQ(failed.load(), 0);
     // Bounded by the tile cache (4 MiB), two samplers' decoded patches and 16 threads'
-    // stacks and buffers, not by the number of requests.
-    EXPECT_LT(growth, size_t(96) << 20);
+    // stacks and buffers, not by the number of requests. (Under AddressSanitizer freed memory
+    // stays resident in its quarantine, 256 MiB by default: the figure says nothing there.)
+    if (!RIDGE_ADDRESS_SANITIZER)
+        EXPECT_LT(growth, size_t(96) << 20);
     EXPECT_EQ(server.service().stats().tiles_made, 9u);
 }
 
