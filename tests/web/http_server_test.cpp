@@ -258,8 +258,9 @@ TEST_F(HttpServerTest, AHundredConcurrentRequestsInBoundedMemory)
     // Bounded by the tile cache (4 MiB), two samplers' decoded patches and 16 threads'
     // stacks and buffers, not by the number of requests. (Under AddressSanitizer freed memory
     // stays resident in its quarantine, 256 MiB by default: the figure says nothing there.)
-    if (!RIDGE_ADDRESS_SANITIZER)
+    if (!RIDGE_ADDRESS_SANITIZER) {
         EXPECT_LT(growth, size_t(96) << 20);
+    }
     EXPECT_EQ(server.service().stats().tiles_made, 9u);
 }
 
