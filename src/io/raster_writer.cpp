@@ -9,6 +9,7 @@
 #include "ridge/core/atomic_output.h"
 #include "ridge/core/error.h"
 #include "ridge/core/file_identity.h"
+#include "ridge/core/file_io.h"
 #include "ridge/core/nearest_name.h"
 
 #include <cpl_string.h>
@@ -194,19 +195,6 @@ struct VsiMemDirectory {
     std::string path;
     ~VsiMemDirectory() { VSIRmdirRecursive(path.c_str()); }
 };
-
-void writeAll(int fd, const GByte* data, size_t size, const std::string& path)
-{
-    while (size > 0) {
-        const ssize_t n = ::write(fd, data, size);
-        if (n < 0 && errno == EINTR)
-            continue;
-        if (n <= 0)
-            throw Error(path + ": cannot write: " + std::strerror(n < 0 ? errno : EIO));
-        data += n;
-        size -= size_t(n);
-    }
-}
 
 } // namespace
 

@@ -1,6 +1,7 @@
 #include "ridge/web/pmtiles.h"
 
 #include "ridge/core/error.h"
+#include "ridge/core/file_io.h"
 #include "ridge/web/gzip.h"
 
 #include <fcntl.h>
@@ -175,48 +176,6 @@ const Entry* findEntry(const std::vector<Entry>& entries, uint64_t id)
     return nullptr;
 }
 
-void writeAll(int fd, const void* data, size_t size, uint64_t offset, const std::string& path)
-{
-    const char* p = static_cast<const char*>(data);
-    while (size > 0) {
-        const ssize_t n = ::pwrite(fd, p, size, off_t(offset));
-        if (n < 0) {
-            if (errno == EINTR)
-                continue;
-            throw Error(path + ": cannot write: " + std::strerror(errno));
-        }
-        p += n;
-        size -= size_t(n);
-        offset += uint64_t(n);
-    }
-}
-
-void readAll(int fd, void* data, size_t size, uint64_t offset, const std::string& path)
-{
-    char* p = static_cast<char*>(data);
-    while (size > 0) {
-        const ssize_t n = ::pread(fd, p, size, off_t(offset));
-        if (n < 0 && errno == EINTR)
-            continue;
-        if (n <= 0)
-            throw Error(
-                path + ": cannot read " + std::to_string(size) + " bytes at " +
-                std::to_string(offset) +
-                (n < 0 ? std::string(": ") + std::strerror(errno) : std::string(": past its end")));
-        p += n;
-        size -= size_t(n);
-        offset += uint64_t(n);
-    }
-}
-
-uint64_t fnv1a(std::span<const uint8_t> bytes)
-{
-    uint64_t h = 1469598103934665603ull;
-    for (const uint8_t b : bytes)
-        h = (h ^ b) * 1099511628211ull;
-    return h;
-}
-
 } // namespace
 
 uint64_t pmtilesTileId(TileKey k)
@@ -287,7 +246,7 @@ PmtilesWriter::PmtilesWriter(int fd, std::string path) : impl_(std::make_unique<
     impl_->path = std::move(path);
     // The root region is written last; zeros hold its place.
     const std::string zeros(kRootRegion, '\0');
-    writeAll(fd, zeros.data(), zeros.size(), 0, impl_->path);
+    writeAllAt(fd, zeros.data(), zeros.size(), 0, impl_->path);
     end_ = kRootRegion;
 }
 
@@ -302,20 +261,20 @@ void PmtilesWriter::add(uint64_t tile_id, std::span<const uint8_t> bytes)
         throw Error(m.path + ": tile id " + std::to_string(tile_id) + " not above the last one");
     if (bytes.empty() || bytes.size() > UINT32_MAX)
         throw Error(m.path + ": tile of " + std::to_string(bytes.size()) + " bytes");
-    const uint64_t hash = fnv1a(bytes);
+    const uint64_t hash = fnv1a64(bytes.data(), bytes.size());
     std::optional<std::pair<uint64_t, uint32_t>> found;
     auto [first, last] = m.stored.equal_range(hash);
     for (auto it = first; it != last && !found; ++it) {
         if (it->second.second != bytes.size())
             continue;
         std::vector<uint8_t> there(bytes.size());
-        readAll(m.fd, there.data(), there.size(), kRootRegion + it->second.first, m.path);
+        readAllAt(m.fd, there.data(), there.size(), kRootRegion + it->second.first, m.path);
         if (std::equal(there.begin(), there.end(), bytes.begin()))
             found = it->second;
     }
     if (!found) {
         const uint64_t offset = end_ - kRootRegion;
-        writeAll(m.fd, bytes.data(), bytes.size(), end_, m.path);
+        writeAllAt(m.fd, bytes.data(), bytes.size(), end_, m.path);
         end_ += bytes.size();
         found = std::pair(offset, uint32_t(bytes.size()));
         m.stored.emplace(hash, *found);
@@ -339,7 +298,7 @@ void PmtilesWriter::finish(const PmtilesHeader& h, const std::string& metadata_j
     const uint64_t data_length = end_ - kRootRegion;
     const std::string metadata = detail::gzipCompress(metadata_json);
     const uint64_t metadata_offset = end_;
-    writeAll(m.fd, metadata.data(), metadata.size(), end_, m.path);
+    writeAllAt(m.fd, metadata.data(), metadata.size(), end_, m.path);
     end_ += metadata.size();
 
     // The root directory, or leaves of more and more entries until the root fits.
@@ -359,7 +318,7 @@ void PmtilesWriter::finish(const PmtilesHeader& h, const std::string& metadata_j
         root = detail::gzipCompress(serialize(root_entries));
     }
     const uint64_t leaves_offset = end_;
-    writeAll(m.fd, leaves.data(), leaves.size(), end_, m.path);
+    writeAllAt(m.fd, leaves.data(), leaves.size(), end_, m.path);
     end_ += leaves.size();
 
     uint8_t header[kHeaderBytes] = {};
@@ -383,8 +342,8 @@ void PmtilesWriter::finish(const PmtilesHeader& h, const std::string& metadata_j
     header[118] = uint8_t(h.center_zoom);
     putI32(header + 119, e7(h.center_lon));
     putI32(header + 123, e7(h.center_lat));
-    writeAll(m.fd, header, kHeaderBytes, 0, m.path);
-    writeAll(m.fd, root.data(), root.size(), kHeaderBytes, m.path);
+    writeAllAt(m.fd, header, kHeaderBytes, 0, m.path);
+    writeAllAt(m.fd, root.data(), root.size(), kHeaderBytes, m.path);
 }
 
 struct PmtilesReader::Impl {
@@ -411,7 +370,7 @@ struct PmtilesReader::Impl {
                         std::to_string(offset) + ") lies past the file's " + std::to_string(size) +
                         " bytes");
         std::string out(length, '\0');
-        readAll(fd, out.data(), out.size(), offset, path);
+        readAllAt(fd, out.data(), out.size(), offset, path);
         return out;
     }
     std::string inflate(const std::string& bytes) const
@@ -451,7 +410,7 @@ PmtilesReader::PmtilesReader(const std::string& path) : impl_(std::make_unique<I
     if (m.size < kHeaderBytes)
         throw Error(path + ": " + std::to_string(m.size) + " bytes, shorter than a PMTiles header");
     uint8_t h[kHeaderBytes];
-    readAll(m.fd, h, kHeaderBytes, 0, path);
+    readAllAt(m.fd, h, kHeaderBytes, 0, path);
     if (std::memcmp(h, "PMTiles", 7) != 0)
         throw Error(path + ": not a PMTiles archive (no magic)");
     if (h[7] != 3)

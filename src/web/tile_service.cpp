@@ -4,6 +4,7 @@
 #include "ridge/web/terrain_rgb.h"
 
 #include "ridge/core/error.h"
+#include "ridge/core/file_io.h"
 #include "ridge/stream/lru_cache.h"
 
 #include <nlohmann/json.hpp>
@@ -260,7 +261,7 @@ WebResponse TileService::handle(const WebRequest& request)
             } else if (set) {
                 response = terrainRgb(*set, rest, request);
             } else {
-                response = page(path, request);
+                response = page(path);
             }
         } catch (const std::exception& e) {
             // The archive could not be read (a corrupt patch, a vanished file): refuse.
@@ -353,11 +354,10 @@ WebResponse TileService::tileResponse(const CachedTile& tile, const std::string&
     const bool send_gzip = gzipped && acceptsGzip(request.accept_encoding);
     // One strong tag per representation: the name holds the archive's version, the tile and
     // its options; the coding is added.
-    uint64_t h = 1469598103934665603ull;
-    for (const char c : name + (send_gzip ? "+gzip" : ""))
-        h = (h ^ uint8_t(c)) * 1099511628211ull;
+    const std::string tagged = name + (send_gzip ? "+gzip" : "");
     char etag[24];
-    std::snprintf(etag, sizeof etag, "\"%016llx\"", (unsigned long long)h);
+    std::snprintf(etag, sizeof etag, "\"%016llx\"",
+                  (unsigned long long)fnv1a64(tagged.data(), tagged.size()));
     WebResponse r;
     r.headers = tile.headers;
     r.headers.emplace_back("ETag", etag);
@@ -463,9 +463,8 @@ WebResponse TileService::terrainRgb(Tileset& set, std::string_view rest, const W
     return r;
 }
 
-WebResponse TileService::page(std::string_view path, const WebRequest& request) const
+WebResponse TileService::page(std::string_view path) const
 {
-    (void)request;
     if (options_.pages_dir.empty())
         return text(404, "404 not found (no pages are served)");
     std::filesystem::path file = std::filesystem::path(options_.pages_dir) /

@@ -3,6 +3,7 @@
 #include "ridge/core/atomic_output.h"
 #include "ridge/core/error.h"
 #include "ridge/core/file_identity.h"
+#include "ridge/core/file_io.h"
 #include "ridge/web/gzip.h"
 #include "ridge/web/pmtiles.h"
 
@@ -116,17 +117,11 @@ void writeFile(const fs::path& path, std::span<const uint8_t> bytes)
     const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
     if (fd < 0)
         throw Error(path.string() + ": cannot write: " + std::strerror(errno));
-    size_t done = 0;
-    while (done < bytes.size()) {
-        const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
-        if (n < 0 && errno == EINTR)
-            continue;
-        if (n <= 0) {
-            const int e = errno;
-            ::close(fd);
-            throw Error(path.string() + ": cannot write: " + std::strerror(e));
-        }
-        done += size_t(n);
+    try {
+        writeAll(fd, bytes.data(), bytes.size(), path.string());
+    } catch (...) {
+        ::close(fd);
+        throw;
     }
     if (::close(fd) != 0)
         throw Error(path.string() + ": cannot write: " + std::strerror(errno));

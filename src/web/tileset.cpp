@@ -1,6 +1,7 @@
 #include "ridge/web/tileset.h"
 
 #include "ridge/core/error.h"
+#include "ridge/core/file_io.h"
 #include "ridge/web/client_tile.h"
 #include "ridge/web/tile_sampler.h"
 
@@ -36,17 +37,12 @@ std::optional<FileIdentity> identityOf(const std::string& path)
                         int64_t(st.st_mtim.tv_sec) * 1000000000 + st.st_mtim.tv_nsec};
 }
 
-// FNV-1a over the identity: a version string, not a security token.
+// A hash of the identity (a version string, not a security token).
 std::string versionOf(const FileIdentity& id)
 {
-    uint64_t h = 1469598103934665603ull;
-    for (const uint64_t word : {id.device, id.inode, id.size, uint64_t(id.mtime_ns)})
-        for (int b = 0; b < 8; ++b) {
-            h ^= (word >> (8 * b)) & 0xff;
-            h *= 1099511628211ull;
-        }
+    const uint64_t words[4] = {id.device, id.inode, id.size, uint64_t(id.mtime_ns)};
     char text[17];
-    std::snprintf(text, sizeof text, "%016" PRIx64, h);
+    std::snprintf(text, sizeof text, "%016" PRIx64, fnv1a64(words, sizeof words));
     return text;
 }
 

@@ -84,7 +84,7 @@ class TileService {
     struct CachedTile;
     WebResponse terrain(Tileset& set, TileKey key, const WebRequest& request);
     WebResponse terrainRgb(Tileset& set, std::string_view rest, const WebRequest& request);
-    WebResponse page(std::string_view path, const WebRequest& request) const;
+    WebResponse page(std::string_view path) const;
     WebResponse tilesetsJson();
     // The tile named `name` (the archive's version, the tile, its options), from the cache
     // or made by `make` (nullopt: not available) — once, whoever asks meanwhile.
