@@ -1,5 +1,7 @@
 #include "ridge/codec/height_codec.h"
 
+#include "ridge/core/error.h"
+
 #include <cstring>
 
 namespace ridge {
@@ -32,6 +34,13 @@ void HeightCodec::reconstruct(const uint16_t* codes, const PatchContext& ctx, ui
 {
     std::memcpy(out, codes,
                 sizeof(uint16_t) * static_cast<size_t>(ctx.patch_size) * ctx.patch_size);
+}
+
+void HeightCodec::restoreTraining(const uint8_t* /*data*/, size_t size)
+{
+    if (size != 0)
+        throw Error(std::string("codec '") + name() + "' learns nothing, but a training state of " +
+                    std::to_string(size) + " bytes was given");
 }
 
 } // namespace ridge

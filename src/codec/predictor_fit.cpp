@@ -12,7 +12,7 @@ constexpr int T = kCorrectionTapCount;
 // Fewer samples than this fit noise rather than terrain; such classes keep weights 0.
 constexpr uint64_t kMinSamples = 2048;
 // Targets are clamped like the features, so one cliff does not steer a level's weights.
-constexpr double kMaxTarget = 16;
+constexpr int64_t kMaxTarget = 16;
 
 // Solves (A + λI) x = b in place by Cholesky; false when A is not positive definite.
 bool solveSpd(std::array<double, T * T> a, std::array<double, T> b, std::array<double, T>& x)
@@ -72,13 +72,14 @@ void CorrectionFit::add(const int32_t* q, int n, const CodedRegion& region, int 
                     continue;
                 const int32_t* at = q + static_cast<size_t>(y) * n + x;
                 const int32_t p0 = predictOdd(q, n, region, x, y, predictor);
-                double f[T];
+                int64_t f[T];
                 for (int i = 0; i < T; ++i) {
                     const CorrectionTap t = kCorrectionTaps[c][i];
                     f[i] =
                         std::clamp(at[t.dy * static_cast<ptrdiff_t>(n) + t.dx] - p0, -32767, 32767);
                 }
-                const double target = std::clamp(double(*at - p0), -kMaxTarget, kMaxTarget);
+                const int64_t target =
+                    std::clamp<int64_t>(int64_t{*at} - p0, -kMaxTarget, kMaxTarget);
                 for (int i = 0; i < T; ++i) {
                     for (int j = 0; j <= i; ++j)
                         nm.ata[i * T + j] += f[i] * f[j];
@@ -106,20 +107,80 @@ void CorrectionFit::merge(const CorrectionFit& other)
         }
 }
 
+namespace {
+
+constexpr size_t kSumBytes = 16;
+constexpr size_t kNormalSums = 1 + T + 1 + T * (T + 1) / 2; // count, Aᵀb, bᵀb, triangle
+
+// Every sum of one Normal in the stored order, through `visit(Sum&)`.
+template <typename Normal, typename Visit> void forEachSum(Normal& nm, Visit&& visit)
+{
+    visit(nm.count);
+    for (auto& v : nm.atb)
+        visit(v);
+    visit(nm.btb);
+    for (int i = 0; i < T; ++i)
+        for (int j = 0; j <= i; ++j)
+            visit(nm.ata[i * T + j]);
+}
+
+} // namespace
+
+std::vector<uint8_t> CorrectionFit::serialize() const
+{
+    std::vector<uint8_t> out;
+    out.reserve(normal_.size() * 3 * kNormalSums * kSumBytes);
+    for (const auto& level : normal_)
+        for (const Normal& nm : level)
+            forEachSum(nm, [&](const Sum& v) {
+                const auto u = static_cast<unsigned __int128>(v);
+                for (size_t b = 0; b < kSumBytes; ++b)
+                    out.push_back(static_cast<uint8_t>(u >> (8 * b)));
+            });
+    return out;
+}
+
+bool CorrectionFit::mergeSerialized(const uint8_t* data, size_t size)
+{
+    if (size != normal_.size() * 3 * kNormalSums * kSumBytes)
+        return false;
+    CorrectionFit other(static_cast<int>(normal_.size()));
+    size_t at = 0;
+    for (auto& level : other.normal_)
+        for (Normal& nm : level)
+            forEachSum(nm, [&](Sum& v) {
+                unsigned __int128 u = 0;
+                for (size_t b = 0; b < kSumBytes; ++b)
+                    u |= static_cast<unsigned __int128>(data[at + b]) << (8 * b);
+                v = static_cast<Sum>(u);
+                at += kSumBytes;
+            });
+    // A count is never negative; the sums of squares neither.
+    for (const auto& level : other.normal_)
+        for (const Normal& nm : level)
+            if (nm.count < 0 || nm.btb < 0)
+                return false;
+    merge(other);
+    return true;
+}
+
 std::vector<PredictorWeights> CorrectionFit::solve() const
 {
     std::vector<PredictorWeights> out(normal_.size());
     for (size_t l = 1; l < normal_.size(); ++l)
         for (int c = 0; c < 3; ++c) {
             const Normal& nm = normal_[l][size_t(c)];
-            if (nm.count < kMinSamples)
+            if (nm.count < Sum{kMinSamples})
                 continue;
-            std::array<double, T* T> a = nm.ata;
-            for (int i = 0; i < T; ++i) // mirror the lower triangle
-                for (int j = i + 1; j < T; ++j)
-                    a[i * T + j] = a[j * T + i];
+            std::array<double, T * T> a{};
+            std::array<double, T> atb{};
+            for (int i = 0; i < T; ++i) {
+                atb[i] = static_cast<double>(nm.atb[i]);
+                for (int j = 0; j <= i; ++j) // and the mirror of the lower triangle
+                    a[i * T + j] = a[j * T + i] = static_cast<double>(nm.ata[i * T + j]);
+            }
             std::array<double, T> x{};
-            if (!solveSpd(a, nm.atb, x))
+            if (!solveSpd(a, atb, x))
                 continue;
             // Rounded weights, and the squared error they leave: keep them only if it drops.
             std::array<double, T> wq{};
@@ -127,13 +188,14 @@ std::vector<PredictorWeights> CorrectionFit::solve() const
                 wq[i] = std::clamp(std::round(x[i] * 4096.0), double(-kMaxCorrectionWeight),
                                    double(kMaxCorrectionWeight)) /
                         4096.0;
-            double err = nm.btb;
+            const double btb = static_cast<double>(nm.btb);
+            double err = btb;
             for (int i = 0; i < T; ++i) {
-                err -= 2 * wq[i] * nm.atb[i];
+                err -= 2 * wq[i] * atb[i];
                 for (int j = 0; j < T; ++j)
                     err += wq[i] * wq[j] * a[i * T + j];
             }
-            if (!(err < nm.btb))
+            if (!(err < btb))
                 continue;
             for (int i = 0; i < T; ++i)
                 out[l].w[c][i] = static_cast<int16_t>(std::lround(wq[i] * 4096.0));

@@ -18,16 +18,25 @@ class CorrectionFit {
     // The interior samples of one child patch's bins q[n·n] (level > 0).
     void add(const int32_t* q, int n, const CodedRegion& region, int level, OddPredictor predictor);
     void merge(const CorrectionFit& other);
+    // The sums as bytes (per level and class: count, then Aᵀb, bᵀb and the lower triangle of
+    // AᵀA, each a 128-bit little-endian two's complement integer), and their sum back in:
+    // false for bytes that are not such for this level count.
+    std::vector<uint8_t> serialize() const;
+    bool mergeSerialized(const uint8_t* data, size_t size);
     // [level] (level 0: none). A class with too few samples, or whose fit does not lower the
     // squared error, keeps weights 0.
     std::vector<PredictorWeights> solve() const;
 
   private:
+    // Exact integer sums (features and targets are clamped integers): the fit is the same
+    // whatever the order patches are added and merged in, so a build trains the same codec
+    // on any number of threads or shards. 128 bits: a planet's finest level can exceed 64.
+    __extension__ typedef __int128 Sum;
     struct Normal {
-        std::array<double, kCorrectionTapCount * kCorrectionTapCount> ata{};
-        std::array<double, kCorrectionTapCount> atb{};
-        double btb = 0;
-        uint64_t count = 0;
+        std::array<Sum, kCorrectionTapCount * kCorrectionTapCount> ata{}; // lower triangle used
+        std::array<Sum, kCorrectionTapCount> atb{};
+        Sum btb = 0;
+        Sum count = 0;
     };
     std::vector<std::array<Normal, 3>> normal_; // [level][class − 1]
 };

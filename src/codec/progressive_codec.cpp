@@ -377,9 +377,23 @@ class ProgressiveTrainer final : public CodecTrainer {
         return trained;
     }
 
+    std::vector<uint8_t> saveObservations() const override
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        return counts_.serialize();
+    }
+
+    void mergeObservations(const uint8_t* data, size_t size) override
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (!counts_.mergeSerialized(data, size))
+            throw Error("progressive codec: symbol counts of " + std::to_string(size) +
+                        " bytes are not this archive's (another codec, level count or stage)");
+    }
+
   private:
     const ProgressiveCodec& codec_;
-    std::mutex mutex_;
+    mutable std::mutex mutex_;
     SymbolCounts counts_;
     std::function<bool(const uint16_t*, const PatchContext&, int32_t*)> residuals_;
 };
@@ -413,14 +427,58 @@ class CorrectionTrainer final : public CodecTrainer {
         return trained;
     }
 
+    std::vector<uint8_t> saveObservations() const override
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        return fit_.serialize();
+    }
+
+    void mergeObservations(const uint8_t* data, size_t size) override
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (!fit_.mergeSerialized(data, size))
+            throw Error("progressive codec: correction sums of " + std::to_string(size) +
+                        " bytes are not this archive's (another codec, level count or stage)");
+    }
+
   private:
     const ProgressiveCodec& codec_;
-    std::mutex mutex_;
+    mutable std::mutex mutex_;
     CorrectionFit fit_;
     int level_count_;
 };
 
 } // namespace
+
+// Stage 0 is nothing; stages 1 and 2 are the stage byte, then the tables as an archive
+// stores them (the corrections alone after stage 1).
+std::vector<uint8_t> ProgressiveCodec::trainingState() const
+{
+    if (training_stage_ == 0)
+        return {};
+    std::vector<uint8_t> out{static_cast<uint8_t>(training_stage_)};
+    const std::vector<uint8_t> tables = tables_->serialize();
+    out.insert(out.end(), tables.begin(), tables.end());
+    return out;
+}
+
+void ProgressiveCodec::restoreTraining(const uint8_t* data, size_t size)
+{
+    if (size == 0) {
+        tables_ = ProgressiveTables::defaults(finest_level_ + 1);
+        training_stage_ = 0;
+        return;
+    }
+    if (variant_.format == 1 || (data[0] != 1 && data[0] != 2))
+        throw Error(
+            "progressive codec: training state stage " + std::to_string(data[0]) +
+            (variant_.format == 1 ? " for payload v1, which learns nothing" : " is not 1 or 2"));
+    std::string problem;
+    auto tables = ProgressiveTables::parse(data + 1, size - 1, finest_level_ + 1, &problem);
+    if (!tables)
+        throw Error("progressive codec: training state: " + problem);
+    setTables(std::move(tables), data[0] == 2);
+}
 
 std::unique_ptr<CodecTrainer> ProgressiveCodec::trainer() const
 {

@@ -158,6 +158,48 @@ void SymbolCounts::merge(const SymbolCounts& other)
         counts_[i] += other.counts_[i];
 }
 
+std::vector<uint8_t> SymbolCounts::serialize() const
+{
+    std::vector<uint8_t> out(4);
+    uint32_t nonzero = 0;
+    for (size_t i = 0; i < counts_.size(); ++i) {
+        if (counts_[i] == 0)
+            continue;
+        ++nonzero;
+        for (int b = 0; b < 4; ++b)
+            out.push_back(static_cast<uint8_t>(i >> (8 * b)));
+        for (int b = 0; b < 8; ++b)
+            out.push_back(static_cast<uint8_t>(counts_[i] >> (8 * b)));
+    }
+    for (int b = 0; b < 4; ++b)
+        out[b] = static_cast<uint8_t>(nonzero >> (8 * b));
+    return out;
+}
+
+bool SymbolCounts::mergeSerialized(const uint8_t* data, size_t size)
+{
+    auto read = [&](size_t at, int bytes) {
+        uint64_t v = 0;
+        for (int b = 0; b < bytes; ++b)
+            v |= uint64_t{data[at + b]} << (8 * b);
+        return v;
+    };
+    if (size < 4)
+        return false;
+    const uint64_t nonzero = read(0, 4);
+    if (size != 4 + nonzero * 12)
+        return false;
+    std::vector<uint64_t> sum = counts_;
+    for (uint64_t k = 0; k < nonzero; ++k) {
+        const uint64_t at = read(4 + k * 12, 4), count = read(8 + k * 12, 8);
+        if (at >= sum.size() || count > UINT64_MAX - sum[at])
+            return false;
+        sum[at] += count;
+    }
+    counts_ = std::move(sum);
+    return true;
+}
+
 ProgressiveTables::ProgressiveTables(int level_count)
     : level_count_(level_count),
       index_(static_cast<size_t>(level_count) * tablesPerLevel(), nullptr),

@@ -50,11 +50,21 @@ class HeightCodec;
 // Learns a codec's per-archive statistics (entropy tables) from the patches it is about to
 // code. observe() may be called from several threads at once, with exactly the codes and
 // contexts encode() will see; finish() returns the codec to encode with.
+//
+// A sharded build (pipeline/shard.h) trains one codec across processes: each observes its
+// own patches and saves what it saw; one process merges every part, then finishes. What a
+// trainer accumulates must therefore not depend on the order of observations or merges
+// (integer sums), so that the codec learned is the same for any split into shards or threads.
 class CodecTrainer {
   public:
     virtual ~CodecTrainer() = default;
     virtual void observe(const uint16_t* codes, const PatchContext& ctx) = 0;
     virtual std::unique_ptr<HeightCodec> finish() = 0;
+    // What was observed so far, for mergeObservations() of a trainer of the same codec, spec
+    // and stage.
+    virtual std::vector<uint8_t> saveObservations() const = 0;
+    // Adds saveObservations()'s bytes; throws ridge::Error for bytes that are not such.
+    virtual void mergeObservations(const uint8_t* data, size_t size) = 0;
 };
 
 // What one patch's CPU half of a GPU decode hands the GPU (HeightCodec::decodeForGpu): an
@@ -147,6 +157,12 @@ class HeightCodec {
     // read back through CodecSettings::tables; empty: none).
     virtual std::unique_ptr<CodecTrainer> trainer() const { return nullptr; }
     virtual std::vector<uint8_t> storeTables() const { return {}; }
+    // What trainer()s have taught this codec so far (empty: nothing), as bytes from which
+    // restoreTraining() on a codec made from the same spec makes this codec again: how a
+    // sharded build hands a partly or fully trained codec to other processes.
+    virtual std::vector<uint8_t> trainingState() const { return {}; }
+    // Throws ridge::Error for bytes that are not trainingState()'s of this codec's spec.
+    virtual void restoreTraining(const uint8_t* data, size_t size);
 };
 
 // What a codec needs beyond its id: the pyramid depth and the header's codec parameters.

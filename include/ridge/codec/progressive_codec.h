@@ -107,6 +107,8 @@ class ProgressiveCodec final : public HeightCodec {
     void storeParameters(double param[2]) const override;
     std::unique_ptr<CodecTrainer> trainer() const override;
     std::vector<uint8_t> storeTables() const override;
+    std::vector<uint8_t> trainingState() const override;
+    void restoreTraining(const uint8_t* data, size_t size) override;
 
     // v2 with these tables and predictor corrections (from the archive, or fitted by
     // trainer()); v1 ignores them. Defaults when never given. `complete`: nothing is left to

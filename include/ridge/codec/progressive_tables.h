@@ -48,6 +48,10 @@ class SymbolCounts {
         return &counts_[index(level, cls, context) * progressive_tables::kSymbols];
     }
     void merge(const SymbolCounts& other);
+    // The non-zero counts as bytes (u32 count, then u32 position + u64 count each, little
+    // endian), and their sum back in: false for bytes that are not such for this size.
+    std::vector<uint8_t> serialize() const;
+    bool mergeSerialized(const uint8_t* data, size_t size);
 
   private:
     static size_t index(int level, int cls, int context)
