@@ -1,5 +1,7 @@
 #include "ridge/pipeline/build.h"
 
+#include "build_stages.h"
+
 #include "ridge/archive/archive_writer.h"
 #include "ridge/archive/block_error_storage.h"
 #include "ridge/archive/sample_flags_storage.h"
@@ -29,6 +31,8 @@ namespace ridge {
 
 namespace {
 
+using namespace build_stages;
+
 using Clock = std::chrono::steady_clock;
 
 double secondsSince(Clock::time_point start)
@@ -36,351 +40,21 @@ double secondsSince(Clock::time_point start)
     return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-// What the index needs about a patch beyond its samples. min/max start "empty" so that
-// encodePatch's own range decides unless descendants widened it.
-struct PatchSummary {
-    uint16_t min_code = 0xffff;
-    uint16_t max_code = 0;
-    float err_appr = 0.f; // code units
-};
-
-// Everything the writer needs for one patch, produced in parallel and written in order.
-struct EncodedPatch {
-    archive::PatchRecord record;
-    std::vector<uint8_t> block_errors;
-    std::vector<uint8_t> validity = archive::allValidMask();
-    std::vector<uint8_t> sample_flags = archive::noSampleFlags();
-    std::vector<uint8_t> payload;
-    std::vector<uint16_t> reconstruction; // kept only when children predict from it
-    uint16_t own_min = 0;
-    uint16_t own_max = 0;
-};
-
-// Shared by both build paths.
-struct BuildContext {
-    PyramidGeometry geometry;
-    TessellationBlockLayout layout;
-    std::unique_ptr<HeightCodec> codec;
-    archive::Header header;
-    bool store_block_errors = false;
-    // Kept nodata (io::VoidFill): the per-patch masks; null when every sample is data.
-    std::unique_ptr<ValidityPyramid> validity;
-    // Water and filled samples (pyramid/sample_flags.h); null when no sample has a flag.
-    std::unique_ptr<SampleFlagsPyramid> flags;
-
-    double levelBound(int level) const
-    {
-        return codec->levelErrorBound(level) * header.height_scale + header.quantization_error;
-    }
-};
-
-// The finest-level bound of a lossy codec in codes: what --max-error leaves after the
-// ingest quantization, so that the bound in metres holds end to end.
-double codecMaxError(const HeightQuantization& q, const BuildOptions& options)
-{
-    if (!isLossyCodec(options.codec))
-        return 0;
-    if (!options.max_error)
-        throw Error("codec '" + options.codec + "' needs max_error (metres)");
-    if (!(*options.max_error >= q.max_error)) // max_error > 0: BuildOptions::validate
-        throw Error("max_error " + std::to_string(*options.max_error) +
-                    " m is below the input's own quantization error " +
-                    std::to_string(q.max_error) + " m");
-    return std::min(32767.0, (*options.max_error - q.max_error) / q.scale);
-}
-
-BuildContext makeContext(int width, int height, const HeightQuantization& q,
-                         const io::GeoReference& geo, const BuildOptions& options)
-{
-    BuildContext ctx{PyramidGeometry(width, height, options.patch_size),
-                     TessellationBlockLayout{options.patch_size, options.block_cells},
-                     nullptr,
-                     {},
-                     false,
-                     nullptr,
-                     nullptr};
-    if (!ctx.layout.valid())
-        throw Error("block size " + std::to_string(options.block_cells) +
-                    " cells must be a power of two >= 2 dividing the patch's " +
-                    std::to_string(options.patch_size - 1) + " cells");
-    ctx.codec = makeCodec(options.codec, codecMaxError(q, options), ctx.geometry.levelCount());
-    // Err(P), the selection and the skirts rest on a bound: a codec mode without one (the
-    // fractal paper's) is for codec-bench, not for archives.
-    if (!std::isfinite(ctx.codec->levelErrorBound(ctx.geometry.finestLevel())))
-        throw Error("codec '" + options.codec +
-                    "' bounds no error (the paper's mode): an archive needs a bound for Err(P); "
-                    "ridge codec-bench --ridge-codec '" +
-                    options.codec + "' measures it");
-    ctx.store_block_errors = options.store_block_errors;
-    archive::Header& h = ctx.header;
-    h.width = static_cast<uint32_t>(width);
-    h.height = static_cast<uint32_t>(height);
-    h.patch_size = static_cast<uint32_t>(options.patch_size);
-    h.level_count = static_cast<uint32_t>(ctx.geometry.levelCount());
-    h.block_cells = static_cast<uint32_t>(ctx.layout.block_cells);
-    h.block_levels = static_cast<uint32_t>(ctx.layout.levels());
-    h.codec_id = static_cast<uint32_t>(ctx.codec->id());
-    h.filter_id = static_cast<uint32_t>(options.filter);
-    h.height_scale = q.scale;
-    h.height_offset = q.offset;
-    h.spacing_x = geo.spacing_x;
-    h.spacing_y = geo.spacing_y;
-    h.quantization_error = q.max_error;
-    ctx.codec->storeParameters(h.codec_param);
-    return ctx;
-}
-
-// The source as the archive names it: as given, except that an absolute path keeps only its
-// file name (an archive travels; the builder's directories are none of its readers' business).
-std::string recordedSourceName(const std::string& source_path)
-{
-    const std::filesystem::path p(source_path);
-    return p.is_absolute() && p.has_filename() ? p.filename().string() : source_path;
-}
-
-std::string metadataJson(const std::string& source_path, const io::IngestStats& stats,
-                         const io::GeoReference& geo, const BuildContext& ctx,
-                         const BuildOptions& options)
-{
-    nlohmann::json meta = {
-        {"generator", "ridge 0.1.0"},
-        {"source",
-         {{"path", recordedSourceName(source_path)},
-          {"data_type", stats.data_type},
-          {"band", options.ingest.band},
-          {"width", ctx.geometry.width()},
-          {"height", ctx.geometry.height()},
-          {"valid_samples", stats.valid_samples},
-          {"voids_filled", stats.voids_filled},
-          {"voids_kept", stats.voids_kept},
-          {"fill_voids", io::voidFillName(options.ingest.fill_voids)},
-          {"void_fill", "GDALFillNodata (inverse distance weighting, 2 smoothing passes)"},
-          {"min_metres", stats.min_metres},
-          {"max_metres", stats.max_metres},
-          {"exact", stats.exact}}},
-        {"georeference",
-         {{"crs_wkt", geo.crs_wkt},
-          {"geographic", geo.geographic},
-          {"vertical_units", geo.vertical_units},
-          {"spacing_from_user", geo.spacing_from_user}}},
-        {"build",
-         {{"patch_size", options.patch_size},
-          {"block_cells", options.block_cells},
-          {"codec", options.codec},
-          {"block_errors", options.store_block_errors ? "stored" : "derived from decoded heights"},
-          {"filter", filterName(options.filter)},
-          {"z_scale", stats.z_scale},
-          {"z_offset", stats.z_offset}}},
-    };
-    if (geo.has_geotransform)
-        meta["georeference"]["geotransform"] = geo.geotransform;
-    if (geo.vertical_datum.known()) {
-        nlohmann::json& datum = meta["georeference"]["vertical_datum"];
-        datum = {{"name", geo.vertical_datum.name}, {"from", geo.vertical_datum.origin}};
-        if (geo.vertical_datum.epsg)
-            datum["epsg"] = *geo.vertical_datum.epsg;
-    }
-    if (geo.vertical_shift) {
-        const io::VerticalDatum& from = geo.vertical_shift->from;
-        meta["build"]["vertical_shift"] = {{"from", from.name},
-                                           {"from_epsg", from.epsg.value_or(0)},
-                                           {"operation", geo.vertical_shift->operation}};
-    }
-    // JSON has no NaN: a NaN nodata (float rasters) is recorded as absent, and extract then
-    // writes NaN anyway.
-    if (stats.nodata && std::isfinite(*stats.nodata))
-        meta["source"]["nodata"] = *stats.nodata;
-    if (options.ingest.max_error)
-        meta["build"]["max_error"] = *options.ingest.max_error;
-    if (options.max_error)
-        meta["build"]["codec_max_error"] = *options.max_error;
-    nlohmann::json water = {{"sea_level", nullptr}, {"samples", stats.water_samples}};
-    if (options.ingest.sea_level)
-        water["sea_level"] = *options.ingest.sea_level;
-    if (!options.ingest.water_layer.empty())
-        water["layer"] = options.ingest.water_layer;
-    meta["water"] = water;
-    if (const std::string variant = ctx.codec->variantDescription(); !variant.empty())
-        meta["build"]["codec_variant"] = variant;
-    return jsonText(meta); // any bytes in source.path: invalid UTF-8 becomes U+FFFD
-}
-
-void trainStage(BuildContext& ctx, const LevelPyramid& pyramid, CodecTrainer& trainer);
-
-// The flags of finest patch (x, half) of a streamed strip: `flags` holds the strip's `rows`
-// finest rows of `width` samples; positions clamp to the extent as the pyramid's padding
-// does (a strip's last row is the raster's last only in the last strip, where it is needed).
-PatchSampleFlags stripPatchFlags(const uint8_t* flags, int width, int rows, int n, int x, int half)
-{
-    PatchSampleFlags out{PatchSampleFlags::Kind::Mixed, n, std::vector<uint8_t>(size_t(n) * n)};
-    const int c = n - 1;
-    for (int j = 0; j < n; ++j) {
-        const uint8_t* row = flags + static_cast<size_t>(std::min(half * c + j, rows - 1)) * width;
-        for (int i = 0; i < n; ++i)
-            out.flags[static_cast<size_t>(j) * n + i] = row[std::min(x * c + i, width - 1)];
-    }
-    out.canonicalize();
-    return out;
-}
-
-// Replaces ctx.codec by the codec trained on every patch of `pyramid`, for codecs with
-// per-archive tables (HeightCodec::trainer); each patch is shown exactly what encodePatch
-// will code, the parent's reconstruction included.
-void trainCodec(BuildContext& ctx, const LevelPyramid& pyramid)
-{
-    // A codec may learn in stages (progressive v2: predictor corrections, then the tables
-    // coded with them); each stage sees every patch.
-    while (std::unique_ptr<CodecTrainer> trainer = ctx.codec->trainer())
-        trainStage(ctx, pyramid, *trainer);
-}
-
-void trainStage(BuildContext& ctx, const LevelPyramid& pyramid, CodecTrainer& trainer)
-{
-    const PyramidGeometry& g = ctx.geometry;
-    const int n = g.patchSize();
-    const int64_t count = g.patchCount();
-    std::exception_ptr failure;
-#pragma omp parallel for schedule(dynamic, 4)
-    for (int64_t index = 0; index < count; ++index) {
-        try {
-            thread_local std::vector<uint16_t> codes, parent_codes, parent;
-            codes.resize(static_cast<size_t>(n) * n);
-            const PatchId p = g.patchAt(index);
-            extractPatch(pyramid.level(p.level), n, p, codes.data());
-            const uint16_t* parent_ptr = nullptr;
-            if (ctx.codec->needsParent(p.level)) {
-                const PatchId up = p.parent();
-                parent_codes.resize(codes.size());
-                parent.resize(codes.size());
-                extractPatch(pyramid.level(up.level), n, up, parent_codes.data());
-                ctx.codec->reconstruct(parent_codes.data(), patchContext(g, up, nullptr),
-                                       parent.data());
-                parent_ptr = parent.data();
-            }
-            trainer.observe(codes.data(), patchContext(g, p, parent_ptr));
-        } catch (...) {
-#pragma omp critical
-            failure = std::current_exception();
-        }
-    }
-    if (failure)
-        std::rethrow_exception(failure);
-    ctx.codec = trainer.finish();
-}
-
-// Extracts patch `at` of `level` (the patch's own position, or its position inside a strip
-// view), measures it and encodes it as patch `id`.
-// `parent` is the parent's reconstruction when the codec predicts from it, else null.
-// `flags`: the patch's sample flags when ctx.flags does not hold its level (a streamed
-// build's finest strip), else null.
-EncodedPatch encodePatch(const BuildContext& ctx, const LevelView& level, PatchId at, PatchId id,
-                         const PatchSummary& summary, const uint16_t* parent = nullptr,
-                         const PatchSampleFlags* flags = nullptr)
-{
-    const int n = ctx.geometry.patchSize();
-    thread_local std::vector<uint16_t> codes;
-    thread_local std::vector<float> lambda;
-    codes.resize(static_cast<size_t>(n) * n);
-    lambda.resize(ctx.layout.valuesPerPatch());
-    extractPatch(level, n, at, codes.data());
-    const PatchContext pctx = patchContext(ctx.geometry, id, parent);
-
-    EncodedPatch out;
-    const auto [lo, hi] = std::minmax_element(codes.begin(), codes.end());
-    out.own_min = *lo;
-    out.own_max = *hi;
-    // min/max must hold what is drawn: the reconstructions of the patch and its descendants
-    // lie within δ_l of the exact heights (descendants' δ are smaller).
-    const int delta = static_cast<int>(ctx.codec->levelErrorBound(id.level));
-    const int min_code = std::max(0, int(std::min(*lo, summary.min_code)) - delta);
-    const int max_code = std::min(65535, int(std::max(*hi, summary.max_code)) + delta);
-    const archive::Header& h = ctx.header;
-    out.record.level = static_cast<uint32_t>(id.level);
-    out.record.x = static_cast<uint32_t>(id.x);
-    out.record.y = static_cast<uint32_t>(id.y);
-    out.record.min_height = archive::floatDown(h.height_offset + h.height_scale * min_code);
-    out.record.max_height = archive::floatUp(h.height_offset + h.height_scale * max_code);
-    const double err_appr = summary.err_appr * h.height_scale;
-    out.record.err_appr = archive::floatUp(err_appr);
-    out.record.err = archive::floatUp(err_appr + ctx.levelBound(id.level));
-
-    out.payload.resize(ctx.codec->encodeBound(pctx));
-    const size_t size =
-        ctx.codec->encode(out.payload.data(), out.payload.size(), codes.data(), pctx);
-    if (size == 0)
-        throw Error("internal error: cannot encode patch");
-    out.payload.resize(size);
-
-    // λ is measured on what the renderer will draw: the codec's reconstruction, decoded from
-    // the payload just written (a codec whose encoder searches, like jpeg2000's rate
-    // control, would otherwise search twice; and the payload is proven to decode).
-    const uint16_t* drawn = codes.data();
-    if (!ctx.codec->lossless()) {
-        out.reconstruction.resize(codes.size());
-        const int status = ctx.codec->decode(out.reconstruction.data(), out.payload.data(),
-                                             out.payload.size(), pctx);
-        if (status == kCodecDisabled) // the user's to fix, not ours: say how
-            throw Error(std::string("the build decodes every patch it encodes, but ") +
-                        codecStatusMessage(status));
-        if (status != kCodecOk)
-            throw Error(std::string("internal error: a patch just encoded does not decode: ") +
-                        codecStatusMessage(status));
-        drawn = out.reconstruction.data();
-    }
-    if (ctx.store_block_errors) {
-        computeTessellationBlockErrors(drawn, ctx.layout, lambda.data());
-        out.block_errors = archive::packBlockErrors(lambda.data(), lambda.size(), h.height_scale);
-        if (out.block_errors.empty())
-            throw Error("internal error: cannot pack block errors");
-    }
-
-    if (ctx.validity) {
-        out.validity = archive::packValidity(ctx.validity->patch(id), n);
-        if (out.validity.empty())
-            throw Error("internal error: cannot pack a validity mask");
-    }
-    if (flags || ctx.flags) {
-        out.sample_flags = archive::packSampleFlags(flags ? *flags : ctx.flags->patch(id), n);
-        if (out.sample_flags.empty())
-            throw Error("internal error: cannot pack sample flags");
-    }
-
-    return out;
-}
-
+// Writes every patch of levels [0, last_level] from `pyramid` with the bounds in `errors`.
 // Encodes `count` patches in parallel batches and writes them in order. `make(k)` encodes
 // the k-th; `done(k, patch)` sees each after it was written (for bookkeeping).
 void encodeAndWrite(int64_t count, const std::function<EncodedPatch(int64_t)>& make,
                     archive::ArchiveWriter& writer,
                     const std::function<void(int64_t, EncodedPatch&)>& done = {})
 {
-    constexpr int64_t kBatch = kEncodeBatchPatches;
-    std::vector<EncodedPatch> batch(kBatch);
-    for (int64_t first = 0; first < count; first += kBatch) {
-        const int64_t n = std::min(kBatch, count - first);
-        std::exception_ptr failure;
-#pragma omp parallel for schedule(dynamic, 1)
-        for (int64_t k = 0; k < n; ++k) {
-            try {
-                batch[k] = make(first + k);
-            } catch (...) {
-#pragma omp critical
-                failure = std::current_exception();
-            }
-        }
-        if (failure)
-            std::rethrow_exception(failure);
-        for (int64_t k = 0; k < n; ++k) {
-            writer.writePatch(batch[k].record, batch[k].block_errors, batch[k].validity,
-                              batch[k].sample_flags, batch[k].payload.data(),
-                              batch[k].payload.size());
-            if (done)
-                done(first + k, batch[k]);
-        }
-    }
+    encodeInOrder(count, make, [&](int64_t k, EncodedPatch& e) {
+        writer.writePatch(e.record, e.block_errors, e.validity, e.sample_flags, e.payload.data(),
+                          e.payload.size());
+        if (done)
+            done(k, e);
+    });
 }
 
-// Writes every patch of levels [0, last_level] from `pyramid` with the bounds in `errors`.
 void writeLevels(const BuildContext& ctx, const LevelPyramid& pyramid, int last_level,
                  const PatchErrors& errors, archive::ArchiveWriter& writer,
                  const Progress& progress)
@@ -469,7 +143,8 @@ std::optional<BuildReport> buildStreaming(const std::string& input, const std::s
                 [&](int64_t x) {
                     PatchSampleFlags flags{PatchSampleFlags::Kind::None, n, {}};
                     if (water)
-                        flags = stripPatchFlags(strip_flags.data(), width, rows, n, int(x), half);
+                        flags = windowPatchFlags(strip_flags.data(), width, rows, 1, n,
+                                                 {finest, int(x), half});
                     return encodePatch(ctx, strip_view, {finest, int(x), half},
                                        {finest, int(x), py}, {}, nullptr, &flags);
                 },
