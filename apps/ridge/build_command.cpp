@@ -48,73 +48,85 @@ void Commands::registerBuild(CLI::App& app)
 {
     build_ =
         app.add_subcommand("build", "Build a .ridge archive from any elevation raster GDAL reads");
+    build_->add_option("input", input_,
+                       "Input raster (GeoTIFF, SRTM .hgt, PNG, ASCII grid, netCDF, ...); not "
+                       "with --plan");
     build_
-        ->add_option("input", input_,
-                     "Input raster (GeoTIFF, SRTM .hgt, PNG, ASCII grid, netCDF, ...)")
+        ->add_option("-o,--output", output_,
+                     "Output archive (.ridge), or the step's file with --plan")
         ->required();
-    build_->add_option("-o,--output", output_, "Output archive (.ridge)")->required();
+    addBuildOptions(build_);
+    registerShardSteps(build_); // shard_commands.cpp
+    build_->add_flag("--json", json_, "Print the build's figures as JSON on stdout");
+    addCommonFlags(build_, quiet_);
+}
+
+// The options of an archive's build, shared by `build` and `plan`.
+void Commands::addBuildOptions(CLI::App* command)
+{
     // Integers here; whether they are 2^n+1 and a power of two is validateBuildOptions'.
-    build_
+    command
         ->add_option("--patch", build_options_.patch_size,
                      "Patch size, 2^n+1 samples (65, 129, 257)")
         ->capture_default_str()
         ->check(inIntegerRange("--patch", 5, 4097));
-    build_
+    command
         ->add_option("--block", build_options_.block_cells,
                      "Tessellation block size in cells (power of two)")
         ->capture_default_str()
         ->check(inIntegerRange("--block", 2, 4096));
-    build_
+    command
         ->add_option("--codec", build_options_.codec,
                      "Patch codec, NAME[,KEY=VALUE...]:\n" + codecUsage())
         ->capture_default_str();
-    build_
+    command
         ->add_option("--criterion", criterion_,
                      "For codecs with a criterion option (jpeg2000): the compression criterion "
                      "every patch's rate search meets with E = --max-error: max (max-abs error, "
                      "default), rms (RMS error, with every sample also within 32 E), lossless "
                      "(D quantized, reversible wavelet)")
         ->check(CLI::IsMember({"max", "rms", "lossless"}));
-    build_
+    command
         ->add_option_function<std::string>(
             "--filter",
             [this](const std::string& name) { build_options_.filter = parseFilter(name.c_str()); },
             "Level filter: decimate (default), neville")
         ->check(CLI::IsMember({"decimate", "neville"}));
-    build_->add_flag("--store-block-errors", build_options_.store_block_errors,
-                     "Store tessellation block errors in the archive (default: readers derive them "
-                     "from the decoded heights)");
+    command->add_flag(
+        "--store-block-errors", build_options_.store_block_errors,
+        "Store tessellation block errors in the archive (default: readers derive them "
+        "from the decoded heights)");
     io::IngestOptions& ingest = build_options_.ingest;
     using Ingest = io::IngestOptions;
-    build_
+    command
         ->add_option_function<double>(
             "--max-error", [&ingest](double v) { ingest.max_error = v; },
             "Largest allowed height error in metres at the finest level, end to end "
             "(progressive codecs); with lossless codecs, the quantization step of non-integer "
             "input")
         ->check(inRange("--max-error", BuildOptions::kMaxErrorRange));
-    build_
+    command
         ->add_option_function<double>(
             "--spacing", [&ingest](double v) { ingest.spacing = v; },
             "Ground spacing in metres for rasters without georeferencing (default 1)")
         ->check(inRange("--spacing", Ingest::kSpacingRange));
-    build_
+    command
         ->add_option_function<double>(
             "--z-scale", [&ingest](double v) { ingest.z_scale = v; },
             "metres = value * z-scale + z-offset (replaces the band's own scale/unit)")
         ->check(magnitudeInRange("--z-scale", Ingest::kZScaleMagnitudeRange));
-    build_
+    command
         ->add_option_function<double>(
             "--z-offset", [&ingest](double v) { ingest.z_offset = v; }, "See --z-scale")
         ->check(inRange("--z-offset", Ingest::kZOffsetRange));
-    build_
+    command
         ->add_option_function<std::string>(
             "--fill-voids",
             [&ingest](const std::string& mode) { ingest.fill_voids = io::parseVoidFill(mode); },
             "Which nodata becomes terrain: interior (default: holes enclosed by data are "
             "filled, nodata connected to the raster border stays nodata), all, none")
         ->check(CLI::IsMember({"all", "interior", "none"}));
-    build_
+    command
         ->add_option_function<std::string>(
             "--sea-level",
             [&ingest](const std::string& text) {
@@ -133,13 +145,13 @@ void Commands::registerBuild(CLI::App& app)
                 return {};
             },
             "METRES|none"));
-    build_
+    command
         ->add_option("--water", ingest.water_layer,
                      "Water layer: any raster GDAL reads (samples other than 0 are water) or any "
                      "vector OGR reads (its features are water: lakes, reservoirs, rivers), "
                      "placed on the grid and added to --sea-level's water")
         ->type_name("FILE");
-    build_
+    command
         ->add_option_function<double>(
             "--max-memory",
             [this](double mb) {
@@ -148,7 +160,7 @@ void Commands::registerBuild(CLI::App& app)
             "Memory the build may use, MB (default: what the system has available); a raster "
             "whose estimated needs exceed it is refused before anything is allocated")
         ->check(inRange("--max-memory", kMaxMemoryMbRange));
-    build_
+    command
         ->add_option_function<int>(
             "-b,--band",
             [this, &ingest](int band) {
@@ -158,7 +170,7 @@ void Commands::registerBuild(CLI::App& app)
             "The band that holds the heights, from 1 (gdal_translate's -b; default 1, with a "
             "warning naming it when the raster has several)")
         ->check(inIntegerRange("-b", 1, Ingest::kMaxBand));
-    build_
+    command
         ->add_option_function<std::string>(
             "--vertical-datum",
             [&ingest](const std::string& datum) {
@@ -174,18 +186,16 @@ void Commands::registerBuild(CLI::App& app)
             "a name (default: the vertical part of the source's CRS, if it has one)")
         ->type_name("NAME_OR_EPSG");
     // gdalwarp's names: the target is always the ellipsoid, the default follows the datum.
-    CLI::Option* vshift = build_->add_flag_callback(
+    CLI::Option* vshift = command->add_flag_callback(
         "--vshift", [&ingest] { ingest.vertical_shift = io::VerticalShift::Ellipsoid; },
         "Shift heights above a geoid to heights above the ellipsoid through PROJ (h = H + N; "
         "default when the heights' vertical datum is a registered vertical CRS such as "
         "EPSG:5773 EGM96 height); an error when the datum is unknown or its grid is missing");
-    build_
+    command
         ->add_flag_callback(
             "--novshift", [&ingest] { ingest.vertical_shift = io::VerticalShift::None; },
             "Keep the heights as the source gives them, whatever their vertical datum")
         ->excludes(vshift);
-    build_->add_flag("--json", json_, "Print the build's figures as JSON on stdout");
-    addCommonFlags(build_, quiet_);
 }
 
 // Checks the geometry options up front so the message names the option, not the input.
@@ -234,7 +244,8 @@ io::RasterProbe Commands::checkBuildBeforeWork() const
     return probe;
 }
 
-int Commands::runBuild()
+// --criterion into the codec spec, the checks before any work, --max-error to the codec.
+void Commands::settleBuildOptions()
 {
     if (!criterion_.empty()) {
         // The codec's own option: a codec without one refuses the spec (an unknown codec is
@@ -253,6 +264,15 @@ int Commands::runBuild()
         build_options_.max_error = build_options_.ingest.max_error;
         build_options_.ingest.max_error.reset();
     }
+}
+
+int Commands::runBuild()
+{
+    if (!plan_path_.empty())
+        return runShardStep(); // shard_commands.cpp
+    if (input_.empty())
+        throw UsageError("build: an INPUT raster is required (or --plan PLAN for a shard step)");
+    settleBuildOptions();
     build_options_.progress = terminalProgress(quiet_ || json_);
     const BuildReport r = buildArchive(input_, output_, build_options_);
     // What the archive holds, as info reads it back: the source band's type and the code step

@@ -25,6 +25,7 @@ namespace ridge::cli {
 void Commands::registerAll(CLI::App& app)
 {
     registerBuild(app);
+    registerPlanAndMerge(app);
     registerInfo(app);
 
     verify_ =
@@ -157,6 +158,10 @@ int Commands::run()
 {
     if (build_->parsed())
         return runBuild();
+    if (plan_->parsed())
+        return runPlan();
+    if (merge_->parsed())
+        return runMerge();
     if (info_->parsed())
         return runInfo();
     if (verify_->parsed())

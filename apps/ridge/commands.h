@@ -201,7 +201,15 @@ class Commands {
 
   private:
     void registerBuild(CLI::App& app); // build_command.cpp
-    void registerInfo(CLI::App& app);  // info_command.cpp
+    void addBuildOptions(CLI::App* command);
+    void settleBuildOptions();
+    void registerInfo(CLI::App& app); // info_command.cpp
+    // Sharded builds (shard_commands.cpp): `plan`, `build --plan` steps, `merge`.
+    void registerShardSteps(CLI::App* build);
+    void registerPlanAndMerge(CLI::App& app);
+    int runShardStep();
+    int runPlan();
+    int runMerge();
     void validateBuildOptions() const;
     // What can be known wrong before reading a sample (UsageError): the codec's name and what
     // it needs (--max-error, RIDGE_ALLOW_HTJ2K), a band the raster lacks. Warns on stderr
@@ -218,6 +226,8 @@ class Commands {
     CLI::App* verify_ = nullptr;
     CLI::App* extract_ = nullptr;
     CLI::App* hillshade_ = nullptr;
+    CLI::App* plan_ = nullptr;
+    CLI::App* merge_ = nullptr;
 
     bool quiet_ = false;
     bool json_ = false;
@@ -228,6 +238,19 @@ class Commands {
     // build
     BuildOptions build_options_;
     bool band_given_ = false; // -b was given: no warning about other bands
+    // plan, build --plan, merge
+    std::vector<std::string> inputs_;
+    std::string input_file_list_;
+    int shard_level_ = -1;
+    std::string plan_path_;
+    int64_t shard_ = -1;
+    bool shard_summary_ = false;
+    bool coordinate_ = false;
+    bool skip_unchanged_ = false;
+    std::string observe_top_;
+    std::string top_;
+    std::vector<std::string> summaries_;
+    std::vector<std::string> observations_;
     // verify
     std::string source_;
     // extract / hillshade

@@ -95,6 +95,19 @@ void ArchiveWriter::writePatch(PatchRecord record, const std::vector<uint8_t>& b
     ++written_count_;
 }
 
+void ArchiveWriter::copyPatch(PatchRecord record, const uint8_t* blob)
+{
+    const PatchId p{static_cast<int>(record.level), static_cast<int>(record.x),
+                    static_cast<int>(record.y)};
+    if (!geometry_.exists(p) || written_[geometry_.patchIndex(p)])
+        throw Error(output_.finalPath() + ": internal error: patch written twice or out of range");
+    record.offset = position_;
+    write(blob, record.size);
+    records_[geometry_.patchIndex(p)] = record;
+    written_[geometry_.patchIndex(p)] = true;
+    ++written_count_;
+}
+
 void ArchiveWriter::finish(const std::string& metadata_json)
 {
     if (written_count_ != geometry_.patchCount())

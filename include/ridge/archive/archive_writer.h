@@ -30,6 +30,11 @@ class ArchiveWriter {
                     const std::vector<uint8_t>& validity, const std::vector<uint8_t>& sample_flags,
                     const uint8_t* payload, size_t payload_size);
 
+    // Appends a blob already sealed elsewhere (a shard segment's, pipeline/shard.h): `record`
+    // carries its size, block_errors_size and CRC-32 (of `blob`, which the caller checked);
+    // the offset is set here.
+    void copyPatch(PatchRecord record, const uint8_t* blob);
+
     // The codec tables region (HeightCodec::storeTables), written by finish() after the
     // blobs; empty = none.
     void setCodecTables(std::vector<uint8_t> tables) { codec_tables_ = std::move(tables); }
