@@ -59,38 +59,28 @@ void writeLevels(const BuildContext& ctx, const LevelPyramid& pyramid, int last_
                  const PatchErrors& errors, archive::ArchiveWriter& writer,
                  const Progress& progress)
 {
-    // Level by level, top-down: a progressive codec codes each patch from its parent's
-    // reconstruction, kept for one level (the children of level l are all of level l+1).
     const PyramidGeometry& g = ctx.geometry;
     const int64_t count = g.firstPatchIndex(last_level) + g.patchCount(last_level);
-    std::vector<std::vector<uint16_t>> parents, current;
-    for (int level = 0; level <= last_level; ++level) {
-        const int64_t first = g.firstPatchIndex(level);
-        const bool keep = ctx.codec->needsParent(level + 1) && level < last_level;
-        current.assign(keep ? static_cast<size_t>(g.patchCount(level)) : 0, {});
-        encodeAndWrite(
-            g.patchCount(level),
-            [&](int64_t k) {
-                const int64_t index = first + k;
-                const PatchId p = g.patchAt(index);
-                const PatchSummary summary{errors.min_code[index], errors.max_code[index],
-                                           errors.err_appr[index]};
-                const uint16_t* parent = nullptr;
-                if (ctx.codec->needsParent(level))
-                    parent =
-                        parents[g.patchIndex(p.parent()) - g.firstPatchIndex(level - 1)].data();
-                EncodedPatch e = encodePatch(ctx, pyramid.level(level), p, p, summary, parent);
-                if (index % 64 == 63)
-                    reportProgress(progress, double(index + 1) / double(count));
-                return e;
-            },
-            writer,
-            [&](int64_t k, EncodedPatch& e) {
-                if (keep)
-                    current[k] = std::move(e.reconstruction);
-            });
-        parents.swap(current);
-    }
+    const LevelSpan levels{[&](int l) { return g.patchCount(l); },
+                           [&](int l, int64_t k) { return g.patchAt(g.firstPatchIndex(l) + k); },
+                           [&](PatchId p) { return g.patchIndex(p) - g.firstPatchIndex(p.level); }};
+    std::vector<std::vector<uint16_t>> parents;
+    int64_t written = 0;
+    encodeTopDown(
+        ctx, 0, last_level + 1, levels,
+        [&](PatchId p, const uint16_t* parent) {
+            const size_t index = size_t(g.patchIndex(p));
+            const PatchSummary summary{errors.min_code[index], errors.max_code[index],
+                                       errors.err_appr[index]};
+            return encodePatch(ctx, pyramid.level(p.level), p, p, summary, parent);
+        },
+        [&](EncodedPatch& e) {
+            writer.writePatch(e.record, e.block_errors, e.validity, e.sample_flags,
+                              e.payload.data(), e.payload.size());
+            if (++written % 64 == 0)
+                reportProgress(progress, double(written) / double(count));
+        },
+        parents);
 }
 
 // The decimation build without ever holding the finest grid: the finest level is read in

@@ -194,21 +194,11 @@ namespace {
 void trainStage(BuildContext& ctx, const LevelPyramid& pyramid, CodecTrainer& trainer)
 {
     const PyramidGeometry& g = ctx.geometry;
-    const int64_t count = g.patchCount();
-    std::exception_ptr failure;
-#pragma omp parallel for schedule(dynamic, 4)
-    for (int64_t index = 0; index < count; ++index) {
-        try {
-            const PatchId p = g.patchAt(index);
-            observePatch(ctx, trainer, pyramid.level(p.level),
-                         p.level > 0 ? &pyramid.level(p.level - 1) : nullptr, p, p);
-        } catch (...) {
-#pragma omp critical
-            failure = std::current_exception();
-        }
-    }
-    if (failure)
-        std::rethrow_exception(failure);
+    parallelFor(g.patchCount(), 4, [&](int64_t index) {
+        const PatchId p = g.patchAt(index);
+        observePatch(ctx, trainer, pyramid.level(p.level),
+                     p.level > 0 ? &pyramid.level(p.level - 1) : nullptr, p, p);
+    });
     ctx.codec = trainer.finish();
 }
 
@@ -297,6 +287,23 @@ EncodedPatch encodePatch(const BuildContext& ctx, const LevelView& level, PatchI
     return out;
 }
 
+void parallelFor(int64_t count, int chunk, const std::function<void(int64_t)>& body)
+{
+    std::exception_ptr failure;
+#pragma omp parallel for schedule(dynamic, chunk)
+    for (int64_t k = 0; k < count; ++k) {
+        try {
+            body(k);
+        } catch (...) {
+#pragma omp critical
+            if (!failure)
+                failure = std::current_exception();
+        }
+    }
+    if (failure)
+        std::rethrow_exception(failure);
+}
+
 void encodeInOrder(int64_t count, const std::function<EncodedPatch(int64_t)>& make,
                    const std::function<void(int64_t, EncodedPatch&)>& write)
 {
@@ -304,20 +311,37 @@ void encodeInOrder(int64_t count, const std::function<EncodedPatch(int64_t)>& ma
     std::vector<EncodedPatch> batch(static_cast<size_t>(std::min(kBatch, count)));
     for (int64_t first = 0; first < count; first += kBatch) {
         const int64_t n = std::min(kBatch, count - first);
-        std::exception_ptr failure;
-#pragma omp parallel for schedule(dynamic, 1)
-        for (int64_t k = 0; k < n; ++k) {
-            try {
-                batch[k] = make(first + k);
-            } catch (...) {
-#pragma omp critical
-                failure = std::current_exception();
-            }
-        }
-        if (failure)
-            std::rethrow_exception(failure);
+        parallelFor(n, 1, [&](int64_t k) { batch[size_t(k)] = make(first + k); });
         for (int64_t k = 0; k < n; ++k)
-            write(first + k, batch[k]);
+            write(first + k, batch[size_t(k)]);
+    }
+}
+
+void encodeTopDown(const BuildContext& ctx, int first, int end, const LevelSpan& span,
+                   const std::function<EncodedPatch(PatchId, const uint16_t*)>& make,
+                   const std::function<void(EncodedPatch&)>& write,
+                   std::vector<std::vector<uint16_t>>& above, bool keep_last)
+{
+    // The children of level l are all of level l + 1: a reconstruction is kept one level.
+    std::vector<std::vector<uint16_t>> current;
+    for (int level = first; level < end; ++level) {
+        const bool keep = ctx.codec->needsParent(level + 1) && (level + 1 < end || keep_last);
+        current.assign(keep ? size_t(span.count(level)) : 0, {});
+        encodeInOrder(
+            span.count(level),
+            [&](int64_t k) {
+                const PatchId p = span.patch_at(level, k);
+                const uint16_t* parent = nullptr;
+                if (ctx.codec->needsParent(level))
+                    parent = above[size_t(span.index_of(p.parent()))].data();
+                return make(p, parent);
+            },
+            [&](int64_t k, EncodedPatch& e) {
+                write(e);
+                if (keep)
+                    current[size_t(k)] = std::move(e.reconstruction);
+            });
+        above.swap(current);
     }
 }
 

@@ -102,4 +102,28 @@ EncodedPatch encodePatch(const BuildContext& ctx, const LevelView& level, PatchI
 void encodeInOrder(int64_t count, const std::function<EncodedPatch(int64_t)>& make,
                    const std::function<void(int64_t, EncodedPatch&)>& write);
 
+// `body(k)` for k in [0, count) on OpenMP's threads (dynamic schedule, `chunk` at a time);
+// the first exception any call throws is rethrown here once all have finished.
+void parallelFor(int64_t count, int chunk, const std::function<void(int64_t)>& body);
+
+// The patches a top-down encoding covers, level by level in the order they are written: the
+// whole pyramid's levels, or a shard's subtree.
+struct LevelSpan {
+    std::function<int64_t(int level)> count;
+    std::function<PatchId(int level, int64_t k)> patch_at;
+    // The k of a patch among its level's (the parents' level above the span: by `above`'s
+    // order, see encodeTopDown).
+    std::function<int64_t(PatchId)> index_of;
+};
+
+// Encodes levels [first, end) of `span` top down, each patch from its parent's reconstruction
+// when the codec predicts from it (kept one level; for level `first` from `above`, level
+// first − 1's reconstructions by index_of), and hands each to `write` in order. `make(p,
+// parent)` encodes patch p. With `keep_last`, `above` holds level end − 1's reconstructions
+// on return when the codec predicts level `end` from them.
+void encodeTopDown(const BuildContext& ctx, int first, int end, const LevelSpan& span,
+                   const std::function<EncodedPatch(PatchId, const uint16_t*)>& make,
+                   const std::function<void(EncodedPatch&)>& write,
+                   std::vector<std::vector<uint16_t>>& above, bool keep_last = false);
+
 } // namespace ridge::build_stages

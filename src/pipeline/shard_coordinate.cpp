@@ -10,7 +10,6 @@
 #include <nlohmann/json.hpp>
 
 #include <chrono>
-#include <exception>
 #include <map>
 #include <memory>
 
@@ -163,21 +162,11 @@ ShardStepReport coordinate(const ShardPlan& plan, const std::vector<std::string>
         restoreCodec(ctx, top);
     }
     if (std::unique_ptr<CodecTrainer> trainer = ctx.codec->trainer()) {
-        std::exception_ptr failure;
-        const int64_t count = gk.patchCount();
-#pragma omp parallel for schedule(dynamic, 4)
-        for (int64_t index = 0; index < count; ++index) {
-            try {
-                const PatchId p = gk.patchAt(index);
-                observePatch(ctx, *trainer, pyramid.level(p.level),
-                             p.level > 0 ? &pyramid.level(p.level - 1) : nullptr, p, p);
-            } catch (...) {
-#pragma omp critical
-                failure = std::current_exception();
-            }
-        }
-        if (failure)
-            std::rethrow_exception(failure);
+        parallelFor(gk.patchCount(), 4, [&](int64_t index) {
+            const PatchId p = gk.patchAt(index);
+            observePatch(ctx, *trainer, pyramid.level(p.level),
+                         p.level > 0 ? &pyramid.level(p.level - 1) : nullptr, p, p);
+        });
         if (stage == 0) {
             for (const auto& file : summaries) {
                 const std::vector<uint8_t> seen =
@@ -219,33 +208,21 @@ ShardStepReport coordinate(const ShardPlan& plan, const std::vector<std::string>
     archive::ShardFileWriter out(output,
                                  {archive::ShardFileKind::Top, plan.layout_hash, -1, plan.hash});
     BlobSink blobs(out);
-    std::vector<std::vector<uint16_t>> parents, current;
-    for (int l = 0; l < k; ++l) {
-        const int64_t first = g.firstPatchIndex(l);
-        const bool keep = ctx.codec->needsParent(l + 1);
-        current.assign(keep ? size_t(g.patchCount(l)) : 0, {});
-        encodeInOrder(
-            g.patchCount(l),
-            [&](int64_t j) {
-                const PatchId p = g.patchAt(first + j);
-                const size_t index = size_t(first + j);
-                const PatchSummary summary{errors.min_code[index], errors.max_code[index],
-                                           errors.err_appr[index]};
-                const uint16_t* parent = nullptr;
-                if (ctx.codec->needsParent(l))
-                    parent =
-                        parents[size_t(g.patchIndex(p.parent()) - g.firstPatchIndex(l - 1))].data();
-                return encodePatch(ctx, pyramid.level(l), p, p, summary, parent);
-            },
-            [&](int64_t j, EncodedPatch& e) {
-                blobs.add(e);
-                if (keep)
-                    current[size_t(j)] = std::move(e.reconstruction);
-            });
-        parents.swap(current);
-    }
+    const LevelSpan levels{[&](int l) { return g.patchCount(l); },
+                           [&](int l, int64_t j) { return g.patchAt(g.firstPatchIndex(l) + j); },
+                           [&](PatchId p) { return g.patchIndex(p) - g.firstPatchIndex(p.level); }};
+    std::vector<std::vector<uint16_t>> parents;
+    encodeTopDown(
+        ctx, 0, k, levels,
+        [&](PatchId p, const uint16_t* parent) {
+            const size_t index = size_t(g.patchIndex(p));
+            const PatchSummary summary{errors.min_code[index], errors.max_code[index],
+                                       errors.err_appr[index]};
+            return encodePatch(ctx, pyramid.level(p.level), p, p, summary, parent);
+        },
+        [&](EncodedPatch& e) { blobs.add(e); }, parents, true);
     blobs.finish();
-    if (k > 0 && ctx.codec->needsParent(k)) {
+    if (k > 0 && ctx.codec->needsParent(k)) { // level k−1's, kept by encodeTopDown
         std::vector<uint16_t> all;
         for (const std::vector<uint16_t>& p : parents)
             all.insert(all.end(), p.begin(), p.end());

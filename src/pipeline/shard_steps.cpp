@@ -11,7 +11,6 @@
 
 #include <bit>
 #include <chrono>
-#include <exception>
 #include <filesystem>
 
 namespace ridge {
@@ -36,22 +35,23 @@ double secondsSince(Clock::time_point start)
 void observeSubtree(const BuildContext& ctx, const Subtree& tree, CodecTrainer& trainer)
 {
     const int k = tree.shard().root.level;
-    for (int l = k + 1; l < ctx.geometry.levelCount(); ++l) {
-        std::exception_ptr failure;
-#pragma omp parallel for schedule(dynamic, 4)
-        for (int64_t j = 0; j < tree.layout().count(l); ++j) {
-            try {
-                const PatchId p = tree.layout().patchAt(l, j);
-                observePatch(ctx, trainer, tree.view(l), &tree.view(l - 1), tree.layout().local(p),
-                             p);
-            } catch (...) {
-#pragma omp critical
-                failure = std::current_exception();
-            }
-        }
-        if (failure)
-            std::rethrow_exception(failure);
-    }
+    for (int l = k + 1; l < ctx.geometry.levelCount(); ++l)
+        parallelFor(tree.layout().count(l), 4, [&](int64_t j) {
+            const PatchId p = tree.layout().patchAt(l, j);
+            observePatch(ctx, trainer, tree.view(l), &tree.view(l - 1), tree.layout().local(p), p);
+        });
+}
+
+// Publishes `out` and reports the step.
+ShardStepReport finished(archive::ShardFileWriter& out, const Subtree& tree,
+                         Clock::time_point start)
+{
+    out.finish();
+    ShardStepReport r;
+    r.samples = tree.samples_read;
+    r.output_bytes = out.bytesWritten();
+    r.seconds = secondsSince(start);
+    return r;
 }
 
 archive::ShardFileHeader headerFor(const ShardPlan& plan, archive::ShardFileKind kind,
@@ -118,12 +118,7 @@ ShardStepReport buildShardSummary(const ShardPlan& plan, int64_t id, const std::
         observeSubtree(ctx, tree, *trainer);
         out.addSection(kTagObservations, trainer->saveObservations());
     }
-    out.finish();
-    ShardStepReport r;
-    r.samples = tree.samples_read;
-    r.output_bytes = out.bytesWritten();
-    r.seconds = secondsSince(start);
-    return r;
+    return finished(out, tree, start);
 }
 
 ShardStepReport observeShard(const ShardPlan& plan, int64_t id, const std::string& top,
@@ -149,12 +144,7 @@ ShardStepReport observeShard(const ShardPlan& plan, int64_t id, const std::strin
     observeSubtree(ctx, tree, *trainer);
     archive::ShardFileWriter out(output, header);
     out.addSection(kTagObservations, trainer->saveObservations());
-    out.finish();
-    ShardStepReport r;
-    r.samples = tree.samples_read;
-    r.output_bytes = out.bytesWritten();
-    r.seconds = secondsSince(start);
-    return r;
+    return finished(out, tree, start);
 }
 
 ShardStepReport buildShardSegment(const ShardPlan& plan, int64_t id, const std::string& top,
@@ -196,44 +186,29 @@ ShardStepReport buildShardSegment(const ShardPlan& plan, int64_t id, const std::
     // order within the subtree); blobs appended, records kept for the end.
     archive::ShardFileWriter out(output, header);
     BlobSink blobs(out);
-    std::vector<std::vector<uint16_t>> parents, current;
-    for (int l = k; l < ctx.geometry.levelCount(); ++l) {
-        const bool keep = ctx.codec->needsParent(l + 1) && l + 1 < ctx.geometry.levelCount();
-        current.assign(keep ? size_t(tree.layout().count(l)) : 0, {});
-        encodeInOrder(
-            tree.layout().count(l),
-            [&](int64_t j) {
-                const PatchId p = tree.layout().patchAt(l, j);
-                const uint16_t* parent_codes = nullptr;
-                if (ctx.codec->needsParent(l)) {
-                    if (l == k) {
-                        parent_codes = parent.data();
-                    } else {
-                        const PatchId up = tree.layout().local(p.parent());
-                        parent_codes =
-                            parents[size_t(up.y) * tree.layout().columns(l - 1) + up.x].data();
-                    }
-                }
-                PatchSampleFlags flags{PatchSampleFlags::Kind::None, n, {}};
-                if (tree.hasFlags())
-                    flags = tree.flags(p);
-                return encodePatch(ctx, tree.view(l), tree.layout().local(p), p, tree.summary(p),
-                                   parent_codes, &flags);
-            },
-            [&](int64_t j, EncodedPatch& e) {
-                blobs.add(e);
-                if (keep)
-                    current[size_t(j)] = std::move(e.reconstruction);
-            });
-        parents.swap(current);
-    }
+    const SubtreeLayout& layout = tree.layout();
+    const LevelSpan span{[&](int l) { return layout.count(l); },
+                         [&](int l, int64_t j) { return layout.patchAt(l, j); },
+                         [&](PatchId p) { // the root's parent: the one reconstruction given
+                             return p.level < k
+                                        ? 0
+                                        : layout.position(p) - layout.firstPosition(p.level);
+                         }};
+    std::vector<std::vector<uint16_t>> above;
+    if (!parent.empty())
+        above.push_back(std::move(parent));
+    encodeTopDown(
+        ctx, k, ctx.geometry.levelCount(), span,
+        [&](PatchId p, const uint16_t* parent_codes) {
+            PatchSampleFlags flags{PatchSampleFlags::Kind::None, n, {}};
+            if (tree.hasFlags())
+                flags = tree.flags(p);
+            return encodePatch(ctx, tree.view(p.level), layout.local(p), p, tree.summary(p),
+                               parent_codes, &flags);
+        },
+        [&](EncodedPatch& e) { blobs.add(e); }, above);
     blobs.finish();
-    out.finish();
-    ShardStepReport r;
-    r.samples = tree.samples_read;
-    r.output_bytes = out.bytesWritten();
-    r.seconds = secondsSince(start);
-    return r;
+    return finished(out, tree, start);
 }
 
 } // namespace ridge

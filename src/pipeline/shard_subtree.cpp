@@ -9,7 +9,6 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
-#include <exception>
 #include <sys/resource.h>
 #include <sys/stat.h>
 
@@ -232,33 +231,22 @@ Subtree::Subtree(const ShardPlan& plan, int64_t id)
     // Err_Int and ranges of every patch (measurePatches' rule), then Err_Appr bottom up
     // (accumulatePatchErrors'): the same values the whole raster's pyramid gives them.
     const int n = g_.patchSize();
-    std::exception_ptr failure;
-#pragma omp parallel
-    {
-        std::vector<uint16_t> samples(size_t(n) * n);
-#pragma omp for schedule(dynamic, 4)
-        for (int64_t index = 0; index < first; ++index) {
-            try {
-                int l = k;
-                while (index >= layout_.firstPosition(l) + layout_.count(l))
-                    ++l;
-                const PatchId p = layout_.patchAt(l, index - layout_.firstPosition(l));
-                const PatchId at = layout_.local(p);
-                extractPatch(view(l), n, at, samples.data());
-                const auto [lo, hi] = std::minmax_element(samples.begin(), samples.end());
-                errors_.min_code[size_t(index)] = *lo;
-                errors_.max_code[size_t(index)] = *hi;
-                if (l < g_.finestLevel())
-                    errors_.err_int[size_t(index)] =
-                        float(interpolationError(samples.data(), view(l + 1), n, at));
-            } catch (...) {
-#pragma omp critical
-                failure = std::current_exception();
-            }
-        }
-    }
-    if (failure)
-        std::rethrow_exception(failure);
+    build_stages::parallelFor(first, 4, [&](int64_t index) {
+        thread_local std::vector<uint16_t> samples;
+        samples.resize(size_t(n) * n);
+        int l = k;
+        while (index >= layout_.firstPosition(l) + layout_.count(l))
+            ++l;
+        const PatchId p = layout_.patchAt(l, index - layout_.firstPosition(l));
+        const PatchId at = layout_.local(p);
+        extractPatch(view(l), n, at, samples.data());
+        const auto [lo, hi] = std::minmax_element(samples.begin(), samples.end());
+        errors_.min_code[size_t(index)] = *lo;
+        errors_.max_code[size_t(index)] = *hi;
+        if (l < g_.finestLevel())
+            errors_.err_int[size_t(index)] =
+                float(interpolationError(samples.data(), view(l + 1), n, at));
+    });
     for (int l = g_.finestLevel() - 1; l >= k; --l)
         for (int64_t j = 0; j < layout_.count(l); ++j) {
             const PatchId p = layout_.patchAt(l, j);
