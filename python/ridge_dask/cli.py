@@ -82,6 +82,9 @@ def build_parser():
     parser.add_argument("--workers", type=_positive_int, default=os.cpu_count() or 1,
                         metavar="N", help="LocalCluster worker processes, one thread each "
                                           "(default: the CPU count, %(default)s here)")
+    parser.add_argument("--threads-per-task", type=_positive_int, default=1, metavar="T",
+                        help="OpenMP threads of each ridge step (OMP_NUM_THREADS; default "
+                             "%(default)s: one core a task, as the workers are single-threaded)")
     parser.add_argument("--retries", type=_non_negative_int, default=2, metavar="R",
                         help="Dask retries of a failed task (default: %(default)s)")
     parser.add_argument("--ridge", metavar="PATH",

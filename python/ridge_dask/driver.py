@@ -228,7 +228,8 @@ class Build:
         for ident, args in jobs:
             future = self.client.submit(
                 tasks.ridge_task, self.options.ridge, args, phase, ident, self.run_dir,
-                self.cwd, self.fail_specs, key=f"{phase}-{ident}-{uuid.uuid4().hex}",
+                self.cwd, self.fail_specs, self.options.threads_per_task,
+                key=f"{phase}-{ident}-{uuid.uuid4().hex}",
                 pure=False, retries=self.options.retries)
             futures[future] = ident
         self.in_flight = list(futures)

@@ -113,17 +113,20 @@ def fail_once(run_dir, step, shard, fail_specs):
                          f"(RIDGE_DASK_FAIL_ONCE={step}:{shard}, first attempt)")
 
 
-def run_ridge(ridge, args, step, shard=None, cwd=None, stop_path=None):
+def run_ridge(ridge, args, step, shard=None, cwd=None, stop_path=None, threads=None):
     """Runs `ridge ARGS...` and returns its last-line JSON object and its stderr's tail.
 
     Raises RidgeStepError naming the step, the shard and ridge's stderr when ridge exits
     non-zero, prints no JSON object, or is stopped through stop_path."""
     command = [ridge] + [str(a) for a in args]
+    env = dict(os.environ)
+    if threads is not None:  # ridge's OpenMP threads: one core a task by default
+        env["OMP_NUM_THREADS"] = str(threads)
     if cwd is not None and not os.path.isdir(cwd):
         cwd = None
     try:
         process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                                   stdin=subprocess.DEVNULL, cwd=cwd, text=True,
+                                   stdin=subprocess.DEVNULL, cwd=cwd, env=env, text=True,
                                    errors="replace")
     except OSError as error:
         raise RidgeStepError(f"{step_label(step, shard)}: cannot run {ridge}: {error}") from None
@@ -149,7 +152,7 @@ def run_ridge(ridge, args, step, shard=None, cwd=None, stop_path=None):
     return result, tail(stderr)
 
 
-def ridge_task(ridge, args, step, shard, run_dir, cwd=None, fail_specs=None):
+def ridge_task(ridge, args, step, shard, run_dir, cwd=None, fail_specs=None, threads=None):
     """One task on a worker: claims an attempt, honours the stop file and the test hook, runs
     ridge, and returns {"step", "shard", "attempts", "host", "wall_seconds", "stderr_tail",
     "ridge": ridge's JSON object}. Any failure raises, so Dask retries the task."""
@@ -159,7 +162,8 @@ def ridge_task(ridge, args, step, shard, run_dir, cwd=None, fail_specs=None):
         raise RidgeStepError(f"{step_label(step, shard)}: stopped (the build was abandoned)")
     fail_once(run_dir, step, shard, fail_specs)
     start = time.monotonic()
-    result, stderr_tail = run_ridge(ridge, args, step, shard, cwd=cwd, stop_path=stop_path)
+    result, stderr_tail = run_ridge(ridge, args, step, shard, cwd=cwd, stop_path=stop_path,
+                                    threads=threads)
     return {
         "step": step,
         "shard": shard,

@@ -5,6 +5,7 @@
 #include "ridge/codec/progressive_tables.h"
 #include "ridge/codec/progressive_tokens.h"
 #include "ridge/codec/rans_coder.h"
+#include "ridge/core/error.h"
 
 #include <gtest/gtest.h>
 
@@ -341,4 +342,72 @@ TEST(ProgressiveCodecV2, PayloadBytesOfBothFormatsArePinned)
             EXPECT_EQ(c, "50020118234f0600f36c02003fff1e16ff2d4a000c2b5c4e7c9c38da");
         }
     }
+}
+
+// A sharded build trains one codec across processes: observations split between trainers,
+// saved and merged in any order, and the partial codec handed on as its training state, give
+// the codec one trainer seeing every patch gives.
+TEST(ProgressiveCodecV2, TrainingSplitAcrossTrainersLearnsTheSameCodec)
+{
+    const int n = 65;
+    const ProgressiveCodec codec(1, 2);
+    const std::vector<uint16_t> root = terrainPatch(n, 1, 3);
+    std::vector<uint16_t> root_drawn(root.size());
+    codec.reconstruct(root.data(), {n, 0, nullptr, 0}, root_drawn.data());
+    std::vector<std::vector<uint16_t>> children;
+    for (int c = 0; c < 4; ++c)
+        children.push_back(terrainPatch(n, 20 + c, 5));
+    auto observe = [&](CodecTrainer& t, int c) {
+        if (c < 0)
+            t.observe(root.data(), {n, 0, nullptr, 0});
+        else
+            t.observe(children[size_t(c)].data(), {n, 1, root_drawn.data(), c});
+    };
+    std::unique_ptr<HeightCodec> whole = std::make_unique<ProgressiveCodec>(codec);
+    std::unique_ptr<HeightCodec> split = std::make_unique<ProgressiveCodec>(codec);
+    int stages = 0;
+    while (const std::unique_ptr<CodecTrainer> one = whole->trainer()) {
+        for (int c = -1; c < 4; ++c)
+            observe(*one, c);
+        whole = one->finish();
+        // The split: the state handed to two "shards" through bytes, each observing half,
+        // merged into a third in reverse order.
+        const std::vector<uint8_t> state = split->trainingState();
+        std::unique_ptr<HeightCodec> shard_codec = makeCodec("progressive", 1, 2);
+        shard_codec->restoreTraining(state.data(), state.size());
+        const std::unique_ptr<CodecTrainer> a = shard_codec->trainer(), b = shard_codec->trainer();
+        const std::unique_ptr<CodecTrainer> coordinator = split->trainer();
+        ASSERT_TRUE(a && b && coordinator);
+        observe(*a, 3);
+        observe(*a, 0);
+        observe(*b, 2);
+        observe(*b, 1);
+        observe(*coordinator, -1);
+        for (const CodecTrainer* t : {b.get(), a.get()}) {
+            const std::vector<uint8_t> seen = t->saveObservations();
+            coordinator->mergeObservations(seen.data(), seen.size());
+        }
+        split = coordinator->finish();
+        EXPECT_EQ(split->trainingState(), whole->trainingState()) << "stage " << stages;
+        ++stages;
+    }
+    EXPECT_EQ(stages, 2);
+    EXPECT_EQ(split->trainer(), nullptr);
+    EXPECT_EQ(split->storeTables(), whole->storeTables());
+    EXPECT_FALSE(whole->storeTables().empty());
+
+    // Bytes that are not a trainer's or a codec's are refused.
+    const std::unique_ptr<CodecTrainer> fresh = makeCodec("progressive", 1, 2)->trainer();
+    std::vector<uint8_t> seen = fresh->saveObservations();
+    seen.pop_back();
+    EXPECT_THROW(fresh->mergeObservations(seen.data(), seen.size()), Error);
+    std::unique_ptr<HeightCodec> target = makeCodec("progressive", 1, 2);
+    std::vector<uint8_t> state = whole->trainingState();
+    state[0] = 3; // no stage 3
+    EXPECT_THROW(target->restoreTraining(state.data(), state.size()), Error);
+    state = whole->trainingState();
+    state.pop_back();
+    EXPECT_THROW(target->restoreTraining(state.data(), state.size()), Error);
+    const uint8_t one_byte = 1;
+    EXPECT_THROW(makeCodec("lossless")->restoreTraining(&one_byte, 1), Error);
 }
