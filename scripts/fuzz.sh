@@ -26,7 +26,7 @@ elif ! grep -q '^RIDGE_BUILD_FUZZERS:BOOL=ON' "$fuzz_build/CMakeCache.txt" 2>/de
   exit 2
 fi
 cmake --build "$fuzz_build" -j "$(nproc)" --target fuzz_lossless_decode fuzz_progressive_decode fuzz_jpeg2000_decode fuzz_fractal_decode fuzz_archive_reader \
-      fuzz_archive_fields fuzz_render_params fuzz_quantized_mesh_decode fuzz_pmtiles_read
+      fuzz_archive_fields fuzz_render_params fuzz_quantized_mesh_decode fuzz_pmtiles_read fuzz_shard_files
 
 # Seeds: small real archives, and their patch payloads prefixed with the patch-size byte.
 seeds=$fuzz_build/seeds
@@ -120,10 +120,29 @@ mkdir -p "$seeds/pmtiles"
 ./build/ridge tiles "$seeds/archive/everest_17.ridge" -o "$seeds/pmtiles/rgb.pmtiles" -q \
     --format terrarium --maxzoom 4
 
+# A sharded build's plan and files (lossless and progressive, so every section kind is there).
+mkdir -p "$seeds/shard"
+./build/ridge plan tests/data/everest_crop.tif --shard-level 1 --patch 33 -q \
+    --codec progressive --max-error 1 -o "$seeds/shard/plan.json"
+./build/ridge build --plan "$seeds/shard/plan.json" --shard 0 --summary -q -o "$seeds/shard/s0"
+./build/ridge build --plan "$seeds/shard/plan.json" --shard 1 --summary -q -o "$seeds/shard/s1"
+./build/ridge build --plan "$seeds/shard/plan.json" --coordinate -q \
+    --summaries "$seeds/shard/s0" "$seeds/shard/s1" -o "$seeds/shard/top0"
+./build/ridge build --plan "$seeds/shard/plan.json" --shard 0 --observe "$seeds/shard/top0" -q \
+    -o "$seeds/shard/o0"
+./build/ridge build --plan "$seeds/shard/plan.json" --shard 1 --observe "$seeds/shard/top0" -q \
+    -o "$seeds/shard/o1"
+./build/ridge build --plan "$seeds/shard/plan.json" --coordinate -q \
+    --summaries "$seeds/shard/s0" "$seeds/shard/s1" --top "$seeds/shard/top0" \
+    --observations "$seeds/shard/o0" "$seeds/shard/o1" -o "$seeds/shard/top1"
+./build/ridge build --plan "$seeds/shard/plan.json" --shard 0 --top "$seeds/shard/top1" -q \
+    -o "$seeds/shard/g0"
+
 status=0
 export RIDGE_FUZZ_ARCHIVES=$seeds/archive # the archives fuzz_render_params renders
 for target in fuzz_lossless_decode fuzz_progressive_decode fuzz_jpeg2000_decode fuzz_fractal_decode fuzz_archive_reader \
-              fuzz_archive_fields fuzz_render_params fuzz_quantized_mesh_decode fuzz_pmtiles_read; do
+              fuzz_archive_fields fuzz_render_params fuzz_quantized_mesh_decode fuzz_pmtiles_read \
+              fuzz_shard_files; do
   seed_dir=$seeds/payload
   [[ $target == fuzz_archive_reader || $target == fuzz_archive_fields ]] && seed_dir=$seeds/archive
   [[ $target == fuzz_progressive_decode ]] && seed_dir=$seeds/progressive
@@ -132,6 +151,7 @@ for target in fuzz_lossless_decode fuzz_progressive_decode fuzz_jpeg2000_decode 
   [[ $target == fuzz_render_params ]] && seed_dir=$seeds/params
   [[ $target == fuzz_quantized_mesh_decode ]] && seed_dir=$seeds/quantized_mesh
   [[ $target == fuzz_pmtiles_read ]] && seed_dir=$seeds/pmtiles
+  [[ $target == fuzz_shard_files ]] && seed_dir=$seeds/shard
   corpus=$fuzz_build/corpus-$target # new inputs go here; the seeds stay as built
   mkdir -p "$corpus"
   echo "fuzz: $target for ${seconds}s"
