@@ -40,6 +40,22 @@ std::vector<uint8_t> encode(const ProgressiveCodec& codec, const std::vector<uin
     return payload;
 }
 
+// A root patch of 65², its reconstruction under `codec`, and four children: what the
+// training tests observe.
+struct TrainingFamily {
+    static constexpr int n = 65;
+    std::vector<uint16_t> root, root_drawn;
+    std::vector<std::vector<uint16_t>> children;
+
+    TrainingFamily(const ProgressiveCodec& codec, uint32_t child_seed, int child_noise)
+        : root(terrainPatch(n, 1, 3)), root_drawn(root.size())
+    {
+        codec.reconstruct(root.data(), {n, 0, nullptr, 0}, root_drawn.data());
+        for (int c = 0; c < 4; ++c)
+            children.push_back(terrainPatch(n, child_seed + uint32_t(c), child_noise));
+    }
+};
+
 rans::Table tableOf(std::vector<uint16_t> freq)
 {
     rans::Table t;
@@ -258,14 +274,12 @@ TEST(ProgressiveCodecV2, CodesOnlyTheRegionAndRepeatsItsEdgeBeyond)
 
 TEST(ProgressiveCodecV2, TrainedTablesCodeTheirOwnPatchesSmallerAndExactly)
 {
-    const int n = 65;
+    const int n = TrainingFamily::n;
     const ProgressiveCodec codec(1, 2);
-    const std::vector<uint16_t> root = terrainPatch(n, 1, 3);
-    std::vector<uint16_t> root_drawn(root.size());
-    codec.reconstruct(root.data(), {n, 0, nullptr, 0}, root_drawn.data());
-    std::vector<std::vector<uint16_t>> children;
-    for (int c = 0; c < 4; ++c)
-        children.push_back(terrainPatch(n, 10 + c, 3));
+    const TrainingFamily family(codec, 10, 3);
+    const std::vector<uint16_t>& root = family.root;
+    const std::vector<uint16_t>& root_drawn = family.root_drawn;
+    const std::vector<std::vector<uint16_t>>& children = family.children;
     // The build's loop: every stage (corrections, then tables) sees every patch.
     std::unique_ptr<HeightCodec> trained_codec = std::make_unique<ProgressiveCodec>(codec);
     int stages = 0;
@@ -349,14 +363,12 @@ TEST(ProgressiveCodecV2, PayloadBytesOfBothFormatsArePinned)
 // the codec one trainer seeing every patch gives.
 TEST(ProgressiveCodecV2, TrainingSplitAcrossTrainersLearnsTheSameCodec)
 {
-    const int n = 65;
+    const int n = TrainingFamily::n;
     const ProgressiveCodec codec(1, 2);
-    const std::vector<uint16_t> root = terrainPatch(n, 1, 3);
-    std::vector<uint16_t> root_drawn(root.size());
-    codec.reconstruct(root.data(), {n, 0, nullptr, 0}, root_drawn.data());
-    std::vector<std::vector<uint16_t>> children;
-    for (int c = 0; c < 4; ++c)
-        children.push_back(terrainPatch(n, 20 + c, 5));
+    const TrainingFamily family(codec, 20, 5);
+    const std::vector<uint16_t>& root = family.root;
+    const std::vector<uint16_t>& root_drawn = family.root_drawn;
+    const std::vector<std::vector<uint16_t>>& children = family.children;
     auto observe = [&](CodecTrainer& t, int c) {
         if (c < 0)
             t.observe(root.data(), {n, 0, nullptr, 0});
