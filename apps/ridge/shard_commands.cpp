@@ -30,7 +30,7 @@ uint64_t peakRssBytes()
 
 void Commands::registerShardSteps(CLI::App* build)
 {
-    const char* group = "Sharded build steps (ridge plan; run by python3 -m ridge_dask)";
+    const char* group = "Sharded build steps (ridge plan; scripts/ridge-dask runs them)";
     build->add_option("--plan", plan_path_, "The plan (ridge plan) whose step this is")
         ->group(group)
         ->type_name("PLAN");
@@ -72,7 +72,7 @@ void Commands::registerPlanAndMerge(CLI::App& app)
 {
     plan_ = app.add_subcommand(
         "plan", "Plan a sharded build: the subtrees below --shard-level, their windows and "
-                "inputs, for ridge build --plan and ridge merge (or python3 -m ridge_dask)");
+                "inputs, for ridge build --plan and ridge merge (scripts/ridge-dask runs it all)");
     plan_->add_option("input", inputs_,
                       "Input rasters: one, or tiles joined into a mosaic VRT beside the plan "
                       "(as gdalbuildvrt)");
