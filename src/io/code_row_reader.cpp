@@ -80,16 +80,22 @@ CodeRowReader::CodeRowReader(const std::string& path, const IngestOptions& optio
     if (detail::hasDirectCodes(band)) {
         impl->source = detail::makeDirectCodes(band);
     } else {
-        impl->source = detail::makeQuantizedCodes(band, options.max_error,
-                                                  subProgress(options.progress, 0.0, kSurveyShare));
+        impl->source = detail::makeQuantizedCodes(
+            band, options.max_error, subProgress(options.progress, 0.0, kSurveyShare),
+            options.code_mapping ? &*options.code_mapping : nullptr);
     }
     impl->quantization = impl->source->quantization();
     impl->exact = impl->source->exact();
+    const bool planned = options.code_mapping && !detail::hasDirectCodes(band);
+    if (planned) { // the whole raster's error, measured when the mapping was made
+        impl->quantization.max_error = options.code_mapping->quantization.max_error;
+        impl->exact = impl->quantization.max_error == 0.0;
+    }
     impl->sea_level = options.sea_level;
     impl->source->setSeaLevel(options.sea_level);
     if (!options.water_layer.empty())
         impl->layer.emplace(options.water_layer, impl->geo, band.width(), band.height());
-    if (!impl->exact) {
+    if (!impl->exact && !planned) {
         impl->quantization.max_error =
             impl->measureError(subProgress(options.progress, kSurveyShare, 1.0));
         impl->exact = impl->quantization.max_error == 0.0;
@@ -117,6 +123,14 @@ int CodeRowReader::height() const
 const HeightQuantization& CodeRowReader::quantization() const
 {
     return impl_->quantization;
+}
+
+std::optional<CodeMapping> CodeRowReader::codeMapping() const
+{
+    std::optional<CodeMapping> m = impl_->source->mapping();
+    if (m)
+        m->quantization.max_error = impl_->quantization.max_error;
+    return m;
 }
 
 const GeoReference& CodeRowReader::geo() const

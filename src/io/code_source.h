@@ -47,6 +47,8 @@ class CodeSource {
     const HeightQuantization& quantization() const { return quantization_; }
     // Every valid sample is represented exactly (max_error will be 0).
     bool exact() const { return exact_; }
+    // How values become codes, for sources that are not 8/16-bit integers (max_error left 0).
+    virtual std::optional<CodeMapping> mapping() const { return std::nullopt; }
     // Bytes per sample of the strip that readRows needs internally (for strip sizing).
     virtual int stripSampleBytes() const = 0;
 
@@ -79,8 +81,11 @@ std::unique_ptr<CodeSource> makeDirectCodes(const SourceBand& band);
 // are exact; otherwise codes step 2 * max_error (or range / 65535 when unset) metres, and the
 // top code is kept free when the band has voids (see void_fill.cpp). Throws Error when all
 // samples are nodata or the range cannot meet max_error in 16 bits.
+// With `planned`, no survey: its mapping is used, and readRows fails naming the file on a
+// value it does not hold within its max_error.
 std::unique_ptr<CodeSource> makeQuantizedCodes(const SourceBand& band,
                                                const std::optional<double>& max_error,
-                                               const Progress& survey_progress);
+                                               const Progress& survey_progress,
+                                               const CodeMapping* planned = nullptr);
 
 } // namespace ridge::io::detail

@@ -88,6 +88,16 @@ double stepFor(const SourceBand& band, double range, double magnitude, int64_t m
 
 class QuantizedCodes final : public CodeSource {
   public:
+    QuantizedCodes(const SourceBand& band, const CodeMapping& planned) : band_(band)
+    {
+        exact_ = planned.exact;
+        integer_origin_ = planned.integer_origin;
+        max_code_ = planned.max_code;
+        quantization_.scale = planned.quantization.scale;
+        quantization_.offset = planned.quantization.offset;
+        planned_max_error_ = planned.quantization.max_error;
+    }
+
     QuantizedCodes(const SourceBand& band, const std::optional<double>& max_error,
                    const Progress& survey_progress)
         : band_(band)
@@ -120,6 +130,12 @@ class QuantizedCodes final : public CodeSource {
 
     int stripSampleBytes() const override { return sizeof(double); }
 
+    std::optional<CodeMapping> mapping() const override
+    {
+        return CodeMapping{
+            exact_, integer_origin_, max_code_, {quantization_.scale, quantization_.offset, 0.0}};
+    }
+
     void readRows(int y0, int rows, uint16_t* out, std::vector<int64_t>& voids, CodeStats& stats,
                   uint8_t* water) override
     {
@@ -147,11 +163,17 @@ class QuantizedCodes final : public CodeSource {
             const double m = undulations_.empty() ? source_metres : source_metres + undulations_[i];
             uint16_t code;
             if (exact_) {
-                code = static_cast<uint16_t>(std::abs(v - integer_origin_));
+                const double d = std::abs(v - integer_origin_);
+                if (planned_max_error_ && !(d <= double(max_code_) && std::floor(v) == v))
+                    outsidePlan(y0, i, v);
+                code = static_cast<uint16_t>(d);
             } else {
                 code = static_cast<uint16_t>(
                     std::clamp<long long>(std::llround((m - q.offset) / q.scale), 0, max_code_));
-                stats.max_error = std::max(stats.max_error, std::abs(q.toMetres(code) - m));
+                const double error = std::abs(q.toMetres(code) - m);
+                if (planned_max_error_ && !(error <= *planned_max_error_))
+                    outsidePlan(y0, i, v);
+                stats.max_error = std::max(stats.max_error, error);
             }
             out[i] = code;
             lo = std::min(lo, code);
@@ -165,7 +187,16 @@ class QuantizedCodes final : public CodeSource {
     }
 
   private:
+    [[noreturn]] void outsidePlan(int y0, size_t i, double v) const
+    {
+        band_.fail("value " + formatNumber(v, 9) + " at row " +
+                   std::to_string(y0 + int64_t(i) / band_.width()) +
+                   " is not one the planned code mapping holds: the raster changed since it "
+                   "was planned");
+    }
+
     const SourceBand& band_;
+    std::optional<double> planned_max_error_; // a planned mapping's bound, checked per value
     double integer_origin_ = 0.0;
     int64_t max_code_ = kCodeCount - 1;
     std::vector<double> values_;
@@ -177,8 +208,11 @@ class QuantizedCodes final : public CodeSource {
 
 std::unique_ptr<CodeSource> makeQuantizedCodes(const SourceBand& band,
                                                const std::optional<double>& max_error,
-                                               const Progress& survey_progress)
+                                               const Progress& survey_progress,
+                                               const CodeMapping* planned)
 {
+    if (planned)
+        return std::make_unique<QuantizedCodes>(band, *planned);
     return std::make_unique<QuantizedCodes>(band, max_error, survey_progress);
 }
 

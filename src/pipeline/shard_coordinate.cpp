@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include <chrono>
+#include <cmath>
 #include <map>
 #include <memory>
 
@@ -66,6 +67,15 @@ int64_t infoCount(const nlohmann::json& info, const char* key, const std::string
     return it->get<int64_t>();
 }
 
+double infoMetres(const nlohmann::json& info, const char* key, const std::string& path)
+{
+    const auto it = info.find(key);
+    if (it == info.end() || !it->is_number() ||
+        !(std::abs(it->get<double>()) <= kMaxAbsHeightMetres))
+        throw Error(path + ": INFO." + key + " is missing or not a height");
+    return it->get<double>();
+}
+
 } // namespace
 
 ShardStepReport coordinate(const ShardPlan& plan, const std::vector<std::string>& summary_paths,
@@ -98,7 +108,7 @@ ShardStepReport coordinate(const ShardPlan& plan, const std::vector<std::string>
         throw Error("internal error: levels 0.." + std::to_string(k) + " geometry");
     PatchErrors errors = makePatchErrors(gk);
     io::IngestStats stats;
-    uint16_t min_code = 0xffff, max_code = 0;
+    double min_metres = INFINITY, max_metres = -INFINITY;
     for (const PlanShard& s : plan.shards) {
         const archive::ShardFileReader& file = *summaries[size_t(s.id)];
         const nlohmann::json info = readInfo(file);
@@ -134,8 +144,8 @@ ShardStepReport coordinate(const ShardPlan& plan, const std::vector<std::string>
         errors.err_appr[size_t(index)] = err->get<float>();
         stats.valid_samples += infoCount(info, "owned_samples", file.path());
         stats.water_samples += infoCount(info, "owned_water", file.path());
-        min_code = std::min(min_code, infoCode(info, "owned_min_code", file.path()));
-        max_code = std::max(max_code, infoCode(info, "owned_max_code", file.path()));
+        min_metres = std::min(min_metres, infoMetres(info, "min_metres", file.path()));
+        max_metres = std::max(max_metres, infoMetres(info, "max_metres", file.path()));
     }
     if (stats.valid_samples != int64_t(plan.width) * plan.height)
         throw Error("the shards' summaries own " + std::to_string(stats.valid_samples) +
@@ -238,8 +248,8 @@ ShardStepReport coordinate(const ShardPlan& plan, const std::vector<std::string>
     stats.z_scale = base.z_scale;
     stats.z_offset = base.z_offset;
     stats.fill_voids = plan.options.ingest.fill_voids;
-    stats.min_metres = source.quantization().toMetres(min_code);
-    stats.max_metres = source.quantization().toMetres(max_code);
+    stats.min_metres = min_metres;
+    stats.max_metres = max_metres;
     const std::string metadata =
         metadataJson(plan.source_name, stats, source.geo(), ctx, plan.options);
     const std::string info = jsonText(nlohmann::json{{"pending_stage", 0}, {"metadata", metadata}});

@@ -106,8 +106,8 @@ class Subtree {
     // raster's last row and column to the last shard): counted once over all shards.
     int64_t owned_samples = 0;
     int64_t owned_water = 0;
-    uint16_t owned_min = 0xffff;
-    uint16_t owned_max = 0;
+    double min_metres = 0; // over the window's samples
+    double max_metres = 0;
     int64_t samples_read = 0;
 
   private:

@@ -58,6 +58,18 @@ template <typename T> json optional(const std::optional<T>& v)
     return v ? json(*v) : json(nullptr);
 }
 
+json mappingJson(const std::optional<io::CodeMapping>& m)
+{
+    if (!m)
+        return nullptr;
+    return {{"exact", m->exact},
+            {"integer_origin", m->integer_origin},
+            {"max_code", m->max_code},
+            {"scale", m->quantization.scale},
+            {"offset", m->quantization.offset},
+            {"max_error", m->quantization.max_error}};
+}
+
 json optionsJson(const BuildOptions& o)
 {
     const io::IngestOptions& i = o.ingest;
@@ -74,7 +86,9 @@ json optionsJson(const BuildOptions& o)
             {"z_scale", optional(i.z_scale)},
             {"z_offset", optional(i.z_offset)},
             {"fill_voids", io::voidFillName(i.fill_voids)},
-            {"sea_level", optional(i.sea_level)}};
+            {"sea_level", optional(i.sea_level)},
+            {"quantization_max_error", optional(i.max_error)},
+            {"code_mapping", mappingJson(i.code_mapping)}};
 }
 
 json windowJson(const io::PixelWindow& w)
@@ -240,17 +254,18 @@ ShardPlan makePlan(const std::vector<std::string>& inputs, const BuildOptions& o
         plan.source_name = vrt.filename().string();
     }
     const io::RasterProbe probe = io::probeRaster(plan.source, options.ingest);
-    if (!probe.direct_codes)
-        throw Error(plan.source + ": " + probe.data_type +
-                    " samples: sharded builds take 8/16-bit integer rasters (the quantization "
-                    "of other types is found over the whole raster first); gdal_translate "
-                    "-ot Int16 -scale converts");
     {
-        const io::CodeRowReader reader(plan.source, options.ingest);
+        // Other types than 8/16-bit integers: the codes are settled here, over the whole
+        // raster (a survey and an error pass, as `ridge build` makes them), and every shard
+        // reads its window through this mapping.
+        io::IngestOptions ingest = options.ingest;
+        ingest.code_mapping.reset();
+        const io::CodeRowReader reader(plan.source, ingest);
         if (reader.geo().vertical_shift)
             throw Error(plan.source +
                         ": its heights would be shifted to the ellipsoid, which sharded builds "
                         "do not do yet; --novshift keeps them as they are");
+        plan.options.ingest.code_mapping = reader.codeMapping();
     }
     plan.data_type = probe.data_type;
     plan.width = probe.width;

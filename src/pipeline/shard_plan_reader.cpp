@@ -80,6 +80,18 @@ class Fields {
         return v.get<double>();
     }
 
+    // A finite number (null refused).
+    std::optional<double> required(const std::string& key) const
+    {
+        const std::optional<double> v = number(key);
+        if (!v)
+            fail(key, "is null: a number is required");
+        return v;
+    }
+
+    const std::string& path() const { return path_; }
+    const std::string& prefix() const { return prefix_; }
+
     uint64_t hash(const std::string& key) const
     {
         const std::string text = string(key);
@@ -148,6 +160,20 @@ BuildOptions readOptions(const Fields& b)
         b.fail("fill_voids", e.what());
     }
     i.sea_level = b.number("sea_level");
+    i.max_error = b.number("quantization_max_error");
+    if (const json& m = b.at("code_mapping"); !m.is_null()) {
+        const Fields f(b.path(), m, b.prefix() + "code_mapping.");
+        io::CodeMapping mapping;
+        mapping.exact = f.boolean("exact");
+        mapping.integer_origin = *f.required("integer_origin");
+        mapping.max_code = f.integer("max_code", 1, 65535);
+        mapping.quantization.scale = *f.required("scale");
+        mapping.quantization.offset = *f.required("offset");
+        mapping.quantization.max_error = *f.required("max_error");
+        if (!(mapping.quantization.scale > 0) || !(mapping.quantization.max_error >= 0))
+            f.fail("scale", "must be positive and max_error not negative");
+        i.code_mapping = mapping;
+    }
     try {
         o.validate();
     } catch (const Error& e) {

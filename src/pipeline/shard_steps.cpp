@@ -99,7 +99,7 @@ ShardStepReport buildShardSummary(const ShardPlan& plan, int64_t id, const std::
     const PatchSummary s = tree.summary(root);
     const nlohmann::json info = {
         {"owned_samples", tree.owned_samples}, {"owned_water", tree.owned_water},
-        {"owned_min_code", tree.owned_min},    {"owned_max_code", tree.owned_max},
+        {"min_metres", tree.min_metres},       {"max_metres", tree.max_metres},
         {"root_min_code", s.min_code},         {"root_max_code", s.max_code},
         {"root_err_appr", s.err_appr}};
     archive::ShardFileWriter out(output, header);

@@ -198,16 +198,16 @@ Subtree::Subtree(const ShardPlan& plan, int64_t id)
                     ": sharded builds need void-free input (fill it first, e.g. gdal_fillnodata, "
                     "or build it in one process)");
     samples_read = int64_t(window_.codes.size());
+    // The source's heights (not their codes'), as `ridge build` states them: a shared sample
+    // counted twice changes neither extreme.
+    min_metres = reader.stats().min_metres;
+    max_metres = reader.stats().max_metres;
 
     // The samples this shard owns: all but the shared east column and south row, unless they
     // are the raster's last.
     const int own_w = w.x + w.width == plan.width ? w.width : w.width - 1;
     const int own_h = w.y + w.height == plan.height ? w.height : w.height - 1;
     for (int y = 0; y < own_h; ++y) {
-        const uint16_t* row = window_.codes.data() + size_t(y) * w.width;
-        const auto [lo, hi] = std::minmax_element(row, row + own_w);
-        owned_min = std::min(owned_min, *lo);
-        owned_max = std::max(owned_max, *hi);
         if (!flags_.empty())
             owned_water += std::count_if(flags_.data() + size_t(y) * w.width,
                                          flags_.data() + size_t(y) * w.width + own_w,

@@ -126,3 +126,49 @@ TEST(CodeRowReader, RefusesWhatIngestRefuses)
 
 } // namespace
 } // namespace ridge::io
+
+namespace ridge::io {
+namespace {
+
+// A sharded build's window reads a Float32 raster through the whole raster's code mapping:
+// the same codes without a survey, and a value the mapping does not hold is refused.
+TEST(CodeRowReader, APlannedCodeMappingGivesTheSameCodesAndRefusesOthers)
+{
+    const ScratchDir dir;
+    const std::string path = dir.path("f.tif");
+    std::vector<double> values(40 * 30);
+    for (size_t i = 0; i < values.size(); ++i)
+        values[i] = 100.0 + 0.37 * double(i % 97) + 0.011 * double(i / 40);
+    test::writeTestRaster(path, "GTiff", GDT_Float32, 40, 30, values);
+    CodeRowReader whole(path, {});
+    const std::optional<CodeMapping> mapping = whole.codeMapping();
+    ASSERT_TRUE(mapping.has_value());
+    EXPECT_FALSE(mapping->exact);
+    EXPECT_GT(mapping->quantization.max_error, 0.0);
+    IngestOptions planned;
+    planned.code_mapping = mapping;
+    CodeRowReader part(path, planned);
+    EXPECT_EQ(part.quantization().scale, whole.quantization().scale);
+    EXPECT_EQ(part.quantization().max_error, whole.quantization().max_error);
+    EXPECT_EQ(readAll(part, 7).first, readAll(whole, 30).first);
+
+    // A mapping for a narrower range (another raster's) does not hold these values.
+    CodeMapping narrow = *mapping;
+    narrow.max_code = 1000;
+    planned.code_mapping = narrow;
+    CodeRowReader refused(path, planned);
+    std::vector<uint16_t> codes(size_t(40) * 30);
+    try {
+        refused.readRows(0, 30, codes.data());
+        FAIL() << "a value outside the planned mapping was read";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("not one the planned code mapping holds"),
+                  std::string::npos)
+            << e.what();
+    }
+    // 8/16-bit integer rasters have no mapping: their codes are their values.
+    EXPECT_FALSE(CodeRowReader(dataPath("everest_crop.tif"), {}).codeMapping().has_value());
+}
+
+} // namespace
+} // namespace ridge::io

@@ -60,6 +60,33 @@ void editTile(const std::string& tile)
     GDALClose(ds);
 }
 
+// The Everest fixture as Float32 heights that no 16-bit integer holds (v · 0.37 + 0.123 m),
+// written to `out`.
+void floatEverest(const std::string& out)
+{
+    GDALDatasetH src = GDALOpen(test::dataPath("everest_crop.tif").c_str(), GA_ReadOnly);
+    ASSERT_NE(src, nullptr);
+    const int w = GDALGetRasterXSize(src), h = GDALGetRasterYSize(src);
+    std::vector<float> v(size_t(w) * h);
+    ASSERT_EQ(GDALRasterIO(GDALGetRasterBand(src, 1), GF_Read, 0, 0, w, h, v.data(), w, h,
+                           GDT_Float32, 0, 0),
+              CE_None);
+    for (float& x : v)
+        x = x * 0.37f + 0.123f;
+    GDALDatasetH dst =
+        GDALCreate(GDALGetDriverByName("GTiff"), out.c_str(), w, h, 1, GDT_Float32, nullptr);
+    ASSERT_NE(dst, nullptr);
+    double gt[6];
+    GDALGetGeoTransform(src, gt);
+    GDALSetGeoTransform(dst, gt);
+    GDALSetProjection(dst, GDALGetProjectionRef(src));
+    ASSERT_EQ(GDALRasterIO(GDALGetRasterBand(dst, 1), GF_Write, 0, 0, w, h, v.data(), w, h,
+                           GDT_Float32, 0, 0),
+              CE_None);
+    GDALClose(dst);
+    GDALClose(src);
+}
+
 // The four tiles of the Everest fixture (301 x 203), sharing their edge column and row as
 // SRTM tiles do.
 std::vector<std::string> everestTiles(const ScratchDir& dir)
@@ -178,6 +205,39 @@ nlohmann::json readJson(const std::string& path)
 void writeJson(const std::string& path, const nlohmann::json& j)
 {
     std::ofstream(path) << j.dump(1);
+}
+
+TEST(ShardedBuildFloat, AFloatMosaicIsQuantizedAsOneRaster)
+{
+    // Float32 tiles: the plan settles the code mapping over the whole mosaic (each tile's own
+    // survey would give other codes), and every shard reads by it.
+    ScratchDir dir;
+    const std::string whole = dir.path("float.tif");
+    floatEverest(whole);
+    std::vector<std::string> tiles;
+    for (int ty = 0; ty < 2; ++ty)
+        for (int tx = 0; tx < 2; ++tx) {
+            tiles.push_back(dir.path("f" + std::to_string(tx) + std::to_string(ty) + ".tif"));
+            cutTile(whole, tx * 150, ty * 101, 151, 102, tiles.back());
+        }
+    for (const char* codec : {"lossless", "progressive"}) {
+        SCOPED_TRACE(codec);
+        BuildOptions options = optionsFor(codec);
+        options.max_error =
+            codec == std::string("lossless") ? std::nullopt : std::optional<double>(1.5);
+        if (codec == std::string("lossless"))
+            options.ingest.max_error = 0.05; // the quantization step's half
+        const ShardPlan plan = makePlan(tiles, options, 2, dir.path(std::string(codec) + ".json"));
+        ASSERT_TRUE(plan.options.ingest.code_mapping.has_value());
+        EXPECT_FALSE(plan.options.ingest.code_mapping->exact);
+        const std::string sharded = shardedBuild(loadPlan(plan.path), dir, codec);
+        const std::string single = dir.path(std::string(codec) + "-single.ridge");
+        buildArchive(plan.source, single, options);
+        EXPECT_TRUE(test::readFile(sharded) == test::readFile(single));
+        VerifyOptions verify;
+        verify.source = plan.source;
+        EXPECT_TRUE(verifyArchive(sharded, verify).ok());
+    }
 }
 
 TEST(ShardPlan, EditedPlansAreRefusedNamingWhatIsWrong)

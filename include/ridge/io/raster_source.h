@@ -64,6 +64,16 @@ VoidFill parseVoidFill(const std::string& name);
 //  None:      never; heights stay as the source gives them.
 enum class VerticalShift { Auto, Ellipsoid, None };
 
+// How a band that is not 8/16-bit integers becomes 16-bit codes, settled over the whole
+// raster (CodeRowReader::codeMapping): what a reader of part of it — a sharded build's window
+// — must be given to make the codes the whole raster's reader makes.
+struct CodeMapping {
+    bool exact = false;          // integers spanning ≤ 65536 values: code = |value − origin|
+    double integer_origin = 0.0; // the value of code 0 (exact mappings)
+    int64_t max_code = 65535;    // 65534 when the raster has voids (the top code stays free)
+    HeightQuantization quantization; // scale, offset; max_error measured over the whole raster
+};
+
 struct IngestOptions {
     // The ranges validate() enforces. Spacings and max_error are positive and no larger than
     // anything real (ridge/core/height_grid.h); z_offset is a height. The magnitude of z_scale
@@ -108,6 +118,10 @@ struct IngestOptions {
         ValueRange::closed(-kMaxAbsHeightMetres, kMaxAbsHeightMetres);
     std::optional<double> sea_level = 0.0;
     std::string water_layer;
+    // CodeRowReader only, for bands that are not 8/16-bit integers: this mapping instead of a
+    // survey and an error pass over the raster; a value it does not hold within its max_error
+    // is an error naming the file (the raster changed since the mapping was made).
+    std::optional<CodeMapping> code_mapping;
     Progress progress;
 
     // Throws ridge::Error("NAME is VALUE: must be RANGE") for the first set option outside
@@ -213,6 +227,9 @@ class CodeRowReader {
     int height() const;
     const HeightQuantization& quantization() const;
     const GeoReference& geo() const;
+    // The mapping of a band that is not 8/16-bit integers (nullopt for those: their codes are
+    // the stored values, whatever part of the raster is read).
+    std::optional<CodeMapping> codeMapping() const;
 
     // Reads rows [y0, y0 + rows) into out[rows * width()] as codes and returns the number of
     // void samples among them (their codes are unspecified). `flags`, when given

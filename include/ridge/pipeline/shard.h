@@ -73,8 +73,9 @@ struct ShardPlan {
 // beside the plan as PLAN_STEM.vrt) with `options` below level `shard_level`, and writes the
 // plan (JSON, docs/FORMAT.md "Shard plan") atomically at `plan_path`. Refuses what a shard
 // cannot build exactly as `ridge build` would: the Neville filter (its support crosses shard
-// edges), a water layer, inputs that are not 8/16-bit integers (their quantization is
-// global), a vertical shift; voids are refused by the shard that meets them.
+// edges), a water layer, a vertical shift; voids are refused by the shard that meets them.
+// A source that is not 8/16-bit integers is surveyed here (as `ridge build` does) and its
+// code mapping stored in the plan (options.ingest.code_mapping), which every shard reads by.
 ShardPlan makePlan(const std::vector<std::string>& inputs, const BuildOptions& options,
                    int shard_level, const std::string& plan_path);
 
