@@ -64,6 +64,7 @@ void editTile(const std::string& tile)
 // written to `out`.
 void floatEverest(const std::string& out)
 {
+    GDALAllRegister();
     GDALDatasetH src = GDALOpen(test::dataPath("everest_crop.tif").c_str(), GA_ReadOnly);
     ASSERT_NE(src, nullptr);
     const int w = GDALGetRasterXSize(src), h = GDALGetRasterYSize(src);
