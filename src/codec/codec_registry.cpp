@@ -101,6 +101,14 @@ bool isLossyCodec(const std::string& spec)
     return codecSpecProblem(spec).empty() && findCodec(spec)->lossy;
 }
 
+bool codecBuildsFinestFirst(const std::string& spec)
+{
+    if (!codecSpecProblem(spec).empty())
+        return false;
+    const CodecInfo* codec = findCodec(spec);
+    return !codec->lossy || codec->finest_first;
+}
+
 std::unique_ptr<HeightCodec> makeCodec(CodecId id, const CodecSettings& settings,
                                        std::string* problem)
 {

@@ -107,6 +107,7 @@ CodecInfo progressiveCodec()
         .description = "the hardware-tessellation paper's progressive L∞ codec, v2: every "
                        "sample within its bound, decoded on the GPU",
         .lossy = true,
+        .finest_first = true, // reconstruct() is the level's quantizer alone
         .aliases = {"progressive-v1", "progressive-paper"},
         .option_forms = kOptionForms,
         .spec_problem =

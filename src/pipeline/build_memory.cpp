@@ -42,14 +42,16 @@ uint64_t encodeBatchBytes(const PyramidGeometry& g, bool lossy)
 }
 
 // Progressive codecs code level l from level l-1's reconstructions, kept until level l is
-// written while level l's are kept for l+1: the widest two consecutive levels.
-uint64_t reconstructionBytes(const PyramidGeometry& g)
+// written while level l's are kept for l+1: the widest two consecutive levels up to
+// `last_level`, the last level coded top down (a streamed build codes the finest from level
+// L−1's codes instead).
+uint64_t reconstructionBytes(const PyramidGeometry& g, int last_level)
 {
     const uint64_t patch = uint64_t(g.patchSize()) * uint64_t(g.patchSize()) * 2;
     uint64_t widest = 0;
-    for (int l = 1; l < g.levelCount(); ++l) {
+    for (int l = 1; l <= last_level; ++l) {
         const uint64_t kept =
-            uint64_t(g.patchCount(l - 1)) + (l < g.finestLevel() ? uint64_t(g.patchCount(l)) : 0);
+            uint64_t(g.patchCount(l - 1)) + (l < last_level ? uint64_t(g.patchCount(l)) : 0);
         widest = std::max(widest, kept);
     }
     return widest * patch;
@@ -82,6 +84,8 @@ BuildMemoryEstimate streamingEstimate(const io::RasterProbe& raster, const Pyram
         {"encode batches", encodeBatchBytes(g, lossy)},
         {"program and libraries", kBaselineBytes},
     };
+    if (lossy) // codes levels 0..L−1 top down once the finest is written
+        e.terms.push_back({"progressive reconstructions", reconstructionBytes(g, coarse)});
     return e;
 }
 
@@ -132,7 +136,7 @@ BuildMemoryEstimate inMemoryEstimate(const io::RasterProbe& raster, const Pyrami
     }
     const bool lossy = isLossyCodec(options.codec);
     if (lossy)
-        build.push_back({"progressive reconstructions", reconstructionBytes(g)});
+        build.push_back({"progressive reconstructions", reconstructionBytes(g, g.finestLevel())});
     build.push_back({"encode batches", encodeBatchBytes(g, lossy)});
 
     BuildMemoryEstimate e;
@@ -167,7 +171,7 @@ std::string BuildMemoryEstimate::describe() const
 
 bool buildStreams(const BuildOptions& options)
 {
-    return options.filter == PyramidFilter::Decimate && !isLossyCodec(options.codec);
+    return options.filter == PyramidFilter::Decimate && codecBuildsFinestFirst(options.codec);
 }
 
 BuildMemoryEstimate estimateBuildMemory(const io::RasterProbe& raster, const BuildOptions& options,

@@ -167,25 +167,32 @@ PatchSampleFlags windowPatchFlags(const uint8_t* flags, int width, int rows, int
     return out;
 }
 
+const uint16_t* parentReconstruction(const BuildContext& ctx, const LevelView* parent_level,
+                                     PatchId at, PatchId id, std::vector<uint16_t>& out)
+{
+    if (!ctx.codec->needsParent(id.level))
+        return nullptr;
+    if (!parent_level)
+        throw Error("internal error: a patch coded without its parent's level");
+    const PyramidGeometry& g = ctx.geometry;
+    const int n = g.patchSize();
+    thread_local std::vector<uint16_t> parent_codes;
+    parent_codes.resize(static_cast<size_t>(n) * n);
+    out.resize(parent_codes.size());
+    extractPatch(*parent_level, n, at.parent(), parent_codes.data());
+    ctx.codec->reconstruct(parent_codes.data(), patchContext(g, id.parent(), nullptr), out.data());
+    return out.data();
+}
+
 void observePatch(const BuildContext& ctx, CodecTrainer& trainer, const LevelView& level,
                   const LevelView* parent_level, PatchId at, PatchId id)
 {
     const PyramidGeometry& g = ctx.geometry;
     const int n = g.patchSize();
-    thread_local std::vector<uint16_t> codes, parent_codes, parent;
+    thread_local std::vector<uint16_t> codes, parent;
     codes.resize(static_cast<size_t>(n) * n);
     extractPatch(level, n, at, codes.data());
-    const uint16_t* parent_ptr = nullptr;
-    if (ctx.codec->needsParent(id.level)) {
-        if (!parent_level)
-            throw Error("internal error: a patch observed without its parent's level");
-        const PatchId up = id.parent();
-        parent_codes.resize(codes.size());
-        parent.resize(codes.size());
-        extractPatch(*parent_level, n, at.parent(), parent_codes.data());
-        ctx.codec->reconstruct(parent_codes.data(), patchContext(g, up, nullptr), parent.data());
-        parent_ptr = parent.data();
-    }
+    const uint16_t* parent_ptr = parentReconstruction(ctx, parent_level, at, id, parent);
     trainer.observe(codes.data(), patchContext(g, id, parent_ptr));
 }
 
@@ -343,6 +350,34 @@ void encodeTopDown(const BuildContext& ctx, int first, int end, const LevelSpan&
             });
         above.swap(current);
     }
+}
+
+void writeLevels(const BuildContext& ctx, const LevelPyramid& pyramid, int last_level,
+                 const PatchErrors& errors, archive::ArchiveWriter& writer,
+                 const Progress& progress)
+{
+    const PyramidGeometry& g = ctx.geometry;
+    const int64_t count = g.firstPatchIndex(last_level) + g.patchCount(last_level);
+    const LevelSpan levels{[&](int l) { return g.patchCount(l); },
+                           [&](int l, int64_t k) { return g.patchAt(g.firstPatchIndex(l) + k); },
+                           [&](PatchId p) { return g.patchIndex(p) - g.firstPatchIndex(p.level); }};
+    std::vector<std::vector<uint16_t>> parents;
+    int64_t written = 0;
+    encodeTopDown(
+        ctx, 0, last_level + 1, levels,
+        [&](PatchId p, const uint16_t* parent) {
+            const size_t index = size_t(g.patchIndex(p));
+            const PatchSummary summary{errors.min_code[index], errors.max_code[index],
+                                       errors.err_appr[index]};
+            return encodePatch(ctx, pyramid.level(p.level), p, p, summary, parent);
+        },
+        [&](EncodedPatch& e) {
+            writer.writePatch(e.record, e.block_errors, e.validity, e.sample_flags,
+                              e.payload.data(), e.payload.size());
+            if (++written % 64 == 0)
+                reportProgress(progress, double(written) / double(count));
+        },
+        parents);
 }
 
 } // namespace ridge::build_stages

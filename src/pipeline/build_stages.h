@@ -3,6 +3,7 @@
 // sharded build (shard_*.cpp) run: the context (geometry, codec, header), the metadata, one
 // patch's training observation and encoding, and parallel encoding written in order.
 // Internal to ridge_pipeline.
+#include "ridge/archive/archive_writer.h"
 #include "ridge/archive/format.h"
 #include "ridge/archive/sample_flags_storage.h"
 #include "ridge/archive/validity_storage.h"
@@ -10,6 +11,7 @@
 #include "ridge/io/raster_source.h"
 #include "ridge/pipeline/build.h"
 #include "ridge/pyramid/level_pyramid.h"
+#include "ridge/pyramid/patch_error.h"
 #include "ridge/pyramid/sample_flags.h"
 #include "ridge/pyramid/tessellation_block_errors.h"
 #include "ridge/pyramid/validity_pyramid.h"
@@ -79,6 +81,13 @@ std::string metadataJson(const std::string& source_path, const io::IngestStats& 
 PatchSampleFlags windowPatchFlags(const uint8_t* flags, int width, int rows, int64_t step, int n,
                                   PatchId at);
 
+// The codec's reconstruction of the parent of patch `id` (patch at.parent() of
+// `parent_level`), what a decoder holds when it decodes `id`, into `out`; null when the codec
+// codes `id` without its parent. Valid for codecs whose reconstruct() needs no parent (every
+// codec that builds finest-first, codecBuildsFinestFirst).
+const uint16_t* parentReconstruction(const BuildContext& ctx, const LevelView* parent_level,
+                                     PatchId at, PatchId id, std::vector<uint16_t>& out);
+
 // Shows `trainer` patch `at` of `level` as patch `id` would be coded: with the codec's
 // reconstruction of its parent (patch at.parent() of `parent_level`) when it predicts from it.
 void observePatch(const BuildContext& ctx, CodecTrainer& trainer, const LevelView& level,
@@ -125,5 +134,11 @@ void encodeTopDown(const BuildContext& ctx, int first, int end, const LevelSpan&
                    const std::function<EncodedPatch(PatchId, const uint16_t*)>& make,
                    const std::function<void(EncodedPatch&)>& write,
                    std::vector<std::vector<uint16_t>>& above, bool keep_last = false);
+
+// Encodes and writes every patch of levels [0, last_level] of `pyramid` top down, with the
+// bounds in `errors` (the in-memory build's levels, a streamed build's levels above the finest).
+void writeLevels(const BuildContext& ctx, const LevelPyramid& pyramid, int last_level,
+                 const PatchErrors& errors, archive::ArchiveWriter& writer,
+                 const Progress& progress);
 
 } // namespace ridge::build_stages

@@ -108,11 +108,21 @@ TEST(BuildMemory, NevilleAndProgressiveCostWhatTheyHold)
     BuildOptions progressive;
     progressive.codec = "progressive";
     progressive.max_error = 1.0;
-    EXPECT_FALSE(buildStreams(progressive));
+    EXPECT_TRUE(buildStreams(progressive));
+    // In memory (what a source with voids falls back to): while level 4 (16 x 16 patches) is
+    // coded from level 3's 8 x 8, both are kept.
     const BuildMemoryEstimate r = estimateBuildMemory(p, progressive, false, false);
     ASSERT_NE(term(r, "progressive reconstructions"), nullptr);
-    // While level 4 (16 x 16 patches) is coded from level 3's 8 x 8, both are kept.
     EXPECT_EQ(term(r, "progressive reconstructions")->bytes, uint64_t(256 + 64) * 129 * 129 * 2);
+    // Streamed, the finest level is coded from level 4's codes: the most ever kept is while
+    // level 3 is coded from level 2's 4 x 4 reconstructions, keeping its own 8 x 8 for level 4.
+    const BuildMemoryEstimate s = estimateBuildMemory(p, progressive, true, false);
+    ASSERT_NE(term(s, "progressive reconstructions"), nullptr);
+    EXPECT_EQ(term(s, "progressive reconstructions")->bytes, uint64_t(16 + 64) * 129 * 129 * 2);
+    EXPECT_EQ(term(s, "level L-1 in memory")->bytes, uint64_t(2049) * 2049 * 2);
+    BuildOptions jpeg2000 = progressive;
+    jpeg2000.codec = "jpeg2000";
+    EXPECT_FALSE(buildStreams(jpeg2000)); // decodes down a chain of parents
 }
 
 TEST(BuildMemory, AMillionByAMillionRasterIsRefusedBeforeAnythingIsAllocated)

@@ -22,6 +22,11 @@ struct CodecInfo {
     const char* description; // one line for --help
     // Decoded heights differ from the input: a build needs a bound (--max-error).
     bool lossy = false;
+    // A lossy codec a build may encode finest level first, strip by strip (docs/DESIGN.md,
+    // "Build pipeline"): it predicts a patch from its parent only through reconstruct() of
+    // the parent's codes, never through a chain of decodes up the pyramid, and its trainer's
+    // result does not depend on the order it sees the patches in. Lossless codecs always may.
+    bool finest_first = false;
     // Other base names the module answers to (its named variants), and the form of its
     // options after a comma ("" when it takes none), for --help and messages.
     std::vector<const char*> aliases = {};

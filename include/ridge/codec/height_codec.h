@@ -189,5 +189,8 @@ std::unique_ptr<HeightCodec> makeCodec(CodecId id, const CodecSettings& settings
 std::optional<CodecId> codecIdOf(const std::string& spec);
 // True when `spec` names a codec whose decoded heights differ from its input.
 bool isLossyCodec(const std::string& spec);
+// True when `spec` names a valid codec that a build may encode finest level first (lossless,
+// or CodecInfo::finest_first).
+bool codecBuildsFinestFirst(const std::string& spec);
 
 } // namespace ridge

@@ -13,7 +13,9 @@
 //                              PatchErrors + 1 bit written flag)
 //     encode batches           kEncodeBatchPatches patches of n² · 2 B codes + payload
 //                              (+ reconstruction, lossy) + per-thread patch buffers
-//   in memory (Neville filter, lossy codecs, voids): the largest of three phases
+//     progressive              reconstructions of two consecutive levels up to L−1 (the
+//       reconstructions        finest is coded from level L−1's codes)
+//   in memory (Neville filter, jpeg2000, voids): the largest of three phases
 //     ingest                   whole grid W·H·2 B; with voids (found, or possible: the band
 //                              declares nodata or a mask) a 1 B/sample mask and
 //                              GDALFillNodata's work rasters (5 B/sample of at most 16 M
@@ -65,7 +67,8 @@ struct BuildMemoryEstimate {
     std::string describe() const;
 };
 
-// True when buildArchive tries the streaming path first (decimation, lossless codec).
+// True when buildArchive tries the streaming path first: decimation, and a codec that may
+// encode the finest level first (codecBuildsFinestFirst: lossless, progressive).
 bool buildStreams(const BuildOptions& options);
 
 // The estimate for `raster` built with `options` on the streaming path or in memory; `voids`:
