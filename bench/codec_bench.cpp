@@ -4,16 +4,22 @@
 // samples each patch covers (PyramidGeometry::coveredCells + 1 per axis). Variants, each run
 // in the same process so that their ratios hold on a noisy machine:
 //   v1            progressive-v1 (adaptive range coder)
-//   v2            progressive (default: nested bound, rANS, least-squares corrections)
-//   v2-no-correct progressive,corrections=0
-// and the entropy half alone (decodeResiduals) for v2, so the reconstruction's share shows;
-// and the jpeg2000 codec (issue 15): progressive with OpenJPEG, with HTJ2K (OpenJPH), and
+//   v2            progressive-v2 (nested bound, rANS, least-squares corrections)
+//   v3            progressive (the default: v2 with row contexts, lanes decoded side by side)
+//   no-correct    progressive,payload=2|3,corrections=0
+// and the entropy half alone (decodeResiduals) for v2 and v3, so the reconstruction's share
+// shows;
+// and JPEG-LS (CharLS, the anchor of `ridge codec-bench`) decoding the same finest level in
+// 256² tiles at the same bound, the speed issue 31 measures v3 against; and the jpeg2000
+// codec (issue 15): progressive with OpenJPEG, with HTJ2K (OpenJPH), and
 // direct with OpenJPEG, all at the max-abs criterion; and the fractal codec (issue 25), bounded,
 // on the CPU.
-// Target (issue 14): >= 150 MB/s per core for v2. Data directory: $RIDGE_DATA_DIR or
+// Target (issues 14, 31): >= 150 MB/s per core with the defaults. Data directory: $RIDGE_DATA_DIR
+// or
 // ../shared/data; skips without the file.
 #include "ridge/archive/archive_reader.h"
 #include "ridge/codec/progressive_codec.h"
+#include "ridge/codecbench/anchor_codec.h"
 #include "ridge/io/raster_source.h"
 #include "ridge/pipeline/build.h"
 #include "ridge/pyramid/patch_context.h"
@@ -119,16 +125,81 @@ void BM_DecodeV1(benchmark::State& s)
 }
 void BM_DecodeV2(benchmark::State& s)
 {
-    decodeAll(s, "progressive", false);
+    decodeAll(s, "progressive-v2", false);
 }
 void BM_DecodeV2NoCorrections(benchmark::State& s)
 {
-    decodeAll(s, "progressive,corrections=0", false);
+    decodeAll(s, "progressive,payload=2,corrections=0", false);
 }
 void BM_EntropyOnlyV2(benchmark::State& s)
 {
+    decodeAll(s, "progressive-v2", true);
+}
+void BM_DecodeV3(benchmark::State& s)
+{
+    decodeAll(s, "progressive", false);
+}
+void BM_DecodeV3NoCorrections(benchmark::State& s)
+{
+    decodeAll(s, "progressive,corrections=0", false);
+}
+void BM_EntropyOnlyV3(benchmark::State& s)
+{
     decodeAll(s, "progressive", true);
 }
+// The finest level in 256² tiles, coded by JPEG-LS within `max_error` codes.
+struct AnchorTiles {
+    std::vector<std::vector<uint8_t>> streams;
+    std::vector<std::pair<int, int>> sizes;
+    uint64_t bytes = 0; // of 16-bit samples
+};
+
+const AnchorTiles* jpegLsTiles(int max_error)
+{
+    static std::map<int, std::unique_ptr<AnchorTiles>> cache;
+    if (auto found = cache.find(max_error); found != cache.end())
+        return found->second.get();
+    if (!std::filesystem::exists(dataFile()))
+        return nullptr;
+    const ridge::io::ElevationRaster raster = ridge::io::ingestRaster(dataFile());
+    const ridge::CodeGrid& grid = raster.grid;
+    const auto anchor = ridge::codecbench::makeJpegLsAnchor();
+    auto tiles = std::make_unique<AnchorTiles>();
+    constexpr int kTile = 256;
+    std::vector<uint16_t> tile;
+    for (int y0 = 0; y0 < grid.height; y0 += kTile)
+        for (int x0 = 0; x0 < grid.width; x0 += kTile) {
+            const int w = std::min(kTile, grid.width - x0), h = std::min(kTile, grid.height - y0);
+            tile.resize(size_t(w) * h);
+            for (int y = 0; y < h; ++y)
+                std::copy_n(grid.codes.data() + size_t(y0 + y) * grid.width + x0, w,
+                            tile.data() + size_t(y) * w);
+            tiles->streams.push_back(anchor->encode(tile.data(), w, h, max_error));
+            tiles->sizes.emplace_back(w, h);
+            tiles->bytes += uint64_t(w) * h * 2;
+        }
+    return cache.emplace(max_error, std::move(tiles)).first->second.get();
+}
+
+void BM_DecodeJpegLs(benchmark::State& state)
+{
+    const AnchorTiles* tiles = jpegLsTiles(int(state.range(0)));
+    if (!tiles) {
+        state.SkipWithError(("needs " + dataFile()).c_str());
+        return;
+    }
+    const auto anchor = ridge::codecbench::makeJpegLsAnchor();
+    std::vector<uint16_t> out(256 * 256);
+    for (auto _ : state) {
+        for (size_t i = 0; i < tiles->streams.size(); ++i)
+            anchor->decode(tiles->streams[i].data(), tiles->streams[i].size(),
+                           tiles->sizes[i].first, tiles->sizes[i].second, int(state.range(0)),
+                           out.data());
+        benchmark::ClobberMemory();
+    }
+    state.SetBytesProcessed(int64_t(state.iterations()) * int64_t(tiles->bytes));
+}
+
 void BM_DecodeJpeg2000(benchmark::State& s)
 {
     decodeAll(s, "jpeg2000", false);
@@ -154,6 +225,10 @@ BENCHMARK(BM_DecodeV1)->Arg(1)->Arg(4)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_DecodeV2)->Arg(1)->Arg(4)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_DecodeV2NoCorrections)->Arg(1)->Arg(4)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_EntropyOnlyV2)->Arg(1)->Arg(4)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_DecodeV3)->Arg(1)->Arg(4)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_DecodeV3NoCorrections)->Arg(1)->Arg(4)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_EntropyOnlyV3)->Arg(1)->Arg(4)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_DecodeJpegLs)->Arg(1)->Arg(4)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_DecodeJpeg2000)->Arg(1)->Arg(3)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_DecodeJpeg2000Htj2k)->Arg(1)->Arg(3)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_DecodeJpeg2000Direct)->Arg(1)->Arg(3)->Unit(benchmark::kMillisecond);

@@ -4,6 +4,7 @@
 #include "progressive_entropy.h"
 #include "progressive_entropy_v2.h"
 #include "ridge/core/error.h"
+#include "ridge/core/target_clones.h"
 
 #include <algorithm>
 #include <cstring>
@@ -56,6 +57,19 @@ void requantizeParent(const LevelQuantizer& quant, const uint16_t* parent, int n
         }
 }
 
+// dst[i] = quant.reconstruct(q[i]) in 32-bit arithmetic, so that it vectorises: a bin is
+// clamped to [0, 65535 / step + 1] first, where step · bin stays below 2^18 and the clamp to
+// 65535 that follows gives what the 64-bit product would.
+RIDGE_TARGET_CLONES
+void reconstructCodes(const LevelQuantizer& quant, const int32_t* __restrict q, size_t count,
+                      uint16_t* __restrict dst)
+{
+    const int32_t step = static_cast<int32_t>(quant.step);
+    const int32_t top = 65535 / step + 1;
+    for (size_t i = 0; i < count; ++i)
+        dst[i] = static_cast<uint16_t>(std::min(step * std::clamp(q[i], 0, top), 65535));
+}
+
 bool validPatchSize(int n)
 {
     return n >= 3 && n <= 4097 && ((n - 1) & (n - 2)) == 0;
@@ -66,15 +80,22 @@ bool validPatchSize(int n)
 int ProgressiveVariant::bits() const
 {
     const int common = (predictor == OddPredictor::Cubic ? 2 : 0) | (contexts ? 4 : 0);
-    return format == 1 ? common : common | 8 | (nested_levels << 4);
+    if (format == 1)
+        return common;
+    return common | 8 | (nested_levels << 4) | (format == 3 ? kPayloadV3Bit : 0);
 }
 
 std::optional<ProgressiveVariant> ProgressiveVariant::fromBits(int bits)
 {
-    if (bits < 0 || (bits & 1) || bits >= (1 << 10))
+    if (bits < 0 || (bits & 1) || bits >= 2 * kPayloadV3Bit)
+        return std::nullopt;
+    if ((bits & kPayloadV3Bit) && !(bits & 8)) // v3 is a kind of v2
         return std::nullopt;
     ProgressiveVariant v{(bits & 2) ? OddPredictor::Cubic : OddPredictor::Bilinear, (bits & 4) != 0,
-                         (bits & 8) ? 2 : 1, bits >> 4};
+                         (bits & kPayloadV3Bit) ? 3
+                         : (bits & 8)           ? 2
+                                                : 1,
+                         (bits & (kPayloadV3Bit - 1)) >> 4};
     if (v.format == 1) {
         if (v.nested_levels != 0)
             return std::nullopt;
@@ -91,7 +112,8 @@ std::string ProgressiveVariant::describe() const
                        " prediction, " + (contexts ? "activity contexts" : "no contexts");
     if (format == 1)
         return text + ", payload v1 (adaptive range coding, bounds doubling per level)";
-    return text + ", payload v2 (static tables, rANS, " + std::to_string(nested_levels) +
+    return text + ", payload v" + std::to_string(format) + " (static tables, rANS" +
+           (format == 3 ? " with row contexts, " : ", ") + std::to_string(nested_levels) +
            " nested levels at the finest bound)";
 }
 
@@ -127,7 +149,7 @@ void ProgressiveCodec::bins(const uint16_t* codes, const PatchContext& ctx, int3
 
 std::vector<uint8_t> ProgressiveCodec::storeTables() const
 {
-    return variant_.format == 2 ? tables_->serialize() : std::vector<uint8_t>{};
+    return variant_.format >= 2 ? tables_->serialize() : std::vector<uint8_t>{};
 }
 
 LevelQuantizer ProgressiveCodec::quantizer(int level) const
@@ -229,7 +251,7 @@ size_t ProgressiveCodec::encode(uint8_t* dst, size_t dst_capacity, const uint16_
         const ResidualCoding coding{ctx.level == 0, variant_.contexts};
         encodeResiduals(s.residuals.data(), n, coding, s.bytes);
     } else {
-        ResidualCodingV2 coding{ctx.level, ctx.level == 0, codedRegion(ctx), true};
+        ResidualCodingV2 coding{variant_.format, ctx.level, ctx.level == 0, codedRegion(ctx), true};
         coding.refinements = !coding.root && hasRefinements(s.residuals.data(), n, coding.region);
         s.bytes.push_back(coding.refinements ? kV2RefinementsCoded : 0);
         if (!encodeResidualsV2(s.residuals.data(), n, coding, *tables_, s.bytes))
@@ -264,7 +286,7 @@ int ProgressiveCodec::entropyDecode(const uint8_t* src, size_t src_size, const P
     const uint8_t flags = src[2];
     if ((flags & ~kV2RefinementsCoded) || (ctx.level == 0 && flags != 0))
         return kCodecBadHeader;
-    const ResidualCodingV2 coding{ctx.level, ctx.level == 0, codedRegion(ctx),
+    const ResidualCodingV2 coding{variant_.format, ctx.level, ctx.level == 0, codedRegion(ctx),
                                   (flags & kV2RefinementsCoded) != 0};
     return decodeResidualsV2(src + kV2HeaderSize, src_size - kV2HeaderSize, ctx.patch_size, coding,
                              *tables_, residuals);
@@ -339,8 +361,7 @@ int ProgressiveCodec::decode(uint16_t* dst, const uint8_t* src, size_t src_size,
                          variant_.predictor, s.q.data(), weights(ctx.level));
     }
     replicateBeyond(s.q.data(), n, region);
-    for (size_t i = 0; i < samples; ++i)
-        dst[i] = quant.reconstruct(s.q[i]);
+    reconstructCodes(quant, s.q.data(), samples, dst);
     return kCodecOk;
 }
 
@@ -362,7 +383,8 @@ class ProgressiveTrainer final : public CodecTrainer {
         residuals.resize(static_cast<size_t>(ctx.patch_size) * ctx.patch_size);
         if (!residuals_(codes, ctx, residuals.data()))
             throw Error("progressive codec: cannot train on a patch it cannot encode");
-        ResidualCodingV2 coding{ctx.level, ctx.level == 0, codec_.codedRegion(ctx), true};
+        ResidualCodingV2 coding{codec_.variant().format, ctx.level, ctx.level == 0,
+                                codec_.codedRegion(ctx), true};
         coding.refinements =
             !coding.root && hasRefinements(residuals.data(), ctx.patch_size, coding.region);
         std::lock_guard<std::mutex> lock(mutex_);

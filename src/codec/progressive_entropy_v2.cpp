@@ -32,16 +32,16 @@ class MagnitudeGrid {
   public:
     explicit MagnitudeGrid(int n) : stride_(n + 4)
     {
-        thread_local std::vector<uint16_t> storage;
+        thread_local std::vector<uint8_t> storage;
         storage.assign(static_cast<size_t>(stride_) * stride_, 0);
         origin_ = storage.data() + 2 * stride_ + 2;
     }
-    uint16_t* row(int y) { return origin_ + static_cast<ptrdiff_t>(y) * stride_; }
+    uint8_t* row(int y) { return origin_ + static_cast<ptrdiff_t>(y) * stride_; }
     ptrdiff_t stride() const { return stride_; }
 
   private:
     int stride_;
-    uint16_t* origin_;
+    uint8_t* origin_;
 };
 
 inline int contextOf(int activity)
@@ -49,24 +49,48 @@ inline int contextOf(int activity)
     return activity < kActivityLimit ? kActivityContext[activity] : kContexts - 1;
 }
 
-inline uint16_t clampMagnitude(int32_t d)
+// contextOf(sum / divisor) for every sum of up to 6 magnitudes (each <= 255), as one lookup:
+// v3's row contexts take no division and no range check.
+template <int kDivisor>
+constexpr std::array<uint8_t, 6 * 255 + 1> kContextOfSum = [] {
+    std::array<uint8_t, 6 * 255 + 1> t{};
+    for (int sum = 0; sum < int(t.size()); ++sum) {
+        const int a = sum / kDivisor;
+        t[size_t(sum)] = a < kActivityLimit ? kActivityContext[size_t(a)] : kContexts - 1;
+    }
+    return t;
+}();
+
+inline uint8_t clampMagnitude(int32_t d)
 {
     const int32_t m = d < 0 ? -d : d;
-    return static_cast<uint16_t>(m < 255 ? m : 255);
+    return static_cast<uint8_t>(m < 255 ? m : 255);
 }
 
-// Context of a sample from the magnitudes its pass already has (v1's neighbourhoods).
-template <int kClass> inline int context(const uint16_t* at, ptrdiff_t s)
+// Context of a sample from the magnitudes its pass already has. v2: v1's neighbourhoods, which
+// include the previous sample of the same pass (W), so each context waits for the symbol
+// before it. v3: only samples of earlier rows or earlier passes, so a whole row's contexts are
+// known before its first symbol is decoded and the rANS lanes decode side by side
+// (FastDecoder::passV3); W's place goes to the sample north-east of it. The root (class 0)
+// keeps W in both.
+template <int kVersion, int kClass> inline int context(const uint8_t* at, ptrdiff_t s)
 {
     if constexpr (kClass == 0) // root, raster order: W, N, NW, NE
         return contextOf((at[-1] + at[-s] + at[-s - 1] + at[-s + 1]) >> 1);
-    else if constexpr (kClass == 1) // A: the previous A of the row, three A of the row above
+    else if constexpr (kVersion == 2 && kClass == 1) // A: the previous A, three A above
         return contextOf((at[-2] + at[-2 * s] + at[-2 * s - 2] + at[-2 * s + 2]) >> 1);
-    else if constexpr (kClass == 2) // B: the 4 diagonal A, then W and N in B
+    else if constexpr (kVersion == 2 && kClass == 2) // B: the 4 diagonal A, W and N in B
         return contextOf((at[-s - 1] + at[-s + 1] + at[s - 1] + at[s + 1] + at[-2] + at[-2 * s]) /
                          3);
-    else // C: the 2 A and 2 B beside it, then W and N in C
+    else if constexpr (kVersion == 2) // C: the 2 A and 2 B beside it, W and N in C
         return contextOf((at[-s] + at[s] + at[-1] + at[1] + at[-2] + at[-2 * s]) / 3);
+    else if constexpr (kClass == 1) // A: the three A above, the one straight above twice
+        return kContextOfSum<2>[2 * at[-2 * s] + at[-2 * s - 2] + at[-2 * s + 2]];
+    else if constexpr (kClass == 2) // B: the 4 diagonal A, N and NE in B
+        return kContextOfSum<3>[at[-s - 1] + at[-s + 1] + at[s - 1] + at[s + 1] + at[-2 * s] +
+                                at[-2 * s + 2]];
+    else // C: the 2 A and 2 B beside it, N and NE in C
+        return kContextOfSum<3>[at[-s] + at[s] + at[-1] + at[1] + at[-2 * s] + at[-2 * s + 2]];
 }
 
 // Residuals the tokens carry (progressive_tokens.h); the encoder rejects any other.
@@ -119,7 +143,7 @@ struct CountSide {
 };
 
 // One pass of class kClass over samples (x0 + 2i, y0 + 2j) of the coded region.
-template <int kClass, class Side>
+template <int kVersion, int kClass, class Side>
 void pass(int32_t* residuals, int n, const CodedRegion& r, MagnitudeGrid& mags, Side& side,
           int level_class)
 {
@@ -127,30 +151,39 @@ void pass(int32_t* residuals, int n, const CodedRegion& r, MagnitudeGrid& mags, 
     const int step = kClass == 0 ? 1 : 2;
     for (int y = y0; y < r.height; y += step) {
         int32_t* row = residuals + static_cast<size_t>(y) * n;
-        uint16_t* mrow = mags.row(y);
+        uint8_t* mrow = mags.row(y);
         for (int x = x0; x < r.width; x += step) {
-            const int ctx = context<kClass>(mrow + x, mags.stride());
+            const int ctx = context<kVersion, kClass>(mrow + x, mags.stride());
             mrow[x] = clampMagnitude(side.code(level_class, ctx, row + x));
         }
     }
 }
 
-template <class Side>
+template <int kVersion, class Side>
 void traverse(int32_t* residuals, int n, const ResidualCodingV2& coding, Side& side)
 {
     MagnitudeGrid mags(n);
     const CodedRegion& r = coding.region;
     if (coding.root) {
-        pass<0>(residuals, n, r, mags, side, 0);
+        pass<kVersion, 0>(residuals, n, r, mags, side, 0);
         return;
     }
     if (coding.refinements)
         for (int y = 0; y < r.height; y += 2)
             for (int x = 0; x < r.width; x += 2)
                 side.code(0, 0, residuals + static_cast<size_t>(y) * n + x);
-    pass<1>(residuals, n, r, mags, side, 1);
-    pass<2>(residuals, n, r, mags, side, 2);
-    pass<3>(residuals, n, r, mags, side, 3);
+    pass<kVersion, 1>(residuals, n, r, mags, side, 1);
+    pass<kVersion, 2>(residuals, n, r, mags, side, 2);
+    pass<kVersion, 3>(residuals, n, r, mags, side, 3);
+}
+
+template <class Side>
+void traverse(int32_t* residuals, int n, const ResidualCodingV2& coding, Side& side)
+{
+    if (coding.version == 2)
+        traverse<2>(residuals, n, coding, side);
+    else
+        traverse<3>(residuals, n, coding, side);
 }
 
 // The decoder's hot loop, written out instead of going through DecodeSide: the rANS states,
@@ -164,20 +197,48 @@ class FastDecoder {
     {
     }
 
+    // v2's passes and the root of both: each context waits for the symbol before it.
     template <int kClass>
-    void pass(int32_t* __restrict residuals, int n, const CodedRegion& r, uint16_t* __restrict mags,
+    void pass(int32_t* __restrict residuals, int n, const CodedRegion& r, uint8_t* __restrict mags,
               ptrdiff_t ms, const rans::Table* const* tables)
     {
         const int x0 = kClass == 0 ? 0 : (kClass & 1), y0 = kClass == 0 ? 0 : (kClass >> 1);
         const int step = kClass == 0 ? 1 : 2;
         for (int y = y0; y < r.height; y += step) {
             int32_t* __restrict row = residuals + static_cast<size_t>(y) * n;
-            uint16_t* __restrict mrow = mags + y * ms;
+            uint8_t* __restrict mrow = mags + y * ms;
             for (int x = x0; x < r.width; x += step) {
-                const int32_t d = next(*tables[context<kClass>(mrow + x, ms)]);
+                const int32_t d = next(*tables[context<2, kClass>(mrow + x, ms)]);
                 row[x] = d;
                 mrow[x] = clampMagnitude(d);
             }
+        }
+    }
+
+    // v3's A, B and C passes: a row's tables first (its contexts read earlier rows and
+    // passes only), then its symbols in rounds of one per lane.
+    template <int kClass>
+    void passV3(int32_t* __restrict residuals, int n, const CodedRegion& r,
+                uint8_t* __restrict mags, ptrdiff_t ms, const rans::Table* const* tables)
+    {
+        static_assert(kClass >= 1 && kClass <= 3);
+        const int x0 = kClass & 1, y0 = kClass >> 1;
+        const int count = (r.width - x0 + 1) / 2;
+        thread_local std::vector<const rans::Table*> row_tables;
+        row_tables.resize(size_t(count));
+        const rans::Table** __restrict row_table = row_tables.data();
+        for (int y = y0; y < r.height; y += 2) {
+            int32_t* __restrict row = residuals + static_cast<size_t>(y) * n + x0;
+            uint8_t* __restrict mrow = mags + y * ms + x0;
+            for (int k = 0; k < count; ++k)
+                row_table[k] = tables[context<3, kClass>(mrow + 2 * k, ms)];
+            rans_.decodeRun(row_table, count, lane_, [&](int k, int s) {
+                // Zigzag without a branch on the sign, which is as good as random.
+                const int32_t d = s < 15 ? (s >> 1) ^ -(s & 1)
+                                         : tokens::residual(s, raw_.get(tokens::rawCount(s)));
+                row[2 * k] = d;
+                mrow[2 * k] = clampMagnitude(d);
+            });
         }
     }
 
@@ -195,8 +256,8 @@ class FastDecoder {
     int32_t next(const rans::Table& t)
     {
         const int s = rans_.decode(t, int(lane_++ & (rans::kLanes - 1)));
-        if (s < 15) // zigzag, no raw bits: the common case
-            return (s & 1) ? -((s + 1) >> 1) : s >> 1;
+        if (s < 15) // zigzag, no raw bits: the common case (no branch on the sign)
+            return (s >> 1) ^ -(s & 1);
         return tokens::residual(s, raw_.get(tokens::rawCount(s)));
     }
 
@@ -247,7 +308,7 @@ int decodeResidualsV2(const uint8_t* data, size_t size, int n, const ResidualCod
     tokens::BitReader raw(data + used + rans_size, size - used - rans_size);
     FastDecoder dec(data + used, rans_size, raw);
     MagnitudeGrid mags(n);
-    uint16_t* origin = mags.row(0);
+    uint8_t* origin = mags.row(0);
     const ptrdiff_t ms = mags.stride();
     const CodedRegion& r = coding.region;
     const rans::Table* by_context[4][kContexts];
@@ -259,9 +320,15 @@ int decodeResidualsV2(const uint8_t* data, size_t size, int n, const ResidualCod
     } else {
         if (coding.refinements)
             dec.refinements(residuals, n, r, *by_context[0][0]);
-        dec.pass<1>(residuals, n, r, origin, ms, by_context[1]);
-        dec.pass<2>(residuals, n, r, origin, ms, by_context[2]);
-        dec.pass<3>(residuals, n, r, origin, ms, by_context[3]);
+        if (coding.version == 2) {
+            dec.pass<1>(residuals, n, r, origin, ms, by_context[1]);
+            dec.pass<2>(residuals, n, r, origin, ms, by_context[2]);
+            dec.pass<3>(residuals, n, r, origin, ms, by_context[3]);
+        } else {
+            dec.passV3<1>(residuals, n, r, origin, ms, by_context[1]);
+            dec.passV3<2>(residuals, n, r, origin, ms, by_context[2]);
+            dec.passV3<3>(residuals, n, r, origin, ms, by_context[3]);
+        }
     }
     if (dec.rans().overrun())
         return kCodecTruncated;

@@ -15,6 +15,11 @@
 // Contexts still come from residual magnitudes only, never from heights, so the CPU can
 // entropy-decode a patch whose parent lives only on the GPU.
 //
+// Payload v3 is v2 with contexts that never read the sample just before in the same pass
+// (progressive_entropy_v2.cpp, context<>): a row's contexts are known before its symbols, so
+// the decoder reads the interleaved rANS lanes side by side instead of one symbol at a time
+// (rans::Decoder::decodeRun). Tables, tokens and stream layout are v2's.
+//
 // Stream: varint rans_size, then rans_size bytes of rANS (rans_coder.h), then the raw bits
 // to the end, LSB first, zero-padded to a byte.
 #include "ridge/codec/progressive_reconstruction.h"
@@ -27,6 +32,7 @@
 namespace ridge {
 
 struct ResidualCodingV2 {
+    int version = 2;         // payload 2 or 3: which neighbourhoods give the contexts
     int level = 0;           // selects the tables
     bool root = false;       // the coarsest patch: MED residuals in raster order
     CodedRegion region;      // samples visited

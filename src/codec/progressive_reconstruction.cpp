@@ -12,23 +12,30 @@ namespace ridge {
 
 namespace {
 
-// 16 × the interpolated value halfway between line[pos − 1] and line[pos + 1], samples
-// `stride` apart along a line of `len` samples. Cubic (Catmull-Rom on a uniform grid:
-// −1, 9, 9, −1) where the line allows, quadratic (the 3 nearest: 3, 6, −1 over 8) at its
-// ends, linear when the line has only the two samples.
+// 16 × the midpoint between line[i] and line[i + 1] of a line of `count` known samples,
+// `stride` apart: cubic (Catmull-Rom on a uniform grid: −1, 9, 9, −1) where the line allows,
+// quadratic (the 3 nearest: 3, 6, −1 over 8) at its ends, linear when the line has only the
+// two samples.
+inline int32_t planeMidpoint16(const int32_t* line, ptrdiff_t stride, int i, int count)
+{
+    const int32_t a = line[i * stride];
+    const int32_t b = line[(i + 1) * stride];
+    const bool has_before = i >= 1;
+    const bool has_after = i + 2 < count;
+    if (has_before && has_after)
+        return 9 * (a + b) - line[(i - 1) * stride] - line[(i + 2) * stride];
+    if (has_after)
+        return 6 * a + 12 * b - 2 * line[(i + 2) * stride];
+    if (has_before)
+        return 12 * a + 6 * b - 2 * line[(i - 1) * stride];
+    return 8 * (a + b);
+}
+
+// The same halfway between line[pos − 1] and line[pos + 1] of an interleaved line of `len`
+// samples (odd, as every coded region's sides are), whose known samples are the even ones.
 inline int32_t midpoint16(const int32_t* line, ptrdiff_t stride, int pos, int len)
 {
-    const int32_t a = line[(pos - 1) * stride];
-    const int32_t b = line[(pos + 1) * stride];
-    const bool has_before = pos - 3 >= 0;
-    const bool has_after = pos + 3 < len;
-    if (has_before && has_after)
-        return 9 * (a + b) - line[(pos - 3) * stride] - line[(pos + 3) * stride];
-    if (has_after)
-        return 6 * a + 12 * b - 2 * line[(pos + 3) * stride];
-    if (has_before)
-        return 12 * a + 6 * b - 2 * line[(pos - 3) * stride];
-    return 8 * (a + b);
+    return planeMidpoint16(line, 2 * stride, (pos - 1) / 2, (len + 1) / 2);
 }
 
 // The requantized parent sample under the R sample (x, y) of child `child_index`.
@@ -133,127 +140,194 @@ void childResiduals(const int32_t* q, const int32_t* parent_q, int child_index, 
 
 namespace {
 
-// The corrections of `count` samples of one row, 2 apart (one class), all inside their
-// class's margins: out[k] = (Σ_i w_i · clamp(at[offset_i + 2k] − p0[k], ±32767) + 2048) >> 12,
-// predictionCorrection's sum, taps outer and samples inner. GCC keeps the stride-2 loads
-// scalar even in the AVX2 clone (which still gains packed min/max); a contiguous variant
-// that computes the odd samples too was vectorised but slower (docs/PERF.md).
-RIDGE_TARGET_CLONES
-void correctRow(const int32_t* __restrict at, const ptrdiff_t* offsets, const int32_t* weights,
-                const int32_t* __restrict p0, int count, int32_t* __restrict out)
-{
-    for (int k = 0; k < count; ++k)
-        out[k] = 2048;
-    for (int i = 0; i < kCorrectionTapCount; ++i) {
-        const int32_t* __restrict t = at + offsets[i];
-        const int32_t w = weights[i];
-        for (int k = 0; k < count; ++k)
-            out[k] += w * std::min(std::max(t[2 * k] - p0[k], -32767), 32767);
-    }
-    for (int k = 0; k < count; ++k)
-        out[k] >>= 12;
-}
+// The decoder's cubic passes on planes: R (even x, even y), A (odd x, even y), B (even x,
+// odd y) and C (odd x, odd y), each row-major with its own width. In a plane every cubic tap
+// and every correction tap of a pass is a whole row of an earlier plane, read at unit
+// stride, so the prediction and correction loops vectorise (on the interleaved grid they read
+// every other sample). The arithmetic is predictOdd's, term for term: the encoder keeps
+// predictOdd, and the round-trip tests hold the two equal. The planes are interleaved back
+// into q at the end.
+struct Planes {
+    int rw, rh, aw, bh; // R: rw × rh; A: aw × rh; B: rw × bh; C: aw × bh
+    std::vector<int32_t> r, a, b, c;
 
-// One class's taps as offsets for patches of side n, and its interior.
-struct Correction {
-    ptrdiff_t offset[kCorrectionTapCount];
-    int32_t weight[kCorrectionTapCount];
-    int x0, x1, y0, y1; // the interior: [x0, x1) × [y0, y1)
-
-    Correction(const PredictorWeights& w, int c, int n, const CodedRegion& r)
-        : x0(kCorrectionMarginX[c]), x1(r.width - kCorrectionMarginX[c]), y0(kCorrectionMarginY[c]),
-          y1(r.height - kCorrectionMarginY[c])
+    Planes(int w, int h) : rw((w + 1) / 2), rh((h + 1) / 2), aw((w - 1) / 2), bh((h - 1) / 2)
     {
-        for (int i = 0; i < kCorrectionTapCount; ++i) {
-            offset[i] =
-                kCorrectionTaps[c][i].dy * static_cast<ptrdiff_t>(n) + kCorrectionTaps[c][i].dx;
-            weight[i] = w.w[c][i];
-        }
+        r.resize(size_t(rw) * rh);
+        a.resize(size_t(aw) * rh);
+        b.resize(size_t(rw) * bh);
+        c.resize(size_t(aw) * bh);
     }
-    bool rowInside(int y) const { return y >= y0 && y < y1; }
-
-    // Row y's predictions p0[k] of samples x = first + 2k (k < count) plus their corrections,
-    // in place.
-    void apply(const int32_t* row, int first, int count, int32_t* p0) const
-    {
-        thread_local std::vector<int32_t> corr;
-        // Interior samples: x in [x0, x1) with x's parity.
-        int k0 = 0;
-        while (k0 < count && first + 2 * k0 < x0)
-            ++k0;
-        int k1 = k0;
-        while (k1 < count && first + 2 * k1 < x1)
-            ++k1;
-        if (k1 <= k0)
-            return;
-        corr.resize(size_t(k1 - k0));
-        correctRow(row + first + 2 * k0, offset, weight, p0 + k0, k1 - k0, corr.data());
-        for (int k = k0; k < k1; ++k)
-            p0[k] += corr[size_t(k - k0)];
-    }
+    int32_t* R(int j) { return r.data() + size_t(j) * rw; }
+    int32_t* A(int j) { return a.data() + size_t(j) * aw; }
+    int32_t* B(int j) { return b.data() + size_t(j) * rw; }
+    int32_t* C(int j) { return c.data() + size_t(j) * aw; }
 };
 
-// The cubic A, B, C passes with the line-interior case inlined: what predictOdd computes,
-// without its per-sample class switch (the decoder's hot loop; the encoder and the tests
-// keep predictOdd, and the round-trip tests hold the two equal). `weights`: the
-// least-squares corrections, or null.
-void cubicPasses(const int32_t* residuals, int n, const CodedRegion& region, int32_t* q,
-                 const PredictorWeights* weights)
+// m[i] = planeMidpoint16(line, 1, i, count) for i in [0, count − 1): the ends apart, so the
+// interior loop vectorises.
+void lineMidpoints(const int32_t* __restrict line, int count, int32_t* __restrict m)
 {
-    const int w = region.width, h = region.height;
-    const ptrdiff_t s = n;
-    // Each row: P0 of its samples into p, the corrections where the class has them, then the
-    // samples. The three classes differ only in P0 and in where their samples start.
-    thread_local std::vector<int32_t> p;
-    p.resize(size_t(n));
-    auto finishRow = [&](int y, int first, const Correction* correction) {
-        int32_t* row = q + y * s;
-        const int32_t* res = residuals + y * s;
-        const int count = (w - first + 1) / 2;
-        if (correction && correction->rowInside(y))
-            correction->apply(row, first, count, p.data());
-        for (int k = 0, x = first; k < count; ++k, x += 2)
-            row[x] = p[k] - res[x];
-    };
-    std::optional<Correction> ca, cb, cc;
+    const int last = count - 2; // the last midpoint
+    m[0] = planeMidpoint16(line, 1, 0, count);
+    for (int i = 1; i < last; ++i)
+        m[i] = 9 * (line[i] + line[i + 1]) - line[i - 1] - line[i + 2];
+    if (last > 0)
+        m[last] = planeMidpoint16(line, 1, last, count);
+}
+
+// p[k] += (Σ_t w_t · clamp(tap_t[k] − p[k], ±32767) + 2048) >> 12 for k in [0, count):
+// predictionCorrection's sum, taps outer and samples inner, every tap a unit-stride row.
+RIDGE_TARGET_CLONES
+void correctPlaneRow(const int32_t* const* taps, const int32_t* weights, int count,
+                     int32_t* __restrict p)
+{
+    thread_local std::vector<int32_t> sum;
+    sum.resize(size_t(count));
+    int32_t* __restrict acc = sum.data();
+    for (int k = 0; k < count; ++k)
+        acc[k] = 2048;
+    for (int t = 0; t < kCorrectionTapCount; ++t) {
+        const int32_t* __restrict tap = taps[t];
+        const int32_t w = weights[t];
+        for (int k = 0; k < count; ++k)
+            acc[k] += w * std::min(std::max(tap[k] - p[k], -32767), 32767);
+    }
+    for (int k = 0; k < count; ++k)
+        p[k] += acc[k] >> 12;
+}
+
+// The 12 tap rows of a correction, in kCorrectionTaps order, each offset so that taps[t][k]
+// is tap t of the pass's sample k + 1 (every interior starts at sample 1; no pointer before
+// a plane's first sample is formed).
+struct TapRows {
+    const int32_t* row[kCorrectionTapCount];
+};
+
+void weightsOf(const PredictorWeights& w, int c, int32_t* out)
+{
+    for (int t = 0; t < kCorrectionTapCount; ++t)
+        out[t] = w.w[c][t];
+}
+
+// Row j of A (samples x = 2i + 1, y = 2j) from R: cubic along the row, then the correction
+// where all its taps lie inside (i in [1, rw − 2), j in [1, rh − 1)), then the residuals.
+void planeRowA(Planes& pl, int j, const int32_t* res_row, const int32_t* weights)
+{
+    const int32_t* r = pl.R(j);
+    int32_t* p = pl.A(j);
+    lineMidpoints(r, pl.rw, p);
+    for (int i = 0; i < pl.aw; ++i)
+        p[i] = (p[i] + 8) >> 4;
+    if (weights && j >= 1 && j + 1 < pl.rh && pl.rw > 3) {
+        const int32_t *up = pl.R(j - 1), *down = pl.R(j + 1);
+        const TapRows t{{r + 1, r + 2, r, r + 3, up + 1, up + 2, down + 1, down + 2, up, up + 3,
+                         down, down + 3}};
+        correctPlaneRow(t.row, weights, pl.rw - 3, p + 1);
+    }
+    for (int i = 0; i < pl.aw; ++i)
+        p[i] -= res_row[2 * i + 1];
+}
+
+// Row j of B (x = 2i, y = 2j + 1) from R and A: cubic along the column, the correction for
+// i in [1, rw − 1), j in [1, rh − 2).
+void planeRowB(Planes& pl, int j, const int32_t* res_row, const int32_t* weights)
+{
+    int32_t* p = pl.B(j);
+    const int32_t *r0 = pl.R(j), *r1 = pl.R(j + 1);
+    if (j >= 1 && j + 2 < pl.rh) {
+        const int32_t *rm = pl.R(j - 1), *r2 = pl.R(j + 2);
+        for (int i = 0; i < pl.rw; ++i)
+            p[i] = (9 * (r0[i] + r1[i]) - rm[i] - r2[i] + 8) >> 4;
+    } else {
+        for (int i = 0; i < pl.rw; ++i)
+            p[i] = (planeMidpoint16(pl.r.data() + i, pl.rw, j, pl.rh) + 8) >> 4;
+    }
+    if (weights && j >= 1 && j + 2 < pl.rh && pl.rw > 2) {
+        const int32_t *rm = pl.R(j - 1), *r2 = pl.R(j + 2), *a0 = pl.A(j), *a1 = pl.A(j + 1);
+        const TapRows t{
+            {r0 + 1, r1 + 1, rm + 1, r2 + 1, r0, r0 + 2, r1, r1 + 2, a0, a0 + 1, a1, a1 + 1}};
+        correctPlaneRow(t.row, weights, pl.rw - 2, p + 1);
+    }
+    for (int i = 0; i < pl.rw; ++i)
+        p[i] -= res_row[2 * i];
+}
+
+// Row j of C (x = 2i + 1, y = 2j + 1): the row cubic through B and the column cubic through A,
+// averaged; the correction for i in [1, rw − 2), j in [1, rh − 2).
+void planeRowC(Planes& pl, int j, const int32_t* res_row, const int32_t* weights)
+{
+    int32_t* p = pl.C(j);
+    const int32_t* b = pl.B(j);
+    const int32_t *a0 = pl.A(j), *a1 = pl.A(j + 1);
+    const bool inner = j >= 1 && j + 2 < pl.rh;
+    lineMidpoints(b, pl.rw, p); // the row through B
+    if (inner) {
+        const int32_t *am = pl.A(j - 1), *a2 = pl.A(j + 2);
+        for (int i = 0; i < pl.aw; ++i)
+            p[i] = (p[i] + 9 * (a0[i] + a1[i]) - am[i] - a2[i] + 16) >> 5;
+    } else {
+        for (int i = 0; i < pl.aw; ++i)
+            p[i] = (p[i] + planeMidpoint16(pl.a.data() + i, pl.aw, j, pl.rh) + 16) >> 5;
+    }
+    if (weights && inner && pl.rw > 3) {
+        const int32_t *r0 = pl.R(j), *r1 = pl.R(j + 1), *am = pl.A(j - 1), *a2 = pl.A(j + 2);
+        const TapRows t{{a0 + 1, a1 + 1, b + 1, b + 2, r0 + 1, r0 + 2, r1 + 1, r1 + 2, am + 1,
+                         a2 + 1, b, b + 3}};
+        correctPlaneRow(t.row, weights, pl.rw - 3, p + 1);
+    }
+    for (int i = 0; i < pl.aw; ++i)
+        p[i] -= res_row[2 * i + 1];
+}
+
+// The cubic A, B, C passes on planes (see Planes), R from the parent and the refinements.
+void cubicPasses(const int32_t* residuals, const int32_t* parent_q, int child_index, int n,
+                 const CodedRegion& region, int32_t* q, const PredictorWeights* weights)
+{
+    thread_local std::optional<Planes> storage;
+    if (!storage || storage->rw != (region.width + 1) / 2 || storage->rh != (region.height + 1) / 2)
+        storage.emplace(region.width, region.height);
+    Planes& pl = *storage;
+    const int half = (n - 1) / 2;
+    const int32_t* parent =
+        parent_q + size_t((child_index >> 1) * half) * n + (child_index & 1) * half;
+    for (int j = 0; j < pl.rh; ++j) {
+        const int32_t* res = residuals + size_t(2 * j) * n;
+        const int32_t* base = parent + size_t(j) * n;
+        int32_t* r = pl.R(j);
+        for (int i = 0; i < pl.rw; ++i)
+            r[i] = base[i] + res[2 * i];
+    }
+    int32_t wa[kCorrectionTapCount], wb[kCorrectionTapCount], wc[kCorrectionTapCount];
     if (weights) {
-        ca.emplace(*weights, 0, n, region);
-        cb.emplace(*weights, 1, n, region);
-        cc.emplace(*weights, 2, n, region);
+        weightsOf(*weights, 0, wa);
+        weightsOf(*weights, 1, wb);
+        weightsOf(*weights, 2, wc);
     }
-    for (int y = 0; y < h; y += 2) { // A: along the row through R
-        const int32_t* row = q + y * s;
-        for (int x = 1, k = 0; x < w; x += 2, ++k) {
-            const int32_t m = (x >= 3 && x + 3 < w)
-                                  ? 9 * (row[x - 1] + row[x + 1]) - row[x - 3] - row[x + 3]
-                                  : midpoint16(row, 1, x, w);
-            p[k] = (m + 8) >> 4;
+    for (int j = 0; j < pl.rh; ++j)
+        planeRowA(pl, j, residuals + size_t(2 * j) * n, weights ? wa : nullptr);
+    for (int j = 0; j < pl.bh; ++j)
+        planeRowB(pl, j, residuals + size_t(2 * j + 1) * n, weights ? wb : nullptr);
+    for (int j = 0; j < pl.bh; ++j)
+        planeRowC(pl, j, residuals + size_t(2 * j + 1) * n, weights ? wc : nullptr);
+    // Interleave: even rows R A R A ... R, odd rows B C B C ... B.
+    for (int j = 0; j < pl.rh; ++j) {
+        int32_t* even = q + size_t(2 * j) * n;
+        const int32_t *r = pl.R(j), *a = pl.A(j);
+        for (int i = 0; i < pl.aw; ++i) {
+            even[2 * i] = r[i];
+            even[2 * i + 1] = a[i];
         }
-        finishRow(y, 1, ca ? &*ca : nullptr);
-    }
-    for (int y = 1; y < h; y += 2) { // B: along the column through R
-        const int32_t* row = q + y * s;
-        const bool inner = y >= 3 && y + 3 < h;
-        for (int x = 0, k = 0; x < w; x += 2, ++k) {
-            const int32_t* at = row + x;
-            const int32_t m = inner ? 9 * (at[-s] + at[s]) - at[-3 * s] - at[3 * s]
-                                    : midpoint16(at - y * s, s, y, h);
-            p[k] = (m + 8) >> 4;
+        even[2 * pl.aw] = r[pl.aw];
+        if (j == pl.bh)
+            break;
+        int32_t* odd = even + n;
+        const int32_t *b = pl.B(j), *c = pl.C(j);
+        for (int i = 0; i < pl.aw; ++i) {
+            odd[2 * i] = b[i];
+            odd[2 * i + 1] = c[i];
         }
-        finishRow(y, 0, cb ? &*cb : nullptr);
-    }
-    for (int y = 1; y < h; y += 2) { // C: the row through B and the column through A
-        const int32_t* row = q + y * s;
-        const bool inner = y >= 3 && y + 3 < h;
-        for (int x = 1, k = 0; x < w; x += 2, ++k) {
-            const int32_t* at = row + x;
-            const int32_t mr = (x >= 3 && x + 3 < w) ? 9 * (at[-1] + at[1]) - at[-3] - at[3]
-                                                     : midpoint16(row, 1, x, w);
-            const int32_t mc = inner ? 9 * (at[-s] + at[s]) - at[-3 * s] - at[3 * s]
-                                     : midpoint16(at - y * s, s, y, h);
-            p[k] = (mr + mc + 16) >> 5;
-        }
-        finishRow(y, 1, cc ? &*cc : nullptr);
+        odd[2 * pl.aw] = b[pl.aw];
     }
 }
 
@@ -265,15 +339,15 @@ void reconstructChild(const int32_t* residuals, const int32_t* parent_q, int chi
 {
     if (weights && !weights->any())
         weights = nullptr;
+    if (predictor == OddPredictor::Cubic) {
+        cubicPasses(residuals, parent_q, child_index, n, region, q, weights);
+        return;
+    }
     for (int y = 0; y < region.height; y += 2)
         for (int x = 0; x < region.width; x += 2) {
             const size_t i = static_cast<size_t>(y) * n + x;
             q[i] = parentBin(parent_q, child_index, n, x, y) + residuals[i];
         }
-    if (predictor == OddPredictor::Cubic) {
-        cubicPasses(residuals, n, region, q, weights);
-        return;
-    }
     for (const SampleClass pass : {SampleClass::A, SampleClass::B, SampleClass::C}) {
         const int x0 = static_cast<int>(pass) & 1, y0 = static_cast<int>(pass) >> 1;
         for (int y = y0; y < region.height; y += 2)

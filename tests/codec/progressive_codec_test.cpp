@@ -63,16 +63,17 @@ template <int N> void roundTripSymbols(uint32_t seed, double skew)
     EXPECT_EQ(dec.remaining(), 0u); // the decoder reads exactly what the encoder wrote
 }
 
-// Every payload format's variants: v1's four (the paper's and ridge's first among them) and
-// v2 with each bound schedule (v1's, the hybrid, all nested) and both predictors.
+// Every payload format's variants: v1's four (the paper's and ridge's first among them), and
+// v2 and v3 with each bound schedule (v1's, the hybrid, all nested) and both predictors.
 std::vector<ProgressiveVariant> allVariants()
 {
     std::vector<ProgressiveVariant> v;
     for (int bits = 0; bits < 8; bits += 2)
         v.push_back(*ProgressiveVariant::fromBits(bits));
-    for (const int nested : {1, 2, 32})
-        for (const OddPredictor p : {OddPredictor::Bilinear, OddPredictor::Cubic})
-            v.push_back({p, true, 2, nested});
+    for (const int format : {2, 3})
+        for (const int nested : {1, 2, 32})
+            for (const OddPredictor p : {OddPredictor::Bilinear, OddPredictor::Cubic})
+                v.push_back({p, true, format, nested});
     return v;
 }
 
@@ -204,10 +205,90 @@ TEST(ProgressiveCodec, CodesExtremeAndUnrelatedParentsThroughTheEscapes)
     EXPECT_EQ(decoded, codes); // e = 0 at the finest level: exact
 }
 
+void rejectsTruncatedCorruptAndParentlessPayloads(const ProgressiveVariant& variant);
+
 TEST(ProgressiveCodec, RejectsTruncatedCorruptAndParentlessPayloads)
 {
+    for (const ProgressiveVariant& variant : {ProgressiveVariant::v2(), ProgressiveVariant{}}) {
+        SCOPED_TRACE(variant.describe());
+        rejectsTruncatedCorruptAndParentlessPayloads(variant);
+    }
+}
+
+TEST(ProgressiveCodec, PayloadVersionsAreNotInterchangeable)
+{
+    // A v3 payload is refused by a v2 codec and the other way round (its version byte), even
+    // though they share the stream's layout: the contexts differ.
+    const int n = 33;
+    const ProgressiveCodec v2(1, 2, ProgressiveVariant::v2()), v3(1, 2);
+    const std::vector<uint16_t> root = terrainPatch(n, 4, 5);
+    std::vector<uint16_t> out(root.size());
+    const PatchContext ctx{n, 0, nullptr, 0};
+    for (const ProgressiveCodec* from : {&v2, &v3}) {
+        std::vector<uint8_t> payload(from->encodeBound(ctx));
+        payload.resize(from->encode(payload.data(), payload.size(), root.data(), ctx));
+        ASSERT_EQ(payload[1], from->variant().format);
+        const ProgressiveCodec& other = from == &v2 ? v3 : v2;
+        EXPECT_EQ(other.decode(out.data(), payload.data(), payload.size(), ctx), kCodecBadHeader);
+    }
+}
+
+// The decoder's planar cubic passes (progressive_reconstruction.cpp) against predictOdd, the
+// encoder's, in pass order, on residuals no encoder would write: large, of both signs, over
+// regions of every parity and with corrections of any weights.
+TEST(ProgressiveReconstruction, PlanarPassesEqualPredictOddOnAnyResiduals)
+{
+    std::mt19937 rng(9);
+    for (const int n : {5, 9, 17, 33, 65}) {
+        for (const auto& [w, h] : {std::pair{n, n}, std::pair{3, 3}, std::pair{5, n},
+                                   std::pair{n, 7}, std::pair{(n / 2) | 1, (n / 3) | 1}}) {
+            if (w < 3 || h < 3 || w > n || h > n)
+                continue;
+            const CodedRegion region{w, h};
+            std::vector<int32_t> parent(size_t(n) * n), residuals(parent.size());
+            for (int32_t& v : parent)
+                v = int32_t(rng() % 4000);
+            for (int32_t& v : residuals)
+                v = rng() % 4 == 0 ? int32_t(rng() % 60001) - 30000 : int32_t(rng() % 5) - 2;
+            PredictorWeights weights;
+            for (auto& c : weights.w)
+                for (int16_t& x : c)
+                    x = int16_t(int(rng() % 8191) - 4095);
+            const PredictorWeights* const none = nullptr;
+            for (const PredictorWeights* wp :
+                 {none, static_cast<const PredictorWeights*>(&weights)}) {
+                for (int child = 0; child < 4; ++child) {
+                    std::vector<int32_t> planar(parent.size(), 0), reference(parent.size(), 0);
+                    reconstructChild(residuals.data(), parent.data(), child, n, region,
+                                     OddPredictor::Cubic, planar.data(), wp);
+                    const int half = (n - 1) / 2;
+                    for (int y = 0; y < h; y += 2)
+                        for (int x = 0; x < w; x += 2)
+                            reference[size_t(y) * n + x] =
+                                parent[size_t((child >> 1) * half + y / 2) * n +
+                                       (child & 1) * half + x / 2] +
+                                residuals[size_t(y) * n + x];
+                    for (const int pass : {1, 2, 3})
+                        for (int y = pass >> 1; y < h; y += 2)
+                            for (int x = pass & 1; x < w; x += 2) {
+                                const size_t i = size_t(y) * n + x;
+                                reference[i] = predictOdd(reference.data(), n, region, x, y,
+                                                          OddPredictor::Cubic, wp) -
+                                               residuals[i];
+                            }
+                    ASSERT_EQ(planar, reference)
+                        << "n " << n << ", region " << w << "x" << h << ", child " << child
+                        << (wp ? ", corrected" : "");
+                }
+            }
+        }
+    }
+}
+
+void rejectsTruncatedCorruptAndParentlessPayloads(const ProgressiveVariant& variant)
+{
     const int n = 65;
-    const ProgressiveCodec codec(1, 2);
+    const ProgressiveCodec codec(1, 2, variant);
     const std::vector<uint16_t> parent = terrainPatch(n, 1, 10), codes = terrainPatch(n, 2, 30);
     std::vector<uint16_t> parent_drawn(parent.size()), out(codes.size());
     codec.reconstruct(parent.data(), {n, 0, nullptr, 0}, parent_drawn.data());
@@ -253,8 +334,11 @@ TEST(ProgressiveCodec, SettingsRoundTripThroughTheArchiveHeaderParameters)
     CodecSettings settings;
     settings.level_count = 7;
     settings.param[0] = 5;
-    for (const double bits : {1.0, 16.0 + 2, 8.0, 8.0 + 33 * 16, 2.5, -8.0}) {
-        settings.param[1] = bits; // reserved bit, v1 with nested levels, v2 with 0 or 33
+    for (const double bits : {1.0, 16.0 + 2, 8.0, 8.0 + 33 * 16, 2.5, -8.0, 1024.0, 1024.0 + 8,
+                              1024.0 + 16 + 2, 2048.0 + 8 + 16, 3072.0 + 8 + 16}) {
+        // reserved bit, v1 with nested levels, v2 with 0 or 33, v3 without v2's bit or with 0
+        // nested levels, bits past v3's
+        settings.param[1] = bits;
         EXPECT_EQ(makeCodec(kProgressiveCodecId, settings), nullptr) << bits;
     }
     // The nested schedule: the finest K levels at δ_l0, doubling above.

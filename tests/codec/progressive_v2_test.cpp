@@ -1,5 +1,5 @@
-// Progressive codec v2's parts: rANS, tokens, per-archive tables, coded regions, training,
-// and the payload bytes of both formats pinned.
+// Progressive codec v2's and v3's parts: rANS, tokens, per-archive tables, coded regions,
+// training, and the payload bytes of every format pinned.
 #include "ridge/codec/level_quantizer.h"
 #include "ridge/codec/progressive_codec.h"
 #include "ridge/codec/progressive_tables.h"
@@ -93,6 +93,24 @@ TEST(Rans, InterleavedLanesRoundTripSymbolsOfSeveralTablesExactly)
     for (size_t i = 0; i < symbols.size(); ++i)
         ASSERT_EQ(dec.decode(*symbols[i].table, int(i % rans::kLanes)), symbols[i].symbol) << i;
     EXPECT_TRUE(dec.finishedExactly());
+
+    // Runs (v3's rows): the same symbols, whatever the runs' lengths and wherever the lanes
+    // stand when one starts, down to the stream's last words.
+    rans::Decoder runs(stream.data(), stream.size());
+    std::vector<const rans::Table*> tables;
+    unsigned lane = 0;
+    for (size_t first = 0, length = 1; first < symbols.size();
+         first += length, length = length % 9 + 1) {
+        const size_t count = std::min(length, symbols.size() - first);
+        tables.clear();
+        for (size_t k = 0; k < count; ++k)
+            tables.push_back(symbols[first + k].table);
+        runs.decodeRun(tables.data(), int(count), lane, [&](int k, int s) {
+            ASSERT_EQ(s, symbols[first + size_t(k)].symbol) << first + size_t(k);
+        });
+        ASSERT_EQ(lane % rans::kLanes, (first + count) % rans::kLanes);
+    }
+    EXPECT_TRUE(runs.finishedExactly());
 
     // Truncated or corrupted: never finishes exactly.
     rans::Decoder cut(stream.data(), stream.size() - 2);
@@ -326,10 +344,10 @@ TEST(ProgressiveCodecV2, TrainedTablesCodeTheirOwnPatchesSmallerAndExactly)
     EXPECT_NE(problem.find("codec tables"), std::string::npos) << problem;
 }
 
-TEST(ProgressiveCodecV2, PayloadBytesOfBothFormatsArePinned)
+TEST(ProgressiveCodecV2, PayloadBytesOfEveryFormatArePinned)
 {
     // A 5×5 root and one child, bound 1, default tables: a change of these bytes is a format
-    // change (payload v1 or v2) and needs a new version.
+    // change (payload v1, v2 or v3) and needs a new version.
     const int n = 5;
     std::vector<uint16_t> root(25), child(25);
     for (int i = 0; i < 25; ++i) {
@@ -342,7 +360,8 @@ TEST(ProgressiveCodecV2, PayloadBytesOfBothFormatsArePinned)
             s += "0123456789abcdef"[v >> 4], s += "0123456789abcdef"[v & 15];
         return s;
     };
-    for (const ProgressiveVariant& v : {ProgressiveVariant::v1(), ProgressiveVariant{}}) {
+    for (const ProgressiveVariant& v :
+         {ProgressiveVariant::v1(), ProgressiveVariant::v2(), ProgressiveVariant{}}) {
         const ProgressiveCodec codec(1, 2, v);
         std::vector<uint16_t> drawn(25);
         codec.reconstruct(root.data(), {n, 0, nullptr, 0}, drawn.data());
@@ -351,9 +370,13 @@ TEST(ProgressiveCodecV2, PayloadBytesOfBothFormatsArePinned)
         if (v.format == 1) {
             EXPECT_EQ(r, "500100c912285019dab361ce16f4601c19b200");
             EXPECT_EQ(c, "500100e219bbc965049eaf37927df98d78ea03c26b00");
-        } else { // 'P', 2, flags (1: refinements coded), varint rANS size, rANS, raw bits
+        } else if (v.format == 2) { // 'P', 2, flags (1: refinements coded), varint rANS
+                                    // size, rANS, raw bits
             EXPECT_EQ(r, "50020018dd3f795b32a15302c2edab00cb0d1600d2a381f463168fd84d");
             EXPECT_EQ(c, "50020118234f0600f36c02003fff1e16ff2d4a000c2b5c4e7c9c38da");
+        } else { // v3: v2's layout; the root's contexts are v2's, a child's differ
+            EXPECT_EQ(r, "50030018dd3f795b32a15302c2edab00cb0d1600d2a381f463168fd84d");
+            EXPECT_EQ(c, "500301185e9f03001c4d02002b9f8b18e7de5c007a60991e497c5acb");
         }
     }
 }

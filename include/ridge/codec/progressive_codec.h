@@ -8,22 +8,26 @@
 // (progressive_reconstruction.h), all symbols with the adaptive range coder
 // (progressive_entropy.h). Decoding = entropy decode (CPU) + reconstruct (GPU-able).
 //
-// Two payload formats, chosen by the variant stored in the archive header:
+// Three payload formats, chosen by the variant stored in the archive header:
 //
 // v1 (the paper's codec as ridge first built it): level k levels above the finest has bound
 //   e_k = floor(δ_l0 · 2^k); every sample of every patch is coded, R samples as refinements
 //   {−1, 0, +1}; adaptive range coding (progressive_entropy.h). Payload: u8 'P', u8 1, then
 //   the range-coded residual stream to the end.
-// v2 (default): the `nested_levels` finest levels share the finest bound (e_k = δ_l0), the
+// v2: the `nested_levels` finest levels share the finest bound (e_k = δ_l0), the
 //   coarser ones grow from there (e_k = floor(δ_l0 · 2^(k − nested + 1))). With decimation a
 //   coarse sample *is* a finest sample, so inside the nested zone an R sample's refinement
 //   is 0: each patch codes only the samples its parent lacks. Only the coded region
 //   (CodedRegion) is coded; static per-archive tables + interleaved rANS
 //   (progressive_entropy_v2.h, progressive_tables.h). Payload: u8 'P', u8 2, u8 flags (bit 0:
 //   the refinements are coded; other bits 0), then the v2 residual stream to the end.
+// v3 (default): v2 with contexts drawn from earlier rows and passes only, so the decoder
+//   decodes the rANS lanes side by side (progressive_entropy_v2.h). Payload: u8 'P', u8 3,
+//   then as v2.
 //
 // Variant (archive header codec_param[1]): bit 1 cubic prediction, bit 2 activity contexts,
-// bit 3 payload v2, bits 4..9 nested_levels (v2 only, 1..32; v1: 0); bit 0 reserved, 0.
+// bit 3 payload v2 or v3, bits 4..9 nested_levels (v2, v3: 1..32; v1: 0), bit 10 payload v3
+// (with bit 3); bit 0 reserved, 0.
 // codec_param[0] = δ_l0, the finest-level bound in codes (real).
 #include "ridge/codec/height_codec.h"
 #include "ridge/codec/level_quantizer.h"
@@ -60,12 +64,14 @@ struct ProgressiveResiduals final : GpuPayload {
 };
 
 struct ProgressiveVariant {
+    // Variant bit 10: payload v3 (with bit 3, payload v2's bit).
+    static constexpr int kPayloadV3Bit = 1 << 10;
     // v2's default number of levels sharing the finest bound (docs/PERF.md, "nested").
     static constexpr int kDefaultNestedLevels = 32;
 
     OddPredictor predictor = OddPredictor::Cubic;
     bool contexts = true;
-    int format = 2;                           // payload version, 1 or 2
+    int format = 3;                           // payload version, 1, 2 or 3
     int nested_levels = kDefaultNestedLevels; // v2: 1..32; v1: 1 (its bounds double per level)
     // v2, at build time only: learn least-squares prediction corrections (stored with the
     // tables; an archive without them predicts with P0 alone). Not a stored bit: readers
@@ -76,6 +82,8 @@ struct ProgressiveVariant {
     static ProgressiveVariant paper() { return {OddPredictor::Bilinear, false, 1, 1, false}; }
     // ridge's first codec: cubic prediction, adaptive activity contexts, payload v1.
     static ProgressiveVariant v1() { return {OddPredictor::Cubic, true, 1, 1, false}; }
+    // The default of issue 25 to 30: payload v2 (contexts wait for the previous symbol).
+    static ProgressiveVariant v2() { return {OddPredictor::Cubic, true, 2}; }
     int bits() const;
     // Null for bits that name no variant.
     static std::optional<ProgressiveVariant> fromBits(int bits);

@@ -146,7 +146,48 @@ class Decoder {
         return s;
     }
 
-    bool overrun() const { return overrun_; }
+    // Decodes `count` symbols, symbol k with *tables[k], handing each to out(k, symbol): what
+    // `count` calls of decode() cycling the lanes from `lane` give (and `lane` advances as
+    // they would), but with the states in registers and whole rounds of kLanes symbols
+    // decoded together, so that the lanes' updates overlap. Only for symbols whose tables
+    // do not depend on one another: the caller chose every table before the run.
+    template <class Out>
+    void decodeRun(const Table* const* tables, int count, unsigned& lane, Out&& out)
+    {
+        int k = 0;
+        if (count >= kLanes) {
+            uint32_t x[kLanes];
+            for (int l = 0; l < kLanes; ++l)
+                x[l] = state_[(lane + l) & (kLanes - 1)];
+            // Each round reads at most one word a lane: 2·kLanes bytes left means no bound
+            // check inside it.
+            for (; k + kLanes <= count && end_ - p_ >= 2 * kLanes; k += kLanes) {
+#pragma GCC unroll 4
+                for (int l = 0; l < kLanes; ++l) {
+                    const Table& t = *tables[k + l];
+                    const uint32_t slot = x[l] & (kProbScale - 1);
+                    const int s = t.lookup[slot];
+                    x[l] = t.freq[s] * (x[l] >> kProbBits) + slot - t.cum[s];
+                    // Branch-free renormalisation: whether a lane reads a word is as good as
+                    // random, and the word is in bounds either way.
+                    const uint32_t renormalize = x[l] < kLow; // 0 or 1
+                    const uint32_t word = uint32_t(p_[0]) | uint32_t(p_[1]) << 8;
+                    x[l] = (x[l] << (16 * renormalize)) | (word & (0u - renormalize));
+                    p_ += 2 * renormalize;
+                    out(k + l, s);
+                }
+            }
+            for (int l = 0; l < kLanes; ++l) // whole rounds: `lane` is where it was
+                state_[(lane + l) & (kLanes - 1)] = x[l];
+        }
+        for (; k < count; ++k) // the rest, and the stream's last words, checked one by one
+            out(k, decode(*tables[k], int(lane++ & (kLanes - 1))));
+    }
+
+    bool overrun() const
+    {
+        return overrun_;
+    }
     // True when every lane is back at its initial state and every word was read: the
     // stream decoded exactly as written.
     bool finishedExactly() const
@@ -158,7 +199,10 @@ class Decoder {
                 return false;
         return true;
     }
-    bool consumedAll() const { return p_ == end_; }
+    bool consumedAll() const
+    {
+        return p_ == end_;
+    }
 
   private:
     std::array<uint32_t, kLanes> state_{};
