@@ -46,6 +46,9 @@ for e in 1 4; do
   ./build/ridge build tests/data/everest_crop.tif -o "$seeds/archive/progressive_e${e}_17.ridge" -q --patch 17 \
       --codec progressive --max-error $e
 done
+# Payload v2 beside the default v3 (their contexts differ).
+./build/ridge build tests/data/everest_crop.tif -o "$seeds/archive/progressive_v2_e1_17.ridge" -q --patch 17 \
+    --codec progressive-v2 --max-error 1
 # jpeg2000 (OpenJPEG; HTJ2K is not decoded from untrusted bytes): archives for the field fuzzers, payloads for its decoder.
 ./build/ridge build tests/data/everest_crop.tif -o "$seeds/archive/jpeg2000_17.ridge" -q --patch 17 \
     --codec jpeg2000 --max-error 2
@@ -82,8 +85,12 @@ for path in glob.glob(seeds + "/archive/*.ridge"):
             name = "%s/fractal/%s_%d" % (seeds, os.path.basename(path), k)
             open(name, "wb").write(bytes([size_byte]) + payload)
         elif payload[:1] == b"P":  # progressive: size, level|quadrant, bound|variant, parent seed
+            # The variant the payload was written with: v1 (cubic, contexts), or v2/v3 with
+            # 32 nested levels and cubic prediction (byte 3's bit 7: v3).
             name = "%s/progressive/%s_%d" % (seeds, os.path.basename(path), k)
-            open(name, "wb").write(bytes([size_byte, min(lvl, 3), (6 << 4) | 1, 0]) + payload)
+            v = payload[1]
+            variant = (3 << 5) | 1 if v == 1 else (7 << 5) | 1
+            open(name, "wb").write(bytes([size_byte, min(lvl, 3), variant, 0x80 if v == 3 else 0]) + payload)
         else:
             name = "%s/payload/%s_%d" % (seeds, os.path.basename(path), k)
             open(name, "wb").write(bytes([size_byte]) + payload)

@@ -231,7 +231,8 @@ class Commands {
 
     bool quiet_ = false;
     bool json_ = false;
-    std::string criterion_; // build --criterion (jpeg2000)
+    bool info_bytes_ = false; // info --bytes
+    std::string criterion_;   // build --criterion (jpeg2000)
     std::string input_;
     std::string output_;
     std::string archive_;

@@ -53,6 +53,28 @@ void addCornersJson(const ArchiveInfo& info, nlohmann::json& j)
         j["cornerLonLat"] = lon_lat;
 }
 
+// `--bytes`: every region and part with its share of the file.
+void printByteAccount(const ByteAccount& b)
+{
+    const double total = double(b.total());
+    auto row = [&](const std::string& what, uint64_t bytes) {
+        fmt::print("  {:<34} {:>12} {:>6.2f} %\n", what, bytes, 100.0 * double(bytes) / total);
+    };
+    fmt::print("\nBytes ({} in all):\n", b.total());
+    row("header", b.header);
+    row("index", b.index);
+    row("metadata", b.metadata);
+    row("codec tables", b.codec_tables);
+    for (size_t l = 0; l < b.levels.size(); ++l) {
+        const ByteAccount::Level& level = b.levels[l];
+        row(fmt::format("level {} codec payloads", l), level.payload);
+        if (level.block_errors)
+            row(fmt::format("level {} block errors", l), level.block_errors);
+        row(fmt::format("level {} validity masks", l), level.validity);
+        row(fmt::format("level {} sample flags", l), level.sample_flags);
+    }
+}
+
 } // namespace
 
 void Commands::registerInfo(CLI::App& app)
@@ -61,11 +83,15 @@ void Commands::registerInfo(CLI::App& app)
         app.add_subcommand("info", "Describe an archive: geometry, levels, codec, georeference");
     info_->add_option("archive", archive_, "Archive (.ridge)")->required();
     info_->add_flag("--json", json_, "Machine-readable output");
+    info_->add_flag("--bytes", info_bytes_,
+                    "Where the bytes go: index, metadata, codec tables, and each level's blobs "
+                    "by part (block errors, validity masks, sample flags, codec payloads); reads "
+                    "every blob");
 }
 
 int Commands::runInfo()
 {
-    const ArchiveInfo info = readArchiveInfo(archive_);
+    const ArchiveInfo info = readArchiveInfo(archive_, info_bytes_);
     if (json_) {
         nlohmann::json j = {
             {"path", info.path},
@@ -116,6 +142,17 @@ int Commands::runInfo()
                                    {"max_err", l.max_err},
                                    {"max_err_appr", l.max_err_appr},
                                    {"level_bound", l.level_bound}});
+        if (const auto& b = info.bytes) {
+            j["bytes"] = {{"header", b->header},
+                          {"index", b->index},
+                          {"metadata", b->metadata},
+                          {"codec_tables", b->codec_tables}};
+            for (const ByteAccount::Level& l : b->levels)
+                j["bytes"]["levels"].push_back({{"block_errors", l.block_errors},
+                                                {"validity", l.validity},
+                                                {"sample_flags", l.sample_flags},
+                                                {"payload", l.payload}});
+        }
         fmt::print("{}\n", jsonText(j));
         return 0;
     }
@@ -181,6 +218,8 @@ int Commands::runInfo()
                    fmt::format("{}x{}", l.width, l.height),
                    fmt::format("{}x{}", l.patches_x, l.patches_y), humanBytes(l.bytes), l.max_err,
                    l.level_bound);
+    if (info.bytes)
+        printByteAccount(*info.bytes);
     return 0;
 }
 

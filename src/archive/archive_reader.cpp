@@ -276,12 +276,16 @@ void ArchiveReader::decodePatch(PatchId p, uint16_t* codes, const uint16_t* pare
 }
 
 size_t ArchiveReader::payloadOffset(PatchId p, const std::vector<uint8_t>& blob,
-                                    PatchValidity* validity, PatchSampleFlags* sample_flags) const
+                                    PatchValidity* validity, PatchSampleFlags* sample_flags,
+                                    BlobParts* parts) const
 {
     const PatchRecord& r = record(p);
     const int n = geometry_.patchSize();
     if (blob.size() < r.block_errors_size)
         fail(patchName(p) + ": blob shorter than its block errors");
+    BlobParts local_parts;
+    BlobParts& part = parts ? *parts : local_parts;
+    part = {r.block_errors_size, 0, 0, blob.size() - r.block_errors_size};
     if (sample_flags)
         *sample_flags = PatchSampleFlags{PatchSampleFlags::Kind::None, n, {}};
     if (!storesValidity()) {
@@ -301,6 +305,7 @@ size_t ArchiveReader::payloadOffset(PatchId p, const std::vector<uint8_t>& blob,
     if (!problem.empty())
         throw Error(describe(p) + ": " + problem);
     offset += consumed;
+    part.validity = consumed;
     if (storesSampleFlags()) {
         PatchSampleFlags local_flags;
         problem = unpackSampleFlags(blob.data() + offset, blob.size() - offset, n,
@@ -309,11 +314,13 @@ size_t ArchiveReader::payloadOffset(PatchId p, const std::vector<uint8_t>& blob,
         if (!problem.empty())
             throw Error(describe(p) + ": " + problem);
         offset += consumed;
+        part.sample_flags = consumed;
     }
     if (offset >= blob.size())
         throw Error(describe(p) + ": masks of " + std::to_string(offset - r.block_errors_size) +
                     " bytes leave no payload in a blob of " + std::to_string(blob.size()) +
                     " bytes");
+    part.payload = blob.size() - offset;
     return offset;
 }
 

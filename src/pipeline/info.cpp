@@ -44,9 +44,40 @@ std::vector<CornerInfo> cornersOf(const archive::ArchiveReader& reader, std::str
     return corners;
 }
 
+ByteAccount accountBytes(const archive::ArchiveReader& reader)
+{
+    const archive::Header& h = reader.header();
+    const PyramidGeometry& g = reader.geometry();
+    ByteAccount a;
+    a.header = archive::kHeaderSize;
+    a.index = uint64_t(g.patchCount()) * archive::kIndexEntrySize;
+    a.metadata = h.metadata_size;
+    a.codec_tables = h.codec_tables_size;
+    a.levels.resize(size_t(g.levelCount()));
+    for (int64_t i = 0; i < g.patchCount(); ++i) {
+        const PatchId p = g.patchAt(i);
+        archive::BlobParts parts;
+        reader.payloadOffset(p, reader.readBlob(p), nullptr, nullptr, &parts);
+        ByteAccount::Level& l = a.levels[size_t(p.level)];
+        l.block_errors += parts.block_errors;
+        l.validity += parts.validity;
+        l.sample_flags += parts.sample_flags;
+        l.payload += parts.payload;
+    }
+    return a;
+}
+
 } // namespace
 
-ArchiveInfo readArchiveInfo(const std::string& archive_path)
+uint64_t ByteAccount::total() const
+{
+    uint64_t sum = header + index + metadata + codec_tables;
+    for (const Level& l : levels)
+        sum += l.block_errors + l.validity + l.sample_flags + l.payload;
+    return sum;
+}
+
+ArchiveInfo readArchiveInfo(const std::string& archive_path, bool account_bytes)
 {
     const archive::ArchiveReader reader(archive_path);
     const archive::Header& h = reader.header();
@@ -92,6 +123,8 @@ ArchiveInfo readArchiveInfo(const std::string& archive_path)
         info.levels.push_back(li);
     }
     info.corners = cornersOf(reader, info.lon_lat_note);
+    if (account_bytes)
+        info.bytes = accountBytes(reader);
 
     const archive::ArchiveMetadata& meta = reader.metadata();
     info.band = meta.source.band.value_or(1);

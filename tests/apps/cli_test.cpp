@@ -74,6 +74,15 @@ TEST(Cli, BuildInfoVerifyExtractHillshadeOnRealTerrain)
     r = test::runRidge("info '" + arc + "'");
     ASSERT_EQ(r.exit_code, 0);
     EXPECT_NE(r.output.find("WGS 84"), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("Bytes ("), std::string::npos) << "only with --bytes";
+    r = test::runRidge("info '" + arc + "' --bytes");
+    ASSERT_EQ(r.exit_code, 0);
+    EXPECT_NE(r.output.find("level 0 codec payloads"), std::string::npos) << r.output;
+    r = test::runRidge("info '" + arc + "' --bytes --json");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const nlohmann::json bytes = nlohmann::json::parse(r.output)["bytes"];
+    EXPECT_EQ(bytes["header"], 160);
+    EXPECT_EQ(bytes["levels"].size(), info["level_count"].get<size_t>());
 
     r = test::runRidge("verify '" + arc + "' --source '" + src + "' -q");
     ASSERT_EQ(r.exit_code, 0) << r.output;

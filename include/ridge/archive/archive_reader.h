@@ -42,6 +42,15 @@ namespace ridge::archive {
 // so a larger size is refused before anything is allocated.
 inline constexpr uint32_t kMaxCodecTablesBytes = 1u << 20;
 
+// The bytes of one blob by part (docs/FORMAT.md, "Patch blob"): what `ridge info --bytes`
+// adds up.
+struct BlobParts {
+    size_t block_errors = 0;
+    size_t validity = 0;     // the mask's kind byte and frame (version >= 2)
+    size_t sample_flags = 0; // the flags' kind byte and frame (version >= 4)
+    size_t payload = 0;
+};
+
 class ArchiveReader {
   public:
     explicit ArchiveReader(const std::string& path);
@@ -104,7 +113,8 @@ class ArchiveReader {
     // Throws for a corrupt mask or flags.
     size_t payloadOffset(PatchId p, const std::vector<uint8_t>& blob,
                          PatchValidity* validity = nullptr,
-                         PatchSampleFlags* sample_flags = nullptr) const;
+                         PatchSampleFlags* sample_flags = nullptr,
+                         BlobParts* parts = nullptr) const;
     // Whether the archive's blobs carry validity masks (format version >= 2).
     bool storesValidity() const { return header_.version >= kFirstVersionWithValidity; }
     // Whether they carry sample flags (format version >= 4).

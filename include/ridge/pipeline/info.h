@@ -30,6 +30,17 @@ struct CornerInfo {
     double longitude = 0, latitude = 0; // WGS 84, degrees
 };
 
+// Where an archive's bytes go (`ridge info --bytes`): the regions of docs/FORMAT.md, and each
+// level's blobs by part. They add up to the file's size.
+struct ByteAccount {
+    uint64_t header = 0, index = 0, metadata = 0, codec_tables = 0;
+    struct Level {
+        uint64_t block_errors = 0, validity = 0, sample_flags = 0, payload = 0;
+    };
+    std::vector<Level> levels;
+    uint64_t total() const;
+};
+
 struct ArchiveInfo {
     std::string path;
     uint32_t format_version = 0;
@@ -63,9 +74,11 @@ struct ArchiveInfo {
     // What the heights are measured from: the archive's georeference.vertical_datum, else the
     // vertical part of its CRS (archives built before the key existed); none: unknown.
     std::optional<archive::VerticalDatumMetadata> vertical_datum;
+    std::optional<ByteAccount> bytes; // readArchiveInfo(..., true) only
 };
 
-// Reads header, metadata and index (not the patches). Throws ridge::Error.
-ArchiveInfo readArchiveInfo(const std::string& archive_path);
+// Reads header, metadata and index; with `account_bytes`, every blob too (checked as read:
+// its masks), for ArchiveInfo::bytes. Throws ridge::Error.
+ArchiveInfo readArchiveInfo(const std::string& archive_path, bool account_bytes = false);
 
 } // namespace ridge
