@@ -40,6 +40,10 @@ void CodecBenchCommand::registerWith(CLI::App& app)
                      "anchors' tiles and its errors are measured)")
         ->expected(1, 16)
         ->capture_default_str();
+    command_->add_flag("--overviews", overviews_,
+                       "Also code each anchor's overviews (the finest level decimated by 2, 4, "
+                       "... down to 256 samples a side, as gdaladdo builds them): one more row "
+                       "per anchor, for what a single-level format pays for levels of detail");
     command_->add_flag("--json", json_,
                        "Print every number as JSON on stdout (the tables then go to stderr)");
     command_->add_option("--json-file", json_path_, "Write every number as JSON to a file");
@@ -72,6 +76,7 @@ int CodecBenchCommand::run()
     codecbench::CodecBenchOptions options;
     options.max_errors = max_errors_;
     options.tile_size = tile_size_;
+    options.overviews = overviews_;
     options.ridge_codecs = ridge_codecs;
     options.progress = terminalProgress(quiet_);
     const codecbench::CodecBenchReport report = codecbench::runCodecBench(input_, options);

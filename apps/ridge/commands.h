@@ -30,6 +30,7 @@ class CodecBenchCommand {
     std::vector<double> max_errors_{0.5, 1.0, 4.0, 16.0};
     int tile_size_ = 256;
     std::vector<std::string> ridge_codecs_{"progressive"}; // "all": every lossy codec
+    bool overviews_ = false;                               // --overviews: anchors' pyramids too
     bool json_ = false;                                    // --json: the report on stdout
     std::string json_path_;                                // --json-file
     std::string plot_path_;

@@ -271,17 +271,51 @@ std::vector<Tile> cutTiles(const CodeGrid& grid, int tile)
     return tiles;
 }
 
-// An anchor's row: every tile encoded, then decoded, each call timed on its own so that the
-// bound check and bookkeeping stay outside the clock.
-CodecRow runAnchor(const AnchorCodec& anchor, const std::vector<Tile>& tiles, int e,
-                   const CodecBenchReport& report, const Progress& progress)
+// Every `step`-th sample of every `step`-th row from (0, 0): a GIS overview by nearest
+// sampling, and the samples ridge's decimation keeps at that step away from the far edges.
+CodeGrid decimate(const CodeGrid& grid, int step)
+{
+    CodeGrid out;
+    out.width = (grid.width - 1) / step + 1;
+    out.height = (grid.height - 1) / step + 1;
+    out.codes.resize(size_t(out.width) * size_t(out.height));
+    for (int y = 0; y < out.height; ++y)
+        for (int x = 0; x < out.width; ++x)
+            out.at(x, y) = grid.at(x * step, y * step);
+    return out;
+}
+
+// The overviews CodecBenchOptions::overviews describes, coarser in turn: while the level
+// before is larger than `min_size` on either side, the grid decimated by the next power of 2.
+std::vector<CodeGrid> overviewGrids(const CodeGrid& grid, int min_size)
+{
+    std::vector<CodeGrid> levels;
+    for (int step = 2;; step *= 2) {
+        const CodeGrid& before = levels.empty() ? grid : levels.back();
+        if (std::max(before.width, before.height) <= min_size)
+            break;
+        levels.push_back(decimate(grid, step));
+    }
+    return levels;
+}
+
+// An anchor's row over `levels` (the finest level's tiles, then any overviews'; `overviews`
+// names the row so even when the grid needs none): every tile encoded, then decoded, each
+// call timed on its own so that the bound check and bookkeeping stay outside the clock.
+// Errors are tallied over every level.
+CodecRow runAnchor(const AnchorCodec& anchor, const std::vector<const std::vector<Tile>*>& levels,
+                   bool overviews, int e, const CodecBenchReport& report, const Progress& progress)
 {
     CodecRow row;
-    row.codec = anchor.name();
-    row.scope = "finest level";
+    row.codec = anchor.name() + (overviews ? " + overviews" : "");
+    row.scope = overviews ? "with overviews" : "finest level";
+    std::vector<const Tile*> tiles;
+    for (const std::vector<Tile>* level : levels)
+        for (const Tile& t : *level)
+            tiles.push_back(&t);
     std::vector<std::vector<uint8_t>> streams(tiles.size());
     for (size_t i = 0; i < tiles.size(); ++i) {
-        const Tile& t = tiles[i];
+        const Tile& t = *tiles[i];
         const Clock::time_point start = Clock::now();
         streams[i] = anchor.encode(t.codes.data(), t.width, t.height, e);
         row.encode_seconds += secondsSince(start);
@@ -292,7 +326,7 @@ CodecRow runAnchor(const AnchorCodec& anchor, const std::vector<Tile>& tiles, in
     ErrorTally tally;
     std::vector<uint16_t> decoded;
     for (size_t i = 0; i < tiles.size(); ++i) {
-        const Tile& t = tiles[i];
+        const Tile& t = *tiles[i];
         decoded.assign(t.codes.size(), 0);
         const Clock::time_point start = Clock::now();
         anchor.decode(streams[i].data(), streams[i].size(), t.width, t.height, e, decoded.data());
@@ -386,6 +420,8 @@ void validate(const CodecBenchOptions& options)
         checkParameter("max_errors[" + std::to_string(k) + "] (metres)", options.max_errors[k],
                        CodecBenchOptions::kMaxErrorRange);
     checkParameter("tile_size", int64_t{options.tile_size}, 0, CodecBenchOptions::kMaxTileSize);
+    checkParameter("overview_min_size", int64_t{options.overview_min_size}, 1,
+                   CodecBenchOptions::kMaxOverviewMinSize);
     if (options.ridge_codecs.empty())
         throw Error("ridge_codecs: at least one codec is needed");
     for (const std::string& codec : options.ridge_codecs)
@@ -480,12 +516,33 @@ CodecBenchReport runCodecBench(const io::ElevationRaster& raster, const CodecBen
         report.codecs.push_back(
             {a->name(), a->libraryVersion(), a->description(), a->guaranteesBound()});
 
-    // 2. Tiles are cut once: every anchor and every bound sees the same tiles.
+    // 2. Tiles are cut once: every anchor and every bound sees the same tiles, and the same
+    // overviews' tiles when asked for.
     const std::vector<Tile> tiles = cutTiles(grid, options.tile_size);
+    std::vector<std::vector<Tile>> overview_tiles;
+    if (options.overviews) {
+        for (const CodeGrid& level : overviewGrids(grid, options.overview_min_size)) {
+            report.overview_sizes.emplace_back(level.width, level.height);
+            overview_tiles.push_back(cutTiles(level, options.tile_size));
+        }
+        for (const auto& a : anchors)
+            report.codecs.push_back(
+                {a->name() + " + overviews", a->libraryVersion(),
+                 a->description() +
+                     fmt::format("; on the finest level and its {} overviews (every 2^k-th "
+                                 "sample, down to {} samples a side), each level in those tiles",
+                                 overview_tiles.size(), options.overview_min_size),
+                 a->guaranteesBound()});
+    }
+    std::vector<const std::vector<Tile>*> finest_level{&tiles}, with_overviews{&tiles};
+    for (const std::vector<Tile>& level : overview_tiles)
+        with_overviews.push_back(&level);
 
-    // 3. Each bound: ridge's pyramid, then every anchor on the finest level.
+    // 3. Each bound: ridge's pyramid, then every anchor on the finest level (and again with
+    // its overviews).
+    const size_t anchor_rows = anchors.size() * (options.overviews ? 2 : 1);
     const double steps =
-        double(options.max_errors.size() * (anchors.size() + options.ridge_codecs.size()));
+        double(options.max_errors.size() * (anchor_rows + options.ridge_codecs.size()));
     double step = 0.0;
     const auto stepProgress = [&] {
         const Progress p = subProgress(options.progress, step / steps, (step + 1.0) / steps);
@@ -506,7 +563,11 @@ CodecBenchReport runCodecBench(const io::ElevationRaster& raster, const CodecBen
         }
         for (const auto& a : anchors)
             result.rows.push_back(
-                runAnchor(*a, tiles, result.max_error_codes, report, stepProgress()));
+                runAnchor(*a, finest_level, false, result.max_error_codes, report, stepProgress()));
+        if (options.overviews)
+            for (const auto& a : anchors)
+                result.rows.push_back(runAnchor(*a, with_overviews, true, result.max_error_codes,
+                                                report, stepProgress()));
         report.bounds.push_back(std::move(result));
     }
     reportProgress(options.progress, 1.0);

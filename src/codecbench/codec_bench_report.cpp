@@ -69,6 +69,15 @@ nlohmann::json finiteOrNull(double v)
     return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
 }
 
+bool hasOverviewRows(const CodecBenchReport& r)
+{
+    for (const BoundResult& b : r.bounds)
+        for (const CodecRow& row : b.rows)
+            if (row.scope == "with overviews")
+                return true;
+    return false;
+}
+
 } // namespace
 
 std::string formatCodecBenchTable(const CodecBenchReport& r)
@@ -92,12 +101,12 @@ std::string formatCodecBenchTable(const CodecBenchReport& r)
             fmt::format("\nMax error {:g} m (ridge: end to end; anchors: e = {} code{} = {:g} m)\n",
                         b.max_error_metres, b.max_error_codes, b.max_error_codes == 1 ? "" : "s",
                         b.max_error_codes * r.quantization.scale);
-        out += fmt::format("{:<{}}  {:<13} {:>12} {:>8} {:>9} {:>10} {:>9} {:>8} {:>9} {:>9}  {}\n",
+        out += fmt::format("{:<{}}  {:<14} {:>12} {:>8} {:>9} {:>10} {:>9} {:>8} {:>9} {:>9}  {}\n",
                            "codec", name_width, "scope", "bytes", "ratio", "bits/smp", "max err m",
                            "RMSE m", "PSNR dB", "enc MB/s", "dec MB/s", "bound");
         for (const CodecRow& row : b.rows)
             out +=
-                fmt::format("{:<{}}  {:<13} {:>12} {:>8.2f} {:>9.3f} {:>10.3f} {:>9.3f} {:>8} "
+                fmt::format("{:<{}}  {:<14} {:>12} {:>8.2f} {:>9.3f} {:>10.3f} {:>9.3f} {:>8} "
                             "{:>9.1f} {:>9.1f}  {}\n",
                             row.codec, name_width, row.scope == "pyramid" ? "pyramid *" : row.scope,
                             row.bytes, row.ratio, row.bits_per_sample, row.max_error_metres,
@@ -116,6 +125,15 @@ std::string formatCodecBenchTable(const CodecBenchReport& r)
            "level of "
            "the\n  pyramid, the index, λ tables and metadata. The anchors code the finest level "
            "only.\n";
+    if (!r.overview_sizes.empty() || hasOverviewRows(r)) {
+        std::string sizes;
+        for (const auto& [w, h] : r.overview_sizes)
+            sizes += fmt::format("{}{} x {}", sizes.empty() ? "" : ", ", w, h);
+        out += fmt::format("  \"+ overviews\" rows: the anchor on the finest level and on its "
+                           "overviews ({}), as a GIS\n  pyramid stores them; ridge's archive "
+                           "holds those levels too. Their errors cover every level.\n",
+                           sizes.empty() ? "none needed: the grid is small" : sizes);
+    }
     out += fmt::format(
         "ratio = finest level as 16-bit samples ({} bytes) / bytes; bits/smp = 8 bytes / "
         "{} samples.\n",
@@ -151,6 +169,10 @@ std::string formatCodecBenchJson(const CodecBenchReport& r)
                   {"min_metres", r.minMetres()},
                   {"max_metres", r.maxMetres()}};
     j["tile_size"] = r.tile_size;
+    nlohmann::json overview_sizes = nlohmann::json::array();
+    for (const auto& [w, h] : r.overview_sizes)
+        overview_sizes.push_back({{"width", w}, {"height", h}});
+    j["overview_sizes"] = overview_sizes;
     j["ridge_codecs"] = r.ridge_codecs;
     j["machine"] = {{"cpu_model", r.cpu_model}, {"threads", r.threads}};
     j["views"] = {{"width", r.view_width},
@@ -163,6 +185,9 @@ std::string formatCodecBenchJson(const CodecBenchReport& r)
     j["notes"] = {
         {"ridge_scope", "whole archive: every level of the pyramid, index, block errors, metadata"},
         {"anchor_scope", "finest level only, independent tiles"},
+        {"overviews_scope",
+         "'+ overviews' rows: the finest level and every overview (every 2^k-th sample) "
+         "in independent tiles; errors over every level"},
         {"ratio", "width * height * 2 / bytes"},
         {"bits_per_sample", "8 * bytes / (width * height)"},
         {"mb_per_s",

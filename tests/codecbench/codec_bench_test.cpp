@@ -269,3 +269,64 @@ TEST(CodecBench, PlotIsAPng)
     EXPECT_EQ(std::string(magic + 1, 3), "PNG");
     EXPECT_GT(std::filesystem::file_size(png), 10000u);
 }
+
+TEST(CodecBench, OverviewRowsCodeEveryOverviewDownToTheMinimumSize)
+{
+    // everest_crop is 301 x 203: with a 64-sample minimum, overviews of every 2nd, 4th and
+    // 8th sample (151 x 102, 76 x 51, 38 x 26): the last is the first within 64 a side.
+    test::ScratchDir dir;
+    CodecBenchOptions options = losslessOptions(dir, {4.0});
+    options.overviews = true;
+    options.overview_min_size = 64;
+    const CodecBenchReport r = runCodecBench(everest(), options);
+    const std::vector<std::pair<int, int>> sizes{{151, 102}, {76, 51}, {38, 26}};
+    EXPECT_EQ(r.overview_sizes, sizes);
+    uint64_t samples = uint64_t(r.width) * r.height;
+    for (const auto& [w, h] : sizes)
+        samples += uint64_t(w) * h;
+
+    const BoundResult& b = r.bounds[0];
+    ASSERT_EQ(b.rows.size(), 1 + 2 * kAnchors.size());
+    for (size_t k = 0; k < kAnchors.size(); ++k) {
+        const CodecRow& finest = b.rows[1 + k];
+        const CodecRow& pyramid = b.rows[1 + kAnchors.size() + k];
+        EXPECT_EQ(finest.codec, kAnchors[k]);
+        EXPECT_EQ(finest.scope, "finest level");
+        EXPECT_EQ(pyramid.codec, kAnchors[k] + " + overviews");
+        EXPECT_EQ(pyramid.scope, "with overviews");
+        // Every level was coded and decoded, and each costs something.
+        EXPECT_EQ(pyramid.decode_bytes, samples * 2) << pyramid.codec;
+        EXPECT_EQ(pyramid.encode_bytes, samples * 2) << pyramid.codec;
+        EXPECT_GT(pyramid.bytes, finest.bytes) << pyramid.codec;
+        if (finest.bound_ok) {
+            EXPECT_TRUE(pyramid.bound_ok) << pyramid.codec;
+        }
+        // The ratio stays the finest level's samples over the bytes, like ridge's row.
+        EXPECT_NEAR(pyramid.ratio, double(r.width) * r.height * 2 / double(pyramid.bytes), 1e-9);
+    }
+    const std::string table = formatCodecBenchTable(r);
+    EXPECT_NE(table.find("JPEG XL e9 + overviews"), std::string::npos);
+    EXPECT_NE(table.find("151 x 102, 76 x 51, 38 x 26"), std::string::npos) << table;
+    const auto j = nlohmann::json::parse(formatCodecBenchJson(r));
+    EXPECT_EQ(j["overview_sizes"].size(), 3u);
+    EXPECT_EQ(j["codecs"].size(), 1 + 2 * kAnchors.size());
+}
+
+TEST(CodecBench, NoOverviewRowsUnlessAskedAndTheMinimumSizeIsChecked)
+{
+    test::ScratchDir dir;
+    const CodecBenchReport r = runCodecBench(everest(), losslessOptions(dir, {16.0}));
+    EXPECT_TRUE(r.overview_sizes.empty());
+    for (const CodecRow& row : r.bounds[0].rows)
+        EXPECT_EQ(row.codec.find("overviews"), std::string::npos) << row.codec;
+
+    CodecBenchOptions options = losslessOptions(dir, {16.0});
+    options.overviews = true;
+    options.overview_min_size = 0;
+    try {
+        runCodecBench(everest(), options);
+        FAIL() << "overview_min_size 0 accepted";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("overview_min_size"), std::string::npos) << e.what();
+    }
+}

@@ -21,6 +21,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace ridge::codecbench {
@@ -41,6 +42,15 @@ struct CodecBenchOptions {
     // (ridge/codec/codec_registry.h), at least one. A lossy codec is built with
     // BuildOptions::max_error = E; a lossless one without it, once per bound.
     std::vector<std::string> ridge_codecs{"progressive"};
+    // Also code every anchor's overviews, as a GIS pyramid (a COG with overviews) carries
+    // them: the finest level decimated by 2, 4, 8, ... (every 2^k-th sample of every 2^k-th
+    // row) until the larger side is at most overview_min_size samples (gdaladdo's rule
+    // without explicit levels, -minsize), each level in the anchor's tiles. One more row per
+    // anchor, "<anchor> + overviews", scope "with overviews": what a single-level format pays
+    // for the levels of detail ridge's archive holds.
+    bool overviews = false;
+    static constexpr int kMaxOverviewMinSize = 65536;
+    int overview_min_size = 256; // [1, kMaxOverviewMinSize]
     // Directory for ridge's temporary archive; empty = the system temporary directory.
     std::string scratch_dir;
     // Bytes fetched per view (ridge/stream/view_bytes.h) for ridge's row: the typical near,
@@ -68,8 +78,8 @@ struct ViewBytesFigure {
 // One codec at one bound.
 struct CodecRow {
     std::string codec;            // "ridge progressive", "LERC", ...
-    std::string scope;            // "pyramid" (ridge) or "finest level" (anchors)
-    uint64_t bytes = 0;           // ridge: archive file size; anchors: sum over tiles
+    std::string scope;            // "pyramid" (ridge), "finest level" or "with overviews" (anchors)
+    uint64_t bytes = 0;           // ridge: archive file size; anchors: sum over tiles (and levels)
     double ratio = 0.0;           // finest level as 16-bit samples (width * height * 2) / bytes
     double bits_per_sample = 0.0; // 8 * bytes / (width * height)
     int64_t max_error_codes = 0;  // largest |decoded - source| on the finest level
@@ -100,8 +110,9 @@ struct CodecRow {
 struct BoundResult {
     double max_error_metres = 0.0; // E, ridge's end-to-end bound
     int max_error_codes = 0;       // e, every anchor's bound
-    std::vector<CodecRow>
-        rows; // ridge's codecs first, then the anchors in makeAnchorCodecs() order
+    // ridge's codecs first, then the anchors in makeAnchorCodecs() order, then (with
+    // CodecBenchOptions::overviews) the anchors again with their overviews, in that order.
+    std::vector<CodecRow> rows;
 };
 
 // A codec as the report describes it.
@@ -120,6 +131,10 @@ struct CodecBenchReport {
     uint16_t min_code = 0; // of the ingested finest level
     uint16_t max_code = 0;
     int tile_size = 0; // as requested (0 = whole grid)
+    // The anchors' overviews as coded (CodecBenchOptions::overviews), width and height of
+    // each, the finest level's first overview first; empty when none were asked for or the
+    // finest level is already within overview_min_size.
+    std::vector<std::pair<int, int>> overview_sizes;
     std::vector<std::string> ridge_codecs;
     std::string cpu_model; // /proc/cpuinfo "model name", "unknown" when absent
     int threads = 1;       // threads every codec ran on
