@@ -125,7 +125,7 @@ std::string formatCodecBenchTable(const CodecBenchReport& r)
            "level of "
            "the\n  pyramid, the index, λ tables and metadata. The anchors code the finest level "
            "only.\n";
-    if (!r.overview_sizes.empty() || hasOverviewRows(r)) {
+    if (hasOverviewRows(r)) {
         std::string sizes;
         for (const auto& [w, h] : r.overview_sizes)
             sizes += fmt::format("{}{} x {}", sizes.empty() ? "" : ", ", w, h);

@@ -82,7 +82,8 @@ struct CodecRow {
     uint64_t bytes = 0;           // ridge: archive file size; anchors: sum over tiles (and levels)
     double ratio = 0.0;           // finest level as 16-bit samples (width * height * 2) / bytes
     double bits_per_sample = 0.0; // 8 * bytes / (width * height)
-    int64_t max_error_codes = 0;  // largest |decoded - source| on the finest level
+    int64_t max_error_codes = 0;  // largest |decoded - source| on the finest level (overview
+                                  // rows: on every level they code)
     double max_error_metres = 0.0;
     double rmse_metres = 0.0;
     double psnr_db = 0.0;         // 20 log10(peak / RMSE), peak = max - min height; +inf if exact
