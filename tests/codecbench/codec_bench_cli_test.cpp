@@ -38,16 +38,42 @@ TEST(CodecBenchCli, WritesTablesJsonAndPlot)
     EXPECT_EQ(test::temporariesIn(dir.dir()), std::vector<std::string>{});
 }
 
-// --json: the same document on stdout and nothing else there (the tables go to stderr).
-TEST(CodecBenchCli, JsonPrintsTheDocumentOnStdout)
+namespace {
+
+// `codec-bench` of the fixture at 4 m with --json and `flags`: its stdout parsed, which
+// fails unless the document is all there is (null when the command failed).
+nlohmann::json benchJsonOnStdout(const std::string& flags)
 {
     const test::CommandResult r =
         test::runRidgeStdout("codec-bench '" + test::dataPath("everest_crop.tif") +
-                             "' --max-error 4 --tile 64 -q --json");
-    ASSERT_EQ(r.exit_code, 0) << r.output;
-    const nlohmann::json j = nlohmann::json::parse(r.output);
+                             "' --max-error 4 --tile 64 -q --json" + flags);
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    return r.exit_code == 0 ? nlohmann::json::parse(r.output) : nlohmann::json();
+}
+
+} // namespace
+
+// --json: the same document on stdout and nothing else there (the tables go to stderr).
+TEST(CodecBenchCli, JsonPrintsTheDocumentOnStdout)
+{
+    const nlohmann::json j = benchJsonOnStdout("");
     EXPECT_EQ(j["bounds"].size(), 1u);
     EXPECT_EQ(j["bounds"][0]["rows"].size(), 8u);
+}
+
+// --overviews: a second row per anchor, with the fixture's one overview at gdaladdo's
+// 256-sample minimum (301 x 203 -> 151 x 102).
+TEST(CodecBenchCli, OverviewsAddARowPerAnchor)
+{
+    const nlohmann::json j = benchJsonOnStdout(" --overviews");
+    ASSERT_EQ(j["overview_sizes"].size(), 1u);
+    EXPECT_EQ(j["overview_sizes"][0]["width"], 151);
+    EXPECT_EQ(j["overview_sizes"][0]["height"], 102);
+    const nlohmann::json& rows = j["bounds"][0]["rows"];
+    ASSERT_EQ(rows.size(), 15u);
+    EXPECT_EQ(rows[8]["codec"], "LERC + overviews");
+    EXPECT_EQ(rows[14]["codec"], "ZFP + overviews");
+    EXPECT_EQ(rows[14]["scope"], "with overviews");
 }
 
 TEST(CodecBenchCli, MissingInputFailsNamingThePath)
