@@ -5,12 +5,13 @@
 // in the same process so that their ratios hold on a noisy machine:
 //   v1            progressive-v1 (adaptive range coder)
 //   v2            progressive-v2 (nested bound, rANS, least-squares corrections)
-//   v3            progressive (the default: v2 with row contexts, lanes decoded side by side)
-//   no-correct    progressive,payload=2|3,corrections=0
-// and the entropy half alone (decodeResiduals) for v2 and v3, so the reconstruction's share
-// shows;
+//   v3            progressive-v3 (v2 with row contexts, lanes decoded side by side)
+//   v4            progressive (the default: v3 with parent-class contexts)
+//   no-correct    progressive,payload=2|3|4,corrections=0
+// and the entropy half alone (decodeResiduals) for v2, v3 and v4, so the reconstruction's
+// share shows;
 // and JPEG-LS (CharLS, the anchor of `ridge codec-bench`) decoding the same finest level in
-// 256² tiles at the same bound, the speed issue 31 measures v3 against; and the jpeg2000
+// 256² tiles at the same bound, the speed issue 31 measures v3 and v4 against; and the jpeg2000
 // codec (issue 15): progressive with OpenJPEG, with HTJ2K (OpenJPH), and
 // direct with OpenJPEG, all at the max-abs criterion; and the fractal codec (issue 25), bounded,
 // on the CPU.
@@ -137,13 +138,21 @@ void BM_EntropyOnlyV2(benchmark::State& s)
 }
 void BM_DecodeV3(benchmark::State& s)
 {
-    decodeAll(s, "progressive", false);
+    decodeAll(s, "progressive-v3", false);
 }
 void BM_DecodeV3NoCorrections(benchmark::State& s)
 {
-    decodeAll(s, "progressive,corrections=0", false);
+    decodeAll(s, "progressive,payload=3,corrections=0", false);
 }
 void BM_EntropyOnlyV3(benchmark::State& s)
+{
+    decodeAll(s, "progressive-v3", true);
+}
+void BM_DecodeV4(benchmark::State& s)
+{
+    decodeAll(s, "progressive", false);
+}
+void BM_EntropyOnlyV4(benchmark::State& s)
 {
     decodeAll(s, "progressive", true);
 }
@@ -228,6 +237,8 @@ BENCHMARK(BM_EntropyOnlyV2)->Arg(1)->Arg(4)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_DecodeV3)->Arg(1)->Arg(4)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_DecodeV3NoCorrections)->Arg(1)->Arg(4)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_EntropyOnlyV3)->Arg(1)->Arg(4)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_DecodeV4)->Arg(1)->Arg(4)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_EntropyOnlyV4)->Arg(1)->Arg(4)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_DecodeJpegLs)->Arg(1)->Arg(4)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_DecodeJpeg2000)->Arg(1)->Arg(3)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_DecodeJpeg2000Htj2k)->Arg(1)->Arg(3)->Unit(benchmark::kMillisecond);

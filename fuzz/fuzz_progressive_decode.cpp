@@ -1,14 +1,15 @@
 // libFuzzer target: the progressive patch decoder (entropy decoding + reconstruction).
 // Input: byte 0 picks the patch size (2^n + 1, n = 2..7) and (bits 4..7) how much of the
 // patch covers the valid extent, byte 1 the level (0..3) and quadrant, byte 2 the bound
-// (0..31 codes) and variant (v1's four, v2 or v3 with 1, 2 or 32 nested levels and either
-// predictor), byte 3 seeds the parent and (bit 7) picks v3 over v2; the rest is the payload.
-// v2 and v3 decode with their default tables (an archive's own tables are fuzzed through the
-// archive target). Properties: decode returns ok or a negative status and stays in bounds; a patch
-// that decodes re-encodes, from the same parent, to a payload decoding to what the codec says it
-// reconstructs.
+// (0..31 codes) and variant (v1's four, v2, v3 or v4 with 1, 2 or 32 nested levels and either
+// predictor), byte 3 seeds the parent and (bits 6..7: 0 v2, 1 v3, 2 or 3 v4) picks the payload
+// version; the rest is the payload. v2..v4 decode with their default tables (an archive's own
+// tables are fuzzed through the archive target). Properties: decode returns ok or a negative status
+// and stays in bounds; a patch that decodes re-encodes, from the same parent, to a payload decoding
+// to what the codec says it reconstructs.
 #include "ridge/codec/progressive_codec.h"
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -25,7 +26,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
         variant = *ridge::ProgressiveVariant::fromBits(pick << 1);
     else
         variant = {pick & 1 ? ridge::OddPredictor::Cubic : ridge::OddPredictor::Bilinear, true,
-                   data[3] & 0x80 ? 3 : 2, pick < 6 ? pick - 3 : 32};
+                   std::min(2 + (data[3] >> 6), 4), pick < 6 ? pick - 3 : 32};
     const ridge::ProgressiveCodec codec((data[2] & 31) * 0.75, 4, variant);
     std::vector<uint16_t> parent(static_cast<size_t>(n) * n), out(parent.size());
     uint32_t state = data[3] * 2654435761u + 1;

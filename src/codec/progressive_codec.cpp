@@ -82,19 +82,24 @@ int ProgressiveVariant::bits() const
     const int common = (predictor == OddPredictor::Cubic ? 2 : 0) | (contexts ? 4 : 0);
     if (format == 1)
         return common;
-    return common | 8 | (nested_levels << 4) | (format == 3 ? kPayloadV3Bit : 0);
+    return common | 8 | (nested_levels << 4) | (format == 3 ? kPayloadV3Bit : 0) |
+           (format == 4 ? kPayloadV4Bit : 0);
 }
 
 std::optional<ProgressiveVariant> ProgressiveVariant::fromBits(int bits)
 {
-    if (bits < 0 || (bits & 1) || bits >= 2 * kPayloadV3Bit)
+    if (bits < 0 || (bits & 1) || bits >= 2 * kPayloadV4Bit)
         return std::nullopt;
-    if ((bits & kPayloadV3Bit) && !(bits & 8)) // v3 is a kind of v2
+    const bool v3 = (bits & kPayloadV3Bit) != 0, v4 = (bits & kPayloadV4Bit) != 0;
+    if ((v3 || v4) && !(bits & 8)) // v3 and v4 are kinds of v2
+        return std::nullopt;
+    if (v3 && v4)
         return std::nullopt;
     ProgressiveVariant v{(bits & 2) ? OddPredictor::Cubic : OddPredictor::Bilinear, (bits & 4) != 0,
-                         (bits & kPayloadV3Bit) ? 3
-                         : (bits & 8)           ? 2
-                                                : 1,
+                         v4           ? 4
+                         : v3         ? 3
+                         : (bits & 8) ? 2
+                                      : 1,
                          (bits & (kPayloadV3Bit - 1)) >> 4};
     if (v.format == 1) {
         if (v.nested_levels != 0)
@@ -113,8 +118,10 @@ std::string ProgressiveVariant::describe() const
     if (format == 1)
         return text + ", payload v1 (adaptive range coding, bounds doubling per level)";
     return text + ", payload v" + std::to_string(format) + " (static tables, rANS" +
-           (format == 3 ? " with row contexts, " : ", ") + std::to_string(nested_levels) +
-           " nested levels at the finest bound)";
+           (format == 3   ? " with row contexts, "
+            : format == 4 ? " with row and parent-class contexts, "
+                          : ", ") +
+           std::to_string(nested_levels) + " nested levels at the finest bound)";
 }
 
 ProgressiveCodec::ProgressiveCodec(double max_error, int level_count, ProgressiveVariant variant)
@@ -128,13 +135,15 @@ ProgressiveCodec::ProgressiveCodec(double max_error, int level_count, Progressiv
     if (!ProgressiveVariant::fromBits(variant.bits()))
         throw Error("progressive codec: invalid variant (nested_levels " +
                     std::to_string(variant.nested_levels) + ")");
-    tables_ = ProgressiveTables::defaults(level_count);
+    tables_ = ProgressiveTables::defaults(level_count, variant_.tableContexts());
 }
 
 void ProgressiveCodec::setTables(std::shared_ptr<const ProgressiveTables> tables, bool complete)
 {
     if (!tables || tables->levelCount() != finest_level_ + 1)
         throw Error("progressive codec: tables for another level count");
+    if (variant_.format >= 2 && tables->contexts() != variant_.tableContexts())
+        throw Error("progressive codec: tables for another payload version");
     tables_ = std::move(tables);
     training_stage_ = complete ? 2 : 1;
 }
@@ -200,7 +209,7 @@ void ProgressiveCodec::reconstruct(const uint16_t* codes, const PatchContext& ct
 }
 
 bool ProgressiveCodec::residualsOf(const uint16_t* codes, const PatchContext& ctx,
-                                   int32_t* residuals) const
+                                   int32_t* residuals, int32_t* parent_bins) const
 {
     const int n = ctx.patch_size;
     if (!validContext(ctx) || (ctx.level > 0 && !ctx.parent))
@@ -214,9 +223,9 @@ bool ProgressiveCodec::residualsOf(const uint16_t* codes, const PatchContext& ct
     if (ctx.level == 0) {
         rootResiduals(s.q.data(), n, region, residuals);
     } else {
-        requantizeParent(quant, ctx.parent, n, ctx.child_index, s.parent_q.data());
-        childResiduals(s.q.data(), s.parent_q.data(), ctx.child_index, n, region,
-                       variant_.predictor, residuals, weights(ctx.level));
+        requantizeParent(quant, ctx.parent, n, ctx.child_index, parent_bins);
+        childResiduals(s.q.data(), parent_bins, ctx.child_index, n, region, variant_.predictor,
+                       residuals, weights(ctx.level));
     }
     return true;
 }
@@ -233,6 +242,20 @@ bool hasRefinements(const int32_t* residuals, int n, const CodedRegion& region)
     return false;
 }
 
+// How the codec's payload v2..v4 entropy-codes a patch whose residuals an encoder has.
+ResidualCodingV2 residualCoding(const ProgressiveCodec& codec, const PatchContext& ctx,
+                                const int32_t* residuals, const int32_t* parent_bins)
+{
+    ResidualCodingV2 coding{codec.variant().format, ctx.level, ctx.level == 0,
+                            codec.codedRegion(ctx), true};
+    coding.refinements = !coding.root && hasRefinements(residuals, ctx.patch_size, coding.region);
+    if (!coding.root && coding.version == 4) {
+        coding.parent_bins = parent_bins;
+        coding.child_index = ctx.child_index;
+    }
+    return coding;
+}
+
 } // namespace
 
 size_t ProgressiveCodec::encode(uint8_t* dst, size_t dst_capacity, const uint16_t* codes,
@@ -242,7 +265,7 @@ size_t ProgressiveCodec::encode(uint8_t* dst, size_t dst_capacity, const uint16_
     if (!validPatchSize(n))
         return 0;
     Scratch& s = scratch(n);
-    if (!residualsOf(codes, ctx, s.residuals.data()))
+    if (!residualsOf(codes, ctx, s.residuals.data(), s.parent_q.data()))
         return 0;
     s.bytes.clear();
     s.bytes.push_back(kMagic);
@@ -251,8 +274,8 @@ size_t ProgressiveCodec::encode(uint8_t* dst, size_t dst_capacity, const uint16_
         const ResidualCoding coding{ctx.level == 0, variant_.contexts};
         encodeResiduals(s.residuals.data(), n, coding, s.bytes);
     } else {
-        ResidualCodingV2 coding{variant_.format, ctx.level, ctx.level == 0, codedRegion(ctx), true};
-        coding.refinements = !coding.root && hasRefinements(s.residuals.data(), n, coding.region);
+        const ResidualCodingV2 coding =
+            residualCoding(*this, ctx, s.residuals.data(), s.parent_q.data());
         s.bytes.push_back(coding.refinements ? kV2RefinementsCoded : 0);
         if (!encodeResidualsV2(s.residuals.data(), n, coding, *tables_, s.bytes))
             return 0;
@@ -286,8 +309,19 @@ int ProgressiveCodec::entropyDecode(const uint8_t* src, size_t src_size, const P
     const uint8_t flags = src[2];
     if ((flags & ~kV2RefinementsCoded) || (ctx.level == 0 && flags != 0))
         return kCodecBadHeader;
-    const ResidualCodingV2 coding{variant_.format, ctx.level, ctx.level == 0, codedRegion(ctx),
-                                  (flags & kV2RefinementsCoded) != 0};
+    ResidualCodingV2 coding{variant_.format, ctx.level, ctx.level == 0, codedRegion(ctx),
+                            (flags & kV2RefinementsCoded) != 0};
+    if (variant_.format == 4 && !coding.root) {
+        // v4's contexts read the parent's bins at this level's step.
+        if (!ctx.parent)
+            return kCodecNeedsParent;
+        thread_local std::vector<int32_t> parent_bins;
+        parent_bins.resize(static_cast<size_t>(ctx.patch_size) * ctx.patch_size);
+        requantizeParent(quantizer(ctx.level), ctx.parent, ctx.patch_size, ctx.child_index,
+                         parent_bins.data());
+        coding.parent_bins = parent_bins.data();
+        coding.child_index = ctx.child_index;
+    }
     return decodeResidualsV2(src + kV2HeaderSize, src_size - kV2HeaderSize, ctx.patch_size, coding,
                              *tables_, residuals);
 }
@@ -372,21 +406,21 @@ class ProgressiveTrainer final : public CodecTrainer {
   public:
     explicit ProgressiveTrainer(
         const ProgressiveCodec& codec, int level_count,
-        std::function<bool(const uint16_t*, const PatchContext&, int32_t*)> residuals)
-        : codec_(codec), counts_(level_count), residuals_(std::move(residuals))
+        std::function<bool(const uint16_t*, const PatchContext&, int32_t*, int32_t*)> residuals)
+        : codec_(codec), counts_(level_count, codec.variant().tableContexts()),
+          residuals_(std::move(residuals))
     {
     }
 
     void observe(const uint16_t* codes, const PatchContext& ctx) override
     {
-        thread_local std::vector<int32_t> residuals;
+        thread_local std::vector<int32_t> residuals, parent_bins;
         residuals.resize(static_cast<size_t>(ctx.patch_size) * ctx.patch_size);
-        if (!residuals_(codes, ctx, residuals.data()))
+        parent_bins.resize(residuals.size());
+        if (!residuals_(codes, ctx, residuals.data(), parent_bins.data()))
             throw Error("progressive codec: cannot train on a patch it cannot encode");
-        ResidualCodingV2 coding{codec_.variant().format, ctx.level, ctx.level == 0,
-                                codec_.codedRegion(ctx), true};
-        coding.refinements =
-            !coding.root && hasRefinements(residuals.data(), ctx.patch_size, coding.region);
+        const ResidualCodingV2 coding =
+            residualCoding(codec_, ctx, residuals.data(), parent_bins.data());
         std::lock_guard<std::mutex> lock(mutex_);
         if (!countResidualsV2(residuals.data(), ctx.patch_size, coding, counts_))
             throw Error("progressive codec: a residual is beyond the codable range");
@@ -417,7 +451,7 @@ class ProgressiveTrainer final : public CodecTrainer {
     const ProgressiveCodec& codec_;
     mutable std::mutex mutex_;
     SymbolCounts counts_;
-    std::function<bool(const uint16_t*, const PatchContext&, int32_t*)> residuals_;
+    std::function<bool(const uint16_t*, const PatchContext&, int32_t*, int32_t*)> residuals_;
 };
 
 // Stage 1: fits the least-squares predictor corrections on the patches' exact bins.
@@ -445,7 +479,8 @@ class CorrectionTrainer final : public CodecTrainer {
     std::unique_ptr<HeightCodec> finish() override
     {
         auto trained = std::make_unique<ProgressiveCodec>(codec_);
-        trained->setTables(ProgressiveTables::withWeights(fit_.solve()), false);
+        trained->setTables(
+            ProgressiveTables::withWeights(fit_.solve(), codec_.variant().tableContexts()), false);
         return trained;
     }
 
@@ -487,7 +522,7 @@ std::vector<uint8_t> ProgressiveCodec::trainingState() const
 void ProgressiveCodec::restoreTraining(const uint8_t* data, size_t size)
 {
     if (size == 0) {
-        tables_ = ProgressiveTables::defaults(finest_level_ + 1);
+        tables_ = ProgressiveTables::defaults(finest_level_ + 1, variant_.tableContexts());
         training_stage_ = 0;
         return;
     }
@@ -496,7 +531,8 @@ void ProgressiveCodec::restoreTraining(const uint8_t* data, size_t size)
             "progressive codec: training state stage " + std::to_string(data[0]) +
             (variant_.format == 1 ? " for payload v1, which learns nothing" : " is not 1 or 2"));
     std::string problem;
-    auto tables = ProgressiveTables::parse(data + 1, size - 1, finest_level_ + 1, &problem);
+    auto tables = ProgressiveTables::parse(data + 1, size - 1, finest_level_ + 1,
+                                           variant_.tableContexts(), &problem);
     if (!tables)
         throw Error("progressive codec: training state: " + problem);
     setTables(std::move(tables), data[0] == 2);
@@ -510,9 +546,8 @@ std::unique_ptr<CodecTrainer> ProgressiveCodec::trainer() const
         return std::make_unique<CorrectionTrainer>(*this, finest_level_ + 1);
     return std::make_unique<ProgressiveTrainer>(
         *this, finest_level_ + 1,
-        [this](const uint16_t* codes, const PatchContext& ctx, int32_t* residuals) {
-            return residualsOf(codes, ctx, residuals);
-        });
+        [this](const uint16_t* codes, const PatchContext& ctx, int32_t* residuals,
+               int32_t* parent_bins) { return residualsOf(codes, ctx, residuals, parent_bins); });
 }
 
 } // namespace ridge

@@ -4,13 +4,16 @@
 #include "ridge/codec/progressive_tokens.h"
 #include "ridge/codec/rans_coder.h"
 
+#include <algorithm>
 #include <array>
+#include <optional>
 
 namespace ridge {
 
 namespace {
 
 using progressive_tables::kContexts;
+using progressive_tables::kContextsV4;
 namespace tokens = progressive_tokens;
 
 // Activity a = 2 × the mean neighbour magnitude -> context; the bounds are
@@ -93,6 +96,59 @@ template <int kVersion, int kClass> inline int context(const uint8_t* at, ptrdif
         return kContextOfSum<3>[at[-s] + at[s] + at[-1] + at[1] + at[-2 * s] + at[-2 * s + 2]];
 }
 
+// v4: the bins of the child's R samples, (region.width + 1) / 2 a row: row j, column i is
+// sample (2i, 2j). Every A, B and C sample of the region lies between lattice samples.
+class RLattice {
+  public:
+    RLattice(const int32_t* residuals, int n, const ResidualCodingV2& c)
+        : stride_((c.region.width + 1) / 2)
+    {
+        thread_local std::vector<int32_t> storage;
+        const int rows = (c.region.height + 1) / 2;
+        storage.resize(static_cast<size_t>(stride_) * rows);
+        data_ = storage.data();
+        const int half = (n - 1) / 2;
+        const int x0 = (c.child_index & 1) * half, y0 = (c.child_index >> 1) * half;
+        for (int j = 0; j < rows; ++j) {
+            const int32_t* parent = c.parent_bins + static_cast<size_t>(y0 + j) * n + x0;
+            const int32_t* refine = residuals + static_cast<size_t>(2 * j) * n;
+            int32_t* out = data_ + static_cast<size_t>(j) * stride_;
+            for (int i = 0; i < stride_; ++i)
+                out[i] = parent[i] + (c.refinements ? refine[2 * i] : 0);
+        }
+    }
+    // Row j = y / 2 of a sample in row y.
+    const int32_t* row(int y) const { return data_ + static_cast<ptrdiff_t>(y >> 1) * stride_; }
+    ptrdiff_t stride() const { return stride_; }
+
+  private:
+    ptrdiff_t stride_;
+    int32_t* data_ = nullptr;
+};
+
+inline int clampSteps(int32_t d)
+{
+    const int32_t m = d < 0 ? -d : d;
+    return m < 2 ? m : 2;
+}
+
+// v4: the context offset of the parent class (progressive_entropy_v2.h) of the sample in
+// column x whose lattice row is b (RLattice::row): A between its row's R samples x ± 1, B
+// between those of its column in rows y ± 1, C among its four diagonal R samples.
+template <int kClass> inline int parentOffset(const int32_t* b, ptrdiff_t bs, int x)
+{
+    const int i = x >> 1;
+    if constexpr (kClass == 1)
+        return kContexts * clampSteps(b[i] - b[i + 1]);
+    else if constexpr (kClass == 2)
+        return kContexts * clampSteps(b[i] - b[i + bs]);
+    else {
+        const int32_t lo = std::min(std::min(b[i], b[i + 1]), std::min(b[i + bs], b[i + bs + 1]));
+        const int32_t hi = std::max(std::max(b[i], b[i + 1]), std::max(b[i + bs], b[i + bs + 1]));
+        return kContexts * clampSteps(hi - lo);
+    }
+}
+
 // Residuals the tokens carry (progressive_tokens.h); the encoder rejects any other.
 inline bool codable(int32_t d)
 {
@@ -142,18 +198,22 @@ struct CountSide {
     }
 };
 
-// One pass of class kClass over samples (x0 + 2i, y0 + 2j) of the coded region.
+// One pass of class kClass over samples (x0 + 2i, y0 + 2j) of the coded region; `lattice`
+// (v4 only) gives the parent class.
 template <int kVersion, int kClass, class Side>
 void pass(int32_t* residuals, int n, const CodedRegion& r, MagnitudeGrid& mags, Side& side,
-          int level_class)
+          int level_class, const RLattice* lattice = nullptr)
 {
+    constexpr int kNeighbourhood = kVersion == 2 ? 2 : 3; // v4 has v3's
     const int x0 = kClass == 0 ? 0 : (kClass & 1), y0 = kClass == 0 ? 0 : (kClass >> 1);
     const int step = kClass == 0 ? 1 : 2;
     for (int y = y0; y < r.height; y += step) {
         int32_t* row = residuals + static_cast<size_t>(y) * n;
         uint8_t* mrow = mags.row(y);
         for (int x = x0; x < r.width; x += step) {
-            const int ctx = context<kVersion, kClass>(mrow + x, mags.stride());
+            int ctx = context<kNeighbourhood, kClass>(mrow + x, mags.stride());
+            if constexpr (kVersion == 4 && kClass > 0)
+                ctx += parentOffset<kClass>(lattice->row(y), lattice->stride(), x);
             mrow[x] = clampMagnitude(side.code(level_class, ctx, row + x));
         }
     }
@@ -172,9 +232,13 @@ void traverse(int32_t* residuals, int n, const ResidualCodingV2& coding, Side& s
         for (int y = 0; y < r.height; y += 2)
             for (int x = 0; x < r.width; x += 2)
                 side.code(0, 0, residuals + static_cast<size_t>(y) * n + x);
-    pass<kVersion, 1>(residuals, n, r, mags, side, 1);
-    pass<kVersion, 2>(residuals, n, r, mags, side, 2);
-    pass<kVersion, 3>(residuals, n, r, mags, side, 3);
+    std::optional<RLattice> lattice;
+    if constexpr (kVersion == 4)
+        lattice.emplace(residuals, n, coding);
+    const RLattice* l = lattice ? &*lattice : nullptr;
+    pass<kVersion, 1>(residuals, n, r, mags, side, 1, l);
+    pass<kVersion, 2>(residuals, n, r, mags, side, 2, l);
+    pass<kVersion, 3>(residuals, n, r, mags, side, 3, l);
 }
 
 template <class Side>
@@ -182,8 +246,10 @@ void traverse(int32_t* residuals, int n, const ResidualCodingV2& coding, Side& s
 {
     if (coding.version == 2)
         traverse<2>(residuals, n, coding, side);
-    else
+    else if (coding.version == 3)
         traverse<3>(residuals, n, coding, side);
+    else
+        traverse<4>(residuals, n, coding, side);
 }
 
 // The decoder's hot loop, written out instead of going through DecodeSide: the rANS states,
@@ -215,11 +281,12 @@ class FastDecoder {
         }
     }
 
-    // v3's A, B and C passes: a row's tables first (its contexts read earlier rows and
-    // passes only), then its symbols in rounds of one per lane.
+    // v3's and v4's A, B and C passes: a row's tables first (its contexts read earlier rows
+    // and passes, and v4's the R lattice, only), then its symbols in rounds of one per lane.
     template <int kClass>
     void passV3(int32_t* __restrict residuals, int n, const CodedRegion& r,
-                uint8_t* __restrict mags, ptrdiff_t ms, const rans::Table* const* tables)
+                uint8_t* __restrict mags, ptrdiff_t ms, const rans::Table* const* tables,
+                const RLattice* lattice = nullptr)
     {
         static_assert(kClass >= 1 && kClass <= 3);
         const int x0 = kClass & 1, y0 = kClass >> 1;
@@ -230,8 +297,16 @@ class FastDecoder {
         for (int y = y0; y < r.height; y += 2) {
             int32_t* __restrict row = residuals + static_cast<size_t>(y) * n + x0;
             uint8_t* __restrict mrow = mags + y * ms + x0;
-            for (int k = 0; k < count; ++k)
-                row_table[k] = tables[context<3, kClass>(mrow + 2 * k, ms)];
+            if (lattice) {
+                const int32_t* b = lattice->row(y);
+                const ptrdiff_t bs = lattice->stride();
+                for (int k = 0; k < count; ++k)
+                    row_table[k] = tables[context<3, kClass>(mrow + 2 * k, ms) +
+                                          parentOffset<kClass>(b, bs, x0 + 2 * k)];
+            } else {
+                for (int k = 0; k < count; ++k)
+                    row_table[k] = tables[context<3, kClass>(mrow + 2 * k, ms)];
+            }
             rans_.decodeRun(row_table, count, lane_, [&](int k, int s) {
                 // Zigzag without a branch on the sign, which is as good as random.
                 const int32_t d = s < 15 ? (s >> 1) ^ -(s & 1)
@@ -271,6 +346,9 @@ class FastDecoder {
 bool encodeResidualsV2(const int32_t* residuals, int n, const ResidualCodingV2& coding,
                        const ProgressiveTables& tables, std::vector<uint8_t>& out)
 {
+    if (tables.contexts() != (coding.version == 4 ? kContextsV4 : kContexts) ||
+        (coding.version == 4 && !coding.root && !coding.parent_bins))
+        return false;
     thread_local rans::Encoder rans;
     tokens::BitWriter raw;
     EncodeSide side{tables, coding.level, rans, raw};
@@ -288,6 +366,9 @@ bool encodeResidualsV2(const int32_t* residuals, int n, const ResidualCodingV2& 
 bool countResidualsV2(const int32_t* residuals, int n, const ResidualCodingV2& coding,
                       SymbolCounts& counts)
 {
+    if (counts.contexts() != (coding.version == 4 ? kContextsV4 : kContexts) ||
+        (coding.version == 4 && !coding.root && !coding.parent_bins))
+        return false;
     CountSide side{counts, coding.level};
     traverse(const_cast<int32_t*>(residuals), n, coding, side); // CountSide only reads
     return side.ok;
@@ -311,9 +392,13 @@ int decodeResidualsV2(const uint8_t* data, size_t size, int n, const ResidualCod
     uint8_t* origin = mags.row(0);
     const ptrdiff_t ms = mags.stride();
     const CodedRegion& r = coding.region;
-    const rans::Table* by_context[4][kContexts];
+    const int contexts = coding.version == 4 ? kContextsV4 : kContexts;
+    if (tables.contexts() != contexts ||
+        (coding.version == 4 && !coding.root && !coding.parent_bins))
+        return kCodecBadHeader; // the codec passes both: never reached from a payload
+    const rans::Table* by_context[4][kContextsV4];
     for (int c = 0; c < 4; ++c)
-        for (int x = 0; x < kContexts; ++x)
+        for (int x = 0; x < contexts; ++x)
             by_context[c][x] = &tables.table(coding.level, c, x);
     if (coding.root) {
         dec.pass<0>(residuals, n, r, origin, ms, by_context[0]);
@@ -324,6 +409,11 @@ int decodeResidualsV2(const uint8_t* data, size_t size, int n, const ResidualCod
             dec.pass<1>(residuals, n, r, origin, ms, by_context[1]);
             dec.pass<2>(residuals, n, r, origin, ms, by_context[2]);
             dec.pass<3>(residuals, n, r, origin, ms, by_context[3]);
+        } else if (coding.version == 4) {
+            const RLattice lattice(residuals, n, coding);
+            dec.passV3<1>(residuals, n, r, origin, ms, by_context[1], &lattice);
+            dec.passV3<2>(residuals, n, r, origin, ms, by_context[2], &lattice);
+            dec.passV3<3>(residuals, n, r, origin, ms, by_context[3], &lattice);
         } else {
             dec.passV3<1>(residuals, n, r, origin, ms, by_context[1]);
             dec.passV3<2>(residuals, n, r, origin, ms, by_context[2]);

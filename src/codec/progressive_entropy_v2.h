@@ -20,6 +20,13 @@
 // the decoder reads the interleaved rANS lanes side by side instead of one symbol at a time
 // (rans::Decoder::decodeRun). Tables, tokens and stream layout are v2's.
 //
+// Payload v4 is v3 with each A, B and C context split three ways by the parent class: how
+// many steps apart the R samples that bracket the sample are (the two beside an A or B sample,
+// the four diagonal ones of a C sample: max − min, clamped to 2). Their bins are the parent's
+// requantized at the child's step plus the child's refinements, so the parent's
+// reconstruction must be on the CPU before a v4 patch is entropy-decoded: where the parent is
+// flat at the child's step, a residual is nearly always 0 and codes in a fraction of a bit.
+//
 // Stream: varint rans_size, then rans_size bytes of rANS (rans_coder.h), then the raw bits
 // to the end, LSB first, zero-padded to a byte.
 #include "ridge/codec/progressive_reconstruction.h"
@@ -32,11 +39,16 @@
 namespace ridge {
 
 struct ResidualCodingV2 {
-    int version = 2;         // payload 2 or 3: which neighbourhoods give the contexts
+    int version = 2;         // payload 2, 3 or 4: which neighbourhoods give the contexts
     int level = 0;           // selects the tables
     bool root = false;       // the coarsest patch: MED residuals in raster order
     CodedRegion region;      // samples visited
     bool refinements = true; // child: R refinements are in the stream
+    // v4, child: the parent's bins at the child's step, n·n in the parent's coordinates with
+    // the child's quadrant filled (what the reconstruction's requantizeParent gives), and
+    // that quadrant.
+    const int32_t* parent_bins = nullptr;
+    int child_index = 0;
 };
 
 // Appends the stream to `out`. False when a residual is beyond the tokens' range or its

@@ -12,15 +12,17 @@ namespace ridge {
 
 namespace {
 
-// A variant by spec: "progressive" (payload v3), "progressive-v2", "progressive-v1",
-// "progressive-paper", and v3 with options for measurement,
-// "progressive,nested=K,corrections=0|1,payload=2|3". Null for anything else.
+// A variant by spec: "progressive" (payload v4), "progressive-v3", "progressive-v2",
+// "progressive-v1", "progressive-paper", and v4 with options for measurement,
+// "progressive,nested=K,corrections=0|1,payload=2|3|4". Null for anything else.
 std::optional<ProgressiveVariant> variantOf(const std::string& spec)
 {
     if (spec == "progressive")
         return ProgressiveVariant{};
     if (spec == "progressive-v1")
         return ProgressiveVariant::v1();
+    if (spec == "progressive-v3")
+        return ProgressiveVariant::v3();
     if (spec == "progressive-v2")
         return ProgressiveVariant::v2();
     if (spec == "progressive-paper")
@@ -36,7 +38,7 @@ std::optional<ProgressiveVariant> variantOf(const std::string& spec)
                 return k.has_value();
             }
             if (key == "payload") {
-                const auto f = specNumber(value, 2, 3);
+                const auto f = specNumber(value, 2, 4);
                 v.format = f.value_or(0);
                 return f.has_value();
             }
@@ -52,7 +54,7 @@ std::optional<ProgressiveVariant> variantOf(const std::string& spec)
 
 constexpr const char* kOptionForms = "nested=K (1..32 finest levels at the finest bound), "
                                      "corrections=0|1 (least-squares prediction corrections), "
-                                     "payload=2|3 (payload version)";
+                                     "payload=2|3|4 (payload version)";
 
 std::unique_ptr<HeightCodec> rejected(std::string* problem, std::string text)
 {
@@ -62,7 +64,8 @@ std::unique_ptr<HeightCodec> rejected(std::string* problem, std::string text)
 }
 
 // param[0] = δ_l0 in codes (real), param[1] = variant bits (ProgressiveVariant::fromBits: v1
-// 0, 2, 4, 6; v2 8 | those | nested_levels << 4; v3 1024 | v2's), at most 32 levels (LevelQuantizer
+// 0, 2, 4, 6; v2 8 | those | nested_levels << 4; v3 1024 | v2's; v4 2048 | v2's), at most 32
+// levels (LevelQuantizer
 // shifts by up to 30).
 std::string parameterProblem(const CodecSettings& s)
 {
@@ -72,12 +75,12 @@ std::string parameterProblem(const CodecSettings& s)
                ": the progressive codec's finest-level bound δ_l0 (codes) must be " +
                kMaxErrorCodes.describe();
     const double bits = s.param[1];
-    if (!(bits >= 0 && bits < 2 * ProgressiveVariant::kPayloadV3Bit && bits == std::floor(bits) &&
+    if (!(bits >= 0 && bits < 2 * ProgressiveVariant::kPayloadV4Bit && bits == std::floor(bits) &&
           ProgressiveVariant::fromBits(static_cast<int>(bits))))
         return "codec_param[1] is " + formatNumber(bits) +
                ": the progressive codec's variant must be 0, 2, 4 or 6 (v1: bit 1 cubic "
                "prediction, bit 2 activity contexts), v2's 8 + those + 16 × nested levels "
-               "(1..32), or v3's 1024 + v2's";
+               "(1..32), v3's 1024 + v2's or v4's 2048 + v2's";
     if (s.level_count < 1 || s.level_count > 32)
         return "level_count is " + std::to_string(s.level_count) +
                ": the progressive codec codes 1 to 32 levels";
@@ -99,7 +102,8 @@ std::unique_ptr<HeightCodec> fromSettings(const CodecSettings& settings, std::st
     }
     std::string table_problem;
     auto tables = ProgressiveTables::parse(settings.tables.data(), settings.tables.size(),
-                                           settings.level_count, &table_problem);
+                                           settings.level_count, codec->variant().tableContexts(),
+                                           &table_problem);
     if (!tables)
         return rejected(problem, "codec tables: " + table_problem);
     codec->setTables(std::move(tables)); // an archive's codec: fully trained
@@ -113,18 +117,18 @@ CodecInfo progressiveCodec()
     return {
         .name = "progressive",
         .id = kProgressiveCodecId,
-        .description = "the hardware-tessellation paper's progressive L∞ codec, v3: every "
+        .description = "the hardware-tessellation paper's progressive L∞ codec, v4: every "
                        "sample within its bound, decoded on the GPU",
         .lossy = true,
         .finest_first = true, // reconstruct() is the level's quantizer alone
-        .aliases = {"progressive-v2", "progressive-v1", "progressive-paper"},
+        .aliases = {"progressive-v3", "progressive-v2", "progressive-v1", "progressive-paper"},
         .option_forms = kOptionForms,
         .spec_problem =
             [](const std::string& spec) {
                 return variantOf(spec)
                            ? std::string()
                            : std::string("the progressive codec's options are ") + kOptionForms +
-                                 " (progressive-v2, progressive-v1 and "
+                                 " (progressive-v3, progressive-v2, progressive-v1 and "
                                  "progressive-paper take none)";
             },
         .from_spec = [](const std::string& spec, double max_error,

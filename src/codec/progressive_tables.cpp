@@ -14,7 +14,15 @@ using namespace progressive_tables;
 namespace {
 
 constexpr uint8_t kMagic = 'T';
-constexpr uint8_t kVersion = 1;
+// Version 1: kContexts per class, a varint per table. Version 2 (payload v4): kContextsV4 per
+// class, a bitmap of the stored tables (most of 3× the tables are defaults).
+constexpr uint8_t kVersionActivity = 1;
+constexpr uint8_t kVersionParentClasses = 2;
+
+uint8_t versionFor(int contexts)
+{
+    return contexts == kContexts ? kVersionActivity : kVersionParentClasses;
+}
 
 // Lower activity bound of each context (progressive_entropy_v2.cpp maps activities through
 // the same list), used for the defaults' spread.
@@ -103,13 +111,23 @@ rans::Table geometricTable(int mean16)
     return table;
 }
 
+// Payload v4's defaults scale the activity's mean by the parent class: residuals between
+// parent bins that agree are smaller, between bins 2 or more steps apart larger
+// (mean16 · kParentScale[p] / 2).
+constexpr int kParentScale[kParentClasses] = {1, 2, 4};
+
 struct DefaultTables {
     rans::Table activity[kContexts];
+    rans::Table by_parent[kContextsV4];
     rans::Table refinement;
     DefaultTables()
     {
-        for (int c = 0; c < kContexts; ++c)
-            activity[c] = geometricTable(4 * (kActivityFirst[c] + kActivityFirst[c + 1]) + 6);
+        for (int c = 0; c < kContexts; ++c) {
+            const int mean16 = 4 * (kActivityFirst[c] + kActivityFirst[c + 1]) + 6;
+            activity[c] = geometricTable(mean16);
+            for (int p = 0; p < kParentClasses; ++p)
+                by_parent[p * kContexts + c] = geometricTable(mean16 * kParentScale[p] / 2);
+        }
         refinement = geometricTable(4);
     }
 };
@@ -120,15 +138,19 @@ const DefaultTables& defaultTables()
     return tables;
 }
 
-const rans::Table& defaultTable(int level, int cls, int context)
+// Class 0 (the root's MED residuals, a child's refinements) has activity contexts only.
+const rans::Table& defaultTable(int level, int cls, int context, int contexts)
 {
     const DefaultTables& d = defaultTables();
-    return (cls == 0 && level > 0) ? d.refinement : d.activity[context];
+    if (cls == 0 && level > 0)
+        return d.refinement;
+    return (contexts == kContexts || cls == 0) ? d.activity[context % kContexts]
+                                               : d.by_parent[context];
 }
 
-int tablesPerLevel()
+bool usedContext(int cls, int context)
 {
-    return kClasses * kContexts;
+    return cls > 0 || context < kContexts;
 }
 
 using progressive_tokens::getVarint;
@@ -146,9 +168,9 @@ size_t storedBytes(const rans::Table& t)
 
 } // namespace
 
-SymbolCounts::SymbolCounts(int level_count)
-    : level_count_(level_count),
-      counts_(static_cast<size_t>(level_count) * kClasses * kContexts * kSymbols, 0)
+SymbolCounts::SymbolCounts(int level_count, int contexts)
+    : level_count_(level_count), contexts_(contexts),
+      counts_(static_cast<size_t>(level_count) * kClasses * contexts * kSymbols, 0)
 {
 }
 
@@ -200,20 +222,21 @@ bool SymbolCounts::mergeSerialized(const uint8_t* data, size_t size)
     return true;
 }
 
-ProgressiveTables::ProgressiveTables(int level_count)
-    : level_count_(level_count),
-      index_(static_cast<size_t>(level_count) * tablesPerLevel(), nullptr),
+ProgressiveTables::ProgressiveTables(int level_count, int contexts)
+    : level_count_(level_count), contexts_(contexts),
+      index_(static_cast<size_t>(level_count) * kClasses * contexts, nullptr),
       stored_symbols_(index_.size(), 0)
 {
     for (int l = 0; l < level_count; ++l)
         for (int c = 0; c < kClasses; ++c)
-            for (int x = 0; x < kContexts; ++x)
-                index_[(size_t(l) * kClasses + c) * kContexts + x] = &defaultTable(l, c, x);
+            for (int x = 0; x < contexts; ++x)
+                index_[(size_t(l) * kClasses + c) * contexts + x] =
+                    &defaultTable(l, c, x, contexts);
 }
 
-std::shared_ptr<const ProgressiveTables> ProgressiveTables::defaults(int level_count)
+std::shared_ptr<const ProgressiveTables> ProgressiveTables::defaults(int level_count, int contexts)
 {
-    return std::shared_ptr<const ProgressiveTables>(new ProgressiveTables(level_count));
+    return std::shared_ptr<const ProgressiveTables>(new ProgressiveTables(level_count, contexts));
 }
 
 double ProgressiveTables::cost(const uint64_t* counts, const rans::Table& table)
@@ -238,9 +261,10 @@ bool ProgressiveTables::hasWeights() const
 }
 
 std::shared_ptr<const ProgressiveTables>
-ProgressiveTables::withWeights(std::vector<PredictorWeights> weights)
+ProgressiveTables::withWeights(std::vector<PredictorWeights> weights, int contexts)
 {
-    std::shared_ptr<ProgressiveTables> t(new ProgressiveTables(static_cast<int>(weights.size())));
+    std::shared_ptr<ProgressiveTables> t(
+        new ProgressiveTables(static_cast<int>(weights.size()), contexts));
     t->weights_ = std::move(weights);
     if (!t->hasWeights())
         t->weights_.clear();
@@ -250,12 +274,13 @@ ProgressiveTables::withWeights(std::vector<PredictorWeights> weights)
 std::shared_ptr<const ProgressiveTables> ProgressiveTables::fit(const SymbolCounts& counts,
                                                                 const ProgressiveTables* base)
 {
-    std::shared_ptr<ProgressiveTables> t(new ProgressiveTables(counts.levelCount()));
+    std::shared_ptr<ProgressiveTables> t(
+        new ProgressiveTables(counts.levelCount(), counts.contexts()));
     if (base)
         t->weights_ = base->weights_;
     for (int l = 0; l < counts.levelCount(); ++l)
         for (int c = 0; c < kClasses; ++c)
-            for (int x = 0; x < kContexts; ++x) {
+            for (int x = 0; x < counts.contexts(); ++x) {
                 const uint64_t* h = counts.histogram(l, c, x);
                 uint16_t freq[kSymbols];
                 if (!normalize(h, freq))
@@ -265,7 +290,8 @@ std::shared_ptr<const ProgressiveTables> ProgressiveTables::fit(const SymbolCoun
                     --symbols;
                 auto fitted = std::make_unique<rans::Table>();
                 fitted->assign(freq, symbols);
-                const size_t i = (size_t(l) * kClasses + c) * kContexts + x;
+                const size_t i = (size_t(l) * kClasses + c) * counts.contexts() + x;
+                // Version 2's bitmap costs no more per stored table than version 1's varint.
                 const double stored = cost(h, *fitted) + 8.0 * double(storedBytes(*fitted));
                 if (!(stored < cost(h, *t->index_[i])))
                     continue;
@@ -280,7 +306,8 @@ std::vector<uint8_t> ProgressiveTables::serialize() const
 {
     if (owned_.empty() && !hasWeights())
         return {};
-    std::vector<uint8_t> out{kMagic, kVersion, static_cast<uint8_t>(level_count_)};
+    const uint8_t version = versionFor(contexts_);
+    std::vector<uint8_t> out{kMagic, version, static_cast<uint8_t>(level_count_)};
     // Predictor corrections: a flag, then levels 1.. × classes A, B, C × 12 taps as i16.
     out.push_back(hasWeights() ? 1 : 0);
     if (hasWeights())
@@ -290,7 +317,16 @@ std::vector<uint8_t> ProgressiveTables::serialize() const
                     out.push_back(static_cast<uint8_t>(uint16_t(v)));
                     out.push_back(static_cast<uint8_t>(uint16_t(v) >> 8));
                 }
+    if (version == kVersionParentClasses) {
+        std::vector<uint8_t> bitmap((index_.size() + 7) / 8, 0);
+        for (size_t i = 0; i < index_.size(); ++i)
+            if (stored_symbols_[i] > 0)
+                bitmap[i / 8] |= static_cast<uint8_t>(1u << (i % 8));
+        out.insert(out.end(), bitmap.begin(), bitmap.end());
+    }
     for (size_t i = 0; i < index_.size(); ++i) {
+        if (version == kVersionParentClasses && stored_symbols_[i] == 0)
+            continue;
         putVarint(out, static_cast<uint32_t>(stored_symbols_[i]));
         for (int s = 0; s < stored_symbols_[i]; ++s)
             putVarint(out, index_[i]->freq[s]);
@@ -298,8 +334,9 @@ std::vector<uint8_t> ProgressiveTables::serialize() const
     return out;
 }
 
-std::shared_ptr<const ProgressiveTables>
-ProgressiveTables::parse(const uint8_t* data, size_t size, int level_count, std::string* problem)
+std::shared_ptr<const ProgressiveTables> ProgressiveTables::parse(const uint8_t* data, size_t size,
+                                                                  int level_count, int contexts,
+                                                                  std::string* problem)
 {
     auto fail = [&](const std::string& what) -> std::shared_ptr<const ProgressiveTables> {
         if (problem)
@@ -308,16 +345,20 @@ ProgressiveTables::parse(const uint8_t* data, size_t size, int level_count, std:
     };
     if (level_count < 1 || level_count > kMaxLevels)
         return fail("level count " + std::to_string(level_count) + " is outside 1..32");
+    if (contexts != kContexts && contexts != kContextsV4)
+        return fail("internal error: " + std::to_string(contexts) + " contexts per class");
     if (size == 0)
-        return defaults(level_count);
+        return defaults(level_count, contexts);
     if (size < 3 || data[0] != kMagic)
         return fail("codec tables do not start with 'T'");
-    if (data[1] != kVersion)
-        return fail("codec tables version is " + std::to_string(data[1]) + ": must be 1");
+    const uint8_t version = versionFor(contexts);
+    if (data[1] != version)
+        return fail("codec tables version is " + std::to_string(data[1]) + ": must be " +
+                    std::to_string(version) + " for this payload version");
     if (data[2] != level_count)
         return fail("codec tables are for " + std::to_string(data[2]) +
                     " levels: the archive has " + std::to_string(level_count));
-    std::shared_ptr<ProgressiveTables> t(new ProgressiveTables(level_count));
+    std::shared_ptr<ProgressiveTables> t(new ProgressiveTables(level_count, contexts));
     const uint8_t* p = data + 3;
     const uint8_t* end = data + size;
     if (p == end)
@@ -344,13 +385,29 @@ ProgressiveTables::parse(const uint8_t* data, size_t size, int level_count, std:
         if (!t->hasWeights())
             return fail("codec tables: predictor weights flagged but all 0 (not canonical)");
     }
+    const uint8_t* bitmap = nullptr;
+    if (version == kVersionParentClasses) {
+        const size_t bytes = (t->index_.size() + 7) / 8;
+        if (size_t(end - p) < bytes)
+            return fail("codec tables truncated in the stored-table bitmap");
+        static_assert(kClasses * kContextsV4 % 8 == 0, "a level's bitmap is whole bytes");
+        bitmap = p;
+        p += bytes;
+    }
     for (size_t i = 0; i < t->index_.size(); ++i) {
         const std::string where = "codec table " + std::to_string(i);
+        if (bitmap && !(bitmap[i / 8] >> (i % 8) & 1))
+            continue;
+        const int cls = int(i / size_t(contexts)) % kClasses, context = int(i % size_t(contexts));
+        if (!usedContext(cls, context))
+            return fail(where + " is stored: class 0 has no context " + std::to_string(context));
         uint32_t symbols;
         if (!getVarint(p, end, symbols))
             return fail(where + ": truncated");
         if (symbols > uint32_t(kSymbols))
             return fail(where + " has " + std::to_string(symbols) + " symbols: at most 71");
+        if (symbols == 0 && bitmap)
+            return fail(where + " is marked stored with 0 symbols");
         if (symbols == 0)
             continue;
         uint16_t freq[kSymbols] = {};

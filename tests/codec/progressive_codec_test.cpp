@@ -64,13 +64,13 @@ template <int N> void roundTripSymbols(uint32_t seed, double skew)
 }
 
 // Every payload format's variants: v1's four (the paper's and ridge's first among them), and
-// v2 and v3 with each bound schedule (v1's, the hybrid, all nested) and both predictors.
+// v2, v3 and v4 with each bound schedule (v1's, the hybrid, all nested) and both predictors.
 std::vector<ProgressiveVariant> allVariants()
 {
     std::vector<ProgressiveVariant> v;
     for (int bits = 0; bits < 8; bits += 2)
         v.push_back(*ProgressiveVariant::fromBits(bits));
-    for (const int format : {2, 3})
+    for (const int format : {2, 3, 4})
         for (const int nested : {1, 2, 32})
             for (const OddPredictor p : {OddPredictor::Bilinear, OddPredictor::Cubic})
                 v.push_back({p, true, format, nested});
@@ -209,7 +209,8 @@ void rejectsTruncatedCorruptAndParentlessPayloads(const ProgressiveVariant& vari
 
 TEST(ProgressiveCodec, RejectsTruncatedCorruptAndParentlessPayloads)
 {
-    for (const ProgressiveVariant& variant : {ProgressiveVariant::v2(), ProgressiveVariant{}}) {
+    for (const ProgressiveVariant& variant :
+         {ProgressiveVariant::v2(), ProgressiveVariant::v3(), ProgressiveVariant{}}) {
         SCOPED_TRACE(variant.describe());
         rejectsTruncatedCorruptAndParentlessPayloads(variant);
     }
@@ -217,19 +218,24 @@ TEST(ProgressiveCodec, RejectsTruncatedCorruptAndParentlessPayloads)
 
 TEST(ProgressiveCodec, PayloadVersionsAreNotInterchangeable)
 {
-    // A v3 payload is refused by a v2 codec and the other way round (its version byte), even
-    // though they share the stream's layout: the contexts differ.
+    // A payload of v2, v3 or v4 is refused by a codec of another of them (its version byte),
+    // even though they share the stream's layout: the contexts differ.
     const int n = 33;
-    const ProgressiveCodec v2(1, 2, ProgressiveVariant::v2()), v3(1, 2);
+    const ProgressiveCodec v2(1, 2, ProgressiveVariant::v2()), v3(1, 2, ProgressiveVariant::v3()),
+        v4(1, 2);
     const std::vector<uint16_t> root = terrainPatch(n, 4, 5);
     std::vector<uint16_t> out(root.size());
     const PatchContext ctx{n, 0, nullptr, 0};
-    for (const ProgressiveCodec* from : {&v2, &v3}) {
+    for (const ProgressiveCodec* from : {&v2, &v3, &v4}) {
         std::vector<uint8_t> payload(from->encodeBound(ctx));
         payload.resize(from->encode(payload.data(), payload.size(), root.data(), ctx));
         ASSERT_EQ(payload[1], from->variant().format);
-        const ProgressiveCodec& other = from == &v2 ? v3 : v2;
-        EXPECT_EQ(other.decode(out.data(), payload.data(), payload.size(), ctx), kCodecBadHeader);
+        for (const ProgressiveCodec* other : {&v2, &v3, &v4}) {
+            if (other != from) {
+                EXPECT_EQ(other->decode(out.data(), payload.data(), payload.size(), ctx),
+                          kCodecBadHeader);
+            }
+        }
     }
 }
 
@@ -334,10 +340,12 @@ TEST(ProgressiveCodec, SettingsRoundTripThroughTheArchiveHeaderParameters)
     CodecSettings settings;
     settings.level_count = 7;
     settings.param[0] = 5;
-    for (const double bits : {1.0, 16.0 + 2, 8.0, 8.0 + 33 * 16, 2.5, -8.0, 1024.0, 1024.0 + 8,
-                              1024.0 + 16 + 2, 2048.0 + 8 + 16, 3072.0 + 8 + 16}) {
+    for (const double bits :
+         {1.0, 16.0 + 2, 8.0, 8.0 + 33 * 16, 2.5, -8.0, 1024.0, 1024.0 + 8, 1024.0 + 16 + 2,
+          2048.0 + 16, 2048.0 + 8, 3072.0 + 8 + 16, 4096.0 + 8 + 16}) {
         // reserved bit, v1 with nested levels, v2 with 0 or 33, v3 without v2's bit or with 0
-        // nested levels, bits past v3's
+        // nested levels, v4 without v2's bit or with 0 nested levels, v3 and v4 at once, bits
+        // past v4's
         settings.param[1] = bits;
         EXPECT_EQ(makeCodec(kProgressiveCodecId, settings), nullptr) << bits;
     }
@@ -385,6 +393,11 @@ TEST(ProgressiveCodec, DecodeResidualsIsTheCpuHalfOfDecodeAndRejectsBadPayloads)
         EXPECT_EQ(codec.decodeResiduals(payload.data(), payload.size(), {n, 2, nullptr, 7},
                                         residuals.data()),
                   kCodecBadHeader);
+        // v4's contexts read the parent's bins: its CPU half needs the parent, the others not.
+        EXPECT_EQ(codec.decodeResiduals(payload.data(), payload.size(), {n, 2, nullptr, 1},
+                                        residuals.data()),
+                  variant.format == 4 ? kCodecNeedsParent : kCodecOk);
+        EXPECT_EQ(codec.capabilities().gpu.cpu_half_reads_parent, variant.format == 4);
         for (size_t size = 0; size < payload.size(); size += 1 + size / 8)
             EXPECT_LT(codec.decodeResiduals(payload.data(), size, ctx, residuals.data()), 0)
                 << size;

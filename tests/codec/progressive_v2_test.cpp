@@ -165,7 +165,8 @@ TEST(ProgressiveTables, FittedTablesRoundTripTheirBytesAndBadBytesAreRejected)
     ASSERT_GT(fitted->storedCount(), 0);
     const std::vector<uint8_t> bytes = fitted->serialize();
     std::string problem;
-    const auto back = ProgressiveTables::parse(bytes.data(), bytes.size(), 3, &problem);
+    const auto back = ProgressiveTables::parse(bytes.data(), bytes.size(), 3,
+                                               progressive_tables::kContexts, &problem);
     ASSERT_NE(back, nullptr) << problem;
     EXPECT_EQ(back->serialize(), bytes);
     for (int l = 0; l < 3; ++l)
@@ -180,7 +181,10 @@ TEST(ProgressiveTables, FittedTablesRoundTripTheirBytesAndBadBytesAreRejected)
 
     auto rejects = [&](std::vector<uint8_t> b, int levels, const std::string& phrase) {
         std::string why;
-        EXPECT_EQ(ProgressiveTables::parse(b.data(), b.size(), levels, &why), nullptr) << phrase;
+        EXPECT_EQ(ProgressiveTables::parse(b.data(), b.size(), levels,
+                                           progressive_tables::kContexts, &why),
+                  nullptr)
+            << phrase;
         EXPECT_NE(why.find(phrase), std::string::npos) << why;
     };
     rejects(bytes, 4, "are for 3 levels");
@@ -219,7 +223,8 @@ TEST(ProgressiveTables, FittedTablesRoundTripTheirBytesAndBadBytesAreRejected)
     const auto weighted = ProgressiveTables::withWeights(w);
     const std::vector<uint8_t> wb = weighted->serialize();
     ASSERT_EQ(wb.size(), 4 + 2 * 36 * 2 + size_t(3 * 64));
-    const auto wback = ProgressiveTables::parse(wb.data(), wb.size(), 3, &problem);
+    const auto wback =
+        ProgressiveTables::parse(wb.data(), wb.size(), 3, progressive_tables::kContexts, &problem);
     ASSERT_NE(wback, nullptr) << problem;
     EXPECT_EQ(wback->weights(1), nullptr);
     ASSERT_NE(wback->weights(2), nullptr);
@@ -248,6 +253,84 @@ TEST(ProgressiveTables, DefaultsArePinned)
     EXPECT_EQ(d->table(0, 0, 0).freq[0], 2464);
     EXPECT_EQ(d->table(1, 0, 0).freq[0], 3214);
     EXPECT_EQ(digest, 1228109806224266157ull);
+
+    // Payload v4's: the activity's tables for class 0, scaled by the parent class elsewhere.
+    const auto d4 = ProgressiveTables::defaults(2, progressive_tables::kContextsV4);
+    uint64_t digest4 = 1469598103934665603ull;
+    for (int c = 0; c < progressive_tables::kClasses; ++c)
+        for (int x = 0; x < progressive_tables::kContextsV4; ++x)
+            for (int s = 0; s < progressive_tables::kSymbols; ++s)
+                digest4 = (digest4 ^ d4->table(1, c, x).freq[s]) * 1099511628211ull;
+    EXPECT_EQ(d4->table(0, 0, 3).freq[0], d->table(0, 0, 3).freq[0]);
+    EXPECT_EQ(d4->table(1, 1, 16 + 5).freq[0], d->table(1, 1, 5).freq[0]); // parent class 1
+    EXPECT_GT(d4->table(1, 1, 5).freq[0], d4->table(1, 1, 16 + 5).freq[0]);
+    EXPECT_GT(d4->table(1, 1, 16 + 5).freq[0], d4->table(1, 1, 32 + 5).freq[0]);
+    EXPECT_EQ(digest4, 6183447825476605637ull);
+}
+
+// Tables version 2 (payload v4): 48 contexts per class, a bitmap of the stored ones.
+TEST(ProgressiveTables, ParentClassTablesRoundTripTheirBitmapAndBadBitmapsAreRejected)
+{
+    using progressive_tables::kContextsV4;
+    SymbolCounts counts(3, kContextsV4);
+    std::mt19937 rng(5);
+    for (int l = 0; l < 3; ++l)
+        for (int c = 0; c < progressive_tables::kClasses; ++c)
+            for (int x = c == 0 ? 0 : 7; x < (c == 0 ? 16 : kContextsV4); x += 5)
+                for (int i = 0; i < 20000; ++i)
+                    ++counts.at(
+                        l, c, x,
+                        std::min(int(std::abs(std::normal_distribution<>(0, 1 + x % 16)(rng))) * 2,
+                                 70));
+    const auto fitted = ProgressiveTables::fit(counts);
+    ASSERT_EQ(fitted->contexts(), kContextsV4);
+    ASSERT_GT(fitted->storedCount(), 0);
+    const std::vector<uint8_t> bytes = fitted->serialize();
+    ASSERT_EQ(bytes[1], 2); // tables version 2
+    const size_t bitmap_bytes = (3 * 4 * kContextsV4 + 7) / 8;
+    std::string problem;
+    const auto back =
+        ProgressiveTables::parse(bytes.data(), bytes.size(), 3, kContextsV4, &problem);
+    ASSERT_NE(back, nullptr) << problem;
+    EXPECT_EQ(back->serialize(), bytes);
+    for (int l = 0; l < 3; ++l)
+        for (int c = 0; c < progressive_tables::kClasses; ++c)
+            for (int x = 0; x < kContextsV4; ++x)
+                ASSERT_EQ(back->table(l, c, x).freq, fitted->table(l, c, x).freq);
+
+    auto rejects = [&](std::vector<uint8_t> b, int contexts, const std::string& phrase) {
+        std::string why;
+        EXPECT_EQ(ProgressiveTables::parse(b.data(), b.size(), 3, contexts, &why), nullptr)
+            << phrase;
+        EXPECT_NE(why.find(phrase), std::string::npos) << why;
+    };
+    // Each version is its payload's: v4's tables are not v3's and the other way round.
+    rejects(bytes, progressive_tables::kContexts, "must be 1 for this payload version");
+    rejects(std::vector<uint8_t>(bytes.begin(), bytes.begin() + 4 + bitmap_bytes - 1), kContextsV4,
+            "truncated in the stored-table bitmap");
+    // The bitmap's first byte covers level 0, class 0, contexts 0..7: mark one not stored
+    // and the next table's bytes are read where they are not.
+    std::vector<uint8_t> b = bytes;
+    ASSERT_NE(b[4], 0);
+    b[4] &= uint8_t(b[4] - 1); // clear the lowest set bit
+    rejects(b, kContextsV4, "trailing");
+    // Class 0 has activity contexts only: its tables 16..47 are never stored.
+    b = bytes;
+    b[4 + 2] |= 1; // table 16 = level 0, class 0, context 16
+    rejects(b, kContextsV4, "class 0 has no context 16");
+    // A table marked stored must hold symbols.
+    SymbolCounts one(1, kContextsV4);
+    for (int i = 0; i < 50000; ++i)
+        ++one.at(0, 1, 20, std::min(int(std::abs(std::normal_distribution<>(0, 4)(rng))), 70));
+    std::vector<uint8_t> single = ProgressiveTables::fit(one)->serialize();
+    const size_t single_bitmap = (4 * kContextsV4 + 7) / 8;
+    ASSERT_GT(single.size(), 4 + single_bitmap);
+    single.resize(4 + single_bitmap + 1);
+    single.back() = 0; // S = 0
+    std::string why;
+    EXPECT_EQ(ProgressiveTables::parse(single.data(), single.size(), 1, kContextsV4, &why),
+              nullptr);
+    EXPECT_NE(why.find("marked stored with 0 symbols"), std::string::npos) << why;
 }
 
 TEST(ProgressiveCodecV2, CodesOnlyTheRegionAndRepeatsItsEdgeBeyond)
@@ -360,8 +443,8 @@ TEST(ProgressiveCodecV2, PayloadBytesOfEveryFormatArePinned)
             s += "0123456789abcdef"[v >> 4], s += "0123456789abcdef"[v & 15];
         return s;
     };
-    for (const ProgressiveVariant& v :
-         {ProgressiveVariant::v1(), ProgressiveVariant::v2(), ProgressiveVariant{}}) {
+    for (const ProgressiveVariant& v : {ProgressiveVariant::v1(), ProgressiveVariant::v2(),
+                                        ProgressiveVariant::v3(), ProgressiveVariant{}}) {
         const ProgressiveCodec codec(1, 2, v);
         std::vector<uint16_t> drawn(25);
         codec.reconstruct(root.data(), {n, 0, nullptr, 0}, drawn.data());
@@ -374,9 +457,13 @@ TEST(ProgressiveCodecV2, PayloadBytesOfEveryFormatArePinned)
                                     // size, rANS, raw bits
             EXPECT_EQ(r, "50020018dd3f795b32a15302c2edab00cb0d1600d2a381f463168fd84d");
             EXPECT_EQ(c, "50020118234f0600f36c02003fff1e16ff2d4a000c2b5c4e7c9c38da");
-        } else { // v3: v2's layout; the root's contexts are v2's, a child's differ
+        } else if (v.format == 3) { // v2's layout; the root's contexts are v2's, a child's
+                                    // differ
             EXPECT_EQ(r, "50030018dd3f795b32a15302c2edab00cb0d1600d2a381f463168fd84d");
             EXPECT_EQ(c, "500301185e9f03001c4d02002b9f8b18e7de5c007a60991e497c5acb");
+        } else { // v4: v3's root; a child's contexts add the parent class
+            EXPECT_EQ(r, "50040018dd3f795b32a15302c2edab00cb0d1600d2a381f463168fd84d");
+            EXPECT_EQ(c, "5004011829cf0c00176d03004d9f2a19bbaea400f697d64e341ae2d7");
         }
     }
 }

@@ -21,13 +21,16 @@
 //   (CodedRegion) is coded; static per-archive tables + interleaved rANS
 //   (progressive_entropy_v2.h, progressive_tables.h). Payload: u8 'P', u8 2, u8 flags (bit 0:
 //   the refinements are coded; other bits 0), then the v2 residual stream to the end.
-// v3 (default): v2 with contexts drawn from earlier rows and passes only, so the decoder
-//   decodes the rANS lanes side by side (progressive_entropy_v2.h). Payload: u8 'P', u8 3,
-//   then as v2.
+// v3: v2 with contexts drawn from earlier rows and passes only, so the decoder decodes the
+//   rANS lanes side by side (progressive_entropy_v2.h). Payload: u8 'P', u8 3, then as v2.
+// v4 (default): v3 with every A, B, C context split by the parent class, how far apart the
+//   parent's bins around the sample are (progressive_entropy_v2.h); 3× the tables (tables
+//   version 2). The CPU half reads the parent's reconstruction. Payload: u8 'P', u8 4, then
+//   as v2.
 //
 // Variant (archive header codec_param[1]): bit 1 cubic prediction, bit 2 activity contexts,
-// bit 3 payload v2 or v3, bits 4..9 nested_levels (v2, v3: 1..32; v1: 0), bit 10 payload v3
-// (with bit 3); bit 0 reserved, 0.
+// bit 3 payload v2, v3 or v4, bits 4..9 nested_levels (v2..v4: 1..32; v1: 0), bit 10 payload
+// v3, bit 11 payload v4 (either with bit 3, not both); bit 0 reserved, 0.
 // codec_param[0] = δ_l0, the finest-level bound in codes (real).
 #include "ridge/codec/height_codec.h"
 #include "ridge/codec/level_quantizer.h"
@@ -64,14 +67,15 @@ struct ProgressiveResiduals final : GpuPayload {
 };
 
 struct ProgressiveVariant {
-    // Variant bit 10: payload v3 (with bit 3, payload v2's bit).
+    // Variant bit 10: payload v3, bit 11: payload v4 (either with bit 3, payload v2's bit).
     static constexpr int kPayloadV3Bit = 1 << 10;
+    static constexpr int kPayloadV4Bit = 1 << 11;
     // v2's default number of levels sharing the finest bound (docs/PERF.md, "nested").
     static constexpr int kDefaultNestedLevels = 32;
 
     OddPredictor predictor = OddPredictor::Cubic;
     bool contexts = true;
-    int format = 3;                           // payload version, 1, 2 or 3
+    int format = 4;                           // payload version, 1 to 4
     int nested_levels = kDefaultNestedLevels; // v2: 1..32; v1: 1 (its bounds double per level)
     // v2, at build time only: learn least-squares prediction corrections (stored with the
     // tables; an archive without them predicts with P0 alone). Not a stored bit: readers
@@ -84,6 +88,13 @@ struct ProgressiveVariant {
     static ProgressiveVariant v1() { return {OddPredictor::Cubic, true, 1, 1, false}; }
     // The default of issue 25 to 30: payload v2 (contexts wait for the previous symbol).
     static ProgressiveVariant v2() { return {OddPredictor::Cubic, true, 2}; }
+    // The default of issue 31's first stop: payload v3 (contexts from residuals alone).
+    static ProgressiveVariant v3() { return {OddPredictor::Cubic, true, 3}; }
+    // Entropy contexts per class of the payload's tables (progressive_tables.h).
+    int tableContexts() const
+    {
+        return format == 4 ? progressive_tables::kContextsV4 : progressive_tables::kContexts;
+    }
     int bits() const;
     // Null for bits that name no variant.
     static std::optional<ProgressiveVariant> fromBits(int bits);
@@ -106,8 +117,12 @@ class ProgressiveCodec final : public HeightCodec {
                const PatchContext& ctx) const override;
     bool needsParent(int level) const override { return level > 0; }
     // The paper's split: patches below the root entropy-decode on the CPU and refine +
-    // predict + add on the GPU from the parent's resident codes.
-    CodecCapabilities capabilities() const override { return {true, {1, true, false}}; }
+    // predict + add on the GPU from the parent's resident codes. v4's contexts read the
+    // parent's bins, so its CPU half needs the parent's codes too.
+    CodecCapabilities capabilities() const override
+    {
+        return {true, {1, true, false, variant_.format == 4}};
+    }
     int decodeForGpu(const uint8_t* src, size_t src_size, const PatchContext& ctx,
                      std::shared_ptr<const GpuPayload>* out) const override;
     void reconstruct(const uint16_t* codes, const PatchContext& ctx, uint16_t* out) const override;
@@ -150,9 +165,11 @@ class ProgressiveCodec final : public HeightCodec {
     // Header checks and the entropy decoding shared by decode() and decodeResiduals().
     int entropyDecode(const uint8_t* src, size_t src_size, const PatchContext& ctx,
                       int32_t* residuals) const;
-    // Bins and residuals of a patch as encode() computes them (the trainer's input too).
-    // Returns false for a context encode() rejects.
-    bool residualsOf(const uint16_t* codes, const PatchContext& ctx, int32_t* residuals) const;
+    // Bins and residuals of a patch as encode() computes them (the trainer's input too), and
+    // below the root the parent's bins at the patch's step (requantizeParent) in
+    // parent_bins[n·n]. Returns false for a context encode() rejects.
+    bool residualsOf(const uint16_t* codes, const PatchContext& ctx, int32_t* residuals,
+                     int32_t* parent_bins) const;
 
     double max_error_;
     int finest_level_;

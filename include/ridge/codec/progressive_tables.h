@@ -6,7 +6,10 @@
 // Symbols are signed residual tokens (progressive_tokens.h, 71 of them). Sample classes:
 // 0 = the R refinements of a child patch (one context) or, at level 0, the MED residuals
 // of the root patch; 1, 2, 3 = the A, B, C prediction errors. Contexts are the activity
-// classes of the residuals already decoded around a sample (kContexts of them).
+// classes of the residuals already decoded around a sample (kContexts of them); payload v4
+// multiplies them by the parent class, how far apart the parent's bins bracketing the sample
+// are (0, 1, 2 or more steps: kParentClasses), as context = parent class · kContexts +
+// activity (kContextsV4 per class; class 0 uses the first kContexts).
 //
 // A table that is not stored is the codec's default for its context: a two-sided geometric
 // distribution whose spread follows the activity class, generated with integer and exactly
@@ -25,16 +28,20 @@ namespace ridge {
 
 namespace progressive_tables {
 inline constexpr int kClasses = 4;
-inline constexpr int kContexts = 16;
+inline constexpr int kContexts = 16; // activity contexts (payload v2, v3: all of them)
+inline constexpr int kParentClasses = 3;
+inline constexpr int kContextsV4 = kContexts * kParentClasses;
 inline constexpr int kSymbols = 71;
 inline constexpr int kMaxLevels = 32;
 } // namespace progressive_tables
 
-// Symbol counts [level][class][context][symbol], what the trainer accumulates.
+// Symbol counts [level][class][context][symbol], what the trainer accumulates; `contexts`
+// per class (kContexts or kContextsV4).
 class SymbolCounts {
   public:
-    explicit SymbolCounts(int level_count = 0);
+    explicit SymbolCounts(int level_count = 0, int contexts = progressive_tables::kContexts);
     int levelCount() const { return level_count_; }
+    int contexts() const { return contexts_; }
     uint64_t& at(int level, int cls, int context, int symbol)
     {
         return counts_[index(level, cls, context) * progressive_tables::kSymbols + symbol];
@@ -54,44 +61,49 @@ class SymbolCounts {
     bool mergeSerialized(const uint8_t* data, size_t size);
 
   private:
-    static size_t index(int level, int cls, int context)
+    size_t index(int level, int cls, int context) const
     {
-        return (static_cast<size_t>(level) * progressive_tables::kClasses + cls) *
-                   progressive_tables::kContexts +
+        return (static_cast<size_t>(level) * progressive_tables::kClasses + cls) * contexts_ +
                context;
     }
     int level_count_;
+    int contexts_;
     std::vector<uint64_t> counts_;
 };
 
 class ProgressiveTables {
   public:
-    // Every table the default.
-    static std::shared_ptr<const ProgressiveTables> defaults(int level_count);
+    // Every table the default, `contexts` per class (kContexts: payload v2 and v3;
+    // kContextsV4: payload v4).
+    static std::shared_ptr<const ProgressiveTables>
+    defaults(int level_count, int contexts = progressive_tables::kContexts);
     // Default tables with these predictor corrections ([level], level 0 unused; all-zero
     // weights are none).
     static std::shared_ptr<const ProgressiveTables>
-    withWeights(std::vector<PredictorWeights> weights);
+    withWeights(std::vector<PredictorWeights> weights,
+                int contexts = progressive_tables::kContexts);
     // Tables fitted to `counts`, each stored only where it pays (see above), keeping `base`'s
     // predictor corrections (the counts were taken with them).
     static std::shared_ptr<const ProgressiveTables> fit(const SymbolCounts& counts,
                                                         const ProgressiveTables* base = nullptr);
-    // Parses serialize()'s bytes for an archive of `level_count` levels; null, with
-    // *problem saying what is wrong, for anything but exactly such bytes (sizes, symbol
-    // counts, frequency sums, trailing bytes).
-    static std::shared_ptr<const ProgressiveTables> parse(const uint8_t* data, size_t size,
-                                                          int level_count, std::string* problem);
+    // Parses serialize()'s bytes for an archive of `level_count` levels and `contexts` per
+    // class; null, with *problem saying what is wrong, for anything but exactly such bytes
+    // (version, sizes, symbol counts, frequency sums, trailing bytes).
+    static std::shared_ptr<const ProgressiveTables>
+    parse(const uint8_t* data, size_t size, int level_count, int contexts, std::string* problem);
 
-    // The stored form (docs/FORMAT.md, "Codec tables"); empty when every table is a default.
+    // The stored form (docs/FORMAT.md, "Codec tables": version 1 for kContexts per class,
+    // version 2 for kContextsV4); empty when every table is a default.
     std::vector<uint8_t> serialize() const;
 
     const rans::Table& table(int level, int cls, int context) const
     {
         return *index_[(static_cast<size_t>(level) * progressive_tables::kClasses + cls) *
-                           progressive_tables::kContexts +
+                           contexts_ +
                        context];
     }
     int levelCount() const { return level_count_; }
+    int contexts() const { return contexts_; }
     int storedCount() const { return static_cast<int>(owned_.size()); }
     // The predictor corrections of `level`, null when it has none.
     const PredictorWeights* weights(int level) const
@@ -106,8 +118,9 @@ class ProgressiveTables {
     static double cost(const uint64_t* counts, const rans::Table& table);
 
   private:
-    explicit ProgressiveTables(int level_count);
+    ProgressiveTables(int level_count, int contexts);
     int level_count_;
+    int contexts_;
     std::vector<std::unique_ptr<rans::Table>> owned_; // stored tables, in index order
     std::vector<const rans::Table*> index_;           // [level][class][context]
     std::vector<int> stored_symbols_;                 // per index entry: 0 = default

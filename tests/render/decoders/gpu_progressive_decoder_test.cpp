@@ -48,7 +48,10 @@ void expectGpuEqualsCpu(const std::string& path)
                             parent_codes->codes.data());
         const std::vector<uint8_t> blob = reader.readBlob(p);
         const size_t skip = reader.payloadOffset(p, blob); // block errors and validity mask
-        const PatchContext ctx = patchContext(g, p, nullptr);
+        // v4's CPU half reads the parent's codes (its contexts), v2's and v3's never do.
+        const PatchContext ctx = patchContext(
+            g, p,
+            codec->capabilities().gpu.cpu_half_reads_parent ? parent_codes->codes.data() : nullptr);
         ASSERT_EQ(
             codec->decodeResiduals(blob.data() + skip, blob.size() - skip, ctx, residuals.data()),
             kCodecOk);
@@ -77,7 +80,8 @@ void expectGpuEqualsCpu(const std::string& path)
         ++patches;
         corrected += codec->weights(p.level) != nullptr;
     }
-    // v2 archives of the fixture learn corrections at their finer levels: the GPU applies them.
+    // v2..v4 archives of the fixture learn corrections at their finer levels: the GPU applies
+    // them.
     if (reader.metadata().build.codec == "progressive") {
         EXPECT_GT(corrected, 0u) << path;
     }
@@ -97,11 +101,13 @@ TEST(GpuProgressiveDecoder, ReconstructsEveryPatchBitForBitLikeTheCpuDecoder)
         const char* codec;
         double error;
     };
-    // v2 (whole and clipped regions: the fixture's extent ends inside its last patches), the
-    // hybrid schedule (refinements coded), v1 and the paper's variant.
+    // v4 (whole and clipped regions: the fixture's extent ends inside its last patches), the
+    // hybrid schedule (refinements coded, so the parent class reads refined bins), v3, v2, v1
+    // and the paper's variant.
     for (const Case c :
          {Case{33, "progressive", 1.0}, Case{65, "progressive", 4.0},
           Case{33, "progressive,corrections=0", 1.0}, Case{33, "progressive,nested=2", 1.0},
+          Case{33, "progressive-v3", 1.0}, Case{33, "progressive-v2", 1.0},
           Case{33, "progressive-v1", 1.0}, Case{33, "progressive-paper", 2.0}}) {
         expectGpuEqualsCpu(test::buildEverestArchive(dir, c.codec, c.patch, c.error));
     }
