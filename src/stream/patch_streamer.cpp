@@ -225,7 +225,12 @@ PatchStreamer::decodeLocked(PatchId p, std::unique_lock<std::mutex>& lock, bool 
     ++stats_.decoded;
     stats_.compressed_hits += had_blob;
     stats_.bytes_decoded += out->bytes();
-    decoded_.insert(key, out, out->bytes());
+    // Codes replace a cached GPU payload of the same patch (decoded for a child whose CPU half
+    // reads them): kept, the payload would have every later child decode the patch again.
+    if (out->codes.empty())
+        decoded_.insert(key, out, out->bytes());
+    else
+        decoded_.assign(key, out, out->bytes());
     return out;
 }
 

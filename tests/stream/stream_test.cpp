@@ -176,58 +176,81 @@ TEST(PatchStreamer, ReportsACorruptPatchOnceAndKeepsServingTheOthers)
     EXPECT_TRUE(streamer.takeReady().empty());
 }
 
+// Payload v3's CPU half needs no parent: every patch below the root reaches the GPU as
+// residuals, each decoded once. v4's reads the parent's codes, so a patch with children may be
+// decoded on the CPU for them (and then delivered as codes): at most twice each, on one
+// worker.
 TEST(PatchStreamer, DeliversResidualsForTheGpuThatReconstructToTheCpuDecoding)
 {
-    test::ScratchDir dir;
-    const archive::ArchiveReader reader(buildFixture(dir, "progressive"));
-    const auto* codec = dynamic_cast<const ProgressiveCodec*>(&reader.codec());
-    ASSERT_NE(codec, nullptr);
-    stream::StreamerOptions options = stream::StreamerOptions::forRamBudget(64 << 20, 2);
-    options.gpu_decode = true;
-    stream::PatchStreamer streamer(reader, options);
-    stream::PatchLoader loader(reader);
-    const PyramidGeometry& g = reader.geometry();
-    streamer.beginFrame();
-    for (int64_t i = 0; i < g.patchCount(); ++i)
-        streamer.request(g.patchAt(i), 0.0);
-    streamer.waitIdle();
-    const auto ready = streamer.takeReady();
-    ASSERT_EQ(ready.size(), size_t(g.patchCount()));
-    const int n = g.patchSize();
-    std::vector<int32_t> parent_q(size_t(n) * n), q(size_t(n) * n);
-    size_t narrow = 0; // patches whose residuals are held in 16 bits
-    for (const auto& patch : ready) {
-        const auto expected = loader.load(patch->id);
-        if (patch->id.level == 0) {
-            EXPECT_EQ(patch->codes, expected->codes) << "the root is decoded on the CPU";
-            continue;
+    for (const char* spec : {"progressive-v3", "progressive"}) {
+        SCOPED_TRACE(spec);
+        test::ScratchDir dir;
+        const archive::ArchiveReader reader(buildFixture(dir, spec));
+        const auto* codec = dynamic_cast<const ProgressiveCodec*>(&reader.codec());
+        ASSERT_NE(codec, nullptr);
+        const bool reads_parent = codec->capabilities().gpu.cpu_half_reads_parent;
+        EXPECT_EQ(reads_parent, codec->variant().format == 4);
+        // v4 on one worker: two workers may both decode a shared ancestor (the streamer
+        // allows it, the cache keeps one), which would blur the count checked below.
+        stream::StreamerOptions options =
+            stream::StreamerOptions::forRamBudget(64 << 20, reads_parent ? 1 : 2);
+        options.gpu_decode = true;
+        stream::PatchStreamer streamer(reader, options);
+        stream::PatchLoader loader(reader);
+        const PyramidGeometry& g = reader.geometry();
+        streamer.beginFrame();
+        for (int64_t i = 0; i < g.patchCount(); ++i)
+            streamer.request(g.patchAt(i), 0.0);
+        streamer.waitIdle();
+        const auto ready = streamer.takeReady();
+        ASSERT_EQ(ready.size(), size_t(g.patchCount()));
+        const int n = g.patchSize();
+        std::vector<int32_t> parent_q(size_t(n) * n), q(size_t(n) * n);
+        size_t narrow = 0, on_gpu = 0; // patches whose residuals are held in 16 bits
+        for (const auto& patch : ready) {
+            const auto expected = loader.load(patch->id);
+            if (patch->id.level == 0 || (reads_parent && !patch->decodesOnGpu())) {
+                EXPECT_EQ(patch->codes, expected->codes) << "decoded on the CPU";
+                continue;
+            }
+            ASSERT_TRUE(patch->decodesOnGpu());
+            ++on_gpu;
+            EXPECT_TRUE(patch->block_errors.empty()) << "λ derived: the GPU derives it";
+            const auto* residuals =
+                dynamic_cast<const ProgressiveResiduals*>(patch->gpu_payload.get());
+            ASSERT_NE(residuals, nullptr) << "the progressive codec's CPU half";
+            // The CPU reconstruction of the delivered residuals gives the CPU decoder's codes.
+            const PatchId p = patch->id;
+            const LevelQuantizer quant = codec->quantizer(p.level);
+            const auto parent = loader.load(p.parent());
+            for (size_t k = 0; k < q.size(); ++k)
+                parent_q[k] = quant.quantize(parent->codes[k]);
+            EXPECT_NE(residuals->residuals32.empty(), residuals->residuals16.empty())
+                << "one storage";
+            narrow += !residuals->residuals16.empty();
+            reconstructChild(residuals->wide().data(), parent_q.data(), p.childIndex(), n,
+                             residuals->region, codec->variant().predictor, q.data(),
+                             codec->weights(p.level));
+            replicateBeyond(q.data(), n, residuals->region);
+            size_t differing = 0;
+            for (size_t k = 0; k < q.size(); ++k)
+                differing += quant.reconstruct(q[k]) != expected->codes[k];
+            EXPECT_EQ(differing, 0u) << reader.describe(p);
         }
-        ASSERT_TRUE(patch->decodesOnGpu());
-        EXPECT_TRUE(patch->block_errors.empty()) << "λ derived: the GPU derives it";
-        const auto* residuals = dynamic_cast<const ProgressiveResiduals*>(patch->gpu_payload.get());
-        ASSERT_NE(residuals, nullptr) << "the progressive codec's CPU half";
-        // The CPU reconstruction of the delivered residuals gives the CPU decoder's codes.
-        const PatchId p = patch->id;
-        const LevelQuantizer quant = codec->quantizer(p.level);
-        const auto parent = loader.load(p.parent());
-        for (size_t k = 0; k < q.size(); ++k)
-            parent_q[k] = quant.quantize(parent->codes[k]);
-        EXPECT_NE(residuals->residuals32.empty(), residuals->residuals16.empty()) << "one storage";
-        narrow += !residuals->residuals16.empty();
-        reconstructChild(residuals->wide().data(), parent_q.data(), p.childIndex(), n,
-                         residuals->region, codec->variant().predictor, q.data(),
-                         codec->weights(p.level));
-        replicateBeyond(q.data(), n, residuals->region);
-        size_t differing = 0;
-        for (size_t k = 0; k < q.size(); ++k)
-            differing += quant.reconstruct(q[k]) != expected->codes[k];
-        EXPECT_EQ(differing, 0u) << reader.describe(p);
+        // Every finest patch has no child to need its codes: it reaches the GPU.
+        EXPECT_GE(on_gpu, size_t(g.patchCount(g.finestLevel())));
+        EXPECT_GT(narrow, on_gpu / 2);
+        const stream::StreamerStats s = streamer.stats();
+        const uint64_t parents = uint64_t(g.patchCount() - g.patchCount(g.finestLevel()));
+        if (reads_parent) {
+            EXPECT_LE(s.decoded, uint64_t(g.patchCount()) + parents);
+        } else {
+            EXPECT_EQ(s.decoded, uint64_t(g.patchCount()))
+                << "no ancestor is decoded twice for residuals";
+        }
+        EXPECT_GT(s.bytes_read, 0u);
+        EXPECT_GT(s.bytes_decoded, s.bytes_read);
     }
-    EXPECT_GT(narrow, ready.size() / 2);
-    const stream::StreamerStats s = streamer.stats();
-    EXPECT_EQ(s.decoded, uint64_t(g.patchCount())) << "no ancestor is decoded twice for residuals";
-    EXPECT_GT(s.bytes_read, 0u);
-    EXPECT_GT(s.bytes_decoded, s.bytes_read);
 }
 
 TEST(PatchStreamer, DecodesFromTheCompressedCacheWithoutReadingAgain)
@@ -351,6 +374,13 @@ TEST(LruCache, EvictsTheLeastRecentlyUsedBeyondItsWeightButKeepsTheMinimumEntrie
     EXPECT_EQ(cache.weight(), 540u);
     cache.insert(4, 41, 1); // present: kept as is
     EXPECT_EQ(*cache.find(4), 40);
+    cache.assign(4, 42, 30); // replaced, with its weight
+    EXPECT_EQ(*cache.find(4), 42);
+    EXPECT_EQ(cache.size(), 2u);
+    EXPECT_EQ(cache.weight(), 70u);
+    cache.assign(5, 50, 10); // absent: inserted
+    EXPECT_EQ(*cache.find(5), 50);
+    EXPECT_EQ(cache.weight(), 80u);
 }
 
 namespace {

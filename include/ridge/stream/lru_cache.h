@@ -43,6 +43,17 @@ template <class Key, class Value> class LruCache {
             order_.pop_back();
         }
     }
+    // Inserts `key` or replaces its value and weight, most recently used either way.
+    void assign(const Key& key, Value value, size_t weight = 1)
+    {
+        if (auto it = index_.find(key); it != index_.end()) {
+            const auto entry = it->second;
+            weight_ -= entry->weight;
+            index_.erase(it);
+            order_.erase(entry);
+        }
+        insert(key, std::move(value), weight);
+    }
     size_t size() const { return order_.size(); }
     size_t weight() const { return weight_; }
 
