@@ -86,7 +86,11 @@ struct ArchiveLayout {
         std::memcpy(&index, data + h::kIndexOffset, 8);
         if (meta_offset <= size && meta_size <= size - meta_offset)
             l.metadata = {size_t(meta_offset), size_t(meta_size)};
-        if (index <= size) {
+        uint32_t version;
+        std::memcpy(&version, data + 8, 4);
+        // Version 5's index is packed (zstd): its fields have no file offset, the mutator
+        // edits them through ArchiveBytes (fuzz_archive_fields.cpp, mutateEntryField).
+        if (index <= size && version < 5) {
             l.index_offset = size_t(index);
             l.entries = (size - l.index_offset) / e::kEntrySize;
         }

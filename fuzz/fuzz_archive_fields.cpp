@@ -292,25 +292,60 @@ void mutateCodecTables(ridge::test::ArchiveBytes& a, std::minstd_rand& rng)
     ridge::test::setCodecTables(a, tables);
 }
 
+// One field of a packed index (format 5), through ArchiveBytes, which packs it again: the
+// index's size changes with its content.
+void mutateEntryField(ridge::test::ArchiveBytes& a, std::minstd_rand& rng)
+{
+    const size_t entries = a.entryCount();
+    if (!a.packedIndex() || entries == 0)
+        return;
+    const uint32_t pick = rng();
+    const size_t entry = pick % 3 == 0   ? 0
+                         : pick % 3 == 1 ? (pick / 3) % std::min<size_t>(entries, 5)
+                                         : (pick / 3) % entries;
+    const ridge::fuzz::Field f =
+        ridge::fuzz::kEntryFields[rng() % std::size(ridge::fuzz::kEntryFields)];
+    uint8_t value[8] = {};
+    if (f.type == FieldType::U64) {
+        ridge::fuzz::store(value, a.entry<uint64_t>(entry, f.offset));
+        mutateInteger(value, f.type, a.bytes().size(), rng);
+        a.setEntry(entry, f.offset, ridge::fuzz::load<uint64_t>(value));
+    } else if (f.type == FieldType::U32) {
+        ridge::fuzz::store(value, a.entry<uint32_t>(entry, f.offset));
+        mutateInteger(value, f.type, a.bytes().size(), rng);
+        a.setEntry(entry, f.offset, ridge::fuzz::load<uint32_t>(value));
+    } else {
+        ridge::fuzz::store(value, a.entry<float>(entry, f.offset));
+        mutateFloat(value, f.type, rng);
+        a.setEntry(entry, f.offset, ridge::fuzz::load<float>(value));
+    }
+    a.pack();
+}
+
 // Applies one of the mutations that change the file's size; false when none applied.
 bool mutateShape(uint8_t* data, size_t& size, size_t max_size, std::minstd_rand& rng)
 {
     try {
         ridge::test::ArchiveBytes a(std::vector<uint8_t>(data, data + size));
-        switch (rng() % 4) {
-        case 0:
-            mutateMetadataShape(a, rng);
-            break;
-        case 1:
-            mutateWholeMask(a, rng);
-            break;
-        case 2:
-            mutatePayloadEnd(a, rng);
-            break;
-        default:
-            mutateCodecTables(a, rng);
-            break;
+        if (a.packedIndex() && rng() % 2 == 0) {
+            mutateEntryField(a, rng);
+        } else {
+            switch (rng() % 4) {
+            case 0:
+                mutateMetadataShape(a, rng);
+                break;
+            case 1:
+                mutateWholeMask(a, rng);
+                break;
+            case 2:
+                mutatePayloadEnd(a, rng);
+                break;
+            default:
+                mutateCodecTables(a, rng);
+                break;
+            }
         }
+        a.pack(); // a packed index's moved offsets
         if (a.bytes().size() > max_size)
             return false;
         std::memcpy(data, a.bytes().data(), a.bytes().size());

@@ -46,9 +46,11 @@ for e in 1 4; do
   ./build/ridge build tests/data/everest_crop.tif -o "$seeds/archive/progressive_e${e}_17.ridge" -q --patch 17 \
       --codec progressive --max-error $e
 done
-# Payload v2 beside the default v3 (their contexts differ).
-./build/ridge build tests/data/everest_crop.tif -o "$seeds/archive/progressive_v2_e1_17.ridge" -q --patch 17 \
-    --codec progressive-v2 --max-error 1
+# Payloads v2 and v3 beside the default v4 (their contexts differ).
+for v in 2 3; do
+  ./build/ridge build tests/data/everest_crop.tif -o "$seeds/archive/progressive_v${v}_e1_17.ridge" -q \
+      --patch 17 --codec progressive-v$v --max-error 1
+done
 # jpeg2000 (OpenJPEG; HTJ2K is not decoded from untrusted bytes): archives for the field fuzzers, payloads for its decoder.
 ./build/ridge build tests/data/everest_crop.tif -o "$seeds/archive/jpeg2000_17.ridge" -q --patch 17 \
     --codec jpeg2000 --max-error 2
@@ -56,26 +58,38 @@ done
 ./build/ridge build tests/data/everest_crop.tif -o "$seeds/archive/fractal_17.ridge" -q --patch 17 \
     --codec fractal --max-error 2
 python3 - "$seeds" <<'PY'
-import struct, sys, glob, os
+import struct, sys, glob, os, subprocess
 seeds = sys.argv[1]
+
+def index_entries(b, index):
+    # Format 5 packs the index: one zstd frame of the 48-byte entries byte-transposed.
+    raw = b[index:]
+    if struct.unpack_from("<I", b, 8)[0] < 5:
+        return raw
+    t = subprocess.run(["zstd", "-d", "-c", "-q"], input=raw, stdout=subprocess.PIPE, check=True).stdout
+    count = len(t) // 48
+    return bytes(t[k * count + i] for i in range(count) for k in range(48))
+
 os.makedirs(seeds + "/progressive", exist_ok=True)
 os.makedirs(seeds + "/fractal", exist_ok=True)
 for path in glob.glob(seeds + "/archive/*.ridge"):
     b = open(path, "rb").read()
     n = struct.unpack_from("<I", b, 24)[0]
     size_byte = {5: 0, 9: 1, 17: 2, 33: 3, 65: 4, 129: 5}[n]
-    index = struct.unpack_from("<Q", b, 128)[0]
-    for k in range(0, (len(b) - index) // 48, 3):
-        _, _, _, be, off, size, _ = struct.unpack_from("<IIIIQII", b, index + 48 * k)
-        lvl = struct.unpack_from("<I", b, index + 48 * k)[0]
+    entries = index_entries(b, struct.unpack_from("<Q", b, 128)[0])
+    for k in range(0, len(entries) // 48, 3):
+        _, _, _, be, off, size, _ = struct.unpack_from("<IIIIQII", entries, 48 * k)
+        lvl = struct.unpack_from("<I", entries, 48 * k)[0]
         payload = b[off + be: off + size]
         version = struct.unpack_from("<I", b, 8)[0]
         if version >= 2:  # the validity mask: kind 0, a patch without nodata (others skipped)
             if payload[:1] != b"\0":
                 continue
             payload = payload[1:]
-        if version >= 4:  # the sample flags: kind 0 or 1 alone, or kind 2 and its zstd frame
-            skip = 5 + struct.unpack_from("<I", payload, 1)[0] if payload[0] == 2 else 1
+        if version >= 4:  # the sample flags: kind 0 or 1 alone, kind 2 and its zstd frame,
+            # or kind 3, its plane byte and its stream
+            skip = {2: lambda: 5 + struct.unpack_from("<I", payload, 1)[0],
+                    3: lambda: 6 + struct.unpack_from("<I", payload, 2)[0]}.get(payload[0], lambda: 1)()
             payload = payload[skip:]
         if payload[:1] == b"J":  # jpeg2000: size, level | quadrant << 1 | HTJ2K << 3
             name = "%s/jpeg2000/%s_%d" % (seeds, os.path.basename(path), k)
@@ -85,12 +99,12 @@ for path in glob.glob(seeds + "/archive/*.ridge"):
             name = "%s/fractal/%s_%d" % (seeds, os.path.basename(path), k)
             open(name, "wb").write(bytes([size_byte]) + payload)
         elif payload[:1] == b"P":  # progressive: size, level|quadrant, bound|variant, parent seed
-            # The variant the payload was written with: v1 (cubic, contexts), or v2/v3 with
-            # 32 nested levels and cubic prediction (byte 3's bit 7: v3).
+            # The variant the payload was written with: v1 (cubic, contexts), or v2..v4 with
+            # 32 nested levels and cubic prediction (byte 3's bits 6..7: the version).
             name = "%s/progressive/%s_%d" % (seeds, os.path.basename(path), k)
             v = payload[1]
             variant = (3 << 5) | 1 if v == 1 else (7 << 5) | 1
-            open(name, "wb").write(bytes([size_byte, min(lvl, 3), variant, 0x80 if v == 3 else 0]) + payload)
+            open(name, "wb").write(bytes([size_byte, min(lvl, 3), variant, {3: 0x40, 4: 0x80}.get(v, 0)]) + payload)
         else:
             name = "%s/payload/%s_%d" % (seeds, os.path.basename(path), k)
             open(name, "wb").write(bytes([size_byte]) + payload)

@@ -16,6 +16,7 @@ packages=(
   libwebp-dev                    # terrain-RGB tiles as lossless WebP
   libgtest-dev libgmock-dev libbenchmark-dev
   python3                        # bench and fuzz helper scripts
+  zstd                           # fuzz seeds: scripts/fuzz.sh unpacks archive indexes (format 5)
   python3-distributed            # sharded builds: python3 -m ridge_dask on Dask distributed
   clang libclang-rt-14-dev       # libFuzzer targets (scripts/fuzz.sh), the sanitizer build
   libomp-dev                     # OpenMP for clang (the sanitizer build)

@@ -174,17 +174,30 @@ void ArchiveReader::loadIndex()
     // untrusted fields: compare it with the file before multiplying (count · 48 may overflow).
     const uint64_t count = static_cast<uint64_t>(geometry_.patchCount());
     const uint64_t room = file_size_ - std::min(header_.index_offset, file_size_);
-    if (header_.index_offset > file_size_ || count > room / kIndexEntrySize)
+    const bool packed = header_.version >= kFirstVersionWithPackedIndex;
+    if (header_.index_offset > file_size_ || (!packed && count > room / kIndexEntrySize))
         fail("index lies outside the file (truncated archive): " + std::to_string(count) +
              " patches need " + std::to_string(count) + " x " + std::to_string(kIndexEntrySize) +
              " bytes, " + std::to_string(room) + " remain");
-    const uint64_t index_size = count * kIndexEntrySize;
-    if (room != index_size)
+    if (!packed && room != count * kIndexEntrySize)
         fail("unexpected bytes after the index");
-    std::vector<uint8_t> index(index_size);
-    readAt(header_.index_offset, index.data(), index.size(), "index");
-    if (crc32(index.data(), index.size()) != header_.index_crc32)
+    // A packed index may expand a lot (zstd), so its count is bounded by the blobs instead:
+    // every blob holds at least a validity kind, a sample-flags kind and one payload byte.
+    const uint64_t blob_area =
+        header_.patchAreaEnd() - std::min<uint64_t>(header_.patchAreaEnd(), kHeaderSize);
+    if (packed && count > blob_area / 3)
+        fail("index lies outside the file (truncated archive): " + std::to_string(count) +
+             " patches need at least 3 blob bytes each, the blobs have " +
+             std::to_string(blob_area));
+    std::vector<uint8_t> stored(room);
+    readAt(header_.index_offset, stored.data(), stored.size(), "index");
+    if (crc32(stored.data(), stored.size()) != header_.index_crc32)
         fail("index checksum mismatch (corrupt index)");
+    std::vector<uint8_t> index;
+    if (std::string problem =
+            unpackIndex(stored.data(), stored.size(), count, header_.version, index);
+        !problem.empty())
+        fail(problem);
 
     IndexContext ctx{header_, geometry_, {}};
     for (int l = 0; l < geometry_.levelCount(); ++l)
@@ -308,9 +321,9 @@ size_t ArchiveReader::payloadOffset(PatchId p, const std::vector<uint8_t>& blob,
     part.validity = consumed;
     if (storesSampleFlags()) {
         PatchSampleFlags local_flags;
-        problem = unpackSampleFlags(blob.data() + offset, blob.size() - offset, n,
-                                    corners_rule ? &v : nullptr,
-                                    sample_flags ? *sample_flags : local_flags, consumed);
+        problem = unpackSampleFlags(
+            blob.data() + offset, blob.size() - offset, n, corners_rule ? &v : nullptr,
+            sample_flags ? *sample_flags : local_flags, consumed, header_.version);
         if (!problem.empty())
             throw Error(describe(p) + ": " + problem);
         offset += consumed;

@@ -129,9 +129,7 @@ void ArchiveWriter::finish(const std::string& metadata_json)
     header_.metadata_size = static_cast<uint32_t>(metadata_json.size());
     header_.metadata_crc32 = crc32(metadata_json.data(), metadata_json.size());
     write(metadata_json.data(), metadata_json.size());
-    std::vector<uint8_t> index(records_.size() * kIndexEntrySize);
-    for (size_t i = 0; i < records_.size(); ++i)
-        serializeRecord(records_[i], index.data() + i * kIndexEntrySize);
+    const std::vector<uint8_t> index = packIndex(records_, header_.version);
     header_.index_offset = position_;
     header_.index_crc32 = crc32(index.data(), index.size());
     write(index.data(), index.size());

@@ -1,6 +1,7 @@
 #include "ridge/archive/format.h"
 
 #include "ridge/core/crc32.h"
+#include "ridge/core/error.h"
 #include "ridge/core/height_grid.h"
 #include "ridge/core/parameter_check.h"
 
@@ -9,6 +10,8 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+
+#include <zstd.h>
 
 namespace ridge::archive {
 
@@ -234,6 +237,59 @@ PatchRecord parseRecord(const uint8_t in[kIndexEntrySize])
     r.err_appr = get<float>(in + 40);
     r.err = get<float>(in + 44);
     return r;
+}
+
+std::vector<uint8_t> packIndex(const std::vector<PatchRecord>& records, uint32_t version)
+{
+    const size_t count = records.size();
+    std::vector<uint8_t> entries(count * kIndexEntrySize);
+    for (size_t i = 0; i < count; ++i)
+        serializeRecord(records[i], entries.data() + i * kIndexEntrySize);
+    if (version < kFirstVersionWithPackedIndex)
+        return entries;
+    std::vector<uint8_t> transposed(entries.size());
+    for (size_t i = 0; i < count; ++i)
+        for (size_t k = 0; k < kIndexEntrySize; ++k)
+            transposed[k * count + i] = entries[i * kIndexEntrySize + k];
+    // Level 9: within 2 % of level 19 on real indexes, and fast enough for a planet's.
+    std::vector<uint8_t> out(ZSTD_compressBound(transposed.size()));
+    const size_t size =
+        ZSTD_compress(out.data(), out.size(), transposed.data(), transposed.size(), 9);
+    if (ZSTD_isError(size))
+        throw Error(std::string("cannot compress the index: ") + ZSTD_getErrorName(size));
+    out.resize(size);
+    return out;
+}
+
+std::string unpackIndex(const uint8_t* data, size_t size, uint64_t count, uint32_t version,
+                        std::vector<uint8_t>& entries)
+{
+    const uint64_t bytes = count * kIndexEntrySize;
+    if (version < kFirstVersionWithPackedIndex) {
+        if (size != bytes)
+            return "index is " + std::to_string(size) + " bytes: " + std::to_string(count) +
+                   " patches need " + std::to_string(bytes);
+        entries.assign(data, data + size);
+        return {};
+    }
+    const unsigned long long content = ZSTD_getFrameContentSize(data, size);
+    if (content == ZSTD_CONTENTSIZE_UNKNOWN || content == ZSTD_CONTENTSIZE_ERROR)
+        return "index is not a zstd frame that states its content size";
+    if (content != bytes)
+        return "index frame holds " + std::to_string(content) + " bytes: " + std::to_string(count) +
+               " patches need " + std::to_string(bytes);
+    if (ZSTD_findFrameCompressedSize(data, size) != size)
+        return "index is not exactly one zstd frame (" + std::to_string(size) +
+               " bytes after index_offset)";
+    std::vector<uint8_t> transposed(bytes);
+    const size_t got = ZSTD_decompress(transposed.data(), transposed.size(), data, size);
+    if (ZSTD_isError(got) || got != bytes)
+        return "index frame does not decompress to its " + std::to_string(bytes) + " bytes";
+    entries.resize(bytes);
+    for (uint64_t i = 0; i < count; ++i)
+        for (size_t k = 0; k < kIndexEntrySize; ++k)
+            entries[i * kIndexEntrySize + k] = transposed[k * count + i];
+    return {};
 }
 
 float floatDown(double value)

@@ -50,7 +50,7 @@ ByteAccount accountBytes(const archive::ArchiveReader& reader)
     const PyramidGeometry& g = reader.geometry();
     ByteAccount a;
     a.header = archive::kHeaderSize;
-    a.index = uint64_t(g.patchCount()) * archive::kIndexEntrySize;
+    a.index = reader.fileSize() - h.index_offset; // the reader checked it lies in the file
     a.metadata = h.metadata_size;
     a.codec_tables = h.codec_tables_size;
     a.levels.resize(size_t(g.levelCount()));

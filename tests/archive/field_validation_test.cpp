@@ -14,7 +14,9 @@
 #include "ridge/pipeline/build.h"
 
 #include <gtest/gtest.h>
+
 #include <nlohmann/json.hpp>
+#include <zstd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -532,6 +534,36 @@ TEST(FieldValidation, AHugeGeometryIsComparedWithTheFileBeforeItsIndexSizeIsComp
                                               })(b);
                                           }),
                               "index lies outside the file"));
+}
+
+// A packed index (format 5) is a zstd frame, which may expand a thousandfold: a geometry of
+// more patches than the blobs could hold is refused before the frame is decompressed, even
+// when the frame states exactly the content those patches need (a "zip bomb" of zeros).
+TEST(FieldValidation, APackedIndexIsNotUnpackedForMorePatchesThanTheBlobsCanHold)
+{
+    const archive::ArchiveReader original(fixtures().lossless);
+    ASSERT_GE(original.header().version, 5u);
+    const uint32_t side = 16385; // ~65 000 patches of 33: far more than the fixture's blobs hold
+    const PyramidGeometry big(static_cast<int>(side), static_cast<int>(side),
+                              original.geometry().patchSize());
+    const size_t content = size_t(big.patchCount()) * 48;
+    const std::vector<uint8_t> zeros(content, 0);
+    std::vector<uint8_t> frame(ZSTD_compressBound(content));
+    frame.resize(ZSTD_compress(frame.data(), frame.size(), zeros.data(), zeros.size(), 19));
+    ASSERT_LT(frame.size(), content / 100) << "a frame that expands a hundredfold";
+    EXPECT_TRUE(refusedNaming(openCrafted(fixtures().lossless,
+                                          [&](ArchiveBytes& b) {
+                                              b.set<uint32_t>(ho::kWidth, side);
+                                              b.set<uint32_t>(ho::kHeight, side);
+                                              b.set<uint32_t>(ho::kLevelCount,
+                                                              uint32_t(big.levelCount()));
+                                              editMetadata([=](nlohmann::json& j) {
+                                                  j["source"]["width"] = side;
+                                                  j["source"]["height"] = side;
+                                              })(b);
+                                              b.setOpaqueIndex(frame);
+                                          }),
+                              "patches need at least 3 blob bytes each"));
 }
 
 // --- metadata ----------------------------------------------------------------------------

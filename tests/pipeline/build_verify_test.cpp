@@ -290,12 +290,22 @@ TEST(BuildVerify, SourceCheckCatchesAnUnderstatedErrorBound)
     // Claim 1 m for Err_Appr and Err of the level-3 patch (3, 0, 0), consistently, re-signed.
     const archive::ArchiveReader reader(out);
     const int64_t index = reader.geometry().patchIndex({3, 0, 0});
-    uint8_t* entry = bytes.data() + header.index_offset + index * archive::kIndexEntrySize;
-    archive::PatchRecord r = archive::parseRecord(entry);
+    const uint64_t count = uint64_t(reader.geometry().patchCount());
+    std::vector<uint8_t> entries;
+    ASSERT_EQ(archive::unpackIndex(bytes.data() + header.index_offset,
+                                   bytes.size() - header.index_offset, count, header.version,
+                                   entries),
+              "");
+    std::vector<archive::PatchRecord> records(count);
+    for (uint64_t i = 0; i < count; ++i)
+        records[i] = archive::parseRecord(entries.data() + i * archive::kIndexEntrySize);
+    archive::PatchRecord& r = records[size_t(index)];
     ASSERT_GT(r.err, 10.f);
     r.err = 1.f;
     r.err_appr = 1.f;
-    archive::serializeRecord(r, entry);
+    const std::vector<uint8_t> packed = archive::packIndex(records, header.version);
+    bytes.resize(header.index_offset);
+    bytes.insert(bytes.end(), packed.begin(), packed.end());
     header.index_crc32 =
         crc32(bytes.data() + header.index_offset, bytes.size() - header.index_offset);
     archive::serializeHeader(header, bytes.data());

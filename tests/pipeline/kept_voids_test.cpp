@@ -124,7 +124,7 @@ TEST(KeptVoids, WarpedCollarStaysNodataAndOnlyTheSourceFootprintIsExported)
         EXPECT_EQ(report.voids_kept, collar);
         EXPECT_EQ(report.voids_filled, 0);
         const archive::ArchiveReader reader(archive_path);
-        EXPECT_EQ(reader.header().version, 4u);
+        EXPECT_EQ(reader.header().version, archive::kFormatVersion);
         EXPECT_EQ(reader.metadata().source.voids_kept, collar);
         EXPECT_EQ(reader.metadata().source.fill_voids, "interior");
 

@@ -4,8 +4,15 @@
 // the renderer. Field offsets are spelled out from docs/FORMAT.md rather than taken from
 // src/archive, so a test does not inherit the reader's idea of the layout. Little-endian
 // hosts only (x86-64, arm64), as block_error_storage.cpp.
+//
+// From format version 5 the index is one zstd frame of byte-transposed entries: the entries
+// are then kept unpacked here, entry() and setEntry() edit them, and reseal() and save()
+// pack them again (an index that does not unpack stays raw bytes, edited in place).
 #include "ridge/core/crc32.h"
 
+#include <zstd.h>
+
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
@@ -43,19 +50,52 @@ class ArchiveBytes {
         if (!in)
             throw std::runtime_error("cannot read " + path);
         bytes_.assign(std::istreambuf_iterator<char>(in), {});
+        unpackIndex();
     }
     // Bytes that may be anything (fuzz inputs); reseal() needs at least the 160 header bytes.
-    explicit ArchiveBytes(std::vector<uint8_t> bytes) : bytes_(std::move(bytes)) {}
+    explicit ArchiveBytes(std::vector<uint8_t> bytes) : bytes_(std::move(bytes)) { unpackIndex(); }
     void save(const std::string& path) const
     {
+        const std::vector<uint8_t> packed = packedBytes();
+        const std::vector<uint8_t>& b = dirty_ ? packed : bytes_;
         std::ofstream out(path, std::ios::binary | std::ios::trunc);
-        out.write(reinterpret_cast<const char*>(bytes_.data()),
-                  static_cast<std::streamsize>(bytes_.size()));
+        out.write(reinterpret_cast<const char*>(b.data()), static_cast<std::streamsize>(b.size()));
         if (!out)
             throw std::runtime_error("cannot write " + path);
     }
 
+    // The file's bytes. With a packed index (version 5) edited through setEntry(), its region
+    // holds the entries as they were until reseal() or pack().
     std::vector<uint8_t>& bytes() { return bytes_; }
+    // Writes edited entries of a packed index back into the file's bytes (reseal() does).
+    void pack()
+    {
+        if (dirty_)
+            bytes_ = packedBytes();
+        dirty_ = false;
+    }
+    bool packedIndex() const { return packed_; }
+    // Replaces the index region with `region`, bytes that need not hold entries (a crafted
+    // frame): reseal() then only recomputes the index's checksum, not the blobs'.
+    void setOpaqueIndex(const std::vector<uint8_t>& region)
+    {
+        bytes_.resize(std::min(static_cast<size_t>(indexOffset()), bytes_.size()));
+        bytes_.insert(bytes_.end(), region.begin(), region.end());
+        packed_ = dirty_ = false;
+        entries_.clear();
+        opaque_ = true;
+    }
+    // Stores a packed index's entries as they are (the layout of versions 1..4), for an
+    // archive rewritten as an older version; set the version before reseal().
+    void storeIndexUnpacked()
+    {
+        if (!packed_)
+            return;
+        bytes_.resize(std::min(static_cast<size_t>(indexOffset()), bytes_.size()));
+        bytes_.insert(bytes_.end(), entries_.begin(), entries_.end());
+        packed_ = dirty_ = false;
+        entries_.clear();
+    }
 
     template <typename T> T get(size_t offset) const
     {
@@ -71,23 +111,28 @@ class ArchiveBytes {
     uint64_t metadataOffset() const { return get<uint64_t>(header_offset::kMetadataOffset); }
     uint32_t metadataSize() const { return get<uint32_t>(header_offset::kMetadataSize); }
     uint64_t indexOffset() const { return get<uint64_t>(header_offset::kIndexOffset); }
-    // Entries between index_offset and the end of the file.
+    // Entries of the index: between index_offset and the end of the file, or those the
+    // packed index holds.
     size_t entryCount() const
     {
+        if (packed_)
+            return entries_.size() / entry_offset::kEntrySize;
         return (bytes_.size() - static_cast<size_t>(indexOffset())) / entry_offset::kEntrySize;
-    }
-    // File offset of field `field` (entry_offset::k...) of index entry `i`.
-    size_t entryField(size_t i, size_t field) const
-    {
-        return static_cast<size_t>(indexOffset()) + i * entry_offset::kEntrySize + field;
     }
     template <typename T> T entry(size_t i, size_t field) const
     {
-        return get<T>(entryField(i, field));
+        if (!packed_)
+            return get<T>(entryField(i, field));
+        T value;
+        std::memcpy(&value, entryAt(i, field, sizeof(T)), sizeof(T));
+        return value;
     }
     template <typename T> void setEntry(size_t i, size_t field, T value)
     {
-        set<T>(entryField(i, field), value);
+        if (!packed_)
+            return set<T>(entryField(i, field), value);
+        std::memcpy(const_cast<uint8_t*>(entryAt(i, field, sizeof(T))), &value, sizeof(T));
+        dirty_ = true;
     }
 
     std::string metadata() const
@@ -115,12 +160,13 @@ class ArchiveBytes {
     {
         const size_t index = static_cast<size_t>(indexOffset());
         if (index <= bytes_.size()) {
-            for (size_t i = 0; i < entryCount(); ++i) {
+            for (size_t i = 0; i < (opaque_ ? 0 : entryCount()); ++i) {
                 const uint64_t offset = entry<uint64_t>(i, entry_offset::kOffset);
                 const uint32_t size = entry<uint32_t>(i, entry_offset::kSize);
                 if (offset <= bytes_.size() && size <= bytes_.size() - offset)
                     setEntry<uint32_t>(i, entry_offset::kCrc, crc32(bytes_.data() + offset, size));
             }
+            pack();
             set<uint32_t>(header_offset::kIndexCrc,
                           crc32(bytes_.data() + index, bytes_.size() - index));
         }
@@ -131,6 +177,66 @@ class ArchiveBytes {
     }
 
   private:
+    // File offset of field `field` (entry_offset::k...) of index entry `i` (raw index).
+    size_t entryField(size_t i, size_t field) const
+    {
+        return static_cast<size_t>(indexOffset()) + i * entry_offset::kEntrySize + field;
+    }
+    const uint8_t* entryAt(size_t i, size_t field, size_t size) const
+    {
+        const size_t offset = i * entry_offset::kEntrySize + field;
+        if (offset > entries_.size() || size > entries_.size() - offset)
+            throw std::out_of_range("archive bytes: entry " + std::to_string(i) +
+                                    " is outside the index");
+        return entries_.data() + offset;
+    }
+
+    // Version 5 on: the index region as one zstd frame of byte-transposed entries
+    // (docs/FORMAT.md, "Index"). Left raw when the bytes are not that.
+    void unpackIndex()
+    {
+        if (bytes_.size() < header_offset::kHeaderSize || get<uint32_t>(8) < 5)
+            return;
+        const uint64_t index = indexOffset();
+        if (index > bytes_.size())
+            return;
+        const uint8_t* z = bytes_.data() + index;
+        const size_t size = bytes_.size() - size_t(index);
+        const unsigned long long content = ZSTD_getFrameContentSize(z, size);
+        if (content == ZSTD_CONTENTSIZE_UNKNOWN || content == ZSTD_CONTENTSIZE_ERROR ||
+            content % entry_offset::kEntrySize != 0 || content > (uint64_t{1} << 28) ||
+            ZSTD_findFrameCompressedSize(z, size) != size)
+            return;
+        std::vector<uint8_t> transposed(content);
+        if (ZSTD_decompress(transposed.data(), transposed.size(), z, size) != content)
+            return;
+        const size_t count = content / entry_offset::kEntrySize;
+        entries_.resize(content);
+        for (size_t i = 0; i < count; ++i)
+            for (size_t k = 0; k < entry_offset::kEntrySize; ++k)
+                entries_[i * entry_offset::kEntrySize + k] = transposed[k * count + i];
+        packed_ = true;
+    }
+    // The file with the entries packed again after index_offset (what ridge writes: zstd
+    // level 9).
+    std::vector<uint8_t> packedBytes() const
+    {
+        const size_t count = entries_.size() / entry_offset::kEntrySize;
+        std::vector<uint8_t> transposed(entries_.size());
+        for (size_t i = 0; i < count; ++i)
+            for (size_t k = 0; k < entry_offset::kEntrySize; ++k)
+                transposed[k * count + i] = entries_[i * entry_offset::kEntrySize + k];
+        std::vector<uint8_t> frame(ZSTD_compressBound(transposed.size()));
+        const size_t size =
+            ZSTD_compress(frame.data(), frame.size(), transposed.data(), transposed.size(), 9);
+        if (ZSTD_isError(size))
+            throw std::runtime_error("archive bytes: cannot pack the index");
+        const size_t index = std::min(static_cast<size_t>(indexOffset()), bytes_.size());
+        std::vector<uint8_t> out(bytes_.begin(), bytes_.begin() + std::ptrdiff_t(index));
+        out.insert(out.end(), frame.begin(), frame.begin() + std::ptrdiff_t(size));
+        return out;
+    }
+
     uint8_t* at(size_t offset, size_t size)
     {
         if (offset > bytes_.size() || size > bytes_.size() - offset)
@@ -144,6 +250,10 @@ class ArchiveBytes {
     }
 
     std::vector<uint8_t> bytes_;
+    bool packed_ = false; // version 5: the index is kept unpacked in entries_
+    bool dirty_ = false;  // entries_ edited since the index was last packed into bytes_
+    bool opaque_ = false; // setOpaqueIndex(): the region holds no entries to reseal
+    std::vector<uint8_t> entries_;
 };
 
 } // namespace ridge::test

@@ -1,10 +1,14 @@
 #pragma once
-// The .ridge archive, format version 4 (version 3: the same without per-patch sample flags;
-// version 2: also without the codec tables region; version 1: also without validity masks).
-// docs/FORMAT.md is the normative description; this header mirrors it. All integers and floats are
-// little-endian, IEEE-754.
+// The .ridge archive, format version 5 (version 4: the same with zstd sample-flag bitmaps and
+// the index entries stored as they are; version 3: also without per-patch sample flags; version 2:
+// also without the codec tables region; version 1: also without validity masks). docs/FORMAT.md is
+// the normative description; this header mirrors it. All integers and floats are little-endian,
+// IEEE-754.
 //
-//   [header: 160 bytes][patch blobs][codec tables][metadata: UTF-8 JSON][index: 48 B/patch]
+//   [header: 160 bytes][patch blobs][codec tables][metadata: UTF-8 JSON][index]
+//
+// The index holds a 48-byte entry per patch: as they are up to version 4, from version 5 in
+// one zstd frame, byte-transposed (packIndex).
 //
 // Compatibility: readers accept every version <= kFormatVersion and reject newer ones;
 // writers always write kFormatVersion.
@@ -13,17 +17,22 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace ridge::archive {
 
 inline constexpr char kMagic[8] = {'R', 'I', 'D', 'G', 'E', 'A', 'R', 'C'};
-inline constexpr uint32_t kFormatVersion = 4;
+inline constexpr uint32_t kFormatVersion = 5;
 // The first version whose blobs hold a validity mask after the block errors.
 inline constexpr uint32_t kFirstVersionWithValidity = 2;
 // The first version with a codec tables region (header bytes 140..155, zero before).
 inline constexpr uint32_t kFirstVersionWithCodecTables = 3;
 // The first version whose blobs hold sample flags (water, filled) after the validity mask.
 inline constexpr uint32_t kFirstVersionWithSampleFlags = 4;
+// The first version whose sample-flag bitmaps are context-coded (kind 3) instead of zstd's.
+inline constexpr uint32_t kFirstVersionWithContextCodedFlags = 5;
+// The first version whose index is one zstd frame of byte-transposed entries.
+inline constexpr uint32_t kFirstVersionWithPackedIndex = 5;
 inline constexpr size_t kHeaderSize = 160;
 inline constexpr size_t kIndexEntrySize = 48;
 // λ stored as this value means "larger than representable: never simplify".
@@ -95,6 +104,19 @@ void serializeHeader(const Header& header, uint8_t out[kHeaderSize]);
 std::string parseHeader(const uint8_t in[kHeaderSize], Header& header);
 void serializeRecord(const PatchRecord& record, uint8_t out[kIndexEntrySize]);
 PatchRecord parseRecord(const uint8_t in[kIndexEntrySize]);
+
+// The index region of an archive of format `version`: the entries (serializeRecord) one after
+// the other up to version 4; from version 5 one zstd frame, stating its content size, of the
+// same count·48 bytes byte-transposed (byte k of entry i at k·count + i: a field's bytes of
+// every entry side by side, where zstd finds the levels, positions and offsets alike).
+// A quarter of the bytes on real archives (docs/PERF.md).
+std::vector<uint8_t> packIndex(const std::vector<PatchRecord>& records, uint32_t version);
+// The count·48 entry bytes of an index region of `size` bytes, as serializeRecord wrote them,
+// into `entries`; the problem otherwise (the region is not exactly that, or, version 5, not
+// one zstd frame of that content). `count` must already be bounded by the file (the caller
+// allocates count·48 bytes).
+std::string unpackIndex(const uint8_t* data, size_t size, uint64_t count, uint32_t version,
+                        std::vector<uint8_t>& entries);
 
 // Float rounding that never moves a bound inwards: the nearest float <= / >= value.
 float floatDown(double value);
