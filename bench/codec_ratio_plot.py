@@ -2,7 +2,7 @@
 """Plots ridge's archive against the strongest anchor over several `ridge codec-bench` runs.
 
     ridge codec-bench DEM --json-file DEM.json -q      # once per DEM
-    bench/codec_ratio_plot.py A.json B.json ... -o docs/images/codec_v3_vs_jxl.png
+    bench/codec_ratio_plot.py A.json B.json ... -o docs/images/codec_v4_vs_jxl.png
 
 One line per DEM: JPEG XL effort 9's bytes (finest level) over ridge's (whole pyramid
 archive) at each bound, with issue 31's targets (1.0 at every bound, 1.1 on the median).
