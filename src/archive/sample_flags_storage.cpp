@@ -5,6 +5,8 @@
 
 #include "ridge/archive/format.h"
 
+#include <algorithm>
+
 namespace ridge::archive {
 
 namespace {
@@ -13,18 +15,17 @@ constexpr uint8_t kKindNone = 0, kKindAllWater = 1, kKindBitmap = 2, kKindContex
 // Kind 3's plane byte: which bitmaps are coded (an absent one is all 0).
 constexpr uint8_t kPlaneWater = 1, kPlaneFilled = 2;
 
+bool anySet(const std::vector<uint8_t>& plane)
+{
+    return std::any_of(plane.begin(), plane.end(), [](uint8_t b) { return b != 0; });
+}
+
 // Kind 3: the plane byte, u32 stream_size, then the context-coded planes (context_bitmap.h).
 std::vector<uint8_t> packContextBitmap(const std::vector<uint8_t>& water,
                                        const std::vector<uint8_t>& filled, int n)
 {
-    auto any = [](const std::vector<uint8_t>& v) {
-        for (const uint8_t b : v)
-            if (b)
-                return true;
-        return false;
-    };
     const uint8_t present =
-        uint8_t((any(water) ? kPlaneWater : 0) | (any(filled) ? kPlaneFilled : 0));
+        uint8_t((anySet(water) ? kPlaneWater : 0) | (anySet(filled) ? kPlaneFilled : 0));
     std::vector<const std::vector<uint8_t>*> planes;
     if (present & kPlaneWater)
         planes.push_back(&water);
@@ -63,10 +64,7 @@ std::string unpackContextBitmap(const uint8_t* data, size_t size, int n,
                std::to_string(planes.size()) + " planes of n² bits in its " +
                std::to_string(stream_size) + " bytes)";
     for (const auto* plane : planes) {
-        bool any = false;
-        for (const uint8_t b : *plane)
-            any |= b != 0;
-        if (!any)
+        if (!anySet(*plane))
             return std::string("sample flags kind 3 codes an empty ") +
                    (plane == &water ? "water" : "filled") +
                    " plane (not canonical: leave it out of the plane byte)";

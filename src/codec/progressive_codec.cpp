@@ -293,7 +293,7 @@ bool ProgressiveCodec::validContext(const PatchContext& ctx) const
 }
 
 int ProgressiveCodec::entropyDecode(const uint8_t* src, size_t src_size, const PatchContext& ctx,
-                                    int32_t* residuals) const
+                                    int32_t* residuals, const int32_t* parent_bins) const
 {
     if (src_size < kHeaderSize)
         return kCodecTruncated;
@@ -312,14 +312,17 @@ int ProgressiveCodec::entropyDecode(const uint8_t* src, size_t src_size, const P
     ResidualCodingV2 coding{variant_.format, ctx.level, ctx.level == 0, codedRegion(ctx),
                             (flags & kV2RefinementsCoded) != 0};
     if (variant_.format == 4 && !coding.root) {
-        // v4's contexts read the parent's bins at this level's step.
+        // v4's contexts read the parent's bins at this level's step (decode() has them).
         if (!ctx.parent)
             return kCodecNeedsParent;
-        thread_local std::vector<int32_t> parent_bins;
-        parent_bins.resize(static_cast<size_t>(ctx.patch_size) * ctx.patch_size);
-        requantizeParent(quantizer(ctx.level), ctx.parent, ctx.patch_size, ctx.child_index,
-                         parent_bins.data());
-        coding.parent_bins = parent_bins.data();
+        if (!parent_bins) {
+            thread_local std::vector<int32_t> requantized;
+            requantized.resize(static_cast<size_t>(ctx.patch_size) * ctx.patch_size);
+            requantizeParent(quantizer(ctx.level), ctx.parent, ctx.patch_size, ctx.child_index,
+                             requantized.data());
+            parent_bins = requantized.data();
+        }
+        coding.parent_bins = parent_bins;
         coding.child_index = ctx.child_index;
     }
     return decodeResidualsV2(src + kV2HeaderSize, src_size - kV2HeaderSize, ctx.patch_size, coding,
@@ -376,21 +379,26 @@ int ProgressiveCodec::decode(uint16_t* dst, const uint8_t* src, size_t src_size,
     if (ctx.level > 0 && !ctx.parent)
         return kCodecNeedsParent;
 
-    // 1. Entropy decoding (CPU): the residual grid.
+    // 0. The parent's bins at this level's step: v4's contexts read them, the reconstruction
+    // refines them.
     const int n = ctx.patch_size;
     Scratch& s = scratch(n);
-    const int status = entropyDecode(src, src_size, ctx, s.residuals.data());
+    const LevelQuantizer quant = quantizer(ctx.level);
+    if (ctx.level > 0)
+        requantizeParent(quant, ctx.parent, n, ctx.child_index, s.parent_q.data());
+
+    // 1. Entropy decoding (CPU): the residual grid.
+    const int status = entropyDecode(src, src_size, ctx, s.residuals.data(),
+                                     ctx.level > 0 ? s.parent_q.data() : nullptr);
     if (status != kCodecOk)
         return status;
 
     // 2. Reconstruction (GPU-able): refine + predict + add, then bins to heights.
     const size_t samples = static_cast<size_t>(n) * n;
-    const LevelQuantizer quant = quantizer(ctx.level);
     const CodedRegion region = codedRegion(ctx);
     if (ctx.level == 0) {
         reconstructRoot(s.residuals.data(), n, region, s.q.data());
     } else {
-        requantizeParent(quant, ctx.parent, n, ctx.child_index, s.parent_q.data());
         reconstructChild(s.residuals.data(), s.parent_q.data(), ctx.child_index, n, region,
                          variant_.predictor, s.q.data(), weights(ctx.level));
     }

@@ -149,6 +149,16 @@ template <int kClass> inline int parentOffset(const int32_t* b, ptrdiff_t bs, in
     }
 }
 
+// Whether `coding` can use tables or counts of `contexts` per class: v4 needs 48 and, below
+// the root, the parent's bins; v2 and v3 need 16. The codec always passes such; a false here
+// is a caller's error, never a payload's.
+bool consistent(const ResidualCodingV2& coding, int contexts)
+{
+    if (coding.version == 4)
+        return contexts == kContextsV4 && (coding.root || coding.parent_bins);
+    return contexts == kContexts;
+}
+
 // Residuals the tokens carry (progressive_tokens.h); the encoder rejects any other.
 inline bool codable(int32_t d)
 {
@@ -346,8 +356,7 @@ class FastDecoder {
 bool encodeResidualsV2(const int32_t* residuals, int n, const ResidualCodingV2& coding,
                        const ProgressiveTables& tables, std::vector<uint8_t>& out)
 {
-    if (tables.contexts() != (coding.version == 4 ? kContextsV4 : kContexts) ||
-        (coding.version == 4 && !coding.root && !coding.parent_bins))
+    if (!consistent(coding, tables.contexts()))
         return false;
     thread_local rans::Encoder rans;
     tokens::BitWriter raw;
@@ -366,8 +375,7 @@ bool encodeResidualsV2(const int32_t* residuals, int n, const ResidualCodingV2& 
 bool countResidualsV2(const int32_t* residuals, int n, const ResidualCodingV2& coding,
                       SymbolCounts& counts)
 {
-    if (counts.contexts() != (coding.version == 4 ? kContextsV4 : kContexts) ||
-        (coding.version == 4 && !coding.root && !coding.parent_bins))
+    if (!consistent(coding, counts.contexts()))
         return false;
     CountSide side{counts, coding.level};
     traverse(const_cast<int32_t*>(residuals), n, coding, side); // CountSide only reads
@@ -392,9 +400,8 @@ int decodeResidualsV2(const uint8_t* data, size_t size, int n, const ResidualCod
     uint8_t* origin = mags.row(0);
     const ptrdiff_t ms = mags.stride();
     const CodedRegion& r = coding.region;
-    const int contexts = coding.version == 4 ? kContextsV4 : kContexts;
-    if (tables.contexts() != contexts ||
-        (coding.version == 4 && !coding.root && !coding.parent_bins))
+    const int contexts = tables.contexts();
+    if (!consistent(coding, contexts))
         return kCodecBadHeader; // the codec passes both: never reached from a payload
     const rans::Table* by_context[4][kContextsV4];
     for (int c = 0; c < 4; ++c)

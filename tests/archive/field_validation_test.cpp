@@ -517,23 +517,32 @@ TEST(FieldValidation, BlobsLieInThePatchAreaSplitSensiblyAndTileItWithoutOverlap
                       "index entry " + std::to_string(e) + " is out of order"));
 }
 
+namespace {
+
+// The header and metadata of a `side` × `side` grid in `levels` levels (blobs and index as
+// they are).
+void setSquareGeometry(ArchiveBytes& b, uint32_t side, int levels)
+{
+    b.set<uint32_t>(ho::kWidth, side);
+    b.set<uint32_t>(ho::kHeight, side);
+    b.set<uint32_t>(ho::kLevelCount, uint32_t(levels));
+    editMetadata([=](nlohmann::json& j) {
+        j["source"]["width"] = side;
+        j["source"]["height"] = side;
+    })(b);
+}
+
+} // namespace
+
 TEST(FieldValidation, AHugeGeometryIsComparedWithTheFileBeforeItsIndexSizeIsComputed)
 {
     // 2^31 - 1 samples a side in patches of 33: 27 levels, ~6e15 patches, a 3e17-byte index.
     constexpr uint32_t kHuge = 2147483647u;
     const PyramidGeometry huge(static_cast<int>(kHuge), static_cast<int>(kHuge), 33);
-    EXPECT_TRUE(refusedNaming(openCrafted(fixtures().lossless,
-                                          [&](ArchiveBytes& b) {
-                                              b.set<uint32_t>(ho::kWidth, kHuge);
-                                              b.set<uint32_t>(ho::kHeight, kHuge);
-                                              b.set<uint32_t>(ho::kLevelCount,
-                                                              uint32_t(huge.levelCount()));
-                                              editMetadata([=](nlohmann::json& j) {
-                                                  j["source"]["width"] = kHuge;
-                                                  j["source"]["height"] = kHuge;
-                                              })(b);
-                                          }),
-                              "index lies outside the file"));
+    EXPECT_TRUE(refusedNaming(
+        openCrafted(fixtures().lossless,
+                    [&](ArchiveBytes& b) { setSquareGeometry(b, kHuge, huge.levelCount()); }),
+        "index lies outside the file"));
 }
 
 // A packed index (format 5) is a zstd frame, which may expand a thousandfold: a geometry of
@@ -553,14 +562,7 @@ TEST(FieldValidation, APackedIndexIsNotUnpackedForMorePatchesThanTheBlobsCanHold
     ASSERT_LT(frame.size(), content / 100) << "a frame that expands a hundredfold";
     EXPECT_TRUE(refusedNaming(openCrafted(fixtures().lossless,
                                           [&](ArchiveBytes& b) {
-                                              b.set<uint32_t>(ho::kWidth, side);
-                                              b.set<uint32_t>(ho::kHeight, side);
-                                              b.set<uint32_t>(ho::kLevelCount,
-                                                              uint32_t(big.levelCount()));
-                                              editMetadata([=](nlohmann::json& j) {
-                                                  j["source"]["width"] = side;
-                                                  j["source"]["height"] = side;
-                                              })(b);
+                                              setSquareGeometry(b, side, big.levelCount());
                                               b.setOpaqueIndex(frame);
                                           }),
                               "patches need at least 3 blob bytes each"));

@@ -163,8 +163,10 @@ class ProgressiveCodec final : public HeightCodec {
   private:
     bool validContext(const PatchContext& ctx) const;
     // Header checks and the entropy decoding shared by decode() and decodeResiduals().
+    // `parent_bins`: the parent requantized at ctx.level (requantizeParent) when the caller
+    // has it, else null (v4 then computes it).
     int entropyDecode(const uint8_t* src, size_t src_size, const PatchContext& ctx,
-                      int32_t* residuals) const;
+                      int32_t* residuals, const int32_t* parent_bins = nullptr) const;
     // Bins and residuals of a patch as encode() computes them (the trainer's input too), and
     // below the root the parent's bins at the patch's step (requantizeParent) in
     // parent_bins[n·n]. Returns false for a context encode() rejects.
