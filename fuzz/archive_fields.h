@@ -71,6 +71,7 @@ inline constexpr Field kEntryFields[] = {
 struct ArchiveLayout {
     bool valid = false;
     Region metadata;
+    bool packed_metadata = false; // format 6: the region is a zstd frame, not the JSON
     size_t index_offset = 0;
     size_t entries = 0;
 
@@ -90,6 +91,7 @@ struct ArchiveLayout {
         std::memcpy(&version, data + 8, 4);
         // Version 5's index is packed (zstd): its fields have no file offset, the mutator
         // edits them through ArchiveBytes (fuzz_archive_fields.cpp, mutateEntryField).
+        l.packed_metadata = version >= 6;
         if (index <= size && version < 5) {
             l.index_offset = size_t(index);
             l.entries = (size - l.index_offset) / e::kEntrySize;

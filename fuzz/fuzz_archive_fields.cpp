@@ -4,7 +4,8 @@
 // CRC-32 stops accidents, not a buggy writer or an attacker, so this target re-seals every
 // input (header, metadata, index and blob checksums recomputed) before opening it: every
 // mutation reaches the field checks instead of dying at a checksum. A custom mutator edits
-// whole fields of real archives (header, index entries, metadata values) with the values that
+// whole fields of real archives (header, index entries, metadata values: in place, or in the
+// document of a packed metadata frame, format 6) with the values that
 // break arithmetic: NaN, infinities, zero, negative, huge, off-by-one; and the validity masks
 // of the blobs (kind, frame_size, frame bytes). And what the second review found (issue 23),
 // changing sizes where they must: metadata values nested up to 100,000 deep and bytes after a
@@ -97,12 +98,13 @@ void mutateInteger(uint8_t* p, FieldType type, size_t file_size, std::minstd_ran
         ridge::fuzz::store<uint32_t>(p, static_cast<uint32_t>(w));
 }
 
-// Overwrites one JSON value of the metadata with a token of another kind or range, padded
-// with spaces to the same length so that the layout of the file is unchanged.
-void mutateMetadataValue(uint8_t* data, const ridge::fuzz::Region& metadata, std::minstd_rand& rng)
+// Overwrites one JSON value of a metadata document with a token of another kind or range,
+// padded with spaces to the same length (so that, stored as it is before format 6, the layout
+// of the file is unchanged).
+void mutateMetadataValue(char* data, size_t size, std::minstd_rand& rng)
 {
     std::vector<size_t> colons;
-    for (size_t k = metadata.offset; k < metadata.offset + metadata.size; ++k)
+    for (size_t k = 0; k < size; ++k)
         if (data[k] == ':')
             colons.push_back(k);
     if (colons.empty())
@@ -110,8 +112,7 @@ void mutateMetadataValue(uint8_t* data, const ridge::fuzz::Region& metadata, std
     const size_t start = colons[rng() % colons.size()] + 1;
     size_t end = start;
     int depth = 0;
-    const size_t limit = metadata.offset + metadata.size;
-    while (end < limit &&
+    while (end < size &&
            (depth > 0 || (data[end] != ',' && data[end] != '}' && data[end] != '\n'))) {
         depth += data[end] == '[' || data[end] == '{';
         depth -= data[end] == ']' || data[end] == '}';
@@ -142,6 +143,15 @@ void mutateMetadataValue(uint8_t* data, const ridge::fuzz::Region& metadata, std
         return;
     std::memset(data + start, ' ', end - start);
     std::memcpy(data + start, token.data(), token.size());
+}
+
+// From format 6 the metadata is a zstd frame: its values are edited in the document, which
+// is then packed again (the region's size changes).
+void mutatePackedMetadataValue(ridge::test::ArchiveBytes& a, std::minstd_rand& rng)
+{
+    std::string text = a.metadata();
+    mutateMetadataValue(text.data(), text.size(), rng);
+    a.setMetadata(text);
 }
 
 // Edits the validity mask (format v2) of one patch, which starts after its block errors:
@@ -332,7 +342,10 @@ bool mutateShape(uint8_t* data, size_t& size, size_t max_size, std::minstd_rand&
         } else {
             switch (rng() % 4) {
             case 0:
-                mutateMetadataShape(a, rng);
+                if (a.packedMetadata() && rng() % 2)
+                    mutatePackedMetadataValue(a, rng);
+                else
+                    mutateMetadataShape(a, rng);
                 break;
             case 1:
                 mutateWholeMask(a, rng);
@@ -370,8 +383,9 @@ extern "C" size_t LLVMFuzzerCustomMutator(uint8_t* data, size_t size, size_t max
     const int mutations = 1 + int(rng() % 3);
     for (int m = 0; m < mutations; ++m) {
         const uint32_t what = rng() % 8;
-        if (what == 0 && layout.metadata.size > 0) {
-            mutateMetadataValue(data, layout.metadata, rng);
+        if (what == 0 && layout.metadata.size > 0 && !layout.packed_metadata) {
+            mutateMetadataValue(reinterpret_cast<char*>(data) + layout.metadata.offset,
+                                layout.metadata.size, rng);
             continue;
         }
         if (what == 1) {

@@ -157,10 +157,14 @@ void ArchiveReader::loadMetadata()
     if (header_.metadata_size > kMaxMetadataBytes)
         fail("header field metadata_size is " + std::to_string(header_.metadata_size) +
              ": must be at most " + std::to_string(kMaxMetadataBytes));
-    metadata_.resize(header_.metadata_size);
-    readAt(header_.metadata_offset, metadata_.data(), metadata_.size(), "metadata");
-    if (crc32(metadata_.data(), metadata_.size()) != header_.metadata_crc32)
+    std::vector<uint8_t> region(header_.metadata_size);
+    readAt(header_.metadata_offset, region.data(), region.size(), "metadata");
+    if (crc32(region.data(), region.size()) != header_.metadata_crc32)
         fail("metadata checksum mismatch (corrupt metadata)");
+    if (const std::string why =
+            unpackMetadata(region.data(), region.size(), header_.version, metadata_);
+        !why.empty())
+        fail(why);
     try {
         metadata_fields_ = parseArchiveMetadata(metadata_, header_);
     } catch (const Error& e) {

@@ -125,10 +125,11 @@ void ArchiveWriter::finish(const std::string& metadata_json)
     header_.codec_tables_size = static_cast<uint32_t>(codec_tables_.size());
     header_.codec_tables_crc32 = crc32(codec_tables_.data(), codec_tables_.size());
     write(codec_tables_.data(), codec_tables_.size());
+    const std::vector<uint8_t> metadata = packMetadata(metadata_json, header_.version);
     header_.metadata_offset = position_;
-    header_.metadata_size = static_cast<uint32_t>(metadata_json.size());
-    header_.metadata_crc32 = crc32(metadata_json.data(), metadata_json.size());
-    write(metadata_json.data(), metadata_json.size());
+    header_.metadata_size = static_cast<uint32_t>(metadata.size());
+    header_.metadata_crc32 = crc32(metadata.data(), metadata.size());
+    write(metadata.data(), metadata.size());
     const std::vector<uint8_t> index = packIndex(records_, header_.version);
     header_.index_offset = position_;
     header_.index_crc32 = crc32(index.data(), index.size());

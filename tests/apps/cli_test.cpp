@@ -319,7 +319,7 @@ TEST(Cli, FillVoidsKeepsTheWarpedCollarAndSaysHowManySamplesItKeptOrFilled)
     EXPECT_EQ(j.at("fill_voids"), "interior");
     r = test::runRidge("info '" + kept + "'");
     ASSERT_EQ(r.exit_code, 0) << r.output;
-    EXPECT_NE(r.output.find("ridge format v5"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("ridge format v6"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("0 voids filled, 5679 kept as nodata, --fill-voids interior"),
               std::string::npos)
         << r.output;

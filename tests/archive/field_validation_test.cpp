@@ -3,6 +3,7 @@
 // (test::ArchiveBytes::reseal), and the reader must refuse each with a message that starts
 // with the archive path and names the field. And every archive ridge builds still opens.
 #include "archive_bytes.h"
+#include "archive_craft.h"
 #include "fixture_archives.h"
 #include "test_support.h"
 
@@ -55,16 +56,7 @@ using Edit = std::function<void(ArchiveBytes&)>;
 // reader's message, or "" when it opened.
 std::string openCrafted(const std::string& archive, const Edit& edit)
 {
-    ArchiveBytes bytes(archive);
-    edit(bytes);
-    bytes.reseal();
-    bytes.save(fixtures().crafted);
-    try {
-        const archive::ArchiveReader reader(fixtures().crafted);
-        return "";
-    } catch (const Error& e) {
-        return e.what();
-    }
+    return test::openEdited(archive, fixtures().crafted, edit);
 }
 
 // The reader refused the crafted archive, saying where (the path first) and what (`phrase`),

@@ -71,7 +71,7 @@ TEST(ArchiveFormat, HeaderBytesArePinned)
         std::memcpy(&v, bytes + o, 8);
         return v;
     };
-    EXPECT_EQ(u32(8), 5u);    // version
+    EXPECT_EQ(u32(8), 6u);    // version
     EXPECT_EQ(u32(12), 160u); // header size
     EXPECT_EQ(u32(16), 301u); // width
     EXPECT_EQ(u32(20), 203u); // height
@@ -116,10 +116,10 @@ TEST(ArchiveFormat, ParseRejectsBadMagicNewerVersionsAndCorruptHeaders)
     bad[0] = 'X';
     EXPECT_NE(parseHeader(bad, h).find("magic"), std::string::npos);
     std::memcpy(bad, bytes, kHeaderSize);
-    bad[8] = 6;
+    bad[8] = 7;
     EXPECT_NE(parseHeader(bad, h).find("not supported"), std::string::npos);
-    for (const uint8_t known : {1, 2, 3, 4, 5}) { // every version this reader knows
-        if (known < 3)                            // their bytes 140..155 are reserved: zero
+    for (const uint8_t known : {1, 2, 3, 4, 5, 6}) { // every version this reader knows
+        if (known < 3)                               // their bytes 140..155 are reserved: zero
             serializeHeader(
                 [] {
                     Header z = sampleHeader();

@@ -435,23 +435,24 @@ TEST(Water, VerifySourceRefutesWaterAndFilledFlagsTheSourceDoesNotSupport)
     EXPECT_TRUE(filled) << (refuted.problems.empty() ? "ok" : refuted.problems.front());
 }
 
-// Format 5 context-codes the flag bitmaps (kind 3); version 4 archives, zstd bitmaps (kind 2),
-// still read with the same flags and verify against their source. Each version has one bitmap
-// kind: a version 5 archive holding kind 2 is refused, naming the patch and the kind.
-TEST(Water, Version4ArchivesWithZstdBitmapsStillReadAndVersion5RefusesThem)
+// Format 5 on context-codes the flag bitmaps (kind 3); version 4 archives, zstd bitmaps (kind
+// 2), still read with the same flags and verify against their source. Each version has one
+// bitmap kind: a version 5 or later archive holding kind 2 is refused, naming the patch and
+// the kind.
+TEST(Water, Version4ArchivesWithZstdBitmapsStillReadAndLaterVersionsRefuseThem)
 {
     test::ScratchDir dir;
     BuildOptions fill = lossy();
     fill.ingest.fill_voids = io::VoidFill::All;
-    const std::string v5 = build(dir, "coast.ridge", fill);
-    const archive::ArchiveReader reader(v5);
+    const std::string current = build(dir, "coast.ridge", fill);
+    const archive::ArchiveReader reader(current);
     ASSERT_EQ(reader.header().version, archive::kFormatVersion);
     const PyramidGeometry& g = reader.geometry();
     const int n = g.patchSize();
     // Each mixed patch's flags re-encoded as version 4 wrote them (replaceBlobBytes moves
     // the blobs after it and their offsets).
-    test::ArchiveBytes v4(v5), mixed_kind2(v5);
-    size_t rewritten = 0, v5_bytes = 0, v4_bytes = 0;
+    test::ArchiveBytes v4(current), mixed_kind2(current);
+    size_t rewritten = 0, current_bytes = 0, v4_bytes = 0;
     for (int64_t i = g.patchCount() - 1; i >= 0; --i) {
         const PatchId p = g.patchAt(i);
         const PatchSampleFlags flags = reader.readSampleFlags(p);
@@ -472,29 +473,31 @@ TEST(Water, Version4ArchivesWithZstdBitmapsStillReadAndVersion5RefusesThem)
         if (rewritten == 0)
             test::replaceBlobBytes(mixed_kind2, size_t(i), at, at + size, zstd);
         ++rewritten;
-        v5_bytes += size;
+        current_bytes += size;
         v4_bytes += zstd.size();
     }
     ASSERT_GT(rewritten, 2u) << "the fixture's coast crosses several patches";
-    EXPECT_LT(v5_bytes, v4_bytes) << "context coding is smaller on a real coast";
-    v4.storeIndexUnpacked(); // version 4's index: the entries as they are
-    v4.set<uint32_t>(8, 4);  // header version
+    EXPECT_LT(current_bytes, v4_bytes) << "context coding is smaller on a real coast";
+    v4.storeIndexUnpacked();    // version 4's index: the entries as they are
+    v4.storeMetadataUnpacked(); // and its metadata
+    v4.set<uint32_t>(8, 4);     // header version
     v4.reseal();
     const std::string v4_path = dir.path("coast_v4.ridge");
     v4.save(v4_path);
-    EXPECT_EQ(finestFlags(v4_path), finestFlags(v5));
+    EXPECT_EQ(finestFlags(v4_path), finestFlags(current));
     VerifyOptions with_source;
     with_source.source = test::dataPath("sfbay_coast.tif");
     const VerifyReport report = verifyArchive(v4_path, with_source);
     EXPECT_TRUE(report.ok()) << (report.problems.empty() ? "" : report.problems.front());
 
     mixed_kind2.reseal();
-    const std::string refused = dir.path("coast_kind2_in_v5.ridge");
+    const std::string refused = dir.path("coast_kind2_in_current.ridge");
     mixed_kind2.save(refused);
     const VerifyReport bad = verifyArchive(refused, VerifyOptions{});
     ASSERT_FALSE(bad.ok());
     bool named = false;
     for (const std::string& p : bad.problems)
-        named = named || p.find("format version 5 codes bitmaps as kind 3") != std::string::npos;
+        named = named || p.find("format version " + std::to_string(archive::kFormatVersion) +
+                                " codes bitmaps as kind 3") != std::string::npos;
     EXPECT_TRUE(named) << bad.problems.front();
 }

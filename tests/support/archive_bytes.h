@@ -8,6 +8,7 @@
 // From format version 5 the index is one zstd frame of byte-transposed entries: the entries
 // are then kept unpacked here, entry() and setEntry() edit them, and reseal() and save()
 // pack them again (an index that does not unpack stays raw bytes, edited in place).
+#include "ridge/archive/format.h"
 #include "ridge/core/crc32.h"
 
 #include <zstd.h>
@@ -19,6 +20,7 @@
 #include <iterator>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -75,6 +77,8 @@ class ArchiveBytes {
         dirty_ = false;
     }
     bool packedIndex() const { return packed_; }
+    // Format 6 on: the metadata region is a zstd frame (metadata() unpacks it).
+    bool packedMetadata() const { return bytes_.size() >= 12 && get<uint32_t>(8) >= 6; }
     // Replaces the index region with `region`, bytes that need not hold entries (a crafted
     // frame): reseal() then only recomputes the index's checksum, not the blobs'.
     void setOpaqueIndex(const std::vector<uint8_t>& region)
@@ -135,22 +139,75 @@ class ArchiveBytes {
         dirty_ = true;
     }
 
+    // The metadata document; from version 6 the region is one zstd frame coded against the
+    // format's metadata reference, which this unpacks and setMetadata() packs again (the
+    // reference is the format's constant, taken from the library; the framing is spelled out
+    // here, as the index's is).
     std::string metadata() const
     {
-        const uint8_t* p = at(static_cast<size_t>(metadataOffset()), metadataSize());
-        return std::string(reinterpret_cast<const char*>(p), metadataSize());
+        const std::vector<uint8_t> region = metadataRegion();
+        if (!packedMetadata())
+            return std::string(region.begin(), region.end());
+        const unsigned long long content = ZSTD_getFrameContentSize(region.data(), region.size());
+        if (content == ZSTD_CONTENTSIZE_UNKNOWN || content == ZSTD_CONTENTSIZE_ERROR ||
+            content > (uint64_t{1} << 28))
+            throw std::runtime_error("archive bytes: the metadata is not a frame to unpack");
+        const std::string_view reference = archive::metadataReference();
+        std::string json(content, '\0');
+        ZSTD_DCtx* dctx = ZSTD_createDCtx();
+        ZSTD_DCtx_refPrefix(dctx, reference.data(), reference.size());
+        const size_t got =
+            ZSTD_decompressDCtx(dctx, json.data(), json.size(), region.data(), region.size());
+        ZSTD_freeDCtx(dctx);
+        if (ZSTD_isError(got) || got != json.size())
+            throw std::runtime_error("archive bytes: the metadata frame does not unpack");
+        return json;
     }
-    // Replaces the metadata document; the index moves to follow it (index_offset updated).
+    // Replaces the metadata document (packed as ridge packs it from version 6: zstd level 19
+    // against the reference); the index moves to follow it (index_offset updated).
     void setMetadata(const std::string& json)
+    {
+        if (!packedMetadata())
+            return setMetadataRegion(std::vector<uint8_t>(json.begin(), json.end()));
+        const std::string_view reference = archive::metadataReference();
+        std::vector<uint8_t> frame(ZSTD_compressBound(json.size()));
+        ZSTD_CCtx* cctx = ZSTD_createCCtx();
+        ZSTD_CCtx_setParameter(cctx, ZSTD_c_compressionLevel, 19);
+        ZSTD_CCtx_refPrefix(cctx, reference.data(), reference.size());
+        const size_t size =
+            ZSTD_compress2(cctx, frame.data(), frame.size(), json.data(), json.size());
+        ZSTD_freeCCtx(cctx);
+        if (ZSTD_isError(size))
+            throw std::runtime_error("archive bytes: cannot pack the metadata");
+        frame.resize(size);
+        setMetadataRegion(frame);
+    }
+    // Stores the metadata document as it is, as versions before 6 do (for a test that rewrites
+    // an archive into an older version: set the header's version next).
+    void storeMetadataUnpacked()
+    {
+        if (!packedMetadata())
+            return;
+        const std::string json = metadata();
+        setMetadataRegion(std::vector<uint8_t>(json.begin(), json.end()));
+    }
+    // The metadata region's bytes as stored, and their replacement (a crafted region); the
+    // index moves to follow it.
+    std::vector<uint8_t> metadataRegion() const
+    {
+        const uint8_t* p = at(static_cast<size_t>(metadataOffset()), metadataSize());
+        return std::vector<uint8_t>(p, p + metadataSize());
+    }
+    void setMetadataRegion(const std::vector<uint8_t>& region)
     {
         const size_t begin = static_cast<size_t>(metadataOffset());
         const size_t end = begin + metadataSize();
         bytes_.erase(bytes_.begin() + static_cast<std::ptrdiff_t>(begin),
                      bytes_.begin() + static_cast<std::ptrdiff_t>(end));
-        bytes_.insert(bytes_.begin() + static_cast<std::ptrdiff_t>(begin), json.begin(),
-                      json.end());
-        set<uint32_t>(header_offset::kMetadataSize, static_cast<uint32_t>(json.size()));
-        set<uint64_t>(header_offset::kIndexOffset, begin + json.size());
+        bytes_.insert(bytes_.begin() + static_cast<std::ptrdiff_t>(begin), region.begin(),
+                      region.end());
+        set<uint32_t>(header_offset::kMetadataSize, static_cast<uint32_t>(region.size()));
+        set<uint64_t>(header_offset::kIndexOffset, begin + region.size());
     }
 
     // Recomputes every checksum from the bytes as they are now: each blob's (stored in its

@@ -7,9 +7,14 @@
 // moves with the payload).
 #include "archive_bytes.h"
 
+#include "ridge/archive/archive_reader.h"
+#include "ridge/core/error.h"
+
 #include <cstdint>
 #include <cstring>
+#include <functional>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace ridge::test {
@@ -82,6 +87,23 @@ inline void setCodecTables(ArchiveBytes& a, const std::vector<uint8_t>& tables)
     namespace ho = header_offset;
     for (const size_t field : {ho::kMetadataOffset, ho::kIndexOffset})
         a.set<uint64_t>(field, uint64_t(int64_t(a.get<uint64_t>(field)) + delta));
+}
+
+// Copies `archive`, applies `edit`, reseals every checksum, saves the result as `crafted` and
+// opens it. Returns the reader's message, or "" when it opened.
+inline std::string openEdited(const std::string& archive, const std::string& crafted,
+                              const std::function<void(ArchiveBytes&)>& edit)
+{
+    ArchiveBytes bytes(archive);
+    edit(bytes);
+    bytes.reseal();
+    bytes.save(crafted);
+    try {
+        const archive::ArchiveReader reader(crafted);
+        return "";
+    } catch (const Error& e) {
+        return e.what();
+    }
 }
 
 } // namespace ridge::test

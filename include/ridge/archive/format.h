@@ -1,14 +1,16 @@
 #pragma once
-// The .ridge archive, format version 5 (version 4: the same with zstd sample-flag bitmaps and
-// the index entries stored as they are; version 3: also without per-patch sample flags; version 2:
-// also without the codec tables region; version 1: also without validity masks). docs/FORMAT.md is
+// The .ridge archive, format version 6 (version 5: the same with the metadata stored as it
+// is; version 4: also with zstd sample-flag bitmaps and the index entries stored as they are;
+// version 3: also without per-patch sample flags; version 2: also without the codec tables
+// region; version 1: also without validity masks). docs/FORMAT.md is
 // the normative description; this header mirrors it. All integers and floats are little-endian,
 // IEEE-754.
 //
-//   [header: 160 bytes][patch blobs][codec tables][metadata: UTF-8 JSON][index]
+//   [header: 160 bytes][patch blobs][codec tables][metadata: JSON (v6: zstd)][index]
 //
 // The index holds a 48-byte entry per patch: as they are up to version 4, from version 5 in
-// one zstd frame, byte-transposed (packIndex).
+// one zstd frame, byte-transposed (packIndex). The metadata JSON is stored as it is up to
+// version 5, from version 6 as one zstd frame against a fixed reference (packMetadata).
 //
 // Compatibility: readers accept every version <= kFormatVersion and reject newer ones;
 // writers always write kFormatVersion.
@@ -17,12 +19,13 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace ridge::archive {
 
 inline constexpr char kMagic[8] = {'R', 'I', 'D', 'G', 'E', 'A', 'R', 'C'};
-inline constexpr uint32_t kFormatVersion = 5;
+inline constexpr uint32_t kFormatVersion = 6;
 // The first version whose blobs hold a validity mask after the block errors.
 inline constexpr uint32_t kFirstVersionWithValidity = 2;
 // The first version with a codec tables region (header bytes 140..155, zero before).
@@ -33,6 +36,8 @@ inline constexpr uint32_t kFirstVersionWithSampleFlags = 4;
 inline constexpr uint32_t kFirstVersionWithContextCodedFlags = 5;
 // The first version whose index is one zstd frame of byte-transposed entries.
 inline constexpr uint32_t kFirstVersionWithPackedIndex = 5;
+// The first version whose metadata is one zstd frame coded against metadataReference().
+inline constexpr uint32_t kFirstVersionWithPackedMetadata = 6;
 inline constexpr size_t kHeaderSize = 160;
 inline constexpr size_t kIndexEntrySize = 48;
 // λ stored as this value means "larger than representable: never simplify".
@@ -117,6 +122,20 @@ std::vector<uint8_t> packIndex(const std::vector<PatchRecord>& records, uint32_t
 // allocates count·48 bytes).
 std::string unpackIndex(const uint8_t* data, size_t size, uint64_t count, uint32_t version,
                         std::vector<uint8_t>& entries);
+
+// The metadata region of an archive of format `version`: the JSON document as it is up to
+// version 5; from version 6 one zstd frame, stating its content size, coded with
+// metadataReference() as its prefix (a WGS 84 source's 2 KB document packs into about 100
+// bytes: the CRS's WKT is most of it, and the reference holds the common ones).
+std::vector<uint8_t> packMetadata(const std::string& json, uint32_t version);
+// The document of a metadata region of `size` bytes into `json`; the problem otherwise
+// (version 6: not exactly one zstd frame stating a content size in [2, kMaxMetadataBytes],
+// checked before allocating, or one that does not decompress to it against the reference).
+// The document itself is checked by parseArchiveMetadata.
+std::string unpackMetadata(const uint8_t* data, size_t size, uint32_t version, std::string& json);
+// The metadata reference of format 6 (src/archive/metadata_reference.cpp): fixed bytes that
+// are part of the format, never edited.
+std::string_view metadataReference();
 
 // Float rounding that never moves a bound inwards: the nearest float <= / >= value.
 float floatDown(double value);
