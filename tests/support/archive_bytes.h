@@ -216,7 +216,10 @@ class ArchiveBytes {
     void reseal()
     {
         const size_t index = static_cast<size_t>(indexOffset());
-        if (index <= bytes_.size()) {
+        // An index that starts inside the header (a fuzzed index_offset) is not resealed:
+        // its entries' checksums would be written over the header's fields, index_offset
+        // among them (the reader refuses such a file by its offsets anyway).
+        if (index >= header_offset::kHeaderSize && index <= bytes_.size()) {
             for (size_t i = 0; i < (opaque_ ? 0 : entryCount()); ++i) {
                 const uint64_t offset = entry<uint64_t>(i, entry_offset::kOffset);
                 const uint32_t size = entry<uint32_t>(i, entry_offset::kSize);
