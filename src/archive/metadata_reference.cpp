@@ -3,7 +3,7 @@
 // codes only what differs from it (a WGS 84 source's 2 KB document packs into about 100
 // bytes; the CRS's WKT is most of a document). Its bytes are part of the format: every
 // version 6 archive is decoded against them, so they are never edited (a new reference is a
-// new format version). FormatTest.MetadataReferenceIsPinned pins its size and CRC-32.
+// new format version). MetadataPacking.TheReferenceIsPinned pins its size and CRC-32.
 //
 // What it holds, as ridge and GDAL 3.6 wrote it in December 2026: a first line naming it; the
 // WKT of five common CRSs (British National Grid, ETRS89 LAEA Europe, Web Mercator, NAD83 +
