@@ -421,6 +421,17 @@ ArchiveReader::decodeForGpu(PatchId p, const std::vector<uint8_t>& blob, const u
     return out;
 }
 
+void ArchiveReader::finishOnCpu(PatchId p, const GpuPayload& payload, const uint16_t* parent,
+                                uint16_t* codes) const
+{
+    if (!codec_->capabilities().gpu.finishes_on_cpu || !decodesOnGpu(p.level))
+        throw Error(describe(p) + ": internal error: the codec cannot finish it on the CPU");
+    const int status = codec_->finishOnCpu(payload, patchContext(geometry_, p, parent), codes);
+    if (status != kCodecOk)
+        throw Error(describe(p) +
+                    ": cannot finish its GPU payload on the CPU: " + codecStatusMessage(status));
+}
+
 std::vector<float> ArchiveReader::deriveBlockErrors(const uint16_t* codes) const
 {
     const TessellationBlockLayout layout = blockLayout();

@@ -394,16 +394,52 @@ int ProgressiveCodec::decode(uint16_t* dst, const uint8_t* src, size_t src_size,
         return status;
 
     // 2. Reconstruction (GPU-able): refine + predict + add, then bins to heights.
-    const size_t samples = static_cast<size_t>(n) * n;
+    reconstructPatch(s.residuals.data(), s.parent_q.data(), ctx, dst);
+    return kCodecOk;
+}
+
+void ProgressiveCodec::reconstructPatch(const int32_t* residuals, const int32_t* parent_bins,
+                                        const PatchContext& ctx, uint16_t* dst) const
+{
+    const int n = ctx.patch_size;
+    std::vector<int32_t>& q = scratch(n).q; // callers pass the scratch's other grids
     const CodedRegion region = codedRegion(ctx);
     if (ctx.level == 0) {
-        reconstructRoot(s.residuals.data(), n, region, s.q.data());
+        reconstructRoot(residuals, n, region, q.data());
     } else {
-        reconstructChild(s.residuals.data(), s.parent_q.data(), ctx.child_index, n, region,
-                         variant_.predictor, s.q.data(), weights(ctx.level));
+        reconstructChild(residuals, parent_bins, ctx.child_index, n, region, variant_.predictor,
+                         q.data(), weights(ctx.level));
     }
-    replicateBeyond(s.q.data(), n, region);
-    reconstructCodes(quant, s.q.data(), samples, dst);
+    replicateBeyond(q.data(), n, region);
+    reconstructCodes(quantizer(ctx.level), q.data(), q.size(), dst);
+}
+
+// What the GPU decoder does with the residuals (shaders/progressive_reconstruct.comp), here in the
+// reconstruction decode() runs, which the GPU path matches bit for bit.
+int ProgressiveCodec::finishOnCpu(const GpuPayload& payload, const PatchContext& ctx,
+                                  uint16_t* dst) const
+{
+    const auto* residuals = dynamic_cast<const ProgressiveResiduals*>(&payload);
+    if (!validContext(ctx) || ctx.level == 0 || !residuals)
+        return kCodecBadHeader;
+    if (!ctx.parent)
+        return kCodecNeedsParent;
+    const int n = ctx.patch_size;
+    const size_t samples = static_cast<size_t>(n) * n;
+    const CodedRegion region = codedRegion(ctx);
+    const size_t held = residuals->residuals16.size() + residuals->residuals32.size();
+    if (residuals->region.width != region.width || residuals->region.height != region.height ||
+        held != samples)
+        return kCodecBadHeader;
+    Scratch& s = scratch(n);
+    requantizeParent(quantizer(ctx.level), ctx.parent, n, ctx.child_index, s.parent_q.data());
+    if (residuals->residuals32.empty())
+        std::copy(residuals->residuals16.begin(), residuals->residuals16.end(),
+                  s.residuals.begin());
+    else
+        std::copy(residuals->residuals32.begin(), residuals->residuals32.end(),
+                  s.residuals.begin());
+    reconstructPatch(s.residuals.data(), s.parent_q.data(), ctx, dst);
     return kCodecOk;
 }
 

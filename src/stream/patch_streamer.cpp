@@ -183,14 +183,19 @@ PatchStreamer::Blob PatchStreamer::blobLocked(PatchId p, std::unique_lock<std::m
 // Decodes `p` from its blob, unlocking around the decoding itself: to the codec's CPU half
 // when the GPU finishes it, else to codes with its ancestors first when the codec predicts from
 // them. Two workers may decode a shared ancestor twice; the cache keeps one. `codes`: decoded to
-// codes whatever the GPU could do (an ancestor a CPU half reads).
+// codes whatever the GPU could do (an ancestor a CPU half reads); a patch cached as a GPU
+// payload is then finished on the CPU when the codec can, not decoded again.
 std::shared_ptr<const DecodedPatch>
 PatchStreamer::decodeLocked(PatchId p, std::unique_lock<std::mutex>& lock, bool codes)
 {
     const int64_t key = reader_.geometry().patchIndex(p);
-    if (auto hit = findCacheLocked(key); hit && (!codes || !hit->codes.empty()))
-        return hit;
     const GpuDecoding gpu = reader_.codec().capabilities().gpu;
+    if (auto hit = findCacheLocked(key)) {
+        if (!codes || !hit->codes.empty())
+            return hit;
+        if (hit->gpu_payload && gpu.finishes_on_cpu)
+            return finishOnCpuLocked(*hit, lock);
+    }
     const bool on_gpu = !codes && options_.gpu_decode && reader_.decodesOnGpu(p.level);
     std::shared_ptr<const DecodedPatch> parent;
     if (p.level > 0 && reader_.codec().needsParent(p.level) &&
@@ -231,6 +236,44 @@ PatchStreamer::decodeLocked(PatchId p, std::unique_lock<std::mutex>& lock, bool 
         decoded_.insert(key, out, out->bytes());
     else
         decoded_.assign(key, out, out->bytes());
+    return out;
+}
+
+// The codes of a patch the decoded cache holds as a GPU payload, from that payload and the
+// parent's codes (the codec's GPU half run on the CPU): the entropy decoding, most of a
+// decode's time, is not done twice. What else the patch holds carries over.
+std::shared_ptr<const DecodedPatch>
+PatchStreamer::finishOnCpuLocked(const DecodedPatch& on_gpu, std::unique_lock<std::mutex>& lock)
+{
+    const PatchId p = on_gpu.id;
+    std::shared_ptr<const DecodedPatch> parent;
+    if (p.level > 0 && reader_.codec().needsParent(p.level))
+        parent = decodeLocked(p.parent(), lock, true);
+    const std::shared_ptr<const GpuPayload> payload = on_gpu.gpu_payload;
+    lock.unlock();
+    auto out = std::make_shared<DecodedPatch>();
+    out->id = p;
+    out->drawable_cells = on_gpu.drawable_cells;
+    out->sample_flags = on_gpu.sample_flags;
+    try {
+        const int n = reader_.geometry().patchSize();
+        out->codes.resize(size_t(n) * n);
+        reader_.finishOnCpu(p, *payload, parent ? parent->codes.data() : nullptr,
+                            out->codes.data());
+        // decodeForGpu gave the stored λ, or none when the archive stores none (a codec that
+        // finishes on the CPU is not refinable): then derived, as decodeBlob does.
+        out->block_errors = on_gpu.block_errors.empty()
+                                ? reader_.deriveBlockErrors(out->codes.data())
+                                : on_gpu.block_errors;
+        prepareProducts(*out, options_.preparations);
+    } catch (...) {
+        lock.lock();
+        throw;
+    }
+    lock.lock();
+    ++stats_.finished_on_cpu;
+    stats_.bytes_decoded += out->bytes();
+    decoded_.assign(reader_.geometry().patchIndex(p), out, out->bytes());
     return out;
 }
 

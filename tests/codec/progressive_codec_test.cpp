@@ -407,3 +407,63 @@ TEST(ProgressiveCodec, DecodeResidualsIsTheCpuHalfOfDecodeAndRejectsBadPayloads)
                   kCodecBadHeader);
     }
 }
+
+// finishOnCpu(decodeForGpu(payload)) == decode(payload) for every variant and quadrant, with
+// the residuals held in 16 bits and in 32 (the escapes): what lets a streamer turn a patch it
+// delivered to the GPU into the codes a child's CPU half reads without decoding it again. And
+// a payload that is not this patch's is refused, never reconstructed from.
+TEST(ProgressiveCodec, FinishOnCpuTurnsTheGpuPayloadIntoDecodesCodes)
+{
+    struct Unrelated final : GpuPayload {
+        size_t bytes() const override { return 0; }
+        size_t uploadBytes() const override { return 0; }
+    };
+    const int n = 33;
+    for (const ProgressiveVariant& variant : allVariants()) {
+        const ProgressiveCodec codec(0, 3, variant); // step 1: the largest residuals
+        ASSERT_TRUE(codec.capabilities().gpu.finishes_on_cpu);
+        const std::vector<uint16_t> parent = terrainPatch(n, 5, 30, 1500);
+        std::vector<uint16_t> parent_drawn(parent.size());
+        codec.reconstruct(parent.data(), {n, 0, nullptr, 0}, parent_drawn.data());
+        for (int child = 0; child < 4; ++child) {
+            // Child 3 is unrelated to its parent: its residuals need 32 bits.
+            const std::vector<uint16_t> codes =
+                child == 3 ? terrainPatch(n, 9, 20, 63000) : terrainPatch(n, 6 + child, 20, 1500);
+            const PatchContext ctx{n, 2, parent_drawn.data(), child};
+            std::vector<uint8_t> payload(codec.encodeBound(ctx));
+            payload.resize(codec.encode(payload.data(), payload.size(), codes.data(), ctx));
+            std::vector<uint16_t> decoded(codes.size()), finished(codes.size(), 0);
+            ASSERT_EQ(codec.decode(decoded.data(), payload.data(), payload.size(), ctx), kCodecOk);
+            std::shared_ptr<const GpuPayload> residuals;
+            ASSERT_EQ(codec.decodeForGpu(payload.data(), payload.size(), ctx, &residuals),
+                      kCodecOk);
+            // Other patches coded in between (as on a streamer's worker) leave the codec's
+            // per-thread scratch holding another parent in every quadrant.
+            for (int other = 0; other < 4; ++other) {
+                const PatchContext elsewhere{n, 2, codes.data(), other};
+                std::vector<uint8_t> scratch_user(codec.encodeBound(elsewhere));
+                codec.encode(scratch_user.data(), scratch_user.size(), parent.data(), elsewhere);
+            }
+            ASSERT_EQ(codec.finishOnCpu(*residuals, ctx, finished.data()), kCodecOk);
+            ASSERT_EQ(finished, decoded) << variant.describe() << " child " << child;
+            if (child == 3) {
+                EXPECT_FALSE(
+                    dynamic_cast<const ProgressiveResiduals&>(*residuals).residuals32.empty())
+                    << "the 32-bit storage is exercised";
+            }
+
+            EXPECT_EQ(codec.finishOnCpu(*residuals, {n, 2, nullptr, child}, finished.data()),
+                      kCodecNeedsParent);
+            EXPECT_EQ(codec.finishOnCpu(*residuals, {n, 0, nullptr, 0}, finished.data()),
+                      kCodecBadHeader)
+                << "the root has no GPU half";
+            EXPECT_EQ(codec.finishOnCpu(Unrelated{}, ctx, finished.data()), kCodecBadHeader);
+            ProgressiveResiduals other = dynamic_cast<const ProgressiveResiduals&>(*residuals);
+            other.region = CodedRegion::covering(n, 17, 0); // another patch's coded region
+            EXPECT_EQ(codec.finishOnCpu(other, ctx, finished.data()), kCodecBadHeader);
+            other = dynamic_cast<const ProgressiveResiduals&>(*residuals);
+            other.assign(std::vector<int32_t>(size_t(n) * n - 1, 0)); // too few residuals
+            EXPECT_EQ(codec.finishOnCpu(other, ctx, finished.data()), kCodecBadHeader);
+        }
+    }
+}

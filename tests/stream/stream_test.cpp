@@ -177,9 +177,9 @@ TEST(PatchStreamer, ReportsACorruptPatchOnceAndKeepsServingTheOthers)
 }
 
 // Payload v3's CPU half needs no parent: every patch below the root reaches the GPU as
-// residuals, each decoded once. v4's reads the parent's codes, so a patch with children may be
-// decoded on the CPU for them (and then delivered as codes): at most twice each, on one
-// worker.
+// residuals, each decoded once. v4's reads the parent's codes, so a patch with children is
+// turned into codes for them (and delivered as codes if that came first), still decoded
+// once on one worker.
 TEST(PatchStreamer, DeliversResidualsForTheGpuThatReconstructToTheCpuDecoding)
 {
     for (const char* spec : {"progressive-v3", "progressive"}) {
@@ -242,14 +242,67 @@ TEST(PatchStreamer, DeliversResidualsForTheGpuThatReconstructToTheCpuDecoding)
         EXPECT_GT(narrow, on_gpu / 2);
         const stream::StreamerStats s = streamer.stats();
         const uint64_t parents = uint64_t(g.patchCount() - g.patchCount(g.finestLevel()));
-        if (reads_parent) {
-            EXPECT_LE(s.decoded, uint64_t(g.patchCount()) + parents);
-        } else {
-            EXPECT_EQ(s.decoded, uint64_t(g.patchCount()))
-                << "no ancestor is decoded twice for residuals";
-        }
+        EXPECT_EQ(s.decoded, uint64_t(g.patchCount())) << "no patch is decoded twice";
+        EXPECT_LE(s.finished_on_cpu, reads_parent ? parents : 0u);
         EXPECT_GT(s.bytes_read, 0u);
         EXPECT_GT(s.bytes_decoded, s.bytes_read);
+    }
+}
+
+// A v4 parent delivered to the GPU as residuals, then needed as codes by its children's CPU
+// halves, is finished on the CPU from its cached residuals, not entropy-decoded again; its
+// codes, λ and flags are what a CPU decode gives.
+TEST(PatchStreamer, FinishesDeliveredResidualsOnTheCpuForChildrenInsteadOfDecodingAgain)
+{
+    test::ScratchDir dir;
+    const archive::ArchiveReader reader(buildFixture(dir, "progressive"));
+    ASSERT_TRUE(reader.codec().capabilities().gpu.cpu_half_reads_parent);
+    const PyramidGeometry& g = reader.geometry();
+    const int finest = g.finestLevel();
+    stream::StreamerOptions options = stream::StreamerOptions::forRamBudget(64 << 20, 1);
+    options.gpu_decode = true;
+    stream::PatchStreamer streamer(reader, options);
+    stream::PatchLoader loader(reader);
+
+    // Every level above the finest first, coarsest first: below the root, each reaches the GPU
+    // as residuals, and those with children there are then finished for them.
+    streamer.beginFrame();
+    for (int64_t i = 0; i < g.patchCount(); ++i)
+        if (g.patchAt(i).level < finest)
+            streamer.request(g.patchAt(i), double(-g.patchAt(i).level));
+    streamer.waitIdle();
+    const uint64_t coarse = uint64_t(g.patchCount() - g.patchCount(finest));
+    const uint64_t root = uint64_t(g.patchCount(0));
+    size_t delivered_on_gpu = 0;
+    for (const auto& patch : streamer.takeReady())
+        delivered_on_gpu += patch->decodesOnGpu();
+    ASSERT_EQ(delivered_on_gpu, coarse - root);
+    EXPECT_EQ(streamer.stats().decoded, coarse);
+    EXPECT_EQ(streamer.stats().finished_on_cpu, coarse - root - uint64_t(g.patchCount(finest - 1)));
+
+    // Then the finest: every patch above it is needed as codes, and finished from its payload.
+    streamer.beginFrame();
+    for (int64_t i = 0; i < g.patchCount(); ++i)
+        if (g.patchAt(i).level == finest)
+            streamer.request(g.patchAt(i), 0.0);
+    streamer.waitIdle();
+    EXPECT_EQ(streamer.takeReady().size(), size_t(g.patchCount(finest)));
+    EXPECT_TRUE(streamer.error().empty()) << streamer.error();
+    const stream::StreamerStats s = streamer.stats();
+    EXPECT_EQ(s.decoded, uint64_t(g.patchCount())) << "no patch is decoded twice";
+    EXPECT_EQ(s.finished_on_cpu, coarse - root);
+    for (int64_t i = 0; i < g.patchCount(); ++i) {
+        const PatchId p = g.patchAt(i);
+        if (p.level == 0 || p.level == finest)
+            continue;
+        const auto finished = streamer.cached(p);
+        ASSERT_NE(finished, nullptr);
+        ASSERT_FALSE(finished->codes.empty()) << reader.describe(p);
+        const auto expected = loader.load(p);
+        EXPECT_EQ(finished->codes, expected->codes) << reader.describe(p);
+        EXPECT_EQ(finished->block_errors, expected->block_errors) << reader.describe(p);
+        EXPECT_EQ(finished->drawable_cells, expected->drawable_cells);
+        EXPECT_EQ(finished->sample_flags.flags, expected->sample_flags.flags);
     }
 }
 

@@ -132,6 +132,12 @@ class ArchiveReader {
     std::shared_ptr<const GpuPayload> decodeForGpu(PatchId p, const std::vector<uint8_t>& blob,
                                                    const uint16_t* parent,
                                                    std::vector<float>* block_errors) const;
+    // The codes of `p` from what decodeForGpu gave for it, finished on the CPU
+    // (HeightCodec::finishOnCpu, for codecs whose GpuDecoding::finishes_on_cpu): what
+    // decodeBlob gives, without entropy-decoding the blob again. `parent`: the parent's codes.
+    // Throws ridge::Error naming the patch when the codec cannot.
+    void finishOnCpu(PatchId p, const GpuPayload& payload, const uint16_t* parent,
+                     uint16_t* codes) const;
     // Reads λ(d) of every block of `p` in metres (see TessellationBlockLayout for the order).
     // Archives built without stored block errors derive them from the decoded heights
     // (exact for what is drawn; costs a decode).

@@ -92,6 +92,10 @@ struct GpuDecoding {
     // resolves its exact edges against the prediction): loaders decode ancestors to codes
     // on the CPU first, and the patch is finished on the GPU.
     bool cpu_half_reads_parent = false;
+    // HeightCodec::finishOnCpu turns decodeForGpu's payload into codes: a loader that needs
+    // the codes of a patch it delivered to the GPU (the parent of a patch whose CPU half reads
+    // it) finishes the payload instead of entropy-decoding the blob a second time.
+    bool finishes_on_cpu = false;
     bool decodes(int level) const { return first_level >= 0 && level >= first_level; }
 };
 
@@ -141,6 +145,15 @@ class HeightCodec {
     virtual int decodeForGpu(const uint8_t* /*src*/, size_t /*src_size*/,
                              const PatchContext& /*ctx*/,
                              std::shared_ptr<const GpuPayload>* /*out*/) const
+    {
+        return kCodecBadHeader;
+    }
+    // The GPU half run on the CPU (capabilities().gpu.finishes_on_cpu): the codes decode()
+    // gives for the patch whose decodeForGpu returned `payload`, with the same ctx (ctx.parent
+    // as decode() reads it). Returns kCodecOk or a negative CodecStatus (kCodecBadHeader for a
+    // payload that is not this codec's for ctx); the default cannot.
+    virtual int finishOnCpu(const GpuPayload& /*payload*/, const PatchContext& /*ctx*/,
+                            uint16_t* /*dst*/) const
     {
         return kCodecBadHeader;
     }

@@ -118,13 +118,16 @@ class ProgressiveCodec final : public HeightCodec {
     bool needsParent(int level) const override { return level > 0; }
     // The paper's split: patches below the root entropy-decode on the CPU and refine +
     // predict + add on the GPU from the parent's resident codes. v4's contexts read the
-    // parent's bins, so its CPU half needs the parent's codes too.
+    // parent's bins, so its CPU half needs the parent's codes too. The GPU half also runs on
+    // the CPU (finishOnCpu), so a patch delivered as residuals is never entropy-decoded twice.
     CodecCapabilities capabilities() const override
     {
-        return {true, {1, true, false, variant_.format == 4}};
+        return {true, {1, true, false, variant_.format == 4, true}};
     }
     int decodeForGpu(const uint8_t* src, size_t src_size, const PatchContext& ctx,
                      std::shared_ptr<const GpuPayload>* out) const override;
+    int finishOnCpu(const GpuPayload& payload, const PatchContext& ctx,
+                    uint16_t* dst) const override;
     void reconstruct(const uint16_t* codes, const PatchContext& ctx, uint16_t* out) const override;
     std::string variantDescription() const override { return variant_.describe(); }
     void storeParameters(double param[2]) const override;
@@ -172,6 +175,10 @@ class ProgressiveCodec final : public HeightCodec {
     // parent_bins[n·n]. Returns false for a context encode() rejects.
     bool residualsOf(const uint16_t* codes, const PatchContext& ctx, int32_t* residuals,
                      int32_t* parent_bins) const;
+    // decode()'s second half, shared with finishOnCpu(): the residual grid of a patch to its
+    // codes (below the root from parent_bins, the parent requantized at ctx.level).
+    void reconstructPatch(const int32_t* residuals, const int32_t* parent_bins,
+                          const PatchContext& ctx, uint16_t* dst) const;
 
     double max_error_;
     int finest_level_;

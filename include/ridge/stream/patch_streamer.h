@@ -50,9 +50,12 @@ struct StreamerOptions {
 };
 
 struct StreamerStats {
-    uint64_t requested = 0;       // requests accepted (not already ready, queued or cached)
-    uint64_t cancelled = 0;       // stale requests dropped
-    uint64_t decoded = 0;         // patches decoded by the pool (ancestors included)
+    uint64_t requested = 0; // requests accepted (not already ready, queued or cached)
+    uint64_t cancelled = 0; // stale requests dropped
+    uint64_t decoded = 0;   // patches decoded by the pool (ancestors included)
+    // Patches the decoded cache held as GPU payloads whose codes a child's CPU half needed,
+    // finished on the CPU (HeightCodec::finishOnCpu) instead of being decoded again.
+    uint64_t finished_on_cpu = 0;
     uint64_t bytes_read = 0;      // blob bytes read from the archive
     uint64_t bytes_decoded = 0;   // bytes of decode results (codes or GPU payloads, λ)
     uint64_t cache_hits = 0;      // requests served from the decoded cache
@@ -108,6 +111,8 @@ class PatchStreamer {
     std::shared_ptr<const DecodedPatch> decodeLocked(PatchId p, std::unique_lock<std::mutex>& lock,
                                                      bool codes = false);
     std::shared_ptr<const DecodedPatch> findCacheLocked(int64_t key);
+    std::shared_ptr<const DecodedPatch> finishOnCpuLocked(const DecodedPatch& on_gpu,
+                                                          std::unique_lock<std::mutex>& lock);
 
     const archive::ArchiveReader& reader_;
     StreamerOptions options_;
