@@ -27,17 +27,19 @@ std::vector<uint8_t> packMetadata(const std::string& json, uint32_t version)
     if (version < kFirstVersionWithPackedMetadata)
         return {json.begin(), json.end()};
     const std::unique_ptr<ZSTD_CCtx, CctxDeleter> cctx(ZSTD_createCCtx());
+    if (!cctx)
+        throw Error("cannot compress the metadata: out of memory");
+    const auto check = [](size_t status) {
+        if (ZSTD_isError(status))
+            throw Error(std::string("cannot compress the metadata: ") + ZSTD_getErrorName(status));
+        return status;
+    };
     const std::string_view reference = metadataReference();
+    check(ZSTD_CCtx_setParameter(cctx.get(), ZSTD_c_compressionLevel, kMetadataLevel));
+    check(ZSTD_CCtx_refPrefix(cctx.get(), reference.data(), reference.size()));
     std::vector<uint8_t> out(ZSTD_compressBound(json.size()));
-    size_t size = cctx ? ZSTD_CCtx_setParameter(cctx.get(), ZSTD_c_compressionLevel, kMetadataLevel)
-                       : size_t(-1);
-    if (cctx && !ZSTD_isError(size))
-        size = ZSTD_CCtx_refPrefix(cctx.get(), reference.data(), reference.size());
-    if (cctx && !ZSTD_isError(size))
-        size = ZSTD_compress2(cctx.get(), out.data(), out.size(), json.data(), json.size());
-    if (!cctx || ZSTD_isError(size))
-        throw Error(std::string("cannot compress the metadata: ") +
-                    (cctx ? ZSTD_getErrorName(size) : "out of memory"));
+    const size_t size =
+        check(ZSTD_compress2(cctx.get(), out.data(), out.size(), json.data(), json.size()));
     out.resize(size);
     return out;
 }
