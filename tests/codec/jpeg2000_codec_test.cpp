@@ -324,6 +324,43 @@ TEST(Jpeg2000Codec, DifferencePlusPredictionIsTheDecode)
     }
 }
 
+// What a streamer does for a parent it delivered to the GPU when a child needs its codes:
+// finishOnCpu(decodeForGpu(payload)) == decode(payload), without decoding the codestream
+// again; a payload that is not the patch's is refused.
+TEST(Jpeg2000Codec, FinishOnCpuTurnsTheGpuPayloadIntoDecodesCodes)
+{
+    const Jpeg2000Codec codec(2, 2);
+    ASSERT_TRUE(codec.capabilities().gpu.finishes_on_cpu);
+    const Family f = codeFamily(codec, 21, 5);
+    for (int q = 0; q < 4; ++q) {
+        const PatchContext ctx{kN, 1, f.parent_decoded.data(), q, 0, 0};
+        std::shared_ptr<const GpuPayload> payload;
+        ASSERT_EQ(
+            codec.decodeForGpu(f.child_payload[q].data(), f.child_payload[q].size(), ctx, &payload),
+            kCodecOk);
+        std::vector<uint16_t> out(size_t(kN) * kN);
+        ASSERT_EQ(codec.finishOnCpu(*payload, ctx, out.data()), kCodecOk);
+        EXPECT_EQ(out, f.child_decoded[q]);
+
+        const auto& d = dynamic_cast<const Jpeg2000Difference&>(*payload);
+        EXPECT_EQ(codec.finishOnCpu(*payload, {kN, 1, nullptr, q, 0, 0}, out.data()),
+                  d.kind == Jpeg2000Encoding::Progressive ? kCodecNeedsParent : kCodecOk);
+        EXPECT_EQ(codec.finishOnCpu(*payload, {kN, 0, nullptr, 0, 0, 0}, out.data()),
+                  d.kind == Jpeg2000Encoding::Progressive ? kCodecBadHeader : kCodecOk)
+            << "the root has no parent to add to";
+        EXPECT_EQ(
+            codec.finishOnCpu(*payload, {kN, 1, f.parent_decoded.data(), q, 33, 0}, out.data()),
+            kCodecBadHeader)
+            << "another coded region";
+        Jpeg2000Difference short_edge = d;
+        short_edge.right.pop_back();
+        EXPECT_EQ(codec.finishOnCpu(short_edge, ctx, out.data()), kCodecBadHeader);
+        Jpeg2000Difference short_image = d;
+        short_image.image.pop_back();
+        EXPECT_EQ(codec.finishOnCpu(short_image, ctx, out.data()), kCodecBadHeader);
+    }
+}
+
 TEST(Jpeg2000Codec, BadPayloadsAreRejected)
 {
     const Jpeg2000Codec codec(2, 2);

@@ -249,60 +249,67 @@ TEST(PatchStreamer, DeliversResidualsForTheGpuThatReconstructToTheCpuDecoding)
     }
 }
 
-// A v4 parent delivered to the GPU as residuals, then needed as codes by its children's CPU
-// halves, is finished on the CPU from its cached residuals, not entropy-decoded again; its
-// codes, λ and flags are what a CPU decode gives.
-TEST(PatchStreamer, FinishesDeliveredResidualsOnTheCpuForChildrenInsteadOfDecodingAgain)
+// A parent delivered to the GPU (v4's residuals, jpeg2000's difference layer), then needed as
+// codes by its children's CPU halves, is finished on the CPU from its cached payload, not
+// decoded again; its codes, λ and flags are what a CPU decode gives.
+TEST(PatchStreamer, FinishesDeliveredPayloadsOnTheCpuForChildrenInsteadOfDecodingAgain)
 {
-    test::ScratchDir dir;
-    const archive::ArchiveReader reader(buildFixture(dir, "progressive"));
-    ASSERT_TRUE(reader.codec().capabilities().gpu.cpu_half_reads_parent);
-    const PyramidGeometry& g = reader.geometry();
-    const int finest = g.finestLevel();
-    stream::StreamerOptions options = stream::StreamerOptions::forRamBudget(64 << 20, 1);
-    options.gpu_decode = true;
-    stream::PatchStreamer streamer(reader, options);
-    stream::PatchLoader loader(reader);
+    for (const char* spec : {"progressive", "jpeg2000"}) {
+        SCOPED_TRACE(spec);
+        test::ScratchDir dir;
+        const archive::ArchiveReader reader(buildFixture(dir, spec));
+        const GpuDecoding gpu = reader.codec().capabilities().gpu;
+        ASSERT_TRUE(gpu.cpu_half_reads_parent && gpu.finishes_on_cpu);
+        const PyramidGeometry& g = reader.geometry();
+        const int finest = g.finestLevel();
+        stream::StreamerOptions options = stream::StreamerOptions::forRamBudget(64 << 20, 1);
+        options.gpu_decode = true;
+        stream::PatchStreamer streamer(reader, options);
+        stream::PatchLoader loader(reader);
 
-    // Every level above the finest first, coarsest first: below the root, each reaches the GPU
-    // as residuals, and those with children there are then finished for them.
-    streamer.beginFrame();
-    for (int64_t i = 0; i < g.patchCount(); ++i)
-        if (g.patchAt(i).level < finest)
-            streamer.request(g.patchAt(i), double(-g.patchAt(i).level));
-    streamer.waitIdle();
-    const uint64_t coarse = uint64_t(g.patchCount() - g.patchCount(finest));
-    const uint64_t root = uint64_t(g.patchCount(0));
-    size_t delivered_on_gpu = 0;
-    for (const auto& patch : streamer.takeReady())
-        delivered_on_gpu += patch->decodesOnGpu();
-    ASSERT_EQ(delivered_on_gpu, coarse - root);
-    EXPECT_EQ(streamer.stats().decoded, coarse);
-    EXPECT_EQ(streamer.stats().finished_on_cpu, coarse - root - uint64_t(g.patchCount(finest - 1)));
+        // Every level above the finest first, coarsest first: those the codec decodes on the
+        // GPU reach it as payloads, and those with children there are then finished for them.
+        streamer.beginFrame();
+        for (int64_t i = 0; i < g.patchCount(); ++i)
+            if (g.patchAt(i).level < finest)
+                streamer.request(g.patchAt(i), double(-g.patchAt(i).level));
+        streamer.waitIdle();
+        const uint64_t coarse = uint64_t(g.patchCount() - g.patchCount(finest));
+        uint64_t on_gpu = 0; // coarse patches the codec decodes on the GPU
+        for (int level = 0; level < finest; ++level)
+            on_gpu += gpu.decodes(level) ? uint64_t(g.patchCount(level)) : 0;
+        size_t delivered_on_gpu = 0;
+        for (const auto& patch : streamer.takeReady())
+            delivered_on_gpu += patch->decodesOnGpu();
+        ASSERT_EQ(delivered_on_gpu, on_gpu);
+        EXPECT_EQ(streamer.stats().decoded, coarse);
+        EXPECT_EQ(streamer.stats().finished_on_cpu, on_gpu - uint64_t(g.patchCount(finest - 1)));
 
-    // Then the finest: every patch above it is needed as codes, and finished from its payload.
-    streamer.beginFrame();
-    for (int64_t i = 0; i < g.patchCount(); ++i)
-        if (g.patchAt(i).level == finest)
-            streamer.request(g.patchAt(i), 0.0);
-    streamer.waitIdle();
-    EXPECT_EQ(streamer.takeReady().size(), size_t(g.patchCount(finest)));
-    EXPECT_TRUE(streamer.error().empty()) << streamer.error();
-    const stream::StreamerStats s = streamer.stats();
-    EXPECT_EQ(s.decoded, uint64_t(g.patchCount())) << "no patch is decoded twice";
-    EXPECT_EQ(s.finished_on_cpu, coarse - root);
-    for (int64_t i = 0; i < g.patchCount(); ++i) {
-        const PatchId p = g.patchAt(i);
-        if (p.level == 0 || p.level == finest)
-            continue;
-        const auto finished = streamer.cached(p);
-        ASSERT_NE(finished, nullptr);
-        ASSERT_FALSE(finished->codes.empty()) << reader.describe(p);
-        const auto expected = loader.load(p);
-        EXPECT_EQ(finished->codes, expected->codes) << reader.describe(p);
-        EXPECT_EQ(finished->block_errors, expected->block_errors) << reader.describe(p);
-        EXPECT_EQ(finished->drawable_cells, expected->drawable_cells);
-        EXPECT_EQ(finished->sample_flags.flags, expected->sample_flags.flags);
+        // Then the finest: every patch above it is needed as codes, and finished from its
+        // payload.
+        streamer.beginFrame();
+        for (int64_t i = 0; i < g.patchCount(); ++i)
+            if (g.patchAt(i).level == finest)
+                streamer.request(g.patchAt(i), 0.0);
+        streamer.waitIdle();
+        EXPECT_EQ(streamer.takeReady().size(), size_t(g.patchCount(finest)));
+        EXPECT_TRUE(streamer.error().empty()) << streamer.error();
+        const stream::StreamerStats s = streamer.stats();
+        EXPECT_EQ(s.decoded, uint64_t(g.patchCount())) << "no patch is decoded twice";
+        EXPECT_EQ(s.finished_on_cpu, on_gpu);
+        for (int64_t i = 0; i < g.patchCount(); ++i) {
+            const PatchId p = g.patchAt(i);
+            if (p.level == finest || !gpu.decodes(p.level))
+                continue;
+            const auto finished = streamer.cached(p);
+            ASSERT_NE(finished, nullptr);
+            ASSERT_FALSE(finished->codes.empty()) << reader.describe(p);
+            const auto expected = loader.load(p);
+            EXPECT_EQ(finished->codes, expected->codes) << reader.describe(p);
+            EXPECT_EQ(finished->block_errors, expected->block_errors) << reader.describe(p);
+            EXPECT_EQ(finished->drawable_cells, expected->drawable_cells);
+            EXPECT_EQ(finished->sample_flags.flags, expected->sample_flags.flags);
+        }
     }
 }
 

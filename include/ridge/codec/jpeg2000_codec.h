@@ -110,6 +110,9 @@ class Jpeg2000Codec final : public HeightCodec {
     CodecCapabilities capabilities() const override;
     int decodeForGpu(const uint8_t* src, size_t src_size, const PatchContext& ctx,
                      std::shared_ptr<const GpuPayload>* out) const override;
+    // addPrediction() after checking that `payload` is decodeForGpu's for a patch of ctx.
+    int finishOnCpu(const GpuPayload& payload, const PatchContext& ctx,
+                    uint16_t* dst) const override;
     void reconstruct(const uint16_t* codes, const PatchContext& ctx, uint16_t* out) const override;
     void storeParameters(double param[2]) const override;
 

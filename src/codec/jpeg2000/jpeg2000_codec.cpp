@@ -396,7 +396,7 @@ bool Jpeg2000Codec::needsParent(int level) const
 CodecCapabilities Jpeg2000Codec::capabilities() const
 {
     const bool progressive = variant_.encoding == Jpeg2000Encoding::Progressive;
-    return {progressive, {0, progressive, false, progressive}};
+    return {progressive, {0, progressive, false, progressive, true}};
 }
 
 int Jpeg2000Codec::decodeForGpu(const uint8_t* src, size_t src_size, const PatchContext& ctx,
@@ -406,6 +406,27 @@ int Jpeg2000Codec::decodeForGpu(const uint8_t* src, size_t src_size, const Patch
     if (const int status = decodeDifference(src, src_size, ctx, d.get()); status != kCodecOk)
         return status;
     *out = std::move(d);
+    return kCodecOk;
+}
+
+int Jpeg2000Codec::finishOnCpu(const GpuPayload& payload, const PatchContext& ctx,
+                               uint16_t* dst) const
+{
+    const auto* d = dynamic_cast<const Jpeg2000Difference*>(&payload);
+    if (!d || ctx.patch_size < 3)
+        return kCodecBadHeader;
+    // addPrediction indexes the image by the coded region and the edges by the patch side.
+    const Region r = Region::of(ctx);
+    const size_t n = size_t(ctx.patch_size);
+    const bool shaped = d->width == r.width && d->height == r.height &&
+                        d->image.size() == r.count() && d->top.size() == n &&
+                        d->bottom.size() == n && d->left.size() == n && d->right.size() == n;
+    if (!shaped || d->bits < 1 || d->bits > 16 ||
+        (d->kind == Jpeg2000Encoding::Progressive && !needsParent(ctx.level)))
+        return kCodecBadHeader;
+    if (d->kind == Jpeg2000Encoding::Progressive && !ctx.parent)
+        return kCodecNeedsParent;
+    addPrediction(*d, ctx, dst);
     return kCodecOk;
 }
 
