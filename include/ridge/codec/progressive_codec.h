@@ -119,7 +119,8 @@ class ProgressiveCodec final : public HeightCodec {
     // The paper's split: patches below the root entropy-decode on the CPU and refine +
     // predict + add on the GPU from the parent's resident codes. v4's contexts read the
     // parent's bins, so its CPU half needs the parent's codes too. The GPU half also runs on
-    // the CPU (finishOnCpu), so a patch delivered as residuals is never entropy-decoded twice.
+    // the CPU (finishOnCpu): a patch delivered as residuals need not be entropy-decoded again
+    // for its children.
     CodecCapabilities capabilities() const override
     {
         return {true, {1, true, false, variant_.format == 4, true}};
