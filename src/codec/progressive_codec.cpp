@@ -365,10 +365,19 @@ void ProgressiveResiduals::assign(std::vector<int32_t> values)
         residuals32 = std::move(values);
 }
 
+void ProgressiveResiduals::widen(int32_t* out) const
+{
+    if (residuals32.empty())
+        std::copy(residuals16.begin(), residuals16.end(), out);
+    else
+        std::copy(residuals32.begin(), residuals32.end(), out);
+}
+
 std::vector<int32_t> ProgressiveResiduals::wide() const
 {
-    return residuals32.empty() ? std::vector<int32_t>(residuals16.begin(), residuals16.end())
-                               : residuals32;
+    std::vector<int32_t> out(count());
+    widen(out.data());
+    return out;
 }
 
 int ProgressiveCodec::decode(uint16_t* dst, const uint8_t* src, size_t src_size,
@@ -427,18 +436,12 @@ int ProgressiveCodec::finishOnCpu(const GpuPayload& payload, const PatchContext&
     const int n = ctx.patch_size;
     const size_t samples = static_cast<size_t>(n) * n;
     const CodedRegion region = codedRegion(ctx);
-    const size_t held = residuals->residuals16.size() + residuals->residuals32.size();
     if (residuals->region.width != region.width || residuals->region.height != region.height ||
-        held != samples)
+        residuals->count() != samples)
         return kCodecBadHeader;
     Scratch& s = scratch(n);
     requantizeParent(quantizer(ctx.level), ctx.parent, n, ctx.child_index, s.parent_q.data());
-    if (residuals->residuals32.empty())
-        std::copy(residuals->residuals16.begin(), residuals->residuals16.end(),
-                  s.residuals.begin());
-    else
-        std::copy(residuals->residuals32.begin(), residuals->residuals32.end(),
-                  s.residuals.begin());
+    residuals->widen(s.residuals.data());
     reconstructPatch(s.residuals.data(), s.parent_q.data(), ctx, dst);
     return kCodecOk;
 }

@@ -57,7 +57,9 @@ struct ProgressiveResiduals final : GpuPayload {
 
     // Stores `values` in 16 bits when every one fits, else in 32.
     void assign(std::vector<int32_t> values);
-    // The residuals in 32 bits, however they are stored.
+    // The residuals in 32 bits, however they are stored: into out[count()], or as a vector.
+    size_t count() const { return residuals16.size() + residuals32.size(); }
+    void widen(int32_t* out) const;
     std::vector<int32_t> wide() const;
     size_t uploadBytes() const override
     {
