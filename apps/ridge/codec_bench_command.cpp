@@ -20,8 +20,9 @@ void CodecBenchCommand::registerWith(CLI::App& app)
     command_ = app.add_subcommand(
         "codec-bench",
         "Compare ridge's codec with error-bounded anchor codecs (LERC, JPEG-LS, JPEG 2000, "
-        "JPEG XL at efforts 7 and 9, MED+zstd, ZFP) on one raster; for ridge also the bytes a "
-        "cold cache fetches for a near, mid and far view at 1920x1080, ε = 2 px");
+        "JPEG XL at efforts 7 and 9 and 9 progressive, MED+zstd, ZFP) on one raster; for ridge "
+        "also the bytes a cold cache fetches for a near, mid and far view at 1920x1080, "
+        "ε = 2 px");
     command_->add_option("input", input_, "Input raster (anything GDAL reads)")->required();
     command_
         ->add_option("--max-error", max_errors_,
@@ -41,9 +42,10 @@ void CodecBenchCommand::registerWith(CLI::App& app)
         ->expected(1, 16)
         ->capture_default_str();
     command_->add_flag("--overviews", overviews_,
-                       "Also code each anchor's overviews (the finest level decimated by 2, 4, "
-                       "... down to 256 samples a side, as gdaladdo builds them): one more row "
-                       "per anchor, for what a single-level format pays for levels of detail");
+                       "Also code each single-level anchor's overviews (the finest level "
+                       "decimated by 2, 4, ... down to 256 samples a side, as gdaladdo builds "
+                       "them): one more row per such anchor, for what a single-level format "
+                       "pays for levels of detail");
     command_->add_flag("--json", json_,
                        "Print every number as JSON on stdout (the tables then go to stderr)");
     command_->add_option("--json-file", json_path_, "Write every number as JSON to a file");

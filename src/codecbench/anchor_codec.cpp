@@ -12,6 +12,9 @@ std::vector<std::unique_ptr<AnchorCodec>> makeAnchorCodecs()
     // (the target ratio is measured against the best anchor).
     anchors.push_back(makeJpegXlAnchor(7));
     anchors.push_back(makeJpegXlAnchor(9));
+    // JPEG XL's own progressive mode: what a coarse-to-fine stream costs the strongest anchor,
+    // beside ridge's pyramid.
+    anchors.push_back(makeJpegXlAnchor(9, /*progressive=*/true));
     anchors.push_back(makeMedZstdAnchor());
     anchors.push_back(makeZfpAnchor());
     return anchors;

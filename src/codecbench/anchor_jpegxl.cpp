@@ -4,6 +4,13 @@
 // the state of the art for lossless 16-bit grey. Bare codestream (no container), no parallel
 // runner (single-threaded), at a given effort: 7 is cjxl's default, 9 the strongest libjxl 0.7
 // offers (tortoise: far slower to encode, decoding barely changes).
+//
+// Progressive ("responsive", cjxl -R 1): the modular image goes through JPEG XL's squeeze
+// transform, a reversible Haar-like pyramid whose coarse levels the codestream holds first,
+// finer ones refining them, as in ridge's pyramid. So this row prices progressiveness in the
+// strongest anchor: the same lossless coder, only the transform differs. (libjxl 0.7 does not
+// show a preview of a one-group tile from a prefix, JxlDecoderFlushImage refuses; the format
+// allows it, and larger images keep their coarse levels in the global section.)
 #include "ridge/codecbench/anchor_codec.h"
 
 #include "uniform_quantizer.h"
@@ -47,13 +54,17 @@ std::string versionString(uint32_t v)
 
 class JpegXlAnchor final : public AnchorCodec {
   public:
-    explicit JpegXlAnchor(int effort) : effort_(effort) {}
-    // One row per effort: "JPEG XL e7", "JPEG XL e9".
-    std::string name() const override { return fmt::format("JPEG XL e{}", effort_); }
+    JpegXlAnchor(int effort, bool progressive) : effort_(effort), progressive_(progressive) {}
+    // One row per effort and mode: "JPEG XL e7", "JPEG XL e9", "JPEG XL e9 progressive".
+    std::string name() const override
+    {
+        return fmt::format("JPEG XL e{}{}", effort_, progressive_ ? " progressive" : "");
+    }
     std::string description() const override
     {
-        return fmt::format("quantize to step 2e+1, then lossless libjxl (modular), effort {}, "
+        return fmt::format("quantize to step 2e+1, then lossless libjxl (modular{}), effort {}, "
                            "16-bit grey, original profile, bare codestream{}",
+                           progressive_ ? ", responsive: squeezed into a lossless pyramid" : "",
                            effort_,
                            effort_ > kMaxSafeSmallImageEffort
                                ? fmt::format(" (tiles under {} samples at effort {}: libjxl 0.7 "
@@ -65,6 +76,7 @@ class JpegXlAnchor final : public AnchorCodec {
     {
         return "libjxl " + versionString(JxlEncoderVersion());
     }
+    bool progressive() const override { return progressive_; }
 
     std::vector<uint8_t> encode(const uint16_t* codes, int width, int height,
                                 int max_error) const override
@@ -98,6 +110,11 @@ class JpegXlAnchor final : public AnchorCodec {
                                : effort_;
         check(JxlEncoderFrameSettingsSetOption(settings, JXL_ENC_FRAME_SETTING_EFFORT, effort),
               encoder.get(), "effort");
+        // Stated either way (libjxl's default, -1, chooses by effort and lossiness; for these
+        // lossless frames it chose 0, byte for byte).
+        check(JxlEncoderFrameSettingsSetOption(settings, JXL_ENC_FRAME_SETTING_RESPONSIVE,
+                                               progressive_ ? 1 : 0),
+              encoder.get(), "responsive");
         check(JxlEncoderAddImageFrame(settings, &kGrey16, q.data(), q.size() * sizeof(uint16_t)),
               encoder.get(), "JxlEncoderAddImageFrame");
         JxlEncoderCloseInput(encoder.get());
@@ -177,6 +194,7 @@ class JpegXlAnchor final : public AnchorCodec {
 
   private:
     int effort_;
+    bool progressive_;
 
     void check(JxlEncoderStatus status, JxlEncoder* encoder, const char* step) const
     {
@@ -188,10 +206,10 @@ class JpegXlAnchor final : public AnchorCodec {
 
 } // namespace
 
-std::unique_ptr<AnchorCodec> makeJpegXlAnchor(int effort)
+std::unique_ptr<AnchorCodec> makeJpegXlAnchor(int effort, bool progressive)
 {
     checkParameter("JPEG XL effort", int64_t{effort}, 1, 9);
-    return std::make_unique<JpegXlAnchor>(effort);
+    return std::make_unique<JpegXlAnchor>(effort, progressive);
 }
 
 } // namespace ridge::codecbench

@@ -520,12 +520,17 @@ CodecBenchReport runCodecBench(const io::ElevationRaster& raster, const CodecBen
     // overviews' tiles when asked for.
     const std::vector<Tile> tiles = cutTiles(grid, options.tile_size);
     std::vector<std::vector<Tile>> overview_tiles;
+    // The anchors that get a "+ overviews" row: a progressive one holds its pyramid already.
+    std::vector<const AnchorCodec*> single_level;
     if (options.overviews) {
+        for (const auto& a : anchors)
+            if (!a->progressive())
+                single_level.push_back(a.get());
         for (const CodeGrid& level : overviewGrids(grid, options.overview_min_size)) {
             report.overview_sizes.emplace_back(level.width, level.height);
             overview_tiles.push_back(cutTiles(level, options.tile_size));
         }
-        for (const auto& a : anchors)
+        for (const AnchorCodec* a : single_level)
             report.codecs.push_back(
                 {a->name() + " + overviews", a->libraryVersion(),
                  a->description() +
@@ -538,9 +543,9 @@ CodecBenchReport runCodecBench(const io::ElevationRaster& raster, const CodecBen
     for (const std::vector<Tile>& level : overview_tiles)
         with_overviews.push_back(&level);
 
-    // 3. Each bound: ridge's pyramid, then every anchor on the finest level (and again with
-    // its overviews).
-    const size_t anchor_rows = anchors.size() * (options.overviews ? 2 : 1);
+    // 3. Each bound: ridge's pyramid, then every anchor on the finest level (and again each
+    // single-level one with its overviews).
+    const size_t anchor_rows = anchors.size() + single_level.size();
     const double steps =
         double(options.max_errors.size() * (anchor_rows + options.ridge_codecs.size()));
     double step = 0.0;
@@ -564,10 +569,9 @@ CodecBenchReport runCodecBench(const io::ElevationRaster& raster, const CodecBen
         for (const auto& a : anchors)
             result.rows.push_back(
                 runAnchor(*a, finest_level, false, result.max_error_codes, report, stepProgress()));
-        if (options.overviews)
-            for (const auto& a : anchors)
-                result.rows.push_back(runAnchor(*a, with_overviews, true, result.max_error_codes,
-                                                report, stepProgress()));
+        for (const AnchorCodec* a : single_level)
+            result.rows.push_back(runAnchor(*a, with_overviews, true, result.max_error_codes,
+                                            report, stepProgress()));
         report.bounds.push_back(std::move(result));
     }
     reportProgress(options.progress, 1.0);

@@ -177,15 +177,16 @@ TEST_P(AnchorTest, DescribesItselfAndItsLibrary)
         << a->libraryVersion();
 }
 
-INSTANTIATE_TEST_SUITE_P(Anchors, AnchorTest, testing::Range(0, 7), anchorName);
+INSTANTIATE_TEST_SUITE_P(Anchors, AnchorTest, testing::Range(0, 8), anchorName);
 
-TEST(Anchors, AllSevenInTableOrder)
+TEST(Anchors, AllEightInTableOrder)
 {
     std::vector<std::string> names;
     for (const auto& a : makeAnchorCodecs())
         names.push_back(a->name());
-    EXPECT_EQ(names, (std::vector<std::string>{"LERC", "JPEG-LS", "JPEG 2000", "JPEG XL e7",
-                                               "JPEG XL e9", "MED+zstd", "ZFP"}));
+    EXPECT_EQ(names,
+              (std::vector<std::string>{"LERC", "JPEG-LS", "JPEG 2000", "JPEG XL e7", "JPEG XL e9",
+                                        "JPEG XL e9 progressive", "MED+zstd", "ZFP"}));
 }
 
 TEST(Anchors, JpegXlStatesItsEffortAndRefusesOnesLibjxlHasNot)
@@ -194,4 +195,26 @@ TEST(Anchors, JpegXlStatesItsEffortAndRefusesOnesLibjxlHasNot)
     EXPECT_NE(makeJpegXlAnchor(7)->description().find("effort 7"), std::string::npos);
     EXPECT_THROW(makeJpegXlAnchor(0), Error);
     EXPECT_THROW(makeJpegXlAnchor(10), Error);
+}
+
+TEST(Anchors, JpegXlProgressiveSqueezesTheSameSamplesIntoAnotherCodestream)
+{
+    const CodeGrid& grid = everest();
+    const std::vector<uint16_t> codes = crop(grid, 0, 0, grid.width, grid.height);
+    const int e = 2;
+    const auto flat = makeJpegXlAnchor(7);
+    const auto progressive = makeJpegXlAnchor(7, /*progressive=*/true);
+    EXPECT_EQ(progressive->name(), "JPEG XL e7 progressive");
+    EXPECT_NE(progressive->description().find("responsive"), std::string::npos);
+    EXPECT_EQ(flat->description().find("responsive"), std::string::npos);
+    const std::vector<uint8_t> a = flat->encode(codes.data(), grid.width, grid.height, e);
+    const std::vector<uint8_t> b = progressive->encode(codes.data(), grid.width, grid.height, e);
+    // The squeeze transform changes what is coded, so the codestreams differ; both are
+    // lossless over the same quantized samples, so they decode alike.
+    EXPECT_NE(a, b) << "the responsive setting did not reach libjxl";
+    std::vector<uint16_t> from_a(codes.size()), from_b(codes.size());
+    flat->decode(a.data(), a.size(), grid.width, grid.height, e, from_a.data());
+    progressive->decode(b.data(), b.size(), grid.width, grid.height, e, from_b.data());
+    EXPECT_EQ(from_a, from_b);
+    EXPECT_LE(maxAbsError(codes, from_b), e);
 }

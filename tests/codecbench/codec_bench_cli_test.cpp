@@ -24,7 +24,7 @@ TEST(CodecBenchCli, WritesTablesJsonAndPlot)
     EXPECT_EQ(r.output.find("VIOLATED"), std::string::npos) << r.output;
     for (const char* name :
          {"ridge progressive", "LERC", "JPEG-LS", "JPEG 2000", "JPEG XL e7", "JPEG XL e9",
-          "MED+zstd", "ZFP",
+          "JPEG XL e9 progressive", "MED+zstd", "ZFP",
           "ridge progressive: bytes fetched per view at 1920×1080, ε = 2 px: near "})
         EXPECT_NE(r.output.find(name), std::string::npos) << name;
     ASSERT_TRUE(fs::exists(json));
@@ -32,7 +32,7 @@ TEST(CodecBenchCli, WritesTablesJsonAndPlot)
     std::ifstream in(json);
     const nlohmann::json j = nlohmann::json::parse(in);
     EXPECT_EQ(j["bounds"].size(), 1u);
-    EXPECT_EQ(j["bounds"][0]["rows"].size(), 8u);
+    EXPECT_EQ(j["bounds"][0]["rows"].size(), 9u);
     EXPECT_TRUE(j["bounds"][0]["rows"][0]["bound_ok"].get<bool>());
     EXPECT_GT(j["bounds"][0]["rows"][0]["view_bytes"]["far"]["bytes"].get<uint64_t>(), 0u);
     EXPECT_EQ(test::temporariesIn(dir.dir()), std::vector<std::string>{});
@@ -58,11 +58,12 @@ TEST(CodecBenchCli, JsonPrintsTheDocumentOnStdout)
 {
     const nlohmann::json j = benchJsonOnStdout("");
     EXPECT_EQ(j["bounds"].size(), 1u);
-    EXPECT_EQ(j["bounds"][0]["rows"].size(), 8u);
+    EXPECT_EQ(j["bounds"][0]["rows"].size(), 9u);
 }
 
-// --overviews: a second row per anchor, with the fixture's one overview at gdaladdo's
-// 256-sample minimum (301 x 203 -> 151 x 102).
+// --overviews: a second row per single-level anchor (not JPEG XL progressive, a pyramid
+// already), with the fixture's one overview at gdaladdo's 256-sample minimum (301 x 203 ->
+// 151 x 102).
 TEST(CodecBenchCli, OverviewsAddARowPerAnchor)
 {
     const nlohmann::json j = benchJsonOnStdout(" --overviews");
@@ -70,10 +71,11 @@ TEST(CodecBenchCli, OverviewsAddARowPerAnchor)
     EXPECT_EQ(j["overview_sizes"][0]["width"], 151);
     EXPECT_EQ(j["overview_sizes"][0]["height"], 102);
     const nlohmann::json& rows = j["bounds"][0]["rows"];
-    ASSERT_EQ(rows.size(), 15u);
-    EXPECT_EQ(rows[8]["codec"], "LERC + overviews");
-    EXPECT_EQ(rows[14]["codec"], "ZFP + overviews");
-    EXPECT_EQ(rows[14]["scope"], "with overviews");
+    ASSERT_EQ(rows.size(), 16u);
+    EXPECT_EQ(rows[9]["codec"], "LERC + overviews");
+    EXPECT_EQ(rows[14]["codec"], "MED+zstd + overviews") << "no JPEG XL progressive + overviews";
+    EXPECT_EQ(rows[15]["codec"], "ZFP + overviews");
+    EXPECT_EQ(rows[15]["scope"], "with overviews");
 }
 
 TEST(CodecBenchCli, MissingInputFailsNamingThePath)

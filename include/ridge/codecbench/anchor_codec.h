@@ -31,6 +31,9 @@ class AnchorCodec {
     // False when decode(encode(x, e)) may leave [x - e, x + e] even though the library was
     // asked for e (ZFP's accuracy mode is a target, not a guarantee).
     virtual bool guaranteesBound() const { return true; }
+    // True when the stream is itself a pyramid, coarse levels first (JPEG XL's responsive
+    // mode): the bench gives such an anchor no "+ overviews" row.
+    virtual bool progressive() const { return false; }
 
     // Codes codes[width * height] (row-major) so that decoding is within max_error codes of
     // every sample; max_error = 0 is lossless. The stream holds what the library writes
@@ -54,9 +57,10 @@ std::unique_ptr<AnchorCodec> makeJpegLsAnchor();
 // Uniform quantization to step 2e+1, then lossless JPEG 2000 (OpenJPEG, reversible 5/3).
 std::unique_ptr<AnchorCodec> makeJpeg2000Anchor();
 // Uniform quantization to step 2e+1, then lossless JPEG XL (libjxl, modular) at `effort`
-// (libjxl's 1..9; 7 is cjxl's default, 9 the strongest in libjxl 0.7), named "JPEG XL e<effort>".
-// Throws ridge::Error for an effort outside 1..9.
-std::unique_ptr<AnchorCodec> makeJpegXlAnchor(int effort);
+// (libjxl's 1..9; 7 is cjxl's default, 9 the strongest in libjxl 0.7), named "JPEG XL e<effort>";
+// `progressive`: responsive (the squeeze pyramid, previews from any prefix), named
+// "JPEG XL e<effort> progressive". Throws ridge::Error for an effort outside 1..9.
+std::unique_ptr<AnchorCodec> makeJpegXlAnchor(int effort, bool progressive = false);
 // Uniform quantization to step 2e+1, LOCO-I median edge prediction, zstd level 19.
 std::unique_ptr<AnchorCodec> makeMedZstdAnchor();
 // ZFP fixed-accuracy mode, tolerance = e, on the tile as float (reversible mode for e = 0).
