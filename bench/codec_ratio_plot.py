@@ -6,7 +6,9 @@
 
 One line per DEM: JPEG XL effort 9's bytes (finest level) over ridge's (whole pyramid
 archive) at each bound, with issue 31's targets (1.0 at every bound, 1.1 on the median).
-Prints the same numbers as a Markdown table. Needs python3-matplotlib (Debian).
+Repeat --anchor for one panel per anchor, e.g. --anchor "JPEG XL e9" --anchor "JPEG XL e9
+progressive" (JPEG XL's own pyramid). Prints the same numbers as Markdown tables. Needs
+python3-matplotlib (Debian).
 """
 import argparse
 import json
@@ -30,19 +32,13 @@ def ratios(path, anchor):
     return points
 
 
-def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("runs", nargs="+", help="codec-bench --json-file outputs")
-    parser.add_argument("-o", "--output", required=True, help="PNG to write")
-    parser.add_argument("--anchor", default="JPEG XL e9")
-    args = parser.parse_args()
-
-    fig, ax = plt.subplots(figsize=(8, 5))
+def panel(ax, runs, anchor):
     every = []
-    print("| DEM | " + " | ".join("%g m" % b for b, _ in ratios(args.runs[0], args.anchor)) + " |")
-    for path in args.runs:
+    print("\n%s ÷ ridge\n" % anchor)
+    print("| DEM | " + " | ".join("%g m" % b for b, _ in ratios(runs[0], anchor)) + " |")
+    for path in runs:
         name = os.path.splitext(os.path.basename(path))[0]
-        points = ratios(path, args.anchor)
+        points = ratios(path, anchor)
         every += [r for _, r in points]
         ax.plot([b for b, _ in points], [r for _, r in points], marker="o", label=name)
         print("| %s | %s |" % (name, " | ".join("%.3f" % r for _, r in points)))
@@ -55,10 +51,24 @@ def main():
     ax.set_xticks([0.5, 1, 2, 4, 8, 16])
     ax.set_xticklabels(["0.5", "1", "2", "4", "8", "16"])
     ax.set_xlabel("L-inf bound (m, log2 scale)")
-    ax.set_ylabel(args.anchor + " bytes / ridge bytes")
-    ax.set_title("ridge's whole-pyramid archive against %s's finest level" % args.anchor)
+    ax.set_ylabel(anchor + " bytes / ridge bytes")
+    ax.set_title("ridge's archive against %s" % anchor, fontsize=10)
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=8, loc="lower left")
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("runs", nargs="+", help="codec-bench --json-file outputs")
+    parser.add_argument("-o", "--output", required=True, help="PNG to write")
+    parser.add_argument("--anchor", action="append", help="anchor row(s), default JPEG XL e9")
+    args = parser.parse_args()
+    anchors = args.anchor or ["JPEG XL e9"]
+
+    fig, axes = plt.subplots(1, len(anchors), figsize=(8 * len(anchors), 5), squeeze=False,
+                             sharey=True)
+    for ax, anchor in zip(axes[0], anchors):
+        panel(ax, args.runs, anchor)
     fig.tight_layout()
     fig.savefig(args.output, dpi=100)
 
