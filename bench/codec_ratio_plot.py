@@ -32,7 +32,7 @@ def ratios(path, anchor):
     return points
 
 
-def panel(ax, runs, anchor):
+def panel(ax, runs, anchor, legend):
     every = []
     print("\n%s ÷ ridge\n" % anchor)
     print("| DEM | " + " | ".join("%g m" % b for b, _ in ratios(runs[0], anchor)) + " |")
@@ -54,7 +54,8 @@ def panel(ax, runs, anchor):
     ax.set_ylabel(anchor + " bytes / ridge bytes")
     ax.set_title("ridge's archive against %s" % anchor, fontsize=10)
     ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=8, loc="lower left")
+    if legend:
+        ax.legend(fontsize=8, loc="lower right" if legend == "last" else "lower left")
 
 
 def main():
@@ -67,8 +68,10 @@ def main():
 
     fig, axes = plt.subplots(1, len(anchors), figsize=(8 * len(anchors), 5), squeeze=False,
                              sharey=True)
-    for ax, anchor in zip(axes[0], anchors):
-        panel(ax, args.runs, anchor)
+    # One legend, in the last panel, where the lines sit highest.
+    for k, (ax, anchor) in enumerate(zip(axes[0], anchors)):
+        last = k == len(anchors) - 1
+        panel(ax, args.runs, anchor, ("last" if len(anchors) > 1 else "only") if last else None)
     fig.tight_layout()
     fig.savefig(args.output, dpi=100)
 
