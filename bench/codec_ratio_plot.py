@@ -32,7 +32,7 @@ def ratios(path, anchor):
     return points
 
 
-def panel(ax, runs, anchor, legend):
+def panel(ax, runs, anchor, legend_loc):
     every = []
     print("\n%s ÷ ridge\n" % anchor)
     print("| DEM | " + " | ".join("%g m" % b for b, _ in ratios(runs[0], anchor)) + " |")
@@ -54,8 +54,8 @@ def panel(ax, runs, anchor, legend):
     ax.set_ylabel(anchor + " bytes / ridge bytes")
     ax.set_title("ridge's archive against %s" % anchor, fontsize=10)
     ax.grid(True, alpha=0.3)
-    if legend:
-        ax.legend(fontsize=8, loc="lower right" if legend == "last" else "lower left")
+    if legend_loc:
+        ax.legend(fontsize=8, loc=legend_loc)
 
 
 def main():
@@ -68,10 +68,10 @@ def main():
 
     fig, axes = plt.subplots(1, len(anchors), figsize=(8 * len(anchors), 5), squeeze=False,
                              sharey=True)
-    # One legend, in the last panel, where the lines sit highest.
+    # One legend, in the last panel: beside a second panel its lines sit highest, so lower right.
+    loc = "lower right" if len(anchors) > 1 else "lower left"
     for k, (ax, anchor) in enumerate(zip(axes[0], anchors)):
-        last = k == len(anchors) - 1
-        panel(ax, args.runs, anchor, ("last" if len(anchors) > 1 else "only") if last else None)
+        panel(ax, args.runs, anchor, loc if k == len(anchors) - 1 else None)
     fig.tight_layout()
     fig.savefig(args.output, dpi=100)
 

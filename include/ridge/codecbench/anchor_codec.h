@@ -58,7 +58,7 @@ std::unique_ptr<AnchorCodec> makeJpegLsAnchor();
 std::unique_ptr<AnchorCodec> makeJpeg2000Anchor();
 // Uniform quantization to step 2e+1, then lossless JPEG XL (libjxl, modular) at `effort`
 // (libjxl's 1..9; 7 is cjxl's default, 9 the strongest in libjxl 0.7), named "JPEG XL e<effort>";
-// `progressive`: responsive (the squeeze pyramid, previews from any prefix), named
+// `progressive`: responsive (the squeeze pyramid, coarse levels first in the codestream), named
 // "JPEG XL e<effort> progressive". Throws ridge::Error for an effort outside 1..9.
 std::unique_ptr<AnchorCodec> makeJpegXlAnchor(int effort, bool progressive = false);
 // Uniform quantization to step 2e+1, LOCO-I median edge prediction, zstd level 19.
